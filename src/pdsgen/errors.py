@@ -1,0 +1,23 @@
+"""The one exception type that means "the user gave us something we cannot use".
+
+The CLI turns it into a single line on stderr and exit code 2; anything else that
+escapes is a bug in pdsgen and keeps its traceback.
+"""
+
+from __future__ import annotations
+
+import os
+
+
+class PdsgenError(Exception):
+    """A user-facing problem with one file (input, output or parameters)."""
+
+    def __init__(self, path: str | os.PathLike[str] | None, problem: str) -> None:
+        self.path = os.fspath(path) if path is not None else None
+        self.problem = problem
+        super().__init__(str(self))
+
+    def __str__(self) -> str:
+        if self.path is None:
+            return self.problem
+        return f"{self.path}: {self.problem}"
