@@ -1,0 +1,19 @@
+"""Validate PDS3 labels, label sets and their data: `pdsgen validate` and its Python API.
+
+    from pdsgen.validate import validate_paths
+    report = validate_paths(["out/"], strict=True)
+    print(report.summary())
+
+Rules have stable ids (FILE-001, MAP-003 ...) in one table (`rules.rules()`), grouped in
+families, each family in its own module.
+"""
+
+from __future__ import annotations
+
+from .model import Finding
+from .report import FileReport, Report, render
+from .rules import rules
+from .runner import discover, validate_file, validate_paths
+
+__all__ = ["Finding", "FileReport", "Report", "render", "rules", "discover", "validate_file",
+           "validate_paths"]

@@ -1,0 +1,201 @@
+"""What every rule gets for one file: the parsed label, its bytes, and its data pointers.
+
+The label is read and parsed once here; rule families only look things up. Data
+files are never read here (only stat'ed), so label-only validation stays fast.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterator
+from dataclasses import dataclass
+from functools import cached_property
+from pathlib import Path
+
+from .lexer import parse_label
+from .model import Block, Label, Statement, Value
+
+_FIRST_READ = 256 * 1024
+_MAX_LABEL = 16 * 1024 * 1024
+
+# Pointers that name documentation or format files kept elsewhere in an archive
+# (CATALOG/, DOCUMENT/, LABEL/), not data objects in this product.
+REFERENCE_POINTERS = frozenset(
+    {
+        "DATA_SET_MAP_PROJECTION",
+        "DATA_SET_MAP_PROJECTION_CATALOG",
+        "DESCRIPTION",
+        "STRUCTURE",
+        "CATALOG",
+        "DATA_SET_CATALOG",
+        "INSTRUMENT_CATALOG",
+        "MISSION_CATALOG",
+        "TARGET_CATALOG",
+        "SOFTWARE_CATALOG",
+        "PERSONNEL_CATALOG",
+        "REFERENCE_CATALOG",
+        "INSTRUMENT_HOST_CATALOG",
+        "SPICE_KERNEL",
+        "TEXT",
+        "LABEL",
+    }
+)
+
+
+@dataclass(slots=True)
+class Pointer:
+    """A data pointer, resolved: which file, which byte the object starts at (0-based)."""
+
+    name: str  # object name without the caret, upper case
+    statement: Statement
+    form: str  # "record", "bytes", "file", "file+record", "file+bytes", "invalid"
+    file_name: str | None  # as written in the label; None for an attached object
+    record: int | None  # 1-based record number as written
+    byte: int | None  # 1-based byte number as written (<BYTES> forms)
+
+    @property
+    def attached(self) -> bool:
+        return self.file_name is None
+
+    @property
+    def is_reference(self) -> bool:
+        return self.name in REFERENCE_POINTERS or self.name.endswith("_CATALOG")
+
+
+def parse_pointer(stmt: Statement) -> Pointer:
+    """Classify a pointer value into one of the PDS3 forms (or "invalid")."""
+    val = stmt.value
+    name = stmt.keyword.upper()
+
+    def loc(v: Value) -> tuple[str, int | None, int | None]:
+        if v.kind != "int":
+            return "invalid", None, None
+        if v.unit is None:
+            return "record", v.py, None  # type: ignore[return-value]
+        if v.unit.upper() == "BYTES":
+            return "bytes", None, v.py  # type: ignore[return-value]
+        return "invalid", None, None
+
+    if val.kind in ("string", "ident") and val.items is None:
+        return Pointer(name, stmt, "file", val.text, None, None)
+    if val.kind == "int":
+        form, record, byte = loc(val)
+        return Pointer(name, stmt, form, None, record, byte)
+    if val.kind == "seq" and val.items and len(val.items) == 2:
+        first, second = val.items
+        if first.kind in ("string", "ident") and first.items is None:
+            form, record, byte = loc(second)
+            if form != "invalid":
+                return Pointer(name, stmt, "file+" + form, first.text, record, byte)
+    if val.kind == "seq" and val.items and all(v.kind in ("string", "ident") for v in val.items):
+        return Pointer(name, stmt, "files", None, None, None)
+    return Pointer(name, stmt, "invalid", None, None, None)
+
+
+class FileContext:
+    """One label file being validated, with lazy helpers the rule families share."""
+
+    def __init__(self, path: Path, labels_only: bool = False) -> None:
+        self.path = path
+        self.labels_only = labels_only
+        self.size = path.stat().st_size
+        self.head = self._read_head()
+        self.label: Label = parse_label(self.head.decode("latin-1"))
+
+    def _read_head(self) -> bytes:
+        """The label bytes (and a little after): enough to find END in any real label."""
+        with open(self.path, "rb") as fh:
+            data = fh.read(_FIRST_READ)
+            if len(data) < self.size and not _has_end(data):
+                data += fh.read(_MAX_LABEL - len(data))
+        return data
+
+    # -- label look-ups ------------------------------------------------------------
+    @property
+    def root(self) -> Block:
+        return self.label.root
+
+    @cached_property
+    def pointers(self) -> list[Pointer]:
+        return [parse_pointer(s) for s in self.root.statements() if s.pointer]
+
+    def data_pointers(self) -> Iterator[Pointer]:
+        for ptr in self.pointers:
+            if not ptr.is_reference:
+                yield ptr
+
+    @cached_property
+    def attached(self) -> bool:
+        """True when the file carries data after its label (an attached label)."""
+        return any(p.attached and p.form != "invalid" for p in self.data_pointers())
+
+    @property
+    def record_bytes(self) -> int | None:
+        val = self.root.number("RECORD_BYTES")
+        return int(val) if isinstance(val, int) else None
+
+    def pointer_offset(self, ptr: Pointer) -> int | None:
+        """0-based byte offset of the object in its file, or None if it cannot be known."""
+        if ptr.byte is not None:
+            return ptr.byte - 1
+        if ptr.record is not None:
+            rb = self.record_bytes
+            if rb is None:
+                return None
+            return (ptr.record - 1) * rb
+        if ptr.form == "file":
+            return 0
+        return None
+
+    def object_for(self, ptr: Pointer) -> Block | None:
+        """The OBJECT block a pointer describes (^IMAGE -> OBJECT = IMAGE), if present."""
+        for block in self.root.walk():
+            if block.kind == "OBJECT" and block.name.upper() == ptr.name:
+                return block
+        return None
+
+    @cached_property
+    def listing(self) -> list[str]:
+        """Names in the label's directory (read once per file, for case checks)."""
+        try:
+            return os.listdir(self.path.parent)
+        except OSError:
+            return []
+
+    def resolve(self, file_name: str) -> tuple[Path | None, Path | None]:
+        """(exact path, path differing only in case) of a file named in the label."""
+        directory = self.path.parent
+        if "/" in file_name or os.sep in file_name:
+            exact = directory / file_name
+            return (exact, None) if exact.is_file() else (None, None)
+        if file_name in self.listing and (directory / file_name).is_file():
+            return directory / file_name, None
+        lowered = file_name.lower()
+        for name in self.listing:
+            if name.lower() == lowered and (directory / name).is_file():
+                return None, directory / name
+        return None, None
+
+    def target_size(self, ptr: Pointer) -> int | None:
+        """Size of the file the pointer's object lives in, if it can be found."""
+        if ptr.attached:
+            return self.size
+        if ptr.file_name is None:
+            return None
+        exact, other = self.resolve(ptr.file_name)
+        path = exact or other
+        return path.stat().st_size if path is not None else None
+
+    def target_path(self, ptr: Pointer) -> Path | None:
+        if ptr.attached:
+            return self.path
+        if ptr.file_name is None:
+            return None
+        exact, other = self.resolve(ptr.file_name)
+        return exact or other
+
+
+def _has_end(data: bytes) -> bool:
+    import re
+
+    return re.search(rb"(?im)^[ \t]*END[ \t]*;?[ \t]*(?:/\*.*)?\r?$", data) is not None

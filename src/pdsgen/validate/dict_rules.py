@@ -1,0 +1,138 @@
+"""DICT family: keyword types, ranges, lengths, standard values and units from the dictionary.
+
+Placeholders ("N/A", "UNK", "NULL") skip the value checks: the PDS3 standard allows
+them for any keyword. "NULL" is reported as information (a value still to be filled).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from .context import FileContext
+from .dictionary import PLACEHOLDERS, load
+from .lexer import date_problem
+from .model import Hit, Statement, Value
+
+_NUMERIC = ("INTEGER", "ASCII_INTEGER", "REAL", "DOUBLE", "NONDECIMAL", "NON_DECIMAL")
+_TEXT = ("CHARACTER", "ALPHANUMERIC", "IDENTIFIER", "ALPHABET")
+
+
+def _statements(ctx: FileContext) -> Iterator[tuple[Statement, dict | None]]:
+    dictionary = load()
+    for block in ctx.root.walk():
+        for stmt in block.statements():
+            if not stmt.pointer:
+                yield stmt, dictionary.lookup(stmt.keyword)
+
+
+def _defined(ctx: FileContext) -> Iterator[tuple[Statement, dict, Value]]:
+    """(statement, definition, scalar) for every non-placeholder scalar of a known keyword."""
+    for stmt, entry in _statements(ctx):
+        if entry is None:
+            continue
+        for value in stmt.value.scalars():
+            if value.kind in ("string", "ident", "symbol") and _norm(value) in PLACEHOLDERS:
+                continue
+            yield stmt, entry, value
+
+
+def _norm(value: Value) -> str:
+    return " ".join(str(value.py).split()).upper() if isinstance(value.py, str) else value.raw
+
+
+def check_unknown(ctx: FileContext) -> Iterator[Hit]:
+    for stmt, entry in _statements(ctx):
+        if entry is None:
+            yield Hit(f"{stmt.keyword} is not in the PDS3 data dictionary or a known mission "
+                      "namespace", stmt.line, stmt.keyword)
+
+
+def _type_problem(kind: str, value: Value) -> str | None:
+    if kind in ("INTEGER", "ASCII_INTEGER"):
+        if value.kind in ("int", "based"):
+            return None
+        if value.kind == "real":
+            return f"{value.raw} is a real number, the keyword takes integers"
+        return f"{value.raw!r} is not an integer"
+    if kind in ("REAL", "DOUBLE"):
+        return None if value.is_number else f"{value.raw!r} is not a number"
+    if kind in ("NONDECIMAL", "NON_DECIMAL"):
+        return None if value.kind in ("based", "int") else f"{value.raw!r} is not a based integer"
+    if kind in _TEXT:
+        return f"{value.raw} is a number, the keyword takes text" if value.is_number else None
+    if kind in ("DATE", "TIME"):
+        if value.kind == "date":
+            return None
+        if value.kind == "string" and not date_problem(value.py.strip()):  # type: ignore[union-attr]
+            return None
+        return f"{value.raw!r} is not a date/time"
+    return None
+
+
+def check_type(ctx: FileContext) -> Iterator[Hit]:
+    for stmt, entry, value in _defined(ctx):
+        problem = _type_problem(entry["type"], value)
+        if problem:
+            yield Hit(f"{stmt.keyword}: {problem} ({entry['type']})", value.line, stmt.keyword)
+
+
+def check_range(ctx: FileContext) -> Iterator[Hit]:
+    for stmt, entry, value in _defined(ctx):
+        if not value.is_number or entry["type"] not in _NUMERIC:
+            continue
+        lo, hi = entry.get("min"), entry.get("max")
+        number = value.py
+        if (lo is not None and number < lo) or (hi is not None and number > hi):  # type: ignore[operator]
+            yield Hit(f"{stmt.keyword} = {value.raw} is outside {lo if lo is not None else '-inf'}.."
+                      f"{hi if hi is not None else 'inf'}", value.line, stmt.keyword)
+
+
+def _standard(entry: dict, value: Value) -> bool:
+    values = entry.get("values")
+    return not values or value.is_number or _norm(value) in {v.upper() for v in values}
+
+
+def check_static_values(ctx: FileContext) -> Iterator[Hit]:
+    for stmt, entry, value in _defined(ctx):
+        if entry.get("values_type") == "STATIC" and not _standard(entry, value):
+            shown = ", ".join(entry["values"][:8]) + (" ..." if len(entry["values"]) > 8 else "")
+            yield Hit(f"{stmt.keyword} = {value.raw} is not one of its standard values ({shown})",
+                      value.line, stmt.keyword)
+
+
+def check_suggested_values(ctx: FileContext) -> Iterator[Hit]:
+    for stmt, entry, value in _defined(ctx):
+        if entry.get("values_type") in ("SUGGESTED", "DYNAMIC") and not _standard(entry, value):
+            yield Hit(f"{stmt.keyword} = {value.raw} is not among the dictionary's known values",
+                      value.line, stmt.keyword)
+
+
+def check_length(ctx: FileContext) -> Iterator[Hit]:
+    for stmt, entry, value in _defined(ctx):
+        if entry["type"] not in _TEXT or value.is_number:
+            continue
+        length = len(" ".join(str(value.py).split()))
+        lo, hi = entry.get("min_length"), entry.get("max_length")
+        if lo is not None and length < lo:
+            yield Hit(f"{stmt.keyword} has {length} characters, at least {lo}", value.line, stmt.keyword)
+        elif hi is not None and length > hi:
+            yield Hit(f"{stmt.keyword} has {length} characters, at most {hi}", value.line, stmt.keyword)
+
+
+def check_units(ctx: FileContext) -> Iterator[Hit]:
+    dictionary = load()
+    for block in ctx.root.walk():
+        for stmt in block.statements():
+            units = {v.unit for v in stmt.value.scalars() if v.unit} | (
+                {stmt.value.unit} if stmt.value.unit else set()
+            )
+            for unit in sorted(units):
+                if not dictionary.knows_unit(unit):
+                    yield Hit(f"{stmt.key}: unit <{unit}> is not a PDS unit", stmt.line, stmt.key)
+
+
+def check_placeholder(ctx: FileContext) -> Iterator[Hit]:
+    for block in ctx.root.walk():
+        for stmt in block.statements():
+            if any(v.kind in ("string", "ident") and _norm(v) == "NULL" for v in stmt.value.scalars()):
+                yield Hit(f"{stmt.key} = NULL: a value still to be supplied", stmt.line, stmt.key)

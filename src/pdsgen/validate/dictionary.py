@@ -1,0 +1,42 @@
+"""The keyword dictionary (schemas/pds3_dictionary.json), loaded once per process.
+
+Built by tools/build_dictionary.py from the PDS3 data dictionary (PSDD) plus the
+mission namespaces; see that script for what each entry holds.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from functools import cache
+
+from ..resources import schemas_dir
+
+PLACEHOLDERS = frozenset({"N/A", "UNK", "NULL", "UNKNOWN"})
+
+
+@dataclass(frozen=True)
+class Dictionary:
+    elements: dict[str, dict]
+    namespaces: dict[str, dict[str, dict]]
+    units: frozenset[str]  # upper-cased ids, names and aliases
+
+    def lookup(self, keyword: str) -> dict | None:
+        """Definition of a keyword (NAMESPACE:NAME looks in the mission namespace)."""
+        name = keyword.upper()
+        if ":" in name:
+            namespace, _, base = name.partition(":")
+            return self.namespaces.get(namespace, {}).get(base)
+        return self.elements.get(name)
+
+    def knows_unit(self, unit: str) -> bool:
+        return unit.strip().upper() in self.units
+
+
+@cache
+def load() -> Dictionary:
+    data = json.loads((schemas_dir() / "pds3_dictionary.json").read_text())
+    units = {u.upper() for u in data["units"]}
+    units |= {n.upper() for n in data["unit_names"]}
+    units |= {a.upper() for a in data["unit_aliases"]}
+    return Dictionary(data["elements"], data["namespaces"], frozenset(units))

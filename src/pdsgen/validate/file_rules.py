@@ -1,0 +1,172 @@
+"""FILE family: the label as bytes - ASCII, line ends, line length, first/last statement, padding.
+
+PDS3 labels are 7-bit ASCII with CR LF line ends and at most 78 characters per line
+(80 bytes with CR LF). Real archives bend some of this: LF-only copies of detached
+labels are reported as warnings; in a file with binary data after the label the line
+ends are part of the record arithmetic, so LF there is an error.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from .context import FileContext
+from .model import Hit
+
+MAX_CONTENT = 78
+_MAX_REPORTED = 10
+
+
+def _content_lengths(ctx: FileContext) -> list[tuple[int, int, str]]:
+    """(line number, content length, ending) for each label line up to END."""
+    return [(ln.number, ln.end - ln.start, ln.ending) for ln in ctx.label.lines]
+
+
+def check_ascii(ctx: FileContext) -> Iterator[Hit]:
+    label = ctx.label
+    count = 0
+    for ln in label.lines:
+        chunk = label.text[ln.start : ln.end]
+        bad = [c for c in chunk if ord(c) > 127 or (ord(c) < 32 and c not in "\t\x00")]
+        if bad:
+            count += 1
+            if count <= _MAX_REPORTED:
+                codes = ", ".join(f"0x{ord(c):02X}" for c in bad[:4])
+                yield Hit(f"byte(s) {codes} are not printable 7-bit ASCII", ln.number)
+    if count > _MAX_REPORTED:
+        yield Hit(f"{count - _MAX_REPORTED} more lines with non-ASCII bytes")
+
+
+def _terminated(ctx: FileContext) -> list[tuple[int, str]]:
+    """Line endings, ignoring a last line cut off at end of file."""
+    return [(ln.number, ln.ending) for ln in ctx.label.lines if ln.ending]
+
+
+def check_line_ends_error(ctx: FileContext) -> Iterator[Hit]:
+    ends = _terminated(ctx)
+    if not ends:
+        return
+    kinds = {e for _, e in ends}
+    if kinds == {"CRLF"}:
+        return
+    if kinds == {"LF"}:
+        if ctx.attached:
+            yield Hit(
+                "label lines end in LF only, expected CR LF; in a file with attached data "
+                "the label bytes count in its records",
+                ends[0][0],
+            )
+        return
+    wrong = [(n, e) for n, e in ends if e != "CRLF"]
+    for n, e in wrong[:_MAX_REPORTED]:
+        yield Hit(f"line ends in {e}, expected CR LF (the other lines use CR LF)", n)
+    if len(wrong) > _MAX_REPORTED:
+        yield Hit(f"{len(wrong) - _MAX_REPORTED} more lines do not end in CR LF")
+
+
+def check_line_ends_warning(ctx: FileContext) -> Iterator[Hit]:
+    ends = _terminated(ctx)
+    if ends and {e for _, e in ends} == {"LF"} and not ctx.attached:
+        yield Hit("all label lines end in LF only; PDS3 requires CR LF", ends[0][0])
+
+
+def _padded_width(ctx: FileContext) -> int | None:
+    """RECORD_BYTES-2 when an attached fixed-length label pads every line to a record."""
+    rb = ctx.record_bytes
+    if rb is None or not ctx.attached or ctx.root.text("RECORD_TYPE") != "FIXED_LENGTH":
+        return None
+    lengths = [n for _, n, _ in _content_lengths(ctx)]
+    if len(lengths) >= 2 and sum(1 for n in lengths if n == rb - 2) * 2 > len(lengths):
+        return rb - 2
+    return None
+
+
+def check_line_length(ctx: FileContext) -> Iterator[Hit]:
+    if _padded_width(ctx) is not None:
+        return
+    long = [(n, c) for n, c, _ in _content_lengths(ctx) if c > MAX_CONTENT]
+    for n, c in long[:_MAX_REPORTED]:
+        yield Hit(f"line has {c} characters before its line end, at most {MAX_CONTENT}", n)
+    if len(long) > _MAX_REPORTED:
+        yield Hit(f"{len(long) - _MAX_REPORTED} more lines are too long")
+
+
+def check_padded_lines(ctx: FileContext) -> Iterator[Hit]:
+    width = _padded_width(ctx)
+    if width is None:
+        return
+    for n, c, _ in _content_lengths(ctx):
+        if c != width:
+            yield Hit(
+                f"line has {c} characters; the other lines are padded to {width} "
+                f"(RECORD_BYTES {width + 2} with CR LF)",
+                n,
+            )
+
+
+def check_first_statement(ctx: FileContext) -> Iterator[Hit]:
+    label = ctx.label
+    if label.first_keyword is None:
+        yield Hit("the file holds no label statements (PDS_VERSION_ID = PDS3 first)")
+        return
+    if label.first_keyword != "PDS_VERSION_ID":
+        yield Hit(
+            f"first statement is {label.first_keyword}, expected PDS_VERSION_ID",
+            label.first_line,
+            label.first_keyword,
+        )
+    for issue in label.issues:
+        if issue.rule == "FILE-006":
+            yield Hit(issue.message, issue.line, issue.keyword)
+
+
+def check_version(ctx: FileContext) -> Iterator[Hit]:
+    stmt = ctx.root.get("PDS_VERSION_ID")
+    if stmt is not None and stmt.value.text.upper() != "PDS3":
+        yield Hit(f"PDS_VERSION_ID is {stmt.value.raw}, expected PDS3", stmt.line, "PDS_VERSION_ID")
+
+
+def check_end(ctx: FileContext) -> Iterator[Hit]:
+    if ctx.size and not ctx.label.end_found:
+        yield Hit("no END statement closes the label", len(ctx.label.lines) or None)
+
+
+def check_empty(ctx: FileContext) -> Iterator[Hit]:
+    if ctx.size == 0:
+        yield Hit("the file is empty")
+
+
+def check_tabs(ctx: FileContext) -> Iterator[Hit]:
+    label = ctx.label
+    lines = [ln.number for ln in label.lines if "\t" in label.text[ln.start : ln.end]]
+    if lines:
+        yield Hit(f"{len(lines)} line(s) contain tab characters, use spaces", lines[0])
+
+
+def padding_bytes(ctx: FileContext) -> tuple[int, bytes] | None:
+    """(data start, bytes between the END line and the first attached object) if attached."""
+    starts = [ctx.pointer_offset(p) for p in ctx.data_pointers() if p.attached]
+    starts = [s for s in starts if s is not None]
+    if not starts:
+        return None
+    start = min(starts)
+    end = ctx.label.label_end
+    if start <= end:
+        return start, b""
+    if start <= len(ctx.head):
+        return start, ctx.head[end:start]
+    with open(ctx.path, "rb") as fh:
+        fh.seek(end)
+        return start, fh.read(start - end)
+
+
+def check_padding(ctx: FileContext) -> Iterator[Hit]:
+    if not ctx.attached or not ctx.label.end_found:
+        return
+    found = padding_bytes(ctx)
+    if found is None:
+        return
+    _, pad = found
+    stripped = pad.strip(b" \r\n")
+    if stripped and not stripped.strip(b"\x00"):
+        yield Hit("label is padded with NUL bytes, expected spaces", len(ctx.label.lines))

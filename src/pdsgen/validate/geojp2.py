@@ -1,0 +1,171 @@
+"""Read what a JP2 says about itself: header (size, bands, precision) and georeferencing.
+
+The GeoJP2 box is a UUID box holding a degenerate 1 x 1 GeoTIFF; its TIFF tags
+(ModelPixelScale 33550, ModelTiepoint 33922, GeoKeyDirectory 34735, GeoDoubleParams
+34736) are parsed here directly, so the GeoKey numbers themselves (3078 vs 3089) can
+be checked. A GMLJP2 box (an `asoc` with GML XML) is read with lxml.
+"""
+
+from __future__ import annotations
+
+import struct
+import uuid
+from dataclasses import dataclass, field
+from pathlib import Path
+
+GEOJP2_UUID = uuid.UUID("b14bf8bd-083d-4b43-a5ae-8cd7d5a6ce03")
+_TYPES = {1: ("B", 1), 2: ("c", 1), 3: ("H", 2), 4: ("I", 4), 5: ("II", 8), 6: ("b", 1),
+          8: ("h", 2), 9: ("i", 4), 11: ("f", 4), 12: ("d", 8), 16: ("Q", 8)}
+
+# GeoKey ids used by the checks
+GT_RASTER_TYPE = 1025
+PROJ_COORD_TRANS = 3075
+PROJ_STD_PARALLEL1 = 3078
+PROJ_NAT_ORIGIN_LONG = 3080
+PROJ_NAT_ORIGIN_LAT = 3081
+PROJ_CENTER_LONG = 3088
+PROJ_CENTER_LAT = 3089
+PROJ_STRAIGHT_VERT_POLE_LONG = 3095
+GEOG_SEMI_MAJOR = 2057
+GEOG_SEMI_MINOR = 2058
+CT_NAMES = {17: "EQUIRECTANGULAR", 24: "SINUSOIDAL", 15: "POLAR_STEREOGRAPHIC", 14: "STEREOGRAPHIC",
+            7: "MERCATOR", 1: "TRANSVERSE_MERCATOR"}
+
+
+@dataclass
+class Georef:
+    """Geotransform and GeoKeys from one georeferencing box."""
+
+    source: str  # "GeoJP2" or "GMLJP2"
+    ulx: float
+    uly: float
+    xres: float
+    yres: float
+    keys: dict[int, object] = field(default_factory=dict)
+
+
+@dataclass
+class Jp2Info:
+    height: int
+    width: int
+    bands: int
+    bits: int
+    signed: bool
+    georefs: list[Georef]
+
+
+class Jp2Error(Exception):
+    """The file is not a JP2 that can be read."""
+
+
+def read_jp2(path: Path) -> Jp2Info:
+    import glymur
+
+    try:
+        jp2 = glymur.Jp2k(str(path))
+        boxes = list(jp2.box)
+    except Exception as exc:  # glymur raises many types on damaged files
+        raise Jp2Error(f"{type(exc).__name__}: {exc}") from None
+    ihdr = None
+    georefs: list[Georef] = []
+    for box in boxes:
+        if box.box_id == "jp2h":
+            ihdr = next((b for b in box.box if b.box_id == "ihdr"), None)
+        elif box.box_id == "uuid" and getattr(box, "uuid", None) == GEOJP2_UUID:
+            ref = geotiff_georef(bytes(box.raw_data))
+            if ref is not None:
+                georefs.append(ref)
+        elif box.box_id == "asoc":
+            ref = _gml_georef(box)
+            if ref is not None:
+                georefs.append(ref)
+    if ihdr is None:
+        raise Jp2Error("no JP2 header (ihdr) box")
+    bits = ihdr.bits_per_component
+    return Jp2Info(ihdr.height, ihdr.width, ihdr.num_components,
+                   bits if isinstance(bits, int) else int(bits[0]), bool(ihdr.signed), georefs)
+
+
+def _tiff_tags(data: bytes) -> dict[int, tuple]:
+    if data[:2] == b"II":
+        order = "<"
+    elif data[:2] == b"MM":
+        order = ">"
+    else:
+        raise ValueError("not a TIFF")
+    (magic,) = struct.unpack_from(order + "H", data, 2)
+    if magic != 42:
+        raise ValueError("not a classic TIFF")
+    (ifd,) = struct.unpack_from(order + "I", data, 4)
+    (count,) = struct.unpack_from(order + "H", data, ifd)
+    tags: dict[int, tuple] = {}
+    for i in range(count):
+        tag, typ, n, raw = struct.unpack_from(order + "HHI4s", data, ifd + 2 + 12 * i)
+        if typ not in _TYPES:
+            continue
+        fmt, size = _TYPES[typ]
+        total = size * n
+        if total <= 4:
+            blob = raw[:total]
+        else:
+            (offset,) = struct.unpack(order + "I", raw)
+            blob = data[offset : offset + total]
+        if typ == 2:
+            tags[tag] = (blob.rstrip(b"\x00").decode("latin-1"),)
+        else:
+            tags[tag] = struct.unpack(order + fmt * n, blob)
+    return tags
+
+
+def geotiff_georef(data: bytes) -> Georef | None:
+    """Geotransform and GeoKeys of the GeoTIFF inside a GeoJP2 box."""
+    try:
+        tags = _tiff_tags(data)
+    except (ValueError, struct.error):
+        return None
+    scale, tie = tags.get(33550), tags.get(33922)
+    keys: dict[int, object] = {}
+    directory = tags.get(34735)
+    doubles, asciis = tags.get(34736, ()), tags.get(34737, ("",))[0]
+    if directory and len(directory) >= 4:
+        for k in range(directory[3]):
+            key, loc, count, value = directory[4 + 4 * k : 8 + 4 * k]
+            if loc == 0:
+                keys[key] = value
+            elif loc == 34736:
+                keys[key] = doubles[value] if count == 1 else tuple(doubles[value : value + count])
+            elif loc == 34737:
+                keys[key] = asciis[value : value + count].rstrip("|")
+    if not scale or not tie or len(tie) < 6:
+        return None
+    sx, sy = scale[0], scale[1]
+    i, j, x, y = tie[0], tie[1], tie[3], tie[4]
+    ulx, uly = x - i * sx, y + j * sy
+    if keys.get(GT_RASTER_TYPE) == 2:  # PixelIsPoint: the tie point is a pixel centre
+        ulx, uly = ulx - sx / 2, uly + sy / 2
+    return Georef("GeoJP2", ulx, uly, sx, sy, keys)
+
+
+def _gml_georef(box) -> Georef | None:
+    """Origin and offset vectors of a GMLJP2 RectifiedGrid, if the asoc box holds one."""
+    for child in getattr(box, "box", []) or []:
+        xml = getattr(child, "xml", None)
+        if xml is None and getattr(child, "box", None):
+            found = _gml_georef(child)
+            if found is not None:
+                return found
+        if xml is None:
+            continue
+        root = xml.getroot() if hasattr(xml, "getroot") else xml
+        origin = [e for e in root.iter() if isinstance(e.tag, str) and e.tag.endswith("}pos")
+                  and e.getparent() is not None and e.getparent().tag.endswith("}Point")]
+        vectors = [e for e in root.iter() if isinstance(e.tag, str) and e.tag.endswith("}offsetVector")]
+        if not origin or len(vectors) < 2:
+            continue
+        ox, oy = (float(v) for v in origin[0].text.split()[:2])
+        v1 = [float(v) for v in vectors[0].text.split()[:2]]
+        v2 = [float(v) for v in vectors[1].text.split()[:2]]
+        xres, yres = v1[0], -v2[1]
+        # GML grid origin is the centre of the first pixel
+        return Georef("GMLJP2", ox - xres / 2, oy + yres / 2, xres, yres)
+    return None

@@ -1,0 +1,307 @@
+"""IMG family: the IMAGE object's keywords, and its statistics recomputed from the data.
+
+Sample types map to numpy dtypes (PC_REAL = little-endian IEEE float, MSB_INTEGER =
+big-endian signed ...). Special constants are checked against what the sample type
+can hold; VALID_MINIMUM/MAXIMUM and MINIMUM/MAXIMUM/MEAN/STANDARD_DEVIATION are
+compared with values recomputed by streaming the data (see datastats).
+"""
+
+from __future__ import annotations
+
+import math
+import struct
+from collections.abc import Iterator
+
+import numpy as np
+
+from .context import FileContext
+from .datastats import Layout, Stats, image_stats
+from .model import Block, Hit, Value
+
+_TYPES = {
+    # sample type: (byte order, kind) ; kind i signed, u unsigned, f float
+    "MSB_INTEGER": (">", "i"),
+    "SUN_INTEGER": (">", "i"),
+    "MAC_INTEGER": (">", "i"),
+    "INTEGER": (">", "i"),
+    "LSB_INTEGER": ("<", "i"),
+    "PC_INTEGER": ("<", "i"),
+    "VAX_INTEGER": ("<", "i"),
+    "MSB_UNSIGNED_INTEGER": (">", "u"),
+    "UNSIGNED_INTEGER": (">", "u"),
+    "SUN_UNSIGNED_INTEGER": (">", "u"),
+    "MAC_UNSIGNED_INTEGER": (">", "u"),
+    "LSB_UNSIGNED_INTEGER": ("<", "u"),
+    "PC_UNSIGNED_INTEGER": ("<", "u"),
+    "VAX_UNSIGNED_INTEGER": ("<", "u"),
+    "IEEE_REAL": (">", "f"),
+    "FLOAT": (">", "f"),
+    "REAL": (">", "f"),
+    "SUN_REAL": (">", "f"),
+    "MAC_REAL": (">", "f"),
+    "PC_REAL": ("<", "f"),
+}
+SPECIAL_CONSTANTS = (
+    "MISSING_CONSTANT",
+    "NULL",
+    "CORE_NULL",
+    "INVALID_CONSTANT",
+    "CORE_LOW_REPR_SATURATION",
+    "CORE_LOW_INSTR_SATURATION",
+    "CORE_HIGH_REPR_SATURATION",
+    "CORE_HIGH_INSTR_SATURATION",
+)
+_EXCLUDED = SPECIAL_CONSTANTS  # values left out of the statistics
+_REQUIRED = ("LINES", "LINE_SAMPLES", "SAMPLE_TYPE", "SAMPLE_BITS")
+_STORAGE = ("BAND_SEQUENTIAL", "LINE_INTERLEAVED", "SAMPLE_INTERLEAVED")
+
+
+def is_image(block: Block) -> bool:
+    return block.kind == "OBJECT" and block.name.upper().endswith("IMAGE") and (
+        block.get("LINES") is not None or block.get("LINE_SAMPLES") is not None
+    )
+
+
+def sample_dtype(block: Block) -> np.dtype | None:
+    """numpy dtype of the samples, or None when the type/bits pair is not readable."""
+    st, bits = block.text("SAMPLE_TYPE"), block.number("SAMPLE_BITS")
+    if st is None or not isinstance(bits, int):
+        return None
+    entry = _TYPES.get(st.upper())
+    if entry is None:
+        return None
+    order, kind = entry
+    if kind == "f" and bits not in (32, 64):
+        return None
+    if kind in "iu" and bits not in (8, 16, 32, 64):
+        return None
+    return np.dtype(f"{order if bits > 8 else '|'}{kind}{bits // 8}")
+
+
+def _int(block: Block, key: str, default: int = 0) -> int | None:
+    val = block.number(key)
+    if val is None:
+        return default if block.get(key) is None else None
+    return int(val) if isinstance(val, int) else None
+
+
+def layout(block: Block, offset: int) -> Layout | None:
+    dtype = sample_dtype(block)
+    lines, samples, bands = _int(block, "LINES", -1), _int(block, "LINE_SAMPLES", -1), _int(block, "BANDS", 1)
+    prefix, suffix = _int(block, "LINE_PREFIX_BYTES"), _int(block, "LINE_SUFFIX_BYTES")
+    if dtype is None or None in (lines, samples, bands, prefix, suffix):
+        return None
+    if lines < 0 or samples < 0 or bands < 1:  # type: ignore[operator]
+        return None
+    storage = (block.text("BAND_STORAGE_TYPE") or "BAND_SEQUENTIAL").upper()
+    if storage == "SAMPLE_INTERLEAVED":
+        return Layout(offset, dtype, lines, samples * bands, prefix, suffix)  # type: ignore[arg-type,operator]
+    if storage == "LINE_INTERLEAVED":
+        return Layout(offset, dtype, lines * bands, samples, prefix, suffix)  # type: ignore[operator,arg-type]
+    return Layout(offset, dtype, lines * bands, samples, prefix, suffix)  # type: ignore[operator,arg-type]
+
+
+def object_bytes(block: Block) -> int | None:
+    """Bytes an IMAGE or TABLE object occupies, from its keywords alone."""
+    if block.get("ROWS") is not None and block.get("ROW_BYTES") is not None:
+        rows, row_bytes = block.number("ROWS"), block.number("ROW_BYTES")
+        pre, suf = _int(block, "ROW_PREFIX_BYTES"), _int(block, "ROW_SUFFIX_BYTES")
+        if isinstance(rows, int) and isinstance(row_bytes, int) and pre is not None and suf is not None:
+            return rows * (row_bytes + pre + suf)
+        return None
+    lay = layout(block, 0)
+    return lay.lines * lay.line_bytes if lay is not None else None
+
+
+def _images(ctx: FileContext) -> Iterator[Block]:
+    for block in ctx.root.walk():
+        if is_image(block):
+            yield block
+
+
+def check_required(ctx: FileContext) -> Iterator[Hit]:
+    for block in _images(ctx):
+        missing = [k for k in _REQUIRED if block.get(k) is None]
+        if missing:
+            yield Hit(f"OBJECT = {block.name} lacks {', '.join(missing)}", block.line, missing[0])
+
+
+def check_sample_type(ctx: FileContext) -> Iterator[Hit]:
+    for block in _images(ctx):
+        st, bits = block.get("SAMPLE_TYPE"), block.get("SAMPLE_BITS")
+        if st is None or bits is None:
+            continue
+        if st.value.text.upper() not in _TYPES:
+            if st.value.text.upper() not in ("VAX_REAL", "VAXG_REAL", "IEEE_COMPLEX", "PC_COMPLEX"):
+                yield Hit(f"SAMPLE_TYPE {st.value.text} is not a PDS3 sample type", st.line, "SAMPLE_TYPE")
+            continue
+        if sample_dtype(block) is None:
+            yield Hit(f"SAMPLE_TYPE {st.value.text} cannot have SAMPLE_BITS = {bits.value.raw}",
+                      bits.line, "SAMPLE_BITS")
+
+
+def check_bit_mask(ctx: FileContext) -> Iterator[Hit]:
+    for block in _images(ctx):
+        mask, bits = block.get("SAMPLE_BIT_MASK"), block.number("SAMPLE_BITS")
+        if mask is None or not isinstance(bits, int) or not mask.value.is_number:
+            continue
+        value = int(mask.value.py)  # type: ignore[arg-type]
+        if value < 0 or value >= 1 << bits:
+            yield Hit(f"SAMPLE_BIT_MASK {mask.value.raw} has bits beyond SAMPLE_BITS = {bits}",
+                      mask.line, "SAMPLE_BIT_MASK")
+        elif mask.value.kind == "based" and mask.value.raw.startswith("2#"):
+            digits = mask.value.raw.split("#")[1]
+            if len(digits) != bits:
+                yield Hit(f"SAMPLE_BIT_MASK {mask.value.raw} has {len(digits)} binary digits, "
+                          f"expected SAMPLE_BITS = {bits}", mask.line, "SAMPLE_BIT_MASK")
+
+
+def constant_value(val: Value, dtype: np.dtype) -> tuple[float | None, str | None]:
+    """(value as stored in the samples, problem) for a special-constant keyword."""
+    if not val.is_number:
+        return None, None
+    bits = dtype.itemsize * 8
+    if dtype.kind == "f":
+        if val.kind == "based":
+            pattern = int(val.py)  # type: ignore[arg-type]
+            if pattern < 0 or pattern >= 1 << bits:
+                return None, f"bit pattern {val.raw} does not fit {bits}-bit samples"
+            fmt = ">I" if bits == 32 else ">Q"
+            return struct.unpack(">f" if bits == 32 else ">d", struct.pack(fmt, pattern))[0], None
+        number = float(val.py)  # type: ignore[arg-type]
+        if bits == 32 and math.isfinite(number) and abs(number) > float(np.finfo(np.float32).max):
+            return None, f"{val.raw} is beyond the float32 range"
+        return number, None
+    info = np.iinfo(dtype)
+    number = val.py
+    if val.kind == "real":
+        if not float(number).is_integer():  # type: ignore[arg-type]
+            return None, f"{val.raw} is not an integer, samples are {dtype.kind}int{bits}"
+        number = int(number)  # type: ignore[arg-type]
+    if val.kind == "based" and dtype.kind == "i" and int(number) >= 1 << (bits - 1):  # type: ignore[arg-type]
+        number = int(number) - (1 << bits) if int(number) < 1 << bits else number  # type: ignore[arg-type]
+    if not info.min <= int(number) <= info.max:  # type: ignore[arg-type]
+        return None, f"{val.raw} is outside {info.min}..{info.max} of the sample type"
+    return float(number), None  # type: ignore[arg-type]
+
+
+def check_constants(ctx: FileContext) -> Iterator[Hit]:
+    for block in _images(ctx):
+        dtype = sample_dtype(block)
+        if dtype is None:
+            continue
+        for key in SPECIAL_CONSTANTS:
+            stmt = block.get(key)
+            if stmt is None:
+                continue
+            _, problem = constant_value(stmt.value, dtype)
+            if problem:
+                yield Hit(f"{key}: {problem} ({block.text('SAMPLE_TYPE')}, "
+                          f"{block.number('SAMPLE_BITS')} bits)", stmt.line, key)
+
+
+def check_valid_range_order(ctx: FileContext) -> Iterator[Hit]:
+    for block in _images(ctx):
+        lo, hi = block.number("VALID_MINIMUM"), block.number("VALID_MAXIMUM")
+        if lo is not None and hi is not None and lo > hi:
+            stmt = block.get("VALID_MINIMUM")
+            yield Hit(f"VALID_MINIMUM {lo} is above VALID_MAXIMUM {hi}", stmt.line if stmt else None,
+                      "VALID_MINIMUM")
+
+
+def check_band_storage(ctx: FileContext) -> Iterator[Hit]:
+    for block in _images(ctx):
+        stmt = block.get("BAND_STORAGE_TYPE")
+        if stmt is not None and stmt.value.text.upper() not in _STORAGE:
+            yield Hit(f"BAND_STORAGE_TYPE {stmt.value.text} is not one of {', '.join(_STORAGE)}",
+                      stmt.line, "BAND_STORAGE_TYPE")
+
+
+# -- statistics from the data -------------------------------------------------------
+_STAT_KEYS = ("VALID_MINIMUM", "VALID_MAXIMUM", "MINIMUM", "MAXIMUM", "MEAN", "STANDARD_DEVIATION")
+
+
+def _stats_for(ctx: FileContext, block: Block) -> tuple[Stats, Block] | None:
+    cache = ctx.__dict__.setdefault("_img_stats", {})
+    if id(block) in cache:
+        return cache[id(block)]
+    result = None
+    ptr = next((p for p in ctx.data_pointers() if ctx.object_for(p) is block), None)
+    if ptr is not None and not ctx.labels_only:
+        path, offset = ctx.target_path(ptr), ctx.pointer_offset(ptr)
+        lay = layout(block, offset) if offset is not None else None
+        if path is not None and lay is not None and lay.lines * lay.samples > 0:
+            specials = []
+            for key in _EXCLUDED:
+                stmt = block.get(key)
+                if stmt is not None:
+                    value, problem = constant_value(stmt.value, lay.dtype)
+                    if value is not None and problem is None:
+                        specials.append(value)
+            moments = block.get("MEAN") is not None or block.get("STANDARD_DEVIATION") is not None
+            result = (image_stats(path, lay, specials, moments), block)
+    cache[id(block)] = result
+    return result
+
+
+def _close(a: float, b: float, rel: float) -> bool:
+    return abs(a - b) <= rel * max(abs(a), abs(b), 1e-30)
+
+
+def _matches(label_value: float, data_value: float, block: Block, rel: float) -> bool:
+    """Equal as stored, or equal after SCALING_FACTOR/OFFSET (physical value)."""
+    if _close(label_value, data_value, rel):
+        return True
+    scale, off = block.number("SCALING_FACTOR"), block.number("OFFSET")
+    if scale is not None and off is not None:
+        return _close(label_value, data_value * scale + off, rel)
+    return False
+
+
+def _data_blocks(ctx: FileContext) -> Iterator[Block]:
+    if ctx.labels_only:
+        return
+    for block in _images(ctx):
+        if any(block.get(k) is not None for k in _STAT_KEYS):
+            yield block
+
+
+def check_extremes(ctx: FileContext) -> Iterator[Hit]:
+    for block in _data_blocks(ctx):
+        found = _stats_for(ctx, block)
+        if found is None:
+            continue
+        stats = found[0]
+        for key, data in (
+            ("VALID_MINIMUM", stats.minimum),
+            ("VALID_MAXIMUM", stats.maximum),
+            ("MINIMUM", stats.minimum),
+            ("MAXIMUM", stats.maximum),
+        ):
+            stmt = block.get(key)
+            if stmt is None or not stmt.value.is_number:
+                continue
+            dtype = sample_dtype(block)
+            label_value = constant_value(stmt.value, dtype)[0] if dtype is not None else None
+            if label_value is None:
+                continue
+            if data is None:
+                yield Hit(f"{key} = {stmt.value.raw} but the data hold no valid samples",
+                          stmt.line, key)
+            elif not _matches(label_value, data, block, 1e-6):
+                yield Hit(f"{key} = {stmt.value.raw} but the data give {data!r} "
+                          f"({stats.count} valid samples)", stmt.line, key)
+
+
+def check_moments(ctx: FileContext) -> Iterator[Hit]:
+    for block in _data_blocks(ctx):
+        found = _stats_for(ctx, block)
+        if found is None or found[0].mean is None:
+            continue
+        stats = found[0]
+        for key, data in (("MEAN", stats.mean), ("STANDARD_DEVIATION", stats.std)):
+            stmt = block.get(key)
+            if stmt is None or not stmt.value.is_number or data is None:
+                continue
+            if not _matches(float(stmt.value.py), data, block, 1e-3):  # type: ignore[arg-type]
+                yield Hit(f"{key} = {stmt.value.raw} but the data give {data:.6g}", stmt.line, key)

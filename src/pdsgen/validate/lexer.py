@@ -1,0 +1,516 @@
+"""A PDS3 (ODL) label reader that keeps line numbers and turns syntax problems into findings.
+
+pvl is both too lenient (it accepts an unquoted value with spaces) and too strict (one
+error stops it, with no line to show) for a validator, so labels are read here with a
+small hand-written scanner. It tolerates what real archives do (LF-only lines,
+`Object`/`End_Object`, unquoted `MEX-M-HRSC-3-RDR-V2.0`, `2575.0<KM>`, `0015`,
+`1737400.`, unnamed END_OBJECT, inline comments) and records each real problem as an
+`Issue` tagged with its SYNTAX/FILE rule id, then carries on with the next line, so
+one bad statement never hides the rest of the label.
+"""
+
+from __future__ import annotations
+
+import re
+
+from .model import Block, Issue, Label, Line, Statement, Value
+
+_WS = re.compile(r"[ \t\f\v\x00]+")
+_NEWLINE = re.compile(r"\r\n|\n|\r")
+_WORD = re.compile(r"(?:[^\s=(){},;\"'<>/]|/(?!\*))+")
+_UNIT = re.compile(r"<[^<>\r\n]*>")
+_SYMBOL = re.compile(r"'[^'\r\n]*'")
+
+_INT = re.compile(r"[+-]?\d+")
+_REAL = re.compile(r"[+-]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][+-]?\d+)?")
+_BASED = re.compile(r"([+-]?)(\d+)#([^#]*)#")
+_KEYWORD = re.compile(r"\^?(?:([A-Za-z][A-Za-z0-9_]*):)?([A-Za-z][A-Za-z0-9_]*)")
+_IDENT = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
+_DATE_START = re.compile(r"\d{1,4}-\d|\d{1,2}:\d")
+_DATE = re.compile(
+    r"(?P<year>\d{4})(?:-(?P<doy>\d{3})|-(?P<month>\d{2})(?:-(?P<day>\d{2}))?)"
+    r"(?:T(?P<time>.*))?"
+)
+_TIME = re.compile(r"(?P<h>\d{2})(?::(?P<m>\d{2})(?::(?P<s>\d{2})(?:\.(?P<f>\d*))?)?)?(?P<z>Z)?")
+_SFDU = re.compile(r"CCSD3ZF\d{13}NJPL3IF0PDS[0-9A-Z]\d{8}")
+_DAYS = (31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31)
+_BASE_DIGITS = {2: "01", 8: "01234567", 16: "0123456789ABCDEFabcdef"}
+MAX_KEYWORD_LENGTH = 30
+
+
+class _Token:
+    __slots__ = ("kind", "text", "line", "end_line", "start")
+
+    def __init__(self, kind: str, text: str, line: int, end_line: int, start: int) -> None:
+        self.kind = kind  # word, string, symbol, unit, punct, eof, bad
+        self.text = text
+        self.line = line
+        self.end_line = end_line
+        self.start = start
+
+
+class _Scanner:
+    """Produces significant tokens on demand; whitespace, newlines and comments are skipped."""
+
+    def __init__(self, text: str, issues: list[Issue]) -> None:
+        self.text = text
+        self.pos = 0
+        self.line = 1
+        self.issues = issues
+
+    def mark(self) -> tuple[int, int]:
+        return self.pos, self.line
+
+    def reset(self, mark: tuple[int, int]) -> None:
+        self.pos, self.line = mark
+
+    def _skip(self) -> None:
+        text = self.text
+        while self.pos < len(text):
+            m = _WS.match(text, self.pos)
+            if m:
+                self.pos = m.end()
+                continue
+            m = _NEWLINE.match(text, self.pos)
+            if m:
+                self.pos = m.end()
+                self.line += 1
+                continue
+            if text.startswith("/*", self.pos):
+                end = text.find("*/", self.pos + 2)
+                if end < 0:
+                    self.issues.append(Issue("SYNTAX-001", self.line, "comment '/*' is never closed"))
+                    end = len(text) - 2
+                self.line += _count_lines(text, self.pos, end)
+                self.pos = end + 2
+                continue
+            break
+
+    def next(self) -> _Token:
+        self._skip()
+        text, pos, line = self.text, self.pos, self.line
+        if pos >= len(text):
+            return _Token("eof", "", line, line, pos)
+        ch = text[pos]
+        if ch == '"':
+            end = text.find('"', pos + 1)
+            if end < 0:
+                self.issues.append(Issue("SYNTAX-001", line, 'quoted text is never closed (missing ")'))
+                end_line_pos = _line_end(text, pos)
+                self.pos = end_line_pos
+                return _Token("bad", text[pos:end_line_pos], line, line, pos)
+            self.pos = end + 1
+            self.line += _count_lines(text, pos, end)
+            return _Token("string", text[pos : end + 1], line, self.line, pos)
+        if ch in "=(){},;":
+            self.pos = pos + 1
+            return _Token("punct", ch, line, line, pos)
+        if ch == "'":
+            m = _SYMBOL.match(text, pos)
+            if m:
+                self.pos = m.end()
+                return _Token("symbol", m.group(), line, line, pos)
+        if ch == "<":
+            m = _UNIT.match(text, pos)
+            if m:
+                self.pos = m.end()
+                return _Token("unit", m.group(), line, line, pos)
+        m = _WORD.match(text, pos)
+        if m:
+            self.pos = m.end()
+            return _Token("word", m.group(), line, line, pos)
+        self.pos = pos + 1
+        return _Token("bad", ch, line, line, pos)
+
+    def peek(self) -> _Token:
+        mark = self.mark()
+        tok = self.next()
+        self.reset(mark)
+        return tok
+
+    def skip_line(self) -> None:
+        """Drop the rest of the current line (error recovery)."""
+        self.pos = _line_end(self.text, self.pos)
+
+
+def _count_lines(text: str, start: int, end: int) -> int:
+    chunk = text[start:end]
+    return chunk.count("\n") + chunk.count("\r") - chunk.count("\r\n")
+
+
+def _line_end(text: str, pos: int) -> int:
+    for i in range(pos, len(text)):
+        if text[i] in "\r\n":
+            return i
+    return len(text)
+
+
+def split_lines(text: str, limit: int) -> list[Line]:
+    """Physical lines of text[:limit] with their byte offsets and terminator kind."""
+    lines: list[Line] = []
+    pos, number = 0, 1
+    for m in _NEWLINE.finditer(text, 0, limit):
+        ending = {"\r\n": "CRLF", "\n": "LF", "\r": "CR"}[m.group()]
+        lines.append(Line(number, pos, m.start(), ending))
+        pos, number = m.end(), number + 1
+    if pos < limit:
+        lines.append(Line(number, pos, limit, ""))
+    return lines
+
+
+class _Parser:
+    def __init__(self, text: str) -> None:
+        self.text = text
+        self.issues: list[Issue] = []
+        self.scan = _Scanner(text, self.issues)
+        self.root = Block("ROOT", "", 1)
+        self.stack: list[Block] = [self.root]
+        self.end_found = False
+        self.label_end = len(text)
+        self.first_keyword: str | None = None
+        self.first_line: int | None = None
+        self.sfdu: str | None = None
+        self.lowercase: list[tuple[str, int]] = []
+
+    def issue(self, rule: str, line: int | None, message: str, keyword: str | None = None) -> None:
+        self.issues.append(Issue(rule, line, message, keyword))
+
+    # -- statements -------------------------------------------------------------
+    def parse(self) -> None:
+        self._sfdu()
+        while True:
+            tok = self.scan.next()
+            if tok.kind == "eof":
+                break
+            if tok.kind != "word":
+                self.issue("SYNTAX-001", tok.line, f"expected a keyword, found {tok.text[:20]!r}")
+                self.scan.skip_line()
+                continue
+            if self.first_keyword is None:
+                self.first_keyword, self.first_line = tok.text.upper(), tok.line
+            upper = tok.text.upper()
+            if tok.text != upper:
+                self.lowercase.append((tok.text, tok.line))
+            if upper == "END":
+                self._end(tok)
+                break
+            if upper in ("END_OBJECT", "END_GROUP"):
+                self._close(tok, upper[4:])
+                continue
+            self._statement(tok, upper)
+        self._finish()
+
+    def _sfdu(self) -> None:
+        tok = self.scan.peek()
+        if tok.kind == "word" and tok.text.upper().startswith("CCSD"):
+            self.scan.next()
+            self.sfdu = tok.text
+            if not _SFDU.fullmatch(tok.text):
+                self.issue("FILE-006", tok.line, f"malformed SFDU label {tok.text!r} before PDS_VERSION_ID")
+            nxt = self.scan.peek()
+            if nxt.kind == "punct" and nxt.text == "=" and nxt.line == tok.line:
+                self.scan.next()
+                self.scan.next()
+
+    def _end(self, tok: _Token) -> None:
+        self.end_found = True
+        rest = self.scan.peek()
+        if rest.kind == "punct" and rest.text == ";" and rest.line == tok.line:
+            self.scan.next()
+        end = _line_end(self.text, tok.start)
+        m = _NEWLINE.match(self.text, end)
+        self.label_end = m.end() if m else end
+        tail = self.text[tok.start + len(tok.text) : end].strip(" ;\x00")
+        if tail and not tail.startswith("/*"):
+            self.issue("SYNTAX-001", tok.line, f"unexpected text {tail[:20]!r} after END")
+
+    def _close(self, tok: _Token, kind: str) -> None:
+        name = None
+        nxt = self.scan.peek()
+        if nxt.kind == "punct" and nxt.text == "=" and nxt.line == tok.line:
+            self.scan.next()
+            val = self.scan.next()
+            name = val.text.strip('"') if val.kind in ("word", "string") else None
+            if name is None:
+                self.issue("SYNTAX-001", tok.line, f"END_{kind} = needs an object name")
+        self._end_of_statement(tok.line)
+        top = self.stack[-1]
+        if top.kind == "ROOT":
+            self.issue("SYNTAX-005", tok.line, f"END_{kind} without a matching {kind}", tok.text)
+            return
+        if top.kind != kind:
+            self.issue(
+                "SYNTAX-005",
+                tok.line,
+                f"END_{kind} closes {top.kind} {top.name} opened at line {top.line}",
+                tok.text,
+            )
+        elif name is not None and name.upper() != top.name.upper():
+            self.issue(
+                "SYNTAX-005",
+                tok.line,
+                f"END_{kind} = {name} closes {kind} {top.name} opened at line {top.line}",
+                tok.text,
+            )
+        elif name is None:
+            self.issue("SYNTAX-006", tok.line, f"END_{kind} does not repeat the name {top.name}")
+        top.end_line = tok.line
+        self.stack.pop()
+
+    def _statement(self, tok: _Token, upper: str) -> None:
+        line = tok.line
+        self._check_keyword(tok.text, line)
+        eq = self.scan.peek()
+        if not (eq.kind == "punct" and eq.text == "="):
+            self.issue("SYNTAX-001", line, f"missing '=' after {tok.text}", tok.text)
+            self.scan.skip_line()
+            return
+        self.scan.next()
+        value = self._value(line, tok.text)
+        if value is None:
+            return
+        self._end_of_statement(value.line if value.items is None else self.scan.line)
+        pointer = tok.text.startswith("^")
+        keyword = tok.text[1:] if pointer else tok.text
+        if upper in ("OBJECT", "GROUP"):
+            if value.kind not in ("ident", "string") or not value.text.strip():
+                self.issue("SYNTAX-001", line, f"{upper} needs a name, found {value.raw[:20]!r}")
+            block = Block(upper, value.text.strip(), line)
+            self.stack[-1].items.append(block)
+            self.stack.append(block)
+            return
+        self.stack[-1].items.append(Statement(keyword, value, line, pointer))
+
+    def _end_of_statement(self, line: int) -> None:
+        nxt = self.scan.peek()
+        if nxt.kind == "eof" or nxt.line != line:
+            return
+        if nxt.kind == "punct" and nxt.text == ";":
+            self.scan.next()
+            self.issue("SYNTAX-012", line, "';' statement terminator is PVL, not PDS3")
+            return
+        self.issue(
+            "SYNTAX-001",
+            line,
+            f"unexpected text {nxt.text[:20]!r} after the value (quote values containing spaces)",
+        )
+        self.scan.skip_line()
+
+    def _check_keyword(self, word: str, line: int) -> None:
+        m = _KEYWORD.fullmatch(word)
+        if not m:
+            self.issue("SYNTAX-002", line, f"{word!r} is not a valid keyword name", word)
+            return
+        namespace, name = m.group(1), m.group(2)
+        if len(name) > MAX_KEYWORD_LENGTH:
+            self.issue(
+                "SYNTAX-002",
+                line,
+                f"keyword {name} has {len(name)} characters (at most {MAX_KEYWORD_LENGTH})",
+                word,
+            )
+        if namespace and len(namespace) > MAX_KEYWORD_LENGTH:
+            self.issue(
+                "SYNTAX-002",
+                line,
+                f"namespace {namespace} has {len(namespace)} characters (at most {MAX_KEYWORD_LENGTH})",
+                word,
+            )
+
+    # -- values ----------------------------------------------------------------
+    def _value(self, line: int, keyword: str, nested: bool = False) -> Value | None:
+        mark = self.scan.mark()
+        tok = self.scan.next()
+        if tok.kind == "eof" or (tok.kind == "punct" and tok.text in ")},;="):
+            self.issue("SYNTAX-009", line, f"{keyword} has no value", keyword)
+            self.scan.reset(mark)
+            if tok.kind == "punct" and tok.text in ";":
+                self.scan.next()
+            elif not nested:
+                self.scan.skip_line()
+            return None
+        if tok.kind == "word" and tok.line != line and not nested and self._starts_statement(tok):
+            self.issue("SYNTAX-009", line, f"{keyword} has no value", keyword)
+            self.scan.reset(mark)
+            return None
+        if tok.kind == "punct" and tok.text in "({":
+            return self._collection(tok, keyword)
+        if tok.kind == "string":
+            content = tok.text[1:-1]
+            return Value("string", tok.text, content, tok.end_line)
+        if tok.kind == "symbol":
+            return Value("symbol", tok.text, tok.text[1:-1], tok.line)
+        if tok.kind == "word":
+            value = self._scalar(tok, keyword)
+            unit = self.scan.peek()
+            if unit.kind == "unit" and unit.line == tok.line:
+                self.scan.next()
+                value.unit = unit.text[1:-1].strip()
+                if not value.unit:
+                    self.issue("SYNTAX-011", tok.line, f"empty unit '<>' after {keyword}", keyword)
+            return value
+        self.issue("SYNTAX-001", tok.line, f"unexpected {tok.text[:20]!r} where a value belongs", keyword)
+        if not nested:
+            self.scan.skip_line()
+        return None
+
+    def _starts_statement(self, tok: _Token) -> bool:
+        """True when a word on a later line is the next statement (so the value is missing)."""
+        if tok.text.upper() in ("END", "END_OBJECT", "END_GROUP"):
+            return True
+        mark = self.scan.mark()
+        nxt = self.scan.next()
+        self.scan.reset(mark)
+        return nxt.kind == "punct" and nxt.text == "="
+
+    def _collection(self, open_tok: _Token, keyword: str) -> Value | None:
+        close = ")" if open_tok.text == "(" else "}"
+        items: list[Value] = []
+        while True:
+            nxt = self.scan.peek()
+            if nxt.kind == "punct" and nxt.text == close and not items:
+                self.scan.next()
+                self.issue("SYNTAX-009", open_tok.line, f"{keyword} is an empty {open_tok.text}{close}", keyword)
+                break
+            if nxt.kind == "eof" or (nxt.kind == "word" and self._starts_statement(nxt)):
+                self.issue(
+                    "SYNTAX-001",
+                    open_tok.line,
+                    f"{open_tok.text} opened at line {open_tok.line} is never closed with {close}",
+                    keyword,
+                )
+                break
+            item = self._value(open_tok.line, keyword, nested=True)
+            if item is not None:
+                items.append(item)
+            sep = self.scan.next()
+            if sep.kind == "punct" and sep.text == close:
+                break
+            if sep.kind == "punct" and sep.text == ",":
+                continue
+            self.issue(
+                "SYNTAX-001",
+                sep.line,
+                f"expected ',' or '{close}' in {keyword}, found {sep.text[:20]!r}",
+                keyword,
+            )
+            if sep.kind == "eof":
+                break
+            self.scan.skip_line()
+            break
+        kind = "seq" if close == ")" else "set"
+        raw = self.text[open_tok.start : self.scan.pos]
+        value = Value(kind, raw, [item.py for item in items], open_tok.line, None, items)
+        unit = self.scan.peek()
+        if unit.kind == "unit" and unit.line == self.scan.line:
+            self.scan.next()
+            value.unit = unit.text[1:-1].strip()
+            for item in value.scalars():
+                item.unit = item.unit or value.unit
+        return value
+
+    def _scalar(self, tok: _Token, keyword: str) -> Value:
+        text, line = tok.text, tok.line
+        if _INT.fullmatch(text):
+            return Value("int", text, int(text), line)
+        if _REAL.fullmatch(text):
+            return Value("real", text, float(text), line)
+        if "#" in text:
+            return self._based(text, line, keyword)
+        if _DATE_START.match(text):
+            return self._date(text, line, keyword)
+        return Value("ident", text, text, line)
+
+    def _based(self, text: str, line: int, keyword: str) -> Value:
+        m = _BASED.fullmatch(text)
+        if not m:
+            self.issue("SYNTAX-007", line, f"{text!r} is not a based integer (form: 16#FF7FFFFB#)", keyword)
+            return Value("ident", text, text, line)
+        sign, base_text, digits = m.groups()
+        base = int(base_text)
+        if base not in _BASE_DIGITS:
+            self.issue("SYNTAX-007", line, f"{text}: base {base} is not 2, 8 or 16", keyword)
+            return Value("ident", text, text, line)
+        if not digits or any(ch not in _BASE_DIGITS[base] for ch in digits):
+            self.issue("SYNTAX-007", line, f"{text}: {digits!r} are not base-{base} digits", keyword)
+            return Value("ident", text, text, line)
+        value = int(digits, base)
+        return Value("based", text, -value if sign == "-" else value, line)
+
+    def _date(self, text: str, line: int, keyword: str) -> Value:
+        problem = date_problem(text)
+        if problem:
+            self.issue("SYNTAX-008", line, f"{text}: {problem}", keyword)
+            return Value("ident", text, text, line)
+        return Value("date", text, text, line)
+
+    def _finish(self) -> None:
+        for block in reversed(self.stack[1:]):
+            self.issue(
+                "SYNTAX-005",
+                block.line,
+                f"{block.kind} = {block.name} is never closed with END_{block.kind}",
+                block.name,
+            )
+        if self.lowercase:
+            word, line = self.lowercase[0]
+            self.issue(
+                "SYNTAX-003",
+                line,
+                f"{len(self.lowercase)} keyword(s) not in upper case, first {word!r}",
+                word,
+            )
+
+
+def date_problem(text: str) -> str | None:
+    """Why `text` is not a PDS3 date/time (CCYY-MM-DDThh:mm:ss.fff or CCYY-DDD...), or None."""
+    if _TIME.fullmatch(text) and ":" in text:
+        return _time_problem(text)
+    m = _DATE.fullmatch(text)
+    if not m:
+        return "not a PDS3 date/time (CCYY-MM-DDThh:mm:ss.sss or CCYY-DDDThh:mm:ss.sss)"
+    if m.group("doy"):
+        if not 1 <= int(m.group("doy")) <= 366:
+            return f"day of year {m.group('doy')} is outside 001..366"
+    else:
+        month = int(m.group("month"))
+        if not 1 <= month <= 12:
+            return f"month {month} is outside 01..12"
+        if m.group("day") and not 1 <= int(m.group("day")) <= _DAYS[month - 1]:
+            return f"day {m.group('day')} is outside the month"
+    if m.group("time") is not None:
+        return _time_problem(m.group("time"))
+    return None
+
+
+def _time_problem(text: str) -> str | None:
+    m = _TIME.fullmatch(text)
+    if not m:
+        return "time is not hh:mm:ss.sss (two digits per field)"
+    if int(m.group("h")) > 23:
+        return f"hour {m.group('h')} is outside 00..23"
+    if m.group("m") and int(m.group("m")) > 59:
+        return f"minute {m.group('m')} is outside 00..59"
+    if m.group("s") and int(m.group("s")) > 59:
+        return f"second {m.group('s')} is outside 00..59"
+    if m.group("f") is not None and not 1 <= len(m.group("f")) <= 9:
+        return "fraction of a second needs 1 to 9 digits"
+    return None
+
+
+def parse_label(text: str) -> Label:
+    """Parse label text (decoded one character per byte) into a `Label`; never raises."""
+    parser = _Parser(text)
+    parser.parse()
+    limit = parser.label_end if parser.end_found else len(text)
+    return Label(
+        root=parser.root,
+        text=text,
+        label_end=limit,
+        end_found=parser.end_found,
+        lines=split_lines(text, limit),
+        issues=parser.issues,
+        first_keyword=parser.first_keyword,
+        first_line=parser.first_line,
+        sfdu=parser.sfdu,
+    )

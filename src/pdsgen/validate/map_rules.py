@@ -1,0 +1,410 @@
+"""MAP family: IMAGE_MAP_PROJECTION arithmetic - resolution vs scale vs radius, offsets vs bounds.
+
+The label's latitude/longitude bounds are recomputed from the raster edges that
+LINE/SAMPLE_PROJECTION_OFFSET and MAP_SCALE define (standard PDS3 convention, section 4
+of the project's notes), by inverse projection of the densified boundary. The residual
+of each bound is expressed in pixels. Offsets one pixel apart on both axes are the
+older convention; half a pixel is centre/corner confusion; anything else is an error.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+import numpy as np
+
+from .context import FileContext
+from .image_rules import is_image
+from .model import Block, Hit, Statement
+from .projection import GDAL_PROJECTIONS, SUPPORTED, Sphere, boundary, normalise, projection_radius_key
+
+_REQUIRED = (
+    "MAP_PROJECTION_TYPE",
+    "A_AXIS_RADIUS",
+    "C_AXIS_RADIUS",
+    "CENTER_LATITUDE",
+    "CENTER_LONGITUDE",
+    "MAP_SCALE",
+    "LINE_PROJECTION_OFFSET",
+    "SAMPLE_PROJECTION_OFFSET",
+    "MAXIMUM_LATITUDE",
+    "MINIMUM_LATITUDE",
+    "EASTERNMOST_LONGITUDE",
+    "WESTERNMOST_LONGITUDE",
+)
+_TOLERANCE_PX = 0.02  # a consistent label: bounds and offsets agree to this (plus printed digits)
+_NEAR_PX = 1.0  # beyond this the bounds and offsets describe different rasters
+_SHIFTS = (0.0, -1.0, 1.0, -0.5, 0.5)
+
+
+def _maps(ctx: FileContext) -> Iterator[Block]:
+    yield from ctx.root.find("IMAGE_MAP_PROJECTION")
+
+
+def _num(block: Block, key: str) -> float | None:
+    val = block.value(key)
+    if val is None or not val.is_number:
+        return None
+    return float(val.py)  # type: ignore[arg-type]
+
+
+def _km(block: Block, key: str) -> float | None:
+    val = block.value(key)
+    number = _num(block, key)
+    if number is None or val is None:
+        return None
+    unit = (val.unit or "KM").upper()
+    return number / 1000.0 if unit in ("M", "METERS", "METER", "METRES") else number
+
+
+def _scale_m(block: Block) -> float | None:
+    """MAP_SCALE in metres per pixel (the dictionary's default unit is KM/PIXEL)."""
+    val = block.value("MAP_SCALE")
+    number = _num(block, "MAP_SCALE")
+    if number is None or val is None:
+        return None
+    unit = (val.unit or "KM/PIXEL").upper().replace(" ", "")
+    return number * 1000.0 if unit.startswith("KM") else number
+
+
+def _rel_precision(stmt: Statement | None) -> float:
+    """Relative half-unit of the last printed digit of a real (0 for integers)."""
+    if stmt is None or stmt.value.kind != "real":
+        return 0.0
+    raw = stmt.value.raw.lower().split("e")[0]
+    decimals = len(raw.split(".")[1]) if "." in raw else 0
+    value = abs(float(stmt.value.py))  # type: ignore[arg-type]
+    return 0.5 * 10.0**-decimals / value if value else 0.0
+
+
+def _abs_precision(stmt: Statement | None) -> float:
+    if stmt is None or stmt.value.kind != "real":
+        return 0.0
+    raw = stmt.value.raw.lower()
+    mantissa, _, exponent = raw.partition("e")
+    decimals = len(mantissa.split(".")[1]) if "." in mantissa else 0
+    return 0.5 * 10.0 ** (-decimals + (int(exponent) if exponent else 0))
+
+
+def _image_size(ctx: FileContext, block: Block) -> tuple[int, int] | None:
+    """(lines, samples) the projection describes: its LAST_PIXEL keywords, else the IMAGE."""
+    first_l, last_l = block.number("LINE_FIRST_PIXEL") or 1, block.number("LINE_LAST_PIXEL")
+    first_s, last_s = block.number("SAMPLE_FIRST_PIXEL") or 1, block.number("SAMPLE_LAST_PIXEL")
+    if isinstance(last_l, int) and isinstance(last_s, int):
+        return int(last_l - first_l + 1), int(last_s - first_s + 1)
+    for image in ctx.root.walk():
+        if is_image(image):
+            lines, samples = image.number("LINES"), image.number("LINE_SAMPLES")
+            if isinstance(lines, int) and isinstance(samples, int):
+                return lines, samples
+    return None
+
+
+def _effective_scale(block: Block, name: str) -> float | None:
+    """Metres per pixel from MAP_SCALE, or from MAP_RESOLUTION when that is printed more
+    precisely and agrees (so rounded MAP_SCALE values do not pose as offset errors)."""
+    scale = _scale_m(block)
+    res, radius = _num(block, "MAP_RESOLUTION"), _km(block, projection_radius_key(name))
+    if scale is None or res is None or radius is None or res <= 0:
+        return scale
+    derived = math.pi * radius * 1000.0 / 180.0 / res
+    p_scale = _rel_precision(block.get("MAP_SCALE"))
+    p_res = _rel_precision(block.get("MAP_RESOLUTION"))
+    if abs(derived - scale) <= (1e-6 + p_scale + p_res) * scale and p_res < p_scale:
+        return derived
+    return scale
+
+
+def check_required(ctx: FileContext) -> Iterator[Hit]:
+    for block in _maps(ctx):
+        missing = [k for k in _REQUIRED if block.get(k) is None]
+        if block.get("MAP_SCALE") is None and block.get("MAP_RESOLUTION") is not None:
+            missing.remove("MAP_SCALE")
+        if missing:
+            yield Hit(f"IMAGE_MAP_PROJECTION lacks {', '.join(missing)}", block.line, missing[0])
+
+
+def check_projection_name(ctx: FileContext) -> Iterator[Hit]:
+    for block in _maps(ctx):
+        stmt = block.get("MAP_PROJECTION_TYPE")
+        if stmt is not None and normalise(stmt.value.text) not in GDAL_PROJECTIONS:
+            yield Hit(f"MAP_PROJECTION_TYPE {stmt.value.raw} is not a projection GDAL's PDS reader "
+                      "knows (e.g. EQUIRECTANGULAR, SINUSOIDAL, POLAR STEREOGRAPHIC)", stmt.line,
+                      "MAP_PROJECTION_TYPE")
+
+
+def check_radii(ctx: FileContext) -> Iterator[Hit]:
+    for block in _maps(ctx):
+        a, b, c = (_km(block, k) for k in ("A_AXIS_RADIUS", "B_AXIS_RADIUS", "C_AXIS_RADIUS"))
+        stmt = block.get("A_AXIS_RADIUS")
+        line = stmt.line if stmt else block.line
+        radii = [r for r in (a, b, c) if r is not None]
+        if any(r <= 0 for r in radii):
+            yield Hit(f"axis radii must be positive, found {radii}", line, "A_AXIS_RADIUS")
+        elif a is not None and c is not None and not (a >= (b if b is not None else c) >= c):
+            yield Hit(f"radii out of order: A {a} km, B {b} km, C {c} km; expected A >= B >= C",
+                      line, "A_AXIS_RADIUS")
+
+
+def check_last_pixel(ctx: FileContext) -> Iterator[Hit]:
+    for block in _maps(ctx):
+        for image in ctx.root.walk():
+            if not is_image(image):
+                continue
+            for last, size in (("LINE_LAST_PIXEL", "LINES"), ("SAMPLE_LAST_PIXEL", "LINE_SAMPLES")):
+                stmt, expected = block.get(last), image.number(size)
+                first = block.number(last.replace("LAST", "FIRST"))
+                if stmt is None or expected is None or not stmt.value.is_number:
+                    continue
+                want = expected + (first - 1 if isinstance(first, int) else 0)
+                if stmt.value.py != want:
+                    yield Hit(f"{last} = {stmt.value.raw}, expected {want} ({size} = {expected})",
+                              stmt.line, last)
+            break
+
+
+def check_resolution(ctx: FileContext) -> Iterator[Hit]:
+    for block in _maps(ctx):
+        name = normalise(block.text("MAP_PROJECTION_TYPE") or "")
+        res_stmt = block.get("MAP_RESOLUTION")
+        res, scale = _num(block, "MAP_RESOLUTION"), _scale_m(block)
+        key = projection_radius_key(name)
+        radius = _km(block, key)
+        if res is None or scale is None or radius is None or res <= 0 or scale <= 0 or radius <= 0:
+            continue
+        implied = res * scale * 180.0 / math.pi / 1000.0
+        tol = 1e-6 + _rel_precision(res_stmt) + _rel_precision(block.get("MAP_SCALE"))
+        candidates = [radius]
+        if name == "POLAR_STEREOGRAPHIC":
+            other = _km(block, "A_AXIS_RADIUS")
+            candidates += [other] if other else []
+        if any(abs(implied - r) <= tol * r for r in candidates):
+            continue
+        expected = math.pi * radius * 1000.0 / 180.0 / scale
+        yield Hit(
+            f"MAP_RESOLUTION = {res_stmt.value.raw} <PIX/DEG> with MAP_SCALE = {scale!r} m/pixel "  # type: ignore[union-attr]
+            f"implies a radius of {implied:.6f} km, but {key} = {radius} km; expected "
+            f"MAP_RESOLUTION = {expected!r}",
+            res_stmt.line if res_stmt else block.line,
+            "MAP_RESOLUTION",
+        )
+
+
+# -- offsets versus bounds ------------------------------------------------------------
+@dataclass
+class Geometry:
+    sphere: Sphere
+    scale: float
+    spo: float
+    lpo: float
+    lines: int
+    samples: int
+    bounds: dict[str, float]  # MINIMUM_LATITUDE ... east-positive longitudes
+    slack: dict[str, float]  # printed precision of each bound, degrees
+
+
+@dataclass
+class Fit:
+    shift_sample: float
+    shift_line: float
+    residuals: dict[str, float]  # pixels, per bound
+    slack: dict[str, float]  # pixels each bound may be off because of its printed digits
+
+    @property
+    def worst(self) -> float:
+        return max(abs(r) for r in self.residuals.values())
+
+    @property
+    def consistent(self) -> bool:
+        return all(abs(r) <= _TOLERANCE_PX + self.slack[k] for k, r in self.residuals.items())
+
+
+_BOUND_KEYS = ("MINIMUM_LATITUDE", "MAXIMUM_LATITUDE", "WESTERNMOST_LONGITUDE", "EASTERNMOST_LONGITUDE")
+
+
+def geometry(ctx: FileContext, block: Block) -> Geometry | None:
+    name = normalise(block.text("MAP_PROJECTION_TYPE") or "")
+    if name not in SUPPORTED or (_num(block, "MAP_PROJECTION_ROTATION") or 0.0) != 0.0:
+        return None
+    radius = _km(block, projection_radius_key(name))
+    values = {k: _num(block, k) for k in ("CENTER_LATITUDE", "CENTER_LONGITUDE",
+                                          "SAMPLE_PROJECTION_OFFSET", "LINE_PROJECTION_OFFSET")}
+    bounds = {k: _num(block, k) for k in _BOUND_KEYS}
+    scale, size = _effective_scale(block, name), _image_size(ctx, block)
+    if radius is None or scale is None or size is None or None in values.values() or None in bounds.values():
+        return None
+    west = (block.text("POSITIVE_LONGITUDE_DIRECTION") or "EAST").upper() == "WEST"
+    sign = -1.0 if west else 1.0
+    center_lon = sign * values["CENTER_LONGITUDE"]  # type: ignore[operator]
+    east_bounds = dict(bounds)
+    east_bounds["WESTERNMOST_LONGITUDE"] = sign * bounds["WESTERNMOST_LONGITUDE"]  # type: ignore[operator]
+    east_bounds["EASTERNMOST_LONGITUDE"] = sign * bounds["EASTERNMOST_LONGITUDE"]  # type: ignore[operator]
+    sphere = Sphere(name, radius * 1000.0, values["CENTER_LATITUDE"], center_lon)  # type: ignore[arg-type]
+    slack = {k: _abs_precision(block.get(k)) for k in _BOUND_KEYS}
+    return Geometry(sphere, scale, values["SAMPLE_PROJECTION_OFFSET"], values["LINE_PROJECTION_OFFSET"],  # type: ignore[arg-type]
+                    size[0], size[1], east_bounds, slack)  # type: ignore[arg-type]
+
+
+def _lon_diff(a: float, b: float) -> float:
+    return (a - b + 180.0) % 360.0 - 180.0
+
+
+def fit(geo: Geometry, shift_sample: float, shift_line: float) -> Fit:
+    """Residuals (pixels) of the label bounds against the edges the offsets define."""
+    s = geo.scale
+    x0 = -(geo.spo - shift_sample + 0.5) * s
+    y1 = (geo.lpo - shift_line + 0.5) * s
+    x1, y0 = x0 + geo.samples * s, y1 - geo.lines * s
+    xs, ys = boundary(x0, x1, y0, y1)
+    lat, lon = geo.sphere.inverse(xs, ys)
+    ok = np.isfinite(lat) & np.isfinite(lon)
+    lat, lon = lat[ok], lon[ok]
+    if lat.size == 0:
+        return Fit(shift_sample, shift_line, dict.fromkeys(_BOUND_KEYS, math.inf),
+                   dict.fromkeys(_BOUND_KEYS, 0.0))
+    pole = geo.sphere.contains_pole(x0, x1, y0, y1)
+    residuals: dict[str, float] = {}
+    slack: dict[str, float] = {}
+    imin, imax = int(np.argmin(lat)), int(np.argmax(lat))
+    computed = {
+        "MINIMUM_LATITUDE": (-90.0 if pole and not geo.sphere.north else float(lat[imin]), float(lon[imin])),
+        "MAXIMUM_LATITUDE": (90.0 if pole and geo.sphere.north else float(lat[imax]), float(lon[imax])),
+    }
+    for key, (value, at_lon) in computed.items():
+        residuals[key], slack[key] = _px_lat(geo, geo.bounds[key], value, at_lon, geo.slack[key])
+    west, east = geo.bounds["WESTERNMOST_LONGITUDE"], geo.bounds["EASTERNMOST_LONGITUDE"]
+    label_span = (east - west) % 360.0 or (360.0 if east != west else 0.0)
+    if pole:
+        # a pole inside the raster: every longitude is in it
+        for key in ("WESTERNMOST_LONGITUDE", "EASTERNMOST_LONGITUDE"):
+            residuals[key] = 0.0 if label_span >= 360.0 - 1e-6 else math.inf
+            slack[key] = 0.0
+        return Fit(shift_sample, shift_line, residuals, slack)
+    if float(lon.max() - lon.min()) >= 360.0 - 1e-6 and geo.sphere.name != "POLAR_STEREOGRAPHIC":
+        # all the way round: the left and right edges are the bounds (cylindrical maps)
+        mid = (y0 + y1) / 2
+        for key, x in (("WESTERNMOST_LONGITUDE", x0), ("EASTERNMOST_LONGITUDE", x1)):
+            elat, elon = (float(v) for v in geo.sphere.inverse(x, mid))
+            residuals[key], slack[key] = _px_lon(geo, geo.bounds[key], elon, elat, geo.slack[key])
+        return Fit(shift_sample, shift_line, residuals, slack)
+    iw, ie = int(np.argmin(lon)), int(np.argmax(lon))
+    for key, idx in (("WESTERNMOST_LONGITUDE", iw), ("EASTERNMOST_LONGITUDE", ie)):
+        residuals[key], slack[key] = _px_lon(geo, geo.bounds[key], float(lon[idx]), float(lat[idx]),
+                                             geo.slack[key])
+    return Fit(shift_sample, shift_line, residuals, slack)
+
+
+def _px_per_degree(geo: Geometry, lat: float, lon: float, along_lat: bool) -> float:
+    """Pixels per degree of latitude (along_lat) or longitude at a point, numerically."""
+    step = 1e-6
+    if along_lat:
+        lat2 = lat - step if lat + step > 90.0 else lat + step
+        xa, ya = geo.sphere.forward(lat, lon)
+        xb, yb = geo.sphere.forward(lat2, lon)
+    else:
+        xa, ya = geo.sphere.forward(lat, lon)
+        xb, yb = geo.sphere.forward(lat, lon + step)
+    return float(math.hypot(float(xa - xb), float(ya - yb))) / geo.scale / step
+
+
+def _px_lat(geo: Geometry, label: float, computed: float, at_lon: float, slack: float
+            ) -> tuple[float, float]:
+    """(signed residual, allowance for the printed digits) in pixels for a latitude bound."""
+    rate = _px_per_degree(geo, computed, at_lon, along_lat=True)
+    return (label - computed) * rate, slack * rate
+
+
+def _px_lon(geo: Geometry, label: float, computed: float, at_lat: float, slack: float
+            ) -> tuple[float, float]:
+    rate = _px_per_degree(geo, at_lat, computed, along_lat=False)
+    return _lon_diff(label, computed) * rate, slack * rate
+
+
+def best_fit(geo: Geometry) -> tuple[Fit, Fit]:
+    """(fit with the offsets as written, best fit over whole/half pixel shifts)."""
+    fits = [fit(geo, a, b) for a, b in itertools.product(_SHIFTS, _SHIFTS)]
+    standard = fits[0]
+    best = min(fits, key=lambda f: (not f.consistent, round(f.worst, 6),
+                                    abs(f.shift_sample) + abs(f.shift_line)))
+    return standard, best
+
+
+def _describe(f: Fit) -> str:
+    short = {"MINIMUM_LATITUDE": "S", "MAXIMUM_LATITUDE": "N", "WESTERNMOST_LONGITUDE": "W",
+             "EASTERNMOST_LONGITUDE": "E"}
+    return ", ".join(f"{short[k]} {v:+.3f} px" for k, v in f.residuals.items())
+
+
+def _offset_findings(ctx: FileContext) -> list[tuple[str, Hit]]:
+    cache = ctx.__dict__.setdefault("_map_offsets", None)
+    if cache is not None:
+        return cache
+    found: list[tuple[str, Hit]] = []
+    for block in _maps(ctx):
+        geo = geometry(ctx, block)
+        if geo is None:
+            name = block.text("MAP_PROJECTION_TYPE")
+            if name is not None:
+                found.append(("MAP-009", Hit(f"bounds versus offsets not checked for {name} "
+                                             "(no formulas here, rotated, or keywords missing)",
+                                             block.line)))
+            continue
+        standard, best = best_fit(geo)
+        stmt = block.get("SAMPLE_PROJECTION_OFFSET")
+        line = stmt.line if stmt else block.line
+        if standard.consistent:
+            found.append(("MAP-004", Hit(f"offsets follow the standard PDS3 convention "
+                                         f"(residuals {_describe(standard)})", line)))
+        elif best.consistent and abs(best.shift_sample) == 1 and best.shift_sample == best.shift_line:
+            found.append(("MAP-005", Hit(
+                f"offsets follow the older one-pixel-apart convention: SAMPLE/LINE_PROJECTION_OFFSET "
+                f"are {best.shift_sample:+.0f} px from the standard values {geo.spo - best.shift_sample!r}"
+                f" / {geo.lpo - best.shift_line!r}; GDAL reads this 1 px off", line,
+                "SAMPLE_PROJECTION_OFFSET")))
+        elif best.consistent:
+            what = "centre/corner confusion" if 0.5 in (abs(best.shift_sample), abs(best.shift_line)) \
+                else "mixed conventions"
+            found.append(("MAP-003", Hit(
+                f"offsets disagree with the latitude/longitude bounds by {best.shift_sample:+g} px "
+                f"(samples) and {best.shift_line:+g} px (lines), {what}: expected "
+                f"SAMPLE_PROJECTION_OFFSET = {geo.spo - best.shift_sample!r}, LINE_PROJECTION_OFFSET = "
+                f"{geo.lpo - best.shift_line!r} (residuals {_describe(standard)})", line,
+                "SAMPLE_PROJECTION_OFFSET")))
+        else:
+            near = min((fit(geo, d, d) for d in (0.0, 1.0, -1.0)), key=lambda f: f.worst)
+            if near.worst <= _NEAR_PX:
+                name = "standard" if near.shift_sample == 0 else "older one-pixel-apart"
+                rule = "MAP-004" if near.shift_sample == 0 else "MAP-005"
+                found.append((rule, Hit(f"offsets follow the {name} convention (residuals "
+                                        f"{_describe(near)})", line, "SAMPLE_PROJECTION_OFFSET")))
+                found.append(("MAP-010", Hit(
+                    f"latitude/longitude bounds are up to {near.worst:.3f} px off the raster edges "
+                    f"the offsets define ({name} convention; residuals {_describe(near)})", line,
+                    "SAMPLE_PROJECTION_OFFSET")))
+            else:
+                found.append(("MAP-003", Hit(
+                    f"offsets disagree with the latitude/longitude bounds by more than {_NEAR_PX:g} px "
+                    f"under either convention: residuals {_describe(standard)} (standard), "
+                    f"{_describe(fit(geo, 1.0, 1.0))} (older)", line, "SAMPLE_PROJECTION_OFFSET")))
+    ctx.__dict__["_map_offsets"] = found
+    return found
+
+
+def _offset_rule(rule: str):
+    def check(ctx: FileContext) -> Iterator[Hit]:
+        for rid, hit in _offset_findings(ctx):
+            if rid == rule:
+                yield hit
+
+    check.__name__ = f"check_{rule.replace('-', '_').lower()}"
+    return check
+
+
+check_offsets = _offset_rule("MAP-003")
+check_convention_standard = _offset_rule("MAP-004")
+check_convention_old = _offset_rule("MAP-005")
+check_not_checked = _offset_rule("MAP-009")
+check_bounds_imprecise = _offset_rule("MAP-010")

@@ -1,0 +1,186 @@
+"""The label tree every rule family reads, and the finding a rule reports.
+
+The parser (`lexer.py`) builds one `Label` per file: a root `Block` holding
+`Statement`s and nested OBJECT/GROUP `Block`s, each with its 1-based line number,
+so a finding can point a person at the exact line to fix.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+
+SEVERITIES = ("error", "warning", "info")
+
+
+@dataclass(slots=True)
+class Value:
+    """One parsed value: its kind, the text as written, the Python value and its unit.
+
+    kind is one of: int, real, based, string (double-quoted), symbol (single-quoted),
+    ident (unquoted word), date, seq, set. `items` holds the members of seq/set.
+    """
+
+    kind: str
+    raw: str
+    py: object
+    line: int
+    unit: str | None = None
+    items: list[Value] | None = None
+
+    def scalars(self) -> Iterator[Value]:
+        """Every scalar member, flattening nested sequences and sets."""
+        if self.items is None:
+            yield self
+        else:
+            for item in self.items:
+                yield from item.scalars()
+
+    @property
+    def is_number(self) -> bool:
+        return self.kind in ("int", "real", "based")
+
+    @property
+    def text(self) -> str:
+        """The value as a string (quotes removed), for comparisons of names."""
+        return self.py if isinstance(self.py, str) else self.raw
+
+
+@dataclass(slots=True)
+class Statement:
+    """`KEYWORD = value` (or `^KEYWORD = value` when pointer is true)."""
+
+    keyword: str
+    value: Value
+    line: int
+    pointer: bool = False
+
+    @property
+    def key(self) -> str:
+        """Upper-case keyword, with the pointer caret, as used for look-ups."""
+        return ("^" if self.pointer else "") + self.keyword.upper()
+
+
+@dataclass(slots=True)
+class Block:
+    """An OBJECT or GROUP (or the label root) with its statements and children."""
+
+    kind: str  # ROOT, OBJECT or GROUP
+    name: str
+    line: int
+    end_line: int | None = None
+    items: list[Statement | Block] = field(default_factory=list)
+
+    def statements(self) -> Iterator[Statement]:
+        for item in self.items:
+            if isinstance(item, Statement):
+                yield item
+
+    def blocks(self, name: str | None = None) -> Iterator[Block]:
+        """Direct child blocks, optionally only those whose name is `name`."""
+        for item in self.items:
+            if isinstance(item, Block) and (name is None or item.name.upper() == name):
+                yield item
+
+    def walk(self) -> Iterator[Block]:
+        """This block and every block nested in it, depth first."""
+        yield self
+        for child in self.blocks():
+            yield from child.walk()
+
+    def find(self, name: str) -> Iterator[Block]:
+        """Every block at any depth named `name` (upper case)."""
+        for block in self.walk():
+            if block is not self and block.name.upper() == name:
+                yield block
+
+    def get(self, key: str) -> Statement | None:
+        """The first statement with this upper-case key (`^IMAGE` for pointers)."""
+        for stmt in self.statements():
+            if stmt.key == key:
+                return stmt
+        return None
+
+    def value(self, key: str) -> Value | None:
+        stmt = self.get(key)
+        return stmt.value if stmt is not None else None
+
+    def number(self, key: str) -> float | None:
+        """The numeric value of a scalar keyword, or None if absent or not a number."""
+        val = self.value(key)
+        if val is None or not val.is_number:
+            return None
+        return val.py  # type: ignore[return-value]
+
+    def text(self, key: str) -> str | None:
+        val = self.value(key)
+        if val is None or val.items is not None:
+            return None
+        return val.text
+
+
+@dataclass(slots=True)
+class Issue:
+    """A problem found while reading the label text, before any rule runs."""
+
+    rule: str
+    line: int | None
+    message: str
+    keyword: str | None = None
+
+
+@dataclass(slots=True)
+class Line:
+    """One physical line of label text: byte offsets and how it ended."""
+
+    number: int
+    start: int
+    end: int  # offset of the first byte of the line terminator (or end of text)
+    ending: str  # "CRLF", "LF", "CR" or "" (no terminator, end of file)
+
+
+@dataclass(slots=True)
+class Label:
+    """A parsed label: the tree, where its text ends, and what the reader noticed."""
+
+    root: Block
+    text: str  # label text decoded as Latin-1 (one character per byte)
+    label_end: int  # byte offset just past the END statement's line terminator
+    end_found: bool
+    lines: list[Line]
+    issues: list[Issue]
+    first_keyword: str | None = None
+    first_line: int | None = None
+    sfdu: str | None = None
+
+
+@dataclass(slots=True)
+class Finding:
+    """One reported problem: everything a person or a CI system needs to act on it."""
+
+    rule: str
+    severity: str
+    file: str
+    message: str
+    line: int | None = None
+    keyword: str | None = None
+
+    def as_dict(self) -> dict:
+        return {
+            "rule": self.rule,
+            "severity": self.severity,
+            "file": self.file,
+            "line": self.line,
+            "keyword": self.keyword,
+            "message": self.message,
+        }
+
+
+@dataclass(slots=True)
+class Hit:
+    """What a check function yields; the runner adds rule id, severity and file."""
+
+    message: str
+    line: int | None = None
+    keyword: str | None = None
+    file: str | None = None  # set when the problem is in another file than the label

@@ -1,0 +1,238 @@
+"""PTR and REC families: where objects start, and whether records add up to the file size.
+
+Pointer forms (PDS3): `n` (record), `n <BYTES>`, `"F"`, `("F", n)`, `("F", n <BYTES>)`.
+For FIXED_LENGTH files `RECORD_BYTES * FILE_RECORDS` is the exact file size and an
+attached object starts right after the label's LABEL_RECORDS records.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from .context import FileContext, Pointer
+from .file_rules import padding_bytes
+from .image_rules import object_bytes
+from .model import Hit
+
+
+def _kw(ptr: Pointer) -> str:
+    return "^" + ptr.statement.keyword.upper()
+
+
+def check_pointer_form(ctx: FileContext) -> Iterator[Hit]:
+    for ptr in ctx.pointers:
+        if ptr.form == "invalid":
+            yield Hit(
+                f"{_kw(ptr)} = {ptr.statement.value.raw[:40]} is not a PDS3 pointer "
+                '(n, n <BYTES>, "FILE", ("FILE", n) or ("FILE", n <BYTES>))',
+                ptr.statement.line,
+                _kw(ptr),
+            )
+        elif (ptr.record is not None and ptr.record < 1) or (ptr.byte is not None and ptr.byte < 1):
+            yield Hit(f"{_kw(ptr)} points to position {ptr.record or ptr.byte}; the first is 1",
+                      ptr.statement.line, _kw(ptr))
+
+
+def _named_targets(ctx: FileContext) -> Iterator[Pointer]:
+    if ctx.labels_only:
+        return
+    for ptr in ctx.data_pointers():
+        if ptr.file_name is not None:
+            yield ptr
+
+
+def check_target_exists(ctx: FileContext) -> Iterator[Hit]:
+    for ptr in _named_targets(ctx):
+        exact, other = ctx.resolve(ptr.file_name)  # type: ignore[arg-type]
+        if exact is None and other is None:
+            yield Hit(f"{_kw(ptr)} names {ptr.file_name}, which is not in {ctx.path.parent}",
+                      ptr.statement.line, _kw(ptr))
+
+
+def check_target_case(ctx: FileContext) -> Iterator[Hit]:
+    for ptr in _named_targets(ctx):
+        exact, other = ctx.resolve(ptr.file_name)  # type: ignore[arg-type]
+        if exact is None and other is not None:
+            yield Hit(f"{_kw(ptr)} names {ptr.file_name} but the file is {other.name} "
+                      "(case differs)", ptr.statement.line, _kw(ptr))
+
+
+def _lowest_attached(ctx: FileContext) -> tuple[Pointer, int] | None:
+    found = [(p, ctx.pointer_offset(p)) for p in ctx.data_pointers() if p.attached]
+    found = [(p, o) for p, o in found if o is not None]
+    return min(found, key=lambda po: po[1]) if found else None
+
+
+def check_start_inside_label(ctx: FileContext) -> Iterator[Hit]:
+    lowest = _lowest_attached(ctx)
+    if lowest is None or not ctx.label.end_found:
+        return
+    ptr, offset = lowest
+    if offset < ctx.label.label_end:
+        yield Hit(f"{_kw(ptr)} starts at byte {offset + 1}, inside the label text "
+                  f"(which ends at byte {ctx.label.label_end})", ptr.statement.line, _kw(ptr))
+
+
+def _first_data_byte(pad: bytes) -> int | None:
+    for i, b in enumerate(pad):
+        if b not in b" \r\n\x00":
+            return i
+    return None
+
+
+def check_start_blank_gap(ctx: FileContext) -> Iterator[Hit]:
+    """Data found before the pointed start byte: the pointer is too large."""
+    lowest = _lowest_attached(ctx)
+    found = padding_bytes(ctx) if lowest is not None and ctx.label.end_found else None
+    if not found or not found[1]:
+        return
+    ptr, offset = lowest  # type: ignore[misc]
+    first = _first_data_byte(found[1])
+    if first is not None:
+        at = ctx.label.label_end + first + 1
+        yield Hit(f"non-blank bytes at byte {at}, before {_kw(ptr)} start byte {offset + 1}: "
+                  "the pointer or LABEL_RECORDS is too large", ptr.statement.line, _kw(ptr))
+
+
+def check_start_possible(ctx: FileContext) -> Iterator[Hit]:
+    """The object's first bytes are blanks: harmless, or the pointer is too small."""
+    lowest = _lowest_attached(ctx)
+    if lowest is None or ctx.labels_only or not ctx.label.end_found:
+        return
+    ptr, offset = lowest
+    if offset < ctx.label.label_end or offset >= ctx.size:
+        return
+    with open(ctx.path, "rb") as fh:
+        fh.seek(offset)
+        chunk = fh.read(256)
+    blanks = len(chunk) - len(chunk.lstrip(b" \r\n"))
+    if 0 < blanks < len(chunk):
+        yield Hit(f"{_kw(ptr)} data begins with {blanks} blank byte(s) (data may start at byte "
+                  f"{offset + blanks + 1}, pointer says {offset + 1})", ptr.statement.line, _kw(ptr))
+
+
+def check_record_bytes_present(ctx: FileContext) -> Iterator[Hit]:
+    for block in ctx.root.walk():
+        rt = block.get("RECORD_TYPE")
+        if rt is not None and rt.value.text.upper() == "FIXED_LENGTH" and block.get(
+            "RECORD_BYTES"
+        ) is None:
+            yield Hit("RECORD_TYPE = FIXED_LENGTH needs RECORD_BYTES", rt.line, "RECORD_BYTES")
+
+
+def _fixed_records(ctx: FileContext) -> tuple[int, int] | None:
+    root = ctx.root
+    if root.text("RECORD_TYPE") != "FIXED_LENGTH":
+        return None
+    rb, fr = root.number("RECORD_BYTES"), root.number("FILE_RECORDS")
+    if not isinstance(rb, int) or not isinstance(fr, int):
+        return None
+    return rb, fr
+
+
+def _record_file(ctx: FileContext) -> tuple[int, str] | None:
+    """(size, name) of the file RECORD_BYTES/FILE_RECORDS describe, if known."""
+    if ctx.attached:
+        return ctx.size, ctx.path.name
+    names = {p.file_name for p in ctx.data_pointers() if p.file_name}
+    if len(names) != 1:
+        return None
+    ptr = next(p for p in ctx.data_pointers() if p.file_name)
+    path = ctx.target_path(ptr)
+    return (path.stat().st_size, path.name) if path is not None else None
+
+
+def check_file_size(ctx: FileContext) -> Iterator[Hit]:
+    records = _fixed_records(ctx)
+    if records is None or ctx.labels_only:
+        return
+    target = _record_file(ctx)
+    if target is None:
+        return
+    size, name = target
+    rb, fr = records
+    if rb * fr != size:
+        stmt = ctx.root.get("FILE_RECORDS")
+        yield Hit(f"RECORD_BYTES x FILE_RECORDS = {rb} x {fr} = {rb * fr} bytes, but {name} has "
+                  f"{size} bytes", stmt.line if stmt else None, "FILE_RECORDS")
+
+
+def check_label_records(ctx: FileContext) -> Iterator[Hit]:
+    root = ctx.root
+    stmt = root.get("LABEL_RECORDS")
+    if stmt is None or not ctx.attached or not ctx.label.end_found:
+        return
+    val = stmt.value
+    if val.kind != "int":
+        return
+    unit = (val.unit or "").upper()
+    rb = ctx.record_bytes
+    if unit == "BYTES":
+        label_space = val.py
+    elif rb is None:
+        return
+    else:
+        label_space = val.py * rb  # type: ignore[operator]
+    if label_space < ctx.label.label_end:  # type: ignore[operator]
+        yield Hit(f"LABEL_RECORDS gives {label_space} bytes but the label text takes "
+                  f"{ctx.label.label_end}", stmt.line, "LABEL_RECORDS")
+    lowest = _lowest_attached(ctx)
+    if lowest is not None and lowest[1] != label_space:
+        ptr, offset = lowest
+        expect = f"{label_space + 1} <BYTES>" if ptr.byte is not None else (
+            f"{label_space // rb + 1}" if rb else "?")
+        yield Hit(f"{_kw(ptr)} starts at byte {offset + 1} but LABEL_RECORDS ends the label at "
+                  f"byte {label_space}: expected {_kw(ptr)} = {expect}", ptr.statement.line,
+                  _kw(ptr))
+
+
+def check_required_storage(ctx: FileContext) -> Iterator[Hit]:
+    for block in ctx.root.walk():
+        stmt = block.get("REQUIRED_STORAGE_BYTES")
+        if stmt is None or not stmt.value.is_number:
+            continue
+        for unc in ctx.root.find("UNCOMPRESSED_FILE"):
+            rb, fr = unc.number("RECORD_BYTES"), unc.number("FILE_RECORDS")
+            if isinstance(rb, int) and isinstance(fr, int) and rb * fr != stmt.value.py:
+                yield Hit(f"REQUIRED_STORAGE_BYTES = {stmt.value.py}, expected RECORD_BYTES x "
+                          f"FILE_RECORDS of {unc.name} = {rb} x {fr} = {rb * fr}", stmt.line,
+                          "REQUIRED_STORAGE_BYTES")
+            break
+
+
+def check_object_fits_records(ctx: FileContext) -> Iterator[Hit]:
+    """Label arithmetic only: the object must fit in the records the label declares."""
+    records = _fixed_records(ctx)
+    if records is None:
+        return
+    rb, fr = records
+    for ptr in ctx.data_pointers():
+        if ptr.form in ("file", "files", "invalid") and ptr.file_name is None:
+            continue
+        block = ctx.object_for(ptr)
+        offset = ctx.pointer_offset(ptr)
+        need = object_bytes(block) if block is not None else None
+        if need is None or offset is None:
+            continue
+        if offset + need > rb * fr:
+            yield Hit(f"{ptr.name} needs bytes {offset + 1}..{offset + need} but "
+                      f"RECORD_BYTES x FILE_RECORDS = {rb * fr}", ptr.statement.line, _kw(ptr))
+
+
+def check_object_in_file(ctx: FileContext) -> Iterator[Hit]:
+    """The data file must hold every byte of the object (a truncated file fails here)."""
+    if ctx.labels_only:
+        return
+    for ptr in ctx.data_pointers():
+        if ptr.form in ("files", "invalid"):
+            continue
+        block = ctx.object_for(ptr)
+        offset = ctx.pointer_offset(ptr)
+        need = object_bytes(block) if block is not None else None
+        size = ctx.target_size(ptr)
+        if need is None or offset is None or size is None:
+            continue
+        if offset + need > size:
+            name = ptr.file_name or ctx.path.name
+            yield Hit(f"{ptr.name} needs bytes {offset + 1}..{offset + need} of {name}, which has "
+                      f"only {size} bytes (truncated?)", ptr.statement.line, _kw(ptr))

@@ -1,0 +1,168 @@
+"""The one table of rules: stable id -> family, severity, summary, check function.
+
+Ids never change meaning once published (CI configurations refer to them). Each
+family lives in its own module; this table is the only place that ties them together.
+`pdsgen validate --list-rules` prints it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+
+from . import file_rules as F
+from . import image_rules as I
+from . import map_rules as M
+from . import pointer_rules as P
+from . import syntax_rules as S
+from .context import FileContext
+from .model import Hit
+
+FAMILIES = ("FILE", "SYNTAX", "DICT", "PTR", "REC", "IMG", "MAP", "GEO", "SET")
+
+
+@dataclass(frozen=True)
+class Rule:
+    id: str
+    severity: str
+    summary: str
+    check: Callable[[FileContext], Iterable[Hit]] | None  # None: a set rule (see set_rules)
+    needs_data: bool = False
+
+    @property
+    def family(self) -> str:
+        return self.id.split("-")[0]
+
+
+def _table() -> list[Rule]:
+    from . import dict_rules as D
+    from . import geo_rules as G
+    from . import set_rules as T
+
+    r = S.from_reader
+    return [
+        Rule("FILE-001", "error", "label bytes are printable 7-bit ASCII", F.check_ascii),
+        Rule("FILE-002", "error", "lines end in CR LF (mixed ends, or LF in a file with attached data)",
+             F.check_line_ends_error),
+        Rule("FILE-003", "warning", "a detached label uses LF-only line ends", F.check_line_ends_warning),
+        Rule("FILE-004", "error", "a label line has at most 78 characters (80 bytes with CR LF)",
+             F.check_line_length),
+        Rule("FILE-005", "error", "a label padded to its records pads every line to RECORD_BYTES",
+             F.check_padded_lines),
+        Rule("FILE-006", "error", "PDS_VERSION_ID is the first statement (after a valid SFDU)",
+             F.check_first_statement),
+        Rule("FILE-007", "error", "an END statement closes the label", F.check_end),
+        Rule("FILE-008", "warning", "the label is padded with spaces (not NUL)", F.check_padding),
+        Rule("FILE-009", "warning", "label lines contain no tab characters", F.check_tabs),
+        Rule("FILE-010", "error", "PDS_VERSION_ID = PDS3", F.check_version),
+        Rule("FILE-011", "error", "the file is not empty", F.check_empty),
+        Rule("SYNTAX-001", "error", "statements parse: KEYWORD = value, quotes and brackets closed",
+             r("SYNTAX-001")),
+        Rule("SYNTAX-002", "error", "keyword names are letters/digits/_ of at most 30 characters",
+             r("SYNTAX-002")),
+        Rule("SYNTAX-003", "warning", "keywords are upper case", r("SYNTAX-003")),
+        Rule("SYNTAX-004", "error", "a keyword appears once within its object", S.check_duplicates),
+        Rule("SYNTAX-005", "error", "OBJECT/END_OBJECT and GROUP/END_GROUP balance and match",
+             r("SYNTAX-005")),
+        Rule("SYNTAX-006", "info", "END_OBJECT/END_GROUP repeat the object name", r("SYNTAX-006")),
+        Rule("SYNTAX-007", "error", "based integers are 2#..#, 8#..# or 16#..# with valid digits",
+             r("SYNTAX-007")),
+        Rule("SYNTAX-008", "error", "dates and times are valid CCYY-MM-DDThh:mm:ss.sss / CCYY-DDD",
+             r("SYNTAX-008")),
+        Rule("SYNTAX-009", "error", "every keyword has a value", r("SYNTAX-009")),
+        Rule("SYNTAX-010", "warning", "unquoted values are identifiers (else quote them)",
+             S.check_unquoted),
+        Rule("SYNTAX-011", "error", "units are not empty", r("SYNTAX-011")),
+        Rule("SYNTAX-012", "warning", "no ';' statement terminators (PVL, not PDS3)", r("SYNTAX-012")),
+        Rule("DICT-001", "warning", "keywords are defined in the data dictionary or a mission namespace",
+             D.check_unknown),
+        Rule("DICT-002", "error", "values have the dictionary type of their keyword", D.check_type),
+        Rule("DICT-003", "error", "numeric values lie within the dictionary range", D.check_range),
+        Rule("DICT-004", "error", "values of closed (STATIC) value sets are standard values",
+             D.check_static_values),
+        Rule("DICT-005", "warning", "values of suggested value sets are standard values",
+             D.check_suggested_values),
+        Rule("DICT-006", "error", "value lengths lie within the dictionary minimum/maximum length",
+             D.check_length),
+        Rule("DICT-007", "warning", "units are known PDS units", D.check_units),
+        Rule("DICT-008", "info", "placeholder values (NULL) are reported", D.check_placeholder),
+        Rule("PTR-001", "error", "pointers have a PDS3 form: n, n <BYTES>, \"F\", (\"F\", n)",
+             P.check_pointer_form),
+        Rule("PTR-002", "error", "files named by data pointers exist", P.check_target_exists,
+             needs_data=True),
+        Rule("PTR-003", "error", "files named by pointers match in case", P.check_target_case,
+             needs_data=True),
+        Rule("PTR-004", "error", "attached data do not start inside the label text",
+             P.check_start_inside_label),
+        Rule("PTR-005", "error", "no data between the label's END and the pointed start byte",
+             P.check_start_blank_gap),
+        Rule("PTR-006", "info", "attached data begin with blanks (start may be later)",
+             P.check_start_possible, needs_data=True),
+        Rule("REC-001", "error", "RECORD_TYPE = FIXED_LENGTH comes with RECORD_BYTES",
+             P.check_record_bytes_present),
+        Rule("REC-002", "error", "RECORD_BYTES x FILE_RECORDS equals the file size", P.check_file_size,
+             needs_data=True),
+        Rule("REC-003", "error", "LABEL_RECORDS hold the label and end where attached data start",
+             P.check_label_records),
+        Rule("REC-004", "error", "REQUIRED_STORAGE_BYTES = RECORD_BYTES x FILE_RECORDS of the image",
+             P.check_required_storage),
+        Rule("REC-005", "error", "objects fit in RECORD_BYTES x FILE_RECORDS", P.check_object_fits_records),
+        Rule("REC-006", "error", "the data file holds every byte of each object (not truncated)",
+             P.check_object_in_file, needs_data=True),
+        Rule("IMG-001", "error", "IMAGE objects have LINES, LINE_SAMPLES, SAMPLE_TYPE, SAMPLE_BITS",
+             I.check_required),
+        Rule("IMG-002", "error", "SAMPLE_TYPE is known and fits SAMPLE_BITS", I.check_sample_type),
+        Rule("IMG-003", "error", "SAMPLE_BIT_MASK has no bits beyond SAMPLE_BITS", I.check_bit_mask),
+        Rule("IMG-004", "error", "special constants are representable in the sample type",
+             I.check_constants),
+        Rule("IMG-005", "error", "VALID_MINIMUM <= VALID_MAXIMUM", I.check_valid_range_order),
+        Rule("IMG-006", "error", "BAND_STORAGE_TYPE is a PDS3 storage type", I.check_band_storage),
+        Rule("IMG-007", "error", "VALID_MINIMUM/MAXIMUM and MINIMUM/MAXIMUM match the data",
+             I.check_extremes, needs_data=True),
+        Rule("IMG-008", "warning", "MEAN and STANDARD_DEVIATION match the data", I.check_moments,
+             needs_data=True),
+        Rule("MAP-001", "error", "IMAGE_MAP_PROJECTION has the keywords a reader needs",
+             M.check_required),
+        Rule("MAP-002", "error", "MAP_RESOLUTION = pi R / 180 / MAP_SCALE for the projection's radius",
+             M.check_resolution),
+        Rule("MAP-003", "error", "offsets agree with the latitude/longitude bounds (residual in px)",
+             M.check_offsets),
+        Rule("MAP-004", "info", "offset convention detected: standard", M.check_convention_standard),
+        Rule("MAP-005", "warning", "offset convention detected: older one-pixel-apart",
+             M.check_convention_old),
+        Rule("MAP-006", "error", "axis radii are positive and A >= B >= C", M.check_radii),
+        Rule("MAP-007", "error", "MAP_PROJECTION_TYPE is a projection GDAL knows",
+             M.check_projection_name),
+        Rule("MAP-008", "error", "LINE/SAMPLE_LAST_PIXEL match the image size", M.check_last_pixel),
+        Rule("MAP-009", "info", "bounds not checked (projection without formulas here)",
+             M.check_not_checked),
+        Rule("MAP-010", "warning", "bounds within 1 px of the edges but not exact (imprecise bounds)",
+             M.check_bounds_imprecise),
+        Rule("GEO-001", "error", "the JP2 file opens and is a JPEG 2000 file", G.check_readable,
+             needs_data=True),
+        Rule("GEO-002", "error", "JP2 size, bands and precision agree with the label", G.check_header,
+             needs_data=True),
+        Rule("GEO-003", "warning", "the JP2 carries a GeoJP2 or GMLJP2 box", G.check_has_georef,
+             needs_data=True),
+        Rule("GEO-004", "error", "GeoJP2/GMLJP2 geotransform agrees with the label within 1e-3 px",
+             G.check_geotransform, needs_data=True),
+        Rule("GEO-005", "error", "GeoJP2 projection parameters agree with the label",
+             G.check_projection, needs_data=True),
+        Rule("GEO-006", "error", "equirectangular standard parallel in key 3078, not 3089",
+             G.check_std_parallel_key, needs_data=True),
+        Rule("FILE-012", "error", "the file can be read", None),
+        Rule("SET-001", "error", "products in one directory share projection parameters", None),
+        Rule("SET-002", "error", "PRODUCT_ID matches the file name", T.check_product_id),
+        Rule("SET-003", "error", "SOURCE_PRODUCT_ID references to products of the set resolve", None),
+        Rule("SET-004", "warning", "a product directory has its Extras and README.TXT", None),
+    ]
+
+
+RULES: dict[str, Rule] = {}
+
+
+def rules() -> dict[str, Rule]:
+    """The rule table, built on first use (the family modules import lazily)."""
+    if not RULES:
+        RULES.update((rule.id, rule) for rule in _table())
+    return RULES

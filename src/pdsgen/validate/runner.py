@@ -1,0 +1,134 @@
+"""Run the rule table over files and directories: discovery, per-file checks, set checks.
+
+Per-file work is independent, so `jobs > 1` spreads files over a process pool; each
+worker returns plain findings plus a small summary for the SET rules, which then run
+once over the whole run. No input can raise out of here: a file that cannot be read
+or parsed is a finding, and a check that fails on some odd label becomes an error
+finding naming the rule, instead of a traceback.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from collections.abc import Callable, Iterable
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+from ..errors import PdsgenError
+from .context import FileContext
+from .model import Finding
+from .report import FileReport, Report
+from .rules import rules
+from .set_rules import Summary, check_set, summarise
+
+LABEL_SUFFIXES = (".lbl",)
+_SNIFF = (b"PDS_VERSION_ID", b"CCSD3")
+
+
+def is_label_file(path: Path) -> bool:
+    """Detached labels by name; other files only if they start with a PDS3 label."""
+    if path.suffix.lower() in LABEL_SUFFIXES:
+        return True
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(64).lstrip()
+    except OSError:
+        return False
+    return head.upper().startswith(_SNIFF)
+
+
+def discover(paths: Iterable[str | os.PathLike[str]]) -> list[Path]:
+    """Files to validate: files as given, label files found recursively in directories."""
+    found: list[Path] = []
+    for raw in paths:
+        path = Path(raw)
+        if path.is_file():
+            found.append(path)
+        elif path.is_dir():
+            for dirpath, dirnames, filenames in os.walk(path):
+                dirnames.sort()
+                for name in sorted(filenames):
+                    candidate = Path(dirpath) / name
+                    if is_label_file(candidate):
+                        found.append(candidate)
+        else:
+            raise PdsgenError(path, "no such file or directory")
+    return found
+
+
+def validate_file(path: Path, labels_only: bool = False) -> tuple[FileReport, Summary | None]:
+    """All per-file rules on one file."""
+    table = rules()
+    try:
+        ctx = FileContext(path, labels_only=labels_only)
+    except OSError as exc:
+        finding = Finding("FILE-012", "error", str(path), f"cannot read the file: {exc.strerror or exc}")
+        return FileReport(str(path), [finding]), None
+    findings: list[Finding] = []
+    for rule in table.values():
+        if rule.check is None or (labels_only and rule.needs_data):
+            continue
+        try:
+            for hit in rule.check(ctx):
+                findings.append(Finding(rule.id, rule.severity, hit.file or str(path), hit.message,
+                                        hit.line, hit.keyword))
+        except Exception as exc:  # a check must never turn odd input into a traceback
+            findings.append(Finding(rule.id, "error", str(path),
+                                    f"check could not run on this label ({type(exc).__name__}: {exc})"))
+    try:
+        summary = summarise(ctx)
+    except Exception:
+        summary = None
+    findings.sort(key=lambda f: (f.line or 0, f.rule))
+    return FileReport(str(path), findings), summary
+
+
+def _one(args: tuple[str, bool]) -> tuple[FileReport, Summary | None]:
+    return validate_file(Path(args[0]), args[1])
+
+
+def validate_paths(
+    paths: Iterable[str | os.PathLike[str]],
+    strict: bool = False,
+    jobs: int = 1,
+    labels_only: bool = False,
+    progress: Callable[[int, int], None] | None = None,
+) -> Report:
+    """Validate label files and directories of them; the API behind `pdsgen validate`.
+
+    strict makes warnings fail the run too. labels_only skips every rule that opens the
+    data files (data existence, file sizes, statistics, JP2), for label-only checks.
+    """
+    files = discover(paths)
+    results: list[tuple[FileReport, Summary | None]] = []
+    work = [(str(p), labels_only) for p in files]
+    if jobs > 1 and len(files) > 1:
+        with ProcessPoolExecutor(max_workers=jobs) as pool:
+            for i, result in enumerate(pool.map(_one, work, chunksize=max(1, len(work) // (jobs * 8)))):
+                results.append(result)
+                if progress:
+                    progress(i + 1, len(files))
+    else:
+        for i, item in enumerate(work):
+            results.append(_one(item))
+            if progress:
+                progress(i + 1, len(files))
+    reports = [r for r, _ in results]
+    table = rules()
+    severities = {rid: rule.severity for rid, rule in table.items()}
+    set_findings = check_set([s for _, s in results if s is not None], severities)
+    by_path = {r.path: r for r in reports}
+    for finding in set_findings:
+        by_path[finding.file].findings.append(finding)
+    return Report(reports, strict=strict)
+
+
+def terminal_progress(done: int, total: int) -> None:
+    """A one-line progress bar on stderr (used only when stderr is a terminal)."""
+    width = 30
+    filled = width * done // total if total else width
+    sys.stderr.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total} files")
+    if done == total:
+        sys.stderr.write("\n")
+    sys.stderr.flush()

@@ -1,0 +1,147 @@
+"""SET family: products that belong together in one directory agree with each other.
+
+Per file, a small picklable `Summary` is taken from the label (so a process pool can
+return it); the set checks then compare summaries of one directory: shared projection
+parameters, SOURCE_PRODUCT_ID references to products of the set, Extras and README.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .context import FileContext
+from .map_rules import _km, _num
+from .model import Finding, Hit
+from .projection import normalise
+
+# Product ids of a HiRISE-style DTM set (pds3-products.md section 3): a reference of this
+# form in SOURCE_PRODUCT_ID names a product that must be in the same set.
+SET_PRODUCT_ID = re.compile(
+    r"DT[A-Z]{3}_\d{6}_\d{4}_\d{6}_\d{4}_[A-Z]\d{2}|[A-Z]{3}_\d{6}_\d{4}_(?:RED|IRB)_[A-Z]_\d{2}_ORTHO"
+)
+_PROJECTION_KEYS = ("MAP_PROJECTION_TYPE", "A_AXIS_RADIUS", "B_AXIS_RADIUS", "C_AXIS_RADIUS",
+                    "CENTER_LATITUDE", "CENTER_LONGITUDE")
+
+
+@dataclass
+class Summary:
+    path: str
+    product_id: str | None = None
+    product_id_line: int | None = None
+    sources: list[str] = field(default_factory=list)
+    sources_line: int | None = None
+    projection: tuple | None = None
+    projection_line: int | None = None
+
+
+def summarise(ctx: FileContext) -> Summary:
+    root = ctx.root
+    summary = Summary(str(ctx.path))
+    stmt = root.get("PRODUCT_ID")
+    if stmt is not None and stmt.value.items is None:
+        summary.product_id, summary.product_id_line = stmt.value.text.strip(), stmt.line
+    src = root.get("SOURCE_PRODUCT_ID")
+    if src is not None:
+        summary.sources = [str(v.py).strip() for v in src.value.scalars()]
+        summary.sources_line = src.line
+    block = next(root.find("IMAGE_MAP_PROJECTION"), None)
+    if block is not None:
+        name = normalise(block.text("MAP_PROJECTION_TYPE") or "")
+        radii = tuple(_km(block, k) for k in _PROJECTION_KEYS[1:4])
+        centre = tuple(_num(block, k) for k in _PROJECTION_KEYS[4:])
+        summary.projection = (name, *radii, *centre)
+        summary.projection_line = block.line
+    return summary
+
+
+def check_product_id(ctx: FileContext) -> Iterator[Hit]:
+    stmt = ctx.root.get("PRODUCT_ID")
+    if stmt is None or stmt.value.items is not None:
+        return
+    pid = stmt.value.text.strip().upper()
+    name = ctx.path.name.upper()
+    stem = name.split(".")[0]
+    if pid not in (stem, name) and pid.split(".")[0] != stem:
+        yield Hit(f"PRODUCT_ID {stmt.value.text.strip()} does not match the file name {ctx.path.name}",
+                  stmt.line, "PRODUCT_ID")
+
+
+def _finding(rule: str, severity: str, summary: Summary, message: str, line: int | None,
+             keyword: str | None) -> Finding:
+    return Finding(rule, severity, summary.path, message, line, keyword)
+
+
+def check_set(summaries: list[Summary], severities: dict[str, str]) -> list[Finding]:
+    """All SET-001/003/004 findings for the summaries of one validation run."""
+    by_dir: dict[str, list[Summary]] = {}
+    for s in summaries:
+        by_dir.setdefault(os.path.dirname(s.path), []).append(s)
+    findings: list[Finding] = []
+    for directory, group in sorted(by_dir.items()):
+        findings += _projections(group, severities["SET-001"])
+        findings += _sources(group, severities["SET-003"])
+        findings += _extras(Path(directory), group, severities["SET-004"])
+    return findings
+
+
+def _fmt(values: tuple) -> str:
+    keys = ("type", "A", "B", "C", "CENTER_LATITUDE", "CENTER_LONGITUDE")
+    return ", ".join(f"{k} {v}" for k, v in zip(keys, values, strict=False))
+
+
+def _projections(group: list[Summary], severity: str) -> Iterator[Finding]:
+    mapped = [s for s in group if s.projection is not None]
+    if len(mapped) < 2:
+        return
+    reference = next((s for s in mapped if (s.product_id or "").upper().startswith("DT")), mapped[0])
+    for s in mapped:
+        if s is reference:
+            continue
+        diffs = [
+            (k, a, b) for k, a, b in zip(_PROJECTION_KEYS, reference.projection, s.projection, strict=False)  # type: ignore[arg-type]
+            if not (a == b or (isinstance(a, float) and isinstance(b, float) and abs(a - b) <= 1e-9 * max(1.0, abs(a))))
+        ]
+        if diffs:
+            what = "; ".join(f"{k} {b} vs {a}" for k, a, b in diffs)
+            yield _finding("SET-001", severity, s, f"projection differs from {Path(reference.path).name}: "
+                           f"{what}", s.projection_line, diffs[0][0])
+
+
+def _sources(group: list[Summary], severity: str) -> Iterator[Finding]:
+    ids = {s.product_id.upper() for s in group if s.product_id}
+    for s in group:
+        for ref in s.sources:
+            if SET_PRODUCT_ID.fullmatch(ref.upper()) and ref.upper() not in ids:
+                yield _finding("SET-003", severity, s, f"SOURCE_PRODUCT_ID {ref} names a product that is "
+                               "not in this directory", s.sources_line, "SOURCE_PRODUCT_ID")
+
+
+def _extras(directory: Path, group: list[Summary], severity: str) -> Iterator[Finding]:
+    """A directory holding map products should have README.TXT and browse JPEGs (Extras)."""
+    products = [s for s in group if s.projection is not None and s.product_id]
+    if not products:
+        return
+    names = _names(directory)
+    extras_dirs = [directory / n for n in names if n.upper() == "EXTRAS" and (directory / n).is_dir()]
+    for sub in extras_dirs:
+        names |= _names(sub)
+    upper = {n.upper() for n in names}
+    if "README.TXT" not in upper:
+        yield _finding("SET-004", severity, products[0], f"no README.TXT in {directory} or its "
+                       "EXTRAS directory", None, None)
+    for s in products:
+        prefix = s.product_id.upper() + "."  # type: ignore[union-attr]
+        if not any(n.startswith(prefix) and n.endswith(".JPG") for n in upper):
+            yield _finding("SET-004", severity, s, f"no browse JPEG ({s.product_id}.*.jpg) for this "
+                           "product in its directory or EXTRAS", s.product_id_line, "PRODUCT_ID")
+
+
+def _names(directory: Path) -> set[str]:
+    try:
+        return set(os.listdir(directory))
+    except OSError:
+        return set()
