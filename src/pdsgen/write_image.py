@@ -9,6 +9,7 @@ data is moved up in place so LABEL_RECORDS stays minimal and exact.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import BinaryIO
@@ -17,6 +18,7 @@ import numpy as np
 from rasterio.io import DatasetReader
 
 from .label.render import RecordLayout, pad_label, settle_attached_label
+from .label.values import shortest_float32
 from .read_raster import row_strips
 
 # ISIS special pixels (NULL, LRS, LIS, HIS, HRS) are the five most negative float32
@@ -30,6 +32,8 @@ _COPY_CHUNK = 8 * 1024 * 1024
 
 @dataclass(frozen=True)
 class BandStatistics:
+    """Valid-pixel count and extremes, written as the shortest float32 decimals."""
+
     valid_count: int
     minimum: float
     maximum: float
@@ -67,7 +71,9 @@ def stream_float32_band(
         if big_endian:
             values.byteswap(inplace=True)
         out.write(memoryview(np.ascontiguousarray(values)))
-    return BandStatistics(count, low, high)
+    if count == 0:
+        return BandStatistics(0, math.nan, math.nan)
+    return BandStatistics(count, shortest_float32(low), shortest_float32(high))
 
 
 def _invalid_mask(native, values, nodata, is_float_input):
