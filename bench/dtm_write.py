@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import rasterio
 from affine import Affine
+
 from _measure import best_of, measure, print_side_by_side
 
 CRS = "+proj=eqc +lat_ts=-5 +lon_0=180 +R=3396190 +units=m +no_defs"

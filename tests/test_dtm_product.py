@@ -11,8 +11,9 @@ import pytest
 import rasterio
 from affine import Affine
 
-from helpers import CRS_EQUIRECTANGULAR, ORIGINS, elevation_array, write_raster
 from pdsgen.dtm import write_dtm
+
+from helpers import CRS_EQUIRECTANGULAR, ORIGINS, elevation_array, write_raster
 
 ISIS_NULL = -3.4028226550889045e38
 
