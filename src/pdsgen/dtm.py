@@ -1,0 +1,159 @@
+"""The DTM product: a PDS3 .IMG of float32 elevations with an attached label.
+
+Data flows one way: read raster -> describe geometry -> choose names and
+keywords (profile + params) -> render the label -> stream the image.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from . import __version__
+from .errors import PdsgenError
+from .geometry import MapGeometry, describe_geometry
+from .label.render import RecordLayout, render_label
+from .label.values import Based, Symbol
+from .params import ParamValue, load_params
+from .profiles import (
+    check_product_id,
+    generic_product_id,
+    get_profile,
+    hirise_dtm_product_id,
+)
+from .read_raster import open_raster, require_single_band
+from .staging import StagedOutputs, prepare_output_dir
+from .write_image import (
+    MISSING_BITS,
+    MISSING_CONSTANT,
+    BandStatistics,
+    stream_float32_band,
+    write_attached_product,
+)
+
+BYTE_ORDERS = ("lsb", "msb")
+
+
+@dataclass(frozen=True)
+class DtmProduct:
+    """What `write_dtm` produced, for callers that go on to make Extras or check it."""
+
+    product_id: str
+    path: Path
+    geometry: MapGeometry
+    valid_minimum: float
+    valid_maximum: float
+    records: RecordLayout
+    label_text: str
+
+
+def write_dtm(
+    input_path: str | os.PathLike[str],
+    outdir: str | os.PathLike[str],
+    *,
+    profile: str = "generic",
+    product_id: str | None = None,
+    source_product_ids: Sequence[str] = (),
+    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
+    byte_order: str = "lsb",
+    institution: str | None = None,
+    version: str = "1.0",
+    overwrite: bool = False,
+) -> DtmProduct:
+    """Convert a single-band elevation raster into `OUTDIR/<PRODUCT_ID>.IMG`."""
+    if byte_order not in BYTE_ORDERS:
+        raise PdsgenError(None, f"byte order must be one of {', '.join(BYTE_ORDERS)}")
+    chosen = get_profile(profile)
+    keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
+    input_path = Path(input_path)
+    with open_raster(input_path) as dataset:
+        require_single_band(dataset)
+        if np.dtype(dataset.dtypes[0]).kind not in "iuf":
+            raise PdsgenError(input_path, f"sample type {dataset.dtypes[0]} is not a real number type")
+        geometry = describe_geometry(
+            dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path)
+        )
+        sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
+        ident = _identification(chosen.dtm_keywords, keywords, geometry, version)
+        product_id = _dtm_product_id(
+            chosen.name, product_id, input_path, geometry, sources, institution,
+            str(ident["PRODUCT_VERSION_ID"]),
+        )
+        context = {
+            "product_id": product_id,
+            "ident": ident,
+            "source_product_id": [Symbol(s) for s in sources] if sources else "N/A",
+            "geometry": geometry,
+            "note": str(keywords.get("DTM_NOTE", chosen.dtm_note)),
+            "bit_mask": Based(0xFFFFFFFF, 2, 32),
+            "sample_type": Symbol("PC_REAL" if byte_order == "lsb" else "IEEE_REAL"),
+            "missing_constant": Based(MISSING_BITS, 16, 8),
+        }
+
+        def render(records: RecordLayout, stats: BandStatistics) -> str:
+            return render_label(
+                "dtm.lbl.j2",
+                {
+                    **context,
+                    "records": records,
+                    "valid_minimum": stats.minimum,
+                    "valid_maximum": stats.maximum,
+                },
+            )
+
+        def write_data(handle) -> BandStatistics:
+            stats = stream_float32_band(dataset, handle, big_endian=byte_order == "msb")
+            if stats.valid_count == 0:
+                raise PdsgenError(input_path, "has no valid pixels (all nodata)")
+            return stats
+
+        final = prepare_output_dir(outdir) / f"{product_id}.IMG"
+        with StagedOutputs([final], overwrite) as staged:
+            records, text, stats = write_attached_product(
+                staged.path(final), render, dataset.width * 4, dataset.height, write_data
+            )
+    return DtmProduct(
+        product_id=product_id,
+        path=final,
+        geometry=geometry,
+        valid_minimum=stats.minimum,
+        valid_maximum=stats.maximum,
+        records=records,
+        label_text=text,
+    )
+
+
+def _identification(
+    defaults: Mapping[str, str], keywords: Mapping[str, ParamValue], geometry: MapGeometry, version: str
+) -> dict[str, ParamValue]:
+    ident: dict[str, ParamValue] = {
+        **defaults,
+        "TARGET_NAME": geometry.target_name or defaults.get("TARGET_NAME", "MARS"),
+        "PRODUCT_VERSION_ID": version,
+        "SOFTWARE_NAME": f"pdsgen {__version__}",
+    }
+    ident.update({k: v for k, v in keywords.items() if k != "SOURCE_PRODUCT_ID"})
+    return ident
+
+
+def _dtm_product_id(
+    profile: str,
+    explicit: str | None,
+    input_path: Path,
+    geometry: MapGeometry,
+    sources: list[str],
+    institution: str | None,
+    version: str,
+) -> str:
+    if explicit:
+        return check_product_id(explicit)
+    if profile == "hirise":
+        return hirise_dtm_product_id(geometry, sources, institution, version)
+    return generic_product_id(input_path.stem)
+
+
+__all__ = ["DtmProduct", "write_dtm", "MISSING_CONSTANT"]

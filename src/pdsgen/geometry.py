@@ -1,0 +1,260 @@
+"""Describe a raster's map geometry as PDS3 IMAGE_MAP_PROJECTION keywords.
+
+Input: the CRS and affine geotransform GDAL reports. Output: the projection type,
+radii, centre, scale, resolution, projection offsets (PDS3 standard convention,
+which GDAL reads back to the identical geotransform) and the latitude/longitude
+bounds of the raster's outer edges. Only the three projections the archive
+products use are supported; anything else is refused rather than approximated.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+
+import numpy as np
+from affine import Affine
+from rasterio.crs import CRS
+from rasterio.warp import transform as warp_transform
+
+from .errors import PdsgenError
+
+EQUIRECTANGULAR = "EQUIRECTANGULAR"
+POLAR_STEREOGRAPHIC = "POLAR STEREOGRAPHIC"
+SINUSOIDAL = "SINUSOIDAL"
+
+_SPHEROID_RE = re.compile(r'SPHEROID\["(?P<name>[^"]*)",\s*(?P<a>[-\d.eE+]+),\s*(?P<rf>[-\d.eE+]+)')
+_BODY_NAMES = (
+    "MERCURY", "VENUS", "EARTH", "MOON", "MARS", "PHOBOS", "DEIMOS", "CERES", "VESTA",
+    "IO", "EUROPA", "GANYMEDE", "CALLISTO", "TITAN", "ENCELADUS", "PLUTO", "CHARON",
+)
+_EARTH_HINTS = ("WGS", "GRS", "NAD", "ETRS", "CLARKE", "BESSEL", "INTERNATIONAL")
+_ANGLE_TOLERANCE = 1e-9
+
+
+@dataclass(frozen=True)
+class MapGeometry:
+    """Everything IMAGE_MAP_PROJECTION and NORTH_AZIMUTH need, in label units."""
+
+    projection_type: str
+    a_axis_km: float
+    b_axis_km: float
+    c_axis_km: float
+    center_latitude: float
+    center_longitude: float
+    map_scale: float  # metres per pixel
+    map_resolution: float  # pixels per degree
+    line_projection_offset: float
+    sample_projection_offset: float
+    minimum_latitude: float
+    maximum_latitude: float
+    westernmost_longitude: float
+    easternmost_longitude: float
+    north_azimuth: float
+    lines: int
+    samples: int
+    target_name: str | None  # body named by the CRS, when it names one
+
+    @property
+    def is_sphere(self) -> bool:
+        return self.a_axis_km == self.c_axis_km
+
+
+@dataclass(frozen=True)
+class _Projection:
+    kind: str
+    a: float  # metres
+    b: float
+    center_latitude: float
+    center_longitude: float
+    false_easting: float
+    false_northing: float
+
+
+def describe_geometry(
+    crs: CRS | None, transform: Affine, width: int, height: int, source: str = "input"
+) -> MapGeometry:
+    """Compute the PDS3 map keywords of a north-up raster in a supported CRS."""
+    if crs is None or not crs.to_wkt():
+        raise PdsgenError(source, "raster has no coordinate reference system (map projection)")
+    projection = _parse_projection(crs, source)
+    scale = _square_pixel_size(transform, source)
+    # Projection coordinates relative to the natural origin (no false easting).
+    ulx = transform.c - projection.false_easting
+    uly = transform.f - projection.false_northing
+    radius = projection.b if projection.kind == POLAR_STEREOGRAPHIC else projection.a
+    lat_min, lat_max, lon_west, lon_east = _bounds(crs, transform, width, height, projection)
+    return MapGeometry(
+        projection_type=projection.kind,
+        a_axis_km=projection.a / 1000.0,
+        b_axis_km=projection.a / 1000.0,
+        c_axis_km=projection.b / 1000.0,
+        center_latitude=projection.center_latitude,
+        center_longitude=projection.center_longitude % 360.0,
+        map_scale=scale,
+        map_resolution=(math.pi * radius / 180.0) / scale,
+        line_projection_offset=uly / scale - 0.5,
+        sample_projection_offset=-ulx / scale - 0.5,
+        minimum_latitude=lat_min,
+        maximum_latitude=lat_max,
+        westernmost_longitude=lon_west,
+        easternmost_longitude=lon_east,
+        north_azimuth=_north_azimuth(projection, transform, width, height),
+        lines=height,
+        samples=width,
+        target_name=_target_name(crs),
+    )
+
+
+def _parse_projection(crs: CRS, source: str) -> _Projection:
+    params = crs.to_dict()
+    name = params.get("proj")
+    a, b = _ellipsoid_axes(crs, params, source)
+    lon0 = float(params.get("lon_0", 0.0))
+    x0 = float(params.get("x_0", 0.0))
+    y0 = float(params.get("y_0", 0.0))
+    if name == "eqc":
+        lat_ts = float(params.get("lat_ts", 0.0))
+        lat0 = float(params.get("lat_0", 0.0))
+        # A non-zero latitude of origin only shifts northings: fold it into y0.
+        y0 -= a * math.radians(lat0)
+        return _Projection(EQUIRECTANGULAR, a, b, lat_ts, lon0, x0, y0)
+    if name == "sinu":
+        return _Projection(SINUSOIDAL, a, b, 0.0, lon0, x0, y0)
+    if name == "stere" and abs(abs(float(params.get("lat_0", 0.0))) - 90.0) < _ANGLE_TOLERANCE:
+        lat0 = float(params["lat_0"])
+        lat_ts = float(params.get("lat_ts", lat0))
+        k = float(params.get("k", params.get("k_0", 1.0)))
+        if abs(lat_ts - lat0) > _ANGLE_TOLERANCE or abs(k - 1.0) > 1e-12:
+            raise PdsgenError(
+                source,
+                "polar stereographic with true scale away from the pole "
+                f"(lat_ts={lat_ts:g}, k={k:g}) cannot be described by a PDS3 label; "
+                "reproject to true scale at the pole (k=1)",
+            )
+        return _Projection(POLAR_STEREOGRAPHIC, a, b, math.copysign(90.0, lat0), lon0, x0, y0)
+    if name == "ups":
+        raise PdsgenError(source, "UPS is not supported; use a polar stereographic CRS with k=1")
+    label = crs.to_wkt().split('PROJECTION["')[1].split('"')[0] if "PROJECTION[" in crs.to_wkt() else name
+    raise PdsgenError(
+        source,
+        f"unsupported map projection {label!r}: pdsgen writes equirectangular, "
+        "polar stereographic and sinusoidal products",
+    )
+
+
+def _ellipsoid_axes(crs: CRS, params: dict, source: str) -> tuple[float, float]:
+    if "R" in params:
+        radius = float(params["R"])
+        return radius, radius
+    if "a" in params:
+        a = float(params["a"])
+        if "b" in params:
+            return a, float(params["b"])
+        if "rf" in params:
+            return a, a * (1.0 - 1.0 / float(params["rf"]))
+        return a, a
+    match = _SPHEROID_RE.search(crs.to_wkt())
+    if match is None:
+        raise PdsgenError(source, "cannot determine the body's radii from the CRS")
+    a = float(match.group("a"))
+    inverse_flattening = float(match.group("rf"))
+    b = a if inverse_flattening == 0 else a * (1.0 - 1.0 / inverse_flattening)
+    return a, b
+
+
+def _square_pixel_size(transform: Affine, source: str) -> float:
+    if transform.b != 0 or transform.d != 0:
+        raise PdsgenError(source, "rotated or sheared rasters cannot be described by PDS3 map keywords")
+    if transform.a <= 0 or transform.e >= 0:
+        raise PdsgenError(source, "raster is not north-up (pixel height must be negative)")
+    if not math.isclose(transform.a, -transform.e, rel_tol=1e-9):
+        raise PdsgenError(
+            source, f"pixels are not square ({transform.a:g} x {-transform.e:g}); PDS3 needs one MAP_SCALE"
+        )
+    return float(transform.a)
+
+
+def _edge_points(transform: Affine, width: int, height: int, per_side: int = 257):
+    """Points along the raster's outer boundary (pixel edges, not centres)."""
+    cols = np.linspace(0.0, width, per_side)
+    rows = np.linspace(0.0, height, per_side)
+    col = np.concatenate([cols, np.full(per_side, float(width)), cols[::-1], np.zeros(per_side)])
+    row = np.concatenate([np.zeros(per_side), rows, np.full(per_side, float(height)), rows[::-1]])
+    xs = transform.c + col * transform.a
+    ys = transform.f + row * transform.e
+    return xs, ys
+
+
+def _geographic_crs(projection: _Projection) -> CRS:
+    return CRS.from_proj4(f"+proj=longlat +a={projection.a!r} +b={projection.b!r} +no_defs")
+
+
+def _bounds(crs: CRS, transform: Affine, width: int, height: int, projection: _Projection):
+    xs, ys = _edge_points(transform, width, height)
+    lons, lats = warp_transform(crs, _geographic_crs(projection), xs, ys)
+    lons = np.asarray(lons, dtype=float)
+    lats = _planetocentric(np.asarray(lats, dtype=float), projection)
+    lat_min, lat_max = float(lats.min()), float(lats.max())
+    if projection.kind == POLAR_STEREOGRAPHIC and _contains_pole(transform, width, height, projection):
+        if projection.center_latitude > 0:
+            lat_max = 90.0
+        else:
+            lat_min = -90.0
+        return lat_min, lat_max, 0.0, 360.0
+    centre_lon, _ = warp_transform(
+        crs, _geographic_crs(projection), [transform.c + transform.a * width / 2],
+        [transform.f + transform.e * height / 2],
+    )
+    unwrapped = centre_lon[0] + (lons - centre_lon[0] + 180.0) % 360.0 - 180.0
+    west, east = float(unwrapped.min()), float(unwrapped.max())
+    if east - west >= 360.0 - 1e-9:
+        return lat_min, lat_max, 0.0, 360.0
+    return lat_min, lat_max, west % 360.0, east % 360.0
+
+
+def _planetocentric(geodetic_lat: np.ndarray, projection: _Projection) -> np.ndarray:
+    """PROJ returns geodetic latitudes; PDS keywords here are planetocentric."""
+    if projection.a == projection.b:
+        return geodetic_lat
+    ratio = (projection.b / projection.a) ** 2
+    return np.degrees(np.arctan(ratio * np.tan(np.radians(geodetic_lat))))
+
+
+def _contains_pole(transform: Affine, width: int, height: int, projection: _Projection) -> bool:
+    col, row = ~transform @ (projection.false_easting, projection.false_northing)
+    return 0.0 <= col <= width and 0.0 <= row <= height
+
+
+def _north_azimuth(projection: _Projection, transform: Affine, width: int, height: int) -> float:
+    """Clockwise angle from the image's +sample axis to north, at the image centre.
+
+    North is straight up (270 degrees) in cylindrical and sinusoidal products;
+    in polar stereographic products it points along the meridian, toward the
+    pole in the north and away from it in the south.
+    """
+    if projection.kind != POLAR_STEREOGRAPHIC:
+        return 270.0
+    x, y = transform @ (width / 2.0, height / 2.0)
+    dx, dy = x - projection.false_easting, y - projection.false_northing
+    if dx == 0.0 and dy == 0.0:
+        return 270.0
+    sign = -1.0 if projection.center_latitude > 0 else 1.0
+    north_x, north_y = sign * dx, sign * dy  # map coordinates, y up
+    angle = math.degrees(math.atan2(-north_y, north_x))  # image y runs down
+    return angle % 360.0
+
+
+def _target_name(crs: CRS) -> str | None:
+    wkt = crs.to_wkt().upper()
+    match = _SPHEROID_RE.search(crs.to_wkt())
+    names = [match.group("name").upper()] if match else []
+    names.append(wkt)
+    for text in names:
+        for body in _BODY_NAMES:
+            if re.search(rf"(?<![A-Z]){body}(?![A-Z])", text):
+                return body
+        if any(hint in text for hint in _EARTH_HINTS):
+            return "EARTH"
+    return None

@@ -1,0 +1,1 @@
+"""Writing PDS3 label text: value encoding, line layout and template rendering."""

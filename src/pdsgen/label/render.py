@@ -1,0 +1,98 @@
+"""Render label templates and settle the record arithmetic of attached labels.
+
+Templates live in the top-level `templates/` directory; every value passes
+through the `pds` filter (values.format_value), and layout.layout_label decides
+indentation, alignment and wrapping.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from functools import cache
+from typing import Any
+
+import jinja2
+
+from ..resources import templates_dir
+from .layout import layout_label
+from .values import Quantity, format_value
+
+
+@cache
+def template_environment() -> jinja2.Environment:
+    env = jinja2.Environment(
+        loader=jinja2.FileSystemLoader(str(templates_dir())),
+        undefined=jinja2.StrictUndefined,
+        trim_blocks=True,
+        lstrip_blocks=True,
+        keep_trailing_newline=True,
+        autoescape=False,
+    )
+    env.filters["pds"] = format_value
+    env.globals.update(
+        km=lambda value: Quantity(value, "KM"),
+        deg=lambda value: Quantity(value, "DEG"),
+        unit=Quantity,
+    )
+    return env
+
+
+def render_label(template_name: str, context: Mapping[str, Any]) -> str:
+    """Render one label template into final label text (CR LF, 80-byte lines)."""
+    template = template_environment().get_template(template_name)
+    return layout_label(template.render(**context))
+
+
+@dataclass(frozen=True)
+class RecordLayout:
+    """Record numbers of an attached-label product with FIXED_LENGTH records."""
+
+    record_bytes: int
+    label_records: int
+    data_records: int
+
+    @property
+    def image_pointer(self) -> int:
+        """1-based record number where the image starts (^IMAGE)."""
+        return self.label_records + 1
+
+    @property
+    def file_records(self) -> int:
+        return self.label_records + self.data_records
+
+    @property
+    def label_bytes(self) -> int:
+        return self.label_records * self.record_bytes
+
+    @property
+    def file_bytes(self) -> int:
+        return self.file_records * self.record_bytes
+
+
+def settle_attached_label(
+    render: Callable[[RecordLayout], str], record_bytes: int, data_records: int
+) -> tuple[RecordLayout, str]:
+    """Find the label-record count that is consistent with the label's own text.
+
+    The label states LABEL_RECORDS, FILE_RECORDS and ^IMAGE, whose digits change
+    its length, which can change LABEL_RECORDS again; iterate until it stops
+    changing instead of trusting a one-shot estimate.
+    """
+    layout = RecordLayout(record_bytes, 1, data_records)
+    for _ in range(64):
+        text = render(layout)
+        needed = max(1, math.ceil(len(text.encode("ascii")) / record_bytes))
+        if needed == layout.label_records:
+            return layout, text
+        layout = RecordLayout(record_bytes, needed, data_records)
+    raise RuntimeError("label record count did not converge")
+
+
+def pad_label(text: str, layout: RecordLayout) -> bytes:
+    """The label bytes padded with spaces to fill its records exactly."""
+    raw = text.encode("ascii")
+    if len(raw) > layout.label_bytes:
+        raise ValueError("label text is longer than its reserved records")
+    return raw + b" " * (layout.label_bytes - len(raw))

@@ -1,0 +1,85 @@
+"""Producer and data-set keywords from a `--params` file (PVL or TOML).
+
+The allowed keywords and their kinds are listed in `schemas/params.toml`; an
+unknown keyword is refused so that a typo never silently drops a value from a
+delivery's labels.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from functools import cache
+from pathlib import Path
+from typing import Any
+
+import tomllib
+
+from .errors import PdsgenError
+from .resources import schemas_dir
+
+ParamValue = str | list[str]
+
+_VERSION_RE = re.compile(r"^\d+(\.\d+)*$")
+_IDENTIFIER_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.\-]*$")
+
+
+@cache
+def params_schema() -> dict[str, dict[str, Any]]:
+    """The keyword table of schemas/params.toml."""
+    with open(schemas_dir() / "params.toml", "rb") as handle:
+        return tomllib.load(handle)
+
+
+def load_params(path: str | os.PathLike[str] | None) -> dict[str, ParamValue]:
+    """Read and check a params file; None gives an empty set."""
+    if path is None:
+        return {}
+    path = Path(path)
+    if not path.is_file():
+        raise PdsgenError(path, "params file not found")
+    raw = _read_toml(path) if path.suffix.lower() == ".toml" else _read_pvl(path)
+    return {key: _check_value(path, key, value) for key, value in raw.items()}
+
+
+def _read_toml(path: Path) -> dict[str, Any]:
+    try:
+        with open(path, "rb") as handle:
+            data = tomllib.load(handle)
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise PdsgenError(path, f"not valid TOML ({exc})") from None
+    return {key.upper(): value for key, value in data.items()}
+
+
+def _read_pvl(path: Path) -> dict[str, Any]:
+    import pvl  # imported here: most runs have no PVL params and need not pay for it
+
+    try:
+        module = pvl.load(str(path))
+    except (pvl.exceptions.ParseError, pvl.exceptions.LexerError, UnicodeDecodeError, ValueError) as exc:
+        first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise PdsgenError(path, f"not valid PVL ({first})") from None
+    return {str(key).upper(): value for key, value in module.items()}
+
+
+def _check_value(path: Path, key: str, value: Any) -> ParamValue:
+    schema = params_schema()
+    if key not in schema:
+        known = ", ".join(sorted(schema))
+        raise PdsgenError(path, f"unknown keyword {key}; known keywords: {known}")
+    kind = schema[key]["kind"]
+    if kind == "list":
+        items = list(value) if isinstance(value, (list, tuple)) else [value]
+        items = [str(item) for item in items]
+        bad = [item for item in items if not _IDENTIFIER_RE.match(item)]
+        if bad or not items:
+            raise PdsgenError(path, f"{key} must be product identifiers, got {bad or value!r}")
+        return items
+    if isinstance(value, (dict, list, tuple)):
+        raise PdsgenError(path, f"{key} must be a single value")
+    text = str(value)
+    if not text.isascii() or '"' in text:
+        raise PdsgenError(path, f"{key} must be 7-bit ASCII text without double quotes")
+    if kind == "version" and not _VERSION_RE.match(text):
+        raise PdsgenError(path, f"{key} must look like 1.0, got {text!r}")
+    return " ".join(text.split())

@@ -1,0 +1,67 @@
+"""Open input rasters through GDAL and hand them out in row strips.
+
+Every input format GDAL reads (GeoTIFF, ISIS3 cube, PDS3, VICAR, ...) arrives
+here; checks that concern the file itself (exists, readable, one band) are made
+before any output is created.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+import numpy as np
+import rasterio
+from rasterio.errors import RasterioIOError
+from rasterio.io import DatasetReader
+from rasterio.windows import Window
+
+from .errors import PdsgenError
+
+STRIP_BYTES = 16 * 1024 * 1024  # working-set size of one strip of input
+# GDAL's block cache defaults to 5 % of RAM and would keep every block we stream
+# past; we read each block once, so a small cache keeps memory flat.
+GDAL_CACHE_MB = 64
+
+
+@contextmanager
+def open_raster(path: str | os.PathLike[str]) -> Iterator[DatasetReader]:
+    """Open a raster with GDAL, turning every failure into a one-line PdsgenError."""
+    path = Path(path)
+    if not path.exists():
+        raise PdsgenError(path, "no such file")
+    if path.is_dir():
+        raise PdsgenError(path, "is a directory, not a raster file")
+    with rasterio.Env(GDAL_CACHEMAX=GDAL_CACHE_MB):
+        try:
+            dataset = rasterio.open(path)
+        except RasterioIOError as exc:
+            reason = str(exc).splitlines()[0] if str(exc) else "unknown format"
+            raise PdsgenError(path, f"not a raster GDAL can read ({reason})") from None
+        with dataset:
+            yield dataset
+
+
+def require_single_band(dataset: DatasetReader, what: str = "a DTM") -> None:
+    if dataset.count != 1:
+        raise PdsgenError(dataset.name, f"has {dataset.count} bands; {what} must have exactly one")
+
+
+def row_strips(dataset: DatasetReader, strip_bytes: int = STRIP_BYTES) -> Iterator[Window]:
+    """Full-width windows of whole block rows, each about `strip_bytes` of input.
+
+    Strips follow the file's own block height so GDAL never decodes a block
+    twice, and their size is fixed, so memory does not grow with the raster.
+    """
+    block_rows = max(1, dataset.block_shapes[0][0])
+    itemsize = _itemsize(dataset)
+    rows = max(1, strip_bytes // max(1, dataset.width * itemsize))
+    rows = max(block_rows, rows - rows % block_rows)
+    for row in range(0, dataset.height, rows):
+        yield Window(0, row, dataset.width, min(rows, dataset.height - row))
+
+
+def _itemsize(dataset: DatasetReader) -> int:
+    return max(np.dtype(dt).itemsize for dt in dataset.dtypes) * dataset.count
