@@ -20,6 +20,7 @@ from ..errors import PdsgenError
 COMMANDS = {
     "dtm": "dtm",
     "demo": "demo",
+    "validate": "validate",
 }
 
 

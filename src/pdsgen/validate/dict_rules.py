@@ -31,9 +31,17 @@ def _defined(ctx: FileContext) -> Iterator[tuple[Statement, dict, Value]]:
         if entry is None:
             continue
         for value in stmt.value.scalars():
-            if value.kind in ("string", "ident", "symbol") and _norm(value) in PLACEHOLDERS:
+            if value.kind in ("string", "ident", "symbol") and (
+                _norm(value) in PLACEHOLDERS or not str(value.py).strip()
+            ):
                 continue
             yield stmt, entry, value
+
+
+def _shown(value: Value) -> str:
+    """The value as written, on one line, shortened for a message."""
+    text = " ".join(value.raw.split())
+    return text if len(text) <= 60 else text[:57] + "..."
 
 
 def _norm(value: Value) -> str:
@@ -59,7 +67,7 @@ def _type_problem(kind: str, value: Value) -> str | None:
     if kind in ("NONDECIMAL", "NON_DECIMAL"):
         return None if value.kind in ("based", "int") else f"{value.raw!r} is not a based integer"
     if kind in _TEXT:
-        return f"{value.raw} is a number, the keyword takes text" if value.is_number else None
+        return None  # numbers for text keywords: see check_number_for_text
     if kind in ("DATE", "TIME"):
         if value.kind == "date":
             return None
@@ -71,9 +79,19 @@ def _type_problem(kind: str, value: Value) -> str | None:
 
 def check_type(ctx: FileContext) -> Iterator[Hit]:
     for stmt, entry, value in _defined(ctx):
+        if value.kind == "string" and not str(value.py).strip():
+            continue  # empty "" is reported as a missing value (SYNTAX-009)
         problem = _type_problem(entry["type"], value)
         if problem:
             yield Hit(f"{stmt.keyword}: {problem} ({entry['type']})", value.line, stmt.keyword)
+
+
+def check_number_for_text(ctx: FileContext) -> Iterator[Hit]:
+    """Unquoted numbers given to text keywords: readers take them, the dictionary wants text."""
+    for stmt, entry, value in _defined(ctx):
+        if entry["type"] in _TEXT and value.is_number:
+            yield Hit(f"{stmt.keyword} = {value.raw}: a number for a {entry['type']} keyword "
+                      f'(write "{value.raw}")', value.line, stmt.keyword)
 
 
 def check_range(ctx: FileContext) -> Iterator[Hit]:
@@ -96,22 +114,23 @@ def check_static_values(ctx: FileContext) -> Iterator[Hit]:
     for stmt, entry, value in _defined(ctx):
         if entry.get("values_type") == "STATIC" and not _standard(entry, value):
             shown = ", ".join(entry["values"][:8]) + (" ..." if len(entry["values"]) > 8 else "")
-            yield Hit(f"{stmt.keyword} = {value.raw} is not one of its standard values ({shown})",
+            yield Hit(f"{stmt.keyword} = {_shown(value)} is not one of its standard values ({shown})",
                       value.line, stmt.keyword)
 
 
 def check_suggested_values(ctx: FileContext) -> Iterator[Hit]:
     for stmt, entry, value in _defined(ctx):
         if entry.get("values_type") in ("SUGGESTED", "DYNAMIC") and not _standard(entry, value):
-            yield Hit(f"{stmt.keyword} = {value.raw} is not among the dictionary's known values",
+            yield Hit(f"{stmt.keyword} = {_shown(value)} is not among the dictionary's known values",
                       value.line, stmt.keyword)
 
 
 def check_length(ctx: FileContext) -> Iterator[Hit]:
     for stmt, entry, value in _defined(ctx):
-        if entry["type"] not in _TEXT or value.is_number:
-            continue
-        length = len(" ".join(str(value.py).split()))
+        if value.is_number:
+            length = len(value.raw.lstrip("+-"))
+        else:
+            length = len(" ".join(str(value.py).split()))
         lo, hi = entry.get("min_length"), entry.get("max_length")
         if lo is not None and length < lo:
             yield Hit(f"{stmt.keyword} has {length} characters, at least {lo}", value.line, stmt.keyword)

@@ -42,6 +42,11 @@ def _terminated(ctx: FileContext) -> list[tuple[int, str]]:
     return [(ln.number, ln.ending) for ln in ctx.label.lines if ln.ending]
 
 
+def _data_follows(ctx: FileContext) -> bool:
+    """True when binary data really follow the label in this file (not a label-only copy)."""
+    return ctx.attached and not ctx.labels_only and ctx.size > ctx.label.label_end
+
+
 def check_line_ends_error(ctx: FileContext) -> Iterator[Hit]:
     ends = _terminated(ctx)
     if not ends:
@@ -50,7 +55,7 @@ def check_line_ends_error(ctx: FileContext) -> Iterator[Hit]:
     if kinds == {"CRLF"}:
         return
     if kinds == {"LF"}:
-        if ctx.attached:
+        if _data_follows(ctx):
             yield Hit(
                 "label lines end in LF only, expected CR LF; in a file with attached data "
                 "the label bytes count in its records",
@@ -66,7 +71,7 @@ def check_line_ends_error(ctx: FileContext) -> Iterator[Hit]:
 
 def check_line_ends_warning(ctx: FileContext) -> Iterator[Hit]:
     ends = _terminated(ctx)
-    if ends and {e for _, e in ends} == {"LF"} and not ctx.attached:
+    if ends and {e for _, e in ends} == {"LF"} and not _data_follows(ctx):
         yield Hit("all label lines end in LF only; PDS3 requires CR LF", ends[0][0])
 
 

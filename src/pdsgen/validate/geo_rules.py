@@ -135,7 +135,8 @@ def check_geotransform(ctx: FileContext) -> Iterator[Hit]:
     ulx, uly, scale = label
     info = found[2]
     map_block = _map(ctx)
-    line = map_block.get("SAMPLE_PROJECTION_OFFSET").line if map_block and map_block.get("SAMPLE_PROJECTION_OFFSET") else None
+    spo = map_block.get("SAMPLE_PROJECTION_OFFSET") if map_block is not None else None
+    line = spo.line if spo is not None else None
     for ref in info.georefs:
         dx, dy = (ref.ulx - ulx) / scale, (uly - ref.uly) / scale
         dsx = (ref.xres - scale) * info.width / scale

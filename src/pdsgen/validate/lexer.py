@@ -269,7 +269,7 @@ class _Parser:
         value = self._value(line, tok.text)
         if value is None:
             return
-        self._end_of_statement(value.line if value.items is None else self.scan.line)
+        self._end_of_statement(self.scan.line)
         pointer = tok.text.startswith("^")
         keyword = tok.text[1:] if pointer else tok.text
         if upper in ("OBJECT", "GROUP"):
@@ -337,7 +337,9 @@ class _Parser:
             return self._collection(tok, keyword)
         if tok.kind == "string":
             content = tok.text[1:-1]
-            return Value("string", tok.text, content, tok.end_line)
+            if not content.strip() and not nested:
+                self.issue("SYNTAX-009", tok.line, f'{keyword} has no value (empty "")', keyword)
+            return Value("string", tok.text, content, tok.line)
         if tok.kind == "symbol":
             return Value("symbol", tok.text, tok.text[1:-1], tok.line)
         if tok.kind == "word":

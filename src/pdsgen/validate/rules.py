@@ -82,6 +82,8 @@ def _table() -> list[Rule]:
              D.check_static_values),
         Rule("DICT-005", "warning", "values of suggested value sets are standard values",
              D.check_suggested_values),
+        Rule("DICT-009", "info", "text keywords given unquoted numbers (readers accept them)",
+             D.check_number_for_text),
         Rule("DICT-006", "error", "value lengths lie within the dictionary minimum/maximum length",
              D.check_length),
         Rule("DICT-007", "warning", "units are known PDS units", D.check_units),

@@ -123,10 +123,12 @@ def _sources(group: list[Summary], severity: str) -> Iterator[Finding]:
 def _extras(directory: Path, group: list[Summary], severity: str) -> Iterator[Finding]:
     """A directory holding map products should have README.TXT and browse JPEGs (Extras)."""
     products = [s for s in group if s.projection is not None and s.product_id]
-    if not products:
-        return
     names = _names(directory)
-    extras_dirs = [directory / n for n in names if n.upper() == "EXTRAS" and (directory / n).is_dir()]
+    extras_dirs = [directory / n for n in names if "EXTRA" in n.upper() and (directory / n).is_dir()]
+    # a delivery set: several map products together, or Extras already begun
+    if not products or (len(products) < 2 and not extras_dirs and "README.TXT" not in
+                        {n.upper() for n in names}):
+        return
     for sub in extras_dirs:
         names |= _names(sub)
     upper = {n.upper() for n in names}

@@ -1,0 +1,51 @@
+"""`pdsgen validate`: check PDS3 labels, label sets and their data, for people and for CI."""
+
+from __future__ import annotations
+
+import sys
+
+import click
+
+from ..validate import render, rules, validate_paths
+from ..validate.runner import terminal_progress
+
+
+def _list_rules() -> str:
+    lines = [f"{r.id:<11} {r.severity:<8} {r.summary}" for r in rules().values()]
+    return "\n".join(lines) + "\n"
+
+
+@click.command(short_help="Check PDS3 labels, label sets and their data.")
+@click.argument("paths", nargs=-1, type=click.Path(exists=True))
+@click.option("--format", "fmt", type=click.Choice(["text", "json", "junit"]), default="text",
+              show_default=True, help="Report format: text for people, json or junit for CI.")
+@click.option("--strict", is_flag=True, help="Fail (exit 1) on warnings too.")
+@click.option("--jobs", "-j", type=click.IntRange(min=1), default=1, show_default=True,
+              help="Files checked in parallel (processes).")
+@click.option("--labels-only", is_flag=True,
+              help="Check label text only; do not open the data files it points to.")
+@click.option("--list-rules", "list_rules", is_flag=True, help="Print the rule table and exit.")
+@click.option("--output", "-o", type=click.Path(dir_okay=False, writable=True),
+              help="Write the report to this file instead of standard output.")
+def validate(paths: tuple[str, ...], fmt: str, strict: bool, jobs: int, labels_only: bool,
+             list_rules: bool, output: str | None) -> None:
+    """Validate PATHS (label files, or directories searched recursively).
+
+    Exit status: 0 no errors (and no warnings with --strict), 1 problems found,
+    2 usage error.
+    """
+    if list_rules:
+        click.echo(_list_rules(), nl=False)
+        return
+    if not paths:
+        raise click.UsageError("give at least one file or directory to validate")
+    progress = terminal_progress if sys.stderr.isatty() else None
+    report = validate_paths(paths, strict=strict, jobs=jobs, labels_only=labels_only,
+                            progress=progress)
+    text = render(report, fmt)
+    if output:
+        with open(output, "w", encoding="utf-8") as fh:
+            fh.write(text)
+    else:
+        click.echo(text, nl=False)
+    sys.exit(report.exit_code)
