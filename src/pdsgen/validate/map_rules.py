@@ -70,23 +70,34 @@ def _scale_m(block: Block) -> float | None:
     return number * 1000.0 if unit.startswith("KM") else number
 
 
-def _rel_precision(stmt: Statement | None) -> float:
-    """Relative half-unit of the last printed digit of a real (0 for integers)."""
+_ROUNDED_DIGITS = 4  # values printed with fewer significant digits are taken as exact
+
+
+def _printed_half_unit(stmt: Statement | None) -> float:
+    """Half a unit in the last printed digit of a real that looks rounded, else 0.
+
+    "14.818" (MAP_SCALE of a 4 px/deg map) is a rounded value; "1.0", "90.0" and "0.5"
+    are exact round numbers, whatever their digit count says.
+    """
     if stmt is None or stmt.value.kind != "real":
         return 0.0
-    raw = stmt.value.raw.lower().split("e")[0]
-    decimals = len(raw.split(".")[1]) if "." in raw else 0
-    value = abs(float(stmt.value.py))  # type: ignore[arg-type]
-    return 0.5 * 10.0**-decimals / value if value else 0.0
+    mantissa, _, exponent = stmt.value.raw.lower().lstrip("+-").partition("e")
+    digits = mantissa.replace(".", "").lstrip("0")
+    if len(digits.rstrip("0")) < _ROUNDED_DIGITS:
+        return 0.0
+    decimals = len(mantissa.split(".")[1]) if "." in mantissa else 0
+    return 0.5 * 10.0 ** (-decimals + (int(exponent) if exponent else 0))
+
+
+def _rel_precision(stmt: Statement | None) -> float:
+    """Relative half-unit of the last printed digit of a rounded-looking real."""
+    half = _printed_half_unit(stmt)
+    value = abs(float(stmt.value.py)) if half and stmt is not None else 0.0  # type: ignore[arg-type]
+    return half / value if value else 0.0
 
 
 def _abs_precision(stmt: Statement | None) -> float:
-    if stmt is None or stmt.value.kind != "real":
-        return 0.0
-    raw = stmt.value.raw.lower()
-    mantissa, _, exponent = raw.partition("e")
-    decimals = len(mantissa.split(".")[1]) if "." in mantissa else 0
-    return 0.5 * 10.0 ** (-decimals + (int(exponent) if exponent else 0))
+    return _printed_half_unit(stmt)
 
 
 def _image_size(ctx: FileContext, block: Block) -> tuple[int, int] | None:
