@@ -8,7 +8,6 @@ import itertools
 import pytest
 
 from pdsgen.validate import validate_paths
-
 from validate_support import make_dtm
 
 KINDS = ("equirectangular", "polar", "sinusoidal")
