@@ -31,6 +31,8 @@ def _defined(ctx: FileContext) -> Iterator[tuple[Statement, dict, Value]]:
         if entry is None:
             continue
         for value in stmt.value.scalars():
+            if value.kind == "bad":
+                continue  # already a SYNTAX finding
             if value.kind in ("string", "ident", "symbol") and (
                 _norm(value) in PLACEHOLDERS or not str(value.py).strip()
             ):
@@ -69,7 +71,7 @@ def _type_problem(kind: str, value: Value) -> str | None:
     if kind in _TEXT:
         return None  # numbers for text keywords: see check_number_for_text
     if kind in ("DATE", "TIME"):
-        if value.kind == "date":
+        if value.kind == "date" or (value.kind == "int" and len(value.raw) == 4):  # a year
             return None
         if value.kind == "string" and not date_problem(value.py.strip()):  # type: ignore[union-attr]
             return None

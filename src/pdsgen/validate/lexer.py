@@ -427,15 +427,15 @@ class _Parser:
         m = _BASED.fullmatch(text)
         if not m:
             self.issue("SYNTAX-007", line, f"{text!r} is not a based integer (form: 16#FF7FFFFB#)", keyword)
-            return Value("ident", text, text, line)
+            return Value("bad", text, text, line)
         sign, base_text, digits = m.groups()
         base = int(base_text)
         if base not in _BASE_DIGITS:
             self.issue("SYNTAX-007", line, f"{text}: base {base} is not 2, 8 or 16", keyword)
-            return Value("ident", text, text, line)
+            return Value("bad", text, text, line)
         if not digits or any(ch not in _BASE_DIGITS[base] for ch in digits):
             self.issue("SYNTAX-007", line, f"{text}: {digits!r} are not base-{base} digits", keyword)
-            return Value("ident", text, text, line)
+            return Value("bad", text, text, line)
         value = int(digits, base)
         return Value("based", text, -value if sign == "-" else value, line)
 
@@ -443,7 +443,7 @@ class _Parser:
         problem = date_problem(text)
         if problem:
             self.issue("SYNTAX-008", line, f"{text}: {problem}", keyword)
-            return Value("ident", text, text, line)
+            return Value("bad", text, text, line)
         return Value("date", text, text, line)
 
     def _finish(self) -> None:

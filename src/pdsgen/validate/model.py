@@ -18,7 +18,8 @@ class Value:
     """One parsed value: its kind, the text as written, the Python value and its unit.
 
     kind is one of: int, real, based, string (double-quoted), symbol (single-quoted),
-    ident (unquoted word), date, seq, set. `items` holds the members of seq/set.
+    ident (unquoted word), date, seq, set, or bad (a malformed number or date that the
+    reader has already reported). `items` holds the members of seq/set.
     """
 
     kind: str
