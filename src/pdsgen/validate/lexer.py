@@ -385,6 +385,15 @@ class _Parser:
             item = self._value(open_tok.line, keyword, nested=True)
             if item is not None:
                 items.append(item)
+            ahead = self.scan.peek()
+            if ahead.kind == "word" and self._starts_statement(ahead):
+                self.issue(
+                    "SYNTAX-001",
+                    open_tok.line,
+                    f"{open_tok.text} opened at line {open_tok.line} is never closed with {close}",
+                    keyword,
+                )
+                break
             sep = self.scan.next()
             if sep.kind == "punct" and sep.text == close:
                 break

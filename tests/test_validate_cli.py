@@ -1,0 +1,118 @@
+"""`pdsgen validate` as CI uses it: exit codes, JSON and JUnit read back, rule list, jobs."""
+
+from __future__ import annotations
+
+import json
+
+from click.testing import CliRunner
+from lxml import etree
+
+from pdsgen.cli import main
+from pdsgen.validate import rules
+from validate_support import make_dtm, replace_in_label
+
+
+def _run(*args: str):
+    return CliRunner().invoke(main, ["validate", *map(str, args)])
+
+
+def _broken_copy(tmp_path, clean):
+    broken = tmp_path / "broken" / "BROKEN.IMG"
+    broken.parent.mkdir()
+    broken.write_bytes(clean.read_bytes())
+    replace_in_label(broken, b"  OFFSET           =", b"  SCALING_FACTOR   =")
+    return broken
+
+
+def test_exit_codes(tmp_path):
+    clean = make_dtm(tmp_path)
+    assert _run(clean).exit_code == 0
+    assert _run(_broken_copy(tmp_path, clean)).exit_code == 1
+    assert _run(tmp_path / "missing.lbl").exit_code == 2
+    assert _run().exit_code == 2
+    assert _run("--format", "xml", clean).exit_code == 2
+
+
+def test_strict_fails_on_warnings(tmp_path):
+    label = tmp_path / "LF.LBL"
+    label.write_bytes(b"PDS_VERSION_ID = PDS3\nEND\n")  # LF-only detached label: a warning
+    result = _run(label)
+    assert result.exit_code == 0 and "[FILE-003]" in result.output
+    assert _run("--strict", label).exit_code == 1
+
+
+def test_json_report_reads_back(tmp_path):
+    clean = make_dtm(tmp_path)
+    broken = _broken_copy(tmp_path, clean)
+    result = _run("--format", "json", clean, broken)
+    data = json.loads(result.output)
+    assert result.exit_code == 1
+    assert [f["path"] for f in data["files"]] == [str(clean), str(broken)]
+    assert data["files"][0]["passed"] is True and data["files"][1]["passed"] is False
+    finding = next(f for f in data["files"][1]["findings"] if f["rule"] == "SYNTAX-004")
+    assert finding["severity"] == "error" and finding["keyword"] == "SCALING_FACTOR"
+    assert isinstance(finding["line"], int) and finding["message"]
+    assert data["summary"]["files"] == 2 and data["summary"]["errors"] >= 1
+    assert data["summary"]["exit_code"] == 1
+
+
+def test_junit_report_reads_back(tmp_path):
+    clean = make_dtm(tmp_path)
+    broken = _broken_copy(tmp_path, clean)
+    out = tmp_path / "report.xml"
+    result = _run("--format", "junit", "--output", out, clean, broken)
+    assert result.exit_code == 1
+    root = etree.parse(str(out)).getroot()
+    suite = root.find("testsuite")
+    assert suite.get("tests") == "2" and suite.get("failures") == "1"
+    cases = {c.get("name"): c for c in suite.findall("testcase")}
+    assert cases[str(clean)].find("failure") is None
+    failure = cases[str(broken)].find("failure")
+    assert failure is not None and "SYNTAX-004" in failure.text
+
+
+def test_list_rules_prints_every_rule():
+    result = CliRunner().invoke(main, ["validate", "--list-rules"])
+    assert result.exit_code == 0
+    for rule_id, rule in rules().items():
+        assert rule_id in result.output
+        assert rule.severity in ("error", "warning", "info")
+    families = {rule_id.split("-")[0] for rule_id in rules()}
+    assert families == {"FILE", "SYNTAX", "DICT", "PTR", "REC", "IMG", "MAP", "GEO", "SET"}
+
+
+def test_jobs_give_the_same_report(tmp_path):
+    for i in range(4):
+        make_dtm(tmp_path, ["equirectangular", "polar", "sinusoidal", "polar"][i], name=f"d{i}")
+    one = json.loads(_run("--format", "json", tmp_path).output)
+    two = json.loads(_run("--format", "json", "--jobs", "2", tmp_path).output)
+    assert one == two and one["summary"]["files"] == 4
+
+
+def test_directory_search_skips_data_files(tmp_path):
+    clean = make_dtm(tmp_path)
+    (clean.parent / "notes.txt").write_text("not a label")
+    (clean.parent / "raw.img").write_bytes(b"\x00" * 64)
+    data = json.loads(_run("--format", "json", clean.parent).output)
+    assert [f["path"] for f in data["files"]] == [str(clean)]
+
+
+def test_garbage_never_tracebacks(tmp_path):
+    cases = {
+        "binary.lbl": bytes(range(256)) * 4,
+        "quote.lbl": b'PDS_VERSION_ID = PDS3\r\nA = "never closed\r\n',
+        "nested.lbl": b"PDS_VERSION_ID = PDS3\r\nA = ((((((1\r\nEND\r\n",
+        "pointer.lbl": b"PDS_VERSION_ID = PDS3\r\n^IMAGE = (1, 2, 3)\r\nOBJECT = IMAGE\r\nLINES = -5\r\n"
+                       b"LINE_SAMPLES = x\r\nSAMPLE_TYPE = PC_REAL\r\nSAMPLE_BITS = 7\r\nEND\r\n",
+        "map.lbl": b"PDS_VERSION_ID = PDS3\r\nOBJECT = IMAGE_MAP_PROJECTION\r\nMAP_PROJECTION_TYPE = "
+                   b"SINUSOIDAL\r\nA_AXIS_RADIUS = 0\r\nMAP_SCALE = 0\r\nEND_OBJECT\r\nEND\r\n",
+        "empty.lbl": b"",
+    }
+    for name, content in cases.items():
+        (tmp_path / name).write_bytes(content)
+    result = _run("--format", "json", tmp_path)
+    assert result.exception is None or isinstance(result.exception, SystemExit)
+    data = json.loads(result.output)
+    assert data["summary"]["files"] == len(cases)
+    assert all(not f["passed"] for f in data["files"])
+    assert not any("could not run" in g["message"] for f in data["files"] for g in f["findings"])

@@ -1,0 +1,57 @@
+"""IMG data checks: statistics recomputed by streaming the samples (any byte order and
+sample type, blocks smaller than the image), compared with the label."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pdsgen.validate import datastats, validate_paths
+from pdsgen.validate.datastats import Layout, image_stats
+from validate_support import make_dtm, replace_in_label
+
+
+@pytest.mark.parametrize("dtype", [">f4", "<f4", ">i2", "<u2", "|u1", "<f8"])
+def test_streamed_statistics_match_numpy(tmp_path, monkeypatch, dtype):
+    monkeypatch.setattr(datastats, "_BLOCK_BYTES", 1000)  # many blocks
+    rng = np.random.default_rng(5)
+    data = (rng.random((37, 23)) * 200).astype(dtype)
+    missing = np.array(0 if np.dtype(dtype).kind == "u" else -100, dtype=dtype)
+    data[3, 4:9] = missing
+    if np.dtype(dtype).kind == "f":
+        data[7, 7] = np.nan
+    prefix, suffix = 3, 2
+    rows = [b"P" * prefix + row.tobytes() + b"S" * suffix for row in data]
+    path = tmp_path / "img.raw"
+    path.write_bytes(b"HEADER" + b"".join(rows))
+    layout = Layout(6, np.dtype(dtype), 37, 23, prefix, suffix)
+    stats = image_stats(path, layout, [float(missing)], want_moments=True)
+    valid = data.astype(float)
+    valid = valid[(valid != float(missing)) & ~np.isnan(valid)]
+    assert stats.count == valid.size
+    assert stats.minimum == valid.min() and stats.maximum == valid.max()
+    assert stats.mean == pytest.approx(valid.mean(), rel=1e-12)
+    assert stats.std == pytest.approx(valid.std(), rel=1e-9)
+
+
+def test_valid_range_checked_against_data_in_both_byte_orders(tmp_path):
+    for order in ("lsb", "msb"):
+        path = make_dtm(tmp_path, name=order, byte_order=order)
+        assert validate_paths([path], strict=True).exit_code == 0
+        head = path.read_bytes()[:4000]
+        start = head.index(b"VALID_MINIMUM    = ") + len(b"VALID_MINIMUM    = ")
+        old = head[start: head.index(b"\r\n", start)]
+        new = (b"-9" + old[2:]) if old.startswith(b"-") and not old.startswith(b"-9") else b"1" + old[1:]
+        replace_in_label(path, b"VALID_MINIMUM    = " + old, b"VALID_MINIMUM    = " + new)
+        finding = next(f for f in validate_paths([path]).findings if f.rule == "IMG-007")
+        assert "VALID_MINIMUM" in finding.message and "the data give" in finding.message
+
+
+def test_missing_constant_that_the_type_cannot_hold(tmp_path):
+    label = tmp_path / "X.LBL"
+    label.write_bytes(b"PDS_VERSION_ID = PDS3\r\nOBJECT = IMAGE\r\n  LINES = 1\r\n  LINE_SAMPLES = 1\r\n"
+                      b"  SAMPLE_TYPE = UNSIGNED_INTEGER\r\n  SAMPLE_BITS = 8\r\n"
+                      b"  SAMPLE_BIT_MASK = 2#111111111#\r\n  MISSING_CONSTANT = -32768\r\n"
+                      b"END_OBJECT = IMAGE\r\nEND\r\n")
+    rules = {f.rule for f in validate_paths([label]).findings}
+    assert {"IMG-003", "IMG-004"} <= rules
