@@ -72,6 +72,11 @@ PROFILES = {
         ),
         credit="",
     ),
+    "hrsc": Profile(
+        name="hrsc",
+        dtm_note="Heights in meters = DN * SCALING_FACTOR + OFFSET.",
+        credit="ESA/DLR/FU Berlin",
+    ),
 }
 
 
