@@ -151,6 +151,11 @@ def _parse_projection(crs: CRS, source: str) -> _Projection:
     )
 
 
+def ellipsoid_axes(crs: CRS, source: str = "input") -> tuple[float, float]:
+    """Semi-major and semi-minor axes (metres) of the CRS's body."""
+    return _ellipsoid_axes(crs, crs.to_dict(), source)
+
+
 def _ellipsoid_axes(crs: CRS, params: dict, source: str) -> tuple[float, float]:
     if "R" in params:
         radius = float(params["R"])

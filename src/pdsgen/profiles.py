@@ -77,6 +77,11 @@ PROFILES = {
         dtm_note="Heights in meters = DN * SCALING_FACTOR + OFFSET.",
         credit="ESA/DLR/FU Berlin",
     ),
+    "imars": Profile(
+        name="imars",
+        dtm_note="Heights in meters = DN * SCALING_FACTOR + OFFSET.",
+        credit="ESA/DLR/FU Berlin/UCL",
+    ),
 }
 
 

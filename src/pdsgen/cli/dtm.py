@@ -24,13 +24,13 @@ from ..profiles import PROFILES
               help="lsb: PC_REAL / LSB_INTEGER; msb: IEEE_REAL / MSB_INTEGER. "
                    "[default: lsb; hrsc: msb]")
 @click.option("--kind", type=click.Choice(["dt4", "da4"]), default="dt4", show_default=True,
-              help="hrsc: heights above the 3396.0 km sphere (dt4) or the areoid (da4).")
+              help="hrsc/imars: heights above the 3396.0 km sphere (dt4) or the areoid (da4).")
 @click.option("--vertical-datum", type=click.Choice(["sphere", "areoid"]), default="sphere",
               show_default=True, help="hrsc: what the input heights are measured from.")
 @click.option("--areoid", type=click.Path(dir_okay=False),
               help="hrsc: areoid heights above the 3396.0 km sphere (any GDAL raster), to convert datums.")
 @click.option("--precision", type=float, default=1.0, show_default=True,
-              help="hrsc: metres per stored integer step (SCALING_FACTOR).")
+              help="hrsc/imars: metres per stored integer step (SCALING_FACTOR).")
 @click.option("--reproject", is_flag=True,
               help="hrsc: warp the input into the HRSC projection and sphere instead of refusing it.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
@@ -38,8 +38,18 @@ def dtm(input_path, outdir, profile, product_id, source_ids, institution, produc
         params_file, byte_order, kind, vertical_datum, areoid, precision, reproject, overwrite) -> None:
     """Convert the single-band elevation raster INPUT (any GDAL format, projected
     CRS: equirectangular, polar stereographic or sinusoidal) into a PDS3 DTM in OUTDIR:
-    <PRODUCT_ID>.IMG (float32), or for --profile hrsc hOOOO_NNNN_dt4.img / _da4.img
-    (16-bit integers with MEX:DTM scaling)."""
+    <PRODUCT_ID>.IMG (float32); for --profile hrsc hOOOO_NNNN_dt4.img / _da4.img
+    (16-bit integers with MEX:DTM scaling); for --profile imars the iMars form:
+    hOOOO_NNNN_da4_ucl.tif (int16 GeoTIFF), its .pvl metadata and hOOOO_NNNN.geojson."""
+    if profile == "imars":
+        from ..imars import write_imars_dtm
+
+        product = write_imars_dtm(
+            input_path, outdir, product_id=product_id, source_product_ids=source_ids, kind=kind[:2],
+            precision=precision, params=params_file, overwrite=overwrite,
+        )
+        click.echo(f"{product.tiff_path}  {product.pvl_path.name}  {product.footprint_path.name}")
+        return
     if profile == "hrsc":
         from ..hrsc import write_hrsc_dtm
 
