@@ -72,6 +72,16 @@ PROFILES = {
         ),
         credit="",
     ),
+    "hrsc": Profile(
+        name="hrsc",
+        dtm_note="Heights in meters = DN * SCALING_FACTOR + OFFSET.",
+        credit="ESA/DLR/FU Berlin",
+    ),
+    "imars": Profile(
+        name="imars",
+        dtm_note="Heights in meters = DN * SCALING_FACTOR + OFFSET.",
+        credit="ESA/DLR/FU Berlin/UCL",
+    ),
 }
 
 
