@@ -127,10 +127,10 @@ EXPECTED = {
     "missingEquals.lbl": [("SYNTAX-001", 2), ("SYNTAX-001", 4), ("SYNTAX-001", 6)],
     "missingKey.lbl": [("SYNTAX-001", 4)],
     "missingValue.lbl": [("SYNTAX-009", 2), ("SYNTAX-009", 4)],
-    "setValue.lbl": [("SYNTAX-001", 5), ("DICT-005", 4)],
+    "setValue.lbl": [("SYNTAX-001", 5), ("DICT-010", 4)],  # FILTER_NAME values are DYNAMIC
     "sequenceValue.lbl": [("DICT-002", 4)],
-    "newValue.lbl": [("DICT-005", 3)],
-    "newValueWInclude.lbl": [("DICT-005", 3)],
+    "newValue.lbl": [("DICT-010", 3)],  # VOLUME_SET_NAME values are DYNAMIC: information
+    "newValueWInclude.lbl": [("DICT-010", 3)],
     "invalidValue.lbl": [("DICT-004", 5)],
     "skipValue.lbl": [("DICT-008", None)],
     "unknownUnits.lbl": [("DICT-007", 7), ("DICT-007", 10)],

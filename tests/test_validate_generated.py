@@ -47,3 +47,31 @@ def test_several_products_in_one_directory_share_projection(tmp_path):
     first = make_dtm(tmp_path, "equirectangular", name="set")
     report = validate_paths([first.parent], strict=True)
     assert report.exit_code == 0
+
+
+HRSC_GRIDS = {
+    "sinusoidal": ("+proj=sinu +lon_0=70 +R=3396000 +units=m +no_defs",
+                   (50.0, 0, -10000.0, 0, -50.0, -1000000.0)),
+    "south_polar": ("+proj=stere +lat_0=-90 +lon_0=0 +k=1 +R=3396000 +units=m +no_defs",
+                    (50.0, 0, 100000.0, 0, -50.0, 60000.0)),
+}
+
+
+@pytest.mark.parametrize(("grid", "order"), [("sinusoidal", "msb"), ("south_polar", "lsb")])
+def test_hrsc_dt4_products_are_clean(tmp_path, grid, order):
+    import numpy as np
+    from affine import Affine
+
+    from pdsgen.hrsc import write_hrsc_dtm
+
+    from helpers import elevation_array, write_raster
+
+    crs, transform = HRSC_GRIDS[grid]
+    heights = elevation_array(45, 38, seed=11)
+    heights[3:6, 4:9] = np.nan
+    source = write_raster(tmp_path / "in.tif", heights, crs, Affine(*transform))
+    product = write_hrsc_dtm(source, tmp_path / "out", precision=0.05, byte_order=order,
+                             source_product_ids=["H1234_0000_ND3"])
+    report = validate_paths([product.path], strict=True)
+    assert [f"{f.rule} {f.message}" for f in report.findings if f.severity != "info"] == []
+    assert "MAP-004" in report.rule_ids("info")
