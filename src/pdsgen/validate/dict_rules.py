@@ -17,16 +17,23 @@ _NUMERIC = ("INTEGER", "ASCII_INTEGER", "REAL", "DOUBLE", "NONDECIMAL", "NON_DEC
 _TEXT = ("CHARACTER", "ALPHANUMERIC", "IDENTIFIER", "ALPHABET")
 
 
-def _statements(ctx: FileContext) -> Iterator[tuple[Statement, dict | None]]:
-    dictionary = load()
-    for block in ctx.root.walk():
-        for stmt in block.statements():
-            if not stmt.pointer:
-                yield stmt, dictionary.lookup(stmt.keyword)
+def _statements(ctx: FileContext) -> list[tuple[Statement, dict | None]]:
+    """(statement, definition or None) for every non-pointer statement; computed once."""
+    cached = ctx.__dict__.get("_dict_statements")
+    if cached is None:
+        dictionary = load()
+        cached = [(stmt, dictionary.lookup(stmt.keyword))
+                  for block in ctx.root.walk() for stmt in block.statements() if not stmt.pointer]
+        ctx.__dict__["_dict_statements"] = cached
+    return cached
 
 
-def _defined(ctx: FileContext) -> Iterator[tuple[Statement, dict, Value]]:
+def _defined(ctx: FileContext) -> list[tuple[Statement, dict, Value]]:
     """(statement, definition, scalar) for every non-placeholder scalar of a known keyword."""
+    cached = ctx.__dict__.get("_dict_defined")
+    if cached is not None:
+        return cached
+    cached = []
     for stmt, entry in _statements(ctx):
         if entry is None:
             continue
@@ -37,7 +44,9 @@ def _defined(ctx: FileContext) -> Iterator[tuple[Statement, dict, Value]]:
                 _norm(value) in PLACEHOLDERS or not str(value.py).strip()
             ):
                 continue
-            yield stmt, entry, value
+            cached.append((stmt, entry, value))
+    ctx.__dict__["_dict_defined"] = cached
+    return cached
 
 
 def _shown(value: Value) -> str:
@@ -109,7 +118,12 @@ def check_range(ctx: FileContext) -> Iterator[Hit]:
 
 def _standard(entry: dict, value: Value) -> bool:
     values = entry.get("values")
-    return not values or value.is_number or _norm(value) in {v.upper() for v in values}
+    if not values or value.is_number:
+        return True
+    upper = entry.get("_upper")
+    if upper is None:
+        upper = entry["_upper"] = frozenset(v.upper() for v in values)
+    return _norm(value) in upper
 
 
 def check_static_values(ctx: FileContext) -> Iterator[Hit]:

@@ -8,6 +8,7 @@ ends are part of the record arithmetic, so LF there is an error.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterator
 
 from .context import FileContext
@@ -22,8 +23,13 @@ def _content_lengths(ctx: FileContext) -> list[tuple[int, int, str]]:
     return [(ln.number, ln.end - ln.start, ln.ending) for ln in ctx.label.lines]
 
 
+_NOT_TEXT = re.compile(r"[^\x20-\x7e\r\n\t\x00]")
+
+
 def check_ascii(ctx: FileContext) -> Iterator[Hit]:
     label = ctx.label
+    if not _NOT_TEXT.search(label.text, 0, label.label_end):
+        return
     count = 0
     for ln in label.lines:
         chunk = label.text[ln.start : ln.end]

@@ -49,14 +49,22 @@ class _Token:
         self.start = start
 
 
+_SKIP = re.compile(r"(?:[ \t\f\v\x00]+|\r\n|\n|\r|/\*.*?\*/)+", re.S)
+
+
 class _Scanner:
-    """Produces significant tokens on demand; whitespace, newlines and comments are skipped."""
+    """Produces significant tokens on demand; whitespace, newlines and comments are skipped.
+
+    The last peeked token is remembered, so the parser's look-ahead costs one scan.
+    """
 
     def __init__(self, text: str, issues: list[Issue]) -> None:
         self.text = text
         self.pos = 0
         self.line = 1
         self.issues = issues
+        # (pos, token, pos after, line after, issues found scanning it)
+        self._ahead: tuple[int, _Token, int, int, list[Issue]] | None = None
 
     def mark(self) -> tuple[int, int]:
         return self.pos, self.line
@@ -66,27 +74,27 @@ class _Scanner:
 
     def _skip(self) -> None:
         text = self.text
-        while self.pos < len(text):
-            m = _WS.match(text, self.pos)
-            if m:
-                self.pos = m.end()
-                continue
-            m = _NEWLINE.match(text, self.pos)
-            if m:
-                self.pos = m.end()
-                self.line += 1
-                continue
-            if text.startswith("/*", self.pos):
-                end = text.find("*/", self.pos + 2)
-                if end < 0:
-                    self.issues.append(Issue("SYNTAX-001", self.line, "comment '/*' is never closed"))
-                    end = len(text) - 2
+        m = _SKIP.match(text, self.pos)
+        if m:
+            end = m.end()
+            if "\n" in text[self.pos : end] or "\r" in text[self.pos : end]:
                 self.line += _count_lines(text, self.pos, end)
-                self.pos = end + 2
-                continue
-            break
+            self.pos = end
+        if text.startswith("/*", self.pos):  # a comment that never closes
+            self.issues.append(Issue("SYNTAX-001", self.line, "comment '/*' is never closed"))
+            self.line += _count_lines(text, self.pos, len(text))
+            self.pos = len(text)
 
     def next(self) -> _Token:
+        ahead = self._ahead
+        if ahead is not None and ahead[0] == self.pos:
+            self.pos, self.line = ahead[2], ahead[3]
+            self.issues.extend(ahead[4])
+            self._ahead = None
+            return ahead[1]
+        return self._scan()
+
+    def _scan(self) -> _Token:
         self._skip()
         text, pos, line = self.text, self.pos, self.line
         if pos >= len(text):
@@ -123,14 +131,22 @@ class _Scanner:
         return _Token("bad", ch, line, line, pos)
 
     def peek(self) -> _Token:
-        mark = self.mark()
-        tok = self.next()
-        self.reset(mark)
+        ahead = self._ahead
+        if ahead is not None and ahead[0] == self.pos:
+            return ahead[1]
+        start, line = self.pos, self.line
+        issues = len(self.issues)
+        tok = self._scan()
+        produced = self.issues[issues:]
+        del self.issues[issues:]  # reported when the token is really read
+        self._ahead = (start, tok, self.pos, self.line, produced)
+        self.pos, self.line = start, line
         return tok
 
     def skip_line(self) -> None:
         """Drop the rest of the current line (error recovery)."""
         self.pos = _line_end(self.text, self.pos)
+        self._ahead = None
 
 
 def _count_lines(text: str, start: int, end: int) -> int:

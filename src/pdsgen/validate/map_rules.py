@@ -336,8 +336,10 @@ def _px_lon(geo: Geometry, label: float, computed: float, at_lat: float, slack: 
 
 def best_fit(geo: Geometry) -> tuple[Fit, Fit]:
     """(fit with the offsets as written, best fit over whole/half pixel shifts)."""
-    fits = [fit(geo, a, b) for a, b in itertools.product(_SHIFTS, _SHIFTS)]
-    standard = fits[0]
+    standard = fit(geo, 0.0, 0.0)
+    if standard.consistent:
+        return standard, standard
+    fits = [standard] + [fit(geo, a, b) for a, b in itertools.product(_SHIFTS, _SHIFTS) if a or b]
     best = min(fits, key=lambda f: (not f.consistent, round(f.worst, 6),
                                     abs(f.shift_sample) + abs(f.shift_line)))
     return standard, best
