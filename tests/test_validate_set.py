@@ -1,0 +1,70 @@
+"""SET rules: products in one directory agree with each other and come with their Extras."""
+
+from __future__ import annotations
+
+from pdsgen.dtm import write_dtm
+from pdsgen.validate import validate_paths
+from pdsgen.validate.runner import terminal_progress
+from validate_support import make_dtm, resize_label_text
+
+from helpers import ORIGINS, elevation_array, write_raster
+
+
+def _two_products(tmp_path, second_kind):
+    out = tmp_path / "set"
+    paths = []
+    for i, kind in enumerate(("equirectangular", second_kind)):
+        crs, transform = ORIGINS[kind]
+        source = write_raster(tmp_path / f"in{i}.tif", elevation_array(20, 30, seed=i), crs, transform)
+        paths.append(write_dtm(source, out, product_id=f"PRODUCT_{i}").path)
+    return out, paths
+
+
+def _rules(report, severity=None):
+    return {(f.rule, f.file.rsplit("/", 1)[-1]) for f in report.findings
+            if severity is None or f.severity == severity}
+
+
+def test_products_of_one_set_must_share_the_projection(tmp_path):
+    out, paths = _two_products(tmp_path, "sinusoidal")
+    report = validate_paths([out])
+    assert ("SET-001", "PRODUCT_1.IMG") in _rules(report, "error")
+    message = next(f.message for f in report.findings if f.rule == "SET-001")
+    assert "MAP_PROJECTION_TYPE SINUSOIDAL vs EQUIRECTANGULAR" in message
+
+
+def test_a_set_needs_readme_and_browse_images(tmp_path):
+    out, paths = _two_products(tmp_path, "equirectangular")
+    report = validate_paths([out])
+    assert "SET-001" not in report.rule_ids()
+    warnings = _rules(report, "warning")
+    assert ("SET-004", "PRODUCT_0.IMG") in warnings and ("SET-004", "PRODUCT_1.IMG") in warnings
+    extras = out / "EXTRAS"
+    extras.mkdir()
+    (extras / "README.TXT").write_bytes(b"Extras\r\n")
+    for pid in ("PRODUCT_0", "PRODUCT_1"):
+        (extras / f"{pid}.browse.jpg").write_bytes(b"\xff\xd8\xff")
+    assert validate_paths([out], strict=True).exit_code == 0
+
+
+def test_source_product_reference_must_resolve(tmp_path):
+    path = make_dtm(tmp_path, profile="hirise")
+    assert validate_paths([path.parent], strict=True).exit_code == 0
+    resize_label_text(path, b"PSP_009025_1705)", b"DTEEC_001234_1705_005678_1705_U01)")
+    errors = {f.rule: f.message for f in validate_paths([path.parent]).findings if f.severity == "error"}
+    assert "SET-003" in errors and "DTEEC_001234_1705_005678_1705_U01" in errors["SET-003"]
+
+
+def test_product_id_matches_file_name(tmp_path):
+    path = make_dtm(tmp_path)
+    renamed = path.with_name("SOMETHING_ELSE.IMG")
+    path.rename(renamed)
+    errors = {f.rule for f in validate_paths([renamed]).findings if f.severity == "error"}
+    assert errors == {"SET-002"}
+
+
+def test_progress_bar_line(capsys):
+    for done in (1, 2, 4):
+        terminal_progress(done, 4)
+    err = capsys.readouterr().err
+    assert err.count("\r") == 3 and err.endswith("4/4 files\n") and "#" * 30 in err
