@@ -133,8 +133,8 @@ _CRS_REF = "gmljp2://xml/CRSDictionary.gml#pdsgen_crs"
 def _feature_collection(transform: Affine, lines: int, samples: int) -> etree._Element:
     g = f"{{{GML}}}"
     collection = etree.Element(g + "FeatureCollection", nsmap=_NSMAP)
-    west, north = transform * (0, 0)
-    east, south = transform * (samples, lines)
+    west, north = transform @ (0, 0)
+    east, south = transform @ (samples, lines)
     envelope = etree.SubElement(etree.SubElement(collection, g + "boundedBy"), g + "Envelope", srsName=_CRS_REF)
     etree.SubElement(envelope, g + "lowerCorner").text = f"{_num(min(west, east))} {_num(min(south, north))}"
     etree.SubElement(envelope, g + "upperCorner").text = f"{_num(max(west, east))} {_num(max(south, north))}"
@@ -148,7 +148,7 @@ def _feature_collection(transform: Affine, lines: int, samples: int) -> etree._E
     etree.SubElement(limits, g + "high").text = f"{samples - 1} {lines - 1}"
     etree.SubElement(grid, g + "axisName").text = "x"
     etree.SubElement(grid, g + "axisName").text = "y"
-    centre_x, centre_y = transform * (0.5, 0.5)  # GML grid points are pixel centres
+    centre_x, centre_y = transform @ (0.5, 0.5)  # GML grid points are pixel centres
     point = etree.SubElement(etree.SubElement(grid, g + "origin"), g + "Point", srsName=_CRS_REF,
                              attrib={g + "id": "P0001"})
     etree.SubElement(point, g + "pos").text = f"{_num(centre_x)} {_num(centre_y)}"

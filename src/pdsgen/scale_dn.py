@@ -133,9 +133,8 @@ def valid_range(dataset: DatasetReader, windows: Iterable[Window]) -> tuple[floa
             if invalid is None:
                 low, high = min(low, float(band.min())), max(high, float(band.max()))
             elif not invalid.all():
-                valid = ~invalid
-                low = min(low, float(np.min(band, where=valid, initial=np.inf)))
-                high = max(high, float(np.max(band, where=valid, initial=-np.inf)))
+                valid = band[~invalid]
+                low, high = min(low, float(valid.min())), max(high, float(valid.max()))
     if low > high:
         return None
     return low, high

@@ -106,10 +106,7 @@ def encode_jp2(
     layout = layout or choose_layout(lines, samples)
     set_encoder_threads()
     shape = (lines, samples) if bands == 1 else (lines, samples, bands)
-    writer = _PrecisionJp2k(
-        str(path),
-        shape=shape,
-        tilesize=layout.tile_shape,
+    options = dict(
         numres=layout.resolutions,
         cbsize=layout.code_block,
         psizes=list(layout.precincts),
@@ -118,9 +115,14 @@ def encode_jp2(
         plt=True,
         precision=precision,
         colorspace="gray" if bands < 3 else "rgb",
-        mct=False if bands < 3 else True,
+        mct=bands >= 3,
     )
     tile_rows, tile_cols = layout.tile_shape
+    if (tile_rows, tile_cols) == (lines, samples):
+        # glymur refuses tile writers for a single tile: the image is one tile's size anyway.
+        _PrecisionJp2k(str(path), data=read_tile_row(0, lines), **options)
+        return layout
+    writer = _PrecisionJp2k(str(path), shape=shape, tilesize=layout.tile_shape, **options)
     columns = math.ceil(samples / tile_cols)
     row_data: np.ndarray | None = None
     current = -1
