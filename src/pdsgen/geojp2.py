@@ -22,7 +22,6 @@ import uuid
 
 import numpy as np
 from affine import Affine
-from lxml import etree
 from rasterio.crs import CRS
 from rasterio.io import MemoryFile
 
@@ -117,20 +116,22 @@ def read_geojp2(path) -> bytes:
 
 def gmljp2_box(crs: CRS, transform: Affine, lines: int, samples: int) -> bytes:
     """A GMLJP2 association box consistent with the GeoJP2 box."""
-    root = _feature_collection(transform, lines, samples)
-    dictionary = _crs_dictionary(crs)
+    from lxml import etree  # only needed here; keeps lxml out of the common path
+
+    root = _feature_collection(etree, transform, lines, samples)
+    dictionary = _crs_dictionary(etree, crs)
     return box(
         b"asoc",
         box(b"lbl ", b"gml.data")
-        + box(b"asoc", box(b"lbl ", b"gml.root-instance") + box(b"xml ", _xml_bytes(root)))
-        + box(b"asoc", box(b"lbl ", b"CRSDictionary.gml") + box(b"xml ", _xml_bytes(dictionary))),
+        + box(b"asoc", box(b"lbl ", b"gml.root-instance") + box(b"xml ", _xml_bytes(etree, root)))
+        + box(b"asoc", box(b"lbl ", b"CRSDictionary.gml") + box(b"xml ", _xml_bytes(etree, dictionary))),
     )
 
 
 _CRS_REF = "gmljp2://xml/CRSDictionary.gml#pdsgen_crs"
 
 
-def _feature_collection(transform: Affine, lines: int, samples: int) -> etree._Element:
+def _feature_collection(etree, transform: Affine, lines: int, samples: int):
     g = f"{{{GML}}}"
     collection = etree.Element(g + "FeatureCollection", nsmap=_NSMAP)
     west, north = transform @ (0, 0)
@@ -160,7 +161,7 @@ def _feature_collection(transform: Affine, lines: int, samples: int) -> etree._E
     return collection
 
 
-def _crs_dictionary(crs: CRS) -> etree._Element:
+def _crs_dictionary(etree, crs: CRS):
     g = f"{{{GML}}}"
     dictionary = etree.Element(g + "Dictionary", nsmap=_NSMAP, attrib={g + "id": "CRSU1"})
     etree.SubElement(dictionary, g + "name").text = "CRSDictionary.gml"
@@ -175,5 +176,5 @@ def _num(value: float) -> str:
     return repr(float(value))
 
 
-def _xml_bytes(element: etree._Element) -> bytes:
+def _xml_bytes(etree, element) -> bytes:
     return etree.tostring(element, xml_declaration=True, encoding="UTF-8", pretty_print=True)

@@ -44,6 +44,7 @@ from .scale_dn import (
     default_bits,
     dtype_fits,
     identity_mapping,
+    invalid_mask,
     linear_mapping,
     to_dns,
     valid_range,
@@ -51,9 +52,10 @@ from .scale_dn import (
 from .staging import StagedOutputs, prepare_output_dir
 from .write_jp2 import TILE_SIZE, write_jp2
 
-# GDAL's block cache while streaming: each input block is read once, so a
-# small cache keeps memory flat instead of growing toward 5 % of RAM.
-_READ_CACHE_BYTES = 64 * 1024 * 1024
+# GDAL's block cache while streaming: each input block is read once, so a cache
+# of two block rows keeps memory flat instead of growing toward 5 % of RAM.
+_MIN_CACHE_BYTES = 4 * 1024 * 1024
+_MAX_CACHE_BYTES = 64 * 1024 * 1024
 
 
 @dataclass(frozen=True)
@@ -93,7 +95,7 @@ def write_ortho(
     chosen = get_profile(profile)
     keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
     input_path = Path(input_path)
-    with rasterio.Env(GDAL_CACHEMAX=_READ_CACHE_BYTES), open_raster(input_path) as dataset:
+    with open_raster(input_path) as dataset, rasterio.Env(GDAL_CACHEMAX=_read_cache_bytes(dataset)):
         _check_input(dataset, input_path)
         geometry = describe_geometry(dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path))
         bits = bits or _default_bits(dataset, chosen.name)
@@ -117,7 +119,7 @@ def write_ortho(
                 staged.path(jp2_final), dataset.height, dataset.width, dataset.count,
                 mapping.special.bits, reader, boxes,
             )
-            if reader.valid_pixels == 0:
+            if not reader.any_valid:
                 raise PdsgenError(input_path, "has no valid pixels (all nodata)")
             staged.path(label_final).write_bytes(text.encode("ascii"))
     return OrthoProduct(
@@ -131,6 +133,12 @@ def write_ortho(
         bands=dataset.count,
         label_text=text,
     )
+
+
+def _read_cache_bytes(dataset: DatasetReader) -> int:
+    block_rows = dataset.block_shapes[0][0]
+    row_bytes = dataset.width * block_rows * np.dtype(dataset.dtypes[0]).itemsize * dataset.count
+    return int(min(_MAX_CACHE_BYTES, max(_MIN_CACHE_BYTES, 2 * row_bytes)))
 
 
 def _check_input(dataset: DatasetReader, path: Path) -> None:
@@ -179,19 +187,34 @@ class _TileRowReader:
         self.dataset = dataset
         self.mapping = mapping
         self.source = source
-        self.valid_pixels = 0
+        self.any_valid = False
 
     def __call__(self, first_line: int, lines: int) -> np.ndarray:
         dataset, special = self.dataset, self.mapping.special
         native = dataset.read(window=Window(0, first_line, dataset.width, lines))
+        if self.mapping.keeps_values and native.dtype == special.dtype and dataset.count == 1:
+            return self._null_in_place(native[0])
         out = np.empty((lines, dataset.width, dataset.count), dtype=special.dtype)
         for band, nodata in enumerate(dataset.nodatavals):
             for start in range(0, dataset.width, TILE_SIZE):  # bounds float64 scratch to one tile
                 block = to_dns(native[band, :, start:start + TILE_SIZE], nodata, self.mapping, self.source)
                 out[:, start:start + TILE_SIZE, band] = block
         del native
-        self.valid_pixels += int(np.count_nonzero(out != special.null))
+        self._note_valid(out)
         return out[:, :, 0] if dataset.count == 1 else out
+
+    def _null_in_place(self, band: np.ndarray) -> np.ndarray:
+        """DNs kept as read: only nodata pixels change (saves a copy of the tile row)."""
+        invalid = invalid_mask(band, self.dataset.nodatavals[0])
+        if invalid is not None:
+            band[invalid] = self.mapping.special.null
+        self._note_valid(band)
+        return band
+
+    def _note_valid(self, dns: np.ndarray) -> None:
+        # Checked only until the first valid pixel turns up: no per-row mask afterwards.
+        if not self.any_valid:
+            self.any_valid = bool((dns != self.mapping.special.null).any())
 
 
 def _source_ids(

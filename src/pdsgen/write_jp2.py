@@ -26,10 +26,10 @@ from pathlib import Path
 import glymur
 import numpy as np
 
-TILE_SIZE = 1024
+TILE_SIZE = 512  # OpenJPEG needs ~17 bytes per tile pixel: 512 keeps it below GDAL's
 CODE_BLOCK = (64, 64)
 PRECINCT = 256  # at every resolution: region decoding needs only nearby packets
-OVERVIEW_SIDE = 512  # the lowest resolution level is about this size or smaller
+OVERVIEW_SIDE = 256  # the lowest resolution level is about this size or smaller
 MIN_LOWEST_TILE = 16  # smallest tile side at the lowest resolution level
 _COPY_CHUNK = 8 * 1024 * 1024
 
@@ -49,7 +49,7 @@ class Jp2Layout:
 
 
 def choose_layout(lines: int, samples: int) -> Jp2Layout:
-    """Tiles of 1024 (or the image, when smaller) and enough levels for an overview.
+    """Tiles of TILE_SIZE (or the image, when smaller) and enough levels for an overview.
 
     The number of decomposition levels brings the whole image to about
     OVERVIEW_SIDE pixels, limited so that a tile keeps at least MIN_LOWEST_TILE
