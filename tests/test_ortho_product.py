@@ -247,3 +247,10 @@ def test_layout_gives_several_resolution_levels_for_large_images():
     assert choose_layout(8000, 8000).resolutions == 6
     tiny = choose_layout(1, 5)
     assert tiny.tile_shape == (1, 5) and tiny.resolutions == 1
+
+
+@pytest.mark.parametrize("shape", [(1, 5), (3, 700), (600, 2)])
+def test_tiny_and_thin_images(tmp_path, shape):
+    data = (np.arange(np.prod(shape)) % 250 + 1).astype(np.uint8).reshape(shape)
+    product = write_ortho(_write(tmp_path, data), tmp_path / "out")
+    np.testing.assert_array_equal(glymur.Jp2k(product.jp2_path)[:], data)
