@@ -236,3 +236,17 @@ def check_object_in_file(ctx: FileContext) -> Iterator[Hit]:
             name = ptr.file_name or ctx.path.name
             yield Hit(f"{ptr.name} needs bytes {offset + 1}..{offset + need} of {name}, which has "
                       f"only {size} bytes (truncated?)", ptr.statement.line, _kw(ptr))
+
+
+def check_uncompressed_records(ctx: FileContext) -> Iterator[Hit]:
+    """An UNCOMPRESSED_FILE holds exactly its IMAGE: RECORD_BYTES x FILE_RECORDS = image bytes
+    (ISIS's JP2 exporter forgets the band count here)."""
+    for block in ctx.root.find("UNCOMPRESSED_FILE"):
+        rb, fr = block.number("RECORD_BYTES"), block.number("FILE_RECORDS")
+        image = next((b for b in block.blocks() if b.kind == "OBJECT" and b.get("LINES") is not None), None)
+        need = object_bytes(image) if image is not None else None
+        if isinstance(rb, int) and isinstance(fr, int) and need is not None and rb * fr != need:
+            stmt = block.get("FILE_RECORDS")
+            yield Hit(f"{block.name}: RECORD_BYTES x FILE_RECORDS = {rb} x {fr} = {rb * fr} bytes, but "
+                      f"its {image.name} holds {need} bytes (LINES x LINE_SAMPLES x BANDS x "  # type: ignore[union-attr]
+                      "sample bytes)", stmt.line if stmt else block.line, "FILE_RECORDS")

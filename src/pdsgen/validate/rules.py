@@ -113,6 +113,8 @@ def _table() -> list[Rule]:
         Rule("REC-005", "error", "objects fit in RECORD_BYTES x FILE_RECORDS", P.check_object_fits_records),
         Rule("REC-006", "error", "the data file holds every byte of each object (not truncated)",
              P.check_object_in_file, needs_data=True),
+        Rule("REC-007", "error", "an UNCOMPRESSED_FILE's records hold exactly its IMAGE",
+             P.check_uncompressed_records),
         Rule("IMG-001", "error", "IMAGE objects have LINES, LINE_SAMPLES, SAMPLE_TYPE, SAMPLE_BITS",
              I.check_required),
         Rule("IMG-002", "error", "SAMPLE_TYPE is known and fits SAMPLE_BITS", I.check_sample_type),
