@@ -16,7 +16,7 @@ from . import map_rules as M
 from . import pointer_rules as P
 from . import syntax_rules as S
 from .context import FileContext
-from .model import Hit
+from .model import Finding, Hit
 
 FAMILIES = ("FILE", "SYNTAX", "DICT", "PTR", "REC", "IMG", "MAP", "GEO", "SET")
 
@@ -26,8 +26,9 @@ class Rule:
     id: str
     severity: str
     summary: str
-    check: Callable[[FileContext], Iterable[Hit]] | None  # None: a set rule (see set_rules)
+    check: Callable[[FileContext], Iterable[Hit]] | None  # per-file check
     needs_data: bool = False
+    set_check: Callable[[list], Iterable[Finding]] | None = None  # per-directory check (SET)
 
     @property
     def family(self) -> str:
@@ -156,11 +157,15 @@ def _table() -> list[Rule]:
              G.check_projection, needs_data=True),
         Rule("GEO-006", "error", "equirectangular standard parallel in key 3078, not 3089",
              G.check_std_parallel_key, needs_data=True),
+        # FILE-012 is reported by the runner itself when a file cannot be opened
         Rule("FILE-012", "error", "the file can be read", None),
-        Rule("SET-001", "error", "products in one directory share projection parameters", None),
+        Rule("SET-001", "error", "products in one directory share projection parameters", None,
+             set_check=T.check_projections),
         Rule("SET-002", "error", "PRODUCT_ID matches the file name", T.check_product_id),
-        Rule("SET-003", "error", "SOURCE_PRODUCT_ID references to products of the set resolve", None),
-        Rule("SET-004", "warning", "a product directory has its Extras and README.TXT", None),
+        Rule("SET-003", "error", "SOURCE_PRODUCT_ID references to products of the set resolve", None,
+             set_check=T.check_sources),
+        Rule("SET-004", "warning", "a delivery set has README.TXT and browse JPEGs (Extras)", None,
+             set_check=T.check_extras),
     ]
 
 

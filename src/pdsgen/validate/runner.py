@@ -20,7 +20,7 @@ from .context import FileContext
 from .model import Finding
 from .report import FileReport, Report
 from .rules import rules
-from .set_rules import Summary, check_set, summarise
+from .set_rules import Summary, summarise
 
 LABEL_SUFFIXES = (".lbl",)
 _SNIFF = (b"PDS_VERSION_ID", b"CCSD3")
@@ -115,12 +115,18 @@ def validate_paths(
             if progress:
                 progress(i + 1, len(files))
     reports = [r for r, _ in results]
-    table = rules()
-    severities = {rid: rule.severity for rid, rule in table.items()}
-    set_findings = check_set([s for _, s in results if s is not None], severities)
+    summaries = [s for _, s in results if s is not None]
     by_path = {r.path: r for r in reports}
-    for finding in set_findings:
-        by_path[finding.file].findings.append(finding)
+    for rule in rules().values():
+        if rule.set_check is None:
+            continue
+        try:
+            for finding in rule.set_check(summaries):
+                by_path[finding.file].findings.append(finding)
+        except Exception as exc:  # never a traceback, whatever the labels hold
+            if reports:
+                reports[0].findings.append(Finding(rule.id, "error", reports[0].path,
+                                                   f"set check could not run ({type(exc).__name__}: {exc})"))
     return Report(reports, strict=strict)
 
 

@@ -70,22 +70,36 @@ def check_product_id(ctx: FileContext) -> Iterator[Hit]:
                   stmt.line, "PRODUCT_ID")
 
 
-def _finding(rule: str, severity: str, summary: Summary, message: str, line: int | None,
-             keyword: str | None) -> Finding:
-    return Finding(rule, severity, summary.path, message, line, keyword)
+def _finding(rule: str, summary: Summary, message: str, line: int | None, keyword: str | None) -> Finding:
+    """A finding with the severity the rule table gives this rule."""
+    from .rules import rules
+
+    return Finding(rule, rules()[rule].severity, summary.path, message, line, keyword)
 
 
-def check_set(summaries: list[Summary], severities: dict[str, str]) -> list[Finding]:
-    """All SET-001/003/004 findings for the summaries of one validation run."""
-    by_dir: dict[str, list[Summary]] = {}
+def by_directory(summaries: list[Summary]) -> dict[str, list[Summary]]:
+    groups: dict[str, list[Summary]] = {}
     for s in summaries:
-        by_dir.setdefault(os.path.dirname(s.path), []).append(s)
-    findings: list[Finding] = []
-    for directory, group in sorted(by_dir.items()):
-        findings += _projections(group, severities["SET-001"])
-        findings += _sources(group, severities["SET-003"])
-        findings += _extras(Path(directory), group, severities["SET-004"])
-    return findings
+        groups.setdefault(os.path.dirname(s.path), []).append(s)
+    return dict(sorted(groups.items()))
+
+
+def check_projections(summaries: list[Summary]) -> Iterator[Finding]:
+    """SET-001: map products of one directory share projection, radii and centre."""
+    for group in by_directory(summaries).values():
+        yield from _projections(group, "SET-001")
+
+
+def check_sources(summaries: list[Summary]) -> Iterator[Finding]:
+    """SET-003: SOURCE_PRODUCT_ID values naming products of the set resolve within it."""
+    for group in by_directory(summaries).values():
+        yield from _sources(group, "SET-003")
+
+
+def check_extras(summaries: list[Summary]) -> Iterator[Finding]:
+    """SET-004: a delivery set has README.TXT and a browse JPEG per product."""
+    for directory, group in by_directory(summaries).items():
+        yield from _extras(Path(directory), group, "SET-004")
 
 
 def _fmt(values: tuple) -> str:
@@ -93,7 +107,7 @@ def _fmt(values: tuple) -> str:
     return ", ".join(f"{k} {v}" for k, v in zip(keys, values, strict=False))
 
 
-def _projections(group: list[Summary], severity: str) -> Iterator[Finding]:
+def _projections(group: list[Summary], rule: str) -> Iterator[Finding]:
     mapped = [s for s in group if s.projection is not None]
     if len(mapped) < 2:
         return
@@ -107,20 +121,20 @@ def _projections(group: list[Summary], severity: str) -> Iterator[Finding]:
         ]
         if diffs:
             what = "; ".join(f"{k} {b} vs {a}" for k, a, b in diffs)
-            yield _finding("SET-001", severity, s, f"projection differs from {Path(reference.path).name}: "
+            yield _finding(rule, s, f"projection differs from {Path(reference.path).name}: "
                            f"{what}", s.projection_line, diffs[0][0])
 
 
-def _sources(group: list[Summary], severity: str) -> Iterator[Finding]:
+def _sources(group: list[Summary], rule: str) -> Iterator[Finding]:
     ids = {s.product_id.upper() for s in group if s.product_id}
     for s in group:
         for ref in s.sources:
             if SET_PRODUCT_ID.fullmatch(ref.upper()) and ref.upper() not in ids:
-                yield _finding("SET-003", severity, s, f"SOURCE_PRODUCT_ID {ref} names a product that is "
+                yield _finding(rule, s, f"SOURCE_PRODUCT_ID {ref} names a product that is "
                                "not in this directory", s.sources_line, "SOURCE_PRODUCT_ID")
 
 
-def _extras(directory: Path, group: list[Summary], severity: str) -> Iterator[Finding]:
+def _extras(directory: Path, group: list[Summary], rule: str) -> Iterator[Finding]:
     """A directory holding map products should have README.TXT and browse JPEGs (Extras)."""
     products = [s for s in group if s.projection is not None and s.product_id]
     names = _names(directory)
@@ -133,12 +147,12 @@ def _extras(directory: Path, group: list[Summary], severity: str) -> Iterator[Fi
         names |= _names(sub)
     upper = {n.upper() for n in names}
     if "README.TXT" not in upper:
-        yield _finding("SET-004", severity, products[0], f"no README.TXT in {directory} or its "
+        yield _finding(rule, products[0], f"no README.TXT in {directory} or its "
                        "EXTRAS directory", None, None)
     for s in products:
         prefix = s.product_id.upper() + "."  # type: ignore[union-attr]
         if not any(n.startswith(prefix) and n.endswith(".JPG") for n in upper):
-            yield _finding("SET-004", severity, s, f"no browse JPEG ({s.product_id}.*.jpg) for this "
+            yield _finding(rule, s, f"no browse JPEG ({s.product_id}.*.jpg) for this "
                            "product in its directory or EXTRAS", s.product_id_line, "PRODUCT_ID")
 
 
