@@ -175,5 +175,6 @@ RULES: dict[str, Rule] = {}
 def rules() -> dict[str, Rule]:
     """The rule table, built on first use (the family modules import lazily)."""
     if not RULES:
-        RULES.update((rule.id, rule) for rule in _table())
+        ordered = sorted(_table(), key=lambda r: (FAMILIES.index(r.family), r.id))
+        RULES.update((rule.id, rule) for rule in ordered)
     return RULES
