@@ -7,6 +7,7 @@ files are never read here (only stat'ed), so label-only validation stays fast.
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Iterator
 from dataclasses import dataclass
 from functools import cached_property
@@ -195,7 +196,8 @@ class FileContext:
         return exact or other
 
 
-def _has_end(data: bytes) -> bool:
-    import re
+_END_LINE = re.compile(rb"(?im)^[ \t]*END[ \t]*;?[ \t]*(?:/\*.*)?\r?$")
 
-    return re.search(rb"(?im)^[ \t]*END[ \t]*;?[ \t]*(?:/\*.*)?\r?$", data) is not None
+
+def _has_end(data: bytes) -> bool:
+    return _END_LINE.search(data) is not None

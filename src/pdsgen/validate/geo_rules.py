@@ -28,9 +28,11 @@ from .geojp2 import (
     read_jp2,
 )
 from .image_rules import is_image
-from .map_rules import _km, _num, _scale_m
 from .model import Block, Hit
 from .projection import normalise, projection_radius_key
+from .quantities import kilometres as _km
+from .quantities import metres_per_pixel as _scale_m
+from .quantities import number as _num
 
 GEOTRANSFORM_TOLERANCE_PX = 1e-3
 

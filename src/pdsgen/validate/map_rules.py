@@ -20,6 +20,9 @@ from .context import FileContext
 from .image_rules import is_image
 from .model import Block, Hit, Statement
 from .projection import GDAL_PROJECTIONS, SUPPORTED, Sphere, boundary, normalise, projection_radius_key
+from .quantities import kilometres as _km
+from .quantities import metres_per_pixel as _scale_m
+from .quantities import number as _num
 
 _REQUIRED = (
     "MAP_PROJECTION_TYPE",
@@ -42,32 +45,6 @@ _SHIFTS = (0.0, -1.0, 1.0, -0.5, 0.5)
 
 def _maps(ctx: FileContext) -> Iterator[Block]:
     yield from ctx.root.find("IMAGE_MAP_PROJECTION")
-
-
-def _num(block: Block, key: str) -> float | None:
-    val = block.value(key)
-    if val is None or not val.is_number:
-        return None
-    return float(val.py)  # type: ignore[arg-type]
-
-
-def _km(block: Block, key: str) -> float | None:
-    val = block.value(key)
-    number = _num(block, key)
-    if number is None or val is None:
-        return None
-    unit = (val.unit or "KM").upper()
-    return number / 1000.0 if unit in ("M", "METERS", "METER", "METRES") else number
-
-
-def _scale_m(block: Block) -> float | None:
-    """MAP_SCALE in metres per pixel (the dictionary's default unit is KM/PIXEL)."""
-    val = block.value("MAP_SCALE")
-    number = _num(block, "MAP_SCALE")
-    if number is None or val is None:
-        return None
-    unit = (val.unit or "KM/PIXEL").upper().replace(" ", "")
-    return number * 1000.0 if unit.startswith("KM") else number
 
 
 _ROUNDED_DIGITS = 4  # values printed with fewer significant digits are taken as exact

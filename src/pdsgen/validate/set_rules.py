@@ -14,9 +14,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .context import FileContext
-from .map_rules import _km, _num
 from .model import Finding, Hit
 from .projection import normalise
+from .quantities import kilometres as _km
+from .quantities import number as _num
 
 # Product ids of a HiRISE-style DTM set (pds3-products.md section 3): a reference of this
 # form in SOURCE_PRODUCT_ID names a product that must be in the same set.

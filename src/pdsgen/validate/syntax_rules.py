@@ -6,10 +6,13 @@ those on, so every syntax finding goes through the one rule table.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable, Iterator
 
 from .context import FileContext
 from .model import Hit
+
+_IDENT = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
 
 
 def from_reader(rule: str) -> Callable[[FileContext], Iterator[Hit]]:
@@ -38,15 +41,12 @@ def check_duplicates(ctx: FileContext) -> Iterator[Hit]:
 
 def check_unquoted(ctx: FileContext) -> Iterator[Hit]:
     """Unquoted values that are not identifiers: readers differ on them, so quote them."""
-    import re
-
-    ident = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
     for block in ctx.root.walk():
         for stmt in block.statements():
             if stmt.pointer:
                 continue
             for value in stmt.value.scalars():
-                if value.kind == "ident" and not ident.fullmatch(value.raw) and value.raw not in (
+                if value.kind == "ident" and not _IDENT.fullmatch(value.raw) and value.raw not in (
                     "N/A",
                 ):
                     yield Hit(f"{stmt.key} = {value.raw}: unquoted value is not an identifier; "
