@@ -35,9 +35,11 @@ def main() -> None:
 def _register() -> None:
     from .demo import demo
     from .dtm import dtm
+    from .extras import extras
 
     main.add_command(dtm)
     main.add_command(demo)
+    main.add_command(extras)
 
 
 _register()
