@@ -24,14 +24,18 @@ from ..extras import DEFAULT_CREDIT, KINDS, make_extras
               help="Light direction for shaded relief, degrees clockwise from image up.")
 @click.option("--altitude", type=float, default=45.0, show_default=True,
               help="Light elevation above the horizon for shaded relief, degrees.")
+@click.option("--exaggeration", type=float,
+              help="Vertical exaggeration of the shaded relief [default: 1, raised "
+                   "automatically when the relief is too faint at preview scale].")
 @click.option("--kind", type=click.Choice(KINDS),
               help="Treat every PRODUCT as this kind [default: from the label or data type].")
 @click.option("--overwrite", is_flag=True, help="Replace existing Extras files.")
 def extras(products, outdir, credit, params_file, browse_width, thumb_width, azimuth, altitude,
-           kind, overwrite) -> None:
+           exaggeration, kind, overwrite) -> None:
     """Write the Extras of each PRODUCT (a PDS3 .IMG/.LBL/.JP2 or a GeoTIFF) into OUTDIR."""
     written = make_extras(products, outdir, credit=credit, params=params_file,
                           browse_width=browse_width, thumb_width=thumb_width, azimuth=azimuth,
-                          altitude=altitude, kind=kind, overwrite=overwrite)
+                          altitude=altitude, exaggeration=exaggeration, kind=kind,
+                          overwrite=overwrite)
     for path in written:
         click.echo(str(path))

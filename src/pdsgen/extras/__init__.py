@@ -39,6 +39,7 @@ def make_extras(
     thumb_width: int = THUMB_WIDTH,
     azimuth: float = 315.0,
     altitude: float = 45.0,
+    exaggeration: float | None = None,
     kind: str | None = None,
     overwrite: bool = False,
 ) -> list[Path]:
@@ -46,12 +47,14 @@ def make_extras(
 
     `browse_width` defaults to 1024 px for DTMs and 2048 px for orthoimages (never
     wider than the data); `kind` ("dtm" or "ortho") overrides detection for all
-    products. The credit line is `credit`, else the params' CREDIT, else
+    products. `exaggeration` is the shaded relief's vertical exaggeration (default:
+    1, raised automatically when the relief would be too faint to see at preview
+    scale, and then printed on the images). The credit line is `credit`, else the params' CREDIT, else
     "NASA/JPL/University of Arizona".
     """
     if not products:
         raise PdsgenError(None, "no products given")
-    _check_options(browse_width, thumb_width, altitude)
+    _check_options(browse_width, thumb_width, altitude, exaggeration)
     keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
     credit_line = _credit(credit, keywords)
     sources = [open_product(p, kind) for p in products]
@@ -61,7 +64,8 @@ def make_extras(
     rendered: list[ProductPreviews] = []
     for src in sources:
         previews = render_product(src, credit=credit_line, browse_width=browse_width,
-                                  thumb_width=thumb_width, azimuth=azimuth, altitude=altitude)
+                                  thumb_width=thumb_width, azimuth=azimuth, altitude=altitude,
+                                  exaggeration=exaggeration)
         written += _write_previews(previews, outdir, overwrite)
         rendered.append(previews)
     readme = outdir / README_NAME
@@ -107,11 +111,14 @@ def _credit(credit: str | None, keywords: Mapping[str, ParamValue]) -> str:
     return " ".join(text.split())
 
 
-def _check_options(browse_width: int | None, thumb_width: int, altitude: float) -> None:
+def _check_options(browse_width: int | None, thumb_width: int, altitude: float,
+                   exaggeration: float | None) -> None:
     if browse_width is not None and not 16 <= browse_width <= 65500:
         raise PdsgenError(None, f"browse width {browse_width} must be 16 .. 65500 pixels")
     if not 8 <= thumb_width <= 4096:
         raise PdsgenError(None, f"thumbnail width {thumb_width} must be 8 .. 4096 pixels")
+    if exaggeration is not None and not 0.0 < exaggeration <= 1e4:
+        raise PdsgenError(None, f"vertical exaggeration {exaggeration:g} must be in (0, 10000]")
     if not 0.0 < altitude <= 90.0:
         raise PdsgenError(None, f"light altitude {altitude:g} must be in (0, 90] degrees")
 

@@ -72,7 +72,7 @@ def ground_scale_at(crs: CRS, transform: Any, col: float, row: float) -> GroundS
     geo = geographic_crs(crs)
     cols = [col - 0.5, col + 0.5, col, col, col]
     rows = [row, row, row - 0.5, row + 0.5, row]
-    xs, ys = zip(*(transform * (c, r) for c, r in zip(cols, rows, strict=True)), strict=True)
+    xs, ys = zip(*(transform @ (c, r) for c, r in zip(cols, rows, strict=True)), strict=True)
     try:
         lons, lats = warp_transform(crs, geo, list(xs), list(ys))
     except CRSError as exc:
@@ -116,6 +116,6 @@ def _north_direction(crs: CRS, geo: CRS, transform: Any, lon: float, lat: float,
         lat = math.copysign(90.0 - 2 * dlat, lat)
     xs, ys = warp_transform(geo, crs, [lon, lon], [lat - dlat, lat + dlat])
     inverse = ~transform
-    c0, r0 = inverse * (xs[0], ys[0])
-    c1, r1 = inverse * (xs[1], ys[1])
+    c0, r0 = inverse @ (xs[0], ys[0])
+    c1, r1 = inverse @ (xs[1], ys[1])
     return math.degrees(math.atan2(c1 - c0, -(r1 - r0))) % 360.0

@@ -25,9 +25,39 @@ _SOUTH = ((1, -1, 1.0), (1, 0, 2.0), (1, 1, 1.0))
 _NORTH = ((-1, -1, 1.0), (-1, 0, 2.0), (-1, 1, 1.0))
 
 
+# Automatic vertical exaggeration: a DTM shown at a much coarser scale than its posts
+# (a global map at tens of km per preview pixel) has slopes of a fraction of a degree
+# and would shade as a flat grey. The exaggeration is raised through 1, 2, 5, 10 ...
+# until the steeper slopes (90th percentile) reach about 8 degrees; it is never below
+# 1 and is printed on the annotated image and in README.TXT.
+_TARGET_SLOPE = math.tan(math.radians(8.0))
+_NICE_FACTORS = (1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 200.0, 500.0, 1000.0)
+
+
 def hillshade(elevation: np.ma.MaskedArray, metres_per_column: float, metres_per_row: float,
-              azimuth: float = 315.0, altitude: float = 45.0) -> np.ma.MaskedArray:
+              azimuth: float = 315.0, altitude: float = 45.0,
+              exaggeration: float = 1.0) -> np.ma.MaskedArray:
     """Illumination in [0, 1] (cosine of the angle between surface normal and light)."""
+    dz_east, dz_up, valid = slopes(elevation, metres_per_column, metres_per_row)
+    return shade_from_slopes(dz_east * np.float32(exaggeration), dz_up * np.float32(exaggeration),
+                             valid, azimuth, altitude)
+
+
+def auto_exaggeration(dz_east: np.ndarray, dz_up: np.ndarray, valid: np.ndarray) -> float:
+    """The smallest nice factor making the 90th-percentile slope about 8 degrees or more."""
+    gradient = np.hypot(dz_east[valid], dz_up[valid])
+    if gradient.size == 0:
+        return 1.0
+    steep = float(np.percentile(gradient, 90.0))
+    for factor in _NICE_FACTORS:
+        if steep * factor >= _TARGET_SLOPE * 0.7:
+            return factor
+    return _NICE_FACTORS[-1]
+
+
+def slopes(elevation: np.ma.MaskedArray, metres_per_column: float,
+           metres_per_row: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Horn's dz/d(east) and dz/d(up) per metre, and the validity mask."""
     z = np.ma.getdata(elevation).astype(np.float32)
     valid = ~np.ma.getmaskarray(elevation)
     centre = np.where(valid, z, np.float32(0.0))
@@ -45,6 +75,12 @@ def hillshade(elevation: np.ma.MaskedArray, metres_per_column: float, metres_per
 
     dz_east = (weighted(_EAST) - weighted(_WEST)) / np.float32(8.0 * metres_per_column)
     dz_up = (weighted(_NORTH) - weighted(_SOUTH)) / np.float32(8.0 * metres_per_row)
+    return dz_east, dz_up, valid
+
+
+def shade_from_slopes(dz_east: np.ndarray, dz_up: np.ndarray, valid: np.ndarray,
+                      azimuth: float, altitude: float) -> np.ma.MaskedArray:
+    """Lambertian illumination of the surface with these slopes."""
     az, alt = math.radians(azimuth), math.radians(altitude)
     light = (math.sin(az) * math.cos(alt), math.cos(az) * math.cos(alt), math.sin(alt))
     shade = (np.float32(light[2]) - np.float32(light[0]) * dz_east

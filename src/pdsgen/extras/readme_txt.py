@@ -108,6 +108,8 @@ def _product_context(previews: ProductPreviews) -> dict[str, Any]:
         "valid_minimum": low, "valid_maximum": high,
         "conversion": _conversion(src),
         "nodata": _nodata(src),
+        "is_dtm": src.kind == DTM,
+        "exaggeration": f"{previews.exaggeration:g}",
         "files": files,
     }
 

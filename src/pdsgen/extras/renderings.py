@@ -21,7 +21,7 @@ from .annotate import Annotation, Legend, annotate
 from .colour_ramp import RAMP_NAME, blend_with_shade, ramp_colours
 from .decimate import PreviewGrid, preview_grid, read_physical, statistics_sample
 from .ground_scale import GroundScale, ground_scale_at
-from .hillshade import hillshade
+from .hillshade import auto_exaggeration, shade_from_slopes, slopes
 from .product_source import DTM, ProductSource
 from .stretch import (
     DTM_HIGH_PERCENT,
@@ -75,20 +75,26 @@ class ProductPreviews:
     grid: PreviewGrid
     scale: GroundScale
     display_range: tuple[float, float] | None
+    exaggeration: float = 1.0
 
 
 def render_product(src: ProductSource, *, credit: str, browse_width: int | None,
-                   thumb_width: int, azimuth: float, altitude: float) -> ProductPreviews:
-    """Make every preview of one product in memory (nothing is written here)."""
+                   thumb_width: int, azimuth: float, altitude: float,
+                   exaggeration: float | None = None) -> ProductPreviews:
+    """Make every preview of one product in memory (nothing is written here).
+
+    `exaggeration` None chooses the shaded relief's vertical exaggeration
+    automatically (1 unless the relief is too faint at preview scale).
+    """
     if src.kind == DTM:
         return _render_dtm(src, credit, browse_width or DTM_BROWSE_WIDTH, thumb_width,
-                           azimuth, altitude)
+                           azimuth, altitude, exaggeration)
     return _render_ortho(src, credit, browse_width or ORTHO_BROWSE_WIDTH, thumb_width)
 
 
 def _grid_scale(src: ProductSource, grid: PreviewGrid) -> GroundScale:
     """True ground scale and north at the centre of the preview grid."""
-    transform = src.transform * Affine.scale(grid.step_x, grid.step_y)
+    transform = src.transform @ Affine.scale(grid.step_x, grid.step_y)
     try:
         return ground_scale_at(src.crs, transform, grid.width / 2.0, grid.height / 2.0)
     except PdsgenError as exc:
@@ -96,7 +102,7 @@ def _grid_scale(src: ProductSource, grid: PreviewGrid) -> GroundScale:
 
 
 def _render_dtm(src: ProductSource, credit: str, browse_width: int, thumb_width: int,
-                azimuth: float, altitude: float) -> ProductPreviews:
+                azimuth: float, altitude: float, exaggeration: float | None) -> ProductPreviews:
     grid = preview_grid(src, browse_width)
     elevation = read_physical(src, grid, [1])
     valid = ~np.ma.getmaskarray(elevation[0])
@@ -109,7 +115,10 @@ def _render_dtm(src: ProductSource, credit: str, browse_width: int, thumb_width:
     z = elevation[0]
 
     grey = np.where(valid, stretch.apply(z.data, out_low=1), 0).astype(np.uint8)
-    shade = hillshade(z, scale.metres_per_column, scale.metres_per_row, azimuth, altitude)
+    dz_east, dz_up, _ = slopes(z, scale.metres_per_column, scale.metres_per_row)
+    factor = exaggeration if exaggeration is not None else auto_exaggeration(dz_east, dz_up, valid)
+    shade = shade_from_slopes(dz_east * np.float32(factor), dz_up * np.float32(factor), valid,
+                              azimuth, altitude)
     shade_dn = np.clip(np.rint(1.0 + 254.0 * shade.data), 1, 255).astype(np.uint8)
     shaded = np.where(valid, shade_dn, 0).astype(np.uint8)
     colour = blend_with_shade(ramp_colours(z.data, stretch.low, stretch.high), shade.data,
@@ -122,10 +131,10 @@ def _render_dtm(src: ProductSource, credit: str, browse_width: int, thumb_width:
     subtitles = {
         "grey": f"Elevation, grey levels from {stretch.low:.0f} m (dark) to "
                 f"{stretch.high:.0f} m (light)",
-        "shade": f"Shaded relief, illuminated from azimuth {azimuth:g} deg, "
-                 f"altitude {altitude:g} deg",
-        "colour": f"Colour-coded elevation over shaded relief (light: azimuth {azimuth:g}"
-                  f" deg, altitude {altitude:g} deg)",
+        "shade": f"Shaded relief, light from azimuth {azimuth:g} deg, altitude "
+                 f"{altitude:g} deg{_exaggeration_text(factor)}",
+        "colour": f"Colour-coded elevation over shaded relief (light {azimuth:g}/"
+                  f"{altitude:g} deg{_exaggeration_text(factor)})",
     }
     previews = []
     for rendering in DTM_RENDERINGS:
@@ -133,7 +142,11 @@ def _render_dtm(src: ProductSource, credit: str, browse_width: int, thumb_width:
                           scale.metres_per_column, scale.north_deg,
                           legend if rendering.key == "colour" else None)
         previews.append(_preview(rendering, images[rendering.key], note, thumb_width))
-    return ProductPreviews(src, previews, grid, scale, (stretch.low, stretch.high))
+    return ProductPreviews(src, previews, grid, scale, (stretch.low, stretch.high), factor)
+
+
+def _exaggeration_text(factor: float) -> str:
+    return "" if factor == 1.0 else f", vertical exaggeration {factor:g}x"
 
 
 def _render_ortho(src: ProductSource, credit: str, browse_width: int,
