@@ -8,7 +8,7 @@ import pytest
 from rasterio.crs import CRS
 from rasterio.transform import from_origin
 
-from extras_helpers import MARS_EQC, MARS_NORTH_POLAR
+from test_extras_helpers import MARS_EQC, MARS_NORTH_POLAR
 from pdsgen.extras.ground_scale import ground_scale_at
 
 R_EQ = 3396190.0

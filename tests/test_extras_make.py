@@ -14,7 +14,7 @@ import rasterio.errors
 from click.testing import CliRunner
 from PIL import Image
 
-from extras_helpers import crater_field, write_geotiff
+from test_extras_helpers import crater_field, write_geotiff
 from pdsgen.cli import main
 from pdsgen.errors import PdsgenError
 from pdsgen.extras import make_extras

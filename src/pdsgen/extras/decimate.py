@@ -98,9 +98,9 @@ def valid_range(src: ProductSource, band: int = 1) -> tuple[float, float] | None
     """Exact min and max of the valid data in physical units, streamed in strips.
 
     Used only when the label carries no VALID_MINIMUM/MAXIMUM; memory is one strip
-    of about 16 MB whatever the raster size.
+    of about 4 MB whatever the raster size.
     """
-    rows = max(1, (16 * 1024 * 1024) // max(1, src.width * 4))
+    rows = max(1, (4 * 1024 * 1024) // max(1, src.width * 4))
     low, high = math.inf, -math.inf
     with src.open() as ds:
         for top in range(0, src.height, rows):
