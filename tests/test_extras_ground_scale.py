@@ -8,8 +8,8 @@ import pytest
 from rasterio.crs import CRS
 from rasterio.transform import from_origin
 
-from test_extras_helpers import MARS_EQC, MARS_NORTH_POLAR
 from pdsgen.extras.ground_scale import ground_scale_at
+from test_extras_helpers import MARS_EQC, MARS_NORTH_POLAR
 
 R_EQ = 3396190.0
 

@@ -14,11 +14,11 @@ import rasterio.errors
 from click.testing import CliRunner
 from PIL import Image
 
-from test_extras_helpers import crater_field, write_geotiff
 from pdsgen.cli import main
 from pdsgen.errors import PdsgenError
 from pdsgen.extras import make_extras
 from pdsgen.extras.colour_ramp import first_colour
+from test_extras_helpers import crater_field, write_geotiff
 
 DTM_CODES = ("br", "ab", "th", "sb", "sa", "st", "cb", "ca", "ct")
 ORTHO_CODES = ("browse", "abrowse", "thumb")
