@@ -57,7 +57,7 @@ def read_physical(src: ProductSource, grid: PreviewGrid, bands: list[int],
 
     Special DNs (saturation codes) are masked as well: they are flags, not data.
     """
-    with src.open() as ds:
+    with src.open((grid.height, grid.width)) as ds:
         dn = ds.read(bands, out_shape=(len(bands), grid.height, grid.width),
                      resampling=resampling, masked=True)
     mask = np.ma.getmaskarray(dn).copy()
@@ -76,6 +76,9 @@ def statistics_sample(src: ProductSource, browse: np.ma.MaskedArray,
                       bands: list[int]) -> np.ma.MaskedArray:
     """At least 10**6 valid values per band (or the whole raster when it is smaller).
 
+    Pixels next to no-data are left out: averaging (and JPEG 2000 reduced levels,
+    which are wavelet approximations) blends them with the no-data value, and
+    along a long image edge they are numerous enough to move the 0.1 % point.
     The browse itself is used when it already holds enough; otherwise a denser
     nearest-neighbour sample is read (nearest keeps the tails of the distribution,
     which the percentile stretch depends on), sized by the valid fraction seen in
@@ -84,14 +87,29 @@ def statistics_sample(src: ProductSource, browse: np.ma.MaskedArray,
     total = src.width * src.height
     valid = int(np.count_nonzero(~np.ma.getmaskarray(browse[0])))
     if valid >= MIN_SAMPLE_VALUES or browse.shape[1] * browse.shape[2] >= total:
-        return browse
+        return _interior(browse)
     fraction = max(valid / (browse.shape[1] * browse.shape[2]), 1e-6)
     pixels = min(total, MAX_SAMPLE_PIXELS, math.ceil(1.1 * MIN_SAMPLE_VALUES / fraction))
     factor = math.sqrt(total / pixels)
     width = max(1, min(src.width, math.ceil(src.width / factor)))
     height = max(1, min(src.height, math.ceil(src.height / factor)))
     grid = PreviewGrid(width, height, src.width, src.height)
-    return read_physical(src, grid, bands, Resampling.nearest)
+    return _interior(read_physical(src, grid, bands, Resampling.nearest))
+
+
+def _interior(data: np.ma.MaskedArray) -> np.ma.MaskedArray:
+    """The same data with every pixel that touches a masked pixel masked too."""
+    mask = np.ma.getmaskarray(data)
+    if not mask.any():
+        return data
+    grown = mask.copy()
+    grown[..., 1:, :] |= mask[..., :-1, :]
+    grown[..., :-1, :] |= mask[..., 1:, :]
+    grown[..., :, 1:] |= mask[..., :, :-1]
+    grown[..., :, :-1] |= mask[..., :, 1:]
+    if grown.all():  # tiny or speckled data: keep what there is
+        return data
+    return np.ma.MaskedArray(np.ma.getdata(data), mask=grown)
 
 
 def valid_range(src: ProductSource, band: int = 1) -> tuple[float, float] | None:

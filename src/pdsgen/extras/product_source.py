@@ -25,6 +25,7 @@ from xml.sax.saxutils import escape
 import pvl
 import rasterio
 from rasterio.errors import RasterioIOError
+from rasterio.transform import Affine
 
 from ..errors import PdsgenError
 
@@ -71,40 +72,61 @@ class ProductSource:
     gdal_nodata: float | None = None     # what GDAL itself reports
 
     @contextmanager
-    def open(self) -> Iterator[rasterio.io.DatasetReader]:
+    def open(self, out_shape: tuple[int, int] | None = None
+             ) -> Iterator[rasterio.io.DatasetReader]:
         """Open the raster, overriding GDAL's nodata with the label's when they differ.
 
         The override is a small in-memory VRT: reads through it, including
-        decimated reads with averaging, leave the label's no-data DN out.
+        decimated reads with averaging, leave the label's no-data DN out. A VRT
+        averages from the full resolution, so when the caller will read at
+        `out_shape` (height, width) the VRT is built over the finest reduced
+        resolution level (JPEG 2000 level, GeoTIFF overview) that is still at
+        least that size: the read then decodes that level only.
         """
         with rasterio.Env(**GDAL_ENV):
             target: str | Path = self.raster_path
-            if self.nodata is not None and not _same_nodata(self.gdal_nodata, self.nodata):
-                target = self._nodata_vrt()
             try:
+                if self.nodata is not None and not _same_nodata(self.gdal_nodata, self.nodata):
+                    target = self._nodata_vrt(self._overview_level(out_shape))
                 with rasterio.open(target) as ds:
                     yield ds
             except RasterioIOError as exc:
                 raise PdsgenError(self.path, f"cannot read the raster ({exc})") from None
 
-    def _nodata_vrt(self) -> str:
+    def _overview_level(self, out_shape: tuple[int, int] | None) -> int | None:
+        if out_shape is None:
+            return None
+        with rasterio.open(self.raster_path) as ds:
+            factors = ds.overviews(1)
+        reduction = min(self.height / out_shape[0], self.width / out_shape[1])
+        usable = [i for i, f in enumerate(factors) if f <= reduction]
+        return usable[-1] if usable else None
+
+    def _nodata_vrt(self, level: int | None) -> str:
         gdal_type = {"uint8": "Byte", "int8": "Int8", "uint16": "UInt16", "int16": "Int16",
                      "uint32": "UInt32", "int32": "Int32", "float32": "Float32",
                      "float64": "Float64"}[self.dtype]
+        width, height, transform = self.width, self.height, self.transform
+        options = ""
+        if level is not None:
+            with rasterio.open(self.raster_path, OVERVIEW_LEVEL=level) as ds:
+                width, height = ds.width, ds.height
+            transform = transform @ Affine.scale(self.width / width, self.height / height)
+            options = f'<OpenOptions><OOI key="OVERVIEW_LEVEL">{level}</OOI></OpenOptions>'
         src = escape(os.fspath(self.raster_path.resolve()))
         bands = "".join(
             f'<VRTRasterBand dataType="{gdal_type}" band="{b}">'
             f"<NoDataValue>{self.nodata!r}</NoDataValue>"
             f'<SimpleSource><SourceFilename relativeToVRT="0">{src}</SourceFilename>'
-            f"<SourceBand>{b}</SourceBand></SimpleSource></VRTRasterBand>"
+            f"{options}<SourceBand>{b}</SourceBand></SimpleSource></VRTRasterBand>"
             for b in range(1, self.band_count + 1)
         )
         geo = ""
         if self.crs is not None:
             geo += f"<SRS>{escape(self.crs.to_wkt())}</SRS>"
-        t = self.transform
+        t = transform
         geo += f"<GeoTransform>{t.c!r}, {t.a!r}, {t.b!r}, {t.f!r}, {t.d!r}, {t.e!r}</GeoTransform>"
-        return (f'<VRTDataset rasterXSize="{self.width}" rasterYSize="{self.height}">'
+        return (f'<VRTDataset rasterXSize="{width}" rasterYSize="{height}">'
                 f"{geo}{bands}</VRTDataset>")
 
 
