@@ -218,3 +218,39 @@ def test_kind_override_renders_a_float_image_as_an_ortho(tmp_path: Path):
     out = tmp_path / "out"
     make_extras([tif], out, kind="ortho", browse_width=150)
     check_jpeg_set(out, "refl", ORTHO_CODES, 150)
+
+
+def test_readme_takes_producer_contact_and_known_artifacts_from_params(dtm_tif: Path,
+                                                                      tmp_path: Path):
+    params = tmp_path / "in" / "params.toml"
+    params.write_text(
+        'PROJECT_NAME = "HiRISE DTM test project"\n'
+        'PRODUCER_FULL_NAME = "A. Producer"\n'
+        'TECHNICAL_CONTACT = "A. Producer, Lunar and Planetary Laboratory, Tucson AZ"\n'
+        'CREDIT = "NASA/JPL/Somebody"\n'
+        'KNOWN_ARTIFACTS = "' + "Faint seams run north-south where the stereo pair "
+        "overlaps; patches of interpolated terrain fill shadowed crater floors. " * 3 + '"\n')
+    out = tmp_path / "out"
+    make_extras([dtm_tif], out, params=params, browse_width=200)
+    data = (out / "README.TXT").read_bytes()
+    check_plain_text(data)
+    text = data.decode("ascii")
+    assert text.startswith("HiRISE DTM test project\r\n=======")
+    assert "A. Producer, Lunar and Planetary" in text and "NASA/JPL/Somebody" in text
+    artifacts = text.split("KNOWN ARTIFACTS")[1]
+    assert "Faint seams run" in artifacts and "crater floors." in artifacts
+    assert "crater_dtm.sa.jpg" in text and "crater_dtm.th.jpg" in text
+    # The computed range is the real one of the full raster.
+    with rasterio.open(dtm_tif) as ds:
+        full = ds.read(1, masked=True)
+    shown = re.search(r"VALID_MINIMUM:\s+(\S+)", text).group(1)
+    assert float(shown) == pytest.approx(float(full.min()), rel=1e-7)
+
+
+def test_unknown_params_keyword_is_refused_before_anything_is_written(dtm_tif: Path,
+                                                                      tmp_path: Path):
+    params = tmp_path / "in" / "params.toml"
+    params.write_text('CONTACT_PERSON = "typo"\n')
+    with pytest.raises(PdsgenError, match="unknown keyword"):
+        make_extras([dtm_tif], tmp_path / "out", params=params)
+    assert not (tmp_path / "out").exists()

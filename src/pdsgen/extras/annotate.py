@@ -188,8 +188,9 @@ def _draw_north_arrow(draw: ImageDraw.ImageDraw, north_deg: float, cx: float, cy
 
 def _ramp_margin_width(legend: Legend, size: _Sizes, font: ImageFont.FreeTypeFont) -> int:
     labels = [_tick_label(v, _tick_step(legend)) for v in _ticks(legend)]
-    widest = max([font.getlength(t) for t in labels] + [font.getlength(legend.title) / 2])
-    return int(size.side + size.text * 1.5 + size.gap * 2 + widest + size.side)
+    widest = max(font.getlength(t) for t in labels)
+    content = max(round(size.text * 1.5) + size.gap * 2 + widest, font.getlength(legend.title))
+    return int(size.side + content + size.side)
 
 
 def _draw_legend(draw: ImageDraw.ImageDraw, legend: Legend, x0: int, y_img: int, height: int,
