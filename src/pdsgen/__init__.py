@@ -1,10 +1,7 @@
 """pdsgen: planetary terrain models and orthoimages to PDS3 archive products."""
 
-from importlib.metadata import PackageNotFoundError, version
-
-try:
-    __version__ = version("pdsgen")
-except PackageNotFoundError:  # running from a source tree without installation
-    __version__ = "0.0.0+source"
+# Single source of the version: pyproject.toml reads it from here (hatch), and
+# SOFTWARE_NAME in every label states it.
+__version__ = "0.1.0"
 
 __all__ = ["__version__"]

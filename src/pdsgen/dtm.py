@@ -17,7 +17,7 @@ from . import __version__
 from .errors import PdsgenError
 from .geometry import MapGeometry, describe_geometry
 from .label.render import RecordLayout, render_label
-from .label.values import Based, Symbol, shortest_float32
+from .label.values import Based, Symbol
 from .params import ParamValue, load_params
 from .profiles import (
     check_product_id,
@@ -100,8 +100,8 @@ def write_dtm(
                 {
                     **context,
                     "records": records,
-                    "valid_minimum": shortest_float32(stats.minimum),
-                    "valid_maximum": shortest_float32(stats.maximum),
+                    "valid_minimum": stats.minimum,
+                    "valid_maximum": stats.maximum,
                 },
             )
 
@@ -120,8 +120,8 @@ def write_dtm(
         product_id=product_id,
         path=final,
         geometry=geometry,
-        valid_minimum=shortest_float32(stats.minimum),
-        valid_maximum=shortest_float32(stats.maximum),
+        valid_minimum=stats.minimum,
+        valid_maximum=stats.maximum,
         records=records,
         label_text=text,
     )

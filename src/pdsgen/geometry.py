@@ -223,7 +223,7 @@ def _planetocentric(geodetic_lat: np.ndarray, projection: _Projection) -> np.nda
 
 
 def _contains_pole(transform: Affine, width: int, height: int, projection: _Projection) -> bool:
-    col, row = ~transform * (projection.false_easting, projection.false_northing)
+    col, row = ~transform @ (projection.false_easting, projection.false_northing)
     return 0.0 <= col <= width and 0.0 <= row <= height
 
 
@@ -236,7 +236,7 @@ def _north_azimuth(projection: _Projection, transform: Affine, width: int, heigh
     """
     if projection.kind != POLAR_STEREOGRAPHIC:
         return 270.0
-    x, y = transform * (width / 2.0, height / 2.0)
+    x, y = transform @ (width / 2.0, height / 2.0)
     dx, dy = x - projection.false_easting, y - projection.false_northing
     if dx == 0.0 and dy == 0.0:
         return 270.0

@@ -13,7 +13,6 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
-import pvl
 import tomllib
 
 from .errors import PdsgenError
@@ -53,6 +52,8 @@ def _read_toml(path: Path) -> dict[str, Any]:
 
 
 def _read_pvl(path: Path) -> dict[str, Any]:
+    import pvl  # imported here: most runs have no PVL params and need not pay for it
+
     try:
         module = pvl.load(str(path))
     except (pvl.exceptions.ParseError, pvl.exceptions.LexerError, UnicodeDecodeError, ValueError) as exc:

@@ -21,6 +21,9 @@ from rasterio.windows import Window
 from .errors import PdsgenError
 
 STRIP_BYTES = 16 * 1024 * 1024  # working-set size of one strip of input
+# GDAL's block cache defaults to 5 % of RAM and would keep every block we stream
+# past; we read each block once, so a small cache keeps memory flat.
+GDAL_CACHE_MB = 64
 
 
 @contextmanager
@@ -31,13 +34,14 @@ def open_raster(path: str | os.PathLike[str]) -> Iterator[DatasetReader]:
         raise PdsgenError(path, "no such file")
     if path.is_dir():
         raise PdsgenError(path, "is a directory, not a raster file")
-    try:
-        dataset = rasterio.open(path)
-    except RasterioIOError as exc:
-        reason = str(exc).splitlines()[0] if str(exc) else "unknown format"
-        raise PdsgenError(path, f"not a raster GDAL can read ({reason})") from None
-    with dataset:
-        yield dataset
+    with rasterio.Env(GDAL_CACHEMAX=GDAL_CACHE_MB):
+        try:
+            dataset = rasterio.open(path)
+        except RasterioIOError as exc:
+            reason = str(exc).splitlines()[0] if str(exc) else "unknown format"
+            raise PdsgenError(path, f"not a raster GDAL can read ({reason})") from None
+        with dataset:
+            yield dataset
 
 
 def require_single_band(dataset: DatasetReader, what: str = "a DTM") -> None:

@@ -9,7 +9,10 @@ data is moved up in place so LABEL_RECORDS stays minimal and exact.
 
 from __future__ import annotations
 
+import math
+from collections import deque
 from collections.abc import Callable
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import BinaryIO
 
@@ -17,6 +20,7 @@ import numpy as np
 from rasterio.io import DatasetReader
 
 from .label.render import RecordLayout, pad_label, settle_attached_label
+from .label.values import shortest_float32
 from .read_raster import row_strips
 
 # ISIS special pixels (NULL, LRS, LIS, HIS, HRS) are the five most negative float32
@@ -30,6 +34,8 @@ _COPY_CHUNK = 8 * 1024 * 1024
 
 @dataclass(frozen=True)
 class BandStatistics:
+    """Valid-pixel count and extremes, written as the shortest float32 decimals."""
+
     valid_count: int
     minimum: float
     maximum: float
@@ -42,32 +48,65 @@ def stream_float32_band(
 
     Missing means: the dataset's nodata value, NaN or infinity, and ISIS special
     pixels. Returns min/max of the valid pixels, computed in the same pass.
+    Writing happens on a second thread (the file write releases the GIL), so
+    reading and converting the next strip overlaps writing the previous one;
+    at most two strips are in flight, so memory stays bounded.
     """
     nodata = dataset.nodata
     is_float_input = np.dtype(dataset.dtypes[0]).kind == "f"
     count, low, high = 0, np.inf, -np.inf
-    for window in row_strips(dataset):
-        native = dataset.read(1, window=window)
-        values = native.astype(np.float32, copy=False)
-        if values is native and not values.flags.writeable:
-            values = values.copy()
-        invalid = _invalid_mask(native, values, nodata, is_float_input)
-        if invalid is None:
-            count += values.size
-            low = min(low, float(values.min()))
-            high = max(high, float(values.max()))
-        else:
-            np.copyto(values, MISSING_CONSTANT, where=invalid)
-            valid = ~invalid
-            n_valid = int(np.count_nonzero(valid))
-            if n_valid:
-                count += n_valid
-                low = min(low, float(np.min(values, where=valid, initial=np.inf)))
-                high = max(high, float(np.max(values, where=valid, initial=-np.inf)))
-        if big_endian:
-            values.byteswap(inplace=True)
-        out.write(memoryview(np.ascontiguousarray(values)))
-    return BandStatistics(count, low, high)
+    with StripWriter(out) as writer:
+        for window in row_strips(dataset):
+            native = dataset.read(1, window=window)
+            values = native.astype(np.float32, copy=False)
+            invalid = _invalid_mask(native, values, nodata, is_float_input)
+            if invalid is None:
+                count += values.size
+                low = min(low, float(values.min()))
+                high = max(high, float(values.max()))
+            else:
+                np.copyto(values, MISSING_CONSTANT, where=invalid)
+                valid = ~invalid
+                n_valid = int(np.count_nonzero(valid))
+                if n_valid:
+                    count += n_valid
+                    low = min(low, float(np.min(values, where=valid, initial=np.inf)))
+                    high = max(high, float(np.max(values, where=valid, initial=-np.inf)))
+            if big_endian:
+                values.byteswap(inplace=True)
+            writer.submit(np.ascontiguousarray(values))
+    if count == 0:
+        return BandStatistics(0, math.nan, math.nan)
+    return BandStatistics(count, shortest_float32(low), shortest_float32(high))
+
+
+class StripWriter:
+    """Write arrays to a file in order on one background thread, two at most pending."""
+
+    def __init__(self, out: BinaryIO, depth: int = 2) -> None:
+        self._out = out
+        self._depth = depth
+        self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="pdsgen-write")
+        self._pending: deque[Future] = deque()
+
+    def submit(self, array: np.ndarray) -> None:
+        while len(self._pending) >= self._depth:
+            self._pending.popleft().result()
+        self._pending.append(self._pool.submit(self._out.write, memoryview(array)))
+
+    def __enter__(self) -> StripWriter:
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        try:
+            while self._pending:
+                future = self._pending.popleft()
+                if exc_type is None:
+                    future.result()
+                else:
+                    future.cancel()
+        finally:
+            self._pool.shutdown(wait=True)
 
 
 def _invalid_mask(native, values, nodata, is_float_input):

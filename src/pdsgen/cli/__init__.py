@@ -1,12 +1,14 @@
 """The `pdsgen` command: a thin click layer over the library functions.
 
 Each subcommand lives in its own module and only parses options and calls one
-library function. Errors the user can fix (`PdsgenError`) become one line on
-stderr and exit code 2.
+library function; modules are imported only when their command runs, so a
+conversion does not pay for the imports of every other command. Errors the user
+can fix (`PdsgenError`) become one line on stderr and exit code 2.
 """
 
 from __future__ import annotations
 
+import importlib
 import sys
 
 import click
@@ -14,9 +16,25 @@ import click
 from .. import __version__
 from ..errors import PdsgenError
 
+# command name -> module (under pdsgen.cli) defining a click command of that name
+COMMANDS = {
+    "dtm": "dtm",
+    "demo": "demo",
+    "extras": "extras",
+}
+
 
 class _Group(click.Group):
-    """A click group that reports PdsgenError as one line, never a traceback."""
+    """Lazily loaded subcommands; PdsgenError reported as one line, never a traceback."""
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return sorted(COMMANDS)
+
+    def get_command(self, ctx: click.Context, name: str) -> click.Command | None:
+        if name not in COMMANDS:
+            return None
+        module = importlib.import_module(f"{__name__}.{COMMANDS[name]}")
+        return getattr(module, name.replace("-", "_"))
 
     def invoke(self, ctx: click.Context):  # type: ignore[override]
         try:
@@ -30,16 +48,3 @@ class _Group(click.Group):
 @click.version_option(__version__, prog_name="pdsgen")
 def main() -> None:
     """Make PDS3 archive products from planetary DTMs and orthoimages, and check them."""
-
-
-def _register() -> None:
-    from .demo import demo
-    from .dtm import dtm
-    from .extras import extras
-
-    main.add_command(dtm)
-    main.add_command(demo)
-    main.add_command(extras)
-
-
-_register()

@@ -1,0 +1,46 @@
+"""Builders for small test rasters written with real GDAL (rasterio)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import rasterio
+from affine import Affine
+
+MARS_R = 3396190.0
+CRS_EQUIRECTANGULAR = f"+proj=eqc +lat_ts=-5 +lat_0=0 +lon_0=180 +R={MARS_R:.0f} +units=m +no_defs"
+CRS_SOUTH_POLAR = f"+proj=stere +lat_0=-90 +lon_0=0 +k=1 +x_0=0 +y_0=0 +R={MARS_R:.0f} +units=m +no_defs"
+CRS_SINUSOIDAL = f"+proj=sinu +lon_0=30 +x_0=0 +y_0=0 +R={MARS_R:.0f} +units=m +no_defs"
+
+# Upper-left corners (projection metres) that put each test raster somewhere plausible.
+ORIGINS = {
+    "equirectangular": (CRS_EQUIRECTANGULAR, Affine(1.0, 0, 6123456.0, 0, -1.0, -563210.0)),
+    "polar": (CRS_SOUTH_POLAR, Affine(2.0, 0, -150000.0, 0, -2.0, 250000.0)),
+    "sinusoidal": (CRS_SINUSOIDAL, Affine(5.0, 0, 850000.0, 0, -5.0, 1200000.0)),
+}
+
+
+def elevation_array(height: int, width: int, seed: int = 1, dtype: str = "float32") -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    base = np.linspace(-4000, -3000, width, dtype=np.float64)[None, :] + rng.normal(0, 25, (height, width))
+    return base.astype(dtype)
+
+
+def write_raster(path: Path, data: np.ndarray, crs: str | None, transform: Affine, nodata=None,
+                 driver: str = "GTiff") -> Path:
+    bands = data if data.ndim == 3 else data[None]
+    with rasterio.open(
+        path, "w", driver=driver, width=bands.shape[2], height=bands.shape[1], count=bands.shape[0],
+        dtype=bands.dtype.name, crs=crs, transform=transform, nodata=nodata,
+    ) as dataset:
+        dataset.write(bands)
+    return path
+
+
+def run_cli(*args: str) -> subprocess.CompletedProcess:
+    """Run `python -m pdsgen ARGS` in a fresh process, as a user would."""
+    return subprocess.run([sys.executable, "-m", "pdsgen", *map(str, args)], capture_output=True, text=True,
+                          timeout=300)

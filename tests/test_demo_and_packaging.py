@@ -1,0 +1,64 @@
+"""The demo end to end, the CLI surface, and what a built wheel ships."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import zipfile
+
+import numpy as np
+import pvl
+import rasterio
+
+from pdsgen import __version__
+from pdsgen.demo import run_demo
+
+from helpers import run_cli
+
+
+def test_demo_writes_inputs_and_a_dtm_gdal_reads(tmp_path):
+    result = run_demo(tmp_path / "demo")
+    dtm = next(p for p in result.products if p.suffix == ".IMG")
+    assert dtm.name == "DTEEC_008669_1705_009025_1705_U01.IMG"
+    with rasterio.open(tmp_path / "demo" / "input" / "demo_dtm.tif") as src, rasterio.open(dtm) as out:
+        assert (out.width, out.height) == (2000, 3000)
+        assert out.transform.almost_equals(src.transform, precision=1e-9)
+        source = src.read(1)
+        written = out.read(1)
+    valid = np.isfinite(source)
+    assert 0.001 < (~valid).mean() < 0.2  # the demo has real nodata holes
+    assert np.array_equal(written[valid], source[valid])
+    label = pvl.load(str(dtm))
+    assert np.float32(label["IMAGE"]["VALID_MINIMUM"]) == source[valid].min()
+
+
+def test_cli_help_version_and_every_listed_command_has_help():
+    top = run_cli("--help")
+    assert top.returncode == 0
+    commands = [line.split()[0] for line in top.stdout.split("Commands:")[1].strip().splitlines()]
+    assert {"dtm", "demo"} <= set(commands)
+    for command in commands:
+        assert run_cli(command, "--help").returncode == 0, command
+    version = run_cli("--version")
+    assert version.returncode == 0 and __version__ in version.stdout
+
+
+def test_unknown_command_is_a_usage_error():
+    result = run_cli("frobnicate")
+    assert result.returncode == 2
+    assert "No such command" in result.stderr
+
+
+def test_wheel_ships_templates_and_schemas(tmp_path):
+    repo = __import__("pathlib").Path(__file__).resolve().parents[1]
+    build = subprocess.run(
+        [sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "-q", "-w", str(tmp_path),
+         str(repo)],
+        capture_output=True, text=True, timeout=300,
+    )
+    assert build.returncode == 0, build.stderr
+    wheel = next(tmp_path.glob("pdsgen-*.whl"))
+    names = set(zipfile.ZipFile(wheel).namelist())
+    assert "pdsgen/templates/dtm.lbl.j2" in names
+    assert "pdsgen/schemas/params.toml" in names
+    assert "pdsgen/cli/__init__.py" in names
