@@ -12,13 +12,13 @@ import pytest
 import rasterio
 import rasterio.errors
 from click.testing import CliRunner
-from PIL import Image
+from PIL import Image, JpegImagePlugin
 
 from pdsgen.cli import main
 from pdsgen.errors import PdsgenError
 from pdsgen.extras import make_extras
 from pdsgen.extras.colour_ramp import first_colour
-from test_extras_helpers import crater_field, write_geotiff
+from test_extras_helpers import MARS_NORTH_POLAR, crater_field, write_geotiff
 
 DTM_CODES = ("br", "ab", "th", "sb", "sa", "st", "cb", "ca", "ct")
 ORTHO_CODES = ("browse", "abrowse", "thumb")
@@ -41,6 +41,9 @@ def check_jpeg_set(outdir: Path, pid: str, codes: tuple[str, ...], browse_width:
                 assert ds.driver == "JPEG" and ds.count in (1, 3)
         images[code] = rgb(path)
         assert images[code].std() > 5, f"{path.name} is blank"
+    for code in codes[1::3]:  # annotated: full chroma resolution (4:4:4)
+        with Image.open(outdir / f"{pid}.{code}.jpg") as im:
+            assert im.mode == "RGB" and JpegImagePlugin.get_sampling(im) == 0
     for browse, annotated, thumb in zip(codes[0::3], codes[1::3], codes[2::3], strict=True):
         b, a, t = images[browse], images[annotated], images[thumb]
         assert b.shape[1] == browse_width and t.shape[1] == thumb_width
@@ -253,4 +256,28 @@ def test_unknown_params_keyword_is_refused_before_anything_is_written(dtm_tif: P
     params.write_text('CONTACT_PERSON = "typo"\n')
     with pytest.raises(PdsgenError, match="unknown keyword"):
         make_extras([dtm_tif], tmp_path / "out", params=params)
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("origin", [(300000.0, 2000.0), (-1600.0, 1200.0)])
+def test_polar_stereographic_products_off_and_on_the_pole(tmp_path: Path, origin):
+    z = crater_field(240, 320)
+    tif = write_geotiff(tmp_path / "in" / "polar.tif", z, crs=MARS_NORTH_POLAR, pixel=10.0,
+                        origin=origin)
+    out = tmp_path / "out"
+    make_extras([tif], out, browse_width=160)
+    check_jpeg_set(out, "polar", DTM_CODES, 160)
+    assert "POLAR" in (out / "README.TXT").read_text().upper()
+
+
+def test_product_without_georeferencing_and_non_ascii_credit_are_refused(tmp_path: Path):
+    plain = tmp_path / "in" / "plain.tif"
+    with rasterio.open(plain, "w", driver="GTiff", width=40, height=30, count=1,
+                       dtype="float32") as ds:
+        ds.write(crater_field(30, 40), 1)
+    with pytest.raises(PdsgenError, match="no map projection"):
+        make_extras([plain], tmp_path / "out")
+    tif = write_geotiff(tmp_path / "in" / "ok.tif", crater_field(30, 40))
+    with pytest.raises(PdsgenError, match="ASCII"):
+        make_extras([tif], tmp_path / "out", credit="NASA/JPL/Universit\u00e9")
     assert not (tmp_path / "out").exists()
