@@ -176,10 +176,11 @@ def _conversion(src: ProductSource) -> str:
 def _nodata(src: ProductSource) -> str:
     if src.nodata is None:
         return "no no-data value"
-    text = f"DN {src.nodata:.10g}"
+    text = f"DN {src.nodata:.10g} (black in the previews)"
     if src.special_dns:
-        text += "; saturation DNs " + ", ".join(f"{v:g}" for v in src.special_dns)
-    return text + " (black in the previews)"
+        text += "; special DNs (saturation) " + ", ".join(
+            f"{v:g}" for v in sorted(set(src.special_dns)))
+    return text
 
 
 def _metres(value: float) -> str:
