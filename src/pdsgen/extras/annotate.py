@@ -103,8 +103,13 @@ def annotate(image: Image.Image, note: Annotation) -> tuple[Image.Image, Layout]
     ramp_width = _ramp_margin_width(note.legend, size, small_font) if note.legend else 0
     top = size.pad + size.title + size.gap + size.text + size.pad
     foot = size.pad + max(size.bar + size.gap + size.small, size.arrow_box) + size.pad
-    canvas = Image.new("RGB", (size.side + width + max(size.side, ramp_width),
-                               top + height + foot), BACKGROUND)
+    # A narrow image still gets margins wide enough for its title and credit line.
+    text_width = max(title_font.getlength(_ascii(note.title)),
+                     text_font.getlength(_ascii(note.subtitle)),
+                     text_font.getlength(_ascii(note.credit)))
+    right = max(size.side, ramp_width, int(text_width) + size.side - width)
+    middle = max(height, 12 * size.small) if note.legend else height  # room for the ramp
+    canvas = Image.new("RGB", (size.side + width + right, top + middle + foot), BACKGROUND)
     x_img, y_img = size.side, top
     canvas.paste(image.convert("RGB"), (x_img, y_img))
     draw = ImageDraw.Draw(canvas)
@@ -114,21 +119,22 @@ def annotate(image: Image.Image, note: Annotation) -> tuple[Image.Image, Layout]
     draw.text((x_img, size.pad + size.title + size.gap), _ascii(note.subtitle),
               font=text_font, fill=MUTED)
 
-    foot_y = y_img + height + 1 + size.pad
+    foot_y = y_img + middle + 1 + size.pad
     bar = nice_scale_bar(note.metres_per_pixel, width)
     bar_box = _draw_scale_bar(draw, bar, x_img, foot_y, size, small_font)
-    tip = _draw_north_arrow(draw, note.north_deg, bar_box[2] + 3 * size.text + size.arrow_box / 2,
+    bar_right = bar_box[2] + size.gap + small_font.getlength(bar.label)
+    tip = _draw_north_arrow(draw, note.north_deg, bar_right + 2 * size.text + size.arrow_box / 2,
                             foot_y + size.arrow_box / 2, size, small_font)
     credit = _ascii(note.credit)
     if credit:
-        right = x_img + width + (ramp_width and ramp_width - size.side)
+        right = canvas.width - size.side
         credit_w = draw.textlength(credit, font=text_font)
         draw.text((right - credit_w, canvas.height - size.pad - size.text), credit,
                   font=text_font, fill=MUTED)
 
     ramp_box = None
     if note.legend is not None:
-        ramp_box = _draw_legend(draw, note.legend, x_img + width + size.side, y_img, height,
+        ramp_box = _draw_legend(draw, note.legend, x_img + width + size.side, y_img, middle,
                                 size, small_font)
     return canvas, Layout((x_img, y_img, x_img + width - 1, y_img + height - 1), bar, bar_box,
                           tip, ramp_box)
@@ -160,8 +166,11 @@ def _draw_scale_bar(draw: ImageDraw.ImageDraw, bar: ScaleBar, x0: int, y0: int,
         draw.rectangle((sx0, y0, sx1, y1), fill=INK if i % 2 == 0 else BACKGROUND)
     draw.rectangle((x0, y0, x1, y1), outline=INK)
     text_y = y1 + 1 + size.gap
-    draw.text((x0, text_y), "0", font=font, fill=INK, anchor="mt")
-    draw.text((x1, text_y), bar.label, font=font, fill=INK, anchor="mt")
+    if bar.pixels >= font.getlength(bar.label) + font.getlength("0") + 2 * size.gap:
+        draw.text((x0, text_y), "0", font=font, fill=INK, anchor="mt")
+        draw.text((x1, text_y), bar.label, font=font, fill=INK, anchor="mt")
+    else:  # a bar too short for labels under its ends: label beside it
+        draw.text((x1 + size.gap, (y0 + y1) / 2), bar.label, font=font, fill=INK, anchor="lm")
     return (x0, y0, x1, y1)
 
 

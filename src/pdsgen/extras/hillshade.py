@@ -49,6 +49,8 @@ def auto_exaggeration(dz_east: np.ndarray, dz_up: np.ndarray, valid: np.ndarray)
     if gradient.size == 0:
         return 1.0
     steep = float(np.percentile(gradient, 90.0))
+    if steep <= 0.0:  # flat: no exaggeration shows anything
+        return 1.0
     for factor in _NICE_FACTORS:
         if steep * factor >= _TARGET_SLOPE * 0.7:
             return factor
