@@ -281,3 +281,17 @@ def test_product_without_georeferencing_and_non_ascii_credit_are_refused(tmp_pat
     with pytest.raises(PdsgenError, match="ASCII"):
         make_extras([tif], tmp_path / "out", credit="NASA/JPL/Universit\u00e9")
     assert not (tmp_path / "out").exists()
+
+
+def test_mola_image_file_is_found_through_its_sibling_label(corpus_dir: Path, tmp_path: Path):
+    image = corpus_dir / "products" / "MOLA_MEGDR_megt90n000cb" / "megt90n000cb.img"
+    written = make_extras([image], tmp_path / "out", browse_width=200, thumb_width=50)
+    assert {p.name for p in written} >= {"MEGT90N000CB.ca.jpg", "MEGT90N000CB.st.jpg"}
+
+
+def test_archived_label_whose_data_file_is_absent_is_a_clear_error(corpus_dir: Path,
+                                                                   tmp_path: Path):
+    label = corpus_dir / "real" / "ESP_013951_1955_RED.LBL"
+    with pytest.raises(PdsgenError, match="byte.tif"):
+        make_extras([label], tmp_path / "out")
+    assert not (tmp_path / "out").exists()
