@@ -77,4 +77,8 @@ def test_target_name_from_the_crs():
     iau = CRS.from_user_input("IAU_2015:49910")
     assert describe_geometry(iau, Affine(1.0, 0, 0, 0, -1.0, 0), 10, 10).target_name == "MARS"
     plain = CRS.from_proj4(f"+proj=eqc +R={R} +units=m")
-    assert describe_geometry(plain, Affine(1.0, 0, 0, 0, -1.0, 0), 10, 10).target_name is None
+    assert describe_geometry(plain, Affine(1.0, 0, 0, 0, -1.0, 0), 10, 10).target_name == "MARS"
+    earth_ellipsoid = CRS.from_proj4("+proj=eqc +a=6378140 +b=6356750 +units=m")  # HRSC-AX
+    assert describe_geometry(earth_ellipsoid, Affine(1.0, 0, 0, 0, -1.0, 0), 10, 10).target_name == "EARTH"
+    nothing = CRS.from_proj4("+proj=eqc +R=100000 +units=m")
+    assert describe_geometry(nothing, Affine(1.0, 0, 0, 0, -1.0, 0), 10, 10).target_name is None

@@ -30,6 +30,13 @@ _BODY_NAMES = (
     "IO", "EUROPA", "GANYMEDE", "CALLISTO", "TITAN", "ENCELADUS", "PLUTO", "CHARON",
 )
 _EARTH_HINTS = ("WGS", "GRS", "NAD", "ETRS", "CLARKE", "BESSEL", "INTERNATIONAL")
+# Mean or equatorial radii (km): a CRS with an anonymous ellipsoid is matched by size.
+_BODY_RADII_KM = {
+    "MERCURY": 2439.7, "VENUS": 6051.8, "EARTH": 6371.0, "MOON": 1737.4, "MARS": 3389.5,
+    "PHOBOS": 11.1, "DEIMOS": 6.2, "CERES": 469.7, "VESTA": 262.7, "IO": 1821.6, "EUROPA": 1560.8,
+    "GANYMEDE": 2631.2, "CALLISTO": 2410.3, "TITAN": 2574.7, "ENCELADUS": 252.1, "PLUTO": 1188.3,
+    "CHARON": 606.0,
+}
 _ANGLE_TOLERANCE = 1e-9
 
 
@@ -103,7 +110,7 @@ def describe_geometry(
         north_azimuth=_north_azimuth(projection, transform, width, height),
         lines=height,
         samples=width,
-        target_name=_target_name(crs),
+        target_name=_target_name(crs, projection.a),
     )
 
 
@@ -142,6 +149,11 @@ def _parse_projection(crs: CRS, source: str) -> _Projection:
         f"unsupported map projection {label!r}: pdsgen writes equirectangular, "
         "polar stereographic and sinusoidal products",
     )
+
+
+def ellipsoid_axes(crs: CRS, source: str = "input") -> tuple[float, float]:
+    """Semi-major and semi-minor axes (metres) of the CRS's body."""
+    return _ellipsoid_axes(crs, crs.to_dict(), source)
 
 
 def _ellipsoid_axes(crs: CRS, params: dict, source: str) -> tuple[float, float]:
@@ -246,7 +258,8 @@ def _north_azimuth(projection: _Projection, transform: Affine, width: int, heigh
     return angle % 360.0
 
 
-def _target_name(crs: CRS) -> str | None:
+def _target_name(crs: CRS, semi_major_m: float) -> str | None:
+    """The body named by the CRS, else the body whose size matches within 1 %."""
     wkt = crs.to_wkt().upper()
     match = _SPHEROID_RE.search(crs.to_wkt())
     names = [match.group("name").upper()] if match else []
@@ -257,4 +270,8 @@ def _target_name(crs: CRS) -> str | None:
                 return body
         if any(hint in text for hint in _EARTH_HINTS):
             return "EARTH"
+    radius_km = semi_major_m / 1000.0
+    for body, reference in _BODY_RADII_KM.items():
+        if abs(radius_km - reference) <= 0.01 * reference:
+            return body
     return None

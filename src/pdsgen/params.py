@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 import re
+from collections.abc import Mapping
 from functools import cache
 from pathlib import Path
 from typing import Any
@@ -18,7 +19,7 @@ import tomllib
 from .errors import PdsgenError
 from .resources import schemas_dir
 
-ParamValue = str | list[str]
+ParamValue = str | list[str] | dict[str, str | int | float]
 
 _VERSION_RE = re.compile(r"^\d+(\.\d+)*$")
 _IDENTIFIER_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.\-]*$")
@@ -68,6 +69,15 @@ def _check_value(path: Path, key: str, value: Any) -> ParamValue:
         known = ", ".join(sorted(schema))
         raise PdsgenError(path, f"unknown keyword {key}; known keywords: {known}")
     kind = schema[key]["kind"]
+    if kind == "table":
+        if not isinstance(value, Mapping) or not value:
+            raise PdsgenError(path, f"{key} must be a group (PVL) or table (TOML) of name = value pairs")
+        table: dict[str, str | int | float] = {}
+        for name, item in value.items():
+            if isinstance(item, bool) or not isinstance(item, (str, int, float)):
+                raise PdsgenError(path, f"{key}.{name} must be a single text or number value")
+            table[str(name)] = item
+        return table
     if kind == "list":
         items = list(value) if isinstance(value, (list, tuple)) else [value]
         items = [str(item) for item in items]

@@ -72,6 +72,16 @@ PROFILES = {
         ),
         credit="",
     ),
+    "hrsc": Profile(
+        name="hrsc",
+        dtm_note="Heights in meters = DN * SCALING_FACTOR + OFFSET.",
+        credit="ESA/DLR/FU Berlin",
+    ),
+    "imars": Profile(
+        name="imars",
+        dtm_note="Heights in meters = DN * SCALING_FACTOR + OFFSET.",
+        credit="ESA/DLR/FU Berlin/UCL",
+    ),
 }
 
 
@@ -165,3 +175,52 @@ def check_product_id(product_id: str) -> str:
             None, f"product ID {product_id!r} must be 1-40 letters, digits, '_', '-' or '.'"
         )
     return product_id
+
+
+# --- Orthoimages -------------------------------------------------------------
+
+# HiRISE filters: band names as HiRISE labels write them, centre wavelengths in nm.
+HIRISE_FILTER_WAVELENGTHS_NM = {"RED": 700, "NEAR-INFRARED": 900, "BLUE-GREEN": 500}
+ORTHO_FILTER_NAMES = {1: ("RED",), 3: ("NEAR-INFRARED", "RED", "BLUE-GREEN")}
+ORTHO_COLOR_CODES = {1: "RED", 3: "IRB"}
+_HIRISE_ORTHO_OBSERVATION_RE = re.compile(r"^[A-Z]{3}_\d{6}_\d{4}$")
+
+# Orthoimages of HiRISE DTMs are released in the DTM data set, beside the DTM.
+ORTHO_KEYWORDS = {
+    "hirise": {
+        **PROFILES["hirise"].dtm_keywords,
+    },
+    "generic": {
+        **PROFILES["generic"].dtm_keywords,
+    },
+}
+ORTHO_DESCRIPTIONS = {
+    "hirise": "HiRISE orthorectified image, projected onto the DTM named in SOURCE_PRODUCT_ID",
+    "generic": "Orthorectified image",
+}
+
+
+def ortho_keywords(profile: str) -> dict[str, str]:
+    """Identification keyword defaults of a profile's orthoimage labels."""
+    return dict(ORTHO_KEYWORDS[get_profile(profile).name])
+
+
+def ortho_filter_wavelengths(profile: str, filters: tuple[str, ...]) -> tuple[int, ...] | None:
+    """Centre wavelengths (nm) of the bands, when the profile knows its filters."""
+    if get_profile(profile).name != "hirise":
+        return None
+    return tuple(HIRISE_FILTER_WAVELENGTHS_NM[name] for name in filters)
+
+
+def hirise_ortho_product_id(observation_id: str, bands: int, map_scale: float, sequence: int) -> str:
+    """`ESP_042252_1930` + IRB + 0.5 m + 41 -> `ESP_042252_1930_IRB_B_41_ORTHO`."""
+    observation = observation_id.strip().upper()
+    if not _HIRISE_ORTHO_OBSERVATION_RE.match(observation):
+        raise PdsgenError(
+            None, f"{observation_id!r} is not a HiRISE observation ID like ESP_042252_1930; give --observation-id"
+        )
+    if bands not in ORTHO_COLOR_CODES:
+        raise PdsgenError(None, f"HiRISE orthoimages have 1 (RED) or 3 (IRB) bands, not {bands}")
+    if not 0 <= sequence <= 99:
+        raise PdsgenError(None, f"sequence number {sequence} does not fit the two digits of a HiRISE ID")
+    return f"{observation}_{ORTHO_COLOR_CODES[bands]}_{hirise_scale_letter(map_scale)}_{sequence:02d}_ORTHO"

@@ -1,4 +1,4 @@
-"""Write a raster band as PDS3 image records after a label, in one streaming pass.
+"""Write a raster band as PDS3 image records after a label, streaming by strips.
 
 The label states statistics (VALID_MINIMUM/MAXIMUM) that are only known after
 the data has been read, but it sits in front of the data. We reserve the label
@@ -11,13 +11,14 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import BinaryIO
 
 import numpy as np
 from rasterio.io import DatasetReader
+from rasterio.windows import Window
 
 from .label.render import RecordLayout, pad_label, settle_attached_label
 from .label.values import shortest_float32
@@ -41,40 +42,99 @@ class BandStatistics:
     maximum: float
 
 
-def stream_float32_band(
-    dataset: DatasetReader, out: BinaryIO, big_endian: bool
-) -> BandStatistics:
-    """Copy band 1 as float32 records, missing pixels set to MISSING_CONSTANT.
+# Physical values of one strip, with the strip's window, before encoding.
+Adjust = Callable[[np.ndarray, Window], np.ndarray]
+# Encode valid physical values (float32) into stored samples; invalid pixels get the
+# product's missing value. Returns the array to write (native byte order).
+Encode = Callable[[np.ndarray, "np.ndarray | None"], np.ndarray]
+
+
+def physical_strips(
+    dataset: DatasetReader, adjust: Adjust | None = None
+) -> Iterator[tuple[np.ndarray, np.ndarray | None, Window]]:
+    """Band 1 as float32 strips with the mask of missing pixels (None: none missing).
 
     Missing means: the dataset's nodata value, NaN or infinity, and ISIS special
-    pixels. Returns min/max of the valid pixels, computed in the same pass.
+    pixels. `adjust` may change the physical values (e.g. add an areoid), and
+    pixels it turns into NaN become missing too.
+    """
+    nodata = dataset.nodata
+    is_float_input = np.dtype(dataset.dtypes[0]).kind == "f"
+    for window in row_strips(dataset):
+        native = dataset.read(1, window=window)
+        values = native.astype(np.float32, copy=False)
+        invalid = _invalid_mask(native, values, nodata, is_float_input)
+        if adjust is not None:
+            values = adjust(values, window).astype(np.float32, copy=False)
+            lost = ~np.isfinite(values)
+            if lost.any():
+                invalid = lost if invalid is None else (invalid | lost)
+        yield values, invalid, window
+
+
+def valid_extremes(values: np.ndarray, invalid: np.ndarray | None) -> tuple[int, float, float]:
+    """Count, minimum and maximum of the valid pixels of one strip."""
+    if invalid is None:
+        return values.size, float(values.min()), float(values.max())
+    valid = ~invalid
+    count = int(np.count_nonzero(valid))
+    if count == 0:
+        return 0, math.inf, -math.inf
+    if values.dtype.kind == "f":
+        low_start, high_start = np.inf, -np.inf
+    else:
+        low_start, high_start = np.iinfo(values.dtype).max, np.iinfo(values.dtype).min
+    low = float(np.min(values, where=valid, initial=low_start))
+    high = float(np.max(values, where=valid, initial=high_start))
+    return count, low, high
+
+
+def scan_band(dataset: DatasetReader, adjust: Adjust | None = None) -> BandStatistics:
+    """Statistics of the physical values, read-only (for encodings that need the range first)."""
+    count, low, high = 0, math.inf, -math.inf
+    for values, invalid, _ in physical_strips(dataset, adjust):
+        n, lo, hi = valid_extremes(values, invalid)
+        count, low, high = count + n, min(low, lo), max(high, hi)
+    return _statistics(count, low, high)
+
+
+def encode_float32(values: np.ndarray, invalid: np.ndarray | None) -> np.ndarray:
+    """PC_REAL/IEEE_REAL DTM samples: the values, missing set to MISSING_CONSTANT."""
+    if invalid is not None:
+        np.copyto(values, MISSING_CONSTANT, where=invalid)
+    return values
+
+
+def stream_band(
+    dataset: DatasetReader,
+    out: BinaryIO,
+    big_endian: bool,
+    encode: Encode = encode_float32,
+    adjust: Adjust | None = None,
+) -> BandStatistics:
+    """Encode band 1 strip by strip and write it; statistics of the stored valid samples.
+
     Writing happens on a second thread (the file write releases the GIL), so
     reading and converting the next strip overlaps writing the previous one;
     at most two strips are in flight, so memory stays bounded.
     """
-    nodata = dataset.nodata
-    is_float_input = np.dtype(dataset.dtypes[0]).kind == "f"
-    count, low, high = 0, np.inf, -np.inf
+    count, low, high = 0, math.inf, -math.inf
     with StripWriter(out) as writer:
-        for window in row_strips(dataset):
-            native = dataset.read(1, window=window)
-            values = native.astype(np.float32, copy=False)
-            invalid = _invalid_mask(native, values, nodata, is_float_input)
-            if invalid is None:
-                count += values.size
-                low = min(low, float(values.min()))
-                high = max(high, float(values.max()))
-            else:
-                np.copyto(values, MISSING_CONSTANT, where=invalid)
-                valid = ~invalid
-                n_valid = int(np.count_nonzero(valid))
-                if n_valid:
-                    count += n_valid
-                    low = min(low, float(np.min(values, where=valid, initial=np.inf)))
-                    high = max(high, float(np.max(values, where=valid, initial=-np.inf)))
-            if big_endian:
-                values.byteswap(inplace=True)
-            writer.submit(np.ascontiguousarray(values))
+        for values, invalid, _ in physical_strips(dataset, adjust):
+            stored = encode(values, invalid)
+            n, lo, hi = valid_extremes(stored, invalid)
+            count, low, high = count + n, min(low, lo), max(high, hi)
+            order = ">" if big_endian else "<"
+            writer.submit(np.ascontiguousarray(stored.astype(stored.dtype.newbyteorder(order), copy=False)))
+    return _statistics(count, low, high)
+
+
+def stream_float32_band(dataset: DatasetReader, out: BinaryIO, big_endian: bool) -> BandStatistics:
+    """The float32 DTM case of `stream_band`."""
+    return stream_band(dataset, out, big_endian, encode_float32)
+
+
+def _statistics(count: int, low: float, high: float) -> BandStatistics:
     if count == 0:
         return BandStatistics(0, math.nan, math.nan)
     return BandStatistics(count, shortest_float32(low), shortest_float32(high))

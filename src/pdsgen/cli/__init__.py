@@ -19,6 +19,7 @@ from ..errors import PdsgenError
 # command name -> module (under pdsgen.cli) defining a click command of that name
 COMMANDS = {
     "dtm": "dtm",
+    "ortho": "ortho",
     "demo": "demo",
     "extras": "extras",
 }

@@ -4,16 +4,15 @@ from __future__ import annotations
 
 import click
 
-from ..dtm import write_dtm
 from ..profiles import PROFILES
 
 
 @click.command(short_help="Make a PDS3 DTM (.IMG with attached label).")
 @click.argument("input_path", metavar="INPUT", type=click.Path(dir_okay=False))
 @click.option("-o", "--outdir", required=True, type=click.Path(file_okay=False), help="Output directory.")
-@click.option("--profile", type=click.Choice(sorted(PROFILES)),
-              default="generic", show_default=True, help="Mission profile: names and keywords.")
-@click.option("--product-id", help="Product ID (default: built by the profile).")
+@click.option("--profile", type=click.Choice(sorted(PROFILES)), default="generic", show_default=True,
+              help="Mission profile: names and keywords.")
+@click.option("--product-id", help="Product ID (default: built by the profile; hrsc: h1234_0000).")
 @click.option("--source-product-id", "source_ids", multiple=True,
               help="Source observation/product ID; repeat for each (hirise: two stereo images).")
 @click.option("--institution", help="Producing institution letter for HiRISE product IDs.")
@@ -21,17 +20,53 @@ from ..profiles import PROFILES
               help="PRODUCT_VERSION_ID (HiRISE IDs encode it as two digits).")
 @click.option("--params", "params_file", type=click.Path(dir_okay=False),
               help="PVL or TOML file of producer/data-set keywords (see schemas/params.toml).")
-@click.option("--byte-order", type=click.Choice(["lsb", "msb"]), default="lsb", show_default=True,
-              help="lsb writes PC_REAL, msb writes IEEE_REAL.")
+@click.option("--byte-order", type=click.Choice(["lsb", "msb"]), default=None,
+              help="lsb: PC_REAL / LSB_INTEGER; msb: IEEE_REAL / MSB_INTEGER. "
+                   "[default: lsb; hrsc: msb]")
+@click.option("--kind", type=click.Choice(["dt4", "da4"]), default="dt4", show_default=True,
+              help="hrsc/imars: heights above the 3396.0 km sphere (dt4) or the areoid (da4).")
+@click.option("--vertical-datum", type=click.Choice(["sphere", "areoid"]), default="sphere",
+              show_default=True, help="hrsc: what the input heights are measured from.")
+@click.option("--areoid", type=click.Path(dir_okay=False),
+              help="hrsc: areoid heights above the 3396.0 km sphere (any GDAL raster), to convert datums.")
+@click.option("--precision", type=float, default=1.0, show_default=True,
+              help="hrsc/imars: metres per stored integer step (SCALING_FACTOR).")
+@click.option("--reproject", is_flag=True,
+              help="hrsc: warp the input into the HRSC projection and sphere instead of refusing it.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 def dtm(input_path, outdir, profile, product_id, source_ids, institution, product_version,
-        params_file, byte_order, overwrite) -> None:
+        params_file, byte_order, kind, vertical_datum, areoid, precision, reproject, overwrite) -> None:
     """Convert the single-band elevation raster INPUT (any GDAL format, projected
-    CRS: equirectangular, polar stereographic or sinusoidal) into
-    OUTDIR/<PRODUCT_ID>.IMG."""
+    CRS: equirectangular, polar stereographic or sinusoidal) into a PDS3 DTM in OUTDIR:
+    <PRODUCT_ID>.IMG (float32); for --profile hrsc hOOOO_NNNN_dt4.img / _da4.img
+    (16-bit integers with MEX:DTM scaling); for --profile imars the iMars form:
+    hOOOO_NNNN_da4_ucl.tif (int16 GeoTIFF), its .pvl metadata and hOOOO_NNNN.geojson."""
+    if profile == "imars":
+        from ..imars import write_imars_dtm
+
+        product = write_imars_dtm(
+            input_path, outdir, product_id=product_id, source_product_ids=source_ids, kind=kind[:2],
+            precision=precision, params=params_file, overwrite=overwrite,
+        )
+        click.echo(f"{product.tiff_path}  {product.pvl_path.name}  {product.footprint_path.name}")
+        return
+    if profile == "hrsc":
+        from ..hrsc import write_hrsc_dtm
+
+        product = write_hrsc_dtm(
+            input_path, outdir, kind=kind, vertical_datum=vertical_datum, areoid=areoid, precision=precision,
+            reproject_input=reproject, product_id=product_id, source_product_ids=source_ids,
+            params=params_file, byte_order=byte_order or "msb", version=product_version, overwrite=overwrite,
+        )
+        click.echo(f"{product.path}  {product.geometry.lines} x {product.geometry.samples}  "
+                   f"DN {product.valid_minimum} .. {product.valid_maximum} "
+                   f"(x {product.encoding.scaling_factor:g} + {product.encoding.offset:g} m)")
+        return
+    from ..dtm import write_dtm
+
     product = write_dtm(
         input_path, outdir, profile=profile, product_id=product_id,
-        source_product_ids=source_ids, params=params_file, byte_order=byte_order,
+        source_product_ids=source_ids, params=params_file, byte_order=byte_order or "lsb",
         institution=institution, version=product_version, overwrite=overwrite,
     )
     click.echo(f"{product.path}  {product.geometry.lines} x {product.geometry.samples}  "

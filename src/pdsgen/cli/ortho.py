@@ -1,0 +1,42 @@
+"""`pdsgen ortho`: an orthoimage to a lossless JPEG 2000 with a detached PDS3 label."""
+
+from __future__ import annotations
+
+import click
+
+from ..ortho import write_ortho
+from ..profiles import PROFILES
+
+
+@click.command(short_help="Make a PDS3 orthoimage (.JP2 + detached .LBL).")
+@click.argument("input_path", metavar="INPUT", type=click.Path(dir_okay=False))
+@click.option("-o", "--outdir", required=True, type=click.Path(file_okay=False), help="Output directory.")
+@click.option("--profile", type=click.Choice(sorted(PROFILES)),
+              default="generic", show_default=True, help="Mission profile: names and keywords.")
+@click.option("--product-id", help="Product ID (default: built by the profile).")
+@click.option("--bits", type=click.Choice(["8", "10", "16"]),
+              help="DN bits (default: 8 for byte input, 16 for wider; floats 10 (hirise) or 16).")
+@click.option("--range", "value_range", type=float, nargs=2, metavar="MIN MAX",
+              help="Input values mapped onto the valid DNs; outside become saturation DNs "
+                   "(default: integer DNs kept if they fit, else the data's min and max).")
+@click.option("--observation-id", help="Source observation, e.g. ESP_042252_1930 (hirise product ID).")
+@click.option("--source-dtm-id", help="Product ID of the DTM the image was orthorectified on.")
+@click.option("--sequence", type=int, default=1, show_default=True,
+              help="Sequence number NN of HiRISE ortho IDs.")
+@click.option("--params", "params_file", type=click.Path(dir_okay=False),
+              help="PVL or TOML file of producer/data-set keywords (see schemas/params.toml).")
+@click.option("--version", "product_version", default="1.0", show_default=True, help="PRODUCT_VERSION_ID.")
+@click.option("--gmljp2", is_flag=True, help="Also write a GMLJP2 box (the GeoJP2 box is always written).")
+@click.option("--overwrite", is_flag=True, help="Replace an existing product.")
+def ortho(input_path, outdir, profile, product_id, bits, value_range, observation_id, source_dtm_id,
+          sequence, params_file, product_version, gmljp2, overwrite) -> None:
+    """Convert the 1-band (RED) or 3-band (IRB) orthoimage INPUT (any GDAL format,
+    projected CRS as for DTMs) into OUTDIR/<PRODUCT_ID>.JP2 and .LBL."""
+    product = write_ortho(
+        input_path, outdir, profile=profile, product_id=product_id,
+        bits=int(bits) if bits else None, value_range=value_range or None,
+        observation_id=observation_id, source_dtm_id=source_dtm_id, sequence=sequence,
+        params=params_file, gmljp2=gmljp2, version=product_version, overwrite=overwrite,
+    )
+    click.echo(f"{product.jp2_path}  {product.geometry.lines} x {product.geometry.samples} x {product.bands}  "
+               f"{product.bits}-bit DN * {product.scaling_factor:.6g} + {product.offset:.6g}")

@@ -1,0 +1,74 @@
+"""GIS footprints: the outline of a product's valid data as GeoJSON in longitude/latitude.
+
+The outline is traced on a decimated validity mask (at most FOOTPRINT_SIZE pixels a
+side), so it costs one small read whatever the raster's size. Coordinates are
+degrees (planetocentric on a sphere), longitudes in -180..180 as GeoJSON readers expect; the
+body is named in the collection's properties since GeoJSON itself assumes Earth.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from rasterio.crs import CRS
+from rasterio.enums import Resampling
+from rasterio.features import shapes
+from rasterio.io import DatasetReader
+from rasterio.warp import transform_geom
+
+from .geometry import ellipsoid_axes
+
+FOOTPRINT_SIZE = 1024
+
+
+def valid_data_outline(dataset: DatasetReader, valid_fn) -> list[dict[str, Any]]:
+    """Polygons (GeoJSON geometries, lon/lat) around the pixels `valid_fn` accepts."""
+    scale = max(1.0, max(dataset.width, dataset.height) / FOOTPRINT_SIZE)
+    shape = (max(1, round(dataset.height / scale)), max(1, round(dataset.width / scale)))
+    sample = dataset.read(1, out_shape=shape, resampling=Resampling.nearest)
+    valid = valid_fn(sample).astype(np.uint8)
+    transform = dataset.transform @ dataset.transform.scale(dataset.width / shape[1], dataset.height / shape[0])
+    a, b = ellipsoid_axes(dataset.crs, dataset.name)
+    lonlat = CRS.from_proj4(f"+proj=longlat +a={a!r} +b={b!r} +no_defs")
+    polygons = []
+    for geometry, value in shapes(valid, mask=valid.astype(bool), transform=transform, connectivity=8):
+        if value:
+            polygons.append(transform_geom(dataset.crs, lonlat, geometry, antimeridian_cutting=True, precision=7))
+    return polygons
+
+
+def write_footprint(
+    path: str | os.PathLike[str], feature_id: str, polygons: list[dict[str, Any]], properties: dict[str, Any],
+    body: str,
+) -> None:
+    """Add or replace one product's feature in the scene's footprint collection.
+
+    One footprint file serves a scene: the DTM and the orthoimage of an iMars
+    delivery each contribute their own feature, matched by `feature_id`.
+    """
+    path = Path(path)
+    collection = {"type": "FeatureCollection", "properties": {"body": body}, "features": []}
+    if path.exists():
+        try:
+            existing = json.loads(path.read_text())
+            if existing.get("type") == "FeatureCollection":
+                collection["features"] = [f for f in existing.get("features", []) if f.get("id") != feature_id]
+        except (json.JSONDecodeError, AttributeError):
+            pass
+    geometry = (
+        {"type": "MultiPolygon", "coordinates": [poly["coordinates"] for poly in polygons
+                                                 if poly["type"] == "Polygon"]}
+        if len(polygons) != 1 else polygons[0]
+    )
+    collection["features"].append(
+        {"type": "Feature", "id": feature_id, "properties": {"product_id": feature_id, **properties},
+         "geometry": geometry}
+    )
+    collection["features"].sort(key=lambda feature: feature["id"])
+    tmp = path.with_name(f".{path.name}.part")
+    tmp.write_text(json.dumps(collection, indent=1) + "\n")
+    os.replace(tmp, path)

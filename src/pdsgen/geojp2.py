@@ -1,0 +1,180 @@
+"""Georeferencing boxes for JP2 files: GeoJP2 (always) and GMLJP2 (optional).
+
+GeoJP2 is a UUID box holding a degenerate 1 x 1 GeoTIFF whose tags
+(ModelPixelScale, ModelTiepoint, GeoKeys) apply to the JP2 image grid. GDAL
+writes the GeoTIFF, so the GeoKeys follow GDAL's mapping of the CRS; for
+equirectangular that puts the standard parallel in ProjStdParallel1GeoKey
+(3078), not in ProjCenterLatGeoKey (3089) as an early HiRISE writer did.
+`geokeys()` reads the keys back so tests and callers can check that.
+
+GMLJP2 (version 1 layout) is an association box labelled ``gml.data`` holding
+a ``gml.root-instance`` feature collection with a RectifiedGrid (origin and
+offset vectors at pixel centres, as the standard defines them) and a
+``CRSDictionary.gml`` entry holding the CRS as WKT in a gml:remarks element.
+GDAL takes the grid from it; GML has no encoding GDAL reads for planetary
+projections, so a reader gets the CRS from the GeoJP2 box.
+"""
+
+from __future__ import annotations
+
+import struct
+import uuid
+
+import numpy as np
+from affine import Affine
+from rasterio.crs import CRS
+from rasterio.io import MemoryFile
+
+from .write_jp2 import box
+
+GEOJP2_UUID = uuid.UUID("b14bf8bd-083d-4b43-a5ae-8cd7d5a6ce03")
+GEOKEY_DIRECTORY_TAG = 34735
+GEO_DOUBLE_PARAMS_TAG = 34736
+GEO_ASCII_PARAMS_TAG = 34737
+MODEL_PIXEL_SCALE_TAG = 33550
+MODEL_TIEPOINT_TAG = 33922
+PROJ_STD_PARALLEL1 = 3078
+PROJ_CENTER_LAT = 3089
+
+GML = "http://www.opengis.net/gml"
+_NSMAP = {"gml": GML, "xlink": "http://www.w3.org/1999/xlink"}
+
+
+def degenerate_geotiff(crs: CRS, transform: Affine) -> bytes:
+    """A 1 x 1 GeoTIFF whose georeferencing is `crs` and `transform`."""
+    with MemoryFile() as memory:
+        with memory.open(
+            driver="GTiff", width=1, height=1, count=1, dtype="uint8", crs=crs, transform=transform
+        ) as dataset:
+            dataset.write(np.zeros((1, 1, 1), dtype=np.uint8))
+        return bytes(memory.read())
+
+
+def geojp2_box(crs: CRS, transform: Affine) -> bytes:
+    """The GeoJP2 UUID box for a JP2 image with this CRS and geotransform."""
+    return box(b"uuid", GEOJP2_UUID.bytes + degenerate_geotiff(crs, transform))
+
+
+def geokeys(tiff: bytes) -> dict[int, object]:
+    """GeoKey number -> value (int, float, tuple of floats, or str) of a GeoTIFF."""
+    tags = _first_ifd_tags(tiff)
+    directory = tags[GEOKEY_DIRECTORY_TAG]
+    doubles = tags.get(GEO_DOUBLE_PARAMS_TAG, ())
+    text = tags.get(GEO_ASCII_PARAMS_TAG, "")
+    keys: dict[int, object] = {}
+    for start in range(4, 4 * (directory[3] + 1), 4):
+        key, location, count, value = directory[start:start + 4]
+        if location == 0:
+            keys[key] = value
+        elif location == GEO_DOUBLE_PARAMS_TAG:
+            chosen = doubles[value:value + count]
+            keys[key] = chosen[0] if count == 1 else tuple(chosen)
+        elif location == GEO_ASCII_PARAMS_TAG:
+            keys[key] = text[value:value + count].rstrip("|\x00")
+    return keys
+
+
+_TYPE_FORMATS = {1: "B", 2: "s", 3: "H", 4: "I", 11: "f", 12: "d", 16: "Q"}
+
+
+def _first_ifd_tags(tiff: bytes) -> dict[int, object]:
+    """Tag number -> values of the first image directory (classic TIFF only)."""
+    order = {b"II": "<", b"MM": ">"}.get(tiff[:2])
+    if order is None or struct.unpack(order + "H", tiff[2:4])[0] != 42:
+        raise ValueError("not a classic TIFF")
+    (ifd,) = struct.unpack(order + "I", tiff[4:8])
+    (count,) = struct.unpack(order + "H", tiff[ifd:ifd + 2])
+    tags: dict[int, object] = {}
+    for index in range(count):
+        entry = tiff[ifd + 2 + 12 * index: ifd + 14 + 12 * index]
+        tag, kind, number = struct.unpack(order + "HHI", entry[:8])
+        if kind not in _TYPE_FORMATS:
+            continue
+        code = _TYPE_FORMATS[kind]
+        size = struct.calcsize(code) * number
+        raw = entry[8:8 + size] if size <= 4 else tiff[struct.unpack(order + "I", entry[8:12])[0]:][:size]
+        if code == "s":
+            tags[tag] = raw.decode("ascii", "replace")
+        else:
+            tags[tag] = struct.unpack(f"{order}{number}{code}", raw)
+    return tags
+
+
+def read_geojp2(path) -> bytes:
+    """The GeoTIFF inside a JP2 file's GeoJP2 box (for checks and tests)."""
+    from .write_jp2 import jp2_boxes
+
+    with open(path, "rb") as handle:
+        for kind, offset, length in jp2_boxes(path):
+            if kind != b"uuid":
+                continue
+            handle.seek(offset + 8)
+            if handle.read(16) == GEOJP2_UUID.bytes:
+                return handle.read(length - 24)
+    raise ValueError(f"{path} has no GeoJP2 box")
+
+
+def gmljp2_box(crs: CRS, transform: Affine, lines: int, samples: int) -> bytes:
+    """A GMLJP2 association box consistent with the GeoJP2 box."""
+    from lxml import etree  # only needed here; keeps lxml out of the common path
+
+    root = _feature_collection(etree, transform, lines, samples)
+    dictionary = _crs_dictionary(etree, crs)
+    return box(
+        b"asoc",
+        box(b"lbl ", b"gml.data")
+        + box(b"asoc", box(b"lbl ", b"gml.root-instance") + box(b"xml ", _xml_bytes(etree, root)))
+        + box(b"asoc", box(b"lbl ", b"CRSDictionary.gml") + box(b"xml ", _xml_bytes(etree, dictionary))),
+    )
+
+
+_CRS_REF = "gmljp2://xml/CRSDictionary.gml#pdsgen_crs"
+
+
+def _feature_collection(etree, transform: Affine, lines: int, samples: int):
+    g = f"{{{GML}}}"
+    collection = etree.Element(g + "FeatureCollection", nsmap=_NSMAP)
+    west, north = transform @ (0, 0)
+    east, south = transform @ (samples, lines)
+    envelope = etree.SubElement(etree.SubElement(collection, g + "boundedBy"), g + "Envelope", srsName=_CRS_REF)
+    etree.SubElement(envelope, g + "lowerCorner").text = f"{_num(min(west, east))} {_num(min(south, north))}"
+    etree.SubElement(envelope, g + "upperCorner").text = f"{_num(max(west, east))} {_num(max(south, north))}"
+    coverage = etree.SubElement(etree.SubElement(collection, g + "featureMember"), g + "FeatureCollection")
+    feature = etree.SubElement(etree.SubElement(coverage, g + "featureMember"), g + "RectifiedGridCoverage",
+                               attrib={g + "id": "RGC0001"})
+    grid = etree.SubElement(etree.SubElement(feature, g + "rectifiedGridDomain"), g + "RectifiedGrid",
+                            dimension="2")
+    limits = etree.SubElement(etree.SubElement(grid, g + "limits"), g + "GridEnvelope")
+    etree.SubElement(limits, g + "low").text = "0 0"
+    etree.SubElement(limits, g + "high").text = f"{samples - 1} {lines - 1}"
+    etree.SubElement(grid, g + "axisName").text = "x"
+    etree.SubElement(grid, g + "axisName").text = "y"
+    centre_x, centre_y = transform @ (0.5, 0.5)  # GML grid points are pixel centres
+    point = etree.SubElement(etree.SubElement(grid, g + "origin"), g + "Point", srsName=_CRS_REF,
+                             attrib={g + "id": "P0001"})
+    etree.SubElement(point, g + "pos").text = f"{_num(centre_x)} {_num(centre_y)}"
+    etree.SubElement(grid, g + "offsetVector", srsName=_CRS_REF).text = f"{_num(transform.a)} {_num(transform.d)}"
+    etree.SubElement(grid, g + "offsetVector", srsName=_CRS_REF).text = f"{_num(transform.b)} {_num(transform.e)}"
+    range_set = etree.SubElement(etree.SubElement(feature, g + "rangeSet"), g + "File")
+    etree.SubElement(range_set, g + "fileName").text = "gmljp2://codestream/0"
+    etree.SubElement(range_set, g + "fileStructure").text = "Record Interleaved"
+    return collection
+
+
+def _crs_dictionary(etree, crs: CRS):
+    g = f"{{{GML}}}"
+    dictionary = etree.Element(g + "Dictionary", nsmap=_NSMAP, attrib={g + "id": "CRSU1"})
+    etree.SubElement(dictionary, g + "name").text = "CRSDictionary.gml"
+    entry = etree.SubElement(etree.SubElement(dictionary, g + "dictionaryEntry"), g + "Definition",
+                             attrib={g + "id": "pdsgen_crs"})
+    etree.SubElement(entry, g + "remarks").text = crs.to_wkt()
+    etree.SubElement(entry, g + "name").text = crs.to_dict().get("proj", "projected") + " (WKT in remarks)"
+    return dictionary
+
+
+def _num(value: float) -> str:
+    return repr(float(value))
+
+
+def _xml_bytes(etree, element) -> bytes:
+    return etree.tostring(element, xml_declaration=True, encoding="UTF-8", pretty_print=True)

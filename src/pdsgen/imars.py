@@ -1,0 +1,182 @@
+"""The iMars delivery form of HRSC-derived DTMs: GeoTIFF + PVL metadata + footprint.
+
+iMars (the EU FP7 project that processed HRSC south-polar and regional DTMs at UCL)
+delivered each product as a GeoTIFF (int16 DTM with nodata -32768, byte ORI with
+nodata 0) carrying its processing metadata in GeoTIFF tags, a PVL metadata file
+`<ID>_<type>4_ucl.pvl` (objects ProductInfo with group Producer, Image,
+DataProduct, MapProjection, Algorithm), and a GIS footprint `<ID>.geojson`.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pvl
+import rasterio
+
+from . import __version__
+from .errors import PdsgenError
+from .footprint import valid_data_outline, write_footprint
+from .geometry import MapGeometry, describe_geometry
+from .hrsc import MISSING_DN, Int16Encoding, choose_encoding, hrsc_base_name
+from .params import ParamValue, load_params
+from .read_raster import open_raster, require_single_band
+from .staging import StagedOutputs, prepare_output_dir
+from .write_image import physical_strips, scan_band, valid_extremes
+
+IMARS_INSTITUTION = "UCL MULLARD SPACE SCIENCE LABORATORY"
+_DTM_DESCRIPTIONS = {"dt": "HEIGHT ABOVE SPHEROID", "da": "HEIGHT ABOVE GM3-AREOID"}
+
+
+@dataclass(frozen=True)
+class ImarsProduct:
+    product_id: str
+    tiff_path: Path
+    pvl_path: Path
+    footprint_path: Path
+    geometry: MapGeometry
+    encoding: Int16Encoding
+    valid_minimum: int
+    valid_maximum: int
+
+
+def write_imars_dtm(
+    input_path: str | os.PathLike[str],
+    outdir: str | os.PathLike[str],
+    *,
+    product_id: str | None = None,
+    source_product_ids: tuple[str, ...] | list[str] = (),
+    kind: str = "da",
+    precision: float = 1.0,
+    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
+    overwrite: bool = False,
+) -> ImarsProduct:
+    """Write `<ID>_<kind>4_ucl.tif` (int16), its `.pvl` and the scene footprint."""
+    if kind not in _DTM_DESCRIPTIONS:
+        raise PdsgenError(None, "iMars DTM kind must be da (areoid heights) or dt (sphere heights)")
+    keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
+    sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
+    base, _ = hrsc_base_name(product_id, sources)
+    stem = f"{base}_{kind}4_ucl"
+    input_path = Path(input_path)
+    with open_raster(input_path) as dataset:
+        require_single_band(dataset)
+        geometry = describe_geometry(dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path))
+        physical = scan_band(dataset)
+        if physical.valid_count == 0:
+            raise PdsgenError(input_path, "has no valid pixels (all nodata)")
+        encoding = choose_encoding(physical, precision, str(input_path))
+        out = prepare_output_dir(outdir)
+        tiff, metadata = out / f"{stem}.tif", out / f"{stem}.pvl"
+        tags = _processing_tags(base, kind, encoding, keywords, sources)
+        with StagedOutputs([tiff, metadata], overwrite) as staged:
+            low, high = _write_int16_geotiff(dataset, staged.path(tiff), encoding, tags)
+            with rasterio.open(staged.path(tiff)) as written:
+                text = imars_pvl_text(written, tiff.name, f"{base}_{kind}4", "DTM", geometry, keywords, sources,
+                                      {"ValidMinimum": low, "ValidMaximum": high,
+                                       "HeightReference": _DTM_DESCRIPTIONS[kind],
+                                       "Precision": pvl.Quantity(encoding.scaling_factor, "m")})
+                polygons = valid_data_outline(written, lambda a: a != MISSING_DN)
+            staged.path(metadata).write_text(text)
+    footprint = out / f"{base}.geojson"
+    write_footprint(footprint, f"{base}_{kind}4", polygons, {"type": "DTM", "file": tiff.name},
+                    geometry.target_name or "MARS")
+    return ImarsProduct(f"{base}_{kind}4", tiff, metadata, footprint, geometry, encoding, low, high)
+
+
+def _write_int16_geotiff(dataset, path: Path, encoding: Int16Encoding, tags: dict[str, str]) -> tuple[int, int]:
+    """Stream the encoded heights into a tiled, compressed GeoTIFF; return the DN range."""
+    profile = {
+        "driver": "GTiff", "width": dataset.width, "height": dataset.height, "count": 1, "dtype": "int16",
+        "crs": dataset.crs, "transform": dataset.transform, "nodata": MISSING_DN, "tiled": True,
+        "blockxsize": 256, "blockysize": 256, "compress": "deflate", "predictor": 2, "BIGTIFF": "IF_SAFER",
+    }
+    low, high = np.iinfo(np.int16).max, np.iinfo(np.int16).min
+    with rasterio.open(path, "w", **profile) as out:
+        out.scales = (encoding.scaling_factor,)
+        out.offsets = (encoding.offset,)
+        out.update_tags(**tags)
+        for values, invalid, window in physical_strips(dataset):
+            stored = encoding.encode(values, invalid)
+            count, lo, hi = valid_extremes(stored, invalid)
+            if count:
+                low, high = min(low, int(lo)), max(high, int(hi))
+            out.write(stored, 1, window=window)
+    return low, high
+
+
+def _processing_tags(base: str, kind: str, encoding: Int16Encoding, keywords, sources) -> dict[str, str]:
+    return {
+        "TIFFTAG_SOFTWARE": f"pdsgen {__version__}",
+        "TIFFTAG_IMAGEDESCRIPTION": f"{base}_{kind}4 iMars HRSC DTM, {_DTM_DESCRIPTIONS[kind].lower()}, "
+                                    f"meters = DN * {encoding.scaling_factor:g} + {encoding.offset:g}",
+        "PRODUCT_ID": f"{base}_{kind}4",
+        "DTM_DESC": _DTM_DESCRIPTIONS[kind],
+        "SCALING_FACTOR": repr(encoding.scaling_factor),
+        "OFFSET": repr(encoding.offset),
+        "MISSING_DN": str(MISSING_DN),
+        "PRODUCER": str(keywords.get("PRODUCER_INSTITUTION_NAME", IMARS_INSTITUTION)),
+        "SOURCE_PRODUCT_ID": ",".join(sources) or "N/A",
+        "ALGORITHM": str(keywords.get("EXTRACTION_METHOD", "UNK")),
+    }
+
+
+def imars_pvl_text(
+    written, file_name: str, product_id: str, product_type: str, geometry: MapGeometry, keywords: Mapping[str, Any],
+    sources: list[str], image_extra: Mapping[str, Any],
+) -> str:
+    """The metadata file, built from the GeoTIFF as written so the two cannot disagree."""
+    transform = written.transform
+    module = pvl.PVLModule([
+        ("ProductInfo", pvl.PVLObject([
+            ("ProductId", product_id),
+            ("ProductType", product_type),
+            ("SourceProductId", sources or ["N/A"]),
+            ("Producer", pvl.PVLGroup([
+                ("Institution", str(keywords.get("PRODUCER_INSTITUTION_NAME", IMARS_INSTITUTION))),
+                ("Contact", str(keywords.get("TECHNICAL_CONTACT", keywords.get("PRODUCER_FULL_NAME", "UNK")))),
+                ("Software", f"pdsgen {__version__}"),
+            ])),
+        ])),
+        ("Image", pvl.PVLObject([
+            ("Lines", written.height),
+            ("Samples", written.width),
+            ("Bands", written.count),
+            ("SampleType", written.dtypes[0]),
+            ("NoData", int(written.nodata)),
+            ("ScalingFactor", float(written.scales[0])),
+            ("Offset", float(written.offsets[0])),
+            *image_extra.items(),
+        ])),
+        ("DataProduct", pvl.PVLObject([
+            ("FileName", file_name),
+            ("Format", "GeoTIFF"),
+            ("Units", "m" if product_type == "DTM" else "DN"),
+        ])),
+        ("MapProjection", pvl.PVLObject([
+            ("ProjectionName", geometry.projection_type),
+            ("TargetName", geometry.target_name or "MARS"),
+            ("EquatorialRadius", pvl.Quantity(geometry.a_axis_km * 1000.0, "m")),
+            ("PolarRadius", pvl.Quantity(geometry.c_axis_km * 1000.0, "m")),
+            ("CenterLatitude", geometry.center_latitude),
+            ("CenterLongitude", geometry.center_longitude),
+            ("PixelResolution", pvl.Quantity(transform.a, "m")),
+            ("UpperLeftCornerX", pvl.Quantity(transform.c, "m")),
+            ("UpperLeftCornerY", pvl.Quantity(transform.f, "m")),
+            ("MinimumLatitude", geometry.minimum_latitude),
+            ("MaximumLatitude", geometry.maximum_latitude),
+            ("MinimumLongitude", geometry.westernmost_longitude),
+            ("MaximumLongitude", geometry.easternmost_longitude),
+            ("Proj4", written.crs.to_proj4()),
+        ])),
+        ("Algorithm", pvl.PVLObject([
+            ("Name", str(keywords.get("EXTRACTION_METHOD", "UNK"))),
+            *[(key, value) for key, value in dict(keywords.get("MATCHER_PARAMETERS", {}) or {}).items()],
+        ])),
+    ])
+    return pvl.dumps(module, encoder=pvl.encoder.ISISEncoder())
