@@ -1,8 +1,8 @@
 """Regenerate docs/images/: small example Extras pictures for README.md, from the demo.
 
 Runs the demo into a temporary directory, makes the Extras of its DTM and of its
-orthoimage (the .JP2 product when the demo makes one, else the demo's orthoimage
-input GeoTIFF), and stores reduced copies of the annotated browses and a strip of
+orthoimage (the demo's .JP2 product, or one written here with pdsgen.ortho from the
+demo's orthoimage input when the demo makes none), and stores reduced copies of the annotated browses and a strip of
 thumbnails, each kept under 150 KB.
 
 Run from the repository root: PYTHONPATH=src python tools/make_readme_images.py
@@ -18,6 +18,7 @@ from PIL import Image
 
 from pdsgen.demo import run_demo
 from pdsgen.extras import make_extras
+from pdsgen.ortho import write_ortho
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "images"
 MAX_BYTES = 150 * 1024
@@ -53,11 +54,15 @@ def main() -> None:
     with tempfile.TemporaryDirectory(prefix="pdsgen-readme-images-") as tmp:
         demo = run_demo(Path(tmp) / "demo")
         dtm = next(p for p in demo.products if p.suffix.upper() == ".IMG")
-        jp2 = [p for p in demo.products if p.suffix.upper() in (".JP2", ".LBL")]
-        ortho = jp2[0] if jp2 else next(p for p in demo.inputs if "ortho" in p.name)
+        labels = [p for p in demo.products if p.suffix.upper() in (".LBL", ".JP2")]
+        if labels:
+            ortho = labels[0]
+        else:
+            source = next(p for p in demo.inputs if "ortho" in p.name)
+            ortho = write_ortho(source, Path(tmp) / "ortho").label_path
         extras = Path(tmp) / "extras"
         made = make_extras([dtm], extras, browse_width=BROWSE_WIDTH)
-        made += make_extras([ortho], extras / "ortho", browse_width=BROWSE_WIDTH, kind="ortho")
+        made += make_extras([ortho], extras / "ortho", browse_width=BROWSE_WIDTH)
         by_suffix = {p.name.split(".", 1)[1]: p for p in made}
         for code, name in (("ca.jpg", "extras_colour_annotated.jpg"),
                            ("sa.jpg", "extras_shaded_annotated.jpg"),
