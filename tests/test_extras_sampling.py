@@ -52,3 +52,15 @@ def test_averaging_leaves_no_data_out_of_each_preview_pixel(tmp_path: Path):
     assert np.ma.getmaskarray(browse)[0, :, :5].all()
     assert np.allclose(browse[0, :, 6:].compressed(), 7.0)
     assert np.allclose(browse.compressed(), 7.0)  # the mixed column averages valid pixels only
+
+
+def test_missing_constant_bit_pattern_and_plain_values(tmp_path: Path):
+    from pdsgen.extras.product_source import _label_nodata
+
+    pattern = {"SAMPLE_TYPE": "PC_REAL", "MISSING_CONSTANT": 0xFF7FFFFB}
+    assert _label_nodata(pattern, "float32", None) == np.float32(-3.4028226550889045e38)
+    plain = {"SAMPLE_TYPE": "PC_REAL", "MISSING_CONSTANT": -32768}
+    assert _label_nodata(plain, "float32", None) == -32768.0
+    core_null = {"SAMPLE_TYPE": "MSB_UNSIGNED_INTEGER", "CORE_NULL": 0}
+    assert _label_nodata(core_null, "uint16", None) == 0.0
+    assert _label_nodata({}, "int16", -32768.0) == -32768.0

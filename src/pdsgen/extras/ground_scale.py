@@ -10,6 +10,12 @@ to longitude/latitude with PROJ (rasterio.warp.transform) and convert the angula
 difference to metres with the ellipsoid's radii of curvature. Geographic (degree)
 rasters go through the same code.
 
+Archived global maps go through the same path: GDAL reads the MOLA MEGDR label
+(SIMPLE CYLINDRICAL, 3396 km sphere, 14.818 km/pixel) as an equirectangular CRS in
+metres with standard parallel 0, so at its image centre (the equator) the bar uses
+14818 m per product pixel; its north is up. The bar is true along image rows at the
+image centre only; README.TXT and the module docstring of `annotate` say so.
+
 North is found the same way: step a little north in latitude, project forward, and
 see where that lands in pixel coordinates. On a polar stereographic map north points
 to (or away from) the pole, not up.

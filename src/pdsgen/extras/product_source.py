@@ -251,9 +251,12 @@ def _label_nodata(image: dict, dtype: str, gdal_nodata: float | None) -> float |
             if value is None:
                 continue
             sample_type = str(image.get("SAMPLE_TYPE", "")).upper()
-            if dtype.startswith("float") and isinstance(value, int) and (
-                    sample_type in _FLOAT_TYPES or value > 2**24):
-                return struct.unpack(">f", struct.pack(">I", value & 0xFFFFFFFF))[0]
+            # A REAL image's MISSING_CONSTANT is usually a based integer holding the
+            # float's bit pattern (16#FF7FFFFB#); pvl hands it over as a large int.
+            # Small integers (-32768, 0) are plain values.
+            if (dtype.startswith("float") and isinstance(value, int)
+                    and sample_type in _FLOAT_TYPES | {""} and 2**23 <= value < 2**32):
+                return struct.unpack(">f", struct.pack(">I", value))[0]
             return float(value)
     return gdal_nodata
 
