@@ -157,3 +157,23 @@ def test_vicar_earth_input_from_hrsc_ax(tmp_path):
     assert projection["A_AXIS_RADIUS"].value == pytest.approx(radius / 1000.0)
     with rasterio.open(product.path) as out:
         assert np.array_equal(out.read(1), heights)
+
+
+def test_nd4_orthoimage_is_8_bit_with_null_zero(tmp_path):
+    crs, transform = GRIDS["sinusoidal"]
+    reflectance = np.linspace(0.02, 0.3, 60 * 40, dtype=np.float32).reshape(60, 40)
+    reflectance[0, :5] = np.nan
+    source = write_raster(tmp_path / "nadir.tif", reflectance, crs, transform)
+    result = run_cli("ortho", source, "-o", tmp_path / "out", "--profile", "hrsc",
+                     "--source-product-id", "H1234_0000_ND3")
+    assert result.returncode == 0, result.stderr
+    path = tmp_path / "out" / "h1234_0000_nd4.img"
+    label = pvl.load(str(path))
+    assert label["IMAGE"]["SAMPLE_BITS"] == 8 and label["IMAGE"]["MISSING_CONSTANT"] == 0
+    with rasterio.open(path) as out:
+        dn = out.read(1)
+        assert out.transform.almost_equals(transform, precision=1e-6)
+    assert np.all(dn[0, :5] == 0) and dn[1:].min() >= 1 and dn.max() <= 254
+    scale, offset = label["IMAGE"]["SCALING_FACTOR"], label["IMAGE"]["OFFSET"]
+    valid = np.isfinite(reflectance)
+    assert np.max(np.abs(dn[valid] * scale + offset - reflectance[valid])) <= scale / 2 + 1e-7
