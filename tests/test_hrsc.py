@@ -177,3 +177,22 @@ def test_nd4_orthoimage_is_8_bit_with_null_zero(tmp_path):
     scale, offset = label["IMAGE"]["SCALING_FACTOR"], label["IMAGE"]["OFFSET"]
     valid = np.isfinite(reflectance)
     assert np.max(np.abs(dn[valid] * scale + offset - reflectance[valid])) <= scale / 2 + 1e-7
+
+
+def test_extras_of_hrsc_products_use_hrsc_names_and_credit(tmp_path):
+    from PIL import Image
+
+    from pdsgen.extras import make_extras
+    from pdsgen.extras.product_source import open_product
+
+    crs, transform = GRIDS["sinusoidal"]
+    source = write_raster(tmp_path / "in.tif", elevation_array(120, 100, seed=4), crs, transform)
+    product = write_hrsc_dtm(source, tmp_path / "out", product_id="h1234_0000")
+    assert open_product(product.path).mission == "hrsc"
+    written = make_extras([product.path], tmp_path / "extras")
+    names = {path.name for path in written}
+    assert {"h1234_0000_dt4.br.jpg", "h1234_0000_dt4.ca.jpg", "README.TXT"} <= names
+    readme = (tmp_path / "extras" / "README.TXT").read_text()
+    assert "ESA/DLR/FU Berlin" in readme
+    with Image.open(tmp_path / "extras" / "h1234_0000_dt4.ab.jpg") as annotated:
+        assert annotated.width > 0

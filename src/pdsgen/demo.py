@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .dtm import write_dtm
+from .extras import make_extras
 from .ortho import write_ortho
 from .staging import prepare_output_dir
 from .synthetic import make_scene, write_geotiff
@@ -58,5 +59,12 @@ def run_demo(outdir: str | os.PathLike[str], overwrite: bool = True) -> DemoResu
     result.lines.append(
         f"ORTHO  {ortho.jp2_path.name} + {ortho.label_path.name}: {ortho.bits}-bit lossless JPEG 2000, "
         f"I/F = DN * {ortho.scaling_factor:.6g} + {ortho.offset:.6g}"
+    )
+
+    extras = make_extras([dtm.path, ortho.label_path], outdir / "extras", overwrite=overwrite)
+    result.products += extras
+    result.lines.append(
+        f"EXTRAS {len(extras) - 1} preview JPEGs and README.TXT in {outdir.name}/extras/ "
+        f"(greyscale, shaded relief, colour over relief; orthoimage browse)"
     )
     return result

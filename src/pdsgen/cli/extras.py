@@ -5,6 +5,7 @@ from __future__ import annotations
 import click
 
 from ..extras import DEFAULT_CREDIT, KINDS, make_extras
+from ..profiles import PROFILES
 
 
 @click.command(short_help="Make browse, annotated browse and thumbnail JPEGs and README.TXT.")
@@ -12,8 +13,8 @@ from ..extras import DEFAULT_CREDIT, KINDS, make_extras
                 type=click.Path(dir_okay=False))
 @click.option("-o", "--outdir", required=True, type=click.Path(file_okay=False),
               help="Output directory.")
-@click.option("--credit", help=f"Credit line on annotated images [default: params CREDIT, "
-                               f"else {DEFAULT_CREDIT!r}].")
+@click.option("--credit", help=f"Credit line on annotated images [default: params CREDIT, else the "
+                               f"profile's (hrsc: 'ESA/DLR/FU Berlin'), else {DEFAULT_CREDIT!r}].")
 @click.option("--params", "params_file", type=click.Path(dir_okay=False),
               help="PVL or TOML file of producer keywords (contact, known artifacts ...).")
 @click.option("--browse-width", type=int,
@@ -29,13 +30,15 @@ from ..extras import DEFAULT_CREDIT, KINDS, make_extras
                    "automatically when the relief is too faint at preview scale].")
 @click.option("--kind", type=click.Choice(KINDS),
               help="Treat every PRODUCT as this kind [default: from the label or data type].")
+@click.option("--profile", type=click.Choice(sorted(PROFILES)),
+              help="Mission conventions (credit line) [default: from each product's label].")
 @click.option("--overwrite", is_flag=True, help="Replace existing Extras files.")
 def extras(products, outdir, credit, params_file, browse_width, thumb_width, azimuth, altitude,
-           exaggeration, kind, overwrite) -> None:
+           exaggeration, kind, profile, overwrite) -> None:
     """Write the Extras of each PRODUCT (a PDS3 .IMG/.LBL/.JP2 or a GeoTIFF) into OUTDIR."""
     written = make_extras(products, outdir, credit=credit, params=params_file,
                           browse_width=browse_width, thumb_width=thumb_width, azimuth=azimuth,
                           altitude=altitude, exaggeration=exaggeration, kind=kind,
-                          overwrite=overwrite)
+                          profile=profile, overwrite=overwrite)
     for path in written:
         click.echo(str(path))

@@ -18,6 +18,7 @@ from PIL import Image
 
 from ..errors import PdsgenError
 from ..params import ParamValue, load_params
+from ..profiles import PROFILES
 from ..staging import StagedOutputs, prepare_output_dir
 from .product_source import KINDS, ProductSource, open_product
 from .readme_txt import README_NAME, render_readme
@@ -41,6 +42,7 @@ def make_extras(
     altitude: float = 45.0,
     exaggeration: float | None = None,
     kind: str | None = None,
+    profile: str | None = None,
     overwrite: bool = False,
 ) -> list[Path]:
     """Write the Extras of PRODUCTS into OUTDIR; return the paths written.
@@ -50,19 +52,20 @@ def make_extras(
     products. `exaggeration` is the shaded relief's vertical exaggeration (default:
     1, raised automatically when the relief would be too faint to see at preview
     scale, and then printed on the images). The credit line is `credit`, else the params' CREDIT, else
-    "NASA/JPL/University of Arizona".
+    the credit of `profile`, else that of the mission the product's label names (HRSC:
+    "ESA/DLR/FU Berlin"), else "NASA/JPL/University of Arizona".
     """
     if not products:
         raise PdsgenError(None, "no products given")
     _check_options(browse_width, thumb_width, altitude, exaggeration)
     keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
-    credit_line = _credit(credit, keywords)
     sources = [open_product(p, kind) for p in products]
+    credits = [_credit(credit, keywords, profile or src.mission) for src in sources]
     _check_unique_ids(sources)
     outdir = prepare_output_dir(outdir)
     written: list[Path] = []
     rendered: list[ProductPreviews] = []
-    for src in sources:
+    for src, credit_line in zip(sources, credits, strict=True):
         previews = render_product(src, credit=credit_line, browse_width=browse_width,
                                   thumb_width=thumb_width, azimuth=azimuth, altitude=altitude,
                                   exaggeration=exaggeration)
@@ -70,7 +73,7 @@ def make_extras(
         rendered.append(previews)
     readme = outdir / README_NAME
     with StagedOutputs([readme], overwrite) as staged:
-        staged.path(readme).write_bytes(render_readme(rendered, keywords, credit_line,
+        staged.path(readme).write_bytes(render_readme(rendered, keywords, credits[0],
                                                       azimuth, altitude))
     return [*written, readme]
 
@@ -104,8 +107,9 @@ def _write_previews(previews: ProductPreviews, outdir: Path, overwrite: bool) ->
     return [path for path, _, _ in jobs]
 
 
-def _credit(credit: str | None, keywords: Mapping[str, ParamValue]) -> str:
-    text = credit if credit is not None else str(keywords.get("CREDIT", DEFAULT_CREDIT))
+def _credit(credit: str | None, keywords: Mapping[str, ParamValue], profile: str) -> str:
+    profile_credit = PROFILES[profile].credit if profile in PROFILES else ""
+    text = credit if credit is not None else str(keywords.get("CREDIT", profile_credit or DEFAULT_CREDIT))
     if not text.isascii():
         raise PdsgenError(None, f"credit line {text!r} must be ASCII text")
     return " ".join(text.split())

@@ -38,6 +38,7 @@ KINDS = (DTM, ORTHO)
 GDAL_ENV = {"GDAL_CACHEMAX": 16 * 1024 * 1024, "GDAL_PAM_ENABLED": "NO"}
 
 _LABEL_SCAN_BYTES = 4 * 1024 * 1024
+_HRSC_NAME = re.compile(r"^h\d{4,5}_\d{4}_[a-z]{2}\d", re.IGNORECASE)
 _END_LINE = re.compile(rb"^[ \t]*END[ \t]*\r?$", re.MULTILINE)
 _FLOAT_TYPES = {"PC_REAL", "IEEE_REAL", "REAL", "MAC_REAL", "SUN_REAL", "FLOAT"}
 _ELEVATION_WORDS = ("TOPOGRAPHY", "ELEVATION", "HEIGHT", "RADIUS", "DTM", "DEM", "ALTIMETRY")
@@ -70,6 +71,7 @@ class ProductSource:
     label: dict = field(default_factory=dict)
 
     gdal_nodata: float | None = None     # what GDAL itself reports
+    mission: str = ""                    # profile whose conventions the product follows, if known
 
     @contextmanager
     def open(self, out_shape: tuple[int, int] | None = None
@@ -147,7 +149,7 @@ def open_product(path: str | os.PathLike[str], kind: str | None = None) -> Produ
     image = _image_object(label)
     src = ProductSource(
         path=path, raster_path=raster_path, label_path=label_path,
-        product_id=_product_id(label, path), kind="", label=label,
+        product_id=_product_id(label, path), kind="", label=label, mission=_mission(label, path),
         nodata=_label_nodata(image, info["dtype"], info["nodata"]),
         special_dns=_special_dns(image), **{k: v for k, v in info.items() if k != "nodata"},
     )
@@ -232,9 +234,25 @@ def _image_object(label: dict) -> dict:
     return {}
 
 
+def _mission(label: dict, path: Path) -> str:
+    """"hrsc" or "hirise" when the label (or an HRSC file name) says so, else ""."""
+    instrument = str(label.get("INSTRUMENT_ID", "") or "").upper()
+    if instrument == "HRSC" or "MEX:DTM" in label or _HRSC_NAME.match(path.name):
+        return "hrsc"
+    if instrument == "HIRISE":
+        return "hirise"
+    return ""
+
+
 def _product_id(label: dict, path: Path) -> str:
-    """PRODUCT_ID without a file extension some archives include (MOLA's "X.IMG")."""
+    """PRODUCT_ID without a file extension some archives include (MOLA's "X.IMG").
+
+    HRSC products keep their archive's lower-case names (h1234_0000_dt4), so the
+    Extras sit beside them under the same name.
+    """
     value = str(label.get("PRODUCT_ID", "") or "").strip()
+    if _mission(label, path) == "hrsc":
+        value = value.lower() or path.stem.lower()
     if not value or value.upper() in ("N/A", "UNK", "NULL"):
         value = path.stem
     value = re.sub(r"\.(IMG|JP2|LBL|TIF|TIFF)$", "", value, flags=re.IGNORECASE)
