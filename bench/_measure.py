@@ -1,12 +1,33 @@
-"""Run a command in a fresh process and report wall time and peak memory (RSS)."""
+"""Run a command in a fresh process and report wall time and peak memory (RSS).
+
+Linux keeps a process's peak-RSS mark across fork and exec, so a child forked
+from a large benchmark process would report at least the parent's size. Each
+command is therefore started from a small launcher process (a bare Python that
+imports nothing else), whose own few MB are the floor of what is reported.
+"""
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import subprocess
+import sys
+import tempfile
 import time
 from dataclasses import dataclass
+
+_LAUNCHER = """
+import json, os, sys, time
+start = time.perf_counter()
+pid = os.fork()
+if pid == 0:
+    os.execvp(sys.argv[2], sys.argv[2:])
+_, status, usage = os.wait4(pid, 0)
+with open(sys.argv[1], "w") as handle:
+    json.dump({"seconds": time.perf_counter() - start, "peak_kb": usage.ru_maxrss,
+               "exit": os.waitstatus_to_exitcode(status)}, handle)
+"""
 
 
 @dataclass(frozen=True)
@@ -16,15 +37,14 @@ class Run:
 
 
 def measure(command: list[str], env: dict[str, str] | None = None) -> Run:
-    """Wall time and the child's own peak RSS (from wait4), so runs don't share a high-water mark."""
-    start = time.perf_counter()
-    process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env)
-    _, status, usage = os.wait4(process.pid, 0)
-    elapsed = time.perf_counter() - start
-    stderr = process.stderr.read().decode(errors="replace") if process.stderr else ""
-    if os.waitstatus_to_exitcode(status) != 0:
-        raise SystemExit(f"command failed: {' '.join(command)}\n{stderr}")
-    return Run(elapsed, usage.ru_maxrss / 1024.0)
+    """Wall time and peak RSS of `command`, measured by a small launcher process."""
+    with tempfile.NamedTemporaryFile(suffix=".json") as report:
+        process = subprocess.run([sys.executable, "-S", "-c", _LAUNCHER, report.name, *command],
+                                 stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env)
+        result = json.loads(open(report.name).read() or "{}")
+    if process.returncode != 0 or result.get("exit") != 0:
+        raise SystemExit(f"command failed: {' '.join(command)}\n{process.stderr.decode(errors='replace')}")
+    return Run(result["seconds"], result["peak_kb"] / 1024.0)
 
 
 def best_of(command: list[str], repeat: int, outputs: list[str], env: dict[str, str] | None = None) -> Run:

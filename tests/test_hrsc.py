@@ -157,3 +157,42 @@ def test_vicar_earth_input_from_hrsc_ax(tmp_path):
     assert projection["A_AXIS_RADIUS"].value == pytest.approx(radius / 1000.0)
     with rasterio.open(product.path) as out:
         assert np.array_equal(out.read(1), heights)
+
+
+def test_nd4_orthoimage_is_8_bit_with_null_zero(tmp_path):
+    crs, transform = GRIDS["sinusoidal"]
+    reflectance = np.linspace(0.02, 0.3, 60 * 40, dtype=np.float32).reshape(60, 40)
+    reflectance[0, :5] = np.nan
+    source = write_raster(tmp_path / "nadir.tif", reflectance, crs, transform)
+    result = run_cli("ortho", source, "-o", tmp_path / "out", "--profile", "hrsc",
+                     "--source-product-id", "H1234_0000_ND3")
+    assert result.returncode == 0, result.stderr
+    path = tmp_path / "out" / "h1234_0000_nd4.img"
+    label = pvl.load(str(path))
+    assert label["IMAGE"]["SAMPLE_BITS"] == 8 and label["IMAGE"]["MISSING_CONSTANT"] == 0
+    with rasterio.open(path) as out:
+        dn = out.read(1)
+        assert out.transform.almost_equals(transform, precision=1e-6)
+    assert np.all(dn[0, :5] == 0) and dn[1:].min() >= 1 and dn.max() <= 254
+    scale, offset = label["IMAGE"]["SCALING_FACTOR"], label["IMAGE"]["OFFSET"]
+    valid = np.isfinite(reflectance)
+    assert np.max(np.abs(dn[valid] * scale + offset - reflectance[valid])) <= scale / 2 + 1e-7
+
+
+def test_extras_of_hrsc_products_use_hrsc_names_and_credit(tmp_path):
+    from PIL import Image
+
+    from pdsgen.extras import make_extras
+    from pdsgen.extras.product_source import open_product
+
+    crs, transform = GRIDS["sinusoidal"]
+    source = write_raster(tmp_path / "in.tif", elevation_array(120, 100, seed=4), crs, transform)
+    product = write_hrsc_dtm(source, tmp_path / "out", product_id="h1234_0000")
+    assert open_product(product.path).mission == "hrsc"
+    written = make_extras([product.path], tmp_path / "extras")
+    names = {path.name for path in written}
+    assert {"h1234_0000_dt4.br.jpg", "h1234_0000_dt4.ca.jpg", "README.TXT"} <= names
+    readme = (tmp_path / "extras" / "README.TXT").read_text()
+    assert "ESA/DLR/FU Berlin" in readme
+    with Image.open(tmp_path / "extras" / "h1234_0000_dt4.ab.jpg") as annotated:
+        assert annotated.width > 0

@@ -94,3 +94,24 @@ def test_cli_imars_profile(tmp_path, polar_dtm):
     assert result.returncode == 0, result.stderr
     assert (tmp_path / "out" / "h0022_0000_da4_ucl.tif").exists()
     assert (tmp_path / "out" / "h0022_0000_da4_ucl.pvl").exists()
+
+
+def test_ori_is_byte_geotiff_with_nodata_zero_and_shares_the_footprint(tmp_path, polar_dtm):
+    dtm_source, _ = polar_dtm
+    image = np.linspace(0.0, 1.0, 90 * 70, dtype=np.float32).reshape(90, 70)
+    image[:, :3] = np.nan
+    with rasterio.open(dtm_source) as src:
+        ori_source = write_raster(tmp_path / "ori.tif", image, src.crs.to_proj4(), src.transform)
+    from pdsgen.imars import write_imars_ori
+
+    write_imars_dtm(dtm_source, tmp_path / "out", product_id="h0022_0000")
+    ori = write_imars_ori(ori_source, tmp_path / "out", product_id="h0022_0000")
+    assert ori.tiff_path.name == "h0022_0000_nd4_ucl.tif"
+    with rasterio.open(ori.tiff_path) as out:
+        assert out.nodata == 0 and out.dtypes[0] == "uint8"
+        dn = out.read(1)
+    assert np.all(dn[:, :3] == 0) and dn[:, 3:].min() >= 1
+    label = pvl.load(str(ori.pvl_path))
+    assert label["ProductInfo"]["ProductType"] == "ORI" and label["Image"]["NoData"] == 0
+    ids = [f["id"] for f in json.loads(ori.footprint_path.read_text())["features"]]
+    assert ids == ["h0022_0000_da4", "h0022_0000_nd4"]

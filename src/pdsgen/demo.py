@@ -11,11 +11,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .dtm import write_dtm
+from .extras import make_extras
+from .ortho import write_ortho
 from .staging import prepare_output_dir
 from .synthetic import make_scene, write_geotiff
 
 DEMO_SOURCES = ("PSP_008669_1705", "PSP_009025_1705")
 DEMO_INSTITUTION = "U"
+DEMO_ORTHO_OBSERVATION = "PSP_008669_1705"
 
 
 @dataclass
@@ -46,5 +49,22 @@ def run_demo(outdir: str | os.PathLike[str], overwrite: bool = True) -> DemoResu
         f"DTM    {dtm.path.name}: {dtm.geometry.samples} x {dtm.geometry.lines} posts at "
         f"{dtm.geometry.map_scale:g} m, {dtm.geometry.projection_type.lower()}, "
         f"elevations {dtm.valid_minimum:.1f} .. {dtm.valid_maximum:.1f} m"
+    )
+
+    ortho = write_ortho(
+        ortho_input, outdir, profile="hirise", observation_id=DEMO_ORTHO_OBSERVATION,
+        source_dtm_id=dtm.product_id, overwrite=overwrite,
+    )
+    result.products += [ortho.jp2_path, ortho.label_path]
+    result.lines.append(
+        f"ORTHO  {ortho.jp2_path.name} + {ortho.label_path.name}: {ortho.bits}-bit lossless JPEG 2000, "
+        f"I/F = DN * {ortho.scaling_factor:.6g} + {ortho.offset:.6g}"
+    )
+
+    extras = make_extras([dtm.path, ortho.label_path], outdir / "extras", overwrite=overwrite)
+    result.products += extras
+    result.lines.append(
+        f"EXTRAS {len(extras) - 1} preview JPEGs and README.TXT in {outdir.name}/extras/ "
+        f"(greyscale, shaded relief, colour over relief; orthoimage browse)"
     )
     return result

@@ -78,7 +78,7 @@ def write_dtm(
             dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path)
         )
         sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
-        ident = _identification(chosen.dtm_keywords, keywords, geometry, version)
+        ident = identification_keywords(chosen.dtm_keywords, keywords, geometry, version)
         product_id = _dtm_product_id(
             chosen.name, product_id, input_path, geometry, sources, institution,
             str(ident["PRODUCT_VERSION_ID"]),
@@ -127,7 +127,7 @@ def write_dtm(
     )
 
 
-def _identification(
+def identification_keywords(
     defaults: Mapping[str, str], keywords: Mapping[str, ParamValue], geometry: MapGeometry, version: str
 ) -> dict[str, ParamValue]:
     ident: dict[str, ParamValue] = {

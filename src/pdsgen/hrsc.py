@@ -36,6 +36,7 @@ from .label.render import RecordLayout, render_label
 from .label.values import Based, Symbol
 from .params import ParamValue, load_params
 from .read_raster import open_raster, require_single_band
+from .scale_dn import SPECIAL_DNS, identity_mapping, linear_mapping, to_dns
 from .staging import StagedOutputs, prepare_output_dir
 from .write_image import Adjust, BandStatistics, scan_band, stream_band, write_attached_product
 
@@ -59,6 +60,11 @@ HRSC_KEYWORDS = {
     "INSTRUMENT_ID": "HRSC",
     "TARGET_NAME": "MARS",
     "RATIONALE_DESC": "UNK",
+}
+HRSC_ND4_KEYWORDS = {
+    **HRSC_KEYWORDS,
+    "DATA_SET_ID": "MEX-M-HRSC-5-REFDR-MAPPROJECTED-V2.0",
+    "DATA_SET_NAME": "MARS EXPRESS HRSC MAP PROJECTED REDUCED DATA RECORD V2.0",
 }
 HRSC_CREDIT = "ESA/DLR/FU Berlin"
 _BASE_RE = re.compile(r"^h(?P<orbit>\d{4,5})_(?P<sequence>\d{4})", re.IGNORECASE)
@@ -231,14 +237,8 @@ def write_hrsc_dtm(
             f"{vertical_datum}: give --areoid FILE to convert",
         )
     keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
-    sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
-    base, orbit = hrsc_base_name(product_id, sources)
     input_path = Path(input_path)
-    with open_raster(input_path) as dataset, hrsc_grid(dataset, reproject_input) as grid:
-        require_single_band(grid)
-        geometry = describe_geometry(grid.crs, grid.transform, grid.width, grid.height, str(input_path))
-        _, centre_lat = _centre_lonlat(grid.crs, grid.transform, grid.width, grid.height)
-        check_hrsc_geometry(geometry, centre_lat, str(input_path))
+    with hrsc_input(input_path, reproject_input) as (grid, geometry):
         adjust = None
         if output_datum != vertical_datum:
             adjust = areoid_adjustment(areoid, grid, +1.0 if output_datum == "sphere" else -1.0)
@@ -246,16 +246,9 @@ def write_hrsc_dtm(
         if physical.valid_count == 0:
             raise PdsgenError(input_path, "has no valid pixels (all nodata)")
         encoding = choose_encoding(physical, precision, str(input_path))
-        ident = {**HRSC_KEYWORDS, "PRODUCT_VERSION_ID": version, "SOFTWARE_NAME": f"pdsgen {__version__}"}
-        ident.update({k: v for k, v in keywords.items() if k in ident})
-        file_name = f"{base}_{kind}.img"
-        final_id = f"{base}_{kind}".upper()
-        context = {
-            "file_name": file_name,
-            "product_id": final_id,
-            "orbit": orbit,
-            "ident": ident,
-            "source_product_id": [Symbol(s) for s in sources] if sources else "N/A",
+        context = hrsc_identification(HRSC_KEYWORDS, keywords, product_id, source_product_ids, kind, version)
+        file_name, final_id = context["file_name"], context["product_id"]
+        context |= {
             "geometry": geometry,
             "sample_type": Symbol("MSB_INTEGER" if byte_order == "msb" else "LSB_INTEGER"),
             "bit_mask": Based(0xFFFF, 2, 16),
@@ -289,6 +282,112 @@ def write_hrsc_dtm(
                           _as_int(stats.maximum), text)
 
 
+@contextmanager
+def hrsc_input(input_path: Path, reproject_input: bool) -> Iterator[tuple[DatasetReader, MapGeometry]]:
+    """Open a single-band input on the HRSC grid (as is, or warped) and check its geometry."""
+    with open_raster(input_path) as dataset, hrsc_grid(dataset, reproject_input) as grid:
+        require_single_band(grid)
+        geometry = describe_geometry(grid.crs, grid.transform, grid.width, grid.height, str(input_path))
+        _, centre_lat = _centre_lonlat(grid.crs, grid.transform, grid.width, grid.height)
+        check_hrsc_geometry(geometry, centre_lat, str(input_path))
+        yield grid, geometry
+
+
+def hrsc_identification(
+    defaults: Mapping[str, str], keywords: Mapping[str, ParamValue], product_id: str | None,
+    source_product_ids: Sequence[str], kind: str, version: str,
+) -> dict:
+    """File name, PRODUCT_ID, orbit and identification keywords of one HRSC product."""
+    sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
+    base, orbit = hrsc_base_name(product_id, sources)
+    ident = {**defaults, "PRODUCT_VERSION_ID": version, "SOFTWARE_NAME": f"pdsgen {__version__}"}
+    ident.update({k: v for k, v in keywords.items() if k in ident})
+    return {
+        "file_name": f"{base}_{kind}.img",
+        "product_id": f"{base}_{kind}".upper(),
+        "orbit": orbit,
+        "ident": ident,
+        "source_product_id": [Symbol(s) for s in sources] if sources else "N/A",
+    }
+
+
+@dataclass(frozen=True)
+class HrscImageProduct:
+    product_id: str
+    path: Path
+    geometry: MapGeometry
+    scaling_factor: float
+    offset: float
+    valid_minimum: int
+    valid_maximum: int
+    label_text: str
+
+
+def write_hrsc_nd4(
+    input_path: str | os.PathLike[str],
+    outdir: str | os.PathLike[str],
+    *,
+    value_range: tuple[float, float] | None = None,
+    reproject_input: bool = False,
+    product_id: str | None = None,
+    source_product_ids: Sequence[str] = (),
+    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
+    version: str = "1.0",
+    overwrite: bool = False,
+) -> HrscImageProduct:
+    """Write the nadir orthoimage `OUTDIR/hOOOO_NNNN_nd4.img`: 8-bit DNs, 0 = no data.
+
+    Byte input keeps its DNs (0 is HRSC's no-data DN already); anything else is
+    mapped linearly from its valid range (or `value_range`) onto DNs 1..254,
+    with SCALING_FACTOR and OFFSET giving the input values back.
+    """
+    keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
+    input_path = Path(input_path)
+    special = SPECIAL_DNS[8]
+    with hrsc_input(input_path, reproject_input) as (grid, geometry):
+        if value_range is not None:
+            mapping = linear_mapping(special, *value_range)
+        elif np.dtype(grid.dtypes[0]) == np.uint8:
+            mapping = identity_mapping(special)
+        else:
+            physical = scan_band(grid)
+            if physical.valid_count == 0:
+                raise PdsgenError(input_path, "has no valid pixels (all nodata)")
+            mapping = linear_mapping(special, physical.minimum, physical.maximum)
+        context = hrsc_identification(HRSC_ND4_KEYWORDS, keywords, product_id, source_product_ids, "nd4", version)
+        context |= {
+            "geometry": geometry,
+            "bit_mask": Based(0xFF, 2, 8),
+            "offset": mapping.offset,
+            "scaling_factor": mapping.scaling_factor,
+            "missing_dn": special.null,
+            "note": "Nadir orthoimage. Value = DN * SCALING_FACTOR + OFFSET; DN 0 marks missing data.",
+        }
+
+        def encode(values: np.ndarray, invalid: np.ndarray | None) -> np.ndarray:
+            dns = to_dns(values, None, mapping, str(input_path))
+            if invalid is not None:
+                dns[invalid] = special.null
+            return dns
+
+        def render(records: RecordLayout, stats: BandStatistics) -> str:
+            return render_label("hrsc_nd4.lbl.j2", {**context, "records": records,
+                                                    "valid_minimum": _as_int(stats.minimum),
+                                                    "valid_maximum": _as_int(stats.maximum)})
+
+        def write_data(handle) -> BandStatistics:
+            stats = stream_band(grid, handle, True, encode)
+            if stats.valid_count == 0:
+                raise PdsgenError(input_path, "has no valid pixels (all nodata)")
+            return stats
+
+        final = prepare_output_dir(outdir) / context["file_name"]
+        with StagedOutputs([final], overwrite) as staged:
+            _, text, stats = write_attached_product(staged.path(final), render, grid.width, grid.height, write_data)
+    return HrscImageProduct(context["product_id"], final, geometry, mapping.scaling_factor, mapping.offset,
+                            _as_int(stats.minimum), _as_int(stats.maximum), text)
+
+
 def _as_int(value: float) -> int:
     """DN statistics are integers; write_attached_product's label-size reservation passes
     a non-integer placeholder, which must stay at least as wide as any int16 when written."""
@@ -312,4 +411,4 @@ def _snap_to_pixels(transform: Affine, width: int, height: int, resolution: floa
     return Affine(resolution, 0.0, left, 0.0, -resolution, top), width, height
 
 
-__all__ = ["write_hrsc_dtm", "HrscDtmProduct", "Int16Encoding", "HRSC_CREDIT"]
+__all__ = ["write_hrsc_dtm", "write_hrsc_nd4", "HrscDtmProduct", "HrscImageProduct", "Int16Encoding", "HRSC_CREDIT"]

@@ -26,6 +26,7 @@ from .geometry import MapGeometry, describe_geometry
 from .hrsc import MISSING_DN, Int16Encoding, choose_encoding, hrsc_base_name
 from .params import ParamValue, load_params
 from .read_raster import open_raster, require_single_band
+from .scale_dn import SPECIAL_DNS, identity_mapping, linear_mapping, to_dns
 from .staging import StagedOutputs, prepare_output_dir
 from .write_image import physical_strips, scan_band, valid_extremes
 
@@ -73,9 +74,11 @@ def write_imars_dtm(
         encoding = choose_encoding(physical, precision, str(input_path))
         out = prepare_output_dir(outdir)
         tiff, metadata = out / f"{stem}.tif", out / f"{stem}.pvl"
-        tags = _processing_tags(base, kind, encoding, keywords, sources)
+        tags = _processing_tags(f"{base}_{kind}4", _DTM_DESCRIPTIONS[kind], encoding.scaling_factor,
+                                encoding.offset, MISSING_DN, keywords, sources)
         with StagedOutputs([tiff, metadata], overwrite) as staged:
-            low, high = _write_int16_geotiff(dataset, staged.path(tiff), encoding, tags)
+            low, high = _write_geotiff(dataset, staged.path(tiff), "int16", MISSING_DN, encoding.encode,
+                                       encoding.scaling_factor, encoding.offset, tags)
             with rasterio.open(staged.path(tiff)) as written:
                 text = imars_pvl_text(written, tiff.name, f"{base}_{kind}4", "DTM", geometry, keywords, sources,
                                       {"ValidMinimum": low, "ValidMaximum": high,
@@ -89,20 +92,21 @@ def write_imars_dtm(
     return ImarsProduct(f"{base}_{kind}4", tiff, metadata, footprint, geometry, encoding, low, high)
 
 
-def _write_int16_geotiff(dataset, path: Path, encoding: Int16Encoding, tags: dict[str, str]) -> tuple[int, int]:
-    """Stream the encoded heights into a tiled, compressed GeoTIFF; return the DN range."""
+def _write_geotiff(dataset, path: Path, dtype: str, nodata: int, encode, scale: float, offset: float,
+                   tags: dict[str, str]) -> tuple[int, int]:
+    """Stream encoded samples into a tiled, compressed GeoTIFF; return the valid DN range."""
     profile = {
-        "driver": "GTiff", "width": dataset.width, "height": dataset.height, "count": 1, "dtype": "int16",
-        "crs": dataset.crs, "transform": dataset.transform, "nodata": MISSING_DN, "tiled": True,
+        "driver": "GTiff", "width": dataset.width, "height": dataset.height, "count": 1, "dtype": dtype,
+        "crs": dataset.crs, "transform": dataset.transform, "nodata": nodata, "tiled": True,
         "blockxsize": 256, "blockysize": 256, "compress": "deflate", "predictor": 2, "BIGTIFF": "IF_SAFER",
     }
-    low, high = np.iinfo(np.int16).max, np.iinfo(np.int16).min
+    low, high = np.iinfo(dtype).max, np.iinfo(dtype).min
     with rasterio.open(path, "w", **profile) as out:
-        out.scales = (encoding.scaling_factor,)
-        out.offsets = (encoding.offset,)
+        out.scales = (scale,)
+        out.offsets = (offset,)
         out.update_tags(**tags)
         for values, invalid, window in physical_strips(dataset):
-            stored = encoding.encode(values, invalid)
+            stored = encode(values, invalid)
             count, lo, hi = valid_extremes(stored, invalid)
             if count:
                 low, high = min(low, int(lo)), max(high, int(hi))
@@ -110,20 +114,75 @@ def _write_int16_geotiff(dataset, path: Path, encoding: Int16Encoding, tags: dic
     return low, high
 
 
-def _processing_tags(base: str, kind: str, encoding: Int16Encoding, keywords, sources) -> dict[str, str]:
+def _processing_tags(product: str, description: str, scale: float, offset: float, missing: int, keywords,
+                     sources) -> dict[str, str]:
     return {
         "TIFFTAG_SOFTWARE": f"pdsgen {__version__}",
-        "TIFFTAG_IMAGEDESCRIPTION": f"{base}_{kind}4 iMars HRSC DTM, {_DTM_DESCRIPTIONS[kind].lower()}, "
-                                    f"meters = DN * {encoding.scaling_factor:g} + {encoding.offset:g}",
-        "PRODUCT_ID": f"{base}_{kind}4",
-        "DTM_DESC": _DTM_DESCRIPTIONS[kind],
-        "SCALING_FACTOR": repr(encoding.scaling_factor),
-        "OFFSET": repr(encoding.offset),
-        "MISSING_DN": str(MISSING_DN),
+        "TIFFTAG_IMAGEDESCRIPTION": f"{product} iMars HRSC {description}, value = DN * {scale:g} + {offset:g}",
+        "PRODUCT_ID": product,
+        "DESCRIPTION": description,
+        "SCALING_FACTOR": repr(scale),
+        "OFFSET": repr(offset),
+        "MISSING_DN": str(missing),
         "PRODUCER": str(keywords.get("PRODUCER_INSTITUTION_NAME", IMARS_INSTITUTION)),
         "SOURCE_PRODUCT_ID": ",".join(sources) or "N/A",
         "ALGORITHM": str(keywords.get("EXTRACTION_METHOD", "UNK")),
     }
+
+
+def write_imars_ori(
+    input_path: str | os.PathLike[str],
+    outdir: str | os.PathLike[str],
+    *,
+    product_id: str | None = None,
+    source_product_ids: tuple[str, ...] | list[str] = (),
+    value_range: tuple[float, float] | None = None,
+    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
+    overwrite: bool = False,
+) -> ImarsProduct:
+    """Write the orthoimage `<ID>_nd4_ucl.tif` (byte, nodata 0), its `.pvl` and the scene footprint."""
+    keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
+    sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
+    base, _ = hrsc_base_name(product_id, sources)
+    stem = f"{base}_nd4_ucl"
+    input_path = Path(input_path)
+    special = SPECIAL_DNS[8]
+    with open_raster(input_path) as dataset:
+        require_single_band(dataset, "an iMars orthoimage")
+        geometry = describe_geometry(dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path))
+        if value_range is not None:
+            mapping = linear_mapping(special, *value_range)
+        elif np.dtype(dataset.dtypes[0]) == np.uint8:
+            mapping = identity_mapping(special)
+        else:
+            physical = scan_band(dataset)
+            if physical.valid_count == 0:
+                raise PdsgenError(input_path, "has no valid pixels (all nodata)")
+            mapping = linear_mapping(special, physical.minimum, physical.maximum)
+
+        def encode(values: np.ndarray, invalid: np.ndarray | None) -> np.ndarray:
+            dns = to_dns(values, None, mapping, str(input_path))
+            if invalid is not None:
+                dns[invalid] = special.null
+            return dns
+
+        out = prepare_output_dir(outdir)
+        tiff, metadata = out / f"{stem}.tif", out / f"{stem}.pvl"
+        tags = _processing_tags(f"{base}_nd4", "ORTHOIMAGE", mapping.scaling_factor, mapping.offset,
+                                special.null, keywords, sources)
+        with StagedOutputs([tiff, metadata], overwrite) as staged:
+            low, high = _write_geotiff(dataset, staged.path(tiff), "uint8", special.null, encode,
+                                       mapping.scaling_factor, mapping.offset, tags)
+            with rasterio.open(staged.path(tiff)) as written:
+                text = imars_pvl_text(written, tiff.name, f"{base}_nd4", "ORI", geometry, keywords, sources,
+                                      {"ValidMinimum": low, "ValidMaximum": high})
+                polygons = valid_data_outline(written, lambda a: a != special.null)
+            staged.path(metadata).write_text(text)
+    footprint = out / f"{base}.geojson"
+    write_footprint(footprint, f"{base}_nd4", polygons, {"type": "ORI", "file": tiff.name},
+                    geometry.target_name or "MARS")
+    encoding = Int16Encoding(mapping.scaling_factor, mapping.offset)
+    return ImarsProduct(f"{base}_nd4", tiff, metadata, footprint, geometry, encoding, low, high)
 
 
 def imars_pvl_text(

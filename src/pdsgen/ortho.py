@@ -19,7 +19,7 @@ import rasterio
 from rasterio.io import DatasetReader
 from rasterio.windows import Window
 
-from .dtm import _identification
+from .dtm import identification_keywords
 from .errors import PdsgenError
 from .geojp2 import geojp2_box, gmljp2_box
 from .geometry import MapGeometry, describe_geometry
@@ -101,7 +101,7 @@ def write_ortho(
         bits = bits or _default_bits(dataset, chosen.name)
         mapping = _choose_mapping(dataset, input_path, bits, value_range)
         sources = _source_ids(keywords, observation_id, source_dtm_id)
-        ident = _identification(ortho_keywords(chosen.name), keywords, geometry, version)
+        ident = identification_keywords(ortho_keywords(chosen.name), keywords, geometry, version)
         product_id = _ortho_product_id(
             chosen.name, product_id, input_path, geometry, dataset.count, observation_id, sources, sequence
         )

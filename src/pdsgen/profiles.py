@@ -202,7 +202,10 @@ ORTHO_DESCRIPTIONS = {
 
 def ortho_keywords(profile: str) -> dict[str, str]:
     """Identification keyword defaults of a profile's orthoimage labels."""
-    return dict(ORTHO_KEYWORDS[get_profile(profile).name])
+    name = get_profile(profile).name
+    if name not in ORTHO_KEYWORDS:
+        raise PdsgenError(None, f"the {name} profile writes orthoimages in its own form, not as JP2 + LBL")
+    return dict(ORTHO_KEYWORDS[name])
 
 
 def ortho_filter_wavelengths(profile: str, filters: tuple[str, ...]) -> tuple[int, ...] | None:

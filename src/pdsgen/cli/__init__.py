@@ -21,6 +21,7 @@ COMMANDS = {
     "dtm": "dtm",
     "ortho": "ortho",
     "demo": "demo",
+    "extras": "extras",
     "validate": "validate",
 }
 

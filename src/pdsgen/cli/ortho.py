@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import click
 
-from ..ortho import write_ortho
 from ..profiles import PROFILES
 
 
@@ -27,11 +26,33 @@ from ..profiles import PROFILES
               help="PVL or TOML file of producer/data-set keywords (see schemas/params.toml).")
 @click.option("--version", "product_version", default="1.0", show_default=True, help="PRODUCT_VERSION_ID.")
 @click.option("--gmljp2", is_flag=True, help="Also write a GMLJP2 box (the GeoJP2 box is always written).")
+@click.option("--source-product-id", "source_ids", multiple=True,
+              help="hrsc/imars: source product (e.g. H1234_0000_ND3) giving orbit and sequence.")
+@click.option("--reproject", is_flag=True, help="hrsc: warp the input into the HRSC projection and sphere.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 def ortho(input_path, outdir, profile, product_id, bits, value_range, observation_id, source_dtm_id,
-          sequence, params_file, product_version, gmljp2, overwrite) -> None:
+          sequence, params_file, product_version, gmljp2, source_ids, reproject, overwrite) -> None:
     """Convert the 1-band (RED) or 3-band (IRB) orthoimage INPUT (any GDAL format,
-    projected CRS as for DTMs) into OUTDIR/<PRODUCT_ID>.JP2 and .LBL."""
+    projected CRS as for DTMs) into OUTDIR/<PRODUCT_ID>.JP2 and .LBL; for --profile
+    hrsc the 8-bit nadir image hOOOO_NNNN_nd4.img (attached label, DN 0 = no data);
+    for --profile imars hOOOO_NNNN_nd4_ucl.tif with its .pvl and footprint."""
+    if profile == "hrsc":
+        from ..hrsc import write_hrsc_nd4
+
+        nd4 = write_hrsc_nd4(input_path, outdir, value_range=value_range or None, reproject_input=reproject,
+                             product_id=product_id, source_product_ids=source_ids, params=params_file,
+                             version=product_version, overwrite=overwrite)
+        click.echo(f"{nd4.path}  DN {nd4.valid_minimum} .. {nd4.valid_maximum}")
+        return
+    if profile == "imars":
+        from ..imars import write_imars_ori
+
+        ori = write_imars_ori(input_path, outdir, product_id=product_id, source_product_ids=source_ids,
+                              value_range=value_range or None, params=params_file, overwrite=overwrite)
+        click.echo(f"{ori.tiff_path}  {ori.pvl_path.name}  {ori.footprint_path.name}")
+        return
+    from ..ortho import write_ortho
+
     product = write_ortho(
         input_path, outdir, profile=profile, product_id=product_id,
         bits=int(bits) if bits else None, value_range=value_range or None,

@@ -1,0 +1,163 @@
+"""Benchmark: all DTM Extras of an 8,000 x 8,000 float32 DTM, pdsgen vs GDAL tools.
+
+The GDAL baseline makes the comparable images with the command-line tools:
+`gdaldem hillshade` and `gdaldem color-relief` over the full raster, then
+`gdal_translate -of JPEG -outsize ... -r average` for the greyscale, shaded and
+colour browse (1024 px) and thumbnail (128 px) - six JPEGs, no annotation, no
+shading blended into the colour. pdsgen makes its nine JPEGs (three of them
+annotated) and README.TXT. Each side runs in a fresh runner process that reports
+the wall time and the peak RSS of its children (getrusage RUSAGE_CHILDREN), so
+the two measurements never mix.
+
+With --memory-size N it also makes the Extras of an N x N DTM (pdsgen only) to show
+that peak memory follows the preview size, not the raster size.
+
+Run: PYTHONPATH=src python bench/extras.py [--size 8000] [--memory-size 16000]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import rasterio
+from rasterio.transform import from_origin
+from rasterio.windows import Window
+
+REPO = Path(__file__).resolve().parents[1]
+NODATA = -3.4028226550889045e38
+MARS_EQC = (
+    'PROJCS["Mars equirectangular",GEOGCS["Mars",DATUM["D_Mars",SPHEROID["Mars",3396190,0]],'
+    'PRIMEM["Reference_Meridian",0],UNIT["degree",0.0174532925199433]],'
+    'PROJECTION["Equirectangular"],PARAMETER["standard_parallel_1",0],'
+    'PARAMETER["central_meridian",0],PARAMETER["false_easting",0],'
+    'PARAMETER["false_northing",0],UNIT["metre",1]]'
+)
+
+# The runner: time the given commands and report the peak RSS of its children.
+RUNNER = textwrap.dedent("""
+    import json, resource, subprocess, sys, time
+    commands = json.loads(sys.argv[1])
+    start = time.perf_counter()
+    for command in commands:
+        subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
+    wall = time.perf_counter() - start
+    peak_kib = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    print(json.dumps({"wall": wall, "peak_mib": peak_kib / 1024.0}))
+""")
+
+
+def make_dtm(path: Path, size: int) -> None:
+    """A crater field with a no-data gap, written in strips (never all in memory)."""
+    rng = np.random.default_rng(42)
+    craters = [(rng.uniform(0, size), rng.uniform(0, size), rng.uniform(20, size / 8))
+               for _ in range(150)]
+    profile = {"driver": "GTiff", "width": size, "height": size, "count": 1,
+               "dtype": "float32", "crs": MARS_EQC, "nodata": NODATA,
+               "transform": from_origin(100000.0, 50000.0, 1.0, 1.0), "tiled": True,
+               "blockxsize": 256, "blockysize": 256}
+    strip = 512
+    cols = np.arange(size, dtype=np.float32)
+    with rasterio.open(path, "w", **profile) as ds:
+        for top in range(0, size, strip):
+            rows = np.arange(top, min(top + strip, size), dtype=np.float32)[:, None]
+            z = (-4000.0 + 0.01 * cols + 0.005 * rows
+                 + 15.0 * np.sin(cols / 97.0) * np.cos(rows / 131.0)).astype(np.float32)
+            for cr, cc, radius in craters:
+                if abs(cr - rows[0, 0]) > radius + strip:
+                    continue
+                d = np.hypot(rows - cr, cols - cc) / radius
+                z -= np.where(d < 1.0, 0.2 * radius * (1.0 - d**2), 0.0).astype(np.float32)
+            z[(rows[:, 0] > size * 0.4) & (rows[:, 0] < size * 0.45), : size // 10] = NODATA
+            ds.write(z, 1, window=Window(0, top, size, z.shape[0]))
+
+
+def colour_file(path: Path) -> None:
+    """Viridis control points over the DTM's range, for gdaldem color-relief."""
+    stops = ["440154", "3b528b", "21918c", "5ec962", "fde725"]
+    low, high = -5600.0, -3900.0
+    lines = [f"{low + (high - low) * i / 4:.1f} {int(h[0:2], 16)} {int(h[2:4], 16)} "
+             f"{int(h[4:6], 16)}" for i, h in enumerate(stops)]
+    path.write_text("\n".join(lines + ["nv 0 0 0"]) + "\n")
+
+
+def gdal_commands(dtm: Path, work: Path) -> list[list[str]]:
+    hs, cr = work / "hs.tif", work / "cr.tif"
+    colours = work / "colours.txt"
+    colour_file(colours)
+    commands = [
+        ["gdaldem", "hillshade", "-q", "-az", "315", "-alt", "45", str(dtm), str(hs)],
+        ["gdaldem", "color-relief", "-q", str(dtm), str(colours), str(cr)],
+    ]
+    for name, source, extra in (("br", dtm, ["-ot", "Byte", "-scale"]), ("sb", hs, []),
+                                ("cb", cr, [])):
+        for suffix, width in ((name, "1024"), (name[0] + "t", "128")):
+            commands.append(["gdal_translate", "-q", "-of", "JPEG", "-co", "QUALITY=90",
+                             "-r", "average", "-outsize", width, "0", *extra, str(source),
+                             str(work / f"dtm.{suffix}.jpg")])
+    return commands
+
+
+def pdsgen_commands(dtm: Path, work: Path) -> list[list[str]]:
+    code = ("from pdsgen.extras import make_extras; import sys; "
+            "make_extras([sys.argv[1]], sys.argv[2], overwrite=True)")
+    return [[sys.executable, "-c", code, str(dtm), str(work / "extras")]]
+
+
+def run(commands: list[list[str]]) -> dict[str, float]:
+    env = {**os.environ, "PYTHONPATH": f"{REPO / 'src'}{os.pathsep}" + os.environ.get(
+        "PYTHONPATH", "")}
+    out = subprocess.run([sys.executable, "-c", RUNNER, json.dumps(commands)], check=True,
+                         capture_output=True, text=True, env=env)
+    return json.loads(out.stdout)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--size", type=int, default=8000, help="DTM width and height")
+    parser.add_argument("--memory-size", type=int, default=0,
+                        help="also run pdsgen alone on an N x N DTM (e.g. 16000)")
+    args = parser.parse_args()
+    for tool in ("gdaldem", "gdal_translate"):
+        if shutil.which(tool) is None:
+            sys.exit(f"bench/extras.py: {tool} not found (install gdal-bin)")
+    with tempfile.TemporaryDirectory(prefix="pdsgen-bench-") as tmp:
+        work = Path(tmp)
+        dtm = work / "dtm.tif"
+        make_dtm(dtm, args.size)
+        gdal_work = work / "gdal"
+        gdal_work.mkdir()
+        gdal = run(gdal_commands(dtm, gdal_work))
+        ours = run(pdsgen_commands(dtm, work))
+        made = sorted(p.name for p in (work / "extras").iterdir())
+    size_mib = args.size * args.size * 4 / 2**20
+    print(f"DTM {args.size} x {args.size} float32 ({size_mib:.0f} MiB), all DTM Extras")
+    print(f"{'':28}{'wall s':>10}{'peak RSS MiB':>15}")
+    print(f"{'GDAL tools (6 JPEGs)':28}{gdal['wall']:>10.2f}{gdal['peak_mib']:>15.1f}")
+    print(f"{'pdsgen extras (9 + README)':28}{ours['wall']:>10.2f}{ours['peak_mib']:>15.1f}")
+    print(f"{'ratio pdsgen / GDAL':28}{ours['wall'] / gdal['wall']:>10.2f}"
+          f"{ours['peak_mib'] / gdal['peak_mib']:>15.2f}")
+    print("pdsgen wrote: " + ", ".join(made))
+    ok = ours["wall"] / gdal["wall"] <= 0.5 and ours["peak_mib"] < gdal["peak_mib"]
+    print("target (wall ratio <= 0.5, lower peak memory):", "met" if ok else "NOT met")
+    if args.memory_size:
+        with tempfile.TemporaryDirectory(prefix="pdsgen-bench-") as tmp:
+            dtm = Path(tmp) / "dtm.tif"
+            make_dtm(dtm, args.memory_size)
+            big = run(pdsgen_commands(dtm, Path(tmp)))
+        big_mib = args.memory_size**2 * 4 / 2**20
+        print(f"pdsgen on {args.memory_size} x {args.memory_size} ({big_mib:.0f} MiB): "
+              f"{big['wall']:.2f} s, peak RSS {big['peak_mib']:.1f} MiB "
+              f"(vs {ours['peak_mib']:.1f} MiB at {args.size} x {args.size})")
+
+
+if __name__ == "__main__":
+    main()

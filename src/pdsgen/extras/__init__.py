@@ -1,0 +1,136 @@
+"""Extras: the preview JPEGs and README.TXT that archive users look at first.
+
+`make_extras` takes products this tool wrote, archived PDS3 products it did not
+write, or GeoTIFFs, and writes for each its browse, annotated browse and thumbnail
+JPEGs (three renderings for a DTM, one for an orthoimage), then one README.TXT that
+describes them all. Every product is inspected before anything is written, so a bad
+input stops the run with nothing written; each product's files then appear all
+together or not at all.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+from PIL import Image
+
+from ..errors import PdsgenError
+from ..params import ParamValue, load_params
+from ..profiles import PROFILES
+from ..staging import StagedOutputs, prepare_output_dir
+from .product_source import KINDS, ProductSource, open_product
+from .readme_txt import README_NAME, render_readme
+from .renderings import THUMB_WIDTH, ProductPreviews, render_product
+
+DEFAULT_CREDIT = "NASA/JPL/University of Arizona"
+JPEG_QUALITY = 90
+
+__all__ = ["make_extras", "extras_file_names", "DEFAULT_CREDIT", "KINDS"]
+
+
+def make_extras(
+    products: Sequence[str | os.PathLike[str]],
+    outdir: str | os.PathLike[str],
+    *,
+    credit: str | None = None,
+    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
+    browse_width: int | None = None,
+    thumb_width: int = THUMB_WIDTH,
+    azimuth: float = 315.0,
+    altitude: float = 45.0,
+    exaggeration: float | None = None,
+    kind: str | None = None,
+    profile: str | None = None,
+    overwrite: bool = False,
+) -> list[Path]:
+    """Write the Extras of PRODUCTS into OUTDIR; return the paths written.
+
+    `browse_width` defaults to 1024 px for DTMs and 2048 px for orthoimages (never
+    wider than the data); `kind` ("dtm" or "ortho") overrides detection for all
+    products. `exaggeration` is the shaded relief's vertical exaggeration (default:
+    1, raised automatically when the relief would be too faint to see at preview
+    scale, and then printed on the images). The credit line is `credit`, else the params' CREDIT, else
+    the credit of `profile`, else that of the mission the product's label names (HRSC:
+    "ESA/DLR/FU Berlin"), else "NASA/JPL/University of Arizona".
+    """
+    if not products:
+        raise PdsgenError(None, "no products given")
+    _check_options(browse_width, thumb_width, altitude, exaggeration)
+    keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
+    sources = [open_product(p, kind) for p in products]
+    credits = [_credit(credit, keywords, profile or src.mission) for src in sources]
+    _check_unique_ids(sources)
+    outdir = prepare_output_dir(outdir)
+    written: list[Path] = []
+    rendered: list[ProductPreviews] = []
+    for src, credit_line in zip(sources, credits, strict=True):
+        previews = render_product(src, credit=credit_line, browse_width=browse_width,
+                                  thumb_width=thumb_width, azimuth=azimuth, altitude=altitude,
+                                  exaggeration=exaggeration)
+        written += _write_previews(previews, outdir, overwrite)
+        rendered.append(previews)
+    readme = outdir / README_NAME
+    with StagedOutputs([readme], overwrite) as staged:
+        staged.path(readme).write_bytes(render_readme(rendered, keywords, credits[0],
+                                                      azimuth, altitude))
+    return [*written, readme]
+
+
+def extras_file_names(previews: ProductPreviews) -> list[tuple[str, str]]:
+    """(file name, what it is) for every preview file of one product."""
+    pid = previews.source.product_id
+    names = []
+    for p in previews.previews:
+        r = p.rendering
+        names += [(f"{pid}.{r.browse}.jpg", f"{r.description}, browse"),
+                  (f"{pid}.{r.annotated}.jpg", f"{r.description}, annotated browse"),
+                  (f"{pid}.{r.thumb}.jpg", f"{r.description}, thumbnail")]
+    return names
+
+
+def _write_previews(previews: ProductPreviews, outdir: Path, overwrite: bool) -> list[Path]:
+    pid = previews.source.product_id
+    jobs: list[tuple[Path, Image.Image, bool]] = []
+    for p in previews.previews:
+        r = p.rendering
+        jobs += [(outdir / f"{pid}.{r.browse}.jpg", p.browse, False),
+                 (outdir / f"{pid}.{r.annotated}.jpg", p.annotated, True),
+                 (outdir / f"{pid}.{r.thumb}.jpg", p.thumb, False)]
+    with StagedOutputs([path for path, _, _ in jobs], overwrite) as staged:
+        for path, image, annotated in jobs:
+            options = {"quality": JPEG_QUALITY}
+            if annotated or image.mode == "RGB":
+                options["subsampling"] = 0 if annotated else 2
+            image.save(staged.path(path), format="JPEG", **options)
+    return [path for path, _, _ in jobs]
+
+
+def _credit(credit: str | None, keywords: Mapping[str, ParamValue], profile: str) -> str:
+    profile_credit = PROFILES[profile].credit if profile in PROFILES else ""
+    text = credit if credit is not None else str(keywords.get("CREDIT", profile_credit or DEFAULT_CREDIT))
+    if not text.isascii():
+        raise PdsgenError(None, f"credit line {text!r} must be ASCII text")
+    return " ".join(text.split())
+
+
+def _check_options(browse_width: int | None, thumb_width: int, altitude: float,
+                   exaggeration: float | None) -> None:
+    if browse_width is not None and not 16 <= browse_width <= 65500:
+        raise PdsgenError(None, f"browse width {browse_width} must be 16 .. 65500 pixels")
+    if not 8 <= thumb_width <= 4096:
+        raise PdsgenError(None, f"thumbnail width {thumb_width} must be 8 .. 4096 pixels")
+    if exaggeration is not None and not 0.0 < exaggeration <= 1e4:
+        raise PdsgenError(None, f"vertical exaggeration {exaggeration:g} must be in (0, 10000]")
+    if not 0.0 < altitude <= 90.0:
+        raise PdsgenError(None, f"light altitude {altitude:g} must be in (0, 90] degrees")
+
+
+def _check_unique_ids(sources: list[ProductSource]) -> None:
+    seen: dict[str, Path] = {}
+    for src in sources:
+        if src.product_id in seen:
+            raise PdsgenError(src.path, f"has the same product ID {src.product_id} as "
+                                        f"{seen[src.product_id]}; their Extras would collide")
+        seen[src.product_id] = src.path

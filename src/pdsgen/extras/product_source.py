@@ -1,0 +1,329 @@
+"""Find what an Extras run needs to know about one product, whoever wrote it.
+
+A product reaches us as a PDS3 `.IMG` with an attached label, a detached `.LBL`
+pointing at an `.IMG` or a `.JP2`, a bare `.JP2`/`.IMG` whose label sits beside it,
+or a GeoTIFF. GDAL (through rasterio) reads the pixels and the georeferencing of all
+of them; the label, when there is one, is read with pvl because it says things GDAL
+does not pass on reliably: the product ID, which DN means "no data" (MISSING_CONSTANT
+as a float bit pattern, CORE_NULL for a JP2 that carries no nodata of its own), the
+DN-to-physical mapping, VALID_MINIMUM/MAXIMUM, and whether the product is a DTM.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+import struct
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+from xml.sax.saxutils import escape
+
+import pvl
+import rasterio
+from rasterio.errors import RasterioIOError
+from rasterio.transform import Affine
+
+from ..errors import PdsgenError
+
+DTM = "dtm"
+ORTHO = "ortho"
+KINDS = (DTM, ORTHO)
+
+# GDAL's block cache defaults to 5 % of RAM; a preview needs only a few blocks at a
+# time, so a small cache keeps memory bounded by the preview size, not the raster.
+GDAL_ENV = {"GDAL_CACHEMAX": 16 * 1024 * 1024, "GDAL_PAM_ENABLED": "NO"}
+
+_LABEL_SCAN_BYTES = 4 * 1024 * 1024
+_HRSC_NAME = re.compile(r"^h\d{4,5}_\d{4}_[a-z]{2}\d", re.IGNORECASE)
+_END_LINE = re.compile(rb"^[ \t]*END[ \t]*\r?$", re.MULTILINE)
+_FLOAT_TYPES = {"PC_REAL", "IEEE_REAL", "REAL", "MAC_REAL", "SUN_REAL", "FLOAT"}
+_ELEVATION_WORDS = ("TOPOGRAPHY", "ELEVATION", "HEIGHT", "RADIUS", "DTM", "DEM", "ALTIMETRY")
+_LENGTH_UNITS = {"M": 1.0, "METER": 1.0, "METERS": 1.0, "METRE": 1.0, "METRES": 1.0,
+                 "KM": 1000.0, "KILOMETER": 1000.0, "KILOMETERS": 1000.0}
+
+
+@dataclass
+class ProductSource:
+    """One product as the Extras see it (metadata only; pixels are read on demand)."""
+
+    path: Path                      # what the user named
+    raster_path: Path               # what GDAL opens
+    label_path: Path | None         # the PDS3 label, attached or detached, if any
+    product_id: str
+    kind: str                       # DTM or ORTHO
+    width: int
+    height: int
+    band_count: int
+    dtype: str
+    crs: Any
+    transform: Any
+    nodata: float | None            # DN meaning "no data", as the label (or GDAL) says
+    special_dns: tuple[float, ...]  # other DNs to leave out of statistics (saturation)
+    scale: float = 1.0              # physical = DN * scale + offset
+    offset: float = 0.0
+    unit: str = ""
+    valid_minimum: float | None = None   # physical units, from the label
+    valid_maximum: float | None = None
+    label: dict = field(default_factory=dict)
+
+    gdal_nodata: float | None = None     # what GDAL itself reports
+    mission: str = ""                    # profile whose conventions the product follows, if known
+
+    @contextmanager
+    def open(self, out_shape: tuple[int, int] | None = None
+             ) -> Iterator[rasterio.io.DatasetReader]:
+        """Open the raster, overriding GDAL's nodata with the label's when they differ.
+
+        The override is a small in-memory VRT: reads through it, including
+        decimated reads with averaging, leave the label's no-data DN out. A VRT
+        averages from the full resolution, so when the caller will read at
+        `out_shape` (height, width) the VRT is built over the finest reduced
+        resolution level (JPEG 2000 level, GeoTIFF overview) that is still at
+        least that size: the read then decodes that level only.
+        """
+        with rasterio.Env(**GDAL_ENV):
+            target: str | Path = self.raster_path
+            try:
+                if self.nodata is not None and not _same_nodata(self.gdal_nodata, self.nodata):
+                    target = self._nodata_vrt(self._overview_level(out_shape))
+                with rasterio.open(target) as ds:
+                    yield ds
+            except RasterioIOError as exc:
+                raise PdsgenError(self.path, f"cannot read the raster ({exc})") from None
+
+    def _overview_level(self, out_shape: tuple[int, int] | None) -> int | None:
+        if out_shape is None:
+            return None
+        with rasterio.open(self.raster_path) as ds:
+            factors = ds.overviews(1)
+        reduction = min(self.height / out_shape[0], self.width / out_shape[1])
+        usable = [i for i, f in enumerate(factors) if f <= reduction]
+        return usable[-1] if usable else None
+
+    def _nodata_vrt(self, level: int | None) -> str:
+        gdal_type = {"uint8": "Byte", "int8": "Int8", "uint16": "UInt16", "int16": "Int16",
+                     "uint32": "UInt32", "int32": "Int32", "float32": "Float32",
+                     "float64": "Float64"}[self.dtype]
+        width, height, transform = self.width, self.height, self.transform
+        options = ""
+        if level is not None:
+            with rasterio.open(self.raster_path, OVERVIEW_LEVEL=level) as ds:
+                width, height = ds.width, ds.height
+            transform = transform @ Affine.scale(self.width / width, self.height / height)
+            options = f'<OpenOptions><OOI key="OVERVIEW_LEVEL">{level}</OOI></OpenOptions>'
+        src = escape(os.fspath(self.raster_path.resolve()))
+        bands = "".join(
+            f'<VRTRasterBand dataType="{gdal_type}" band="{b}">'
+            f"<NoDataValue>{self.nodata!r}</NoDataValue>"
+            f'<SimpleSource><SourceFilename relativeToVRT="0">{src}</SourceFilename>'
+            f"{options}<SourceBand>{b}</SourceBand></SimpleSource></VRTRasterBand>"
+            for b in range(1, self.band_count + 1)
+        )
+        geo = ""
+        if self.crs is not None:
+            geo += f"<SRS>{escape(self.crs.to_wkt())}</SRS>"
+        t = transform
+        geo += f"<GeoTransform>{t.c!r}, {t.a!r}, {t.b!r}, {t.f!r}, {t.d!r}, {t.e!r}</GeoTransform>"
+        return (f'<VRTDataset rasterXSize="{width}" rasterYSize="{height}">'
+                f"{geo}{bands}</VRTDataset>")
+
+
+def open_product(path: str | os.PathLike[str], kind: str | None = None) -> ProductSource:
+    """Inspect PRODUCT and return its description; PdsgenError if it is not usable."""
+    path = Path(path)
+    if not path.exists():
+        raise PdsgenError(path, "no such file")
+    if kind is not None and kind not in KINDS:
+        raise PdsgenError(path, f"unknown product kind {kind!r} (use dtm or ortho)")
+    label_path, label = _find_label(path)
+    raster_path = _raster_path(path, label_path, label)
+    try:
+        with rasterio.Env(**GDAL_ENV), rasterio.open(raster_path) as ds:
+            info = _dataset_info(ds)
+    except RasterioIOError:
+        raise PdsgenError(raster_path, "not a raster GDAL can read") from None
+    image = _image_object(label)
+    src = ProductSource(
+        path=path, raster_path=raster_path, label_path=label_path,
+        product_id=_product_id(label, path), kind="", label=label, mission=_mission(label, path),
+        nodata=_label_nodata(image, info["dtype"], info["nodata"]),
+        special_dns=_special_dns(image), **{k: v for k, v in info.items() if k != "nodata"},
+    )
+    src.gdal_nodata = info["nodata"]
+    src.scale, src.offset = _scaling(image, info)
+    src.unit = str(image.get("UNIT", "") or "")
+    src.kind = kind or _detect_kind(label, image, info["dtype"])
+    if src.kind == DTM:
+        factor = _LENGTH_UNITS.get(src.unit.upper(), 1.0)
+        src.scale, src.offset = src.scale * factor, src.offset * factor
+    src.valid_minimum = _physical(image.get("VALID_MINIMUM"), src)
+    src.valid_maximum = _physical(image.get("VALID_MAXIMUM"), src)
+    if src.crs is None:
+        raise PdsgenError(path, "has no map projection GDAL can read; Extras need "
+                                "georeferencing for the scale bar and north arrow")
+    return src
+
+
+def _find_label(path: Path) -> tuple[Path | None, dict]:
+    """The product's PDS3 label (attached, the file itself, or a sibling), or none."""
+    head = _read_head(path)
+    if head.lstrip().upper().startswith((b"PDS_VERSION_ID", b"ODL_VERSION_ID")):
+        return path, _parse_label(path, head)
+    if path.suffix.lower() in (".img", ".jp2"):
+        for sibling in path.parent.iterdir():
+            if sibling.stem.lower() == path.stem.lower() and sibling.suffix.lower() == ".lbl":
+                return sibling, _parse_label(sibling, _read_head(sibling))
+    return None, {}
+
+
+def _read_head(path: Path) -> bytes:
+    try:
+        with open(path, "rb") as f:
+            return f.read(_LABEL_SCAN_BYTES)
+    except OSError as exc:
+        raise PdsgenError(path, f"cannot read ({exc.strerror})") from None
+
+
+def _parse_label(path: Path, head: bytes) -> dict:
+    end = _END_LINE.search(head)
+    text = head[: end.end()] if end else head
+    try:
+        return pvl.loads(text.decode("latin-1"))
+    except Exception as exc:  # pvl raises several types for broken labels
+        raise PdsgenError(path, f"label cannot be parsed ({exc})") from None
+
+
+def _raster_path(path: Path, label_path: Path | None, label: dict) -> Path:
+    """The file GDAL should open: the JP2 a COMPRESSED_FILE names, else the product."""
+    if label_path is None:
+        return path
+    compressed = label.get("COMPRESSED_FILE")
+    if compressed is not None and path.suffix.lower() != ".jp2":
+        return _sibling(label_path, str(compressed.get("FILE_NAME", "")))
+    if path.suffix.lower() == ".img" and label_path != path:
+        return label_path  # GDAL opens a detached .IMG through its label
+    return path
+
+
+def _sibling(label_path: Path, name: str) -> Path:
+    """A file the label names, found case-insensitively (archives mix cases)."""
+    for candidate in label_path.parent.iterdir():
+        if candidate.name.lower() == name.lower():
+            return candidate
+    raise PdsgenError(label_path, f"the file it names, {name!r}, is missing")
+
+
+def _dataset_info(ds: Any) -> dict:
+    return {"width": ds.width, "height": ds.height, "band_count": ds.count,
+            "dtype": ds.dtypes[0], "crs": ds.crs, "transform": ds.transform,
+            "nodata": ds.nodata,
+            "scale": ds.scales[0] if ds.scales else 1.0,
+            "offset": ds.offsets[0] if ds.offsets else 0.0}
+
+
+def _image_object(label: dict) -> dict:
+    if "IMAGE" in label:
+        return label["IMAGE"]
+    uncompressed = label.get("UNCOMPRESSED_FILE")
+    if uncompressed is not None and "IMAGE" in uncompressed:
+        return uncompressed["IMAGE"]
+    return {}
+
+
+def _mission(label: dict, path: Path) -> str:
+    """"hrsc" or "hirise" when the label (or an HRSC file name) says so, else ""."""
+    instrument = str(label.get("INSTRUMENT_ID", "") or "").upper()
+    if instrument == "HRSC" or "MEX:DTM" in label or _HRSC_NAME.match(path.name):
+        return "hrsc"
+    if instrument == "HIRISE":
+        return "hirise"
+    return ""
+
+
+def _product_id(label: dict, path: Path) -> str:
+    """PRODUCT_ID without a file extension some archives include (MOLA's "X.IMG").
+
+    HRSC products keep their archive's lower-case names (h1234_0000_dt4), so the
+    Extras sit beside them under the same name.
+    """
+    value = str(label.get("PRODUCT_ID", "") or "").strip()
+    if _mission(label, path) == "hrsc":
+        value = value.lower() or path.stem.lower()
+    if not value or value.upper() in ("N/A", "UNK", "NULL"):
+        value = path.stem
+    value = re.sub(r"\.(IMG|JP2|LBL|TIF|TIFF)$", "", value, flags=re.IGNORECASE)
+    if not re.fullmatch(r"[A-Za-z0-9_.\-]+", value):
+        raise PdsgenError(path, f"product ID {value!r} is not usable in a file name")
+    return value
+
+
+def _label_nodata(image: dict, dtype: str, gdal_nodata: float | None) -> float | None:
+    """The no-data DN: MISSING_CONSTANT (a float bit pattern for REAL data) or CORE_NULL."""
+    for key in ("MISSING_CONSTANT", "CORE_NULL", "NULL"):
+        if key in image:
+            value = _number(image[key])
+            if value is None:
+                continue
+            sample_type = str(image.get("SAMPLE_TYPE", "")).upper()
+            # A REAL image's MISSING_CONSTANT is usually a based integer holding the
+            # float's bit pattern (16#FF7FFFFB#); pvl hands it over as a large int.
+            # Small integers (-32768, 0) are plain values.
+            if (dtype.startswith("float") and isinstance(value, int)
+                    and sample_type in _FLOAT_TYPES | {""} and 2**23 <= value < 2**32):
+                return struct.unpack(">f", struct.pack(">I", value))[0]
+            return float(value)
+    return gdal_nodata
+
+
+def _special_dns(image: dict) -> tuple[float, ...]:
+    keys = ("CORE_LOW_REPR_SATURATION", "CORE_LOW_INSTR_SATURATION",
+            "CORE_HIGH_REPR_SATURATION", "CORE_HIGH_INSTR_SATURATION")
+    values = (_number(image.get(k)) for k in keys)
+    return tuple(float(v) for v in values if v is not None)
+
+
+def _scaling(image: dict, info: dict) -> tuple[float, float]:
+    scale = _number(image.get("SCALING_FACTOR"))
+    offset = _number(image.get("OFFSET"))
+    return (float(scale) if scale is not None else float(info["scale"] or 1.0),
+            float(offset) if offset is not None else float(info["offset"] or 0.0))
+
+
+def _detect_kind(label: dict, image: dict, dtype: str) -> str:
+    """DTM or orthoimage, from the label if there is one, else from the data type."""
+    if "COMPRESSED_FILE" in label:
+        return ORTHO
+    if dtype.startswith("float"):
+        return DTM
+    if image:
+        unit = str(image.get("UNIT", "")).upper()
+        words = " ".join(str(image.get(k, "")) for k in ("NAME", "DESCRIPTION", "NOTE")).upper()
+        if unit in _LENGTH_UNITS or any(w in words for w in _ELEVATION_WORDS):
+            return DTM
+    return ORTHO
+
+
+def _number(value: Any) -> int | float | None:
+    value = getattr(value, "value", value)  # pvl Quantity
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return None
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def _physical(value: Any, src: ProductSource) -> float | None:
+    number = _number(value)
+    return None if number is None else number * src.scale + src.offset
+
+
+def _same_nodata(a: float | None, b: float | None) -> bool:
+    if a is None or b is None:
+        return a is b
+    if math.isnan(a) and math.isnan(b):
+        return True
+    return a == b or math.isclose(a, b, rel_tol=1e-7)
