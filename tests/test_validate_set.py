@@ -68,3 +68,15 @@ def test_progress_bar_line(capsys):
         terminal_progress(done, 4)
     err = capsys.readouterr().err
     assert err.count("\r") == 3 and err.endswith("4/4 files\n") and "#" * 30 in err
+
+
+def test_demo_delivery_set_is_clean_and_complete(tmp_path):
+    from pdsgen.demo import run_demo
+
+    run_demo(tmp_path / "demo")
+    report = validate_paths([tmp_path / "demo"], strict=True)
+    names = sorted(r.path.rsplit("/", 1)[-1] for r in report.files)
+    assert names == ["DTEEC_008669_1705_009025_1705_U01.IMG", "PSP_008669_1705_RED_C_01_ORTHO.LBL"]
+    assert [f"{f.rule} {f.message}" for f in report.findings if f.severity != "info"] == []
+    (tmp_path / "demo" / "extras" / "README.TXT").unlink()
+    assert "SET-004" in validate_paths([tmp_path / "demo"]).rule_ids("warning")

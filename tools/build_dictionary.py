@@ -11,7 +11,9 @@ Input: the Planetary Science Data Dictionary dump (`pdsdd.full`, PSDD pdscat1r77
 STANDARD_VALUE_TYPE, MINIMUM/MAXIMUM, MINIMUM/MAXIMUM_LENGTH, STANDARD_VALUE_SET), the
 UNIT_LIST, and the object definitions. Mission namespaces (MRO:, MEX:) are not in the
 PSDD; they come from the hand-maintained schemas/pds3_namespaces.json and are merged
-in under "namespaces". Unit spellings that PDS archives use but the 2010 unit list
+in under "namespaces". schemas/pds3_dictionary_overrides.json corrects PSDD limits that
+PDS-accepted archives exceed (each with its evidence); the PSDD value stays beside the
+corrected one as psdd_<field>. Unit spellings that PDS archives use but the 2010 unit list
 writes differently (METERS/PIXEL, PIXEL/DEGREE, BYTES ...) are listed in UNIT_ALIASES
 below. The output is what `pdsgen.validate` reads for its DICT rules.
 """
@@ -31,6 +33,7 @@ from pdsgen.validate.lexer import parse_label  # noqa: E402
 DEFAULT_INPUT = REPO.parent / "shared" / "corpus" / "reference" / "pdsdd.full"
 DEFAULT_OUTPUT = REPO / "schemas" / "pds3_dictionary.json"
 NAMESPACES = REPO / "schemas" / "pds3_namespaces.json"
+OVERRIDES = REPO / "schemas" / "pds3_dictionary_overrides.json"
 
 # Spellings of units found in released PDS3 labels (HiRISE, HRSC, LOLA, CRISM ...)
 # that are not ids or names in the PSDD unit list; compared case-insensitively.
@@ -84,6 +87,13 @@ def build(source: Path) -> dict:
         (parse_label("PDS_VERSION_ID = PDS3\n" + m.group(1) + "\nEND\n").root.text("NAME") or "").upper()
         for m in _OBJECT.finditer(text)
     } - {""})
+    for name, change in json.loads(OVERRIDES.read_text())["elements"].items():
+        entry = elements[name]
+        for field, value in change.items():
+            if field != "reason":
+                entry[f"psdd_{field}"] = entry.get(field)
+                entry[field] = value
+        entry["override_reason"] = change["reason"]
     header = re.search(r"Online Database: (\S+)", text)
     return {
         "source": f"{source.name} ({header.group(1) if header else 'unknown database'})",
