@@ -55,3 +55,13 @@ def test_missing_constant_that_the_type_cannot_hold(tmp_path):
                       b"END_OBJECT = IMAGE\r\nEND\r\n")
     rules = {f.rule for f in validate_paths([label]).findings}
     assert {"IMG-003", "IMG-004"} <= rules
+
+
+def test_special_value_outside_the_bit_mask(tmp_path):
+    label = tmp_path / "Y.LBL"
+    label.write_bytes(b"PDS_VERSION_ID = PDS3\r\nOBJECT = IMAGE\r\n  LINES = 1\r\n  LINE_SAMPLES = 1\r\n"
+                      b"  SAMPLE_TYPE = MSB_UNSIGNED_INTEGER\r\n  SAMPLE_BITS = 16\r\n"
+                      b"  SAMPLE_BIT_MASK = 2#0000001111111111#\r\n  CORE_HIGH_REPR_SATURATION = 4095\r\n"
+                      b"  CORE_NULL = 0\r\nEND_OBJECT = IMAGE\r\nEND\r\n")
+    findings = [f for f in validate_paths([label]).findings if f.rule == "IMG-004"]
+    assert [f.keyword for f in findings] == ["CORE_HIGH_REPR_SATURATION"]

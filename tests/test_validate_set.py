@@ -80,3 +80,6 @@ def test_demo_delivery_set_is_clean_and_complete(tmp_path):
     assert [f"{f.rule} {f.message}" for f in report.findings if f.severity != "info"] == []
     (tmp_path / "demo" / "extras" / "README.TXT").unlink()
     assert "SET-004" in validate_paths([tmp_path / "demo"]).rule_ids("warning")
+    (tmp_path / "demo" / "DTEEC_008669_1705_009025_1705_U01.IMG").unlink()  # the ortho's source DTM
+    finding = next(f for f in validate_paths([tmp_path / "demo"]).findings if f.rule == "SET-003")
+    assert finding.severity == "error" and "DTEEC_008669_1705_009025_1705_U01" in finding.message

@@ -190,11 +190,15 @@ def check_constants(ctx: FileContext) -> Iterator[Hit]:
         dtype = sample_dtype(block)
         if dtype is None:
             continue
+        mask = block.value("SAMPLE_BIT_MASK")
         for key in SPECIAL_CONSTANTS:
             stmt = block.get(key)
             if stmt is None:
                 continue
-            _, problem = constant_value(stmt.value, dtype)
+            value, problem = constant_value(stmt.value, dtype)
+            if (problem is None and value is not None and dtype.kind == "u" and mask is not None
+                    and mask.is_number and int(value) & ~int(mask.py) != 0):  # type: ignore[arg-type]
+                problem = f"{stmt.value.raw} has bits outside SAMPLE_BIT_MASK {mask.raw}"
             if problem:
                 yield Hit(f"{key}: {problem} ({block.text('SAMPLE_TYPE')}, "
                           f"{block.number('SAMPLE_BITS')} bits)", stmt.line, key)
