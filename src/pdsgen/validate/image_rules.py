@@ -293,7 +293,9 @@ def check_extremes(ctx: FileContext) -> Iterator[Hit]:
                 yield Hit(f"{key} = {stmt.value.raw} but the data hold no valid samples",
                           stmt.line, key)
             elif not _matches(label_value, data, block, 1e-6):
-                yield Hit(f"{key} = {stmt.value.raw} but the data give {data!r} "
+                shown = str(np.float32(data)) if dtype is not None and dtype.itemsize == 4 and \
+                    dtype.kind == "f" else repr(data)
+                yield Hit(f"{key} = {stmt.value.raw} but the data give {shown} "
                           f"({stats.count} valid samples)", stmt.line, key)
 
 

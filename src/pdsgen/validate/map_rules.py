@@ -357,12 +357,15 @@ def _offset_findings(ctx: FileContext) -> list[tuple[str, Hit]]:
         elif best.consistent:
             what = "centre/corner confusion" if 0.5 in (abs(best.shift_sample), abs(best.shift_line)) \
                 else "mixed conventions"
+            if best.shift_sample == 0:  # only the line offset is off: point at it
+                stmt = block.get("LINE_PROJECTION_OFFSET") or stmt
+                line = stmt.line if stmt else block.line
             found.append(("MAP-003", Hit(
                 f"offsets disagree with the latitude/longitude bounds by {best.shift_sample:+g} px "
                 f"(samples) and {best.shift_line:+g} px (lines), {what}: expected "
                 f"SAMPLE_PROJECTION_OFFSET = {geo.spo - best.shift_sample!r}, LINE_PROJECTION_OFFSET = "
                 f"{geo.lpo - best.shift_line!r} (residuals {_describe(standard)})", line,
-                "SAMPLE_PROJECTION_OFFSET")))
+                "LINE_PROJECTION_OFFSET" if best.shift_sample == 0 else "SAMPLE_PROJECTION_OFFSET")))
         else:
             near = min((fit(geo, d, d) for d in (0.0, 1.0, -1.0)), key=lambda f: f.worst)
             if near.worst <= _NEAR_PX:
