@@ -31,6 +31,10 @@ KNOWN_DEFECTS = {
     ("DTEEC_008669_1705_009025_1705_A01__gdal_pds_3177.lbl", "MAP-003"):
         "the HiRISE DTM's bounds are 23 px (latitude) and ~23300 px (longitude) from the raster "
         "its offsets and 3396.036 km radius define",
+    ("B10_013341_1010_XN_79S172W.lbl", "REC-008"):
+        "LINES edited to 400 (the corpus notes say so) while FILE_RECORDS still counts 24576 image lines",
+    ("M103595705LE.lbl", "REC-008"):
+        "LINES = 400 but FILE_RECORDS = 52225 (a full LROC NAC EDR of 52224 lines): LINES was edited",
     ("EN1072174528M.lbl", "REC-003"):
         "label text (7945 bytes) does not fit LABEL_RECORDS 7 x 1024: this copy is not the "
         "attached label of the file its pointers describe",

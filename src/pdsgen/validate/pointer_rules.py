@@ -250,3 +250,31 @@ def check_uncompressed_records(ctx: FileContext) -> Iterator[Hit]:
             yield Hit(f"{block.name}: RECORD_BYTES x FILE_RECORDS = {rb} x {fr} = {rb * fr} bytes, but "
                       f"its {image.name} holds {need} bytes (LINES x LINE_SAMPLES x BANDS x "  # type: ignore[union-attr]
                       "sample bytes)", stmt.line if stmt else block.line, "FILE_RECORDS")
+
+
+def check_records_accounted(ctx: FileContext) -> Iterator[Hit]:
+    """FILE_RECORDS no larger than the objects need (label arithmetic only).
+
+    Checked only when every data object's size is known from its keywords; a file that
+    declares records no object occupies has had a keyword (often LINES) edited.
+    """
+    records = _fixed_records(ctx)
+    if records is None:
+        return
+    rb, fr = records
+    ends = []
+    for ptr in ctx.data_pointers():
+        block = ctx.object_for(ptr)
+        offset = ctx.pointer_offset(ptr)
+        need = object_bytes(block) if block is not None else None
+        if need is None or offset is None or ptr.form in ("files", "invalid"):
+            return
+        ends.append(offset + need)
+    if not ends or len({p.file_name for p in ctx.data_pointers()}) != 1:
+        return
+    needed = -(-max(ends) // rb)
+    if fr > needed:
+        stmt = ctx.root.get("FILE_RECORDS")
+        yield Hit(f"FILE_RECORDS = {fr} but the objects end in record {needed}: {fr - needed} records of "
+                  f"{rb} bytes hold no described object (an edited LINES?)", stmt.line if stmt else None,
+                  "FILE_RECORDS")

@@ -116,6 +116,8 @@ def _table() -> list[Rule]:
              P.check_object_in_file, needs_data=True),
         Rule("REC-007", "error", "an UNCOMPRESSED_FILE's records hold exactly its IMAGE",
              P.check_uncompressed_records),
+        Rule("REC-008", "error", "FILE_RECORDS no larger than the described objects need",
+             P.check_records_accounted),
         Rule("IMG-001", "error", "IMAGE objects have LINES, LINE_SAMPLES, SAMPLE_TYPE, SAMPLE_BITS",
              I.check_required),
         Rule("IMG-002", "error", "SAMPLE_TYPE is known and fits SAMPLE_BITS", I.check_sample_type),
