@@ -65,3 +65,25 @@ def test_special_value_outside_the_bit_mask(tmp_path):
                       b"  CORE_NULL = 0\r\nEND_OBJECT = IMAGE\r\nEND\r\n")
     findings = [f for f in validate_paths([label]).findings if f.rule == "IMG-004"]
     assert [f.keyword for f in findings] == ["CORE_HIGH_REPR_SATURATION"]
+
+
+def _image_block(storage: str, prefix: int = 0, suffix: int = 0):
+    from pdsgen.validate.lexer import parse_label
+
+    text = (f"PDS_VERSION_ID = PDS3\nOBJECT = IMAGE\nLINES = 5\nLINE_SAMPLES = 7\nBANDS = 3\n"
+            f"SAMPLE_TYPE = MSB_INTEGER\nSAMPLE_BITS = 16\nBAND_STORAGE_TYPE = {storage}\n"
+            f"LINE_PREFIX_BYTES = {prefix}\nLINE_SUFFIX_BYTES = {suffix}\nEND_OBJECT = IMAGE\nEND\n")
+    return next(parse_label(text).root.blocks("IMAGE"))
+
+
+@pytest.mark.parametrize(("storage", "stored_lines", "line_bytes"), [
+    ("BAND_SEQUENTIAL", 15, 14), ("LINE_INTERLEAVED", 15, 14), ("SAMPLE_INTERLEAVED", 5, 42)])
+def test_bytes_per_image_for_each_band_storage(storage, stored_lines, line_bytes):
+    from pdsgen.validate.image_rules import layout, object_bytes
+
+    block = _image_block(storage)
+    assert object_bytes(block) == 5 * 7 * 3 * 2
+    lay = layout(block, 0)
+    assert (lay.lines, lay.line_bytes) == (stored_lines, line_bytes)
+    with_prefix = _image_block(storage, prefix=4, suffix=2)
+    assert object_bytes(with_prefix) == stored_lines * (line_bytes + 6)
