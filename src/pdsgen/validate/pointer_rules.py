@@ -7,6 +7,7 @@ attached object starts right after the label's LABEL_RECORDS records.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Iterator
 
 from .context import FileContext, Pointer
@@ -278,3 +279,71 @@ def check_records_accounted(ctx: FileContext) -> Iterator[Hit]:
         yield Hit(f"FILE_RECORDS = {fr} but the objects end in record {needed}: {fr - needed} records of "
                   f"{rb} bytes hold no described object (an edited LINES?)", stmt.line if stmt else None,
                   "FILE_RECORDS")
+
+
+_INCLUDES = ("STRUCTURE",)
+_MAX_INCLUDE_DEPTH = 20
+
+
+def _include_targets(path, text: str) -> list[tuple[str, int]]:
+    """(file name, line) of the ^STRUCTURE includes in one label file's text."""
+    from .lexer import parse_label
+
+    label = parse_label(text)
+    found = []
+    for block in label.root.walk():
+        for stmt in block.statements():
+            if stmt.pointer and stmt.keyword.upper() in _INCLUDES and stmt.value.kind in ("string", "ident"):
+                found.append((stmt.value.text, stmt.line))
+    return found
+
+
+def check_include_loops(ctx: FileContext) -> Iterator[Hit]:
+    """^STRUCTURE includes must not lead back to a file already being included."""
+    from pathlib import Path
+
+    def resolve(directory: Path, name: str) -> Path | None:
+        exact = directory / name
+        if exact.is_file():
+            return exact.resolve()
+        try:
+            match = next((n for n in os.listdir(directory) if n.lower() == name.lower()), None)
+        except OSError:
+            return None
+        return (directory / match).resolve() if match else None
+
+    reported: set[str] = set()
+
+    def walk(path: Path, text: str, chain: list[Path]) -> Iterator[list[Path]]:
+        if len(chain) > _MAX_INCLUDE_DEPTH:
+            return
+        for name, _ in _include_targets(path, text):
+            target = resolve(path.parent, name)
+            if target is None:
+                continue
+            if target in chain:
+                yield chain + [target]
+                continue
+            try:
+                sub = target.read_bytes()[:1 << 20].decode("latin-1")
+            except OSError:
+                continue
+            yield from walk(target, sub, chain + [target])
+
+    start = ctx.path.resolve()
+    for name, line in _include_targets(start, ctx.label.text):
+        first = resolve(start.parent, name)
+        if first is None:
+            continue
+        loops = [[start, first]] if first == start else []
+        if first != start:
+            try:
+                loops = list(walk(first, first.read_bytes()[:1 << 20].decode("latin-1"), [start, first]))
+            except OSError:
+                continue
+        for loop in loops:
+            text = " -> ".join(p.name for p in loop)
+            if text in reported:
+                continue
+            reported.add(text)
+            yield Hit(f"^STRUCTURE include loop: {text}", line, "^STRUCTURE")

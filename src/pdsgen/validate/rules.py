@@ -103,6 +103,8 @@ def _table() -> list[Rule]:
              P.check_start_blank_gap),
         Rule("PTR-006", "info", "attached data begin with blanks (start may be later)",
              P.check_start_possible, needs_data=True),
+        Rule("PTR-007", "error", "^STRUCTURE includes do not loop back", P.check_include_loops,
+             needs_data=True),
         Rule("REC-001", "error", "RECORD_TYPE = FIXED_LENGTH comes with RECORD_BYTES",
              P.check_record_bytes_present),
         Rule("REC-002", "error", "RECORD_BYTES x FILE_RECORDS equals the file size", P.check_file_size,

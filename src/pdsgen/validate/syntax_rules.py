@@ -32,6 +32,8 @@ def check_duplicates(ctx: FileContext) -> Iterator[Hit]:
         seen: dict[str, int] = {}
         for stmt in block.statements():
             key = stmt.key
+            if key == "^STRUCTURE":  # several format files may be included into one object
+                continue
             if key in seen:
                 where = f"in OBJECT {block.name}" if block.kind != "ROOT" else "at the top level"
                 yield Hit(f"{key} appears again {where} (first at line {seen[key]})", stmt.line, key)
