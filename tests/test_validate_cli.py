@@ -28,7 +28,9 @@ def test_exit_codes(tmp_path):
     clean = make_dtm(tmp_path)
     assert _run(clean).exit_code == 0
     assert _run(_broken_copy(tmp_path, clean)).exit_code == 1
-    assert _run(tmp_path / "missing.lbl").exit_code == 2
+    missing = _run(tmp_path / "missing.lbl")
+    assert missing.exit_code == 2
+    assert missing.output.strip().splitlines() == [f"pdsgen: error: {tmp_path / 'missing.lbl'}: no such file or directory"]
     assert _run().exit_code == 2
     assert _run("--format", "xml", clean).exit_code == 2
 

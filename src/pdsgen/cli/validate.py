@@ -6,6 +6,7 @@ import sys
 
 import click
 
+from ..errors import PdsgenError
 from ..validate import render, rules, validate_paths
 from ..validate.runner import terminal_progress
 
@@ -16,7 +17,7 @@ def _list_rules() -> str:
 
 
 @click.command(short_help="Check PDS3 labels, label sets and their data.")
-@click.argument("paths", nargs=-1, type=click.Path(exists=True))
+@click.argument("paths", nargs=-1, type=click.Path())
 @click.option("--format", "fmt", type=click.Choice(["text", "json", "junit"]), default="text",
               show_default=True, help="Report format: text for people, json or junit for CI.")
 @click.option("--strict", is_flag=True, help="Fail (exit 1) on warnings too.")
@@ -25,7 +26,7 @@ def _list_rules() -> str:
 @click.option("--labels-only", is_flag=True,
               help="Check label text only; do not open the data files it points to.")
 @click.option("--list-rules", "list_rules", is_flag=True, help="Print the rule table and exit.")
-@click.option("--output", "-o", type=click.Path(dir_okay=False, writable=True),
+@click.option("--output", "-o", type=click.Path(dir_okay=False),
               help="Write the report to this file instead of standard output.")
 def validate(paths: tuple[str, ...], fmt: str, strict: bool, jobs: int, labels_only: bool,
              list_rules: bool, output: str | None) -> None:
@@ -38,14 +39,17 @@ def validate(paths: tuple[str, ...], fmt: str, strict: bool, jobs: int, labels_o
         click.echo(_list_rules(), nl=False)
         return
     if not paths:
-        raise click.UsageError("give at least one file or directory to validate")
+        raise PdsgenError(None, "give at least one label file or directory to validate")
     progress = terminal_progress if sys.stderr.isatty() else None
     report = validate_paths(paths, strict=strict, jobs=jobs, labels_only=labels_only,
                             progress=progress)
     text = render(report, fmt)
     if output:
-        with open(output, "w", encoding="utf-8") as fh:
-            fh.write(text)
+        try:
+            with open(output, "w", encoding="utf-8") as fh:
+                fh.write(text)
+        except OSError as exc:
+            raise PdsgenError(output, f"cannot write the report: {exc.strerror}") from None
     else:
         click.echo(text, nl=False)
     sys.exit(report.exit_code)
