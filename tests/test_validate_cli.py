@@ -30,7 +30,8 @@ def test_exit_codes(tmp_path):
     assert _run(_broken_copy(tmp_path, clean)).exit_code == 1
     missing = _run(tmp_path / "missing.lbl")
     assert missing.exit_code == 2
-    assert missing.output.strip().splitlines() == [f"pdsgen: error: {tmp_path / 'missing.lbl'}: no such file or directory"]
+    expected = f"pdsgen: error: {tmp_path / 'missing.lbl'}: no such file or directory"
+    assert missing.output.strip().splitlines() == [expected]
     assert _run().exit_code == 2
     assert _run("--format", "xml", clean).exit_code == 2
 
