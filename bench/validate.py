@@ -98,7 +98,7 @@ def best(fn, repeat: int):
 
 
 def make_labels(workdir: Path, count: int) -> list[Path]:
-    from validate_support import make_dtm
+    from test_validate_support import make_dtm
 
     (workdir / "src").mkdir()
     seeds = [make_dtm(workdir / "src", kind, lines=20 + i, samples=30 + i, name=f"p{i}")

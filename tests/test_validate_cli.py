@@ -9,7 +9,7 @@ from lxml import etree
 
 from pdsgen.cli import main
 from pdsgen.validate import rules
-from validate_support import make_dtm, replace_in_label
+from test_validate_support import make_dtm, replace_in_label
 
 
 def _run(*args: str):

@@ -14,7 +14,7 @@ from click.testing import CliRunner
 
 from pdsgen.cli import main
 from pdsgen.validate import validate_paths
-from validate_support import label_end, make_dtm, replace_in_label, resize_label_text
+from test_validate_support import label_end, make_dtm, replace_in_label, resize_label_text
 
 
 def _value(path: Path, keyword: str) -> bytes:

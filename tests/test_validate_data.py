@@ -8,7 +8,7 @@ import pytest
 
 from pdsgen.validate import datastats, validate_paths
 from pdsgen.validate.datastats import Layout, image_stats
-from validate_support import make_dtm, replace_in_label
+from test_validate_support import make_dtm, replace_in_label
 
 
 @pytest.mark.parametrize("dtype", [">f4", "<f4", ">i2", "<u2", "|u1", "<f8"])

@@ -7,7 +7,7 @@ import random
 
 from pdsgen.validate import validate_paths
 from test_validate_ortho import make_ortho
-from validate_support import make_dtm
+from test_validate_support import make_dtm
 
 PUNCTUATION = b'=(){}"\'<>#/*^ \r\n,;0123456789ABCZ:-.'
 

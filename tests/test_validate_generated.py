@@ -8,7 +8,7 @@ import itertools
 import pytest
 
 from pdsgen.validate import validate_paths
-from validate_support import make_dtm
+from test_validate_support import make_dtm
 
 KINDS = ("equirectangular", "polar", "sinusoidal")
 SIZES = ((1, 1), (7, 3), (40, 50), (33, 257))

@@ -5,7 +5,7 @@ from __future__ import annotations
 from pdsgen.dtm import write_dtm
 from pdsgen.validate import validate_paths
 from pdsgen.validate.runner import terminal_progress
-from validate_support import make_dtm, resize_label_text
+from test_validate_support import make_dtm, resize_label_text
 
 from helpers import ORIGINS, elevation_array, write_raster
 

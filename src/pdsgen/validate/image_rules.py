@@ -236,8 +236,10 @@ def _stats_for(ctx: FileContext, block: Block) -> tuple[Stats, Block] | None:
         lay = layout(block, offset) if offset is not None else None
         if path is not None and lay is not None and lay.lines * lay.samples > 0:
             specials = []
-            for key in _EXCLUDED:
-                stmt = block.get(key)
+            # the IMAGE's own special constants, and HRSC's MEX:DTM_MISSING_DN (group MEX:DTM)
+            stmts = [block.get(key) for key in _EXCLUDED]
+            stmts += [g.get("MEX:DTM_MISSING_DN") for g in ctx.root.walk()]
+            for stmt in stmts:
                 if stmt is not None:
                     value, problem = constant_value(stmt.value, lay.dtype)
                     if value is not None and problem is None:

@@ -1,4 +1,4 @@
-"""Helpers for the validator tests: generated products and byte-exact label edits.
+"""Helpers for the validator tests (no tests here): generated products and byte-exact label edits.
 
 Edits keep every byte count the same (the label is padded to its records), so one
 corruption produces the one defect it is meant to, not a cascade of record errors.
@@ -9,7 +9,6 @@ from __future__ import annotations
 from pathlib import Path
 
 from pdsgen.dtm import write_dtm
-from pdsgen.validate import validate_paths
 
 from helpers import ORIGINS, elevation_array, write_raster
 
@@ -61,14 +60,3 @@ def resize_label_text(path: Path, old: bytes, new: bytes) -> None:
     assert delta <= blanks, "not enough padding after END"
     rest = rest[delta:] if delta >= 0 else b" " * -delta + rest
     path.write_bytes(head + rest)
-
-
-def rule_ids(path: Path, **kwargs) -> set[str]:
-    report = validate_paths([path], **kwargs)
-    return {f.rule for f in report.findings if f.severity in ("error", "warning")}
-
-
-def problems(path: Path, **kwargs) -> list[str]:
-    report = validate_paths([path], **kwargs)
-    return [f"{f.rule} {f.severity} {f.line}: {f.message}" for f in report.findings
-            if f.severity in ("error", "warning")]
