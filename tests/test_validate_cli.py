@@ -119,3 +119,16 @@ def test_garbage_never_tracebacks(tmp_path):
     assert data["summary"]["files"] == len(cases)
     assert all(not f["passed"] for f in data["files"])
     assert not any("could not run" in g["message"] for f in data["files"] for g in f["findings"])
+
+
+def test_extra_dictionary_option(tmp_path):
+    label = tmp_path / "X.LBL"
+    label.write_bytes(b"PDS_VERSION_ID = PDS3\r\nMY_COUNT = 12\r\nEND\r\n")
+    assert "[DICT-001]" in _run(label).output
+    dictionary = tmp_path / "local.full"
+    dictionary.write_text("OBJECT = ELEMENT_DEFINITION\n  NAME = MY_COUNT\n  GENERAL_DATA_TYPE = INTEGER\n"
+                          "  UNIT_ID = NONE\n  STANDARD_VALUE_TYPE = RANGE\n  MAXIMUM = 10\n"
+                          "END_OBJECT = ELEMENT_DEFINITION\n")
+    result = _run("--dictionary", dictionary, label)
+    assert "[DICT-001]" not in result.output and "[DICT-003]" in result.output
+    assert _run("--dictionary", tmp_path / "none.full", label).exit_code == 2

@@ -183,3 +183,25 @@ def test_pds3_product_tools_clean(product_tools, name):
     bad = [f"{f.rule} {f.line} {f.message}" for f in product_tools[name]
            if f.severity != "info" and f.rule.split("-")[0] in CLEAN[name]]
     assert bad == []
+
+
+# Per-type checks of pds3-product-tools run against its test dictionary (testdd.full),
+# given with --dictionary: TYPE_MISMATCH/INVALID_TYPE -> DICT-002, OOR -> DICT-003,
+# SHORT_VALUE/EXCESSIVE_VALUE_LENGTH -> DICT-006.
+TESTDD_EXPECTED = {
+    "alphaNumeric.lbl": [("DICT-006", 3), ("DICT-006", 4), ("DICT-002", 6)],
+    "alphabetic.lbl": [("DICT-006", 3), ("DICT-006", 4), ("DICT-002", 5), ("DICT-002", 6)],
+    "double.lbl": [("DICT-002", 3), ("DICT-003", 6), ("DICT-003", 7)],
+    "integer.lbl": [("DICT-002", 3), ("DICT-003", 4), ("DICT-003", 5), ("DICT-002", 6)],
+    "real.lbl": [("DICT-002", 3), ("DICT-003", 4), ("DICT-003", 5)],
+    "nonDecimal.lbl": [("DICT-002", 3), ("DICT-003", 15), ("DICT-003", 16)],
+}
+
+
+@pytest.mark.parametrize("name", sorted(TESTDD_EXPECTED))
+def test_pds3_product_tools_with_their_test_dictionary(corpus_dir, name):
+    report = validate_paths([corpus_dir / "pds3_product_tools" / name],
+                            dictionaries=[corpus_dir / "reference" / "testdd.full"])
+    got = {(f.rule, f.line) for f in report.findings}
+    for expected in TESTDD_EXPECTED[name]:
+        assert expected in got, (expected, sorted(got))

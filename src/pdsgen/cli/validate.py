@@ -25,11 +25,13 @@ def _list_rules() -> str:
               help="Files checked in parallel (processes).")
 @click.option("--labels-only", is_flag=True,
               help="Check label text only; do not open the data files it points to.")
+@click.option("--dictionary", "dictionaries", multiple=True, type=click.Path(dir_okay=False),
+              help="Extra data dictionary (PSDD .full format) merged over the built-in one; repeatable.")
 @click.option("--list-rules", "list_rules", is_flag=True, help="Print the rule table and exit.")
 @click.option("--output", "-o", type=click.Path(dir_okay=False),
               help="Write the report to this file instead of standard output.")
 def validate(paths: tuple[str, ...], fmt: str, strict: bool, jobs: int, labels_only: bool,
-             list_rules: bool, output: str | None) -> None:
+             dictionaries: tuple[str, ...], list_rules: bool, output: str | None) -> None:
     """Validate PATHS (label files, or directories searched recursively).
 
     Exit status: 0 no errors (and no warnings with --strict), 1 problems found,
@@ -42,7 +44,7 @@ def validate(paths: tuple[str, ...], fmt: str, strict: bool, jobs: int, labels_o
         raise PdsgenError(None, "give at least one label file or directory to validate")
     progress = terminal_progress if sys.stderr.isatty() else None
     report = validate_paths(paths, strict=strict, jobs=jobs, labels_only=labels_only,
-                            progress=progress)
+                            progress=progress, dictionaries=dictionaries)
     text = render(report, fmt)
     if output:
         try:

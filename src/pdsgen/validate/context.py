@@ -96,9 +96,10 @@ def parse_pointer(stmt: Statement) -> Pointer:
 class FileContext:
     """One label file being validated, with lazy helpers the rule families share."""
 
-    def __init__(self, path: Path, labels_only: bool = False) -> None:
+    def __init__(self, path: Path, labels_only: bool = False, dictionaries: tuple[str, ...] = ()) -> None:
         self.path = path
         self.labels_only = labels_only
+        self.dictionaries = dictionaries
         self.size = path.stat().st_size
         self.head = self._read_head()
         self.label: Label = parse_label(self.head.decode("latin-1"))
@@ -110,6 +111,13 @@ class FileContext:
             if len(data) < self.size and not _has_end(data):
                 data += fh.read(_MAX_LABEL - len(data))
         return data
+
+    @property
+    def dictionary(self):
+        """The keyword dictionary (with any extra dictionaries the user named)."""
+        from .dictionary import load
+
+        return load(self.dictionaries)
 
     # -- label look-ups ------------------------------------------------------------
     @property

@@ -6,13 +6,16 @@ them for any keyword. "NULL" is reported as information (a value still to be fil
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterator
 
 from .context import FileContext
-from .dictionary import PLACEHOLDERS, load
+from .dictionary import PLACEHOLDERS
 from .lexer import date_problem
 from .model import Hit, Statement, Value
 
+_LETTERS = re.compile(r"[A-Za-z ]+")
+_ALNUM = re.compile(r"[A-Za-z0-9 ]+")
 _NUMERIC = ("INTEGER", "ASCII_INTEGER", "REAL", "DOUBLE", "NONDECIMAL", "NON_DECIMAL")
 _TEXT = ("CHARACTER", "ALPHANUMERIC", "IDENTIFIER", "ALPHABET")
 
@@ -21,7 +24,7 @@ def _statements(ctx: FileContext) -> list[tuple[Statement, dict | None]]:
     """(statement, definition or None) for every non-pointer statement; computed once."""
     cached = ctx.__dict__.get("_dict_statements")
     if cached is None:
-        dictionary = load()
+        dictionary = ctx.dictionary
         cached = [(stmt, dictionary.lookup(stmt.keyword))
                   for block in ctx.root.walk() for stmt in block.statements() if not stmt.pointer]
         ctx.__dict__["_dict_statements"] = cached
@@ -77,6 +80,12 @@ def _type_problem(kind: str, value: Value) -> str | None:
         return None if value.is_number else f"{value.raw!r} is not a number"
     if kind in ("NONDECIMAL", "NON_DECIMAL"):
         return None if value.kind in ("based", "int") else f"{value.raw!r} is not a based integer"
+    if kind == "ALPHABET" and not value.is_number and not _LETTERS.fullmatch(str(value.py).strip()):
+        return f"{value.raw!r} is not letters only"
+    if kind == "ALPHABET" and value.is_number:
+        return f"{value.raw} is a number, the keyword takes letters"
+    if kind == "ALPHANUMERIC" and not value.is_number and not _ALNUM.fullmatch(str(value.py).strip()):
+        return f"{value.raw!r} is not letters and digits only"
     if kind in _TEXT:
         return None  # numbers for text keywords: see check_number_for_text
     if kind in ("DATE", "TIME"):
@@ -100,7 +109,7 @@ def check_type(ctx: FileContext) -> Iterator[Hit]:
 def check_number_for_text(ctx: FileContext) -> Iterator[Hit]:
     """Unquoted numbers given to text keywords: readers take them, the dictionary wants text."""
     for stmt, entry, value in _defined(ctx):
-        if entry["type"] in _TEXT and value.is_number:
+        if entry["type"] in _TEXT and entry["type"] != "ALPHABET" and value.is_number:
             yield Hit(f"{stmt.keyword} = {value.raw}: a number for a {entry['type']} keyword "
                       f'(write "{value.raw}")', value.line, stmt.keyword)
 
@@ -164,7 +173,7 @@ def check_length(ctx: FileContext) -> Iterator[Hit]:
 
 
 def check_units(ctx: FileContext) -> Iterator[Hit]:
-    dictionary = load()
+    dictionary = ctx.dictionary
     for block in ctx.root.walk():
         for stmt in block.statements():
             units = {v.unit for v in stmt.value.scalars() if v.unit} | (

@@ -9,8 +9,10 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass
 from functools import cache
+from pathlib import Path
 
 from ..resources import schemas_dir
+from .psdd import read_psdd
 
 PLACEHOLDERS = frozenset({"N/A", "UNK", "NULL", "UNKNOWN"})
 
@@ -34,9 +36,16 @@ class Dictionary:
 
 
 @cache
-def load() -> Dictionary:
+def load(extra: tuple[str, ...] = ()) -> Dictionary:
+    """The project dictionary, with the elements and units of `extra` PSDD-format files
+    (later files win) merged over it."""
     data = json.loads((schemas_dir() / "pds3_dictionary.json").read_text())
+    elements = dict(data["elements"])
     units = {u.upper() for u in data["units"]}
     units |= {n.upper() for n in data["unit_names"]}
     units |= {a.upper() for a in data["unit_aliases"]}
-    return Dictionary(data["elements"], data["namespaces"], frozenset(units))
+    for path in extra:
+        more = read_psdd(Path(path))
+        elements.update(more["elements"])
+        units |= {u.upper() for u in more["units"]} | {n.upper() for n in more["unit_names"]}
+    return Dictionary(elements, data["namespaces"], frozenset(units))

@@ -57,11 +57,12 @@ def discover(paths: Iterable[str | os.PathLike[str]]) -> list[Path]:
     return found
 
 
-def validate_file(path: Path, labels_only: bool = False) -> tuple[FileReport, Summary | None]:
+def validate_file(path: Path, labels_only: bool = False, dictionaries: tuple[str, ...] = ()
+                  ) -> tuple[FileReport, Summary | None]:
     """All per-file rules on one file."""
     table = rules()
     try:
-        ctx = FileContext(path, labels_only=labels_only)
+        ctx = FileContext(path, labels_only=labels_only, dictionaries=dictionaries)
     except OSError as exc:
         finding = Finding("FILE-012", "error", str(path), f"cannot read the file: {exc.strerror or exc}")
         return FileReport(str(path), [finding]), None
@@ -84,8 +85,8 @@ def validate_file(path: Path, labels_only: bool = False) -> tuple[FileReport, Su
     return FileReport(str(path), findings), summary
 
 
-def _one(args: tuple[str, bool]) -> tuple[FileReport, Summary | None]:
-    return validate_file(Path(args[0]), args[1])
+def _one(args: tuple[str, bool, tuple[str, ...]]) -> tuple[FileReport, Summary | None]:
+    return validate_file(Path(args[0]), args[1], args[2])
 
 
 def validate_paths(
@@ -94,15 +95,21 @@ def validate_paths(
     jobs: int = 1,
     labels_only: bool = False,
     progress: Callable[[int, int], None] | None = None,
+    dictionaries: Iterable[str | os.PathLike[str]] = (),
 ) -> Report:
     """Validate label files and directories of them; the API behind `pdsgen validate`.
 
     strict makes warnings fail the run too. labels_only skips every rule that opens the
     data files (data existence, file sizes, statistics, JP2), for label-only checks.
+    dictionaries are extra data dictionaries (PSDD `.full` format) merged over the built-in one.
     """
+    extra = tuple(str(d) for d in dictionaries)
+    for d in extra:
+        if not Path(d).is_file():
+            raise PdsgenError(d, "no such dictionary file")
     files = discover(paths)
     results: list[tuple[FileReport, Summary | None]] = []
-    work = [(str(p), labels_only) for p in files]
+    work = [(str(p), labels_only, extra) for p in files]
     if jobs > 1 and len(files) > 1:
         with ProcessPoolExecutor(max_workers=jobs) as pool:
             for i, result in enumerate(pool.map(_one, work, chunksize=max(1, len(work) // (jobs * 8)))):
