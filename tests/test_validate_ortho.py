@@ -79,3 +79,18 @@ def test_band_count_forgotten_in_uncompressed_records(tmp_path):
     product.label_path.write_bytes(text.replace(f"FILE_RECORDS = {3 * lines}\r".encode(),
                                                 f"FILE_RECORDS = {lines}\r".encode()))
     assert {"REC-007", "REC-004"} <= validate_paths([product.label_path]).rule_ids("error")
+
+
+def test_hirise_ortho_alone_is_clean_and_its_dtm_reference_is_checked_in_a_set(tmp_path):
+    rng = np.random.default_rng(9)
+    crs, transform = ORIGINS["equirectangular"]
+    irb = (rng.random((3, 40, 50)) * 900 + 3).astype("uint16")
+    source = write_raster(tmp_path / "irb.tif", irb, crs, transform)
+    product = write_ortho(source, tmp_path / "out", profile="hirise", bits=10, sequence=41,
+                          observation_id="ESP_042252_1930", source_dtm_id="DTEEC_042252_1930_042753_1930_U01")
+    assert product.label_path.name == "ESP_042252_1930_IRB_C_41_ORTHO.LBL"  # 1 m: scale letter C
+    report = validate_paths([product.label_path.parent], strict=True)
+    assert [f"{f.rule} {f.message}" for f in report.findings if f.severity != "info"] == []
+    (product.label_path.parent / "extras").mkdir()  # now a delivery set: the DTM must be in it
+    errors = validate_paths([product.label_path.parent]).findings
+    assert any(f.rule == "SET-003" and "DTEEC_042252_1930_042753_1930_U01" in f.message for f in errors)

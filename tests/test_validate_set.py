@@ -49,10 +49,13 @@ def test_a_set_needs_readme_and_browse_images(tmp_path):
 
 def test_source_product_reference_must_resolve(tmp_path):
     path = make_dtm(tmp_path, profile="hirise")
-    assert validate_paths([path.parent], strict=True).exit_code == 0
-    resize_label_text(path, b"PSP_009025_1705)", b"DTEEC_001234_1705_005678_1705_U01)")
+    (path.parent / "README.TXT").write_bytes(b"a delivery set\r\n")
+    assert validate_paths([path.parent]).exit_code == 0
+    resize_label_text(path, b"(PSP_008669_1705, PSP_009025_1705)", b"DTEEC_001234_1705_005678_1705_U01")
     errors = {f.rule: f.message for f in validate_paths([path.parent]).findings if f.severity == "error"}
-    assert "SET-003" in errors and "DTEEC_001234_1705_005678_1705_U01" in errors["SET-003"]
+    assert set(errors) == {"SET-003"} and "DTEEC_001234_1705_005678_1705_U01" in errors["SET-003"]
+    (path.parent / "README.TXT").unlink()  # a lone product is no set: its sources may be elsewhere
+    assert "SET-003" not in validate_paths([path.parent]).rule_ids()
 
 
 def test_product_id_matches_file_name(tmp_path):

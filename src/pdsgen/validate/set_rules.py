@@ -91,10 +91,22 @@ def check_projections(summaries: list[Summary]) -> Iterator[Finding]:
         yield from _projections(group, "SET-001")
 
 
+def is_delivery_set(directory: Path, group: list[Summary]) -> bool:
+    """Several map products together, or Extras/README.TXT begun: a set to check as a whole.
+    A single product written on its own is not one (its sources may live elsewhere)."""
+    products = [s for s in group if s.projection is not None and s.product_id]
+    if not products:
+        return False
+    names = _names(directory)
+    return len(products) >= 2 or "README.TXT" in {n.upper() for n in names} or any(
+        "EXTRA" in n.upper() and (directory / n).is_dir() for n in names)
+
+
 def check_sources(summaries: list[Summary]) -> Iterator[Finding]:
     """SET-003: SOURCE_PRODUCT_ID values naming products of the set resolve within it."""
-    for group in by_directory(summaries).values():
-        yield from _sources(group, "SET-003")
+    for directory, group in by_directory(summaries).items():
+        if is_delivery_set(Path(directory), group):
+            yield from _sources(group, "SET-003")
 
 
 def check_extras(summaries: list[Summary]) -> Iterator[Finding]:
@@ -137,13 +149,11 @@ def _sources(group: list[Summary], rule: str) -> Iterator[Finding]:
 
 def _extras(directory: Path, group: list[Summary], rule: str) -> Iterator[Finding]:
     """A directory holding map products should have README.TXT and browse JPEGs (Extras)."""
+    if not is_delivery_set(directory, group):
+        return
     products = [s for s in group if s.projection is not None and s.product_id]
     names = _names(directory)
     extras_dirs = [directory / n for n in names if "EXTRA" in n.upper() and (directory / n).is_dir()]
-    # a delivery set: several map products together, or Extras already begun
-    if not products or (len(products) < 2 and not extras_dirs and "README.TXT" not in
-                        {n.upper() for n in names}):
-        return
     for sub in extras_dirs:
         names |= _names(sub)
     upper = {n.upper() for n in names}
