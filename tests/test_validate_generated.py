@@ -75,3 +75,22 @@ def test_hrsc_dt4_products_are_clean(tmp_path, grid, order):
     report = validate_paths([product.path], strict=True)
     assert [f"{f.rule} {f.message}" for f in report.findings if f.severity != "info"] == []
     assert "MAP-004" in report.rule_ids("info")
+
+
+@pytest.mark.parametrize("dtype", ["uint8", "float32"])
+def test_hrsc_nd4_orthoimages_are_clean(tmp_path, dtype):
+    import numpy as np
+    from affine import Affine
+
+    from pdsgen.hrsc import write_hrsc_nd4
+
+    from helpers import write_raster
+
+    rng = np.random.default_rng(4)
+    image = (rng.random((36, 28)) * (250 if dtype == "uint8" else 0.2)).astype(dtype)
+    image[0, :3] = 0
+    crs, transform = HRSC_GRIDS["sinusoidal"]
+    source = write_raster(tmp_path / "nd.tif", image, crs, Affine(*transform), nodata=0)
+    product = write_hrsc_nd4(source, tmp_path / "out", source_product_ids=["H1234_0000_ND3"])
+    report = validate_paths([product.path], strict=True)
+    assert [f"{f.rule} {f.message}" for f in report.findings if f.severity != "info"] == []
