@@ -52,6 +52,13 @@ class Report:
             "exit_code": self.exit_code,
         }
 
+    def summary_line(self) -> str:
+        """One line for people: counts and the verdict (what the demo prints)."""
+        s = self.summary()
+        verdict = "FAILED" if s["exit_code"] else "OK"
+        return (f"{s['files']} file(s) checked: {s['errors']} error(s), {s['warnings']} warning(s), "
+                f"{s['info']} info{' (strict)' if self.strict else ''} - {verdict}")
+
     def rule_ids(self, severity: str | None = None) -> set[str]:
         return {f.rule for f in self.findings if severity is None or f.severity == severity}
 
@@ -68,12 +75,7 @@ def render_text(report: Report, show_info: bool = True) -> str:
                 continue
             keyword = f" {f.keyword}:" if f.keyword else ""
             lines.append(f"{_where(f)}: {f.severity} [{f.rule}]{keyword} {f.message}")
-    s = report.summary()
-    verdict = "FAILED" if s["exit_code"] else "OK"
-    lines.append(
-        f"{s['files']} file(s) checked: {s['errors']} error(s), {s['warnings']} warning(s), "
-        f"{s['info']} info{' (strict)' if report.strict else ''} - {verdict}"
-    )
+    lines.append(report.summary_line())
     return "\n".join(lines) + "\n"
 
 
