@@ -98,6 +98,8 @@ def test_directory_search_skips_data_files(tmp_path):
     (clean.parent / "raw.img").write_bytes(b"\x00" * 64)
     data = json.loads(_run("--format", "json", clean.parent).output)
     assert [f["path"] for f in data["files"]] == [str(clean)]
+    again = json.loads(_run("--format", "json", clean.parent, clean).output)
+    assert [f["path"] for f in again["files"]] == [str(clean)]
 
 
 def test_garbage_never_tracebacks(tmp_path):

@@ -54,7 +54,7 @@ def discover(paths: Iterable[str | os.PathLike[str]]) -> list[Path]:
                         found.append(candidate)
         else:
             raise PdsgenError(path, "no such file or directory")
-    return found
+    return list(dict.fromkeys(found))  # a file named twice (itself and in its directory) once
 
 
 def validate_file(path: Path, labels_only: bool = False, dictionaries: tuple[str, ...] = ()
