@@ -95,3 +95,14 @@ def test_dates_accepted(good):
 @pytest.mark.parametrize("bad", ["2000-02-30", "2000-367", "2000-12-22T24:00", "2000-1-22", "1-12-22"])
 def test_dates_rejected(bad):
     assert date_problem(bad)
+
+
+def test_unit_measuring_the_wrong_thing(tmp_path):
+    from pdsgen.validate import validate_paths
+
+    label = tmp_path / "U.LBL"
+    label.write_bytes(b"PDS_VERSION_ID = PDS3\r\nOBJECT = IMAGE_MAP_PROJECTION\r\n  A_AXIS_RADIUS = 3396.19 <DEG>\r\n"
+                      b"  B_AXIS_RADIUS = 3396190.0 <METERS>\r\n  MAP_SCALE = 1.0 <KM/PIXEL>\r\n"
+                      b"END_OBJECT = IMAGE_MAP_PROJECTION\r\nEND\r\n")
+    findings = [(f.keyword, f.line) for f in validate_paths([label]).findings if f.rule == "DICT-011"]
+    assert findings == [("A_AXIS_RADIUS", 3)]

@@ -184,6 +184,31 @@ def check_units(ctx: FileContext) -> Iterator[Hit]:
                     yield Hit(f"{stmt.key}: unit <{unit}> is not a PDS unit", stmt.line, stmt.key)
 
 
+# What each common unit measures; a value's unit must measure what the dictionary's does.
+_DIMENSIONS = {
+    "length": {"KM", "M", "MM", "METER", "METERS", "METRE", "METRES", "KILOMETER", "KILOMETERS",
+               "KILOMETRE", "KILOMETRES", "MICRON", "NM", "CM"},
+    "angle": {"DEG", "DEGREE", "DEGREES", "RAD", "RADIAN", "RADIANS", "MRAD", "ARCSEC", "ARCSECOND"},
+    "time": {"S", "SEC", "SECOND", "SECONDS", "MS", "MSEC", "MILLISECONDS", "US", "MICROSECONDS", "D",
+             "DAY", "DAYS", "H", "HOUR", "HOURS", "MIN", "MINUTE", "MINUTES"},
+    "temperature": {"K", "DEGC", "C", "KELVIN"},
+    "pixel scale": {"KM/PIX", "KM/PIXEL", "M/PIX", "M/PIXEL", "METERS/PIXEL", "METRES/PIXEL"},
+    "map resolution": {"PIX/DEG", "PIXEL/DEGREE", "PIXELS/DEGREE", "PIXEL/DEG"},
+    "pixels": {"PIXEL", "PIXELS", "PIX"},
+}
+_DIMENSION_OF = {unit: dim for dim, units in _DIMENSIONS.items() for unit in units}
+
+
+def check_unit_dimension(ctx: FileContext) -> Iterator[Hit]:
+    """<DEG> where the dictionary measures in KM, and the like."""
+    for stmt, entry, value in _defined(ctx):
+        expected = _DIMENSION_OF.get(str(entry.get("unit", "")).upper())
+        given = _DIMENSION_OF.get((value.unit or "").upper().replace(" ", ""))
+        if expected and given and expected != given:
+            yield Hit(f"{stmt.keyword} is a {expected} (dictionary unit {entry['unit']}) but is given in "
+                      f"<{value.unit}>, a {given}", value.line, stmt.keyword)
+
+
 def check_placeholder(ctx: FileContext) -> Iterator[Hit]:
     for block in ctx.root.walk():
         for stmt in block.statements():
