@@ -113,6 +113,21 @@ def make_labels(workdir: Path, count: int) -> list[Path]:
     return files
 
 
+def copy_real_labels(workdir: Path, count: int) -> list[Path]:
+    """Copies of the corpus's real mission labels (1-28 KB, many keywords), if present."""
+    real = sorted((REPO.parent / "shared" / "corpus" / "real").glob("*"))
+    if not real:
+        return []
+    out = workdir / "real"
+    out.mkdir()
+    files = []
+    for i in range(count):
+        target = out / f"{i:05d}_{real[i % len(real)].name}"
+        shutil.copyfile(real[i % len(real)], target)
+        files.append(target)
+    return files
+
+
 def make_big_dtm(workdir: Path, size: int) -> Path:
     import rasterio
     from rasterio.windows import Window
@@ -159,6 +174,12 @@ def main() -> int:
             print(f"  {name:30s} {n / sec:10.0f} {mb:9.1f}")
         print(f"  ratio pdsgen/pvl.load: {pvl_only[0] / ours[0]:.2f}x the rate   (target: >= 200 labels/s: "
               f"{'met' if n / ours[0] >= 200 else 'NOT met'})")
+        real = copy_real_labels(workdir, n)
+        if real:
+            ours_real = best(lambda: run_child("pdsgen-labels", real, workdir), args.repeat)
+            pvl_real = run_child("pvl", real, workdir)
+            print(f"  on {n} copies of the corpus's real mission labels: pdsgen {n / ours_real[0]:.0f} labels/s, "
+                  f"pvl.load {n / pvl_real[0]:.0f} labels/s")
 
         big = make_big_dtm(workdir, args.size)
         mb = big.stat().st_size / 1e6

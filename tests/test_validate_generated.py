@@ -94,3 +94,20 @@ def test_hrsc_nd4_orthoimages_are_clean(tmp_path, dtype):
     product = write_hrsc_nd4(source, tmp_path / "out", source_product_ids=["H1234_0000_ND3"])
     report = validate_paths([product.path], strict=True)
     assert [f"{f.rule} {f.message}" for f in report.findings if f.severity != "info"] == []
+
+
+def test_wide_polar_product_whose_nearest_point_to_the_pole_is_mid_edge(tmp_path):
+    """The maximum latitude of a wide polar strip lies mid-edge, not at a corner: the bounds
+    check must find it exactly (a sampled boundary would be off by ~0.1 px here)."""
+    from affine import Affine
+
+    from pdsgen.dtm import write_dtm
+
+    from helpers import CRS_SOUTH_POLAR, elevation_array, write_raster
+
+    data = elevation_array(20, 20000, seed=2)
+    source = write_raster(tmp_path / "strip.tif", data, CRS_SOUTH_POLAR,
+                          Affine(1.0, 0, -7003.0, 0, -1.0, 100020.0))
+    product = write_dtm(source, tmp_path / "out", product_id="POLAR_STRIP")
+    report = validate_paths([product.path], strict=True)
+    assert [f"{f.rule} {f.message}" for f in report.findings if f.severity != "info"] == []

@@ -71,6 +71,7 @@ class Block:
     line: int
     end_line: int | None = None
     items: list[Statement | Block] = field(default_factory=list)
+    _index: dict[str, Statement] | None = field(default=None, repr=False, compare=False)
 
     def statements(self) -> Iterator[Statement]:
         for item in self.items:
@@ -96,11 +97,15 @@ class Block:
                 yield block
 
     def get(self, key: str) -> Statement | None:
-        """The first statement with this upper-case key (`^IMAGE` for pointers)."""
-        for stmt in self.statements():
-            if stmt.key == key:
-                return stmt
-        return None
+        """The first statement with this upper-case key (`^IMAGE` for pointers).
+
+        Indexed on first use: rules look keywords up only once the label is read."""
+        if self._index is None:
+            index: dict[str, Statement] = {}
+            for stmt in self.statements():
+                index.setdefault(stmt.key, stmt)
+            self._index = index
+        return self._index.get(key)
 
     def value(self, key: str) -> Value | None:
         stmt = self.get(key)

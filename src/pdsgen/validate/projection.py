@@ -103,8 +103,22 @@ def _wrap(dlon):
 
 
 def boundary(x0: float, x1: float, y0: float, y1: float, n: int = 64) -> tuple[np.ndarray, np.ndarray]:
-    """Points along the four edges of the rectangle [x0, x1] x [y0, y1]."""
+    """Points along the four edges of the rectangle [x0, x1] x [y0, y1], plus the points
+    where a bound can fall between samples: the boundary point nearest the projection
+    origin (a polar raster's latitude extreme) and the edges' crossings of x = 0 and
+    y = 0 (the central meridian and the equator)."""
     t = np.linspace(0.0, 1.0, n + 1)
-    xs = np.concatenate([x0 + (x1 - x0) * t, np.full_like(t, x1), x1 - (x1 - x0) * t, np.full_like(t, x0)])
-    ys = np.concatenate([np.full_like(t, y1), y1 - (y1 - y0) * t, np.full_like(t, y0), y0 + (y1 - y0) * t])
-    return xs, ys
+    xs = [x0 + (x1 - x0) * t, np.full_like(t, x1), x1 - (x1 - x0) * t, np.full_like(t, x0)]
+    ys = [np.full_like(t, y1), y1 - (y1 - y0) * t, np.full_like(t, y0), y0 + (y1 - y0) * t]
+    # the foot of the perpendicular from the origin on each edge, clamped to the edge:
+    # one of them is the boundary point nearest the origin
+    cx, cy = min(max(0.0, x0), x1), min(max(0.0, y0), y1)
+    extra_x, extra_y = [cx, cx, x0, x1], [y0, y1, cy, cy]
+    if y0 <= 0.0 <= y1:
+        extra_x += [x0, x1]
+        extra_y += [0.0, 0.0]
+    if x0 <= 0.0 <= x1:
+        extra_x += [0.0, 0.0]
+        extra_y += [y0, y1]
+    return (np.concatenate(xs + [np.array(extra_x, dtype=float)]),
+            np.concatenate(ys + [np.array(extra_y, dtype=float)]))
