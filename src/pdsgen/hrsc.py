@@ -36,7 +36,7 @@ from .label.render import RecordLayout, render_label
 from .label.values import Based, Symbol
 from .params import ParamValue, load_params
 from .read_raster import open_raster, require_single_band
-from .scale_dn import SPECIAL_DNS, identity_mapping, linear_mapping, to_dns
+from .scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
 from .staging import StagedOutputs, prepare_output_dir
 from .write_image import Adjust, BandStatistics, scan_band, stream_band, write_attached_product
 
@@ -345,15 +345,7 @@ def write_hrsc_nd4(
     input_path = Path(input_path)
     special = SPECIAL_DNS[8]
     with hrsc_input(input_path, reproject_input) as (grid, geometry):
-        if value_range is not None:
-            mapping = linear_mapping(special, *value_range)
-        elif np.dtype(grid.dtypes[0]) == np.uint8:
-            mapping = identity_mapping(special)
-        else:
-            physical = scan_band(grid)
-            if physical.valid_count == 0:
-                raise PdsgenError(input_path, "has no valid pixels (all nodata)")
-            mapping = linear_mapping(special, physical.minimum, physical.maximum)
+        mapping = null_zero_byte_mapping(grid, value_range, str(input_path))
         context = hrsc_identification(HRSC_ND4_KEYWORDS, keywords, product_id, source_product_ids, "nd4", version)
         context |= {
             "geometry": geometry,
@@ -364,12 +356,7 @@ def write_hrsc_nd4(
             "note": "Nadir orthoimage. Value = DN * SCALING_FACTOR + OFFSET; DN 0 marks missing data.",
         }
 
-        def encode(values: np.ndarray, invalid: np.ndarray | None) -> np.ndarray:
-            dns = to_dns(values, None, mapping, str(input_path))
-            if invalid is not None:
-                dns[invalid] = special.null
-            return dns
-
+        encode = dn_encoder(mapping, str(input_path))
         def render(records: RecordLayout, stats: BandStatistics) -> str:
             return render_label("hrsc_nd4.lbl.j2", {**context, "records": records,
                                                     "valid_minimum": _as_int(stats.minimum),

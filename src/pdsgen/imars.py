@@ -26,7 +26,7 @@ from .geometry import MapGeometry, describe_geometry
 from .hrsc import MISSING_DN, Int16Encoding, choose_encoding, hrsc_base_name
 from .params import ParamValue, load_params
 from .read_raster import open_raster, require_single_band
-from .scale_dn import SPECIAL_DNS, identity_mapping, linear_mapping, to_dns
+from .scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
 from .staging import StagedOutputs, prepare_output_dir
 from .write_image import physical_strips, scan_band, valid_extremes
 
@@ -150,22 +150,9 @@ def write_imars_ori(
     with open_raster(input_path) as dataset:
         require_single_band(dataset, "an iMars orthoimage")
         geometry = describe_geometry(dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path))
-        if value_range is not None:
-            mapping = linear_mapping(special, *value_range)
-        elif np.dtype(dataset.dtypes[0]) == np.uint8:
-            mapping = identity_mapping(special)
-        else:
-            physical = scan_band(dataset)
-            if physical.valid_count == 0:
-                raise PdsgenError(input_path, "has no valid pixels (all nodata)")
-            mapping = linear_mapping(special, physical.minimum, physical.maximum)
+        mapping = null_zero_byte_mapping(dataset, value_range, str(input_path))
 
-        def encode(values: np.ndarray, invalid: np.ndarray | None) -> np.ndarray:
-            dns = to_dns(values, None, mapping, str(input_path))
-            if invalid is not None:
-                dns[invalid] = special.null
-            return dns
-
+        encode = dn_encoder(mapping, str(input_path))
         out = prepare_output_dir(outdir)
         tiff, metadata = out / f"{stem}.tif", out / f"{stem}.pvl"
         tags = _processing_tags(f"{base}_nd4", "ORTHOIMAGE", mapping.scaling_factor, mapping.offset,

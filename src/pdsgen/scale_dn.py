@@ -25,10 +25,10 @@ from rasterio.io import DatasetReader
 from rasterio.windows import Window
 
 from .errors import PdsgenError
+from .missing import invalid_mask
+from .read_raster import row_strips
 
 BIT_DEPTHS = (8, 10, 16)
-# Float values at or below the ISIS special-pixel range are missing data, as in DTMs.
-_ISIS_SPECIAL_LIMIT = np.float32(-3.4028226550889045e38)
 
 
 @dataclass(frozen=True)
@@ -83,30 +83,6 @@ class DnMapping:
     @property
     def keeps_values(self) -> bool:
         return self.low is None
-
-
-def invalid_mask(values: np.ndarray, nodata: float | None) -> np.ndarray | None:
-    """Pixels that hold no data: the nodata value, NaN/inf, ISIS special pixels.
-
-    Returns None when every pixel is valid, so the common case costs no mask.
-    """
-    invalid = None
-    if values.dtype.kind == "f":
-        invalid = ~np.isfinite(values)
-        invalid |= values <= _ISIS_SPECIAL_LIMIT
-    if nodata is not None and not math.isnan(nodata) and _representable(nodata, values.dtype):
-        hit = values == np.asarray(nodata).astype(values.dtype)
-        invalid = hit if invalid is None else (invalid | hit)
-    if invalid is not None and not invalid.any():
-        return None
-    return invalid
-
-
-def _representable(value: float, dtype: np.dtype) -> bool:
-    if dtype.kind == "f":
-        return True
-    info = np.iinfo(dtype)
-    return float(value).is_integer() and info.min <= value <= info.max
 
 
 def default_bits(dtype: np.dtype) -> int:
@@ -193,3 +169,34 @@ def _scaled_dns(values: np.ndarray, mapping: DnMapping) -> np.ndarray:
     dns[below] = special.low_repr
     dns[above] = special.high_repr
     return dns
+
+
+def null_zero_byte_mapping(
+    dataset: DatasetReader, value_range: tuple[float, float] | None, source: str
+) -> DnMapping:
+    """8-bit DNs for images whose DN 0 means no data (HRSC ND4, iMars ORI).
+
+    Byte input keeps its DNs; anything else is mapped linearly from `value_range`
+    or, failing that, from the valid range found in one streamed pass.
+    """
+    special = SPECIAL_DNS[8]
+    if value_range is not None:
+        return linear_mapping(special, *value_range)
+    if np.dtype(dataset.dtypes[0]) == np.uint8:
+        return identity_mapping(special)
+    found = valid_range(dataset, row_strips(dataset))
+    if found is None:
+        raise PdsgenError(source, "has no valid pixels (all nodata)")
+    return linear_mapping(special, *found)
+
+
+def dn_encoder(mapping: DnMapping, source: str):
+    """An encoder for write_image.stream_band: DNs, with no-data pixels set to CORE_NULL."""
+
+    def encode(values: np.ndarray, invalid: np.ndarray | None) -> np.ndarray:
+        dns = to_dns(values, None, mapping, source)
+        if invalid is not None:
+            dns[invalid] = mapping.special.null
+        return dns
+
+    return encode

@@ -22,6 +22,7 @@ from rasterio.windows import Window
 
 from .label.render import RecordLayout, pad_label, settle_attached_label
 from .label.values import shortest_float32
+from .missing import invalid_mask
 from .read_raster import row_strips
 
 # ISIS special pixels (NULL, LRS, LIS, HIS, HRS) are the five most negative float32
@@ -59,11 +60,16 @@ def physical_strips(
     pixels it turns into NaN become missing too.
     """
     nodata = dataset.nodata
-    is_float_input = np.dtype(dataset.dtypes[0]).kind == "f"
+    native_type = np.dtype(dataset.dtypes[0])
+    is_wide_float = native_type.kind == "f" and native_type.itemsize > 4
     for window in row_strips(dataset):
         native = dataset.read(1, window=window)
         values = native.astype(np.float32, copy=False)
-        invalid = _invalid_mask(native, values, nodata, is_float_input)
+        invalid = invalid_mask(native, nodata)
+        if is_wide_float:  # float64 beyond float32's range became infinite
+            overflow = ~np.isfinite(values)
+            if overflow.any():
+                invalid = overflow if invalid is None else (invalid | overflow)
         if adjust is not None:
             values = adjust(values, window).astype(np.float32, copy=False)
             lost = ~np.isfinite(values)
@@ -167,28 +173,6 @@ class StripWriter:
                     future.cancel()
         finally:
             self._pool.shutdown(wait=True)
-
-
-def _invalid_mask(native, values, nodata, is_float_input):
-    invalid = None
-    if is_float_input:
-        invalid = ~np.isfinite(values)
-        invalid |= values <= MISSING_CONSTANT
-    if nodata is not None and not np.isnan(nodata):
-        hit = native == np.asarray(nodata).astype(native.dtype) if _representable(nodata, native.dtype) else None
-        if hit is not None:
-            invalid = hit if invalid is None else (invalid | hit)
-    if invalid is not None and not invalid.any():
-        return None
-    return invalid
-
-
-def _representable(value: float, dtype: np.dtype) -> bool:
-    dtype = np.dtype(dtype)
-    if dtype.kind == "f":
-        return True
-    info = np.iinfo(dtype)
-    return float(value).is_integer() and info.min <= value <= info.max
 
 
 def write_attached_product(

@@ -35,31 +35,39 @@ def layout_label(text: str) -> str:
 
 
 def _indent_and_align(lines: list[str]) -> list[str]:
-    """Indent by depth and align '=' within each run of same-depth statements."""
+    """Indent by depth and align '=' within each run of same-depth statements.
+
+    Comments sit inside a run without breaking its alignment (as in released
+    HiRISE labels); blank lines, OBJECT/GROUP lines and END end a run.
+    """
     out: list[str] = []
     depth = 0
-    block: list[tuple[int, str, str]] = []
+    block: list[tuple[int, str | None, str]] = []  # (depth, key or None for a comment, value)
 
     def flush() -> None:
         if not block:
             return
-        width = max(len(key) for _, key, _ in block)
+        width = max((len(key) for _, key, _ in block if key is not None), default=0)
         for level, key, value in block:
-            out.extend(_statement_lines(level, key.ljust(width), value))
+            if key is None:
+                out.append(INDENT * level + value)
+            else:
+                out.extend(_statement_lines(level, key.ljust(width), value))
         block.clear()
 
     for line in lines:
         match = _STATEMENT_RE.match(line)
-        if not line or line.startswith("/*") or match is None:
+        if line.startswith("/*"):
+            block.append((depth, None, line))
+            continue
+        if not line or match is None:
             flush()
             if line == "END":
                 if depth != 0:
                     raise LabelLayoutError("END reached inside an open OBJECT or GROUP")
                 out.append("END")
-            elif line:
-                out.append(INDENT * depth + line if line.startswith("/*") else line)
             else:
-                out.append("")
+                out.append(line)
             continue
         key, value = match.group("key"), match.group("value").strip()
         if key in _OPENERS:
