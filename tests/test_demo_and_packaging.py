@@ -28,6 +28,9 @@ def test_demo_writes_inputs_and_a_dtm_gdal_reads(tmp_path):
     valid = np.isfinite(source)
     assert 0.001 < (~valid).mean() < 0.2  # the demo has real nodata holes
     assert np.array_equal(written[valid], source[valid])
+    assert result.validation is not None
+    assert result.validation.count("error") == 0 and result.validation.count("warning") == 0
+    assert any(line.startswith("CHECK") and line.endswith("OK") for line in result.lines)
     label = pvl.load(str(dtm))
     assert np.float32(label["IMAGE"]["VALID_MINIMUM"]) == source[valid].min()
 

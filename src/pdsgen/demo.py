@@ -15,6 +15,8 @@ from .extras import make_extras
 from .ortho import write_ortho
 from .staging import prepare_output_dir
 from .synthetic import make_scene, write_geotiff
+from .validate import validate_paths
+from .validate.report import Report
 
 DEMO_SOURCES = ("PSP_008669_1705", "PSP_009025_1705")
 DEMO_INSTITUTION = "U"
@@ -26,6 +28,7 @@ class DemoResult:
     inputs: list[Path] = field(default_factory=list)
     products: list[Path] = field(default_factory=list)
     lines: list[str] = field(default_factory=list)
+    validation: Report | None = None
 
 
 def run_demo(outdir: str | os.PathLike[str], overwrite: bool = True) -> DemoResult:
@@ -67,4 +70,7 @@ def run_demo(outdir: str | os.PathLike[str], overwrite: bool = True) -> DemoResu
         f"EXTRAS {len(extras) - 1} preview JPEGs and README.TXT in {outdir.name}/extras/ "
         f"(greyscale, shaded relief, colour over relief; orthoimage browse)"
     )
+
+    result.validation = validate_paths([outdir], strict=True)
+    result.lines.append(f"CHECK  pdsgen validate --strict {outdir.name}: {result.validation.summary_line()}")
     return result

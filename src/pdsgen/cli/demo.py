@@ -16,3 +16,5 @@ def demo(outdir: str) -> None:
     click.echo(f"inputs in {outdir}/input: " + ", ".join(p.name for p in result.inputs))
     for line in result.lines:
         click.echo(line)
+    if result.validation is not None and result.validation.exit_code:
+        raise SystemExit(result.validation.exit_code)  # the demo's own products must validate
