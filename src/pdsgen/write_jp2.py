@@ -20,6 +20,7 @@ import shutil
 import struct
 import tempfile
 from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -124,16 +125,27 @@ def encode_jp2(
         return layout
     writer = _PrecisionJp2k(str(path), shape=shape, tilesize=layout.tile_shape, **options)
     columns = math.ceil(samples / tile_cols)
-    row_data: np.ndarray | None = None
-    current = -1
-    for index, tile_writer in enumerate(writer.get_tilewriters()):
-        row, col = divmod(index, columns)
-        if row != current:
-            first = row * tile_rows
-            row_data = read_tile_row(first, min(tile_rows, lines - first))
-            current = row
-        assert row_data is not None
-        tile_writer[:] = row_data[:, col * tile_cols:(col + 1) * tile_cols]
+    starts = list(range(0, lines, tile_rows))
+
+    def read_row(row: int) -> np.ndarray:
+        return read_tile_row(starts[row], min(tile_rows, lines - starts[row]))
+
+    # The next row of tiles is read (GDAL, numpy: GIL released) while OpenJPEG
+    # encodes this one, so reading does not leave the encoder's cores idle.
+    # Two rows at most are in memory.
+    with ThreadPoolExecutor(max_workers=1, thread_name_prefix="pdsgen-read") as reader:
+        pending = reader.submit(read_row, 0)
+        row_data: np.ndarray | None = None
+        current = -1
+        for index, tile_writer in enumerate(writer.get_tilewriters()):
+            row, col = divmod(index, columns)
+            if row != current:
+                row_data = pending.result()
+                current = row
+                if row + 1 < len(starts):
+                    pending = reader.submit(read_row, row + 1)
+            assert row_data is not None
+            tile_writer[:] = row_data[:, col * tile_cols:(col + 1) * tile_cols]
     return layout
 
 
