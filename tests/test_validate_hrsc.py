@@ -278,3 +278,35 @@ def test_mex_radius_in_degrees_is_a_unit_error(tmp_path):
 def test_level_2_hrsc_label_without_a_map_has_no_hrsc_finding(corpus_dir):
     report = validate_paths([corpus_dir / "real" / "H0010_0023_SR2.lbl"], labels_only=True)
     assert not {r for r in report.rule_ids() if r.startswith("HRSC") or r == "MAP-011"}
+
+
+def test_statistics_leave_out_mex_dtm_missing_dn_pixels(tmp_path):
+    """Real HRSC labels may carry the missing DN only in MEX:DTM: with the IMAGE's
+    MISSING_CONSTANT removed, the -32768 pixels still stay out of VALID_MINIMUM, and
+    HRSC-001 has nothing to compare (as for those archive labels)."""
+    path = _dtm(tmp_path)
+    resize_label_text(path, b"  MISSING_CONSTANT = -32768\r\n", b"")
+    report = validate_paths([path], strict=True)
+    assert _not_info(report) == []
+    # control: with the group's DN changed too, -32768 counts as data and VALID_MINIMUM is wrong
+    replace_in_label(path, b"MEX:DTM_MISSING_DN     = -32768", b"MEX:DTM_MISSING_DN     = -32767")
+    errors = _errors(validate_paths([path]))
+    assert set(errors) == {"IMG-007"} and "-32768" in errors["IMG-007"]
+
+
+def test_projection_rule_is_for_single_orbit_products_only(tmp_path):
+    """An HRSC mosaic (DATA_SET_ID MEX-M-HRSC..., no hOOOO_NNNN name) may use another projection."""
+    from pdsgen.dtm import write_dtm
+
+    source = write_raster(tmp_path / "mosaic.tif", elevation_array(30, 20, seed=3),
+                          "+proj=sinu +lon_0=0 +R=3396000 +units=m +no_defs",
+                          Affine(50.0, 0, 0.0, 0, -50.0, -5185000.0))
+    path = write_dtm(source, tmp_path / "mosaic", product_id="HRSC_MOSAIC_SOUTH").path
+    resize_label_text(path, b'DATA_SET_NAME             = "UNK"\r\n', b"")  # room for the longer id
+    resize_label_text(path, b'DATA_SET_ID               = "UNK"',
+                      b'DATA_SET_ID               = "MEX-M-HRSC-5-RDR-MOSAIC-V1.0"')
+    report = validate_paths([path], strict=True)
+    assert _not_info(report) == []
+    renamed = path.with_name("h1234_0000_dt4.img")  # the same map as a single-orbit product: a warning
+    path.rename(renamed)
+    assert "HRSC-006" in validate_paths([renamed]).rule_ids("warning")

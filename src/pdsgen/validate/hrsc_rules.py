@@ -170,8 +170,17 @@ def centre_latitude(ctx: FileContext, block: Block) -> float | None:
     return (float(low) + float(high)) / 2.0
 
 
+def _single_orbit(ctx: FileContext) -> bool:
+    """A per-orbit level-4 product (`hOOOO_NNNN_xx4` by file name or PRODUCT_ID): the
+    products DSMAP.CAT's projection rule is for (HRSC's mosaics follow other schemes)."""
+    pid = ctx.root.text("PRODUCT_ID") or ""
+    return hrsc_kind(ctx.path.name) is not None or hrsc_kind(pid.strip()) is not None
+
+
 def check_projection_by_latitude(ctx: FileContext) -> Iterator[Hit]:
     """HRSC-006: sinusoidal for centre latitudes within +-85 degrees, polar stereographic poleward."""
+    if not _single_orbit(ctx):
+        return
     for block in _maps(ctx):
         stmt = block.get("MAP_PROJECTION_TYPE")
         lat = centre_latitude(ctx, block)
