@@ -19,6 +19,7 @@ import numpy as np
 from .context import FileContext
 from .image_rules import is_image
 from .model import Block, Hit, Statement
+from .profiles import is_hrsc
 from .projection import GDAL_PROJECTIONS, SUPPORTED, Sphere, boundary, normalise, projection_radius_key
 from .quantities import kilometres as _km
 from .quantities import metres_per_pixel as _scale_m
@@ -333,6 +334,10 @@ def _offset_findings(ctx: FileContext) -> list[tuple[str, Hit]]:
     if cache is not None:
         return cache
     found: list[tuple[str, Hit]] = []
+    # the older convention is HRSC's own (DSMAP.CAT): information there, a warning elsewhere
+    hrsc = is_hrsc(ctx)
+    old_rule = "MAP-011" if hrsc else "MAP-005"
+    old_whose = ", the HRSC archive's own (DSMAP.CAT)" if hrsc else ""
     for block in _maps(ctx):
         geo = geometry(ctx, block)
         if geo is None:
@@ -349,8 +354,8 @@ def _offset_findings(ctx: FileContext) -> list[tuple[str, Hit]]:
             found.append(("MAP-004", Hit(f"offsets follow the standard PDS3 convention "
                                          f"(residuals {_describe(standard)})", line)))
         elif best.consistent and abs(best.shift_sample) == 1 and best.shift_sample == best.shift_line:
-            found.append(("MAP-005", Hit(
-                f"offsets follow the older one-pixel-apart convention: SAMPLE/LINE_PROJECTION_OFFSET "
+            found.append((old_rule, Hit(
+                f"offsets follow the older one-pixel-apart convention{old_whose}: SAMPLE/LINE_PROJECTION_OFFSET "
                 f"are {best.shift_sample:+.0f} px from the standard values {geo.spo - best.shift_sample!r}"
                 f" / {geo.lpo - best.shift_line!r}; GDAL reads this 1 px off", line,
                 "SAMPLE_PROJECTION_OFFSET")))
@@ -370,8 +375,9 @@ def _offset_findings(ctx: FileContext) -> list[tuple[str, Hit]]:
             near = min((fit(geo, d, d) for d in (0.0, 1.0, -1.0)), key=lambda f: f.worst)
             if near.worst <= _NEAR_PX:
                 name = "standard" if near.shift_sample == 0 else "older one-pixel-apart"
-                rule = "MAP-004" if near.shift_sample == 0 else "MAP-005"
-                found.append((rule, Hit(f"offsets follow the {name} convention (residuals "
+                rule = "MAP-004" if near.shift_sample == 0 else old_rule
+                found.append((rule, Hit(f"offsets follow the {name} convention"
+                                        f"{old_whose if rule == old_rule else ''} (residuals "
                                         f"{_describe(near)})", line, "SAMPLE_PROJECTION_OFFSET")))
                 found.append(("MAP-010", Hit(
                     f"latitude/longitude bounds are up to {near.worst:.3f} px off the raster edges "
@@ -401,3 +407,4 @@ check_convention_standard = _offset_rule("MAP-004")
 check_convention_old = _offset_rule("MAP-005")
 check_not_checked = _offset_rule("MAP-009")
 check_bounds_imprecise = _offset_rule("MAP-010")
+check_convention_hrsc = _offset_rule("MAP-011")

@@ -3,6 +3,14 @@
 Ids never change meaning once published (CI configurations refer to them). Each
 family lives in its own module; this table is the only place that ties them together.
 `pdsgen validate --list-rules` prints it.
+
+Two families are profiles of one archive: HRSC (Mars Express HRSC level-4 labels: the
+MEX:DTM group against the IMAGE object, the file name and the archive's map
+conventions; they run only on labels recognised as HRSC, see profiles.py) and IMARS
+(iMars `*_ucl.pvl` metadata files, which are PVL rather than PDS3 labels: their rules
+take an ImarsContext and run only on those files, marked target="imars"). HRSC's own
+offset convention is reported by the MAP family (MAP-011), beside MAP-004/MAP-005,
+so every offset-convention verdict stays in one family.
 """
 
 from __future__ import annotations
@@ -18,7 +26,7 @@ from . import syntax_rules as S
 from .context import FileContext
 from .model import Finding, Hit
 
-FAMILIES = ("FILE", "SYNTAX", "DICT", "PTR", "REC", "IMG", "MAP", "GEO", "SET")
+FAMILIES = ("FILE", "SYNTAX", "DICT", "PTR", "REC", "IMG", "MAP", "GEO", "HRSC", "SET", "IMARS")
 
 
 @dataclass(frozen=True)
@@ -29,6 +37,7 @@ class Rule:
     check: Callable[[FileContext], Iterable[Hit]] | None  # per-file check
     needs_data: bool = False
     set_check: Callable[[list], Iterable[Finding]] | None = None  # per-directory check (SET)
+    target: str = "label"  # "label": PDS3 labels (FileContext); "imars": iMars PVL (ImarsContext)
 
     @property
     def family(self) -> str:
@@ -38,6 +47,8 @@ class Rule:
 def _table() -> list[Rule]:
     from . import dict_rules as D
     from . import geo_rules as G
+    from . import hrsc_rules as H
+    from . import imars_rules as X
     from . import set_rules as T
 
     r = S.from_reader
@@ -163,6 +174,40 @@ def _table() -> list[Rule]:
              G.check_projection, needs_data=True),
         Rule("GEO-006", "error", "equirectangular standard parallel in key 3078, not 3089",
              G.check_std_parallel_key, needs_data=True),
+        Rule("MAP-011", "info", "offset convention detected: older one-pixel-apart, HRSC's own (DSMAP.CAT)",
+             M.check_convention_hrsc),
+        Rule("HRSC-001", "error", "MEX:DTM_MISSING_DN equals the IMAGE's MISSING_CONSTANT",
+             H.check_missing_dn),
+        Rule("HRSC-002", "error", "MEX:DTM_SCALING_FACTOR/OFFSET equal the IMAGE's SCALING_FACTOR/OFFSET",
+             H.check_scaling),
+        Rule("HRSC-003", "error", "MEX:DTM_DESC agrees with the MEX:DTM radii (3396.0 sphere, -1e+32 areoid)",
+             H.check_desc_radii),
+        Rule("HRSC-004", "error", "MEX:DTM_DESC agrees with the file name (_dt4 sphere, _da4 areoid)",
+             H.check_desc_file_name),
+        Rule("HRSC-005", "error", "the map reference body is the 3396.0 km sphere", H.check_reference_body),
+        Rule("HRSC-006", "warning", "sinusoidal within +-85 deg centre latitude, polar stereographic poleward",
+             H.check_projection_by_latitude),
+        Rule("IMARS-001", "error", "the iMars metadata file parses as PVL", X.check_parses, target="imars"),
+        Rule("IMARS-002", "error", "ProductInfo (with Producer), Image, DataProduct, MapProjection, "
+             "Algorithm and their keywords are present", X.check_structure, target="imars"),
+        Rule("IMARS-003", "error", "the file is named <ProductInfo.ProductId>_ucl.pvl", X.check_product_id,
+             target="imars"),
+        Rule("IMARS-004", "error", "DataProduct.FileName exists beside the metadata (exact case)",
+             X.check_data_file, needs_data=True, target="imars"),
+        Rule("IMARS-005", "error", "GDAL opens the data file as a GeoTIFF", X.check_opens, needs_data=True,
+             target="imars"),
+        Rule("IMARS-006", "error", "Image size, bands, sample type, NoData, scaling and offset = the GeoTIFF's",
+             X.check_image, needs_data=True, target="imars"),
+        Rule("IMARS-007", "error", "PixelResolution, UpperLeftCornerX/Y = the GeoTIFF geotransform (1e-3 px)",
+             X.check_geotransform, needs_data=True, target="imars"),
+        Rule("IMARS-008", "error", "MapProjection Proj4 = the GeoTIFF's CRS", X.check_crs, needs_data=True,
+             target="imars"),
+        Rule("IMARS-009", "error", "ValidMinimum/ValidMaximum = the data's valid range", X.check_valid_range,
+             needs_data=True, target="imars"),
+        Rule("IMARS-010", "error", "the footprint <hOOOO_NNNN>.geojson exists and is a FeatureCollection",
+             X.check_footprint, needs_data=True, target="imars"),
+        Rule("IMARS-011", "error", "the footprint has a feature whose id is ProductInfo.ProductId",
+             X.check_footprint_feature, needs_data=True, target="imars"),
         # FILE-012 is reported by the runner itself when a file cannot be opened
         Rule("FILE-012", "error", "the file can be read", None),
         Rule("SET-001", "error", "products in one directory share projection parameters", None,

@@ -17,6 +17,7 @@ from pathlib import Path
 
 from ..errors import PdsgenError
 from .context import FileContext
+from .imars_context import ImarsContext, is_imars_metadata
 from .model import Finding
 from .report import FileReport, Report
 from .rules import rules
@@ -27,8 +28,9 @@ _SNIFF = (b"PDS_VERSION_ID", b"CCSD3")
 
 
 def is_label_file(path: Path) -> bool:
-    """Detached labels by name; other files only if they start with a PDS3 label."""
-    if path.suffix.lower() in LABEL_SUFFIXES:
+    """Detached labels by name, iMars metadata files (`*_ucl.pvl`); other files only if
+    they start with a PDS3 label."""
+    if path.suffix.lower() in LABEL_SUFFIXES or is_imars_metadata(path):
         return True
     try:
         with open(path, "rb") as fh:
@@ -59,30 +61,42 @@ def discover(paths: Iterable[str | os.PathLike[str]]) -> list[Path]:
 
 def validate_file(path: Path, labels_only: bool = False, dictionaries: tuple[str, ...] = ()
                   ) -> tuple[FileReport, Summary | None]:
-    """All per-file rules on one file."""
-    table = rules()
+    """All per-file rules on one file: PDS3 label rules, or IMARS rules for iMars metadata."""
+    imars = is_imars_metadata(path)
     try:
-        ctx = FileContext(path, labels_only=labels_only, dictionaries=dictionaries)
+        ctx = ImarsContext(path, labels_only) if imars else FileContext(
+            path, labels_only=labels_only, dictionaries=dictionaries)
     except OSError as exc:
         finding = Finding("FILE-012", "error", str(path), f"cannot read the file: {exc.strerror or exc}")
         return FileReport(str(path), [finding]), None
+    try:
+        findings = _run_rules(ctx, path, "imars" if imars else "label", labels_only)
+    finally:
+        if isinstance(ctx, ImarsContext):
+            ctx.close()
+    summary = None
+    if isinstance(ctx, FileContext):
+        try:
+            summary = summarise(ctx)
+        except Exception:
+            summary = None
+    findings.sort(key=lambda f: (f.line or 0, f.rule))
+    return FileReport(str(path), findings), summary
+
+
+def _run_rules(ctx: FileContext | ImarsContext, path: Path, target: str, labels_only: bool) -> list[Finding]:
     findings: list[Finding] = []
-    for rule in table.values():
-        if rule.check is None or (labels_only and rule.needs_data):
+    for rule in rules().values():
+        if rule.check is None or rule.target != target or (labels_only and rule.needs_data):
             continue
         try:
-            for hit in rule.check(ctx):
+            for hit in rule.check(ctx):  # type: ignore[arg-type]
                 findings.append(Finding(rule.id, rule.severity, hit.file or str(path), hit.message,
                                         hit.line, hit.keyword))
         except Exception as exc:  # a check must never turn odd input into a traceback
             findings.append(Finding(rule.id, "error", str(path),
-                                    f"check could not run on this label ({type(exc).__name__}: {exc})"))
-    try:
-        summary = summarise(ctx)
-    except Exception:
-        summary = None
-    findings.sort(key=lambda f: (f.line or 0, f.rule))
-    return FileReport(str(path), findings), summary
+                                    f"check could not run on this file ({type(exc).__name__}: {exc})"))
+    return findings
 
 
 def _one(args: tuple[str, bool, tuple[str, ...]]) -> tuple[FileReport, Summary | None]:
