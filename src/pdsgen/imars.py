@@ -218,7 +218,7 @@ def imars_pvl_text(
             ("MaximumLatitude", geometry.maximum_latitude),
             ("MinimumLongitude", geometry.westernmost_longitude),
             ("MaximumLongitude", geometry.easternmost_longitude),
-            ("Proj4", written.crs.to_proj4()),
+            ("Proj4", proj4_string(written.crs)),
         ])),
         ("Algorithm", pvl.PVLObject([
             ("Name", str(keywords.get("EXTRACTION_METHOD", "UNK"))),
@@ -226,3 +226,8 @@ def imars_pvl_text(
         ])),
     ])
     return pvl.dumps(module, encoder=pvl.encoder.ISISEncoder())
+
+
+def proj4_string(crs) -> str:
+    """The CRS as a PROJ string in PROJ's own spelling (`+no_defs`, not `+no_defs=True`)."""
+    return " ".join(f"+{key}" if value is True else f"+{key}={value}" for key, value in crs.to_dict().items())
