@@ -310,3 +310,16 @@ def test_projection_rule_is_for_single_orbit_products_only(tmp_path):
     renamed = path.with_name("h1234_0000_dt4.img")  # the same map as a single-orbit product: a warning
     path.rename(renamed)
     assert "HRSC-006" in validate_paths([renamed]).rule_ids("warning")
+
+
+def test_hrsc_numeric_not_applicable_is_information_not_a_range_error(corpus_dir, tmp_path):
+    real = validate_paths([corpus_dir / "real" / "H6541_0000_IR4_cropped.img.lbl"], labels_only=True)
+    placeholders = {f.keyword for f in real.findings if f.rule == "DICT-012"}
+    assert placeholders == {"RIGHT_ASCENSION", "DECLINATION"}
+    assert not [f for f in real.findings if f.rule == "DICT-003"]
+    # The same value in a label that is not HRSC's is still out of range.
+    other = tmp_path / "other.lbl"
+    other.write_bytes(b"PDS_VERSION_ID = PDS3\r\nRIGHT_ASCENSION = -1e+32\r\nEND\r\n")
+    elsewhere = validate_paths([other], labels_only=True)
+    assert "DICT-003" in {f.rule for f in elsewhere.findings}
+    assert "DICT-012" not in {f.rule for f in elsewhere.findings}

@@ -13,6 +13,7 @@ from .context import FileContext
 from .dictionary import PLACEHOLDERS
 from .lexer import date_problem
 from .model import Hit, Statement, Value
+from .profiles import is_hrsc
 
 _LETTERS = re.compile(r"[A-Za-z ]+")
 _ALNUM = re.compile(r"[A-Za-z0-9 ]+")
@@ -114,15 +115,38 @@ def check_number_for_text(ctx: FileContext) -> Iterator[Hit]:
                       f'(write "{value.raw}")', value.line, stmt.keyword)
 
 
+# HRSC labels write -1e+32 where a number does not apply (RIGHT_ASCENSION of a
+# surface image, the radii of a DA4's MEX:DTM group): the archive's own convention.
+HRSC_NOT_APPLICABLE = -1e32
+
+
+def _hrsc_placeholder(ctx: FileContext, value: Value) -> bool:
+    return value.is_number and value.py == HRSC_NOT_APPLICABLE and is_hrsc(ctx)
+
+
+def _out_of_range(entry: dict, value: Value) -> bool:
+    lo, hi = entry.get("min"), entry.get("max")
+    number = value.py
+    return (lo is not None and number < lo) or (hi is not None and number > hi)  # type: ignore[operator]
+
+
 def check_range(ctx: FileContext) -> Iterator[Hit]:
     for stmt, entry, value in _defined(ctx):
-        if not value.is_number or entry["type"] not in _NUMERIC:
+        if not value.is_number or entry["type"] not in _NUMERIC or _hrsc_placeholder(ctx, value):
             continue
         lo, hi = entry.get("min"), entry.get("max")
-        number = value.py
-        if (lo is not None and number < lo) or (hi is not None and number > hi):  # type: ignore[operator]
+        if _out_of_range(entry, value):
             yield Hit(f"{stmt.keyword} = {value.raw} is outside {lo if lo is not None else '-inf'}.."
                       f"{hi if hi is not None else 'inf'}", value.line, stmt.keyword)
+
+
+def check_hrsc_not_applicable(ctx: FileContext) -> Iterator[Hit]:
+    """Where HRSC's numeric "not applicable" falls outside a keyword's range, say so as
+    information instead of a range error."""
+    for stmt, entry, value in _defined(ctx):
+        if entry["type"] in _NUMERIC and _hrsc_placeholder(ctx, value) and _out_of_range(entry, value):
+            yield Hit(f"{stmt.keyword} = {value.raw}: HRSC's numeric 'not applicable' value "
+                      "(outside the dictionary range by design)", value.line, stmt.keyword)
 
 
 def _standard(entry: dict, value: Value) -> bool:

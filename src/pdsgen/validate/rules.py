@@ -103,6 +103,8 @@ def _table() -> list[Rule]:
         Rule("DICT-007", "warning", "units are known PDS units", D.check_units),
         Rule("DICT-011", "error", "units measure what the dictionary's unit measures (KM, DEG ...)",
              D.check_unit_dimension),
+        Rule("DICT-012", "info", "HRSC's numeric 'not applicable' value -1e+32 (exempt from DICT-003)",
+             D.check_hrsc_not_applicable),
         Rule("DICT-008", "info", "placeholder values (NULL) are reported", D.check_placeholder),
         Rule("PTR-001", "error", "pointers have a PDS3 form: n, n <BYTES>, \"F\", (\"F\", n)",
              P.check_pointer_form),
