@@ -127,3 +127,37 @@ def test_bad_params_file(tmp_path):
                           ORIGINS["equirectangular"][1])
     result = run_cli("dtm", source, "-o", tmp_path / "out", "--params", params)
     _assert_user_error(result, "unknown keyword PRODUCER_FULL_NAM", tmp_path / "out")
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["--profile", "generic", "--precision", "2"], "--precision does not apply to --profile generic"),
+        (["--profile", "hirise", "--reproject"], "--reproject does not apply to --profile hirise"),
+        (["--profile", "hrsc", "--product-id", "h0001_0000", "--institution", "U"],
+         "--institution does not apply to --profile hrsc"),
+        (["--profile", "imars", "--product-id", "h0001_0000", "--byte-order", "msb"],
+         "--byte-order does not apply to --profile imars"),
+        (["--version", ""], "product version must look like 1.0"),
+    ],
+)
+def test_options_a_profile_does_not_use_are_refused(tmp_path, args, needle):
+    source = write_raster(tmp_path / "in.tif", elevation_array(10, 10), CRS_EQUIRECTANGULAR,
+                          ORIGINS["equirectangular"][1])
+    result = run_cli("dtm", source, "-o", tmp_path / "out", *args)
+    _assert_user_error(result, needle, tmp_path / "out")
+
+
+def test_raster_beyond_the_body_is_refused(tmp_path):
+    source = write_raster(tmp_path / "far.tif", elevation_array(10, 10), CRS_EQUIRECTANGULAR,
+                          Affine(1.0, 0, 0.0, 0, -1.0, 1e9))
+    result = run_cli("dtm", source, "-o", tmp_path / "out")
+    _assert_user_error(result, "extends beyond the body", tmp_path / "out")
+
+
+def test_float64_values_beyond_float32_are_refused(tmp_path):
+    data = elevation_array(10, 10, dtype="float64")
+    data[4, 4] = 1e39
+    source = write_raster(tmp_path / "wide.tif", data, CRS_EQUIRECTANGULAR, ORIGINS["equirectangular"][1])
+    result = run_cli("dtm", source, "-o", tmp_path / "out")
+    _assert_user_error(result, "beyond the 32-bit float range", tmp_path / "out")

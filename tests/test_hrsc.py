@@ -196,3 +196,46 @@ def test_extras_of_hrsc_products_use_hrsc_names_and_credit(tmp_path):
     assert "ESA/DLR/FU Berlin" in readme
     with Image.open(tmp_path / "extras" / "h1234_0000_dt4.ab.jpg") as annotated:
         assert annotated.width > 0
+
+
+
+@pytest.mark.parametrize(("precision", "needle"), [("inf", "positive number"), ("nan", "positive number"),
+                                                    ("0", "positive number"), ("1e6", "too coarse")])
+def test_unusable_precision_is_refused(tmp_path, precision, needle):
+    crs, transform = GRIDS["sinusoidal"]
+    source = write_raster(tmp_path / "in.tif", elevation_array(10, 10), crs, transform)
+    for profile in ("hrsc", "imars"):
+        result = run_cli("dtm", source, "-o", tmp_path / "out", "--profile", profile, "--product-id",
+                         "h0001_0000", "--precision", precision)
+        assert result.returncode == 2 and needle in result.stderr, (profile, result.stderr)
+        assert "Traceback" not in result.stderr
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+
+
+def test_reproject_without_a_crs_is_a_clear_error(tmp_path):
+    source = write_raster(tmp_path / "nocrs.tif", elevation_array(10, 10), None, Affine(1, 0, 0, 0, -1, 10))
+    for command in ("dtm", "ortho"):
+        result = run_cli(command, source, "-o", tmp_path / "out", "--profile", "hrsc", "--product-id",
+                         "h0001_0000", "--reproject")
+        assert result.returncode == 2, result.stderr
+        assert "no coordinate reference system" in result.stderr and "Traceback" not in result.stderr
+
+
+def test_hrsc_ortho_refuses_options_it_cannot_honour(tmp_path):
+    crs, transform = GRIDS["sinusoidal"]
+    source = write_raster(tmp_path / "in.tif", elevation_array(10, 10), crs, transform)
+    for args, needle in ((["--bits", "16"], "8-bit"), (["--gmljp2"], "--gmljp2 does not apply"),
+                         (["--sequence", "3"], "--sequence does not apply")):
+        result = run_cli("ortho", source, "-o", tmp_path / "out", "--profile", "hrsc", "--product-id",
+                         "h0001_0000", *args)
+        assert result.returncode == 2 and needle in result.stderr, result.stderr
+
+
+def test_multiband_nadir_image_is_named_as_such(tmp_path):
+    crs, transform = GRIDS["sinusoidal"]
+    data = np.stack([elevation_array(10, 10)] * 3)
+    source = write_raster(tmp_path / "rgb.tif", data, crs, transform)
+    result = run_cli("ortho", source, "-o", tmp_path / "out", "--profile", "hrsc", "--product-id", "h0001_0000",
+                     "--reproject")
+    assert result.returncode == 2
+    assert "rgb.tif: has 3 bands; an HRSC nadir image must have exactly one" in result.stderr

@@ -90,7 +90,7 @@ def test_footprint_is_geojson_around_the_valid_data(tmp_path, polar_dtm):
 def test_cli_imars_profile(tmp_path, polar_dtm):
     source, _ = polar_dtm
     result = run_cli("dtm", source, "-o", tmp_path / "out", "--profile", "imars", "--product-id", "h0022_0000",
-                     "--kind", "da4")
+                     "--kind", "da4", "--vertical-datum", "areoid")
     assert result.returncode == 0, result.stderr
     assert (tmp_path / "out" / "h0022_0000_da4_ucl.tif").exists()
     assert (tmp_path / "out" / "h0022_0000_da4_ucl.pvl").exists()
@@ -115,3 +115,29 @@ def test_ori_is_byte_geotiff_with_nodata_zero_and_shares_the_footprint(tmp_path,
     assert label["ProductInfo"]["ProductType"] == "ORI" and label["Image"]["NoData"] == 0
     ids = [f["id"] for f in json.loads(ori.footprint_path.read_text())["features"]]
     assert ids == ["h0022_0000_da4", "h0022_0000_nd4"]
+
+
+def test_areoid_heights_from_sphere_input_need_an_areoid(tmp_path, polar_dtm):
+    source, _ = polar_dtm
+    result = run_cli("dtm", source, "-o", tmp_path / "out", "--profile", "imars", "--product-id", "h0022_0000",
+                     "--kind", "da4")
+    assert result.returncode == 2 and "--areoid" in result.stderr
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+
+
+@pytest.mark.parametrize("existing", ["directory", "not a collection"])
+def test_footprint_that_cannot_be_updated_leaves_nothing_published(tmp_path, polar_dtm, existing):
+    source, _ = polar_dtm
+    out = tmp_path / "out"
+    out.mkdir()
+    footprint = out / "h0022_0000.geojson"
+    if existing == "directory":
+        footprint.mkdir()
+    else:
+        footprint.write_text('{"precious": 1}')
+    result = run_cli("dtm", source, "-o", out, "--profile", "imars", "--product-id", "h0022_0000")
+    assert result.returncode == 2, result.stderr
+    assert len(result.stderr.strip().splitlines()) == 1 and "h0022_0000.geojson" in result.stderr
+    assert sorted(p.name for p in out.iterdir()) == ["h0022_0000.geojson"]
+    if existing != "directory":
+        assert footprint.read_text() == '{"precious": 1}'

@@ -185,7 +185,7 @@ def test_footprint_absent_or_not_a_collection(tmp_path):
 
 def test_broken_pvl_syntax(tmp_path):
     dtm, _ = _delivery(tmp_path)
-    _edit(dtm.pvl_path, "SourceProductId = (N/A)", "SourceProductId = (N/A")
+    _edit(dtm.pvl_path, "= (N/A)", "= (N/A")
     report = validate_paths([dtm.pvl_path])
     assert set(_errors(report)) == {"IMARS-001"} and report.exit_code == 1
     assert not [f for f in report.findings if "could not run" in f.message]

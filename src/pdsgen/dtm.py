@@ -18,7 +18,7 @@ from .errors import PdsgenError
 from .geometry import MapGeometry, describe_geometry
 from .label.render import RecordLayout, render_label
 from .label.values import Based, Symbol
-from .params import ParamValue, load_params
+from .params import ParamValue, check_version, load_params
 from .profiles import (
     check_product_id,
     generic_product_id,
@@ -68,6 +68,7 @@ def write_dtm(
     if byte_order not in BYTE_ORDERS:
         raise PdsgenError(None, f"byte order must be one of {', '.join(BYTE_ORDERS)}")
     chosen = get_profile(profile)
+    version = check_version(version)
     keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
     input_path = Path(input_path)
     with open_raster(input_path) as dataset:

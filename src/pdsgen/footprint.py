@@ -20,6 +20,7 @@ from rasterio.features import shapes
 from rasterio.io import DatasetReader
 from rasterio.warp import transform_geom
 
+from .errors import PdsgenError
 from .geometry import ellipsoid_axes
 
 FOOTPRINT_SIZE = 1024
@@ -42,23 +43,20 @@ def valid_data_outline(dataset: DatasetReader, valid_fn) -> list[dict[str, Any]]
 
 
 def write_footprint(
-    path: str | os.PathLike[str], feature_id: str, polygons: list[dict[str, Any]], properties: dict[str, Any],
-    body: str,
+    path: str | os.PathLike[str], staged_path: str | os.PathLike[str], feature_id: str,
+    polygons: list[dict[str, Any]], properties: dict[str, Any], body: str,
 ) -> None:
     """Add or replace one product's feature in the scene's footprint collection.
 
     One footprint file serves a scene: the DTM and the orthoimage of an iMars
-    delivery each contribute their own feature, matched by `feature_id`.
+    delivery each contribute their own feature, matched by `feature_id`. The
+    merged collection is written to `staged_path` (published with the product);
+    an existing file that is not a FeatureCollection is never replaced.
     """
     path = Path(path)
-    collection = {"type": "FeatureCollection", "properties": {"body": body}, "features": []}
+    collection: dict[str, Any] = {"type": "FeatureCollection", "properties": {"body": body}, "features": []}
     if path.exists():
-        try:
-            existing = json.loads(path.read_text())
-            if existing.get("type") == "FeatureCollection":
-                collection["features"] = [f for f in existing.get("features", []) if f.get("id") != feature_id]
-        except (json.JSONDecodeError, AttributeError):
-            pass
+        collection["features"] = [f for f in _existing_features(path) if f.get("id") != feature_id]
     geometry = (
         {"type": "MultiPolygon", "coordinates": [poly["coordinates"] for poly in polygons
                                                  if poly["type"] == "Polygon"]}
@@ -68,7 +66,17 @@ def write_footprint(
         {"type": "Feature", "id": feature_id, "properties": {"product_id": feature_id, **properties},
          "geometry": geometry}
     )
-    collection["features"].sort(key=lambda feature: feature["id"])
-    tmp = path.with_name(f".{path.name}.part")
-    tmp.write_text(json.dumps(collection, indent=1) + "\n")
-    os.replace(tmp, path)
+    collection["features"].sort(key=lambda feature: str(feature.get("id")))
+    Path(staged_path).write_text(json.dumps(collection, indent=1) + "\n")
+
+
+def _existing_features(path: Path) -> list[dict[str, Any]]:
+    try:
+        existing = json.loads(path.read_text())
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError):
+        existing = None
+    if not isinstance(existing, dict) or existing.get("type") != "FeatureCollection" or not isinstance(
+        existing.get("features"), list
+    ):
+        raise PdsgenError(path, "exists and is not a GeoJSON FeatureCollection; move it away to write the footprint")
+    return [f for f in existing["features"] if isinstance(f, dict)]

@@ -91,7 +91,7 @@ def describe_geometry(
     ulx = transform.c - projection.false_easting
     uly = transform.f - projection.false_northing
     radius = projection.b if projection.kind == POLAR_STEREOGRAPHIC else projection.a
-    lat_min, lat_max, lon_west, lon_east = _bounds(crs, transform, width, height, projection)
+    lat_min, lat_max, lon_west, lon_east = _bounds(crs, transform, width, height, projection, source)
     return MapGeometry(
         projection_type=projection.kind,
         a_axis_km=projection.a / 1000.0,
@@ -203,11 +203,16 @@ def _geographic_crs(projection: _Projection) -> CRS:
     return CRS.from_proj4(f"+proj=longlat +a={projection.a!r} +b={projection.b!r} +no_defs")
 
 
-def _bounds(crs: CRS, transform: Affine, width: int, height: int, projection: _Projection):
+def _bounds(crs: CRS, transform: Affine, width: int, height: int, projection: _Projection, source: str):
     xs, ys = _edge_points(transform, width, height)
     lons, lats = warp_transform(crs, _geographic_crs(projection), xs, ys)
     lons = np.asarray(lons, dtype=float)
     lats = _planetocentric(np.asarray(lats, dtype=float), projection)
+    if not (np.all(np.isfinite(lats)) and np.all(np.isfinite(lons)) and np.all(np.abs(lats) <= 90.0 + 1e-9)):
+        raise PdsgenError(
+            source, "raster extends beyond the body (its edges do not map to latitudes within -90..90); "
+                    "check its georeferencing and CRS",
+        )
     lat_min, lat_max = float(lats.min()), float(lats.max())
     if projection.kind == POLAR_STEREOGRAPHIC and _contains_pole(transform, width, height, projection):
         if projection.center_latitude > 0:

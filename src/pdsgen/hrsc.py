@@ -34,7 +34,7 @@ from .errors import PdsgenError
 from .geometry import POLAR_STEREOGRAPHIC, SINUSOIDAL, MapGeometry, describe_geometry
 from .label.render import RecordLayout, render_label
 from .label.values import Based, Symbol
-from .params import ParamValue, load_params
+from .params import ParamValue, check_version, load_params
 from .read_raster import open_raster, require_single_band
 from .scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
 from .staging import StagedOutputs, prepare_output_dir
@@ -109,11 +109,36 @@ def hrsc_base_name(product_id: str | None, source_ids: Sequence[str]) -> tuple[s
     )
 
 
+def check_datum_conversion(
+    kind: str, output_datum: str, vertical_datum: str, areoid: str | os.PathLike[str] | None
+) -> None:
+    """A product above one datum from heights above another needs the areoid between them."""
+    if vertical_datum not in ("sphere", "areoid"):
+        raise PdsgenError(None, "--vertical-datum must be sphere or areoid")
+    if output_datum != vertical_datum and areoid is None:
+        raise PdsgenError(
+            None,
+            f"{kind.upper()} holds heights above the {output_datum} but the input is above the "
+            f"{vertical_datum}: give --areoid FILE to convert, or --vertical-datum {output_datum}",
+        )
+    if output_datum == vertical_datum and areoid is not None:
+        raise PdsgenError(
+            areoid, f"an areoid is only used to convert between datums; the input is already above the {output_datum}"
+        )
+
+
 def choose_encoding(stats: BandStatistics, precision: float, source: str) -> Int16Encoding:
-    """Offset 0 when the heights fit, else the range's centre; refuse when they cannot fit."""
-    if not precision > 0:
-        raise PdsgenError(None, f"--precision must be positive, got {precision:g}")
+    """Offset 0 when the heights fit, else the range's centre; refuse when they cannot fit,
+    or when the precision is so coarse that the heights would collapse to a few values."""
+    if not (math.isfinite(precision) and precision > 0):
+        raise PdsgenError(None, f"--precision must be a positive number of metres, got {precision:g}")
     low, high = stats.minimum, stats.maximum
+    if high > low and (high - low) / precision < 16:
+        raise PdsgenError(
+            source,
+            f"--precision {precision:g} m is too coarse for heights {low:g} .. {high:g} m "
+            "(fewer than 16 distinct levels)",
+        )
     for offset in (0.0, round((low + high) / 2.0 / precision) * precision):
         if (high - offset) / precision <= DN_LIMIT and (low - offset) / precision >= -DN_LIMIT:
             return Int16Encoding(float(precision), float(offset))
@@ -159,6 +184,8 @@ def hrsc_grid(dataset: DatasetReader, reproject_input: bool) -> Iterator[Dataset
     if not reproject_input:
         yield dataset
         return
+    if dataset.crs is None:
+        raise PdsgenError(dataset.name, "raster has no coordinate reference system (map projection)")
     target = hrsc_target_crs(dataset)
     resolution = abs(dataset.transform.a)
     transform, width, height = calculate_default_transform(
@@ -227,15 +254,9 @@ def write_hrsc_dtm(
     """Write `OUTDIR/hOOOO_NNNN_<kind>.img` from a single-band height raster."""
     if kind not in DTM_KINDS:
         raise PdsgenError(None, f"HRSC DTM kind must be one of {', '.join(DTM_KINDS)}")
-    if vertical_datum not in ("sphere", "areoid"):
-        raise PdsgenError(None, "--vertical-datum must be sphere or areoid")
     output_datum, description = DTM_KINDS[kind]
-    if output_datum != vertical_datum and areoid is None:
-        raise PdsgenError(
-            None,
-            f"{kind.upper()} holds heights above the {output_datum} but the input is above the "
-            f"{vertical_datum}: give --areoid FILE to convert",
-        )
+    check_datum_conversion(kind, output_datum, vertical_datum, areoid)
+    version = check_version(version)
     keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
     input_path = Path(input_path)
     with hrsc_input(input_path, reproject_input) as (grid, geometry):
@@ -283,14 +304,21 @@ def write_hrsc_dtm(
 
 
 @contextmanager
-def hrsc_input(input_path: Path, reproject_input: bool) -> Iterator[tuple[DatasetReader, MapGeometry]]:
+def hrsc_input(
+    input_path: Path, reproject_input: bool, what: str = "a DTM"
+) -> Iterator[tuple[DatasetReader, MapGeometry]]:
     """Open a single-band input on the HRSC grid (as is, or warped) and check its geometry."""
-    with open_raster(input_path) as dataset, hrsc_grid(dataset, reproject_input) as grid:
-        require_single_band(grid)
-        geometry = describe_geometry(grid.crs, grid.transform, grid.width, grid.height, str(input_path))
-        _, centre_lat = _centre_lonlat(grid.crs, grid.transform, grid.width, grid.height)
-        check_hrsc_geometry(geometry, centre_lat, str(input_path))
-        yield grid, geometry
+    with open_raster(input_path) as dataset:
+        require_single_band(dataset, what)
+        with hrsc_grid(dataset, reproject_input) as grid:
+            yield grid, _checked_hrsc_geometry(grid, input_path)
+
+
+def _checked_hrsc_geometry(grid: DatasetReader, input_path: Path) -> MapGeometry:
+    geometry = describe_geometry(grid.crs, grid.transform, grid.width, grid.height, str(input_path))
+    _, centre_lat = _centre_lonlat(grid.crs, grid.transform, grid.width, grid.height)
+    check_hrsc_geometry(geometry, centre_lat, str(input_path))
+    return geometry
 
 
 def hrsc_identification(
@@ -344,7 +372,7 @@ def write_hrsc_nd4(
     keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
     input_path = Path(input_path)
     special = SPECIAL_DNS[8]
-    with hrsc_input(input_path, reproject_input) as (grid, geometry):
+    with hrsc_input(input_path, reproject_input, "an HRSC nadir image") as (grid, geometry):
         mapping = null_zero_byte_mapping(grid, value_range, str(input_path))
         context = hrsc_identification(HRSC_ND4_KEYWORDS, keywords, product_id, source_product_ids, "nd4", version)
         context |= {

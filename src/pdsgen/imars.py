@@ -23,12 +23,12 @@ from . import __version__
 from .errors import PdsgenError
 from .footprint import valid_data_outline, write_footprint
 from .geometry import MapGeometry, describe_geometry
-from .hrsc import MISSING_DN, Int16Encoding, choose_encoding, hrsc_base_name
-from .params import ParamValue, load_params
+from .hrsc import MISSING_DN, Int16Encoding, areoid_adjustment, check_datum_conversion, choose_encoding, hrsc_base_name
+from .params import ParamValue, check_version, load_params
 from .read_raster import open_raster, require_single_band
 from .scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
 from .staging import StagedOutputs, prepare_output_dir
-from .write_image import physical_strips, scan_band, valid_extremes
+from .write_image import Adjust, physical_strips, scan_band, valid_extremes
 
 IMARS_INSTITUTION = "UCL MULLARD SPACE SCIENCE LABORATORY"
 _DTM_DESCRIPTIONS = {"dt": "HEIGHT ABOVE SPHEROID", "da": "HEIGHT ABOVE GM3-AREOID"}
@@ -53,13 +53,23 @@ def write_imars_dtm(
     product_id: str | None = None,
     source_product_ids: tuple[str, ...] | list[str] = (),
     kind: str = "da",
+    vertical_datum: str | None = None,
+    areoid: str | os.PathLike[str] | None = None,
     precision: float = 1.0,
     params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
+    version: str = "1.0",
     overwrite: bool = False,
 ) -> ImarsProduct:
-    """Write `<ID>_<kind>4_ucl.tif` (int16), its `.pvl` and the scene footprint."""
+    """Write `<ID>_<kind>4_ucl.tif` (int16), its `.pvl` and the scene footprint.
+
+    `vertical_datum` says what the input heights are measured from (default: the
+    datum of `kind`); when it differs from the kind's, `areoid` converts, as for HRSC.
+    """
     if kind not in _DTM_DESCRIPTIONS:
         raise PdsgenError(None, "iMars DTM kind must be da (areoid heights) or dt (sphere heights)")
+    version = check_version(version)
+    output_datum = "areoid" if kind == "da" else "sphere"
+    check_datum_conversion(f"{kind}4", output_datum, vertical_datum or output_datum, areoid)
     keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
     sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
     base, _ = hrsc_base_name(product_id, sources)
@@ -68,7 +78,10 @@ def write_imars_dtm(
     with open_raster(input_path) as dataset:
         require_single_band(dataset)
         geometry = describe_geometry(dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path))
-        physical = scan_band(dataset)
+        adjust = None
+        if vertical_datum is not None and vertical_datum != output_datum:
+            adjust = areoid_adjustment(areoid, dataset, +1.0 if output_datum == "sphere" else -1.0)
+        physical = scan_band(dataset, adjust)
         if physical.valid_count == 0:
             raise PdsgenError(input_path, "has no valid pixels (all nodata)")
         encoding = choose_encoding(physical, precision, str(input_path))
@@ -76,24 +89,24 @@ def write_imars_dtm(
         tiff, metadata = out / f"{stem}.tif", out / f"{stem}.pvl"
         tags = _processing_tags(f"{base}_{kind}4", _DTM_DESCRIPTIONS[kind], encoding.scaling_factor,
                                 encoding.offset, MISSING_DN, keywords, sources)
-        with StagedOutputs([tiff, metadata], overwrite) as staged:
+        footprint = out / f"{base}.geojson"
+        with StagedOutputs([tiff, metadata], overwrite, shared=[footprint]) as staged:
             low, high = _write_geotiff(dataset, staged.path(tiff), "int16", MISSING_DN, encoding.encode,
-                                       encoding.scaling_factor, encoding.offset, tags)
+                                       encoding.scaling_factor, encoding.offset, tags, adjust)
             with rasterio.open(staged.path(tiff)) as written:
                 text = imars_pvl_text(written, tiff.name, f"{base}_{kind}4", "DTM", geometry, keywords, sources,
-                                      {"ValidMinimum": low, "ValidMaximum": high,
-                                       "HeightReference": _DTM_DESCRIPTIONS[kind],
-                                       "Precision": pvl.Quantity(encoding.scaling_factor, "m")})
+                                      version, {"ValidMinimum": low, "ValidMaximum": high,
+                                                "HeightReference": _DTM_DESCRIPTIONS[kind],
+                                                "Precision": pvl.Quantity(encoding.scaling_factor, "m")})
                 polygons = valid_data_outline(written, lambda a: a != MISSING_DN)
             staged.path(metadata).write_text(text)
-    footprint = out / f"{base}.geojson"
-    write_footprint(footprint, f"{base}_{kind}4", polygons, {"type": "DTM", "file": tiff.name},
-                    geometry.target_name or "MARS")
+            write_footprint(footprint, staged.path(footprint), f"{base}_{kind}4", polygons,
+                            {"type": "DTM", "file": tiff.name}, geometry.target_name or "MARS")
     return ImarsProduct(f"{base}_{kind}4", tiff, metadata, footprint, geometry, encoding, low, high)
 
 
 def _write_geotiff(dataset, path: Path, dtype: str, nodata: int, encode, scale: float, offset: float,
-                   tags: dict[str, str]) -> tuple[int, int]:
+                   tags: dict[str, str], adjust: Adjust | None = None) -> tuple[int, int]:
     """Stream encoded samples into a tiled, compressed GeoTIFF; return the valid DN range."""
     profile = {
         "driver": "GTiff", "width": dataset.width, "height": dataset.height, "count": 1, "dtype": dtype,
@@ -105,7 +118,7 @@ def _write_geotiff(dataset, path: Path, dtype: str, nodata: int, encode, scale: 
         out.scales = (scale,)
         out.offsets = (offset,)
         out.update_tags(**tags)
-        for values, invalid, window in physical_strips(dataset):
+        for values, invalid, window in physical_strips(dataset, adjust):
             stored = encode(values, invalid)
             count, lo, hi = valid_extremes(stored, invalid)
             if count:
@@ -138,9 +151,11 @@ def write_imars_ori(
     source_product_ids: tuple[str, ...] | list[str] = (),
     value_range: tuple[float, float] | None = None,
     params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
+    version: str = "1.0",
     overwrite: bool = False,
 ) -> ImarsProduct:
     """Write the orthoimage `<ID>_nd4_ucl.tif` (byte, nodata 0), its `.pvl` and the scene footprint."""
+    version = check_version(version)
     keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
     sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
     base, _ = hrsc_base_name(product_id, sources)
@@ -157,24 +172,24 @@ def write_imars_ori(
         tiff, metadata = out / f"{stem}.tif", out / f"{stem}.pvl"
         tags = _processing_tags(f"{base}_nd4", "ORTHOIMAGE", mapping.scaling_factor, mapping.offset,
                                 special.null, keywords, sources)
-        with StagedOutputs([tiff, metadata], overwrite) as staged:
+        footprint = out / f"{base}.geojson"
+        with StagedOutputs([tiff, metadata], overwrite, shared=[footprint]) as staged:
             low, high = _write_geotiff(dataset, staged.path(tiff), "uint8", special.null, encode,
                                        mapping.scaling_factor, mapping.offset, tags)
             with rasterio.open(staged.path(tiff)) as written:
                 text = imars_pvl_text(written, tiff.name, f"{base}_nd4", "ORI", geometry, keywords, sources,
-                                      {"ValidMinimum": low, "ValidMaximum": high})
+                                      version, {"ValidMinimum": low, "ValidMaximum": high})
                 polygons = valid_data_outline(written, lambda a: a != special.null)
             staged.path(metadata).write_text(text)
-    footprint = out / f"{base}.geojson"
-    write_footprint(footprint, f"{base}_nd4", polygons, {"type": "ORI", "file": tiff.name},
-                    geometry.target_name or "MARS")
+            write_footprint(footprint, staged.path(footprint), f"{base}_nd4", polygons,
+                            {"type": "ORI", "file": tiff.name}, geometry.target_name or "MARS")
     encoding = Int16Encoding(mapping.scaling_factor, mapping.offset)
     return ImarsProduct(f"{base}_nd4", tiff, metadata, footprint, geometry, encoding, low, high)
 
 
 def imars_pvl_text(
     written, file_name: str, product_id: str, product_type: str, geometry: MapGeometry, keywords: Mapping[str, Any],
-    sources: list[str], image_extra: Mapping[str, Any],
+    sources: list[str], version: str, image_extra: Mapping[str, Any],
 ) -> str:
     """The metadata file, built from the GeoTIFF as written so the two cannot disagree."""
     transform = written.transform
@@ -182,6 +197,7 @@ def imars_pvl_text(
         ("ProductInfo", pvl.PVLObject([
             ("ProductId", product_id),
             ("ProductType", product_type),
+            ("ProductVersionId", version),
             ("SourceProductId", sources or ["N/A"]),
             ("Producer", pvl.PVLGroup([
                 ("Institution", str(keywords.get("PRODUCER_INSTITUTION_NAME", IMARS_INSTITUTION))),

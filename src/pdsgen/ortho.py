@@ -25,7 +25,7 @@ from .geojp2 import geojp2_box, gmljp2_box
 from .geometry import MapGeometry, describe_geometry
 from .label.render import render_label
 from .label.values import Based, Quantity, Symbol
-from .params import ParamValue, load_params
+from .params import ParamValue, check_version, load_params
 from .profiles import (
     ORTHO_DESCRIPTIONS,
     ORTHO_FILTER_NAMES,
@@ -93,6 +93,7 @@ def write_ortho(
     if bits is not None and bits not in BIT_DEPTHS:
         raise PdsgenError(None, f"--bits must be one of {', '.join(map(str, BIT_DEPTHS))}, not {bits}")
     chosen = get_profile(profile)
+    version = check_version(version)
     keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
     input_path = Path(input_path)
     with open_raster(input_path) as dataset, rasterio.Env(GDAL_CACHEMAX=_read_cache_bytes(dataset)):

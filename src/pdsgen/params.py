@@ -32,6 +32,14 @@ def params_schema() -> dict[str, dict[str, Any]]:
         return tomllib.load(handle)
 
 
+def check_version(version: str) -> str:
+    """PRODUCT_VERSION_ID: digits separated by dots, e.g. 1.0 (never empty)."""
+    text = str(version).strip()
+    if not _VERSION_RE.match(text):
+        raise PdsgenError(None, f"product version must look like 1.0, got {version!r}")
+    return text
+
+
 def load_params(path: str | os.PathLike[str] | None) -> dict[str, ParamValue]:
     """Read and check a params file; None gives an empty set."""
     if path is None:

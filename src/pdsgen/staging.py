@@ -37,16 +37,25 @@ class StagedOutputs:
     under the final names is touched.
     """
 
-    def __init__(self, final_paths: Iterable[str | os.PathLike[str]], overwrite: bool) -> None:
-        self.final_paths = [Path(p) for p in final_paths]
+    def __init__(
+        self,
+        final_paths: Iterable[str | os.PathLike[str]],
+        overwrite: bool,
+        shared: Iterable[str | os.PathLike[str]] = (),
+    ) -> None:
+        """`shared` paths are files several products update (a scene's footprint):
+        they are replaced without --overwrite, but still only when everything succeeds."""
+        self.shared = [Path(p) for p in shared]
+        self.final_paths = [Path(p) for p in final_paths] + self.shared
         self.overwrite = overwrite
         self._temps: dict[Path, Path] = {}
 
     def __enter__(self) -> StagedOutputs:
-        if not self.overwrite:
-            for final in self.final_paths:
-                if final.exists():
-                    raise PdsgenError(final, "output exists; use --overwrite to replace it")
+        for final in self.final_paths:
+            if final.is_dir():
+                raise PdsgenError(final, "output path is a directory")
+            if final.exists() and not self.overwrite and final not in self.shared:
+                raise PdsgenError(final, "output exists; use --overwrite to replace it")
         for final in self.final_paths:
             try:
                 fd, tmp = tempfile.mkstemp(prefix=f".{final.name}.", suffix=".part", dir=final.parent)

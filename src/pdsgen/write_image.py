@@ -20,6 +20,7 @@ import numpy as np
 from rasterio.io import DatasetReader
 from rasterio.windows import Window
 
+from .errors import PdsgenError
 from .label.render import RecordLayout, pad_label, settle_attached_label
 from .label.values import shortest_float32
 from .missing import invalid_mask
@@ -64,18 +65,28 @@ def physical_strips(
     is_wide_float = native_type.kind == "f" and native_type.itemsize > 4
     for window in row_strips(dataset):
         native = dataset.read(1, window=window)
-        values = native.astype(np.float32, copy=False)
+        with np.errstate(over="ignore"):
+            values = native.astype(np.float32, copy=False)
         invalid = invalid_mask(native, nodata)
-        if is_wide_float:  # float64 beyond float32's range became infinite
-            overflow = ~np.isfinite(values)
-            if overflow.any():
-                invalid = overflow if invalid is None else (invalid | overflow)
+        if is_wide_float:
+            _refuse_float32_overflow(dataset, native, values, invalid)
         if adjust is not None:
             values = adjust(values, window).astype(np.float32, copy=False)
             lost = ~np.isfinite(values)
             if lost.any():
                 invalid = lost if invalid is None else (invalid | lost)
         yield values, invalid, window
+
+
+def _refuse_float32_overflow(dataset, native: np.ndarray, values: np.ndarray, invalid) -> None:
+    """float64 input beyond float32's range would silently become infinite: refuse it."""
+    overflow = ~np.isfinite(values) & np.isfinite(native)
+    if invalid is not None:
+        overflow &= ~invalid
+    if overflow.any():
+        example = native[overflow].flat[0]
+        raise PdsgenError(dataset.name, f"holds values beyond the 32-bit float range (e.g. {example:g}); "
+                                        "they cannot be stored in the product")
 
 
 def valid_extremes(values: np.ndarray, invalid: np.ndarray | None) -> tuple[int, float, float]:

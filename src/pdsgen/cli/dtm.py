@@ -5,6 +5,15 @@ from __future__ import annotations
 import click
 
 from ..profiles import PROFILES
+from ._profile_options import refuse_unused_options
+
+_COMMON = {"input_path", "outdir", "product_id", "source_ids", "product_version", "params_file", "overwrite"}
+USED_BY_PROFILE = {
+    "generic": _COMMON | {"byte_order"},
+    "hirise": _COMMON | {"byte_order", "institution"},
+    "hrsc": _COMMON | {"byte_order", "kind", "vertical_datum", "areoid", "precision", "reproject"},
+    "imars": _COMMON | {"kind", "vertical_datum", "areoid", "precision"},
+}
 
 
 @click.command(short_help="Make a PDS3 DTM (.IMG with attached label).")
@@ -34,19 +43,22 @@ from ..profiles import PROFILES
 @click.option("--reproject", is_flag=True,
               help="hrsc: warp the input into the HRSC projection and sphere instead of refusing it.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
-def dtm(input_path, outdir, profile, product_id, source_ids, institution, product_version,
+@click.pass_context
+def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, product_version,
         params_file, byte_order, kind, vertical_datum, areoid, precision, reproject, overwrite) -> None:
     """Convert the single-band elevation raster INPUT (any GDAL format, projected
     CRS: equirectangular, polar stereographic or sinusoidal) into a PDS3 DTM in OUTDIR:
     <PRODUCT_ID>.IMG (float32); for --profile hrsc hOOOO_NNNN_dt4.img / _da4.img
     (16-bit integers with MEX:DTM scaling); for --profile imars the iMars form:
     hOOOO_NNNN_da4_ucl.tif (int16 GeoTIFF), its .pvl metadata and hOOOO_NNNN.geojson."""
+    refuse_unused_options(ctx, profile, USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"]))
     if profile == "imars":
         from ..imars import write_imars_dtm
 
         product = write_imars_dtm(
             input_path, outdir, product_id=product_id, source_product_ids=source_ids, kind=kind[:2],
-            precision=precision, params=params_file, overwrite=overwrite,
+            vertical_datum=vertical_datum, areoid=areoid, precision=precision, params=params_file,
+            version=product_version, overwrite=overwrite,
         )
         click.echo(f"{product.tiff_path}  {product.pvl_path.name}  {product.footprint_path.name}")
         return

@@ -4,7 +4,17 @@ from __future__ import annotations
 
 import click
 
+from ..errors import PdsgenError
 from ..profiles import PROFILES
+from ._profile_options import refuse_unused_options
+
+_COMMON = {"input_path", "outdir", "product_id", "value_range", "params_file", "product_version", "overwrite"}
+USED_BY_PROFILE = {
+    "generic": _COMMON | {"bits", "observation_id", "source_dtm_id", "sequence", "gmljp2"},
+    "hirise": _COMMON | {"bits", "observation_id", "source_dtm_id", "sequence", "gmljp2"},
+    "hrsc": _COMMON | {"bits", "source_ids", "reproject"},
+    "imars": _COMMON | {"bits", "source_ids"},
+}
 
 
 @click.command(short_help="Make a PDS3 orthoimage (.JP2 + detached .LBL).")
@@ -30,12 +40,16 @@ from ..profiles import PROFILES
               help="hrsc/imars: source product (e.g. H1234_0000_ND3) giving orbit and sequence.")
 @click.option("--reproject", is_flag=True, help="hrsc: warp the input into the HRSC projection and sphere.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
-def ortho(input_path, outdir, profile, product_id, bits, value_range, observation_id, source_dtm_id,
+@click.pass_context
+def ortho(ctx, input_path, outdir, profile, product_id, bits, value_range, observation_id, source_dtm_id,
           sequence, params_file, product_version, gmljp2, source_ids, reproject, overwrite) -> None:
     """Convert the 1-band (RED) or 3-band (IRB) orthoimage INPUT (any GDAL format,
     projected CRS as for DTMs) into OUTDIR/<PRODUCT_ID>.JP2 and .LBL; for --profile
     hrsc the 8-bit nadir image hOOOO_NNNN_nd4.img (attached label, DN 0 = no data);
     for --profile imars hOOOO_NNNN_nd4_ucl.tif with its .pvl and footprint."""
+    refuse_unused_options(ctx, profile, USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"]))
+    if profile in ("hrsc", "imars") and bits not in (None, "8"):
+        raise PdsgenError(None, f"--profile {profile} orthoimages are 8-bit; --bits {bits} does not apply")
     if profile == "hrsc":
         from ..hrsc import write_hrsc_nd4
 
@@ -48,7 +62,8 @@ def ortho(input_path, outdir, profile, product_id, bits, value_range, observatio
         from ..imars import write_imars_ori
 
         ori = write_imars_ori(input_path, outdir, product_id=product_id, source_product_ids=source_ids,
-                              value_range=value_range or None, params=params_file, overwrite=overwrite)
+                              value_range=value_range or None, params=params_file, version=product_version,
+                              overwrite=overwrite)
         click.echo(f"{ori.tiff_path}  {ori.pvl_path.name}  {ori.footprint_path.name}")
         return
     from ..ortho import write_ortho
