@@ -10,6 +10,8 @@ together or not at all.
 
 from __future__ import annotations
 
+import math
+import numbers
 import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -57,7 +59,7 @@ def make_extras(
     """
     if not products:
         raise PdsgenError(None, "no products given")
-    _check_options(browse_width, thumb_width, altitude, exaggeration)
+    azimuth = _check_options(browse_width, thumb_width, azimuth, altitude, exaggeration)
     keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
     sources = [open_product(p, kind) for p in products]
     credits = [_credit(credit, keywords, profile or src.mission) for src in sources]
@@ -115,16 +117,36 @@ def _credit(credit: str | None, keywords: Mapping[str, ParamValue], profile: str
     return " ".join(text.split())
 
 
-def _check_options(browse_width: int | None, thumb_width: int, altitude: float,
-                   exaggeration: float | None) -> None:
-    if browse_width is not None and not 16 <= browse_width <= 65500:
-        raise PdsgenError(None, f"browse width {browse_width} must be 16 .. 65500 pixels")
-    if not 8 <= thumb_width <= 4096:
-        raise PdsgenError(None, f"thumbnail width {thumb_width} must be 8 .. 4096 pixels")
-    if exaggeration is not None and not 0.0 < exaggeration <= 1e4:
-        raise PdsgenError(None, f"vertical exaggeration {exaggeration:g} must be in (0, 10000]")
-    if not 0.0 < altitude <= 90.0:
-        raise PdsgenError(None, f"light altitude {altitude:g} must be in (0, 90] degrees")
+def _check_options(browse_width: int | None, thumb_width: int, azimuth: float, altitude: float,
+                   exaggeration: float | None) -> float:
+    """Refuse unusable numbers (nan, inf, out of range); return azimuth in [0, 360).
+
+    nan slips through plain range comparisons in some spellings and inf breaks the
+    trigonometry, so each value is checked to be a finite number first.
+    """
+    if browse_width is not None:
+        _check_int("browse width", browse_width, 16, 65500)
+    _check_int("thumbnail width", thumb_width, 8, 4096)
+    if not _is_finite_number(azimuth):
+        raise PdsgenError(None, f"light azimuth {azimuth!r} must be a finite number of degrees")
+    if exaggeration is not None and not (_is_finite_number(exaggeration)
+                                         and 0.0 < exaggeration <= 1e4):
+        raise PdsgenError(None, f"vertical exaggeration {exaggeration!r} must be in (0, 10000]")
+    if not (_is_finite_number(altitude) and 0.0 < altitude <= 90.0):
+        raise PdsgenError(None, f"light altitude {altitude!r} must be in (0, 90] degrees")
+    return float(azimuth) % 360.0 + 0.0  # + 0.0 turns -0.0 into 0.0
+
+
+def _check_int(what: str, value: object, low: int, high: int) -> None:
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not (
+            low <= value <= high):
+        raise PdsgenError(None, f"{what} {value!r} must be a whole number of pixels, "
+                                f"{low} .. {high}")
+
+
+def _is_finite_number(value: object) -> bool:
+    return (isinstance(value, numbers.Real) and not isinstance(value, bool)
+            and math.isfinite(value))
 
 
 def _check_unique_ids(sources: list[ProductSource]) -> None:
