@@ -164,6 +164,7 @@ def open_product(path: str | os.PathLike[str], kind: str | None = None) -> Produ
     src.scale, src.offset = _scaling(image, info)
     src.unit = str(image.get("UNIT", "") or "") or src.unit  # the label's, else GDAL's
     src.kind = kind or _detect_kind(label, image, info, path)
+    _check_band_count(src)
     if src.kind == DTM:
         factor = _LENGTH_UNITS.get(src.unit.upper(), 1.0)
         src.scale, src.offset = src.scale * factor, src.offset * factor
@@ -173,6 +174,16 @@ def open_product(path: str | os.PathLike[str], kind: str | None = None) -> Produ
         raise PdsgenError(path, "has no map projection GDAL can read; Extras need "
                                 "georeferencing for the scale bar and north arrow")
     return src
+
+
+def _check_band_count(src: ProductSource) -> None:
+    """A DTM is one band of heights; an orthoimage is grey (1 band) or colour (3)."""
+    allowed = (1,) if src.kind == DTM else (1, 3)
+    if src.band_count in allowed:
+        return
+    what = "a DTM needs exactly 1" if src.kind == DTM else "an orthoimage needs 1 or 3"
+    hint = "; use --kind ortho for a colour image" if src.kind == DTM and src.band_count == 3 else ""
+    raise PdsgenError(src.path, f"has {src.band_count} bands; {what}{hint}")
 
 
 def _find_label(path: Path) -> tuple[Path | None, dict]:
