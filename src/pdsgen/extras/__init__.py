@@ -3,7 +3,8 @@
 `make_extras` takes products this tool wrote, archived PDS3 products it did not
 write, or GeoTIFFs, and writes for each its browse, annotated browse and thumbnail
 JPEGs (three renderings for a DTM, one for an orthoimage), then one README.TXT that
-describes them all. Every product is inspected before anything is written, so a bad
+describes every product whose Extras are in the directory, those of earlier calls
+included (see `readme_index`). Every product is inspected before anything is written, so a bad
 input stops the run with nothing written; each product's files then appear all
 together or not at all.
 """
@@ -23,7 +24,8 @@ from ..params import ParamValue, load_params
 from ..profiles import PROFILES
 from ..staging import StagedOutputs, prepare_output_dir
 from .product_source import KINDS, ProductSource, open_product
-from .readme_txt import README_NAME, render_readme
+from .readme_index import INDEX_NAME, index_bytes, load_index, merge_entries
+from .readme_txt import README_NAME, directory_keywords, product_entry, render_readme
 from .renderings import THUMB_WIDTH, ProductPreviews, render_product
 
 DEFAULT_CREDIT = "NASA/JPL/University of Arizona"
@@ -64,20 +66,31 @@ def make_extras(
     sources = [open_product(p, kind) for p in products]
     credits = [_credit(credit, keywords, profile or src.mission) for src in sources]
     _check_unique_ids(sources)
+    previous, recorded_keywords = load_index(Path(outdir))
     outdir = prepare_output_dir(outdir)
     written: list[Path] = []
-    rendered: list[ProductPreviews] = []
+    entries = []
     for src, credit_line in zip(sources, credits, strict=True):
         previews = render_product(src, credit=credit_line, browse_width=browse_width,
                                   thumb_width=thumb_width, azimuth=azimuth, altitude=altitude,
                                   exaggeration=exaggeration)
         written += _write_previews(previews, outdir, overwrite)
-        rendered.append(previews)
-    readme = outdir / README_NAME
-    with StagedOutputs([readme], overwrite) as staged:
-        staged.path(readme).write_bytes(render_readme(rendered, keywords, credits[0],
-                                                      azimuth, altitude))
-    return [*written, readme]
+        entries.append(product_entry(previews, credit_line, azimuth, altitude))
+    return [*written, *_write_readme(outdir, merge_entries(previous, entries, outdir),
+                                     {**recorded_keywords, **directory_keywords(keywords)})]
+
+
+def _write_readme(outdir: Path, entries: list[dict], keywords: dict[str, str]) -> list[Path]:
+    """README.TXT for every product in OUTDIR, and the record it is made from.
+
+    Both describe the directory, not one call, so they are replaced without
+    --overwrite (the record keeps what earlier calls put in).
+    """
+    readme, index = outdir / README_NAME, outdir / INDEX_NAME
+    with StagedOutputs([readme, index], overwrite=True) as staged:
+        staged.path(readme).write_bytes(render_readme(entries, keywords))
+        staged.path(index).write_bytes(index_bytes(entries, keywords))
+    return [readme, index]
 
 
 def extras_file_names(previews: ProductPreviews) -> list[tuple[str, str]]:
