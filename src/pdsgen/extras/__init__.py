@@ -3,13 +3,16 @@
 `make_extras` takes products this tool wrote, archived PDS3 products it did not
 write, or GeoTIFFs, and writes for each its browse, annotated browse and thumbnail
 JPEGs (three renderings for a DTM, one for an orthoimage), then one README.TXT that
-describes them all. Every product is inspected before anything is written, so a bad
+describes every product whose Extras are in the directory, those of earlier calls
+included (see `readme_index`). Every product is inspected before anything is written, so a bad
 input stops the run with nothing written; each product's files then appear all
 together or not at all.
 """
 
 from __future__ import annotations
 
+import math
+import numbers
 import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -21,7 +24,8 @@ from ..params import ParamValue, load_params
 from ..profiles import PROFILES
 from ..staging import StagedOutputs, prepare_output_dir
 from .product_source import KINDS, ProductSource, open_product
-from .readme_txt import README_NAME, render_readme
+from .readme_index import INDEX_NAME, index_bytes, load_index, merge_entries
+from .readme_txt import README_NAME, directory_keywords, product_entry, render_readme
 from .renderings import THUMB_WIDTH, ProductPreviews, render_product
 
 DEFAULT_CREDIT = "NASA/JPL/University of Arizona"
@@ -57,25 +61,36 @@ def make_extras(
     """
     if not products:
         raise PdsgenError(None, "no products given")
-    _check_options(browse_width, thumb_width, altitude, exaggeration)
+    azimuth = _check_options(browse_width, thumb_width, azimuth, altitude, exaggeration)
     keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
     sources = [open_product(p, kind) for p in products]
     credits = [_credit(credit, keywords, profile or src.mission) for src in sources]
     _check_unique_ids(sources)
+    previous, recorded_keywords = load_index(Path(outdir))
     outdir = prepare_output_dir(outdir)
     written: list[Path] = []
-    rendered: list[ProductPreviews] = []
+    entries = []
     for src, credit_line in zip(sources, credits, strict=True):
         previews = render_product(src, credit=credit_line, browse_width=browse_width,
                                   thumb_width=thumb_width, azimuth=azimuth, altitude=altitude,
                                   exaggeration=exaggeration)
         written += _write_previews(previews, outdir, overwrite)
-        rendered.append(previews)
-    readme = outdir / README_NAME
-    with StagedOutputs([readme], overwrite) as staged:
-        staged.path(readme).write_bytes(render_readme(rendered, keywords, credits[0],
-                                                      azimuth, altitude))
-    return [*written, readme]
+        entries.append(product_entry(previews, credit_line, azimuth, altitude))
+    return [*written, *_write_readme(outdir, merge_entries(previous, entries, outdir),
+                                     {**recorded_keywords, **directory_keywords(keywords)})]
+
+
+def _write_readme(outdir: Path, entries: list[dict], keywords: dict[str, str]) -> list[Path]:
+    """README.TXT for every product in OUTDIR, and the record it is made from.
+
+    Both describe the directory, not one call, so they are replaced without
+    --overwrite (the record keeps what earlier calls put in).
+    """
+    readme, index = outdir / README_NAME, outdir / INDEX_NAME
+    with StagedOutputs([readme, index], overwrite=True) as staged:
+        staged.path(readme).write_bytes(render_readme(entries, keywords))
+        staged.path(index).write_bytes(index_bytes(entries, keywords))
+    return [readme, index]
 
 
 def extras_file_names(previews: ProductPreviews) -> list[tuple[str, str]]:
@@ -115,16 +130,36 @@ def _credit(credit: str | None, keywords: Mapping[str, ParamValue], profile: str
     return " ".join(text.split())
 
 
-def _check_options(browse_width: int | None, thumb_width: int, altitude: float,
-                   exaggeration: float | None) -> None:
-    if browse_width is not None and not 16 <= browse_width <= 65500:
-        raise PdsgenError(None, f"browse width {browse_width} must be 16 .. 65500 pixels")
-    if not 8 <= thumb_width <= 4096:
-        raise PdsgenError(None, f"thumbnail width {thumb_width} must be 8 .. 4096 pixels")
-    if exaggeration is not None and not 0.0 < exaggeration <= 1e4:
-        raise PdsgenError(None, f"vertical exaggeration {exaggeration:g} must be in (0, 10000]")
-    if not 0.0 < altitude <= 90.0:
-        raise PdsgenError(None, f"light altitude {altitude:g} must be in (0, 90] degrees")
+def _check_options(browse_width: int | None, thumb_width: int, azimuth: float, altitude: float,
+                   exaggeration: float | None) -> float:
+    """Refuse unusable numbers (nan, inf, out of range); return azimuth in [0, 360).
+
+    nan slips through plain range comparisons in some spellings and inf breaks the
+    trigonometry, so each value is checked to be a finite number first.
+    """
+    if browse_width is not None:
+        _check_int("browse width", browse_width, 16, 65500)
+    _check_int("thumbnail width", thumb_width, 8, 4096)
+    if not _is_finite_number(azimuth):
+        raise PdsgenError(None, f"light azimuth {azimuth!r} must be a finite number of degrees")
+    if exaggeration is not None and not (_is_finite_number(exaggeration)
+                                         and 0.0 < exaggeration <= 1e4):
+        raise PdsgenError(None, f"vertical exaggeration {exaggeration!r} must be in (0, 10000]")
+    if not (_is_finite_number(altitude) and 0.0 < altitude <= 90.0):
+        raise PdsgenError(None, f"light altitude {altitude!r} must be in (0, 90] degrees")
+    return float(azimuth) % 360.0 + 0.0  # + 0.0 turns -0.0 into 0.0
+
+
+def _check_int(what: str, value: object, low: int, high: int) -> None:
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not (
+            low <= value <= high):
+        raise PdsgenError(None, f"{what} {value!r} must be a whole number of pixels, "
+                                f"{low} .. {high}")
+
+
+def _is_finite_number(value: object) -> bool:
+    return (isinstance(value, numbers.Real) and not isinstance(value, bool)
+            and math.isfinite(value))
 
 
 def _check_unique_ids(sources: list[ProductSource]) -> None:

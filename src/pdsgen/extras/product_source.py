@@ -42,6 +42,12 @@ _HRSC_NAME = re.compile(r"^h\d{4,5}_\d{4}_[a-z]{2}\d", re.IGNORECASE)
 _END_LINE = re.compile(rb"^[ \t]*END[ \t]*\r?$", re.MULTILINE)
 _FLOAT_TYPES = {"PC_REAL", "IEEE_REAL", "REAL", "MAC_REAL", "SUN_REAL", "FLOAT"}
 _ELEVATION_WORDS = ("TOPOGRAPHY", "ELEVATION", "HEIGHT", "RADIUS", "DTM", "DEM", "ALTIMETRY")
+# GDAL metadata items that describe a raster's content; words in them that mean
+# heights (whole words: "DEMO" or "DTMAKER" do not count).
+_DESCRIPTIVE_TAGS = ("DESCRIPTION", "TIFFTAG_IMAGEDESCRIPTION", "PRODUCT_ID", "PRODUCT_TYPE")
+_ELEVATION_TAG_WORDS = re.compile(
+    r"(?<![A-Z0-9])(TOPOGRAPHY|ELEVATIONS?|HEIGHTS?|DTMS?|DEMS?|ALTIMETRY)(?![A-Z0-9])")
+_HRSC_DTM_NAME = re.compile(r"_d[at]4(?![a-z0-9])", re.IGNORECASE)
 _LENGTH_UNITS = {"M": 1.0, "METER": 1.0, "METERS": 1.0, "METRE": 1.0, "METRES": 1.0,
                  "KM": 1000.0, "KILOMETER": 1000.0, "KILOMETERS": 1000.0}
 
@@ -151,12 +157,14 @@ def open_product(path: str | os.PathLike[str], kind: str | None = None) -> Produ
         path=path, raster_path=raster_path, label_path=label_path,
         product_id=_product_id(label, path), kind="", label=label, mission=_mission(label, path),
         nodata=_label_nodata(image, info["dtype"], info["nodata"]),
-        special_dns=_special_dns(image), **{k: v for k, v in info.items() if k != "nodata"},
+        special_dns=_special_dns(image),
+        **{k: v for k, v in info.items() if k not in ("nodata", "scale", "offset", "hints")},
     )
     src.gdal_nodata = info["nodata"]
     src.scale, src.offset = _scaling(image, info)
-    src.unit = str(image.get("UNIT", "") or "")
-    src.kind = kind or _detect_kind(label, image, info["dtype"])
+    src.unit = str(image.get("UNIT", "") or "") or src.unit  # the label's, else GDAL's
+    src.kind = kind or _detect_kind(label, image, info, path)
+    _check_band_count(src)
     if src.kind == DTM:
         factor = _LENGTH_UNITS.get(src.unit.upper(), 1.0)
         src.scale, src.offset = src.scale * factor, src.offset * factor
@@ -166,6 +174,16 @@ def open_product(path: str | os.PathLike[str], kind: str | None = None) -> Produ
         raise PdsgenError(path, "has no map projection GDAL can read; Extras need "
                                 "georeferencing for the scale bar and north arrow")
     return src
+
+
+def _check_band_count(src: ProductSource) -> None:
+    """A DTM is one band of heights; an orthoimage is grey (1 band) or colour (3)."""
+    allowed = (1,) if src.kind == DTM else (1, 3)
+    if src.band_count in allowed:
+        return
+    what = "a DTM needs exactly 1" if src.kind == DTM else "an orthoimage needs 1 or 3"
+    hint = "; use --kind ortho for a colour image" if src.kind == DTM and src.band_count == 3 else ""
+    raise PdsgenError(src.path, f"has {src.band_count} bands; {what}{hint}")
 
 
 def _find_label(path: Path) -> tuple[Path | None, dict]:
@@ -222,7 +240,17 @@ def _dataset_info(ds: Any) -> dict:
             "dtype": ds.dtypes[0], "crs": ds.crs, "transform": ds.transform,
             "nodata": ds.nodata,
             "scale": ds.scales[0] if ds.scales else 1.0,
-            "offset": ds.offsets[0] if ds.offsets else 0.0}
+            "offset": ds.offsets[0] if ds.offsets else 0.0,
+            "unit": (ds.units[0] or "") if ds.count else "",
+            "hints": _gdal_hints(ds)}
+
+
+def _gdal_hints(ds: Any) -> str:
+    """GDAL metadata that may say what the raster holds (upper case, one line)."""
+    tags = {**ds.tags(), **ds.tags(1)}
+    texts = [tags.get(key, "") for key in _DESCRIPTIVE_TAGS]
+    texts += [ds.descriptions[0] or "", ds.units[0] or ""] if ds.count else []
+    return " ".join(str(t) for t in texts).upper()
 
 
 def _image_object(label: dict) -> dict:
@@ -293,17 +321,31 @@ def _scaling(image: dict, info: dict) -> tuple[float, float]:
             float(offset) if offset is not None else float(info["offset"] or 0.0))
 
 
-def _detect_kind(label: dict, image: dict, dtype: str) -> str:
-    """DTM or orthoimage, from the label if there is one, else from the data type."""
+def _detect_kind(label: dict, image: dict, info: dict, path: Path) -> str:
+    """DTM or orthoimage, from the label if there is one, else from GDAL's metadata.
+
+    Floating-point data are elevations. Integer rasters are DTMs when their label
+    says so, or, without a PDS3 label, when their GDAL metadata speak of heights,
+    when their name is an HRSC/iMars DTM's (`_dt4`, `_da4`), or when they are int16
+    with a band scale or offset (how iMars and other producers pack heights).
+    """
     if "COMPRESSED_FILE" in label:
         return ORTHO
-    if dtype.startswith("float"):
+    if info["dtype"].startswith("float"):
         return DTM
     if image:
         unit = str(image.get("UNIT", "")).upper()
         words = " ".join(str(image.get(k, "")) for k in ("NAME", "DESCRIPTION", "NOTE")).upper()
         if unit in _LENGTH_UNITS or any(w in words for w in _ELEVATION_WORDS):
             return DTM
+        return ORTHO
+    if label:
+        return ORTHO
+    if _ELEVATION_TAG_WORDS.search(info["hints"]) or _HRSC_DTM_NAME.search(path.stem):
+        return DTM
+    if info["dtype"] == "int16" and (info["scale"] not in (None, 1.0)
+                                     or info["offset"] not in (None, 0.0)):
+        return DTM
     return ORTHO
 
 

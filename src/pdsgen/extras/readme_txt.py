@@ -31,28 +31,73 @@ MAX_LINE_BYTES = 80
 _HANGING = re.compile(r"^(\s*[A-Za-z][A-Za-z0-9_ ()/.-]*:\s+)\S")
 
 
-def render_readme(products: Sequence[ProductPreviews], params: Mapping[str, ParamValue],
-                  credit: str, azimuth: float, altitude: float) -> bytes:
-    """The README.TXT bytes for these products (ASCII, CR LF, <= 80 bytes a line)."""
+# Params keywords README.TXT shows; they describe the whole directory, so a later
+# call's value replaces an earlier one and a keyword not given again is kept.
+DIRECTORY_KEYWORDS = ("PROJECT_NAME", "PRODUCER_FULL_NAME", "PRODUCER_INSTITUTION_NAME",
+                      "TECHNICAL_CONTACT", "RATIONALE_DESC", "EXTRACTION_METHOD",
+                      "VERTICAL_PRECISION", "KNOWN_ARTIFACTS")
+
+# What a product entry holds (all JSON types), so a recorded entry can be checked.
+ENTRY_KEYS = frozenset({
+    "product_id", "kind_text", "file_name", "sources", "width", "height", "bands",
+    "projection", "spacing", "true_scale", "valid_minimum", "valid_maximum", "conversion",
+    "nodata", "is_dtm", "exaggeration", "files", "credit", "azimuth", "altitude",
+    "label_producer", "label_institution",
+})
+
+
+def product_entry(previews: ProductPreviews, credit: str, azimuth: float,
+                  altitude: float) -> dict[str, Any]:
+    """Everything README.TXT says about one product, as plain JSON-able values.
+
+    The entry is all README.TXT needs, so products of earlier calls can be described
+    again from their recorded entries without re-reading them.
+    """
+    entry = _product_context(previews)
+    entry["files"] = [list(f) for f in entry["files"]]
+    entry.update(credit=credit, azimuth=f"{azimuth:g}", altitude=f"{altitude:g}",
+                 label_producer=_label([previews], "PRODUCER_FULL_NAME"),
+                 label_institution=_label([previews], "PRODUCER_INSTITUTION_NAME"))
+    return entry
+
+
+def directory_keywords(params: Mapping[str, ParamValue]) -> dict[str, str]:
+    """The README keywords this call's params give (only those given)."""
+    return {key: _param(params, key, "") for key in DIRECTORY_KEYWORDS if key in params}
+
+
+def render_readme(entries: Sequence[Mapping[str, Any]], keywords: Mapping[str, str]) -> bytes:
+    """The README.TXT bytes for these product entries (ASCII, CR LF, <= 80 bytes a line)."""
     env = jinja2.Environment(loader=jinja2.FileSystemLoader(templates_dir()),
                              trim_blocks=True, lstrip_blocks=True, autoescape=False,
                              undefined=jinja2.StrictUndefined, keep_trailing_newline=True)
+    light = [e for e in entries if e["is_dtm"]] or list(entries)
     text = env.get_template(TEMPLATE).render(
-        project_name=_param(params, "PROJECT_NAME", "Extras of PDS3 map products"),
-        products=[_product_context(p) for p in products],
-        producer=_param(params, "PRODUCER_FULL_NAME", _label(products, "PRODUCER_FULL_NAME")),
-        institution=_param(params, "PRODUCER_INSTITUTION_NAME",
-                           _label(products, "PRODUCER_INSTITUTION_NAME")),
-        contact=_param(params, "TECHNICAL_CONTACT", "UNK"),
-        credit=credit or "none",
-        rationale=_param(params, "RATIONALE_DESC", ""),
-        extraction_method=_param(params, "EXTRACTION_METHOD", ""),
-        vertical_precision=_param(params, "VERTICAL_PRECISION", ""),
-        known_artifacts=_param(params, "KNOWN_ARTIFACTS", "None reported by the producer."),
+        project_name=keywords.get("PROJECT_NAME", "Extras of PDS3 map products"),
+        products=entries,
+        producer=keywords.get("PRODUCER_FULL_NAME", _first(entries, "label_producer")),
+        institution=keywords.get("PRODUCER_INSTITUTION_NAME",
+                                 _first(entries, "label_institution")),
+        contact=keywords.get("TECHNICAL_CONTACT", "UNK"),
+        credit=_distinct(entries, "credit", "; ") or "none",
+        rationale=keywords.get("RATIONALE_DESC", ""),
+        extraction_method=keywords.get("EXTRACTION_METHOD", ""),
+        vertical_precision=keywords.get("VERTICAL_PRECISION", ""),
+        known_artifacts=keywords.get("KNOWN_ARTIFACTS", "None reported by the producer."),
         dtm_low=f"{DTM_LOW_PERCENT:g}", dtm_high=f"{100 - DTM_HIGH_PERCENT:g}",
-        azimuth=f"{azimuth:g}", altitude=f"{altitude:g}", ramp=RAMP_NAME,
+        azimuth=_distinct(light, "azimuth", " or "), altitude=_distinct(light, "altitude", " or "),
+        ramp=RAMP_NAME,
     )
     return plain_text_bytes(text)
+
+
+def _distinct(entries: Sequence[Mapping[str, Any]], key: str, separator: str) -> str:
+    """The different values of `key` among the entries, in order of first appearance."""
+    return separator.join(dict.fromkeys(str(e[key]) for e in entries if e[key]))
+
+
+def _first(entries: Sequence[Mapping[str, Any]], key: str) -> str:
+    return next((str(e[key]) for e in entries if e[key] not in ("", "UNK")), "UNK")
 
 
 def plain_text_bytes(text: str) -> bytes:

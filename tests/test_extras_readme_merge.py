@@ -1,0 +1,100 @@
+"""README.TXT describes every product whose Extras are in the directory, across calls."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from pdsgen.cli import main
+from pdsgen.errors import PdsgenError
+from pdsgen.extras import make_extras
+from test_extras_helpers import crater_field, write_geotiff
+
+RECORD = ".pdsgen-extras.json"
+
+
+@pytest.fixture()
+def two_products(tmp_path: Path) -> tuple[Path, Path]:
+    (tmp_path / "in").mkdir()
+    dtm = write_geotiff(tmp_path / "in" / "first_dtm.tif", crater_field(60, 80))
+    rows, cols = np.mgrid[0:50, 0:70]
+    image = (20 + (rows * 3 + cols * 2) % 200).astype(np.uint8)
+    ortho = write_geotiff(tmp_path / "in" / "second_ortho.tif", image)
+    return dtm, ortho
+
+
+def product_ids(readme: Path) -> list[str]:
+    return re.findall(r"^Product ID:\s+(\S+)", readme.read_text(), flags=re.MULTILINE)
+
+
+def test_second_call_adds_its_product_to_readme_without_overwrite(two_products, tmp_path: Path):
+    dtm, ortho = two_products
+    out = tmp_path / "out"
+    runner = CliRunner()
+    first = runner.invoke(main, ["extras", str(dtm), "-o", str(out), "--credit", "Team A"])
+    assert first.exit_code == 0, first.output
+    second = runner.invoke(main, ["extras", str(ortho), "-o", str(out), "--credit", "Team B"])
+    assert second.exit_code == 0, second.output
+    readme = out / "README.TXT"
+    assert product_ids(readme) == ["first_dtm", "second_ortho"]
+    text = readme.read_text()
+    assert "first_dtm.ca.jpg" in text and "second_ortho.abrowse.jpg" in text
+    assert "Team A; Team B" in text
+    record = json.loads((out / RECORD).read_text())
+    assert [p["product_id"] for p in record["products"]] == ["first_dtm", "second_ortho"]
+
+
+def test_product_given_again_replaces_its_entry(two_products, tmp_path: Path):
+    dtm, ortho = two_products
+    out = tmp_path / "out"
+    make_extras([dtm, ortho], out, browse_width=40)
+    before = (out / "README.TXT").read_text()
+    assert ("first_dtm.br.jpg Elevation as grey levels (dark low, light high), browse "
+            "(40 x 30 pixels)") in " ".join(before.split())
+    with pytest.raises(PdsgenError, match="use --overwrite"):  # the JPEGs still need it
+        make_extras([dtm], out, browse_width=60)
+    assert (out / "README.TXT").read_text() == before
+    make_extras([dtm], out, browse_width=60, overwrite=True, azimuth=200.0)
+    after = " ".join((out / "README.TXT").read_text().split())
+    assert product_ids(out / "README.TXT") == ["first_dtm", "second_ortho"]
+    assert "first_dtm.br.jpg Elevation as grey levels (dark low, light high), browse " \
+           "(60 x 45 pixels)" in after and "(40 x 30 pixels)" not in after
+    assert "azimuth 200 degrees" in after
+
+
+def test_params_keywords_of_an_earlier_call_are_kept(two_products, tmp_path: Path):
+    dtm, ortho = two_products
+    params = tmp_path / "in" / "params.toml"
+    params.write_text('TECHNICAL_CONTACT = "J. Doe, Example Lab"\nPROJECT_NAME = "Site X"\n')
+    out = tmp_path / "out"
+    make_extras([dtm], out, params=params)
+    make_extras([ortho], out, params={"PROJECT_NAME": "Site Y"})
+    text = (out / "README.TXT").read_text()
+    assert text.startswith("Site Y\n") and "J. Doe, Example Lab" in text
+
+
+def test_products_whose_extras_were_removed_are_dropped(two_products, tmp_path: Path):
+    dtm, ortho = two_products
+    out = tmp_path / "out"
+    make_extras([dtm], out)
+    for jpg in out.glob("first_dtm.*.jpg"):
+        jpg.unlink()
+    make_extras([ortho], out)
+    assert product_ids(out / "README.TXT") == ["second_ortho"]
+
+
+def test_damaged_record_is_a_user_error_before_anything_is_written(two_products,
+                                                                   tmp_path: Path):
+    dtm, ortho = two_products
+    out = tmp_path / "out"
+    make_extras([dtm], out)
+    (out / RECORD).write_text('{"format": "something else"}')
+    result = CliRunner().invoke(main, ["extras", str(ortho), "-o", str(out)])
+    assert result.exit_code == 2 and result.stderr.count("\n") == 1
+    assert RECORD in result.stderr and "Traceback" not in result.output
+    assert not list(out.glob("second_ortho.*"))
