@@ -67,7 +67,7 @@ def run_demo(outdir: str | os.PathLike[str], overwrite: bool = True) -> DemoResu
     extras = make_extras([dtm.path, ortho.label_path], outdir / "extras", overwrite=overwrite)
     result.products += extras
     result.lines.append(
-        f"EXTRAS {len(extras) - 1} preview JPEGs and README.TXT in {outdir.name}/extras/ "
+        f"EXTRAS {sum(p.suffix == '.jpg' for p in extras)} preview JPEGs and README.TXT in {outdir.name}/extras/ "
         f"(greyscale, shaded relief, colour over relief; orthoimage browse)"
     )
 
