@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import json
 
+import pytest
 from click.testing import CliRunner
 from lxml import etree
 
 from pdsgen.cli import main
-from pdsgen.validate import rules
+from pdsgen.errors import PdsgenError
+from pdsgen.validate import rules, validate_paths
 from test_validate_support import make_dtm, replace_in_label
 
 
@@ -134,3 +136,36 @@ def test_extra_dictionary_option(tmp_path):
     result = _run("--dictionary", dictionary, label)
     assert "[DICT-001]" not in result.output and "[DICT-003]" in result.output
     assert _run("--dictionary", tmp_path / "none.full", label).exit_code == 2
+
+
+def _usage_error_line(result) -> str:
+    """The one stderr line of a usage error (exit 2, nothing on stdout)."""
+    assert result.exit_code == 2, result.output
+    assert result.stdout == ""
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, lines
+    return lines[0]
+
+
+def test_no_labels_found_is_a_usage_error(tmp_path):
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    others = tmp_path / "others"
+    (others / "sub").mkdir(parents=True)
+    (others / "notes.txt").write_text("not a label")
+    (others / "sub" / "raw.img").write_bytes(b"\x00" * 64)
+    for where in (empty, others):
+        for fmt in ("text", "json", "junit"):
+            line = _usage_error_line(_run("--format", fmt, where))
+            assert line == f"pdsgen: error: no PDS3 labels found under {where}"
+    both = _usage_error_line(_run(empty, others))
+    assert both == f"pdsgen: error: no PDS3 labels found under {empty}, {others}"
+    # one label anywhere among the paths: the others are simply searched
+    make_dtm(others)
+    data = json.loads(_run("--format", "json", empty, others).output)
+    assert data["summary"]["files"] == 1 and data["summary"]["exit_code"] == 0
+
+
+def test_no_labels_found_from_python(tmp_path):
+    with pytest.raises(PdsgenError, match="no PDS3 labels found under"):
+        validate_paths([tmp_path])

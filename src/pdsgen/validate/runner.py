@@ -113,6 +113,8 @@ def validate_paths(
 ) -> Report:
     """Validate label files and directories of them; the API behind `pdsgen validate`.
 
+    Raises PdsgenError when the paths hold no label at all (an empty or wrong directory):
+    checking nothing is a usage error, not a pass.
     strict makes warnings fail the run too. labels_only skips every rule that opens the
     data files (data existence, file sizes, statistics, JP2), for label-only checks.
     dictionaries are extra data dictionaries (PSDD `.full` format) merged over the built-in one.
@@ -121,7 +123,10 @@ def validate_paths(
     for d in extra:
         if not Path(d).is_file():
             raise PdsgenError(d, "no such dictionary file")
+    paths = list(paths)
     files = discover(paths)
+    if not files:  # a CI job pointed at the wrong directory must not pass
+        raise PdsgenError(None, "no PDS3 labels found under " + ", ".join(os.fspath(p) for p in paths))
     results: list[tuple[FileReport, Summary | None]] = []
     work = [(str(p), labels_only, extra) for p in files]
     if jobs > 1 and len(files) > 1:
