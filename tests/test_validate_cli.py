@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import os
+import threading
 
 import pytest
 from click.testing import CliRunner
@@ -10,7 +12,7 @@ from lxml import etree
 
 from pdsgen.cli import main
 from pdsgen.errors import PdsgenError
-from pdsgen.validate import rules, validate_paths
+from pdsgen.validate import discover, rules, validate_paths
 from test_validate_support import make_dtm, replace_in_label
 
 
@@ -169,3 +171,25 @@ def test_no_labels_found_is_a_usage_error(tmp_path):
 def test_no_labels_found_from_python(tmp_path):
     with pytest.raises(PdsgenError, match="no PDS3 labels found under"):
         validate_paths([tmp_path])
+
+
+def test_a_device_is_not_a_label_file(tmp_path):
+    line = _usage_error_line(_run("/dev/null"))
+    assert line == "pdsgen: error: /dev/null: not a regular file (a character device)"
+    fifo = tmp_path / "pipe.lbl"
+    os.mkfifo(fifo)
+    line = _usage_error_line(_run(fifo))
+    assert line == f"pdsgen: error: {fifo}: not a regular file (a FIFO)"
+
+
+def test_directory_search_skips_special_files(tmp_path):
+    """A FIFO inside a searched directory is skipped, never opened (opening one waits forever)."""
+    clean = make_dtm(tmp_path)
+    os.mkfifo(clean.parent / "pipe.lbl")
+    os.mkfifo(clean.parent / "pipe.img")
+    found: list = []
+    worker = threading.Thread(target=lambda: found.append(discover([clean.parent])), daemon=True)
+    worker.start()
+    worker.join(timeout=10)
+    assert not worker.is_alive(), "discover() blocked on a FIFO"
+    assert found == [[clean]]

@@ -10,6 +10,7 @@ finding naming the rule, instead of a traceback.
 from __future__ import annotations
 
 import os
+import stat
 import sys
 from collections.abc import Callable, Iterable
 from concurrent.futures import ProcessPoolExecutor
@@ -40,22 +41,44 @@ def is_label_file(path: Path) -> bool:
     return head.upper().startswith(_SNIFF)
 
 
+_SPECIAL_KINDS = ((stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+                  (stat.S_ISFIFO, "a FIFO"), (stat.S_ISSOCK, "a socket"))
+
+
+def _not_a_label_reason(path: Path) -> str | None:
+    """Why a path named on the command line can be neither a label nor a directory of them
+    (None when it can). Devices and FIFOs are refused by name: reading one may never end."""
+    try:
+        mode = path.stat().st_mode
+    except (FileNotFoundError, NotADirectoryError):
+        return "no such file or directory"
+    except OSError as exc:
+        return f"cannot access it: {exc.strerror or exc}"
+    if stat.S_ISREG(mode) or stat.S_ISDIR(mode):
+        return None
+    kind = next((name for test, name in _SPECIAL_KINDS if test(mode)), "a special file")
+    return f"not a regular file ({kind})"
+
+
 def discover(paths: Iterable[str | os.PathLike[str]]) -> list[Path]:
-    """Files to validate: files as given, label files found recursively in directories."""
+    """Files to validate: files as given, label files found recursively in directories.
+
+    Inside directories only regular files are considered (a FIFO is skipped, not opened)."""
     found: list[Path] = []
     for raw in paths:
         path = Path(raw)
+        reason = _not_a_label_reason(path)
+        if reason is not None:
+            raise PdsgenError(path, reason)
         if path.is_file():
             found.append(path)
-        elif path.is_dir():
-            for dirpath, dirnames, filenames in os.walk(path):
-                dirnames.sort()
-                for name in sorted(filenames):
-                    candidate = Path(dirpath) / name
-                    if is_label_file(candidate):
-                        found.append(candidate)
-        else:
-            raise PdsgenError(path, "no such file or directory")
+            continue
+        for dirpath, dirnames, filenames in os.walk(path):
+            dirnames.sort()
+            for name in sorted(filenames):
+                candidate = Path(dirpath) / name
+                if candidate.is_file() and is_label_file(candidate):
+                    found.append(candidate)
     return list(dict.fromkeys(found))  # a file named twice (itself and in its directory) once
 
 
