@@ -7,6 +7,7 @@ import os
 import threading
 
 import pytest
+from affine import Affine
 from click.testing import CliRunner
 from lxml import etree
 
@@ -14,6 +15,8 @@ from pdsgen.cli import main
 from pdsgen.errors import PdsgenError
 from pdsgen.validate import discover, rules, validate_paths
 from test_validate_support import make_dtm, replace_in_label
+
+from helpers import elevation_array, write_raster
 
 
 def _run(*args: str):
@@ -193,3 +196,33 @@ def test_directory_search_skips_special_files(tmp_path):
     worker.join(timeout=10)
     assert not worker.is_alive(), "discover() blocked on a FIFO"
     assert found == [[clean]]
+
+
+def test_dictionary_that_is_not_a_psdd_file_is_refused(tmp_path):
+    label = tmp_path / "X.LBL"
+    label.write_bytes(b"PDS_VERSION_ID = PDS3\r\nMY_COUNT = 12\r\nEND\r\n")
+    tiff = write_raster(tmp_path / "dem.tif", elevation_array(8, 8), None, Affine.identity())
+    empty = tmp_path / "empty.full"
+    empty.write_bytes(b"")
+    label_as_dictionary = label  # a PDS3 label parses, but defines no elements or units
+    for bad in (tiff, empty, label_as_dictionary):
+        for fmt in ("text", "json"):
+            line = _usage_error_line(_run("--format", fmt, "--dictionary", bad, label))
+            assert line == (f"pdsgen: error: {bad}: not a PSDD data dictionary "
+                            "(no ELEMENT_DEFINITION or UNIT_LIST object)")
+        with pytest.raises(PdsgenError, match="not a PSDD data dictionary"):
+            validate_paths([label], dictionaries=[bad])
+    unreadable = tmp_path / "locked.full"
+    unreadable.write_text("OBJECT = UNIT_LIST\nEND_OBJECT = UNIT_LIST\n")
+    unreadable.chmod(0)
+    if os.access(unreadable, os.R_OK):  # running as root: permissions do not apply
+        return
+    line = _usage_error_line(_run("--dictionary", unreadable, label))
+    assert line == f"pdsgen: error: {unreadable}: cannot read the dictionary: Permission denied"
+
+
+def test_real_dictionaries_are_accepted(corpus_dir, tmp_path):
+    label = tmp_path / "X.LBL"
+    label.write_bytes(b"PDS_VERSION_ID = PDS3\r\nANUMERIC = ABCDEF\r\nEND\r\n")
+    report = validate_paths([label], dictionaries=[corpus_dir / "reference" / "testdd.full"])
+    assert "DICT-006" in report.rule_ids()  # testdd.full's ANUMERIC is 2..4 characters long

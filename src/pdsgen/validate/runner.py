@@ -18,6 +18,7 @@ from pathlib import Path
 
 from ..errors import PdsgenError
 from .context import FileContext
+from .dictionary import load as load_dictionary
 from .imars_context import ImarsContext, is_imars_metadata
 from .model import Finding
 from .report import FileReport, Report
@@ -146,6 +147,8 @@ def validate_paths(
     for d in extra:
         if not Path(d).is_file():
             raise PdsgenError(d, "no such dictionary file")
+    if extra:
+        load_dictionary(extra)  # refuses a file that is not a PSDD dictionary; cached for this process
     paths = list(paths)
     files = discover(paths)
     if not files:  # a CI job pointed at the wrong directory must not pass
