@@ -226,3 +226,14 @@ def test_real_dictionaries_are_accepted(corpus_dir, tmp_path):
     label.write_bytes(b"PDS_VERSION_ID = PDS3\r\nANUMERIC = ABCDEF\r\nEND\r\n")
     report = validate_paths([label], dictionaries=[corpus_dir / "reference" / "testdd.full"])
     assert "DICT-006" in report.rule_ids()  # testdd.full's ANUMERIC is 2..4 characters long
+
+
+def test_dictionary_path_problems_name_the_right_reason(tmp_path):
+    label = tmp_path / "X.LBL"
+    label.write_bytes(b"PDS_VERSION_ID = PDS3\r\n^IMAGE = \"X.IMG\"\r\nEND\r\n")
+    assert _usage_error_line(_run("--dictionary", "/dev/null", label)) == (
+        "pdsgen: error: /dev/null: not a regular file (a character device)")
+    assert _usage_error_line(_run("--dictionary", tmp_path / "none.full", label)) == (
+        f"pdsgen: error: {tmp_path / 'none.full'}: no such dictionary file")
+    with pytest.raises(PdsgenError, match="a directory, not a dictionary file"):
+        validate_paths([label], dictionaries=[tmp_path])

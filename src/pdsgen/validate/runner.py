@@ -46,13 +46,14 @@ _SPECIAL_KINDS = ((stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block 
                   (stat.S_ISFIFO, "a FIFO"), (stat.S_ISSOCK, "a socket"))
 
 
-def _not_a_label_reason(path: Path) -> str | None:
-    """Why a path named on the command line can be neither a label nor a directory of them
-    (None when it can). Devices and FIFOs are refused by name: reading one may never end."""
+def _unusable_path_reason(path: Path, missing: str = "no such file or directory") -> str | None:
+    """Why a path named on the command line (a label, a directory of them, a dictionary)
+    cannot be read as one (None when it can). Devices and FIFOs are refused by name:
+    reading one may never end."""
     try:
         mode = path.stat().st_mode
     except (FileNotFoundError, NotADirectoryError):
-        return "no such file or directory"
+        return missing
     except OSError as exc:
         return f"cannot access it: {exc.strerror or exc}"
     if stat.S_ISREG(mode) or stat.S_ISDIR(mode):
@@ -68,7 +69,7 @@ def discover(paths: Iterable[str | os.PathLike[str]]) -> list[Path]:
     found: list[Path] = []
     for raw in paths:
         path = Path(raw)
-        reason = _not_a_label_reason(path)
+        reason = _unusable_path_reason(path)
         if reason is not None:
             raise PdsgenError(path, reason)
         if path.is_file():
@@ -145,8 +146,11 @@ def validate_paths(
     """
     extra = tuple(str(d) for d in dictionaries)
     for d in extra:
-        if not Path(d).is_file():
-            raise PdsgenError(d, "no such dictionary file")
+        reason = _unusable_path_reason(Path(d), missing="no such dictionary file")
+        if reason is None and Path(d).is_dir():
+            reason = "a directory, not a dictionary file"
+        if reason is not None:
+            raise PdsgenError(d, reason)
     if extra:
         load_dictionary(extra)  # refuses a file that is not a PSDD dictionary; cached for this process
     paths = list(paths)
