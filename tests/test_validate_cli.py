@@ -3,13 +3,20 @@
 from __future__ import annotations
 
 import json
+import os
+import threading
 
+import pytest
+from affine import Affine
 from click.testing import CliRunner
 from lxml import etree
 
 from pdsgen.cli import main
-from pdsgen.validate import rules
+from pdsgen.errors import PdsgenError
+from pdsgen.validate import discover, rules, validate_paths
 from test_validate_support import make_dtm, replace_in_label
+
+from helpers import elevation_array, write_raster
 
 
 def _run(*args: str):
@@ -134,3 +141,99 @@ def test_extra_dictionary_option(tmp_path):
     result = _run("--dictionary", dictionary, label)
     assert "[DICT-001]" not in result.output and "[DICT-003]" in result.output
     assert _run("--dictionary", tmp_path / "none.full", label).exit_code == 2
+
+
+def _usage_error_line(result) -> str:
+    """The one stderr line of a usage error (exit 2, nothing on stdout)."""
+    assert result.exit_code == 2, result.output
+    assert result.stdout == ""
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, lines
+    return lines[0]
+
+
+def test_no_labels_found_is_a_usage_error(tmp_path):
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    others = tmp_path / "others"
+    (others / "sub").mkdir(parents=True)
+    (others / "notes.txt").write_text("not a label")
+    (others / "sub" / "raw.img").write_bytes(b"\x00" * 64)
+    for where in (empty, others):
+        for fmt in ("text", "json", "junit"):
+            line = _usage_error_line(_run("--format", fmt, where))
+            assert line == f"pdsgen: error: no PDS3 labels found under {where}"
+    both = _usage_error_line(_run(empty, others))
+    assert both == f"pdsgen: error: no PDS3 labels found under {empty}, {others}"
+    # one label anywhere among the paths: the others are simply searched
+    make_dtm(others)
+    data = json.loads(_run("--format", "json", empty, others).output)
+    assert data["summary"]["files"] == 1 and data["summary"]["exit_code"] == 0
+
+
+def test_no_labels_found_from_python(tmp_path):
+    with pytest.raises(PdsgenError, match="no PDS3 labels found under"):
+        validate_paths([tmp_path])
+
+
+def test_a_device_is_not_a_label_file(tmp_path):
+    line = _usage_error_line(_run("/dev/null"))
+    assert line == "pdsgen: error: /dev/null: not a regular file (a character device)"
+    fifo = tmp_path / "pipe.lbl"
+    os.mkfifo(fifo)
+    line = _usage_error_line(_run(fifo))
+    assert line == f"pdsgen: error: {fifo}: not a regular file (a FIFO)"
+
+
+def test_directory_search_skips_special_files(tmp_path):
+    """A FIFO inside a searched directory is skipped, never opened (opening one waits forever)."""
+    clean = make_dtm(tmp_path)
+    os.mkfifo(clean.parent / "pipe.lbl")
+    os.mkfifo(clean.parent / "pipe.img")
+    found: list = []
+    worker = threading.Thread(target=lambda: found.append(discover([clean.parent])), daemon=True)
+    worker.start()
+    worker.join(timeout=10)
+    assert not worker.is_alive(), "discover() blocked on a FIFO"
+    assert found == [[clean]]
+
+
+def test_dictionary_that_is_not_a_psdd_file_is_refused(tmp_path):
+    label = tmp_path / "X.LBL"
+    label.write_bytes(b"PDS_VERSION_ID = PDS3\r\nMY_COUNT = 12\r\nEND\r\n")
+    tiff = write_raster(tmp_path / "dem.tif", elevation_array(8, 8), None, Affine.identity())
+    empty = tmp_path / "empty.full"
+    empty.write_bytes(b"")
+    label_as_dictionary = label  # a PDS3 label parses, but defines no elements or units
+    for bad in (tiff, empty, label_as_dictionary):
+        for fmt in ("text", "json"):
+            line = _usage_error_line(_run("--format", fmt, "--dictionary", bad, label))
+            assert line == (f"pdsgen: error: {bad}: not a PSDD data dictionary "
+                            "(no ELEMENT_DEFINITION or UNIT_LIST object)")
+        with pytest.raises(PdsgenError, match="not a PSDD data dictionary"):
+            validate_paths([label], dictionaries=[bad])
+    unreadable = tmp_path / "locked.full"
+    unreadable.write_text("OBJECT = UNIT_LIST\nEND_OBJECT = UNIT_LIST\n")
+    unreadable.chmod(0)
+    if os.access(unreadable, os.R_OK):  # running as root: permissions do not apply
+        return
+    line = _usage_error_line(_run("--dictionary", unreadable, label))
+    assert line == f"pdsgen: error: {unreadable}: cannot read the dictionary: Permission denied"
+
+
+def test_real_dictionaries_are_accepted(corpus_dir, tmp_path):
+    label = tmp_path / "X.LBL"
+    label.write_bytes(b"PDS_VERSION_ID = PDS3\r\nANUMERIC = ABCDEF\r\nEND\r\n")
+    report = validate_paths([label], dictionaries=[corpus_dir / "reference" / "testdd.full"])
+    assert "DICT-006" in report.rule_ids()  # testdd.full's ANUMERIC is 2..4 characters long
+
+
+def test_dictionary_path_problems_name_the_right_reason(tmp_path):
+    label = tmp_path / "X.LBL"
+    label.write_bytes(b"PDS_VERSION_ID = PDS3\r\n^IMAGE = \"X.IMG\"\r\nEND\r\n")
+    assert _usage_error_line(_run("--dictionary", "/dev/null", label)) == (
+        "pdsgen: error: /dev/null: not a regular file (a character device)")
+    assert _usage_error_line(_run("--dictionary", tmp_path / "none.full", label)) == (
+        f"pdsgen: error: {tmp_path / 'none.full'}: no such dictionary file")
+    with pytest.raises(PdsgenError, match="a directory, not a dictionary file"):
+        validate_paths([label], dictionaries=[tmp_path])

@@ -205,3 +205,17 @@ def test_pds3_product_tools_with_their_test_dictionary(corpus_dir, name):
     got = {(f.rule, f.line) for f in report.findings}
     for expected in TESTDD_EXPECTED[name]:
         assert expected in got, (expected, sorted(got))
+
+
+def test_labels_that_describe_no_data(corpus_dir, product_tools):
+    """SET-005 on the corpus: valid.lbl (PDS_VERSION_ID and END only) alone describes nothing;
+    in its directory circular1.lbl includes it (^STRUCTURE), as parent.lbl includes child.lbl,
+    so both are fragments there. Real mission labels all describe their data."""
+    alone = validate_paths([corpus_dir / "pds3_product_tools" / "valid.lbl"])
+    assert [(f.rule, f.severity, f.line) for f in alone.findings] == [("SET-005", "warning", 1)]
+    flagged = {name for name, findings in product_tools.items() if any(f.rule == "SET-005" for f in findings)}
+    assert "attachedBlankFillNoPointer.lbl" in flagged  # attached data, but nothing describes them
+    assert not flagged & {"valid.lbl", "child.lbl", "includeForNV.lbl", "ITEMS.LBL", "parent.lbl",
+                          "attachedPadded.lbl", "probPastEnd.lbl"}
+    real = validate_paths([corpus_dir / "real", corpus_dir / "products"], labels_only=True)
+    assert "SET-005" not in real.rule_ids()

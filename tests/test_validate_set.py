@@ -86,3 +86,54 @@ def test_demo_delivery_set_is_clean_and_complete(tmp_path):
     (tmp_path / "demo" / "DTEEC_008669_1705_009025_1705_U01.IMG").unlink()  # the ortho's source DTM
     finding = next(f for f in validate_paths([tmp_path / "demo"]).findings if f.rule == "SET-003")
     assert finding.severity == "error" and "DTEEC_008669_1705_009025_1705_U01" in finding.message
+
+
+def _write(path, *lines: str):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_bytes(("\r\n".join(lines) + "\r\nEND\r\n").encode())
+    return path
+
+
+def _describes_nothing(report) -> set[str]:
+    return {f.file.rsplit("/", 1)[-1] for f in report.findings if f.rule == "SET-005"}
+
+
+def test_a_label_that_describes_nothing_is_reported(tmp_path):
+    bare = _write(tmp_path / "BARE.LBL", "PDS_VERSION_ID = PDS3")
+    report = validate_paths([bare])
+    finding = next(f for f in report.findings if f.rule == "SET-005")
+    assert finding.severity == "warning" and finding.line == 1
+    assert "no data pointer" in finding.message
+    assert report.exit_code == 0 and validate_paths([bare], strict=True).exit_code == 1
+    # keywords and groups alone still describe no data; a catalog pointer is not a data pointer
+    _write(tmp_path / "GROUPS.LBL", "PDS_VERSION_ID = PDS3", "PRODUCT_ID = GROUPS",
+           "GROUP = TIME_PARAMETERS", "  START_TIME = 2020-01-01T00:00:00", "END_GROUP = TIME_PARAMETERS")
+    _write(tmp_path / "CATPTR.LBL", "PDS_VERSION_ID = PDS3", '^DATA_SET_CATALOG = "DATASET.CAT"')
+    # each of these describes something
+    _write(tmp_path / "DETACHED.LBL", "PDS_VERSION_ID = PDS3", '^IMAGE = "DETACHED.IMG"')
+    _write(tmp_path / "TABLE.LBL", "PDS_VERSION_ID = PDS3", "OBJECT = TABLE", "  ROWS = 1",
+           "END_OBJECT = TABLE")
+    _write(tmp_path / "JP2.LBL", "PDS_VERSION_ID = PDS3", "OBJECT = COMPRESSED_FILE",
+           '  FILE_NAME = "X.JP2"', "END_OBJECT = COMPRESSED_FILE")
+    _write(tmp_path / "INCLUDES.LBL", "PDS_VERSION_ID = PDS3", '^STRUCTURE = "OBJECTS.FMT"')
+    report = validate_paths([tmp_path], labels_only=True)
+    assert _describes_nothing(report) == {"BARE.LBL", "GROUPS.LBL", "CATPTR.LBL"}
+
+
+def test_include_and_catalog_fragments_are_not_products(tmp_path):
+    # named as format/catalog files, or included by another label of the run: fragments
+    _write(tmp_path / "LABEL" / "COLUMNS.FMT", "PDS_VERSION_ID = PDS3", "ROW_BYTES = 8")
+    _write(tmp_path / "CATALOG" / "DATASET.CAT", "PDS_VERSION_ID = PDS3", "DATA_SET_ID = X")
+    _write(tmp_path / "LABEL" / "HEADER.LBL", "PDS_VERSION_ID = PDS3", "ROW_BYTES = 8")
+    _write(tmp_path / "DATA" / "T.LBL", "PDS_VERSION_ID = PDS3", '^TABLE = "T.TAB"', "OBJECT = TABLE",
+           '  ^STRUCTURE = "HEADER.LBL"', "END_OBJECT = TABLE")
+    _write(tmp_path / "LABEL" / "ORPHAN.LBL", "PDS_VERSION_ID = PDS3", "ROW_BYTES = 8")
+    assert _describes_nothing(validate_paths([tmp_path], labels_only=True)) == {"ORPHAN.LBL"}
+    # alone, a .LBL fragment cannot be told from an empty product
+    assert _describes_nothing(validate_paths([tmp_path / "LABEL"], labels_only=True)) == {
+        "HEADER.LBL", "ORPHAN.LBL"}
+
+
+def test_generated_products_describe_their_data(tmp_path):
+    report = validate_paths([make_dtm(tmp_path)])
+    assert "SET-005" not in report.rule_ids()

@@ -7,10 +7,12 @@ mission namespaces; see that script for what each entry holds.
 from __future__ import annotations
 
 import json
+import os
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 
+from ..errors import PdsgenError
 from ..resources import schemas_dir
 from .psdd import read_psdd
 
@@ -35,17 +37,37 @@ class Dictionary:
         return unit.strip().upper() in self.units
 
 
+_SNIFF_BYTES = 64 * 1024
+
+
+def read_extra(path: str | os.PathLike[str]) -> dict:
+    """One user-named dictionary, refused (PdsgenError) unless it is a PSDD dump.
+
+    A wrong file (an image, an empty file, a label) would otherwise add nothing and the
+    run would look as if the dictionary had been applied. A NUL in the first bytes marks
+    a binary file, refused before the whole of it is read as text."""
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(_SNIFF_BYTES)
+        more = None if b"\0" in head else read_psdd(Path(path))
+    except OSError as exc:
+        raise PdsgenError(path, f"cannot read the dictionary: {exc.strerror or exc}") from None
+    if more is None or not (more["elements"] or more["units"]):
+        raise PdsgenError(path, "not a PSDD data dictionary (no ELEMENT_DEFINITION or UNIT_LIST object)")
+    return more
+
+
 @cache
 def load(extra: tuple[str, ...] = ()) -> Dictionary:
     """The project dictionary, with the elements and units of `extra` PSDD-format files
-    (later files win) merged over it."""
+    (later files win) merged over it. Raises PdsgenError for an extra file that is not one."""
     data = json.loads((schemas_dir() / "pds3_dictionary.json").read_text())
     elements = dict(data["elements"])
     units = {u.upper() for u in data["units"]}
     units |= {n.upper() for n in data["unit_names"]}
     units |= {a.upper() for a in data["unit_aliases"]}
     for path in extra:
-        more = read_psdd(Path(path))
+        more = read_extra(path)
         elements.update(more["elements"])
         units |= {u.upper() for u in more["units"]} | {n.upper() for n in more["unit_names"]}
     return Dictionary(elements, data["namespaces"], frozenset(units))

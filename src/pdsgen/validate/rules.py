@@ -219,6 +219,8 @@ def _table() -> list[Rule]:
              set_check=T.check_sources),
         Rule("SET-004", "warning", "a delivery set has README.TXT and browse JPEGs (Extras)", None,
              set_check=T.check_extras),
+        Rule("SET-005", "warning", "a product label describes data: a data pointer or an OBJECT "
+             "(*.FMT/*.CAT and labels others include are exempt)", None, set_check=T.check_describes_data),
     ]
 
 

@@ -10,6 +10,7 @@ finding naming the rule, instead of a traceback.
 from __future__ import annotations
 
 import os
+import stat
 import sys
 from collections.abc import Callable, Iterable
 from concurrent.futures import ProcessPoolExecutor
@@ -17,6 +18,7 @@ from pathlib import Path
 
 from ..errors import PdsgenError
 from .context import FileContext
+from .dictionary import load as load_dictionary
 from .imars_context import ImarsContext, is_imars_metadata
 from .model import Finding
 from .report import FileReport, Report
@@ -40,22 +42,45 @@ def is_label_file(path: Path) -> bool:
     return head.upper().startswith(_SNIFF)
 
 
+_SPECIAL_KINDS = ((stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+                  (stat.S_ISFIFO, "a FIFO"), (stat.S_ISSOCK, "a socket"))
+
+
+def _unusable_path_reason(path: Path, missing: str = "no such file or directory") -> str | None:
+    """Why a path named on the command line (a label, a directory of them, a dictionary)
+    cannot be read as one (None when it can). Devices and FIFOs are refused by name:
+    reading one may never end."""
+    try:
+        mode = path.stat().st_mode
+    except (FileNotFoundError, NotADirectoryError):
+        return missing
+    except OSError as exc:
+        return f"cannot access it: {exc.strerror or exc}"
+    if stat.S_ISREG(mode) or stat.S_ISDIR(mode):
+        return None
+    kind = next((name for test, name in _SPECIAL_KINDS if test(mode)), "a special file")
+    return f"not a regular file ({kind})"
+
+
 def discover(paths: Iterable[str | os.PathLike[str]]) -> list[Path]:
-    """Files to validate: files as given, label files found recursively in directories."""
+    """Files to validate: files as given, label files found recursively in directories.
+
+    Inside directories only regular files are considered (a FIFO is skipped, not opened)."""
     found: list[Path] = []
     for raw in paths:
         path = Path(raw)
+        reason = _unusable_path_reason(path)
+        if reason is not None:
+            raise PdsgenError(path, reason)
         if path.is_file():
             found.append(path)
-        elif path.is_dir():
-            for dirpath, dirnames, filenames in os.walk(path):
-                dirnames.sort()
-                for name in sorted(filenames):
-                    candidate = Path(dirpath) / name
-                    if is_label_file(candidate):
-                        found.append(candidate)
-        else:
-            raise PdsgenError(path, "no such file or directory")
+            continue
+        for dirpath, dirnames, filenames in os.walk(path):
+            dirnames.sort()
+            for name in sorted(filenames):
+                candidate = Path(dirpath) / name
+                if candidate.is_file() and is_label_file(candidate):
+                    found.append(candidate)
     return list(dict.fromkeys(found))  # a file named twice (itself and in its directory) once
 
 
@@ -113,15 +138,25 @@ def validate_paths(
 ) -> Report:
     """Validate label files and directories of them; the API behind `pdsgen validate`.
 
+    Raises PdsgenError when the paths hold no label at all (an empty or wrong directory):
+    checking nothing is a usage error, not a pass.
     strict makes warnings fail the run too. labels_only skips every rule that opens the
     data files (data existence, file sizes, statistics, JP2), for label-only checks.
     dictionaries are extra data dictionaries (PSDD `.full` format) merged over the built-in one.
     """
     extra = tuple(str(d) for d in dictionaries)
     for d in extra:
-        if not Path(d).is_file():
-            raise PdsgenError(d, "no such dictionary file")
+        reason = _unusable_path_reason(Path(d), missing="no such dictionary file")
+        if reason is None and Path(d).is_dir():
+            reason = "a directory, not a dictionary file"
+        if reason is not None:
+            raise PdsgenError(d, reason)
+    if extra:
+        load_dictionary(extra)  # refuses a file that is not a PSDD dictionary; cached for this process
+    paths = list(paths)
     files = discover(paths)
+    if not files:  # a CI job pointed at the wrong directory must not pass
+        raise PdsgenError(None, "no PDS3 labels found under " + ", ".join(os.fspath(p) for p in paths))
     results: list[tuple[FileReport, Summary | None]] = []
     work = [(str(p), labels_only, extra) for p in files]
     if jobs > 1 and len(files) > 1:

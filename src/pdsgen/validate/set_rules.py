@@ -3,6 +3,8 @@
 Per file, a small picklable `Summary` is taken from the label (so a process pool can
 return it); the set checks then compare summaries of one directory: shared projection
 parameters, SOURCE_PRODUCT_ID references to products of the set, Extras and README.
+SET-005 (a product label describes some data) is a set check too, because only the whole
+run tells an empty product label from a fragment another label includes (^STRUCTURE).
 """
 
 from __future__ import annotations
@@ -13,7 +15,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .context import FileContext
+from .context import REFERENCE_POINTERS, FileContext
 from .model import Finding, Hit
 from .projection import normalise
 from .quantities import kilometres as _km
@@ -37,11 +39,45 @@ class Summary:
     sources_line: int | None = None
     projection: tuple | None = None
     projection_line: int | None = None
+    describes_nothing: bool = False
+    first_line: int | None = None
+    referenced: list[str] = field(default_factory=list)  # upper-case names other files go by
+
+
+# Names of format and catalog files, which hold object definitions or catalog text for
+# other labels to include or point at, not products of their own.
+FRAGMENT_SUFFIXES = (".FMT", ".CAT")
+
+
+def describes_data(ctx: FileContext) -> bool:
+    """A data pointer (^IMAGE, ^TABLE ...), an OBJECT (IMAGE, TABLE, COMPRESSED_FILE,
+    FILE ...) or a root ^STRUCTURE include (whose objects live in the included file)."""
+    root = ctx.root
+    has_object = any(block.kind == "OBJECT" for block in root.blocks())
+    has_pointer = next(ctx.data_pointers(), None) is not None
+    return has_object or has_pointer or root.get("^STRUCTURE") is not None
+
+
+def referenced_files(ctx: FileContext) -> list[str]:
+    """Upper-case base names of the files this label includes or points at for reference
+    (^STRUCTURE, ^DATA_SET_CATALOG ...), at any depth."""
+    names: set[str] = set()
+    for block in ctx.root.walk():
+        for stmt in block.statements():
+            key = stmt.keyword.upper()
+            if stmt.pointer and (key in REFERENCE_POINTERS or key.endswith("_CATALOG")):
+                for value in stmt.value.scalars():
+                    if value.kind in ("string", "ident"):
+                        names.add(value.text.replace("\\", "/").rsplit("/", 1)[-1].strip().upper())
+    return sorted(names)
 
 
 def summarise(ctx: FileContext) -> Summary:
     root = ctx.root
     summary = Summary(str(ctx.path))
+    summary.describes_nothing = ctx.size > 0 and not describes_data(ctx)  # empty: FILE-011 says it
+    summary.first_line = ctx.label.first_line
+    summary.referenced = referenced_files(ctx)
     stmt = root.get("PRODUCT_ID")
     if stmt is not None and stmt.value.items is None:
         summary.product_id, summary.product_id_line = stmt.value.text.strip(), stmt.line
@@ -113,6 +149,18 @@ def check_extras(summaries: list[Summary]) -> Iterator[Finding]:
     """SET-004: a delivery set has README.TXT and a browse JPEG per product."""
     for directory, group in by_directory(summaries).items():
         yield from _extras(Path(directory), group, "SET-004")
+
+
+def check_describes_data(summaries: list[Summary]) -> Iterator[Finding]:
+    """SET-005: a product label describes some data. Labels named *.FMT/*.CAT, and labels
+    another label of the run includes or points at, are fragments and exempt."""
+    referenced = {name for s in summaries for name in s.referenced}
+    for s in summaries:
+        name = Path(s.path).name.upper()
+        if s.describes_nothing and name not in referenced and not name.endswith(FRAGMENT_SUFFIXES):
+            yield _finding("SET-005", s, "the label describes no data: no data pointer (^IMAGE, "
+                           "^TABLE ...) and no OBJECT (IMAGE, TABLE, COMPRESSED_FILE, FILE ...)",
+                           s.first_line, None)
 
 
 def _fmt(values: tuple) -> str:
