@@ -166,24 +166,11 @@ class FileContext:
     @cached_property
     def listing(self) -> list[str]:
         """Names in the label's directory (read once per file, for case checks)."""
-        try:
-            return os.listdir(self.path.parent)
-        except OSError:
-            return []
+        return directory_listing(self.path.parent)
 
     def resolve(self, file_name: str) -> tuple[Path | None, Path | None]:
         """(exact path, path differing only in case) of a file named in the label."""
-        directory = self.path.parent
-        if "/" in file_name or os.sep in file_name:
-            exact = directory / file_name
-            return (exact, None) if exact.is_file() else (None, None)
-        if file_name in self.listing and (directory / file_name).is_file():
-            return directory / file_name, None
-        lowered = file_name.lower()
-        for name in self.listing:
-            if name.lower() == lowered and (directory / name).is_file():
-                return None, directory / name
-        return None, None
+        return resolve_beside(self.path.parent, self.listing, file_name)
 
     def target_size(self, ptr: Pointer) -> int | None:
         """Size of the file the pointer's object lives in, if it can be found."""
@@ -209,3 +196,28 @@ _END_LINE = re.compile(rb"(?im)^[ \t]*END[ \t]*;?[ \t]*(?:/\*.*)?\r?$")
 
 def _has_end(data: bytes) -> bool:
     return _END_LINE.search(data) is not None
+
+
+def directory_listing(directory: Path) -> list[str]:
+    try:
+        return os.listdir(directory)
+    except OSError:
+        return []
+
+
+def resolve_beside(directory: Path, listing: list[str], file_name: str) -> tuple[Path | None, Path | None]:
+    """(exact path, path differing only in case) of a file named by a label in `directory`.
+
+    PDS file names are case-sensitive on most systems an archive is served from,
+    so a near miss in case is reported rather than silently accepted.
+    """
+    if "/" in file_name or os.sep in file_name:
+        exact = directory / file_name
+        return (exact, None) if exact.is_file() else (None, None)
+    if file_name in listing and (directory / file_name).is_file():
+        return directory / file_name, None
+    lowered = file_name.lower()
+    for name in listing:
+        if name.lower() == lowered and (directory / name).is_file():
+            return None, directory / name
+    return None, None

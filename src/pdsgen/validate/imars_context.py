@@ -11,13 +11,14 @@ the IMARS-001 rule to report.
 
 from __future__ import annotations
 
-import os
 import re
 from functools import cached_property
 from pathlib import Path
 from typing import Any
 
 import pvl
+
+from .context import directory_listing, resolve_beside
 
 _SNIFF_BYTES = 64 * 1024
 _OBJECT = re.compile(rb"(?im)^[ \t]*object[ \t]*=[ \t]*(productinfo|image)[ \t]*\r?$")
@@ -103,22 +104,11 @@ class ImarsContext:
     # -- files beside it -------------------------------------------------------------
     @cached_property
     def listing(self) -> list[str]:
-        try:
-            return os.listdir(self.path.parent)
-        except OSError:
-            return []
+        return directory_listing(self.path.parent)
 
     def resolve(self, name: str) -> tuple[Path | None, Path | None]:
         """(exact path, path differing only in case) of a file beside the metadata."""
-        if "/" in name or os.sep in name:
-            exact = self.path.parent / name
-            return (exact, None) if exact.is_file() else (None, None)
-        if name in self.listing and (self.path.parent / name).is_file():
-            return self.path.parent / name, None
-        for other in self.listing:
-            if other.lower() == name.lower() and (self.path.parent / other).is_file():
-                return None, self.path.parent / other
-        return None, None
+        return resolve_beside(self.path.parent, self.listing, name)
 
     @property
     def data_name(self) -> str | None:
