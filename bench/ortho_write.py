@@ -2,7 +2,7 @@
 
 Generates an N x N uint8 GeoTIFF (default 8,000 x 8,000) in a temporary
 directory, then runs each writer in a fresh subprocess and reports wall time and
-peak resident memory (RUSAGE_CHILDREN of that subprocess alone) side by side.
+peak resident memory (bench/_measure.py: measured from a small launcher process) side by side.
 Targets (issue 3): time ratio <= 1.0, peak memory lower than GDAL's.
 
     PYTHONPATH=src python bench/ortho_write.py [--size 8000] [--repeat 1]
@@ -11,9 +11,7 @@ Targets (issue 3): time ratio <= 1.0, peak memory lower than GDAL's.
 from __future__ import annotations
 
 import argparse
-import json
 import os
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
@@ -22,6 +20,8 @@ import numpy as np
 import rasterio
 from affine import Affine
 from rasterio.crs import CRS
+
+from _measure import measure
 
 MARS_EQC = "+proj=eqc +lat_ts=-5 +lat_0=0 +lon_0=180 +R=3396190 +units=m +no_defs"
 
@@ -43,25 +43,6 @@ def make_input(path: Path, size: int) -> None:
             noise = rng.normal(scale=12.0, size=(rows, size)).astype(np.float32)
             block = np.clip(128 + relief + noise, 1, 254).astype(np.uint8)
             dataset.write(block, 1, window=rasterio.windows.Window(0, top, size, rows))
-
-
-def run_child(command: list[str], env: dict[str, str] | None = None) -> tuple[float, float]:
-    """Wall seconds and peak RSS (MiB) of one command run in a fresh process.
-
-    The measurement runs in its own helper process so RUSAGE_CHILDREN holds
-    this one command only.
-    """
-    probe = (
-        "import resource, subprocess, sys, time, json\n"
-        "t = time.perf_counter()\n"
-        "subprocess.run(json.loads(sys.argv[1]), check=True)\n"
-        "wall = time.perf_counter() - t\n"
-        "print(wall, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024)\n"
-    )
-    output = subprocess.run(
-        [sys.executable, "-c", probe, json.dumps(command)], check=True, capture_output=True, text=True, env=env
-    ).stdout.split()
-    return float(output[-2]), float(output[-1])
 
 
 def main() -> None:
@@ -88,12 +69,12 @@ def main() -> None:
         ]
         results = {"pdsgen": [], "gdal": []}
         for _ in range(args.repeat):
-            results["gdal"].append(run_child(gdal, env))
-            results["pdsgen"].append(run_child(ours, env))
-        t_ours = min(t for t, _ in results["pdsgen"])
-        t_gdal = min(t for t, _ in results["gdal"])
-        m_ours = min(m for _, m in results["pdsgen"])
-        m_gdal = min(m for _, m in results["gdal"])
+            results["gdal"].append(measure(gdal, env))
+            results["pdsgen"].append(measure(ours, env))
+        t_ours = min(run.seconds for run in results["pdsgen"])
+        t_gdal = min(run.seconds for run in results["gdal"])
+        m_ours = min(run.peak_mb for run in results["pdsgen"])
+        m_gdal = min(run.peak_mb for run in results["gdal"])
         size_ours = (tmp_path / "pdsgen" / "BENCH.JP2").stat().st_size
         size_gdal = (tmp_path / "gdal.jp2").stat().st_size
     print(f"input: {args.size} x {args.size} uint8, {cores} cores, best of {args.repeat}")
