@@ -18,7 +18,7 @@ from .errors import PdsgenError
 from .geometry import MapGeometry, describe_geometry
 from .label.render import RecordLayout, render_label
 from .label.values import Based, Symbol
-from .params import ParamValue, check_version, load_params
+from .params import ParamValue, check_version, resolve_params
 from .profiles import (
     check_product_id,
     generic_product_id,
@@ -69,7 +69,7 @@ def write_dtm(
         raise PdsgenError(None, f"byte order must be one of {', '.join(BYTE_ORDERS)}")
     chosen = get_profile(profile)
     version = check_version(version)
-    keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
+    keywords = resolve_params(params)
     input_path = Path(input_path)
     with open_raster(input_path) as dataset:
         require_single_band(dataset)

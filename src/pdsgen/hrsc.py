@@ -34,7 +34,7 @@ from .errors import PdsgenError
 from .geometry import POLAR_STEREOGRAPHIC, SINUSOIDAL, MapGeometry, describe_geometry
 from .label.render import RecordLayout, render_label
 from .label.values import Based, Symbol
-from .params import ParamValue, check_version, load_params
+from .params import ParamValue, check_version, resolve_params
 from .read_raster import open_raster, require_single_band
 from .scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
 from .staging import StagedOutputs, prepare_output_dir
@@ -257,7 +257,7 @@ def write_hrsc_dtm(
     output_datum, description = DTM_KINDS[kind]
     check_datum_conversion(kind, output_datum, vertical_datum, areoid)
     version = check_version(version)
-    keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
+    keywords = resolve_params(params)
     input_path = Path(input_path)
     with hrsc_input(input_path, reproject_input) as (grid, geometry):
         adjust = None
@@ -369,7 +369,7 @@ def write_hrsc_nd4(
     mapped linearly from its valid range (or `value_range`) onto DNs 1..254,
     with SCALING_FACTOR and OFFSET giving the input values back.
     """
-    keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
+    keywords = resolve_params(params)
     input_path = Path(input_path)
     special = SPECIAL_DNS[8]
     with hrsc_input(input_path, reproject_input, "an HRSC nadir image") as (grid, geometry):

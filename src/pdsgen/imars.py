@@ -24,7 +24,7 @@ from .errors import PdsgenError
 from .footprint import valid_data_outline, write_footprint
 from .geometry import MapGeometry, describe_geometry
 from .hrsc import MISSING_DN, Int16Encoding, areoid_adjustment, check_datum_conversion, choose_encoding, hrsc_base_name
-from .params import ParamValue, check_version, load_params
+from .params import ParamValue, check_version, resolve_params
 from .read_raster import open_raster, require_single_band
 from .scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
 from .staging import StagedOutputs, prepare_output_dir
@@ -70,7 +70,7 @@ def write_imars_dtm(
     version = check_version(version)
     output_datum = "areoid" if kind == "da" else "sphere"
     check_datum_conversion(f"{kind}4", output_datum, vertical_datum or output_datum, areoid)
-    keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
+    keywords = resolve_params(params)
     sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
     base, _ = hrsc_base_name(product_id, sources)
     stem = f"{base}_{kind}4_ucl"
@@ -156,7 +156,7 @@ def write_imars_ori(
 ) -> ImarsProduct:
     """Write the orthoimage `<ID>_nd4_ucl.tif` (byte, nodata 0), its `.pvl` and the scene footprint."""
     version = check_version(version)
-    keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
+    keywords = resolve_params(params)
     sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
     base, _ = hrsc_base_name(product_id, sources)
     stem = f"{base}_nd4_ucl"

@@ -15,7 +15,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import rasterio
 from rasterio.io import DatasetReader
 from rasterio.windows import Window
 
@@ -25,7 +24,7 @@ from .geojp2 import geojp2_box, gmljp2_box
 from .geometry import MapGeometry, describe_geometry
 from .label.render import render_label
 from .label.values import Based, Quantity, Symbol
-from .params import ParamValue, check_version, load_params
+from .params import ParamValue, check_version, resolve_params
 from .profiles import (
     ORTHO_DESCRIPTIONS,
     ORTHO_FILTER_NAMES,
@@ -51,11 +50,6 @@ from .scale_dn import (
 )
 from .staging import StagedOutputs, prepare_output_dir
 from .write_jp2 import TILE_SIZE, write_jp2
-
-# GDAL's block cache while streaming: each input block is read once, so a cache
-# of two block rows keeps memory flat instead of growing toward 5 % of RAM.
-_MIN_CACHE_BYTES = 4 * 1024 * 1024
-_MAX_CACHE_BYTES = 64 * 1024 * 1024
 
 
 @dataclass(frozen=True)
@@ -94,9 +88,9 @@ def write_ortho(
         raise PdsgenError(None, f"--bits must be one of {', '.join(map(str, BIT_DEPTHS))}, not {bits}")
     chosen = get_profile(profile)
     version = check_version(version)
-    keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
+    keywords = resolve_params(params)
     input_path = Path(input_path)
-    with open_raster(input_path) as dataset, rasterio.Env(GDAL_CACHEMAX=_read_cache_bytes(dataset)):
+    with open_raster(input_path) as dataset:
         _check_input(dataset, input_path)
         geometry = describe_geometry(dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path))
         bits = bits or _default_bits(dataset, chosen.name)
@@ -134,12 +128,6 @@ def write_ortho(
         bands=dataset.count,
         label_text=text,
     )
-
-
-def _read_cache_bytes(dataset: DatasetReader) -> int:
-    block_rows = dataset.block_shapes[0][0]
-    row_bytes = dataset.width * block_rows * np.dtype(dataset.dtypes[0]).itemsize * dataset.count
-    return int(min(_MAX_CACHE_BYTES, max(_MIN_CACHE_BYTES, 2 * row_bytes)))
 
 
 def _check_input(dataset: DatasetReader, path: Path) -> None:

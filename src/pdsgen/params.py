@@ -40,6 +40,11 @@ def check_version(version: str) -> str:
     return text
 
 
+def resolve_params(params: str | os.PathLike[str] | Mapping[str, ParamValue] | None) -> dict[str, ParamValue]:
+    """Keywords given as a mapping (Python callers) or as a params file path (the CLI)."""
+    return dict(params) if isinstance(params, Mapping) else load_params(params)
+
+
 def load_params(path: str | os.PathLike[str] | None) -> dict[str, ParamValue]:
     """Read and check a params file; None gives an empty set."""
     if path is None:

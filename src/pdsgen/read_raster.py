@@ -7,6 +7,7 @@ before any output is created.
 
 from __future__ import annotations
 
+import math
 import os
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -22,8 +23,11 @@ from .errors import PdsgenError
 
 STRIP_BYTES = 16 * 1024 * 1024  # working-set size of one strip of input
 # GDAL's block cache defaults to 5 % of RAM and would keep every block we stream
-# past; we read each block once, so a small cache keeps memory flat.
-GDAL_CACHE_MB = 64
+# past; we read each block once, so a cache of two block rows keeps memory flat.
+# Sizes are in MB: given as a large byte count, GDAL_CACHEMAX was measured to
+# leave peak memory higher (e.g. 156 MB against 124 MB on an 8000 x 8000 DTM).
+MIN_CACHE_MB = 4
+MAX_CACHE_MB = 64
 
 
 @contextmanager
@@ -34,14 +38,20 @@ def open_raster(path: str | os.PathLike[str]) -> Iterator[DatasetReader]:
         raise PdsgenError(path, "no such file")
     if path.is_dir():
         raise PdsgenError(path, "is a directory, not a raster file")
-    with rasterio.Env(GDAL_CACHEMAX=GDAL_CACHE_MB):
-        try:
-            dataset = rasterio.open(path)
-        except RasterioIOError as exc:
-            reason = str(exc).splitlines()[0] if str(exc) else "unknown format"
-            raise PdsgenError(path, f"not a raster GDAL can read ({reason})") from None
-        with dataset:
-            yield dataset
+    try:
+        dataset = rasterio.open(path)
+    except RasterioIOError as exc:
+        reason = str(exc).splitlines()[0] if str(exc) else "unknown format"
+        raise PdsgenError(path, f"not a raster GDAL can read ({reason})") from None
+    with dataset, rasterio.Env(GDAL_CACHEMAX=streaming_cache_mb(dataset)):
+        yield dataset
+
+
+def streaming_cache_mb(dataset: DatasetReader) -> int:
+    """GDAL block cache (MB) for reading `dataset` once, row of blocks after row of blocks."""
+    block_rows = dataset.block_shapes[0][0]
+    row_bytes = dataset.width * block_rows * _itemsize(dataset)
+    return int(min(MAX_CACHE_MB, max(MIN_CACHE_MB, math.ceil(2 * row_bytes / 2**20))))
 
 
 def require_single_band(dataset: DatasetReader, what: str = "a DTM") -> None:

@@ -20,7 +20,7 @@ from pathlib import Path
 from PIL import Image
 
 from ..errors import PdsgenError
-from ..params import ParamValue, load_params
+from ..params import ParamValue, resolve_params
 from ..profiles import PROFILES
 from ..staging import StagedOutputs, prepare_output_dir
 from .product_source import KINDS, ProductSource, open_product
@@ -62,7 +62,7 @@ def make_extras(
     if not products:
         raise PdsgenError(None, "no products given")
     azimuth = _check_options(browse_width, thumb_width, azimuth, altitude, exaggeration)
-    keywords = dict(params) if isinstance(params, Mapping) else load_params(params)
+    keywords = resolve_params(params)
     sources = [open_product(p, kind) for p in products]
     credits = [_credit(credit, keywords, profile or src.mission) for src in sources]
     _check_unique_ids(sources)
