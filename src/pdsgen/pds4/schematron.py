@@ -1,0 +1,181 @@
+"""Schematron (ISO, queryBinding xslt2) for PDS4 labels, run by Saxon-HE (`saxonche`).
+
+PDS4 Schematron files use a small part of ISO Schematron: `ns`, `pattern`, `rule`
+(context), `let`, `assert` (test, role) and `value-of` in messages. We translate
+them into one XSLT 3.0 stylesheet ourselves, compile it once per set of files and
+reuse the compiled stylesheet for every label (compiling is the expensive part).
+
+Semantics kept from Schematron: within a pattern a node is handled by the first
+rule whose context matches it (later rules of that pattern skip it); patterns are
+independent. A rule context is an XSLT pattern, which matches exactly the nodes
+selected by `//(context)` from the document root.
+
+Saxon is optional (`pip install pdsgen[pds4]`); `available()` says whether it is here.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+from lxml import etree
+
+from .model import SCHEMATRON_NS
+
+_XSL = "http://www.w3.org/1999/XSL/Transform"
+_S = f"{{{SCHEMATRON_NS}}}"
+_X = f"{{{_XSL}}}"
+_REPORT_NS = "urn:pdsgen:schematron-report"
+
+
+@dataclass(frozen=True)
+class SchematronFailure:
+    """One failed assertion: its role (error/warning), message and where (an XPath)."""
+
+    role: str
+    message: str
+    location: str
+    rule_context: str
+
+
+def available() -> bool:
+    try:
+        import saxonche  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def compile_to_xslt(schematron_files: list[Path]) -> str:
+    """One XSLT 3.0 stylesheet that reports every failed assertion of all the files."""
+    namespaces: dict[str, str] = {}
+    blocks: list[etree._Element] = []
+    for path in schematron_files:
+        root = etree.parse(str(path)).getroot()
+        for ns in root.iter(f"{_S}ns"):
+            namespaces[ns.get("prefix")] = ns.get("uri")
+        for pattern in root.iter(f"{_S}pattern"):
+            blocks.extend(_pattern_blocks(pattern))
+    nsmap = {"xsl": _XSL, "r": _REPORT_NS, **namespaces}
+    sheet = etree.Element(f"{_X}stylesheet", nsmap=nsmap, version="3.0",
+                          attrib={"exclude-result-prefixes": " ".join(p for p in nsmap if p != "r")})
+    etree.SubElement(sheet, f"{_X}output", method="xml", indent="no")
+    template = etree.SubElement(sheet, f"{_X}template", match="/")
+    report = etree.SubElement(template, f"{{{_REPORT_NS}}}report")
+    report.extend(blocks)
+    return etree.tostring(sheet, encoding="unicode")
+
+
+def _pattern_blocks(pattern: etree._Element) -> list[etree._Element]:
+    """One scope per pattern: its own `let`s (evaluated at the document root), then its rules."""
+    scope = etree.Element(f"{_X}for-each", select=".")
+    for let in pattern.iterchildren(f"{_S}let"):
+        etree.SubElement(scope, f"{_X}variable", name=let.get("name"), select=let.get("value"))
+    earlier: list[str] = []
+    for rule in pattern.iter(f"{_S}rule"):
+        context = rule.get("context")
+        if not context:
+            continue
+        select = f"//({context})"
+        if earlier:  # the first matching rule of a pattern wins
+            select += " except (" + " | ".join(f"//({c})" for c in earlier) + ")"
+        earlier.append(context)
+        each = etree.SubElement(scope, f"{_X}for-each", select=select)
+        for let in rule.iter(f"{_S}let"):
+            etree.SubElement(each, f"{_X}variable", name=let.get("name"), select=let.get("value"))
+        for assertion in rule.iter(f"{_S}assert"):
+            each.append(_assertion(assertion, context))
+    return [scope]
+
+
+def _assertion(assertion: etree._Element, context: str) -> etree._Element:
+    check = etree.Element(f"{_X}if", test=f"not({assertion.get('test')})")
+    failure = etree.SubElement(check, f"{{{_REPORT_NS}}}failed",
+                               role=(assertion.get("role") or "error").lower(), context=context)
+    etree.SubElement(failure, f"{_X}attribute", name="location", select="path()")
+    text = etree.SubElement(failure, f"{_X}text")
+    text.text = assertion.text or ""
+    for child in assertion:
+        if child.tag == f"{_S}value-of":
+            etree.SubElement(failure, f"{_X}value-of", select=child.get("select"))
+        elif child.tag == f"{_S}name":
+            etree.SubElement(failure, f"{_X}value-of", select=f"name({child.get('path') or '.'})")
+        # other children (PDS puts a <title> in each assert) are not part of the message
+        tail = etree.SubElement(failure, f"{_X}text")
+        tail.text = child.tail or ""
+    return check
+
+
+class Schematron:
+    """Compiled Schematron for one set of .sch files, reusable for many labels."""
+
+    def __init__(self, schematron_files: list[Path]) -> None:
+        from saxonche import PySaxonApiError
+
+        self._processor = _processor()
+        compiler = self._processor.new_xslt30_processor()
+        try:
+            self._executable = compiler.compile_stylesheet(stylesheet_text=compile_to_xslt(schematron_files))
+        except PySaxonApiError as exc:
+            names = ", ".join(p.name for p in schematron_files)
+            raise RuntimeError(f"Schematron {names} does not compile: {exc}") from None
+
+    def check(self, label_text: str) -> list[SchematronFailure]:
+        """Failed assertions of one label (its text, as UTF-8 XML)."""
+        node = self._processor.parse_xml(xml_text=label_text)
+        result = self._executable.transform_to_string(xdm_node=node)
+        report = etree.fromstring(result.encode("utf-8"))
+        return [
+            SchematronFailure(f.get("role", "error"), " ".join((f.text or "").split()),
+                              f.get("location", ""), f.get("context", ""))
+            for f in report.iter(f"{{{_REPORT_NS}}}failed")
+        ]
+
+
+_PROCESSORS: dict[int, object] = {}
+_COMPILED: dict[tuple, Schematron] = {}
+
+
+def _processor():  # noqa: ANN202 - saxonche ships no type information
+    """One Saxon processor per process (a forked worker must not reuse its parent's)."""
+    from saxonche import PySaxonProcessor
+
+    pid = os.getpid()
+    if pid not in _PROCESSORS:
+        _PROCESSORS.clear()
+        _COMPILED.clear()
+        _PROCESSORS[pid] = PySaxonProcessor(license=False)
+    return _PROCESSORS[pid]
+
+
+def compiled(schematron_files: list[Path]) -> Schematron:
+    """The compiled Schematron for these files, compiled once per process."""
+    _processor()
+    key = tuple(str(p) for p in schematron_files)
+    if key not in _COMPILED:
+        _COMPILED[key] = Schematron(schematron_files)
+    return _COMPILED[key]
+
+
+# One step of an XPath 3.1 `path()`: /Q{uri}local[n] for elements (URIs hold slashes), else /@attr etc.
+_STEP = re.compile(r"/(?:Q\{(?P<uri>[^}]*)\}(?P<local>[^/\[]+)\[(?P<n>\d+)\]|(?P<other>[^/]*))")
+
+
+def location_line(tree: etree._ElementTree, location: str) -> int | None:
+    """Source line of the element a Saxon `path()` names (an attribute: its element)."""
+    element: etree._Element | None = None
+    for match in _STEP.finditer(location):
+        if match["local"] is None:  # an attribute or text step: report the element holding it
+            break
+        tag = f"{{{match['uri']}}}{match['local']}" if match["uri"] else match["local"]
+        if element is None:
+            candidates = [tree.getroot()] if tree.getroot().tag == tag else []
+        else:
+            candidates = [child for child in element if child.tag == tag]
+        index = int(match["n"]) - 1
+        if index >= len(candidates):
+            break
+        element = candidates[index]
+    return element.sourceline if element is not None else None

@@ -1,0 +1,490 @@
+"""Validate one PDS4 label offline: XML Schema, Schematron, and the label against its data.
+
+Order: parse -> find the schemas it names in the catalog (shipped + `--schemas`)
+-> XML Schema (lxml) -> Schematron (Saxon, when installed) -> content checks
+(file size, MD5, array statistics, special constants, cartography against the
+georeferencing). Every problem is a Finding with a PDS4-nnn rule id; nothing a
+label holds can raise out of here.
+
+The content checks compute independently of the writer: they read the data file
+with numpy and project with the validator's own closed-form sphere formulas.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from lxml import etree
+
+from ..validate.geojp2 import Jp2Error, read_jp2
+from ..validate.model import Finding
+from ..validate.projection import Sphere, boundary
+from . import schematron
+from .catalog import SchemaCatalog, schema_references
+from .model import CART_NS, NUMPY_TYPES, PDS_NS
+from .xsd import SchemaImportError, build_schema, xsd_errors
+
+P = f"{{{PDS_NS}}}"
+C = f"{{{CART_NS}}}"
+_ROWS_PER_READ = 8 * 1024 * 1024  # bytes of samples per read of the data check
+_IM_RE_HINT = "supply that version's schemas with --schemas DIR"
+
+
+@dataclass(frozen=True)
+class Pds4Rule:
+    id: str
+    severity: str
+    summary: str
+
+
+RULES = (
+    Pds4Rule("PDS4-001", "error", "a PDS4 label is well-formed XML with a Product_* root"),
+    Pds4Rule("PDS4-002", "warning", "the schemas of the label's Information Model version are available "
+                                    "(shipped or --schemas); otherwise schema checks are skipped"),
+    Pds4Rule("PDS4-003", "error", "every schema import resolves offline (none silently skipped)"),
+    Pds4Rule("PDS4-004", "error", "the label is valid against its XML Schemas"),
+    Pds4Rule("PDS4-005", "error", "the label passes its Schematron rules (role error)"),
+    Pds4Rule("PDS4-006", "warning", "the label passes its Schematron rules (role warning)"),
+    Pds4Rule("PDS4-007", "warning", "Schematron ran (needs saxonche: pip install pdsgen[pds4])"),
+    Pds4Rule("PDS4-010", "error", "every File named by the label exists beside it"),
+    Pds4Rule("PDS4-011", "error", "file_size equals the size of the file"),
+    Pds4Rule("PDS4-012", "error", "md5_checksum equals the MD5 of the file"),
+    Pds4Rule("PDS4-013", "error", "each array fits in its file (offset + elements x sample size)"),
+    Pds4Rule("PDS4-020", "error", "Object_Statistics minimum and maximum equal the valid samples' extremes"),
+    Pds4Rule("PDS4-021", "warning", "Object_Statistics mean and standard_deviation match the valid samples"),
+    Pds4Rule("PDS4-022", "error", "samples in the ISIS special-pixel range are declared Special_Constants"),
+    Pds4Rule("PDS4-030", "error", "cart: pixel_scale agrees with pixel_resolution and the body radius"),
+    Pds4Rule("PDS4-031", "error", "cart: bounding coordinates agree with Geo_Transformation within half a pixel"),
+    Pds4Rule("PDS4-032", "error", "cart: the map projection is one whose parameters can be read back"),
+    Pds4Rule("PDS4-040", "error", "an Encoded_Image JP2's GeoJP2 box agrees with cart: Geo_Transformation"),
+)
+SEVERITY = {rule.id: rule.severity for rule in RULES}
+
+
+def is_pds4_label(path: Path) -> bool:
+    """An .xml file whose root element is a PDS4 Product_* (read from its first few KB)."""
+    if path.suffix.lower() != ".xml":
+        return False
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(8192)
+    except OSError:
+        return False
+    return b"http://pds.nasa.gov/pds4/pds/v1" in head and b"<Product_" in head
+
+
+class _Report:
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self.findings: list[Finding] = []
+
+    def add(self, rule: str, message: str, line: int | None = None, keyword: str | None = None,
+            severity: str | None = None) -> None:
+        self.findings.append(Finding(rule, severity or SEVERITY[rule], str(self.path), message, line, keyword))
+
+
+def validate_pds4(path: str | Path, catalog: SchemaCatalog | None = None, labels_only: bool = False,
+                  use_schematron: bool = True) -> list[Finding]:
+    """Every finding for one PDS4 label."""
+    path = Path(path)
+    report = _Report(path)
+    catalog = catalog or SchemaCatalog.build()
+    try:
+        tree = etree.parse(str(path), etree.XMLParser(no_network=True, resolve_entities=False))
+    except (etree.XMLSyntaxError, OSError) as exc:
+        report.add("PDS4-001", f"not well-formed XML: {exc}")
+        return report.findings
+    root = tree.getroot()
+    if not (root.tag.startswith(P) and root.tag[len(P):].startswith("Product_")):
+        report.add("PDS4-001", f"root element {root.tag} is not a PDS4 Product_*", root.sourceline)
+        return report.findings
+    for check in _schema_checks(tree, catalog, use_schematron):
+        check(report)
+    for content_check in _CONTENT_CHECKS:
+        if labels_only and content_check.__name__ != "_check_cartography":
+            continue
+        try:
+            content_check(report, tree)
+        except Exception as exc:  # a check must never turn odd input into a traceback
+            report.add("PDS4-001", f"check {content_check.__name__} could not run ({type(exc).__name__}: {exc})",
+                       severity="error")
+    return report.findings
+
+
+def _schema_checks(tree: etree._ElementTree, catalog: SchemaCatalog, use_schematron: bool
+                   ) -> list[Callable[[_Report], None]]:
+    refs = schema_references(tree)
+    version = tree.findtext(f"{P}Identification_Area/{P}information_model_version") or "unknown"
+    missing = [url for _, url in refs.xsd if catalog.resolve(url) is None]
+    missing += [url for url in refs.sch if catalog.resolve(url) is None]
+
+    def not_shipped(report: _Report) -> None:
+        names = ", ".join(Path(u).name for u in dict.fromkeys(missing))
+        report.add("PDS4-002", f"IM version {version} not shipped: no local copy of {names}; schema and "
+                               f"Schematron checks skipped ({_IM_RE_HINT})",
+                   tree.getroot().sourceline, "information_model_version")
+
+    if missing:
+        return [not_shipped]
+    if not refs.xsd:
+        return [lambda r: r.add("PDS4-004", "the label names no XML Schema (xsi:schemaLocation)",
+                                tree.getroot().sourceline)]
+
+    def xml_schema(report: _Report) -> None:
+        try:
+            schema = build_schema(catalog, refs.xsd)
+        except SchemaImportError as exc:
+            report.add("PDS4-003", exc.problem)
+            return
+        for line, message in xsd_errors(schema, tree):
+            report.add("PDS4-004", message, line)
+
+    def rules(report: _Report) -> None:
+        if not refs.sch:
+            return
+        if not schematron.available():
+            report.add("PDS4-007", "Schematron not run: saxonche is not installed (pip install pdsgen[pds4]); "
+                                   "schema-only validation")
+            return
+        files = [p for p in (catalog.resolve(u) for u in refs.sch) if p is not None]
+        text = etree.tostring(tree, encoding="unicode")
+        for failure in schematron.compiled(files).check(text):
+            rule = "PDS4-006" if failure.role in ("warning", "warn", "info") else "PDS4-005"
+            report.add(rule, failure.message, schematron.location_line(tree, failure.location),
+                       failure.rule_context)
+
+    return [xml_schema, rules] if use_schematron else [xml_schema]
+
+
+# --- content checks -------------------------------------------------------------------------
+
+
+def _file_areas(tree: etree._ElementTree) -> Iterator[etree._Element]:
+    for area in tree.getroot():
+        if isinstance(area.tag, str) and area.tag.startswith(f"{P}File_Area"):
+            yield area
+
+
+def _number(element: etree._Element | None, path: str) -> float | None:
+    text = element.findtext(path) if element is not None else None
+    try:
+        return float(text) if text is not None else None
+    except ValueError:
+        return None
+
+
+def _data_path(report: _Report, area: etree._Element) -> Path | None:
+    file = area.find(f"{P}File")
+    name = file.findtext(f"{P}file_name") if file is not None else None
+    if not name:
+        return None
+    path = report.path.parent / name
+    if not path.is_file():
+        report.add("PDS4-010", f"data file {name} not found beside the label", file.sourceline, "file_name")
+        return None
+    return path
+
+
+def _check_files(report: _Report, tree: etree._ElementTree) -> None:
+    for area in _file_areas(tree):
+        path = _data_path(report, area)
+        if path is None:
+            continue
+        file = area.find(f"{P}File")
+        size_element = file.find(f"{P}file_size")
+        actual = path.stat().st_size
+        if size_element is not None and _number(file, f"{P}file_size") != actual:
+            report.add("PDS4-011", f"file_size = {size_element.text} but {path.name} has {actual} bytes",
+                       size_element.sourceline, "file_size")
+        md5_element = file.find(f"{P}md5_checksum")
+        if md5_element is not None and md5_element.text:
+            digest = _md5(path)
+            if digest != md5_element.text.strip().lower():
+                report.add("PDS4-012", f"md5_checksum = {md5_element.text.strip()} but {path.name} has MD5 {digest}",
+                           md5_element.sourceline, "md5_checksum")
+
+
+def _md5(path: Path) -> str:
+    md5 = hashlib.md5()
+    with open(path, "rb") as handle:
+        while block := handle.read(_ROWS_PER_READ):
+            md5.update(block)
+    return md5.hexdigest()
+
+
+@dataclass
+class _Array:
+    element: etree._Element
+    path: Path
+    offset: int
+    shape: tuple[int, ...]
+    dtype: np.dtype
+
+
+def _arrays(report: _Report, tree: etree._ElementTree) -> Iterator[_Array]:
+    for area in _file_areas(tree):
+        path = _data_path(report, area) if area.find(f"{P}File") is not None else None
+        if path is None:
+            continue
+        for element in area:
+            if not (isinstance(element.tag, str) and element.tag.startswith(f"{P}Array")):
+                continue
+            data_type = element.findtext(f"{P}Element_Array/{P}data_type") or ""
+            offset = _number(element, f"{P}offset")
+            axes = [int(_number(axis, f"{P}elements") or 0) for axis in element.findall(f"{P}Axis_Array")]
+            if data_type not in NUMPY_TYPES or offset is None or not axes:
+                continue
+            yield _Array(element, path, int(offset), tuple(axes), np.dtype(NUMPY_TYPES[data_type]))
+
+
+def _check_arrays(report: _Report, tree: etree._ElementTree) -> None:
+    for array in _arrays(report, tree):
+        needed = array.offset + math.prod(array.shape) * array.dtype.itemsize
+        size = array.path.stat().st_size
+        if needed > size:
+            report.add("PDS4-013", f"the array needs bytes up to {needed} but {array.path.name} has {size}",
+                       array.element.sourceline, array.element.tag[len(P):])
+            continue
+        _check_statistics(report, array)
+
+
+def _special_constants(element: etree._Element) -> dict[str, float]:
+    found = {}
+    special = element.find(f"{P}Special_Constants")
+    for child in special if special is not None else ():
+        if isinstance(child.tag, str) and not child.tag.endswith(("valid_maximum", "valid_minimum")):
+            try:
+                found[child.tag.split("}")[1]] = float(child.text or "")
+            except ValueError:
+                continue
+    return found
+
+
+def _check_statistics(report: _Report, array: _Array) -> None:
+    """Stream the array once: extremes, mean and deviation of the samples not flagged special."""
+    constants = _special_constants(array.element)
+    flagged = np.array(sorted(constants.values()), dtype=np.float64)
+    count, total, squares = 0, 0.0, 0.0
+    low, high = math.inf, -math.inf
+    undeclared = 0
+    row_bytes = math.prod(array.shape[1:]) * array.dtype.itemsize
+    rows_per_read = max(1, _ROWS_PER_READ // max(1, row_bytes))
+    shift = None
+    with open(array.path, "rb") as handle:
+        for first in range(0, array.shape[0], rows_per_read):
+            rows = min(rows_per_read, array.shape[0] - first)
+            handle.seek(array.offset + first * row_bytes)
+            values = np.frombuffer(handle.read(rows * row_bytes), dtype=array.dtype).astype(np.float64)
+            valid = ~np.isin(values, flagged) & np.isfinite(values)
+            if array.dtype.kind == "f":
+                special = values <= -3.4028226550889045e38
+                undeclared += int(np.count_nonzero(special & valid))
+                valid &= ~special
+            chosen = values[valid]
+            if chosen.size:
+                shift = float(chosen[0]) if shift is None else shift  # shifted sums stay accurate
+                centred = chosen - shift
+                count += chosen.size
+                total += float(centred.sum())
+                squares += float((centred * centred).sum())
+                low, high = min(low, float(chosen.min())), max(high, float(chosen.max()))
+    if undeclared:
+        report.add("PDS4-022", f"{undeclared} samples hold ISIS special-pixel values (e.g. NULL "
+                               "-3.4028226550889045E+38) but Special_Constants does not declare them",
+                   array.element.sourceline, "missing_constant")
+    stats = array.element.find(f"{P}Object_Statistics")
+    if stats is None or count == 0:
+        return
+    mean = shift + total / count if shift is not None else math.nan
+    deviation = math.sqrt(max(0.0, squares / count - (total / count) ** 2))
+    _compare(report, stats, "minimum", low, "PDS4-020", _float32_tolerance(low, array.dtype))
+    _compare(report, stats, "maximum", high, "PDS4-020", _float32_tolerance(high, array.dtype))
+    spread = max(abs(high - low), 1e-12)
+    _compare(report, stats, "mean", mean, "PDS4-021", 1e-6 * spread)
+    _compare(report, stats, "standard_deviation", deviation, "PDS4-021", 1e-6 * spread)
+
+
+def _float32_tolerance(value: float, dtype: np.dtype) -> float:
+    if dtype.kind != "f":
+        return 0.0
+    return float(np.spacing(np.float32(abs(value)))) if math.isfinite(value) else 0.0
+
+
+def _compare(report: _Report, stats: etree._Element, name: str, actual: float, rule: str, tolerance: float) -> None:
+    element = stats.find(f"{P}{name}")
+    stated = _number(stats, f"{P}{name}")
+    if element is None or stated is None:
+        return
+    if not abs(stated - actual) <= tolerance:
+        report.add(rule, f"{name} = {element.text} but the valid samples give {actual:.10g}",
+                   element.sourceline, name)
+
+
+# --- cartography ----------------------------------------------------------------------------
+
+_SPHERE_NAMES = {"Equirectangular": "EQUIRECTANGULAR", "Polar Stereographic": "POLAR_STEREOGRAPHIC",
+                 "Sinusoidal": "SINUSOIDAL"}
+
+
+@dataclass
+class _Cart:
+    element: etree._Element
+    projection: str
+    parameters: etree._Element | None
+    resolution_x: float
+    resolution_y: float
+    scale: float | None
+    ulx: float
+    uly: float
+    a: float
+    c: float
+    bounds: dict[str, float]
+    lines: int
+    samples: int
+
+
+def _read_cart(tree: etree._ElementTree) -> _Cart | None:
+    cart = tree.find(f".//{C}Cartography")
+    if cart is None:
+        return None
+    horizontal = f"{C}Spatial_Reference_Information/{C}Horizontal_Coordinate_System_Definition"
+    planar = cart.find(f"{horizontal}/{C}Planar")
+    model = cart.find(f"{horizontal}/{C}Geodetic_Model")
+    if planar is None or model is None:
+        return None
+    projection = planar.findtext(f"{C}Map_Projection/{C}map_projection_name") or ""
+    parameters = planar.find(f"{C}Map_Projection/{C}{projection.replace(' ', '_')}")
+    rep = f"{C}Planar_Coordinate_Information/{C}Coordinate_Representation"
+    values = {
+        "rx": _number(planar, f"{rep}/{C}pixel_resolution_x"),
+        "ry": _number(planar, f"{rep}/{C}pixel_resolution_y"),
+        "ulx": _number(planar, f"{C}Geo_Transformation/{C}upperleft_corner_x"),
+        "uly": _number(planar, f"{C}Geo_Transformation/{C}upperleft_corner_y"),
+        "a": _number(model, f"{C}a_axis_radius"),
+        "c": _number(model, f"{C}c_axis_radius"),
+    }
+    if any(v is None for v in values.values()):
+        return None
+    box = cart.find(f"{C}Spatial_Domain/{C}Bounding_Coordinates")
+    bounds = {}
+    for side in ("west", "east", "north", "south"):
+        number = _number(box, f"{C}{side}_bounding_coordinate")
+        if number is not None:
+            bounds[side] = number
+    ref = cart.findtext(f"{P}Local_Internal_Reference/{P}local_identifier_reference")
+    array = next((a for a in tree.iter() if isinstance(a.tag, str) and a.tag.startswith(f"{P}Array")
+                  and a.findtext(f"{P}local_identifier") == ref), None)
+    if array is None:
+        return None
+    axes = {a.findtext(f"{P}axis_name"): int(_number(a, f"{P}elements") or 0)
+            for a in array.findall(f"{P}Axis_Array")}
+    return _Cart(cart, projection, parameters, values["rx"], values["ry"],  # type: ignore[arg-type]
+                 _number(planar, f"{rep}/{C}pixel_scale_x"), values["ulx"], values["uly"],  # type: ignore[arg-type]
+                 values["a"], values["c"], bounds, axes.get("Line", 0), axes.get("Sample", 0))  # type: ignore[arg-type]
+
+
+def _angle(parameters: etree._Element | None, name: str, default: float = 0.0) -> float:
+    value = _number(parameters, f"{C}{name}") if parameters is not None else None
+    return default if value is None else value
+
+
+def _check_cartography(report: _Report, tree: etree._ElementTree) -> None:
+    cart = _read_cart(tree)
+    if cart is None:
+        return
+    sphere_name = _SPHERE_NAMES.get(cart.projection)
+    if sphere_name is None or cart.parameters is None:
+        report.add("PDS4-032", f"map_projection_name {cart.projection!r} without a cart:"
+                               f"{cart.projection.replace(' ', '_')} parameter block pdsgen can check",
+                   cart.element.sourceline, "map_projection_name")
+        return
+    radius = cart.c if sphere_name == "POLAR_STEREOGRAPHIC" else cart.a
+    if cart.scale is not None and radius > 0 and cart.resolution_x > 0:
+        expected = math.pi * radius / 180.0 / cart.resolution_x
+        if not math.isclose(cart.scale, expected, rel_tol=1e-6):
+            report.add("PDS4-030", f"pixel_scale_x = {cart.scale:.10g} pixel/deg but pixel_resolution_x = "
+                                   f"{cart.resolution_x:.10g} m on a {radius:.10g} m radius gives {expected:.10g}",
+                       cart.element.sourceline, "pixel_scale_x")
+    _check_bounds(report, cart, sphere_name, radius)
+
+
+def _check_bounds(report: _Report, cart: _Cart, sphere_name: str, radius: float) -> None:
+    if len(cart.bounds) != 4 or not cart.lines or not cart.samples:
+        return
+    centre_lat = _angle(cart.parameters, "standard_parallel_1",
+                        _angle(cart.parameters, "latitude_of_projection_origin"))
+    if sphere_name != "EQUIRECTANGULAR":
+        centre_lat = _angle(cart.parameters, "latitude_of_projection_origin")
+    sphere = Sphere(sphere_name, radius, centre_lat, _angle(cart.parameters, "longitude_of_central_meridian"))
+    y_shift = 0.0
+    if sphere_name == "EQUIRECTANGULAR":  # a latitude of origin shifts northings
+        y_shift = radius * math.radians(_angle(cart.parameters, "latitude_of_projection_origin"))
+    x0, x1 = cart.ulx, cart.ulx + cart.samples * cart.resolution_x
+    y1, y0 = cart.uly + y_shift, cart.uly + y_shift - cart.lines * cart.resolution_y
+    lats, lons = sphere.inverse(*boundary(x0, x1, y0, y1, 256))
+    extremes = {"north": int(np.nanargmax(lats)), "south": int(np.nanargmin(lats))}
+    if not sphere.contains_pole(x0, x1, y0, y1):
+        extremes.update(west=int(np.nanargmin(lons)), east=int(np.nanargmax(lons)))
+    for side, index in extremes.items():
+        lat, lon = float(lats[index]), float(lons[index])
+        found = lon if side in ("west", "east") else lat
+        stated = cart.bounds[side]
+        difference = (stated - found + 180.0) % 360.0 - 180.0 if side in ("west", "east") else stated - found
+        pixels = abs(difference) * _metres_per_degree(sphere, lat, lon, side in ("west", "east")) / cart.resolution_x
+        if pixels > 0.5:
+            report.add("PDS4-031", f"{side}_bounding_coordinate = {stated:.10g} but Geo_Transformation "
+                                   f"({cart.ulx:.10g}, {cart.uly:.10g}) gives {_wrap_bound(found, side):.10g} "
+                                   f"({pixels:.2f} px off)",
+                       cart.element.sourceline, f"{side}_bounding_coordinate")
+    if sphere.contains_pole(x0, x1, y0, y1):
+        pole = "north" if sphere.north else "south"
+        if abs(cart.bounds[pole]) != 90.0:
+            report.add("PDS4-031", f"{pole}_bounding_coordinate = {cart.bounds[pole]:.10g} but the raster "
+                                   "contains the pole", cart.element.sourceline, f"{pole}_bounding_coordinate")
+
+
+def _metres_per_degree(sphere: Sphere, lat: float, lon: float, along_longitude: bool) -> float:
+    """Projected metres per degree at a point, in longitude or latitude (numerically)."""
+    step = 1e-4
+    lat = max(-90.0 + step, min(90.0 - step, lat))
+    x0, y0 = sphere.forward(lat, lon)
+    x1, y1 = sphere.forward(lat, lon + step) if along_longitude else sphere.forward(lat - step, lon)
+    return float(math.hypot(x1 - x0, y1 - y0)) / step
+
+
+def _wrap_bound(value: float, side: str) -> float:
+    return value % 360.0 if side in ("west", "east") else value
+
+
+def _check_encoded_jp2(report: _Report, tree: etree._ElementTree) -> None:
+    cart = _read_cart(tree)
+    for area in _file_areas(tree):
+        encoded = area.find(f"{P}Encoded_Image")
+        if encoded is None or encoded.findtext(f"{P}encoding_standard_id") != "JPEG 2000":
+            continue
+        path = _data_path(report, area)
+        if path is None or cart is None:
+            continue
+        try:
+            info = read_jp2(path)
+        except Jp2Error as exc:
+            report.add("PDS4-040", f"{path.name} is not a readable JP2: {exc}", encoded.sourceline)
+            continue
+        georef = next((g for g in info.georefs if g.source == "GeoJP2"), None)
+        if georef is None:
+            report.add("PDS4-040", f"{path.name} has no GeoJP2 box", encoded.sourceline)
+            continue
+        for name, stated, found in (("upperleft_corner_x", cart.ulx, georef.ulx),
+                                    ("upperleft_corner_y", cart.uly, georef.uly),
+                                    ("pixel_resolution_x", cart.resolution_x, georef.xres)):
+            if not math.isclose(stated, found, rel_tol=1e-9, abs_tol=1e-6 * cart.resolution_x):
+                report.add("PDS4-040", f"cart:{name} = {stated:.10g} but the GeoJP2 box of {path.name} "
+                                       f"gives {found:.10g}", encoded.sourceline, name)
+
+
+_CONTENT_CHECKS = (_check_files, _check_arrays, _check_cartography, _check_encoded_jp2)
