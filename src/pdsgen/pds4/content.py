@@ -42,13 +42,14 @@ class ContentTap:
     accurate over billions of samples where a running sum of squares would not.
     """
 
-    def __init__(self, out: BinaryIO, dtype: str | None = None, missing: float | None = None,
+    def __init__(self, out: BinaryIO, dtype: str | None = None, special: tuple[float, ...] = (),
                  start: int = 0) -> None:
         self._out = out
         self._md5 = hashlib.md5()
         self._size = 0
         self._dtype = np.dtype(dtype) if dtype else None
-        self._missing = missing
+        # Special constants (missing, saturation) as stored samples: excluded from the statistics.
+        self._special = np.asarray(special, dtype=self._dtype) if self._dtype is not None else None
         self._start = start  # bytes written before the array (not samples)
         self.count = 0
         self._mean = 0.0
@@ -68,9 +69,10 @@ class ContentTap:
         skip = max(0, self._start - self._size)
         if skip >= len(view):
             return
-        samples = np.frombuffer(view[skip:], dtype=self._dtype).astype(np.float64)
-        if self._missing is not None:
-            samples = samples[samples != np.float64(np.asarray(self._missing, dtype=self._dtype))]
+        stored = np.frombuffer(view[skip:], dtype=self._dtype)
+        if self._special is not None and self._special.size:
+            stored = stored[~np.isin(stored, self._special)]
+        samples = stored.astype(np.float64)
         n = samples.size
         if n == 0:
             return

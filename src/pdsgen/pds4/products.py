@@ -12,17 +12,19 @@ goes in a File_Area_Observational_Supplemental as an Encoded_Image.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO
 
+import numpy as np
 from rasterio.io import DatasetReader
 
 from .. import __version__
 from ..errors import PdsgenError
 from ..geometry import MapGeometry
 from ..params import ParamValue
+from ..scale_dn import SpecialDns
 from ..write_image import MISSING_CONSTANT, BandStatistics, stream_float32_band
 from .content import ArrayStatistics, ContentTap, FileContent, digest_file
 from .context import logical_identifier, observation
@@ -61,7 +63,7 @@ class ProductDescription:
 def write_dtm_data(dataset: DatasetReader, out: BinaryIO, big_endian: bool
                    ) -> tuple[BandStatistics, ArrayStatistics, FileContent]:
     """Stream the DTM samples into `out`, taking MD5, size and Object_Statistics in the same pass."""
-    tap = ContentTap(out, (">" if big_endian else "<") + "f4", missing=float(MISSING_CONSTANT))
+    tap = ContentTap(out, (">" if big_endian else "<") + "f4", special=(float(MISSING_CONSTANT),))
     stats = stream_float32_band(dataset, tap, big_endian=big_endian)
     if stats.valid_count == 0:
         raise PdsgenError(dataset.name, "has no valid pixels (all nodata)")
@@ -99,7 +101,7 @@ def write_dtm_pds4_label(product: ProductDescription, label_path: Path, data_pat
     """
     dtype = (">" if big_endian else "<") + "f4"
     with open(data_path, "rb") as handle, open(Path("/dev/null"), "wb") as sink:
-        tap = ContentTap(sink, dtype, missing=float(MISSING_CONSTANT), start=header_bytes)
+        tap = ContentTap(sink, dtype, special=(float(MISSING_CONSTANT),), start=header_bytes)
         while block := handle.read(_READ_CHUNK - _READ_CHUNK % 4):
             tap.write(block)
     text = dtm_label_text(product, data_name, big_endian, tap.statistics(), tap.content(), header_bytes)
@@ -127,6 +129,75 @@ def _common(product: ProductDescription, collection: str, kind: str) -> dict[str
 def _file_entry(name: str, content: FileContent) -> dict[str, object]:
     return {"name": name, "local_identifier": "data_file", "size": content.size, "md5": content.md5}
 
+
+
+class ArrayRowTap:
+    """Wraps the JP2 writer's tile-row reader: every row of DNs it hands out is also
+    written, in PDS4 sample order, to the uncompressed primary array."""
+
+    def __init__(self, reader: Callable[[int, int], np.ndarray], out: BinaryIO, special: SpecialDns) -> None:
+        self._reader = reader
+        self.stored = np.dtype(np.uint8) if special.bits <= 8 else np.dtype(">u2")
+        self.special = special_constants(special)
+        self.tap = ContentTap(out, self.stored.str, special=tuple(v for _, v in self.special
+                                                                 if _ in _EXCLUDED_FROM_STATISTICS))
+
+    def __call__(self, first_line: int, lines: int) -> np.ndarray:
+        rows = self._reader(first_line, lines)
+        if rows.ndim != 2:
+            raise PdsgenError(None, "a PDS4 orthoimage is written for one band (RED); "
+                                    "give a single-band input or --label pds3")
+        self.tap.write(np.ascontiguousarray(rows.astype(self.stored, copy=False)))
+        return rows
+
+
+# Special DNs that are not data: left out of Object_Statistics, as the validator does.
+_EXCLUDED_FROM_STATISTICS = ("missing_constant", "high_instrument_saturation", "high_representation_saturation",
+                             "low_instrument_saturation", "low_representation_saturation")
+
+
+def special_constants(special: SpecialDns) -> list[tuple[str, int]]:
+    """Special_Constants of an orthoimage, in the schema's order; a saturation DN that is
+    also a valid DN (8-bit low saturation = 1) is not declared, so no valid pixel is hidden."""
+    entries = [("missing_constant", special.null), ("valid_maximum", special.valid_max),
+               ("high_instrument_saturation", special.high_instr),
+               ("high_representation_saturation", special.high_repr), ("valid_minimum", special.valid_min),
+               ("low_instrument_saturation", special.low_instr),
+               ("low_representation_saturation", special.low_repr)]
+    valid = range(special.valid_min, special.valid_max + 1)
+    seen: set[int] = set()
+    kept = []
+    for name, value in entries:
+        if name in _EXCLUDED_FROM_STATISTICS and (value in valid or value in seen):
+            continue
+        seen.add(value)
+        kept.append((name, value))
+    return kept
+
+
+def ortho_label_text(product: ProductDescription, data_name: str, tap: ArrayRowTap, jp2_name: str,
+                     jp2: FileContent, scaling_factor: float, offset: float) -> str:
+    """The PDS4 label of an orthoimage: uncompressed DNs primary, the JP2 supplemental."""
+    identity = scaling_factor == 1.0 and offset == 0.0
+    array = {
+        "local_identifier": ARRAY_ID,
+        "offset": 0,
+        "description": "Orthoimage DNs" + ("" if identity else "; I/F = DN * scaling_factor + value_offset") + ".",
+        "data_type": DATA_TYPES[(tap.stored.kind + str(tap.stored.itemsize), tap.stored.itemsize > 1)],
+        "unit": None,
+        "scaling_factor": None if identity else scaling_factor,
+        "value_offset": offset,
+        "lines": product.geometry.lines,
+        "samples": product.geometry.samples,
+        "special": tap.special,
+        "statistics": tap.tap.statistics() if tap.tap.count else None,
+    }
+    return render_pds4("ortho.xml.j2", {
+        **_common(product, "data_ortho", "orthoimage"),
+        "data_file": _file_entry(data_name, tap.tap.content()),
+        "jp2_file": {**_file_entry(jp2_name, jp2), "local_identifier": "jp2_file"},
+        "array": array,
+    })
 
 def write_dtm_pds4(
     input_path: str | Path,
@@ -163,3 +234,47 @@ def write_dtm_pds4(
             text = dtm_label_text(product, data_final.name, big_endian, statistics, content)
             staged.path(label_final).write_text(text, encoding="utf-8")
     return Pds4Label(label_final, text, statistics, content)
+
+
+def write_ortho_pds4(
+    input_path: str | Path,
+    outdir: str | Path,
+    *,
+    profile: str = "generic",
+    product_id: str,
+    bits: int | None = None,
+    version: str = "1.0",
+    overwrite: bool = False,
+) -> Pds4Label:
+    """An orthoimage as a PDS4 product: `<id>.img` (primary) + `<id>.jp2` (supplemental) + `<id>.xml`."""
+    from ..geojp2 import geojp2_box
+    from ..geometry import describe_geometry
+    from ..ortho import _check_input, _choose_mapping, _default_bits, _TileRowReader
+    from ..profiles import check_product_id
+    from ..read_raster import open_raster
+    from ..staging import StagedOutputs, prepare_output_dir
+    from ..write_jp2 import write_jp2
+
+    input_path = Path(input_path)
+    product_id = check_product_id(product_id)
+    with open_raster(input_path) as dataset:
+        _check_input(dataset, input_path)
+        geometry = describe_geometry(dataset.crs, dataset.transform, dataset.width, dataset.height,
+                                     str(input_path))
+        bits = bits or _default_bits(dataset, profile)
+        mapping = _choose_mapping(dataset, input_path, bits, None)
+        product = ProductDescription(product_id, profile, version, {}, geometry, dataset)
+        outdir = prepare_output_dir(outdir)
+        stem = product_id.lower()
+        data_final, jp2_final, label_final = (outdir / f"{stem}.img", outdir / f"{stem}.jp2",
+                                              outdir / f"{stem}.xml")
+        with StagedOutputs([data_final, jp2_final, label_final], overwrite) as staged:
+            with open(staged.path(data_final), "wb") as handle:
+                reader = _TileRowReader(dataset, mapping, str(input_path))
+                tap = ArrayRowTap(reader, handle, mapping.special)
+                write_jp2(staged.path(jp2_final), dataset.height, dataset.width, dataset.count,
+                          mapping.special.bits, tap, [geojp2_box(dataset.crs, dataset.transform)])
+            text = ortho_label_text(product, data_final.name, tap, jp2_final.name,
+                                    digest_file(staged.path(jp2_final)), mapping.scaling_factor, mapping.offset)
+            staged.path(label_final).write_text(text, encoding="utf-8")
+    return Pds4Label(label_final, text, tap.tap.statistics(), tap.tap.content())

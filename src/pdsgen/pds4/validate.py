@@ -14,7 +14,9 @@ from __future__ import annotations
 
 import hashlib
 import math
-from collections.abc import Callable, Iterator
+import os
+import re
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -60,7 +62,7 @@ RULES = (
     Pds4Rule("PDS4-022", "error", "samples in the ISIS special-pixel range are declared Special_Constants"),
     Pds4Rule("PDS4-030", "error", "cart: pixel_scale agrees with pixel_resolution and the body radius"),
     Pds4Rule("PDS4-031", "error", "cart: bounding coordinates agree with Geo_Transformation within half a pixel"),
-    Pds4Rule("PDS4-032", "error", "cart: the map projection is one whose parameters can be read back"),
+    Pds4Rule("PDS4-032", "error", "cart: map_projection_name has the parameter block of that projection"),
     Pds4Rule("PDS4-040", "error", "an Encoded_Image JP2's GeoJP2 box agrees with cart: Geo_Transformation"),
 )
 SEVERITY = {rule.id: rule.severity for rule in RULES}
@@ -76,6 +78,34 @@ def is_pds4_label(path: Path) -> bool:
     except OSError:
         return False
     return b"http://pds.nasa.gov/pds4/pds/v1" in head and b"<Product_" in head
+
+
+def check_schema_dirs(directories: Iterable[str | os.PathLike[str]]) -> tuple[str, ...]:
+    """The `--schemas` directories as strings, refusing one that is not a directory (usage error)."""
+    checked = tuple(os.fspath(d) for d in directories)
+    SchemaCatalog.build(checked)
+    return checked
+
+
+def validate_label(path: str | Path, schema_dirs: tuple[str, ...] = (), labels_only: bool = False) -> list[Finding]:
+    """The validator's entry point for one PDS4 label (catalog cached per set of directories)."""
+    if schema_dirs not in _CATALOGS:
+        _CATALOGS[schema_dirs] = SchemaCatalog.build(schema_dirs)
+    return validate_pds4(path, _CATALOGS[schema_dirs], labels_only)
+
+
+_CATALOGS: dict[tuple[str, ...], SchemaCatalog] = {}
+
+
+def add_run_notes(reports: list) -> None:  # noqa: ANN001 - the validator's FileReport list
+    """One PDS4-007 warning for a run that checked PDS4 labels without Saxon (schema-only)."""
+    if schematron.available():
+        return
+    first = next((r for r in reports if is_pds4_label(Path(r.path))), None)
+    if first is not None:
+        first.findings.append(Finding("PDS4-007", SEVERITY["PDS4-007"], first.path,
+                                      "Schematron not run: saxonche is not installed (pip install pdsgen[pds4]); "
+                                      "PDS4 labels were checked against their XML Schemas only"))
 
 
 class _Report:
@@ -94,10 +124,8 @@ def validate_pds4(path: str | Path, catalog: SchemaCatalog | None = None, labels
     path = Path(path)
     report = _Report(path)
     catalog = catalog or SchemaCatalog.build()
-    try:
-        tree = etree.parse(str(path), etree.XMLParser(no_network=True, resolve_entities=False))
-    except (etree.XMLSyntaxError, OSError) as exc:
-        report.add("PDS4-001", f"not well-formed XML: {exc}")
+    tree = _parse(report)
+    if tree is None:
         return report.findings
     root = tree.getroot()
     if not (root.tag.startswith(P) and root.tag[len(P):].startswith("Product_")):
@@ -113,7 +141,36 @@ def validate_pds4(path: str | Path, catalog: SchemaCatalog | None = None, labels
         except Exception as exc:  # a check must never turn odd input into a traceback
             report.add("PDS4-001", f"check {content_check.__name__} could not run ({type(exc).__name__}: {exc})",
                        severity="error")
-    return report.findings
+    return sorted(report.findings, key=lambda f: (f.line or 0, f.rule))
+
+
+_DECLARATION = re.compile(rb"<\?xml\s[^>]*\?>")
+
+
+def _parse(report: _Report) -> etree._ElementTree | None:
+    """The label's tree, or None after a PDS4-001 finding. A label whose XML declaration
+    follows a comment (not well-formed, but readers such as GDAL accept it) is reported
+    and then checked without the misplaced declaration, keeping its line numbers."""
+    parser = etree.XMLParser(no_network=True, resolve_entities=False)
+    try:
+        data = report.path.read_bytes()
+        return etree.ElementTree(etree.fromstring(data, parser))
+    except OSError as exc:
+        report.add("PDS4-001", f"cannot read the label: {exc.strerror or exc}")
+        return None
+    except etree.XMLSyntaxError as exc:
+        declaration = _DECLARATION.search(data)
+        if declaration is None or declaration.start() == 0:
+            report.add("PDS4-001", f"not well-formed XML: {exc}", exc.lineno)
+            return None
+        line = data.count(b"\n", 0, declaration.start()) + 1
+        report.add("PDS4-001", "the XML declaration is not at the start of the file (not well-formed XML)", line)
+        blanked = data[:declaration.start()] + b" " * len(declaration.group()) + data[declaration.end():]
+        try:
+            return etree.ElementTree(etree.fromstring(blanked, parser))
+        except etree.XMLSyntaxError as again:
+            report.add("PDS4-001", f"not well-formed XML: {again}", again.lineno)
+            return None
 
 
 def _schema_checks(tree: etree._ElementTree, catalog: SchemaCatalog, use_schematron: bool
@@ -148,9 +205,7 @@ def _schema_checks(tree: etree._ElementTree, catalog: SchemaCatalog, use_schemat
         if not refs.sch:
             return
         if not schematron.available():
-            report.add("PDS4-007", "Schematron not run: saxonche is not installed (pip install pdsgen[pds4]); "
-                                   "schema-only validation")
-            return
+            return  # reported once per run (add_run_notes), not once per label
         files = [p for p in (catalog.resolve(u) for u in refs.sch) if p is not None]
         text = etree.tostring(tree, encoding="unicode")
         for failure in schematron.compiled(files).check(text):
@@ -170,22 +225,32 @@ def _file_areas(tree: etree._ElementTree) -> Iterator[etree._Element]:
             yield area
 
 
+# Units a label may state, to metres, metres per pixel, degrees (the PDS4 unit classes we read).
+_UNITS = {"m": 1.0, "km": 1000.0, "cm": 0.01, "mm": 0.001, "m/pixel": 1.0, "km/pixel": 1000.0,
+          "mm/pixel": 0.001, "deg": 1.0, "rad": 180.0 / math.pi, "mrad": 0.18 / math.pi}
+
+
 def _number(element: etree._Element | None, path: str) -> float | None:
-    text = element.findtext(path) if element is not None else None
+    """A numeric element's value in metres / metres per pixel / degrees (per its unit attribute)."""
+    found = element.find(path) if element is not None else None
+    if found is None or found.text is None:
+        return None
     try:
-        return float(text) if text is not None else None
+        value = float(found.text)
     except ValueError:
         return None
+    return value * _UNITS.get(found.get("unit", ""), 1.0)
 
 
-def _data_path(report: _Report, area: etree._Element) -> Path | None:
+def _data_path(report: _Report, area: etree._Element, report_missing: bool = True) -> Path | None:
     file = area.find(f"{P}File")
     name = file.findtext(f"{P}file_name") if file is not None else None
     if not name:
         return None
     path = report.path.parent / name
     if not path.is_file():
-        report.add("PDS4-010", f"data file {name} not found beside the label", file.sourceline, "file_name")
+        if report_missing:
+            report.add("PDS4-010", f"data file {name} not found beside the label", file.sourceline, "file_name")
         return None
     return path
 
@@ -228,7 +293,7 @@ class _Array:
 
 def _arrays(report: _Report, tree: etree._ElementTree) -> Iterator[_Array]:
     for area in _file_areas(tree):
-        path = _data_path(report, area) if area.find(f"{P}File") is not None else None
+        path = _data_path(report, area, report_missing=False)
         if path is None:
             continue
         for element in area:
@@ -344,6 +409,8 @@ class _Cart:
     a: float
     c: float
     bounds: dict[str, float]
+    bound_lines: dict[str, int | None]
+    encoding: str
     lines: int
     samples: int
 
@@ -371,11 +438,13 @@ def _read_cart(tree: etree._ElementTree) -> _Cart | None:
     if any(v is None for v in values.values()):
         return None
     box = cart.find(f"{C}Spatial_Domain/{C}Bounding_Coordinates")
-    bounds = {}
+    bounds, bound_lines = {}, {}
     for side in ("west", "east", "north", "south"):
         number = _number(box, f"{C}{side}_bounding_coordinate")
         if number is not None:
             bounds[side] = number
+            bound_lines[side] = box.find(f"{C}{side}_bounding_coordinate").sourceline  # type: ignore[union-attr]
+    encoding = planar.findtext(f"{C}Planar_Coordinate_Information/{C}planar_coordinate_encoding_method") or ""
     ref = cart.findtext(f"{P}Local_Internal_Reference/{P}local_identifier_reference")
     array = next((a for a in tree.iter() if isinstance(a.tag, str) and a.tag.startswith(f"{P}Array")
                   and a.findtext(f"{P}local_identifier") == ref), None)
@@ -385,7 +454,8 @@ def _read_cart(tree: etree._ElementTree) -> _Cart | None:
             for a in array.findall(f"{P}Axis_Array")}
     return _Cart(cart, projection, parameters, values["rx"], values["ry"],  # type: ignore[arg-type]
                  _number(planar, f"{rep}/{C}pixel_scale_x"), values["ulx"], values["uly"],  # type: ignore[arg-type]
-                 values["a"], values["c"], bounds, axes.get("Line", 0), axes.get("Sample", 0))  # type: ignore[arg-type]
+                 values["a"], values["c"], bounds, bound_lines, encoding,  # type: ignore[arg-type]
+                 axes.get("Line", 0), axes.get("Sample", 0))
 
 
 def _angle(parameters: etree._Element | None, name: str, default: float = 0.0) -> float:
@@ -397,11 +467,13 @@ def _check_cartography(report: _Report, tree: etree._ElementTree) -> None:
     cart = _read_cart(tree)
     if cart is None:
         return
-    sphere_name = _SPHERE_NAMES.get(cart.projection)
-    if sphere_name is None or cart.parameters is None:
-        report.add("PDS4-032", f"map_projection_name {cart.projection!r} without a cart:"
-                               f"{cart.projection.replace(' ', '_')} parameter block pdsgen can check",
+    if cart.parameters is None:
+        report.add("PDS4-032", f"map_projection_name {cart.projection!r} but no cart:"
+                               f"{cart.projection.replace(' ', '_')} block holds its parameters",
                    cart.element.sourceline, "map_projection_name")
+        return
+    sphere_name = _SPHERE_NAMES.get(cart.projection)
+    if sphere_name is None:  # a projection pdsgen does not write: its arithmetic is not checked
         return
     radius = cart.c if sphere_name == "POLAR_STEREOGRAPHIC" else cart.a
     if cart.scale is not None and radius > 0 and cart.resolution_x > 0:
@@ -414,7 +486,9 @@ def _check_cartography(report: _Report, tree: etree._ElementTree) -> None:
 
 
 def _check_bounds(report: _Report, cart: _Cart, sphere_name: str, radius: float) -> None:
-    if len(cart.bounds) != 4 or not cart.lines or not cart.samples:
+    """Only "Coordinate Pair" encodings give Geo_Transformation in projection metres
+    (as GDAL reads them); other encodings are not checked."""
+    if len(cart.bounds) != 4 or not cart.lines or not cart.samples or cart.encoding != "Coordinate Pair":
         return
     centre_lat = _angle(cart.parameters, "standard_parallel_1",
                         _angle(cart.parameters, "latitude_of_projection_origin"))
@@ -440,12 +514,12 @@ def _check_bounds(report: _Report, cart: _Cart, sphere_name: str, radius: float)
             report.add("PDS4-031", f"{side}_bounding_coordinate = {stated:.10g} but Geo_Transformation "
                                    f"({cart.ulx:.10g}, {cart.uly:.10g}) gives {_wrap_bound(found, side):.10g} "
                                    f"({pixels:.2f} px off)",
-                       cart.element.sourceline, f"{side}_bounding_coordinate")
+                       cart.bound_lines.get(side), f"{side}_bounding_coordinate")
     if sphere.contains_pole(x0, x1, y0, y1):
         pole = "north" if sphere.north else "south"
         if abs(cart.bounds[pole]) != 90.0:
             report.add("PDS4-031", f"{pole}_bounding_coordinate = {cart.bounds[pole]:.10g} but the raster "
-                                   "contains the pole", cart.element.sourceline, f"{pole}_bounding_coordinate")
+                                   "contains the pole", cart.bound_lines.get(pole), f"{pole}_bounding_coordinate")
 
 
 def _metres_per_degree(sphere: Sphere, lat: float, lon: float, along_longitude: bool) -> float:
@@ -465,9 +539,9 @@ def _check_encoded_jp2(report: _Report, tree: etree._ElementTree) -> None:
     cart = _read_cart(tree)
     for area in _file_areas(tree):
         encoded = area.find(f"{P}Encoded_Image")
-        if encoded is None or encoded.findtext(f"{P}encoding_standard_id") != "JPEG 2000":
+        if encoded is None or encoded.findtext(f"{P}encoding_standard_id") not in ("JP2", "J2C"):
             continue
-        path = _data_path(report, area)
+        path = _data_path(report, area, report_missing=False)
         if path is None or cart is None:
             continue
         try:
