@@ -7,8 +7,3 @@ when saxonche is installed, content checks), offline, with schemas found by `cat
 among those shipped in `schemas/pds4/` and any `--schemas DIR`.
 """
 
-from __future__ import annotations
-
-from .validate import RULES, add_run_notes, check_schema_dirs, is_pds4_label, validate_label
-
-__all__ = ["RULES", "add_run_notes", "check_schema_dirs", "is_pds4_label", "validate_label"]

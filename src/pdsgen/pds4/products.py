@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import BinaryIO
+from typing import BinaryIO, cast
 
 import numpy as np
 from rasterio.io import DatasetReader
@@ -64,7 +64,7 @@ def write_dtm_data(dataset: DatasetReader, out: BinaryIO, big_endian: bool
                    ) -> tuple[BandStatistics, ArrayStatistics, FileContent]:
     """Stream the DTM samples into `out`, taking MD5, size and Object_Statistics in the same pass."""
     tap = ContentTap(out, (">" if big_endian else "<") + "f4", special=(float(MISSING_CONSTANT),))
-    stats = stream_float32_band(dataset, tap, big_endian=big_endian)
+    stats = stream_float32_band(dataset, cast(BinaryIO, tap), big_endian=big_endian)  # it only calls write()
     if stats.valid_count == 0:
         raise PdsgenError(dataset.name, "has no valid pixels (all nodata)")
     return stats, tap.statistics(), tap.content()

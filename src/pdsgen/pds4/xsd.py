@@ -8,6 +8,7 @@ and records what it could not answer; any such miss fails the build loudly.
 
 from __future__ import annotations
 
+from functools import lru_cache
 from pathlib import Path
 
 from lxml import etree
@@ -33,7 +34,7 @@ class _CatalogResolver(etree.Resolver):
             return None
         local = self.catalog.resolve(system_url) if "://" in system_url else None
         if local is not None:
-            return self.resolve_filename(str(local), context)
+            return self.resolve_string(_schema_text(str(local)), context, base_url=system_url)
         if "://" in system_url and not system_url.startswith("file:"):
             self.missing.append(system_url)
         return None
@@ -57,10 +58,8 @@ def _compile(catalog: SchemaCatalog, locations: tuple[tuple[str, str], ...]) -> 
     if missing:
         raise SchemaImportError(None, "schema not available offline: " + ", ".join(missing))
     driver = etree.Element(f"{{{_XS}}}schema", nsmap={"xs": _XS})
-    for namespace, url in locations:
-        local = catalog.resolve(url)
-        assert local is not None
-        etree.SubElement(driver, f"{{{_XS}}}import", namespace=namespace, schemaLocation=local.as_uri())
+    for namespace, url in locations:  # every URL goes through the resolver, so misses are seen
+        etree.SubElement(driver, f"{{{_XS}}}import", namespace=namespace, schemaLocation=url)
     parser = etree.XMLParser(no_network=True)
     resolver = _CatalogResolver(catalog)
     parser.resolvers.add(resolver)
@@ -68,12 +67,29 @@ def _compile(catalog: SchemaCatalog, locations: tuple[tuple[str, str], ...]) -> 
     try:
         schema = etree.XMLSchema(document.getroottree())
     except etree.XMLSchemaParseError as exc:
-        raise SchemaImportError(None, f"schema does not compile: {exc}") from None
+        raise SchemaImportError(None, _unresolved(resolver) or f"schema does not compile: {exc}") from None
     if resolver.missing:
-        raise SchemaImportError(
-            None, "schema import did not resolve offline: " + ", ".join(dict.fromkeys(resolver.missing))
-        )
+        raise SchemaImportError(None, _unresolved(resolver))
     return schema
+
+
+def _unresolved(resolver: _CatalogResolver) -> str:
+    if not resolver.missing:
+        return ""
+    return "schema import did not resolve offline: " + ", ".join(dict.fromkeys(resolver.missing))
+
+
+@lru_cache(maxsize=64)
+def _schema_text(path: str) -> bytes:
+    """A schema file as libxml2 should see it. Some published PDS schemas (e.g. PROC 1900)
+    hold an empty `<xs:choice minOccurs="1">`: Xerces, which NASA's validate uses, treats it
+    as matching nothing, libxml2 as unsatisfiable, which would reject every valid label.
+    Empty choices are removed so both agree."""
+    tree = etree.parse(path, etree.XMLParser(no_network=True))
+    for choice in tree.iter(f"{{{_XS}}}choice"):
+        if not any(isinstance(child.tag, str) and child.tag != f"{{{_XS}}}annotation" for child in choice):
+            choice.getparent().remove(choice)
+    return etree.tostring(tree)
 
 
 def xsd_errors(schema: etree.XMLSchema, tree: etree._ElementTree) -> list[tuple[int | None, str]]:

@@ -18,13 +18,13 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
+from ..pds4.rules import RULES as PDS4_RULES
 from . import file_rules as F
 from . import image_rules as I
 from . import map_rules as M
 from . import pointer_rules as P
 from . import syntax_rules as S
 from .context import FileContext
-from ..pds4 import RULES as PDS4_RULES
 from .model import Finding, Hit
 
 FAMILIES = ("FILE", "SYNTAX", "DICT", "PTR", "REC", "IMG", "MAP", "GEO", "HRSC", "SET", "IMARS", "PDS4")

@@ -16,8 +16,8 @@ from collections.abc import Callable, Iterable
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-from .. import pds4
 from ..errors import PdsgenError
+from ..pds4 import validate as pds4
 from .context import FileContext
 from .dictionary import load as load_dictionary
 from .imars_context import ImarsContext, is_imars_metadata
