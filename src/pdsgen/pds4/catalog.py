@@ -13,7 +13,6 @@ import os
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
-from urllib.parse import urlparse
 
 from lxml import etree
 
@@ -55,8 +54,7 @@ class SchemaCatalog:
 
     def resolve(self, url: str) -> Path | None:
         """The local copy of a schema URL (or file name), None when we have none."""
-        name = Path(urlparse(url).path).name
-        return self.files.get(name)
+        return self.files.get(url.rsplit("/", 1)[-1])
 
     def key(self) -> tuple[tuple[str, str], ...]:
         """A hashable identity, for caching compiled schemas per catalog."""

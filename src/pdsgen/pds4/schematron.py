@@ -7,8 +7,7 @@ reuse the compiled stylesheet for every label (compiling is the expensive part).
 
 Semantics kept from Schematron: within a pattern a node is handled by the first
 rule whose context matches it (later rules of that pattern skip it); patterns are
-independent. A rule context is an XSLT pattern, which matches exactly the nodes
-selected by `//(context)` from the document root.
+independent; a pattern's own `let`s are evaluated at the document root.
 
 Saxon is optional (`pip install pdsgen[pds4]`); `available()` says whether it is here.
 """
@@ -49,49 +48,69 @@ def available() -> bool:
 
 
 def compile_to_xslt(schematron_files: list[Path]) -> str:
-    """One XSLT 3.0 stylesheet that reports every failed assertion of all the files."""
+    """One XSLT 3.0 stylesheet that reports every failed assertion of all the files.
+
+    One pass over the label: every element and attribute is matched against templates
+    (Saxon indexes match patterns by name, so each node meets only the rules that can
+    fire on it). Each rule is a template, in Schematron order by priority; it checks,
+    then hands the node on with `xsl:next-match` so rules of other patterns see it too,
+    carrying the patterns already fired so a pattern's later rules skip it.
+    """
     namespaces: dict[str, str] = {}
-    blocks: list[etree._Element] = []
+    parts: list[etree._Element] = []
+    rules = 0
+    patterns = []
     for path in schematron_files:
         root = etree.parse(str(path)).getroot()
         for ns in root.iter(f"{_S}ns"):
             namespaces[ns.get("prefix")] = ns.get("uri")
-        for pattern in root.iter(f"{_S}pattern"):
-            blocks.extend(_pattern_blocks(pattern))
+        patterns.extend(root.iter(f"{_S}pattern"))
+    total = sum(len(list(p.iter(f"{_S}rule"))) for p in patterns)
+    for number, pattern in enumerate(patterns):
+        renames = {let.get("name"): f"p{number}_{let.get('name')}" for let in pattern.iterchildren(f"{_S}let")}
+        for let in pattern.iterchildren(f"{_S}let"):  # pattern variables: global, at the document root
+            parts.append(etree.Element(f"{_X}variable", name=renames[let.get("name")],
+                                       select=_renamed(let.get("value"), renames)))
+        for rule in pattern.iter(f"{_S}rule"):
+            if rule.get("context"):
+                parts.append(_rule_template(rule, number, total - rules, renames))
+                rules += 1
     nsmap = {"xsl": _XSL, "r": _REPORT_NS, **namespaces}
     sheet = etree.Element(f"{_X}stylesheet", nsmap=nsmap, version="3.0",
                           attrib={"exclude-result-prefixes": " ".join(p for p in nsmap if p != "r")})
     etree.SubElement(sheet, f"{_X}output", method="xml", indent="no")
-    template = etree.SubElement(sheet, f"{_X}template", match="/")
-    report = etree.SubElement(template, f"{{{_REPORT_NS}}}report")
-    report.extend(blocks)
+    etree.SubElement(sheet, f"{_X}mode", name="check", attrib={"on-no-match": "deep-skip"})
+    start = etree.SubElement(sheet, f"{_X}template", match="/")
+    report = etree.SubElement(start, f"{{{_REPORT_NS}}}report")
+    etree.SubElement(report, f"{_X}apply-templates", select="//(*|@*)", mode="check")
+    sheet.extend(parts)
     return etree.tostring(sheet, encoding="unicode")
 
 
-def _pattern_blocks(pattern: etree._Element) -> list[etree._Element]:
-    """One scope per pattern: its own `let`s (evaluated at the document root), then its rules."""
-    scope = etree.Element(f"{_X}for-each", select=".")
-    for let in pattern.iterchildren(f"{_S}let"):
-        etree.SubElement(scope, f"{_X}variable", name=let.get("name"), select=let.get("value"))
-    earlier: list[str] = []
-    for rule in pattern.iter(f"{_S}rule"):
-        context = rule.get("context")
-        if not context:
-            continue
-        select = f"//({context})"
-        if earlier:  # the first matching rule of a pattern wins
-            select += " except (" + " | ".join(f"//({c})" for c in earlier) + ")"
-        earlier.append(context)
-        each = etree.SubElement(scope, f"{_X}for-each", select=select)
-        for let in rule.iter(f"{_S}let"):
-            etree.SubElement(each, f"{_X}variable", name=let.get("name"), select=let.get("value"))
-        for assertion in rule.iter(f"{_S}assert"):
-            each.append(_assertion(assertion, context))
-    return [scope]
+def _renamed(expression: str | None, renames: dict[str, str]) -> str:
+    """An XPath expression with the pattern's variables under their global names."""
+    text = expression or "()"
+    for old, new in renames.items():
+        text = re.sub(rf"\${re.escape(old)}(?![\w.-])", f"${new}", text)
+    return text
 
 
-def _assertion(assertion: etree._Element, context: str) -> etree._Element:
-    check = etree.Element(f"{_X}if", test=f"not({assertion.get('test')})")
+def _rule_template(rule: etree._Element, pattern: int, priority: int, renames: dict[str, str]) -> etree._Element:
+    context = rule.get("context", "")
+    template = etree.Element(f"{_X}template", match=context, mode="check", priority=str(priority))
+    etree.SubElement(template, f"{_X}param", name="fired", select="()", tunnel="yes")
+    check = etree.SubElement(template, f"{_X}if", test=f"not({pattern} = $fired)")
+    for let in rule.iter(f"{_S}let"):
+        etree.SubElement(check, f"{_X}variable", name=let.get("name"), select=_renamed(let.get("value"), renames))
+    for assertion in rule.iter(f"{_S}assert"):
+        check.append(_assertion(assertion, context, renames))
+    handed_on = etree.SubElement(template, f"{_X}next-match")
+    etree.SubElement(handed_on, f"{_X}with-param", name="fired", select=f"($fired, {pattern})", tunnel="yes")
+    return template
+
+
+def _assertion(assertion: etree._Element, context: str, renames: dict[str, str]) -> etree._Element:
+    check = etree.Element(f"{_X}if", test=f"not({_renamed(assertion.get('test'), renames)})")
     failure = etree.SubElement(check, f"{{{_REPORT_NS}}}failed",
                                role=(assertion.get("role") or "error").lower(), context=context)
     etree.SubElement(failure, f"{_X}attribute", name="location", select="path()")
@@ -99,7 +118,7 @@ def _assertion(assertion: etree._Element, context: str) -> etree._Element:
     text.text = assertion.text or ""
     for child in assertion:
         if child.tag == f"{_S}value-of":
-            etree.SubElement(failure, f"{_X}value-of", select=child.get("select"))
+            etree.SubElement(failure, f"{_X}value-of", select=_renamed(child.get("select"), renames))
         elif child.tag == f"{_S}name":
             etree.SubElement(failure, f"{_X}value-of", select=f"name({child.get('path') or '.'})")
         # other children (PDS puts a <title> in each assert) are not part of the message

@@ -473,7 +473,7 @@ def _check_bounds(report: _Report, cart: _Cart, sphere_name: str, radius: float)
         y_shift = radius * math.radians(_angle(cart.parameters, "latitude_of_projection_origin"))
     x0, x1 = cart.ulx, cart.ulx + cart.samples * cart.resolution_x
     y1, y0 = cart.uly + y_shift, cart.uly + y_shift - cart.lines * cart.resolution_y
-    lats, lons = sphere.inverse(*boundary(x0, x1, y0, y1, 256))
+    lats, lons = sphere.inverse(*boundary(x0, x1, y0, y1))
     extremes = {"north": int(np.nanargmax(lats)), "south": int(np.nanargmin(lats))}
     if not sphere.contains_pole(x0, x1, y0, y1):
         extremes.update(west=int(np.nanargmin(lons)), east=int(np.nanargmax(lons)))
