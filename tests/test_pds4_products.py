@@ -106,3 +106,16 @@ def test_ortho_primary_array_equals_the_jp2_and_keeps_the_grid(ortho):
         dns = primary.read(1)
         assert np.array_equal(dns, encoded.read(1))
         assert primary.nodata == 0 and (dns[0, :4] == 0).all() and dns[1:].min() >= 3
+
+
+def test_three_band_ortho_is_an_array_3d_image_gdal_reads_band_by_band(tmp_path):
+    crs, transform = ORIGINS["polar"]
+    data = np.random.default_rng(8).integers(3, 1000, (3, 30, 41)).astype("uint16")
+    source = write_raster(tmp_path / "irb.tif", data, crs, transform)
+    label = write_ortho_pds4(source, tmp_path / "out", product_id="PSP_008669_1705_IRB_C_01_ORTHO",
+                             profile="hirise", bits=10)
+    assert validate_pds4(label.path) == []
+    assert "<Array_3D_Image>" in label.text and "<axis_name>Band</axis_name>" in label.text
+    with rasterio.open(label.path) as primary, rasterio.open(label.path.with_suffix(".jp2")) as encoded:
+        assert primary.count == 3 and primary.crs == encoded.crs
+        assert np.array_equal(primary.read(), data) and np.array_equal(encoded.read(), data)

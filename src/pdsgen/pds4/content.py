@@ -36,13 +36,14 @@ class FileContent:
 
 
 class ContentTap:
-    """A write-only file wrapper: digests bytes and accumulates sample statistics.
+    """A write-only file wrapper: digests bytes and accumulates sample statistics
+    (with no file, it only measures: for data written before its PDS4 label).
 
     Statistics use Chan et al.'s pairwise update of (count, mean, M2), which stays
     accurate over billions of samples where a running sum of squares would not.
     """
 
-    def __init__(self, out: BinaryIO, dtype: str | None = None, special: tuple[float, ...] = (),
+    def __init__(self, out: BinaryIO | None, dtype: str | None = None, special: tuple[float, ...] = (),
                  start: int = 0) -> None:
         self._out = out
         self._md5 = hashlib.md5()
@@ -63,7 +64,7 @@ class ContentTap:
         if self._dtype is not None:
             self._add_samples(view)
         self._size += len(view)
-        return self._out.write(view)
+        return self._out.write(view) if self._out is not None else len(view)
 
     def _add_samples(self, view: memoryview) -> None:
         skip = max(0, self._start - self._size)

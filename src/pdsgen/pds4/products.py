@@ -74,6 +74,8 @@ def dtm_label_text(product: ProductDescription, data_name: str, big_endian: bool
                    content: FileContent, header_bytes: int = 0) -> str:
     """The PDS4 label of a float32 DTM stored in `data_name` (after `header_bytes` of PDS3 label)."""
     array = {
+        "element": "Array_2D_Image",
+        "bands": None,
         "local_identifier": ARRAY_ID,
         "offset": header_bytes,
         "description": "Elevations in metres; samples equal to missing_constant hold no data.",
@@ -100,8 +102,8 @@ def write_dtm_pds4_label(product: ProductDescription, label_path: Path, data_pat
     Reads the file once for its MD5 and statistics: it was written before this label.
     """
     dtype = (">" if big_endian else "<") + "f4"
-    with open(data_path, "rb") as handle, open(Path("/dev/null"), "wb") as sink:
-        tap = ContentTap(sink, dtype, special=(float(MISSING_CONSTANT),), start=header_bytes)
+    with open(data_path, "rb") as handle:
+        tap = ContentTap(None, dtype, special=(float(MISSING_CONSTANT),), start=header_bytes)
         while block := handle.read(_READ_CHUNK - _READ_CHUNK % 4):
             tap.write(block)
     text = dtm_label_text(product, data_name, big_endian, tap.statistics(), tap.content(), header_bytes)
@@ -133,7 +135,8 @@ def _file_entry(name: str, content: FileContent) -> dict[str, object]:
 
 class ArrayRowTap:
     """Wraps the JP2 writer's tile-row reader: every row of DNs it hands out is also
-    written, in PDS4 sample order, to the uncompressed primary array."""
+    written to the uncompressed primary array (several bands interleaved by pixel, as
+    the JP2 encoder takes them: axes Line, Sample, Band)."""
 
     def __init__(self, reader: Callable[[int, int], np.ndarray], out: BinaryIO, special: SpecialDns) -> None:
         self._reader = reader
@@ -143,10 +146,7 @@ class ArrayRowTap:
                                                                  if _ in _EXCLUDED_FROM_STATISTICS))
 
     def __call__(self, first_line: int, lines: int) -> np.ndarray:
-        rows = self._reader(first_line, lines)
-        if rows.ndim != 2:
-            raise PdsgenError(None, "a PDS4 orthoimage is written for one band (RED); "
-                                    "give a single-band input or --label pds3")
+        rows = self._reader(first_line, lines)  # (lines, samples) or (lines, samples, bands)
         self.tap.write(np.ascontiguousarray(rows.astype(self.stored, copy=False)))
         return rows
 
@@ -179,7 +179,10 @@ def ortho_label_text(product: ProductDescription, data_name: str, tap: ArrayRowT
                      jp2: FileContent, scaling_factor: float, offset: float) -> str:
     """The PDS4 label of an orthoimage: uncompressed DNs primary, the JP2 supplemental."""
     identity = scaling_factor == 1.0 and offset == 0.0
+    bands = product.dataset.count
     array = {
+        "element": "Array_2D_Image" if bands == 1 else "Array_3D_Image",
+        "bands": None if bands == 1 else bands,
         "local_identifier": ARRAY_ID,
         "offset": 0,
         "description": "Orthoimage DNs" + ("" if identity else "; I/F = DN * scaling_factor + value_offset") + ".",
