@@ -18,6 +18,7 @@ from affine import Affine
 from rasterio.crs import CRS
 
 from ..geometry import EQUIRECTANGULAR, POLAR_STEREOGRAPHIC, SINUSOIDAL, MapGeometry
+from ..label.render import template_environment
 from ..label.values import format_real
 from ..resources import templates_dir
 from .model import CURRENT_IM, InformationModel
@@ -43,15 +44,10 @@ def format_number(value: Any) -> str:
 
 @cache
 def _environment() -> jinja2.Environment:
-    env = jinja2.Environment(
-        loader=jinja2.FileSystemLoader(str(templates_dir() / "pds4")),
-        undefined=jinja2.StrictUndefined,
-        trim_blocks=True,
-        lstrip_blocks=True,
-        keep_trailing_newline=True,
-        autoescape=True,
-    )
-    env.filters["num"] = format_number
+    """The PDS3 template environment's settings, over `templates/pds4/`, escaping XML."""
+    env = template_environment().overlay(loader=jinja2.FileSystemLoader(str(templates_dir() / "pds4")),
+                                         autoescape=True)
+    env.filters = {**env.filters, "num": format_number}
     return env
 
 
