@@ -12,7 +12,7 @@ import pytest
 
 from pdsgen.pds4 import schematron
 from pdsgen.pds4.catalog import SchemaCatalog, shipped_schema_dir
-from pdsgen.pds4.products import write_dtm_pds4
+from pdsgen.pds4.products import write_dtm_pds4, write_ortho_pds4
 from pdsgen.pds4.validate import validate_pds4
 from pdsgen.validate import validate_paths
 
@@ -72,6 +72,15 @@ def test_changed_missing_constant_is_caught(product, tmp_path):
     found = validate_pds4(label)
     assert {f.rule for f in found} == {"PDS4-022"}  # the NULL samples are no longer declared
     assert "1 samples" in found[0].message
+
+
+def test_special_constant_outside_the_data_type_is_caught(tmp_path):
+    crs, transform = ORIGINS["equirectangular"]
+    source = write_raster(tmp_path / "o.tif", np.full((8, 9), 7, dtype="uint8"), crs, transform)
+    label = write_ortho_pds4(source, tmp_path / "out", product_id="BYTE_ORTHO", bits=8)
+    edited = label.path.read_text().replace("<missing_constant>0<", "<missing_constant>-1<")
+    label.path.write_text(edited)
+    assert _rules(label.path) == {"PDS4-023"}
 
 
 def test_removed_cart_field_is_caught_by_the_schema(product, tmp_path):

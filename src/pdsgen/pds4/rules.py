@@ -32,6 +32,7 @@ RULES = (
     Pds4Rule("PDS4-020", "error", "Object_Statistics minimum and maximum equal the valid samples' extremes"),
     Pds4Rule("PDS4-021", "warning", "Object_Statistics mean and standard_deviation match the valid samples"),
     Pds4Rule("PDS4-022", "error", "samples in the ISIS special-pixel range are declared Special_Constants"),
+    Pds4Rule("PDS4-023", "error", "each special constant can be stored in the array's data type"),
     Pds4Rule("PDS4-030", "error", "cart: pixel_scale agrees with pixel_resolution and the body radius"),
     Pds4Rule("PDS4-031", "error", "cart: bounding coordinates agree with Geo_Transformation within half a pixel"),
     Pds4Rule("PDS4-032", "error", "cart: map_projection_name has the parameter block of that projection"),

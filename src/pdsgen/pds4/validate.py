@@ -107,7 +107,7 @@ def validate_pds4(path: str | Path, catalog: SchemaCatalog | None = None, labels
     for check in _schema_checks(tree, catalog, use_schematron):
         check(report)
     for content_check in _CONTENT_CHECKS:
-        if labels_only and content_check.__name__ != "_check_cartography":
+        if labels_only and content_check not in _LABEL_ONLY_CHECKS:
             continue
         try:
             content_check(report, tree)
@@ -347,6 +347,23 @@ def _check_statistics(report: _Report, array: _Array) -> None:
     _compare(report, stats, "standard_deviation", deviation, "PDS4-021", 1e-6 * spread)
 
 
+def _check_special_constants(report: _Report, tree: etree._ElementTree) -> None:
+    """A special constant the array's data type cannot hold can never flag a sample."""
+    for element in tree.iter():
+        if not (isinstance(element.tag, str) and element.tag.startswith(f"{P}Array")):
+            continue
+        data_type = element.findtext(f"{P}Element_Array/{P}data_type") or ""
+        if data_type not in NUMPY_TYPES:
+            continue
+        dtype = np.dtype(NUMPY_TYPES[data_type])
+        for name, value in _special_constants(element).items():
+            stored = np.asarray(value).astype(dtype) if np.isfinite(value) else None
+            if stored is None or float(stored) != value:
+                constant = element.find(f"{P}Special_Constants/{P}{name}")
+                report.add("PDS4-023", f"{name} = {value!r} cannot be stored as {data_type}",
+                           constant.sourceline if constant is not None else element.sourceline, name)
+
+
 def _float32_tolerance(value: float, dtype: np.dtype) -> float:
     if dtype.kind != "f":
         return 0.0
@@ -534,4 +551,5 @@ def _check_encoded_jp2(report: _Report, tree: etree._ElementTree) -> None:
                                        f"gives {found:.10g}", encoded.sourceline, name)
 
 
-_CONTENT_CHECKS = (_check_files, _check_arrays, _check_cartography, _check_encoded_jp2)
+_CONTENT_CHECKS = (_check_files, _check_arrays, _check_special_constants, _check_cartography, _check_encoded_jp2)
+_LABEL_ONLY_CHECKS = (_check_special_constants, _check_cartography)
