@@ -34,7 +34,9 @@ from .xsd import SchemaImportError, build_schema, xsd_errors
 
 P = f"{{{PDS_NS}}}"
 C = f"{{{CART_NS}}}"
-_ROWS_PER_READ = 8 * 1024 * 1024  # bytes of samples per read of the data check
+_READ_BYTES = 8 * 1024 * 1024  # one read of a data file (memory stays flat)
+# ISIS special pixels (NULL, LRS, LIS, HIS, HRS) are the float32 values at or below NULL.
+_ISIS_SPECIAL_LIMIT = -3.4028226550889045e38
 _IM_RE_HINT = "supply that version's schemas with --schemas DIR"
 
 
@@ -228,67 +230,109 @@ def _data_path(report: _Report, area: etree._Element, report_missing: bool = Tru
     return path
 
 
-def _check_files(report: _Report, tree: etree._ElementTree) -> None:
+def _check_data(report: _Report, tree: etree._ElementTree) -> None:
+    """Each data file read once: its size, its MD5, and the statistics of every array in it."""
     for area in _file_areas(tree):
         path = _data_path(report, area)
         if path is None:
             continue
         file = area.find(f"{P}File")
+        size = path.stat().st_size
         size_element = file.find(f"{P}file_size")
-        actual = path.stat().st_size
-        if size_element is not None and _number(file, f"{P}file_size") != actual:
-            report.add("PDS4-011", f"file_size = {size_element.text} but {path.name} has {actual} bytes",
+        if size_element is not None and _number(file, f"{P}file_size") != size:
+            report.add("PDS4-011", f"file_size = {size_element.text} but {path.name} has {size} bytes",
                        size_element.sourceline, "file_size")
+        arrays = [a for a in _area_arrays(area) if _fits(report, a, path, size)]
         md5_element = file.find(f"{P}md5_checksum")
-        if md5_element is not None and md5_element.text:
-            digest = _md5(path)
-            if digest != md5_element.text.strip().lower():
-                report.add("PDS4-012", f"md5_checksum = {md5_element.text.strip()} but {path.name} has MD5 {digest}",
-                           md5_element.sourceline, "md5_checksum")
+        md5 = hashlib.md5()
+        with open(path, "rb") as handle:
+            position = 0
+            while block := handle.read(_READ_BYTES):
+                md5.update(block)
+                for array in arrays:
+                    array.feed(position, block)
+                position += len(block)
+        if md5_element is not None and md5_element.text and md5.hexdigest() != md5_element.text.strip().lower():
+            report.add("PDS4-012", f"md5_checksum = {md5_element.text.strip()} but {path.name} has MD5 "
+                                   f"{md5.hexdigest()}", md5_element.sourceline, "md5_checksum")
+        for array in arrays:
+            array.report(report)
 
 
-def _md5(path: Path) -> str:
-    md5 = hashlib.md5()
-    with open(path, "rb") as handle:
-        while block := handle.read(_ROWS_PER_READ):
-            md5.update(block)
-    return md5.hexdigest()
+class _ArrayStatistics:
+    """Extremes, mean and deviation of one array's samples not flagged special, fed the
+    file's bytes in order (samples split across two reads are carried over)."""
+
+    def __init__(self, element: etree._Element, offset: int, elements: int, dtype: np.dtype) -> None:
+        self.element = element
+        self.start, self.end = offset, offset + elements * dtype.itemsize
+        self.dtype = dtype
+        constants = [v for v in _special_constants(element).values() if _storable(v, dtype)]
+        # as stored: a decimal constant of a float32 array flags the float32 nearest to it
+        self.flagged = np.array(constants, dtype=np.float64).astype(dtype).astype(np.float64)
+        self.pending = b""
+        self.count, self.total, self.squares = 0, 0.0, 0.0
+        self.low, self.high = math.inf, -math.inf
+        self.shift: float | None = None  # sums of (value - first value) stay accurate
+        self.undeclared = 0
+
+    def feed(self, position: int, block: bytes) -> None:
+        low, high = max(self.start, position), min(self.end, position + len(block))
+        if low >= high:
+            return
+        data = self.pending + block[low - position:high - position]
+        usable = len(data) - len(data) % self.dtype.itemsize
+        self.pending = data[usable:]
+        values = np.frombuffer(data[:usable], dtype=self.dtype).astype(np.float64)
+        valid = ~np.isin(values, self.flagged) & np.isfinite(values)
+        if self.dtype.kind == "f":
+            special = values <= _ISIS_SPECIAL_LIMIT
+            self.undeclared += int(np.count_nonzero(special & valid))
+            valid &= ~special
+        chosen = values[valid]
+        if chosen.size == 0:
+            return
+        self.shift = float(chosen[0]) if self.shift is None else self.shift
+        centred = chosen - self.shift
+        self.count += chosen.size
+        self.total += float(centred.sum())
+        self.squares += float((centred * centred).sum())
+        self.low, self.high = min(self.low, float(chosen.min())), max(self.high, float(chosen.max()))
+
+    def report(self, report: _Report) -> None:
+        if self.undeclared:
+            report.add("PDS4-022", f"{self.undeclared} samples hold ISIS special-pixel values (e.g. NULL "
+                                   "-3.4028226550889045E+38) but Special_Constants does not declare them",
+                       self.element.sourceline, "missing_constant")
+        stats = self.element.find(f"{P}Object_Statistics")
+        if stats is None or self.count == 0 or self.shift is None:
+            return
+        mean = self.shift + self.total / self.count
+        deviation = math.sqrt(max(0.0, self.squares / self.count - (self.total / self.count) ** 2))
+        _compare(report, stats, "minimum", self.low, "PDS4-020", _float32_tolerance(self.low, self.dtype))
+        _compare(report, stats, "maximum", self.high, "PDS4-020", _float32_tolerance(self.high, self.dtype))
+        spread = max(abs(self.high - self.low), 1e-12)
+        _compare(report, stats, "mean", mean, "PDS4-021", 1e-6 * spread)
+        _compare(report, stats, "standard_deviation", deviation, "PDS4-021", 1e-6 * spread)
 
 
-@dataclass
-class _Array:
-    element: etree._Element
-    path: Path
-    offset: int
-    shape: tuple[int, ...]
-    dtype: np.dtype
-
-
-def _arrays(report: _Report, tree: etree._ElementTree) -> Iterator[_Array]:
-    for area in _file_areas(tree):
-        path = _data_path(report, area, report_missing=False)
-        if path is None:
+def _area_arrays(area: etree._Element) -> Iterator[_ArrayStatistics]:
+    for element in area:
+        if not (isinstance(element.tag, str) and element.tag.startswith(f"{P}Array")):
             continue
-        for element in area:
-            if not (isinstance(element.tag, str) and element.tag.startswith(f"{P}Array")):
-                continue
-            data_type = element.findtext(f"{P}Element_Array/{P}data_type") or ""
-            offset = _number(element, f"{P}offset")
-            axes = [int(_number(axis, f"{P}elements") or 0) for axis in element.findall(f"{P}Axis_Array")]
-            if data_type not in NUMPY_TYPES or offset is None or not axes:
-                continue
-            yield _Array(element, path, int(offset), tuple(axes), np.dtype(NUMPY_TYPES[data_type]))
+        data_type = element.findtext(f"{P}Element_Array/{P}data_type") or ""
+        offset = _number(element, f"{P}offset")
+        axes = [int(_number(axis, f"{P}elements") or 0) for axis in element.findall(f"{P}Axis_Array")]
+        if data_type in NUMPY_TYPES and offset is not None and axes:
+            yield _ArrayStatistics(element, int(offset), math.prod(axes), np.dtype(NUMPY_TYPES[data_type]))
 
 
-def _check_arrays(report: _Report, tree: etree._ElementTree) -> None:
-    for array in _arrays(report, tree):
-        needed = array.offset + math.prod(array.shape) * array.dtype.itemsize
-        size = array.path.stat().st_size
-        if needed > size:
-            report.add("PDS4-013", f"the array needs bytes up to {needed} but {array.path.name} has {size}",
-                       array.element.sourceline, array.element.tag[len(P):])
-            continue
-        _check_statistics(report, array)
+def _fits(report: _Report, array: _ArrayStatistics, path: Path, size: int) -> bool:
+    if array.end <= size:
+        return True
+    report.add("PDS4-013", f"the array needs bytes up to {array.end} but {path.name} has {size}",
+               array.element.sourceline, array.element.tag[len(P):])
+    return False
 
 
 def _special_constants(element: etree._Element) -> dict[str, float]:
@@ -303,50 +347,6 @@ def _special_constants(element: etree._Element) -> dict[str, float]:
     return found
 
 
-def _check_statistics(report: _Report, array: _Array) -> None:
-    """Stream the array once: extremes, mean and deviation of the samples not flagged special."""
-    constants = _special_constants(array.element)
-    flagged = np.array(sorted(constants.values()), dtype=np.float64)
-    count, total, squares = 0, 0.0, 0.0
-    low, high = math.inf, -math.inf
-    undeclared = 0
-    row_bytes = math.prod(array.shape[1:]) * array.dtype.itemsize
-    rows_per_read = max(1, _ROWS_PER_READ // max(1, row_bytes))
-    shift = None
-    with open(array.path, "rb") as handle:
-        for first in range(0, array.shape[0], rows_per_read):
-            rows = min(rows_per_read, array.shape[0] - first)
-            handle.seek(array.offset + first * row_bytes)
-            values = np.frombuffer(handle.read(rows * row_bytes), dtype=array.dtype).astype(np.float64)
-            valid = ~np.isin(values, flagged) & np.isfinite(values)
-            if array.dtype.kind == "f":
-                special = values <= -3.4028226550889045e38
-                undeclared += int(np.count_nonzero(special & valid))
-                valid &= ~special
-            chosen = values[valid]
-            if chosen.size:
-                shift = float(chosen[0]) if shift is None else shift  # shifted sums stay accurate
-                centred = chosen - shift
-                count += chosen.size
-                total += float(centred.sum())
-                squares += float((centred * centred).sum())
-                low, high = min(low, float(chosen.min())), max(high, float(chosen.max()))
-    if undeclared:
-        report.add("PDS4-022", f"{undeclared} samples hold ISIS special-pixel values (e.g. NULL "
-                               "-3.4028226550889045E+38) but Special_Constants does not declare them",
-                   array.element.sourceline, "missing_constant")
-    stats = array.element.find(f"{P}Object_Statistics")
-    if stats is None or count == 0:
-        return
-    mean = shift + total / count if shift is not None else math.nan
-    deviation = math.sqrt(max(0.0, squares / count - (total / count) ** 2))
-    _compare(report, stats, "minimum", low, "PDS4-020", _float32_tolerance(low, array.dtype))
-    _compare(report, stats, "maximum", high, "PDS4-020", _float32_tolerance(high, array.dtype))
-    spread = max(abs(high - low), 1e-12)
-    _compare(report, stats, "mean", mean, "PDS4-021", 1e-6 * spread)
-    _compare(report, stats, "standard_deviation", deviation, "PDS4-021", 1e-6 * spread)
-
-
 def _check_special_constants(report: _Report, tree: etree._ElementTree) -> None:
     """A special constant the array's data type cannot hold can never flag a sample."""
     for element in tree.iter():
@@ -357,11 +357,18 @@ def _check_special_constants(report: _Report, tree: etree._ElementTree) -> None:
             continue
         dtype = np.dtype(NUMPY_TYPES[data_type])
         for name, value in _special_constants(element).items():
-            stored = np.asarray(value).astype(dtype) if np.isfinite(value) else None
-            if stored is None or float(stored) != value:
+            if not _storable(value, dtype):
                 constant = element.find(f"{P}Special_Constants/{P}{name}")
                 report.add("PDS4-023", f"{name} = {value!r} cannot be stored as {data_type}",
                            constant.sourceline if constant is not None else element.sourceline, name)
+
+
+def _storable(value: float, dtype: np.dtype) -> bool:
+    """Integers: a whole number in range; reals: finite within range (decimals round to the type)."""
+    if dtype.kind == "f":
+        return math.isfinite(value) and abs(value) <= float(np.finfo(dtype).max)
+    info = np.iinfo(dtype)
+    return float(value).is_integer() and info.min <= value <= info.max
 
 
 def _float32_tolerance(value: float, dtype: np.dtype) -> float:
@@ -551,5 +558,5 @@ def _check_encoded_jp2(report: _Report, tree: etree._ElementTree) -> None:
                                        f"gives {found:.10g}", encoded.sourceline, name)
 
 
-_CONTENT_CHECKS = (_check_files, _check_arrays, _check_special_constants, _check_cartography, _check_encoded_jp2)
+_CONTENT_CHECKS = (_check_data, _check_special_constants, _check_cartography, _check_encoded_jp2)
 _LABEL_ONLY_CHECKS = (_check_special_constants, _check_cartography)
