@@ -169,3 +169,17 @@ def test_statistics_tolerate_float32_rounding(product):
     valid = data[data > -1e38]
     assert np.float32(product.statistics.minimum) == valid.min()
     assert np.float32(product.statistics.maximum) == valid.max()
+
+
+def test_jp2_georeferencing_is_checked_against_cart(tmp_path):
+    crs, transform = ORIGINS["equirectangular"]
+    data = np.random.default_rng(2).integers(3, 250, (20, 24)).astype("uint8")
+    source = write_raster(tmp_path / "o.tif", data, crs, transform)
+    label = write_ortho_pds4(source, tmp_path / "out", product_id="GEO_ORTHO", bits=8)
+    assert validate_pds4(label.path) == []
+    moved = re.sub(r'(<cart:upperleft_corner_x unit="m">)([-\d.]+)',
+                   lambda m: m.group(1) + repr(float(m.group(2)) - 1.0), label.text)
+    label.path.write_text(moved)
+    found = validate_pds4(label.path)
+    assert {f.rule for f in found} == {"PDS4-031", "PDS4-040"}
+    assert any("GeoJP2" in f.message and f.keyword == "upperleft_corner_x" for f in found)
