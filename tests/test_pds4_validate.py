@@ -183,3 +183,12 @@ def test_jp2_georeferencing_is_checked_against_cart(tmp_path):
     found = validate_pds4(label.path)
     assert {f.rule for f in found} == {"PDS4-031", "PDS4-040"}
     assert any("GeoJP2" in f.message and f.keyword == "upperleft_corner_x" for f in found)
+
+
+def test_parallel_workers_give_the_same_findings(product, tmp_path):
+    """Each worker process compiles its own schemas (Saxon is not shared across a fork)."""
+    _copy(product, tmp_path, lambda t: t.replace("<md5_checksum>", "<md5_checksum>f"))
+    shutil.copytree(product.path.parent, tmp_path / "good")
+    one, two = validate_paths([tmp_path], jobs=1), validate_paths([tmp_path], jobs=2)
+    assert [f.as_dict() for f in one.findings] == [f.as_dict() for f in two.findings]
+    assert {f.rule for f in one.findings} == {"PDS4-004", "PDS4-012"}
