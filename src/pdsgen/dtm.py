@@ -15,24 +15,24 @@ from typing import Any
 import numpy as np
 
 from .errors import PdsgenError
-from .geometry import MapGeometry, describe_geometry
-from .label.grammar import sample_type
-from .label.render import RecordLayout, render_label
-from .label.values import Based, Symbol
-from .missions import Mission, ProductIdRequest, get_mission
-from .missions.generic import check_product_id, generic_product_id
-from .params import ParamValue, check_version, resolve_params
-from .products.dispatch import call_mission_writer
-from .products.identification import identification_keywords
-from .read_raster import open_raster, require_single_band
-from .staging import StagedOutputs, prepare_output_dir
-from .write_image import (
+from .formats.img import (
     MISSING_BITS,
     MISSING_CONSTANT,
     BandStatistics,
     stream_float32_band,
     write_attached_product,
 )
+from .formats.raster import open_raster, require_single_band
+from .formats.staging import StagedOutputs, prepare_output_dir
+from .geo.geometry import MapGeometry, describe_geometry
+from .label.grammar import sample_type
+from .label.render import RecordLayout, render_label
+from .label.values import Based, Symbol
+from .missions import Mission, ProductIdRequest, get_mission
+from .missions.generic import check_product_id, generic_product_id
+from .products.dispatch import call_mission_writer
+from .products.identification import identification_keywords
+from .products.params import ParamValue, check_version, resolve_params
 
 BYTE_ORDERS = ("lsb", "msb")
 

@@ -30,17 +30,17 @@ from rasterio.windows import transform as window_transform
 
 from . import __version__
 from .errors import PdsgenError
-from .geometry import POLAR_STEREOGRAPHIC, SINUSOIDAL, MapGeometry, describe_geometry
+from .formats.img import Adjust, BandStatistics, scan_band, stream_band, write_attached_product
+from .formats.raster import open_raster, require_single_band
+from .formats.scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
+from .formats.staging import StagedOutputs, prepare_output_dir
+from .geo.geometry import POLAR_STEREOGRAPHIC, SINUSOIDAL, MapGeometry, describe_geometry
 from .label.grammar import sample_type
 from .label.render import RecordLayout, render_label
 from .label.values import Based, Symbol
 from .missions import hrsc as hrsc_mission
 from .missions.hrsc import DN_LIMIT, DTM_KINDS, MISSING_DN, NOT_APPLICABLE, POLAR_LIMIT_DEG
-from .params import ParamValue, check_version, resolve_params
-from .read_raster import open_raster, require_single_band
-from .scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
-from .staging import StagedOutputs, prepare_output_dir
-from .write_image import Adjust, BandStatistics, scan_band, stream_band, write_attached_product
+from .products.params import ParamValue, check_version, resolve_params
 
 HRSC_SPHERE_M = hrsc_mission.SPHERE_M
 HRSC_CREDIT = hrsc_mission.CREDIT

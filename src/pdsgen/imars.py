@@ -21,16 +21,16 @@ import rasterio
 
 from . import __version__
 from .errors import PdsgenError
-from .footprint import valid_data_outline, write_footprint
-from .geometry import MapGeometry, describe_geometry
+from .formats.footprint import valid_data_outline, write_footprint
+from .formats.img import Adjust, physical_strips, scan_band, valid_extremes
+from .formats.raster import open_raster, require_single_band
+from .formats.scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
+from .formats.staging import StagedOutputs, prepare_output_dir
+from .geo.geometry import MapGeometry, describe_geometry
 from .hrsc import Int16Encoding, areoid_adjustment, check_datum_conversion, choose_encoding, hrsc_base_name
 from .missions import imars as imars_mission
 from .missions.hrsc import MISSING_DN
-from .params import ParamValue, check_version, resolve_params
-from .read_raster import open_raster, require_single_band
-from .scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
-from .staging import StagedOutputs, prepare_output_dir
-from .write_image import Adjust, physical_strips, scan_band, valid_extremes
+from .products.params import ParamValue, check_version, resolve_params
 
 IMARS_INSTITUTION = imars_mission.INSTITUTION
 _DTM_DESCRIPTIONS = imars_mission.DTM_DESCRIPTIONS

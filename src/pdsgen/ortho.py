@@ -20,17 +20,10 @@ from rasterio.io import DatasetReader
 from rasterio.windows import Window
 
 from .errors import ParamsError, PdsgenError
-from .geojp2 import geojp2_box, gmljp2_box
-from .geometry import MapGeometry, describe_geometry
-from .label.render import render_label
-from .label.values import Based, Quantity, Symbol
-from .missions import Mission, ProductIdRequest, get_mission
-from .missions.generic import check_product_id, generic_product_id
-from .params import ParamValue, check_version, resolve_params
-from .products.dispatch import call_mission_writer
-from .products.identification import identification_keywords
-from .read_raster import open_raster, row_strips
-from .scale_dn import (
+from .formats.geojp2 import geojp2_box, gmljp2_box
+from .formats.jp2 import TILE_SIZE, write_jp2
+from .formats.raster import open_raster, row_strips
+from .formats.scale_dn import (
     BIT_DEPTHS,
     SPECIAL_DNS,
     DnMapping,
@@ -42,8 +35,15 @@ from .scale_dn import (
     to_dns,
     valid_range,
 )
-from .staging import StagedOutputs, prepare_output_dir
-from .write_jp2 import TILE_SIZE, write_jp2
+from .formats.staging import StagedOutputs, prepare_output_dir
+from .geo.geometry import MapGeometry, describe_geometry
+from .label.render import render_label
+from .label.values import Based, Quantity, Symbol
+from .missions import Mission, ProductIdRequest, get_mission
+from .missions.generic import check_product_id, generic_product_id
+from .products.dispatch import call_mission_writer
+from .products.identification import identification_keywords
+from .products.params import ParamValue, check_version, resolve_params
 
 
 @dataclass(frozen=True)

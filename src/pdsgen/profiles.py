@@ -6,7 +6,7 @@ re-exports the names callers already use.
 
 from __future__ import annotations
 
-from .geometry import MapGeometry
+from .geo.geometry import MapGeometry
 from .missions import ProductIdRequest, get_mission, mission_names
 from .missions.base import Mission
 from .missions.generic import check_product_id, generic_product_id

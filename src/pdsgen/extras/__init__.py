@@ -20,11 +20,11 @@ from pathlib import Path
 from PIL import Image
 
 from ..errors import PdsgenError
+from ..formats.staging import StagedOutputs, prepare_output_dir
 from ..missions import hirise as hirise_mission
 from ..missions import mission_names
 from ..missions.base import get_mission
-from ..params import ParamValue, resolve_params
-from ..staging import StagedOutputs, prepare_output_dir
+from ..products.params import ParamValue, resolve_params
 from .product_source import KINDS, ProductSource, open_product
 from .readme_index import INDEX_NAME, index_bytes, load_index, merge_entries
 from .readme_txt import README_NAME, directory_keywords, product_entry, render_readme

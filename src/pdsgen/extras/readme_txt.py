@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 import jinja2
 
 from ..label.grammar import MAX_LINE_BYTES as GRAMMAR_MAX_LINE_BYTES
-from ..params import ParamValue
+from ..products.params import ParamValue
 from ..resources import templates_dir
 from .colour_ramp import RAMP_NAME
 from .product_source import DTM, ProductSource

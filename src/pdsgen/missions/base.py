@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 from ..errors import PdsgenError
 
 if TYPE_CHECKING:
-    from ..geometry import MapGeometry
+    from ..geo.geometry import MapGeometry
 
 Writer = Callable[..., Any]
 

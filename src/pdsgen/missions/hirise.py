@@ -12,7 +12,7 @@ from __future__ import annotations
 import re
 
 from ..errors import PdsgenError
-from ..geometry import EQUIRECTANGULAR, POLAR_STEREOGRAPHIC
+from ..geo.geometry import EQUIRECTANGULAR, POLAR_STEREOGRAPHIC
 from .base import LabelFacts, Mission, ProductIdRequest
 
 INSTRUMENT_ID = "HIRISE"

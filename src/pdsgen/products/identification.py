@@ -5,8 +5,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from .. import __version__
-from ..geometry import MapGeometry
-from ..params import ParamValue
+from ..geo.geometry import MapGeometry
+from .params import ParamValue
 
 
 def identification_keywords(

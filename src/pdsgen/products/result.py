@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Protocol, runtime_checkable
 
-from ..geometry import MapGeometry
+from ..geo.geometry import MapGeometry
 
 
 @runtime_checkable

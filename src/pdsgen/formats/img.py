@@ -20,12 +20,12 @@ import numpy as np
 from rasterio.io import DatasetReader
 from rasterio.windows import Window
 
-from .errors import PdsgenError
-from .label.grammar import ISIS_NULL_BITS
-from .label.render import RecordLayout, pad_label, settle_attached_label
-from .label.values import shortest_float32
-from .missing import invalid_mask
-from .read_raster import row_strips
+from ..errors import PdsgenError
+from ..label.grammar import ISIS_NULL_BITS
+from ..label.render import RecordLayout, pad_label, settle_attached_label
+from ..label.values import shortest_float32
+from .nodata import invalid_mask
+from .raster import row_strips
 
 # ISIS special pixels (NULL, LRS, LIS, HIS, HRS) are the five most negative float32
 # values; NULL (16#FF7FFFFB#) is the one PDS DTMs use as MISSING_CONSTANT.

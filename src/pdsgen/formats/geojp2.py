@@ -25,7 +25,7 @@ from affine import Affine
 from rasterio.crs import CRS
 from rasterio.io import MemoryFile
 
-from .write_jp2 import box, jp2_boxes
+from .jp2 import box, jp2_boxes
 
 GEOJP2_UUID = uuid.UUID("b14bf8bd-083d-4b43-a5ae-8cd7d5a6ce03")
 GEOKEY_DIRECTORY_TAG = 34735
