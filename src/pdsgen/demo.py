@@ -12,8 +12,8 @@ from pathlib import Path
 
 from .dtm import write_dtm
 from .extras import make_extras
+from .formats.staging import prepare_output_dir
 from .ortho import write_ortho
-from .staging import prepare_output_dir
 from .synthetic import make_scene, write_geotiff
 from .validate import validate_paths
 from .validate.report import Report

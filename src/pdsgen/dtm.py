@@ -10,30 +10,29 @@ import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from . import __version__
 from .errors import PdsgenError
-from .geometry import MapGeometry, describe_geometry
-from .label.render import RecordLayout, render_label
-from .label.values import Based, Symbol
-from .params import ParamValue, check_version, resolve_params
-from .profiles import (
-    check_product_id,
-    generic_product_id,
-    get_profile,
-    hirise_dtm_product_id,
-)
-from .read_raster import open_raster, require_single_band
-from .staging import StagedOutputs, prepare_output_dir
-from .write_image import (
+from .formats.img import (
     MISSING_BITS,
     MISSING_CONSTANT,
     BandStatistics,
     stream_float32_band,
     write_attached_product,
 )
+from .formats.raster import open_raster, require_single_band
+from .formats.staging import StagedOutputs, prepare_output_dir
+from .geo.geometry import MapGeometry, describe_geometry
+from .label.grammar import sample_type
+from .label.render import RecordLayout, render_label
+from .label.values import Based, Symbol
+from .missions import Mission, ProductIdRequest, get_mission
+from .missions.generic import check_product_id, generic_product_id
+from .products.dispatch import call_mission_writer
+from .products.identification import identification_keywords
+from .products.params import ParamValue, check_version, resolve_params
 
 BYTE_ORDERS = ("lsb", "msb")
 
@@ -50,24 +49,51 @@ class DtmProduct:
     records: RecordLayout
     label_text: str
 
+    @property
+    def files(self) -> tuple[Path, ...]:
+        """Every file this product wrote."""
+        return (self.path,)
+
 
 def write_dtm(
     input_path: str | os.PathLike[str],
     outdir: str | os.PathLike[str],
     *,
     profile: str = "generic",
+    **options: Any,
+) -> Any:
+    """Write the DTM product of `profile` from a single-band elevation raster.
+
+    Missions with their own product form (hrsc: DT4/DA4 .img, imars: GeoTIFF +
+    PVL + footprint) have their writer called with `options`; the others get the
+    standard float32 PDS3 .IMG from `write_pds3_dtm` with the mission's names and
+    keywords. An option the profile's writer does not take is refused.
+    """
+    mission = get_mission(profile)
+    own = mission.writer("dtm")
+    if own is not None:
+        return call_mission_writer(own, profile, input_path, outdir, options)
+    return call_mission_writer(write_pds3_dtm, profile, input_path, outdir, {**options, "mission": mission})
+
+
+def write_pds3_dtm(
+    input_path: str | os.PathLike[str],
+    outdir: str | os.PathLike[str],
+    *,
+    mission: Mission,
     product_id: str | None = None,
     source_product_ids: Sequence[str] = (),
     params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
-    byte_order: str = "lsb",
+    byte_order: str | None = None,
     institution: str | None = None,
     version: str = "1.0",
     overwrite: bool = False,
 ) -> DtmProduct:
-    """Convert a single-band elevation raster into `OUTDIR/<PRODUCT_ID>.IMG`."""
+    """Convert a single-band elevation raster into `OUTDIR/<PRODUCT_ID>.IMG` (float32)."""
+    byte_order = byte_order or "lsb"
     if byte_order not in BYTE_ORDERS:
         raise PdsgenError(None, f"byte order must be one of {', '.join(BYTE_ORDERS)}")
-    chosen = get_profile(profile)
+    chosen = mission
     version = check_version(version)
     keywords = resolve_params(params)
     input_path = Path(input_path)
@@ -81,8 +107,9 @@ def write_dtm(
         sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
         ident = identification_keywords(chosen.dtm_keywords, keywords, geometry, version)
         product_id = _dtm_product_id(
-            chosen.name, product_id, input_path, geometry, sources, institution,
-            str(ident["PRODUCT_VERSION_ID"]),
+            chosen, product_id, ProductIdRequest(
+                input_path.stem, geometry, sources, institution, str(ident["PRODUCT_VERSION_ID"])
+            ),
         )
         context = {
             "product_id": product_id,
@@ -91,7 +118,7 @@ def write_dtm(
             "geometry": geometry,
             "note": str(keywords.get("DTM_NOTE", chosen.dtm_note)),
             "bit_mask": Based(0xFFFFFFFF, 2, 32),
-            "sample_type": Symbol("PC_REAL" if byte_order == "lsb" else "IEEE_REAL"),
+            "sample_type": Symbol(sample_type(byte_order == "msb", "f")),
             "missing_constant": Based(MISSING_BITS, 16, 8),
         }
 
@@ -128,33 +155,12 @@ def write_dtm(
     )
 
 
-def identification_keywords(
-    defaults: Mapping[str, str], keywords: Mapping[str, ParamValue], geometry: MapGeometry, version: str
-) -> dict[str, ParamValue]:
-    ident: dict[str, ParamValue] = {
-        **defaults,
-        "TARGET_NAME": geometry.target_name or defaults.get("TARGET_NAME", "MARS"),
-        "PRODUCT_VERSION_ID": version,
-        "SOFTWARE_NAME": f"pdsgen {__version__}",
-    }
-    ident.update({k: v for k, v in keywords.items() if k != "SOURCE_PRODUCT_ID"})
-    return ident
-
-
-def _dtm_product_id(
-    profile: str,
-    explicit: str | None,
-    input_path: Path,
-    geometry: MapGeometry,
-    sources: list[str],
-    institution: str | None,
-    version: str,
-) -> str:
+def _dtm_product_id(mission: Mission, explicit: str | None, request: ProductIdRequest) -> str:
     if explicit:
         return check_product_id(explicit)
-    if profile == "hirise":
-        return hirise_dtm_product_id(geometry, sources, institution, version)
-    return generic_product_id(input_path.stem)
+    if mission.dtm_product_id is not None:
+        return mission.dtm_product_id(request)
+    return generic_product_id(request.stem)
 
 
-__all__ = ["DtmProduct", "write_dtm", "MISSING_CONSTANT"]
+__all__ = ["DtmProduct", "write_dtm", "write_pds3_dtm", "MISSING_CONSTANT"]

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import math
 import os
-import re
 from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -31,43 +30,20 @@ from rasterio.windows import transform as window_transform
 
 from . import __version__
 from .errors import PdsgenError
-from .geometry import POLAR_STEREOGRAPHIC, SINUSOIDAL, MapGeometry, describe_geometry
+from .formats.img import Adjust, BandStatistics, scan_band, stream_band, write_attached_product
+from .formats.raster import open_raster, require_single_band
+from .formats.scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
+from .formats.staging import StagedOutputs, prepare_output_dir
+from .geo.geometry import POLAR_STEREOGRAPHIC, SINUSOIDAL, MapGeometry, describe_geometry
+from .label.grammar import sample_type
 from .label.render import RecordLayout, render_label
 from .label.values import Based, Symbol
-from .params import ParamValue, check_version, resolve_params
-from .read_raster import open_raster, require_single_band
-from .scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
-from .staging import StagedOutputs, prepare_output_dir
-from .write_image import Adjust, BandStatistics, scan_band, stream_band, write_attached_product
+from .missions import hrsc as hrsc_mission
+from .missions.hrsc import DN_LIMIT, DTM_KINDS, MISSING_DN, NOT_APPLICABLE, POLAR_LIMIT_DEG
+from .products.params import ParamValue, check_version, resolve_params
 
-HRSC_SPHERE_M = 3396000.0
-POLAR_LIMIT_DEG = 85.0
-MISSING_DN = -32768
-DN_LIMIT = 32767  # stored heights use -32767..32767; -32768 is MISSING_DN
-DTM_KINDS = {
-    "dt4": ("sphere", "HEIGHT ABOVE SPHEROID"),
-    "da4": ("areoid", "HEIGHT ABOVE GM3-AREOID"),
-}
-HRSC_KEYWORDS = {
-    "DATA_SET_ID": "MEX-M-HRSC-5-REFDR-DTM-V1.0",
-    "DATA_SET_NAME": "MARS EXPRESS HRSC REFERENCE DIGITAL TERRAIN MODEL V1.0",
-    "PRODUCER_INSTITUTION_NAME": "DLR / FREIE UNIVERSITAET BERLIN",
-    "PRODUCER_ID": "DLR_FUB",
-    "PRODUCER_FULL_NAME": "UNK",
-    "INSTRUMENT_HOST_NAME": "MARS EXPRESS",
-    "INSTRUMENT_HOST_ID": "MEX",
-    "INSTRUMENT_NAME": "HIGH RESOLUTION STEREO CAMERA",
-    "INSTRUMENT_ID": "HRSC",
-    "TARGET_NAME": "MARS",
-    "RATIONALE_DESC": "UNK",
-}
-HRSC_ND4_KEYWORDS = {
-    **HRSC_KEYWORDS,
-    "DATA_SET_ID": "MEX-M-HRSC-5-REFDR-MAPPROJECTED-V2.0",
-    "DATA_SET_NAME": "MARS EXPRESS HRSC MAP PROJECTED REDUCED DATA RECORD V2.0",
-}
-HRSC_CREDIT = "ESA/DLR/FU Berlin"
-_BASE_RE = re.compile(r"^h(?P<orbit>\d{4,5})_(?P<sequence>\d{4})", re.IGNORECASE)
+HRSC_SPHERE_M = hrsc_mission.SPHERE_M
+HRSC_CREDIT = hrsc_mission.CREDIT
 
 
 @dataclass(frozen=True)
@@ -95,11 +71,16 @@ class HrscDtmProduct:
     valid_maximum: int
     label_text: str
 
+    @property
+    def files(self) -> tuple[Path, ...]:
+        """Every file this product wrote."""
+        return (self.path,)
+
 
 def hrsc_base_name(product_id: str | None, source_ids: Sequence[str]) -> tuple[str, int]:
     """`h6541_0000` and orbit 6541, from --product-id or the first source product."""
     for candidate in ([product_id] if product_id else []) + list(source_ids):
-        match = _BASE_RE.match(Path(candidate).name)
+        match = hrsc_mission.parse_name(candidate)
         if match:
             return f"h{match.group('orbit')}_{match.group('sequence')}", int(match.group("orbit"))
     raise PdsgenError(
@@ -170,7 +151,7 @@ def check_hrsc_geometry(geometry: MapGeometry, centre_latitude: float, source: s
             f"HRSC products at centre latitude {centre_latitude:.1f} are {expected.lower()}, "
             f"the input is {geometry.projection_type.lower()}; rerun with --reproject",
         )
-    if not (geometry.is_sphere and math.isclose(geometry.a_axis_km, HRSC_SPHERE_M / 1000.0, abs_tol=1e-9)):
+    if not (geometry.is_sphere and math.isclose(geometry.a_axis_km, hrsc_mission.SPHERE_KM, abs_tol=1e-9)):
         raise PdsgenError(
             source,
             f"HRSC products use the 3396.0 km sphere, the input uses {geometry.a_axis_km:g} x "
@@ -247,11 +228,12 @@ def write_hrsc_dtm(
     product_id: str | None = None,
     source_product_ids: Sequence[str] = (),
     params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
-    byte_order: str = "msb",
+    byte_order: str | None = "msb",
     version: str = "1.0",
     overwrite: bool = False,
 ) -> HrscDtmProduct:
     """Write `OUTDIR/hOOOO_NNNN_<kind>.img` from a single-band height raster."""
+    byte_order = byte_order or "msb"
     if kind not in DTM_KINDS:
         raise PdsgenError(None, f"HRSC DTM kind must be one of {', '.join(DTM_KINDS)}")
     output_datum, description = DTM_KINDS[kind]
@@ -267,16 +249,16 @@ def write_hrsc_dtm(
         if physical.valid_count == 0:
             raise PdsgenError(input_path, "has no valid pixels (all nodata)")
         encoding = choose_encoding(physical, precision, str(input_path))
-        context = hrsc_identification(HRSC_KEYWORDS, keywords, product_id, source_product_ids, kind, version)
+        context = hrsc_identification(hrsc_mission.KEYWORDS, keywords, product_id, source_product_ids, kind, version)
         file_name, final_id = context["file_name"], context["product_id"]
         context |= {
             "geometry": geometry,
-            "sample_type": Symbol("MSB_INTEGER" if byte_order == "msb" else "LSB_INTEGER"),
+            "sample_type": Symbol(sample_type(byte_order == "msb", "i")),
             "bit_mask": Based(0xFFFF, 2, 16),
             "offset": encoding.offset,
             "scaling_factor": encoding.scaling_factor,
             "missing_dn": MISSING_DN,
-            "dtm_radius_km": HRSC_SPHERE_M / 1000.0 if kind == "dt4" else -1e32,
+            "dtm_radius_km": hrsc_mission.SPHERE_KM if kind == "dt4" else NOT_APPLICABLE,
             "dtm_desc": description,
             "note": (
                 f"Heights in meters {description.lower().replace('height ', '')} = DN * SCALING_FACTOR "
@@ -350,6 +332,11 @@ class HrscImageProduct:
     valid_maximum: int
     label_text: str
 
+    @property
+    def files(self) -> tuple[Path, ...]:
+        """Every file this product wrote."""
+        return (self.path,)
+
 
 def write_hrsc_nd4(
     input_path: str | os.PathLike[str],
@@ -374,7 +361,9 @@ def write_hrsc_nd4(
     special = SPECIAL_DNS[8]
     with hrsc_input(input_path, reproject_input, "an HRSC nadir image") as (grid, geometry):
         mapping = null_zero_byte_mapping(grid, value_range, str(input_path))
-        context = hrsc_identification(HRSC_ND4_KEYWORDS, keywords, product_id, source_product_ids, "nd4", version)
+        context = hrsc_identification(
+            hrsc_mission.ND4_KEYWORDS, keywords, product_id, source_product_ids, "nd4", version
+        )
         context |= {
             "geometry": geometry,
             "bit_mask": Based(0xFF, 2, 8),

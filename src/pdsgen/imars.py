@@ -21,17 +21,19 @@ import rasterio
 
 from . import __version__
 from .errors import PdsgenError
-from .footprint import valid_data_outline, write_footprint
-from .geometry import MapGeometry, describe_geometry
-from .hrsc import MISSING_DN, Int16Encoding, areoid_adjustment, check_datum_conversion, choose_encoding, hrsc_base_name
-from .params import ParamValue, check_version, resolve_params
-from .read_raster import open_raster, require_single_band
-from .scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
-from .staging import StagedOutputs, prepare_output_dir
-from .write_image import Adjust, physical_strips, scan_band, valid_extremes
+from .formats.footprint import valid_data_outline, write_footprint
+from .formats.img import Adjust, physical_strips, scan_band, valid_extremes
+from .formats.raster import open_raster, require_single_band
+from .formats.scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
+from .formats.staging import StagedOutputs, prepare_output_dir
+from .geo.geometry import MapGeometry, describe_geometry
+from .hrsc import Int16Encoding, areoid_adjustment, check_datum_conversion, choose_encoding, hrsc_base_name
+from .missions import imars as imars_mission
+from .missions.hrsc import MISSING_DN
+from .products.params import ParamValue, check_version, resolve_params
 
-IMARS_INSTITUTION = "UCL MULLARD SPACE SCIENCE LABORATORY"
-_DTM_DESCRIPTIONS = {"dt": "HEIGHT ABOVE SPHEROID", "da": "HEIGHT ABOVE GM3-AREOID"}
+IMARS_INSTITUTION = imars_mission.INSTITUTION
+_DTM_DESCRIPTIONS = imars_mission.DTM_DESCRIPTIONS
 
 
 @dataclass(frozen=True)
@@ -44,6 +46,11 @@ class ImarsProduct:
     encoding: Int16Encoding
     valid_minimum: int
     valid_maximum: int
+
+    @property
+    def files(self) -> tuple[Path, ...]:
+        """Every file this product wrote."""
+        return (self.tiff_path, self.pvl_path, self.footprint_path)
 
 
 def write_imars_dtm(
@@ -65,6 +72,7 @@ def write_imars_dtm(
     `vertical_datum` says what the input heights are measured from (default: the
     datum of `kind`); when it differs from the kind's, `areoid` converts, as for HRSC.
     """
+    kind = kind[:2] if kind in ("dt4", "da4") else kind  # the CLI's --kind dt4/da4 names them too
     if kind not in _DTM_DESCRIPTIONS:
         raise PdsgenError(None, "iMars DTM kind must be da (areoid heights) or dt (sphere heights)")
     version = check_version(version)
@@ -73,7 +81,7 @@ def write_imars_dtm(
     keywords = resolve_params(params)
     sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
     base, _ = hrsc_base_name(product_id, sources)
-    stem = f"{base}_{kind}4_ucl"
+    stem = imars_mission.product_stem(base, kind)
     input_path = Path(input_path)
     with open_raster(input_path) as dataset:
         require_single_band(dataset)
@@ -89,7 +97,7 @@ def write_imars_dtm(
         tiff, metadata = out / f"{stem}.tif", out / f"{stem}.pvl"
         tags = _processing_tags(f"{base}_{kind}4", _DTM_DESCRIPTIONS[kind], encoding.scaling_factor,
                                 encoding.offset, MISSING_DN, keywords, sources)
-        footprint = out / f"{base}.geojson"
+        footprint = out / imars_mission.footprint_name(base)
         with StagedOutputs([tiff, metadata], overwrite, shared=[footprint]) as staged:
             low, high = _write_geotiff(dataset, staged.path(tiff), "int16", MISSING_DN, encoding.encode,
                                        encoding.scaling_factor, encoding.offset, tags, adjust)
@@ -159,7 +167,7 @@ def write_imars_ori(
     keywords = resolve_params(params)
     sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
     base, _ = hrsc_base_name(product_id, sources)
-    stem = f"{base}_nd4_ucl"
+    stem = imars_mission.product_stem(base, "nd")
     input_path = Path(input_path)
     special = SPECIAL_DNS[8]
     with open_raster(input_path) as dataset:
@@ -172,7 +180,7 @@ def write_imars_ori(
         tiff, metadata = out / f"{stem}.tif", out / f"{stem}.pvl"
         tags = _processing_tags(f"{base}_nd4", "ORTHOIMAGE", mapping.scaling_factor, mapping.offset,
                                 special.null, keywords, sources)
-        footprint = out / f"{base}.geojson"
+        footprint = out / imars_mission.footprint_name(base)
         with StagedOutputs([tiff, metadata], overwrite, shared=[footprint]) as staged:
             low, high = _write_geotiff(dataset, staged.path(tiff), "uint8", special.null, encode,
                                        mapping.scaling_factor, mapping.offset, tags)

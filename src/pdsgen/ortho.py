@@ -13,30 +13,17 @@ import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from rasterio.io import DatasetReader
 from rasterio.windows import Window
 
-from .dtm import identification_keywords
-from .errors import PdsgenError
-from .geojp2 import geojp2_box, gmljp2_box
-from .geometry import MapGeometry, describe_geometry
-from .label.render import render_label
-from .label.values import Based, Quantity, Symbol
-from .params import ParamValue, check_version, resolve_params
-from .profiles import (
-    ORTHO_DESCRIPTIONS,
-    ORTHO_FILTER_NAMES,
-    check_product_id,
-    generic_product_id,
-    get_profile,
-    hirise_ortho_product_id,
-    ortho_filter_wavelengths,
-    ortho_keywords,
-)
-from .read_raster import open_raster, row_strips
-from .scale_dn import (
+from .errors import ParamsError, PdsgenError
+from .formats.geojp2 import geojp2_box, gmljp2_box
+from .formats.jp2 import TILE_SIZE, write_jp2
+from .formats.raster import open_raster, row_strips
+from .formats.scale_dn import (
     BIT_DEPTHS,
     SPECIAL_DNS,
     DnMapping,
@@ -48,8 +35,15 @@ from .scale_dn import (
     to_dns,
     valid_range,
 )
-from .staging import StagedOutputs, prepare_output_dir
-from .write_jp2 import TILE_SIZE, write_jp2
+from .formats.staging import StagedOutputs, prepare_output_dir
+from .geo.geometry import MapGeometry, describe_geometry
+from .label.render import render_label
+from .label.values import Based, Quantity, Symbol
+from .missions import Mission, ProductIdRequest, get_mission
+from .missions.generic import check_product_id, generic_product_id
+from .products.dispatch import call_mission_writer
+from .products.identification import identification_keywords
+from .products.params import ParamValue, check_version, resolve_params
 
 
 @dataclass(frozen=True)
@@ -66,12 +60,45 @@ class OrthoProduct:
     bands: int
     label_text: str
 
+    @property
+    def files(self) -> tuple[Path, ...]:
+        """Every file this product wrote."""
+        return (self.jp2_path, self.label_path)
+
+
+# Band names of 1- and 3-band orthoimages, as HiRISE labels write them.
+ORTHO_FILTER_NAMES = {1: ("RED",), 3: ("NEAR-INFRARED", "RED", "BLUE-GREEN")}
+
 
 def write_ortho(
     input_path: str | os.PathLike[str],
     outdir: str | os.PathLike[str],
     *,
     profile: str = "generic",
+    **options: Any,
+) -> Any:
+    """Write the orthoimage product of `profile`.
+
+    Missions with their own form (hrsc: 8-bit ND4 .img, imars: GeoTIFF + PVL +
+    footprint) have their writer called with `options` (their images are 8-bit:
+    `bits` other than 8 is refused); the others get the JP2 + .LBL of
+    `write_jp2_ortho` with the mission's names and keywords.
+    """
+    mission = get_mission(profile)
+    own = mission.writer("ortho")
+    if own is None:
+        return call_mission_writer(write_jp2_ortho, profile, input_path, outdir, {**options, "mission": mission})
+    bits = options.pop("bits", None)
+    if bits not in (None, 8):
+        raise ParamsError(None, f"--profile {profile} orthoimages are 8-bit; --bits {bits} does not apply")
+    return call_mission_writer(own, profile, input_path, outdir, options)
+
+
+def write_jp2_ortho(
+    input_path: str | os.PathLike[str],
+    outdir: str | os.PathLike[str],
+    *,
+    mission: Mission,
     product_id: str | None = None,
     bits: int | None = None,
     value_range: tuple[float, float] | None = None,
@@ -86,24 +113,26 @@ def write_ortho(
     """Convert a 1-band (RED) or 3-band (IRB) orthoimage into `<PRODUCT_ID>.JP2` + `.LBL`."""
     if bits is not None and bits not in BIT_DEPTHS:
         raise PdsgenError(None, f"--bits must be one of {', '.join(map(str, BIT_DEPTHS))}, not {bits}")
-    chosen = get_profile(profile)
+    chosen = mission
+    if chosen.ortho_keywords is None:
+        raise PdsgenError(None, f"the {chosen.name} profile writes orthoimages in its own form, not as JP2 + LBL")
     version = check_version(version)
     keywords = resolve_params(params)
     input_path = Path(input_path)
     with open_raster(input_path) as dataset:
         _check_input(dataset, input_path)
         geometry = describe_geometry(dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path))
-        bits = bits or _default_bits(dataset, chosen.name)
+        bits = bits or _default_bits(dataset, chosen)
         mapping = _choose_mapping(dataset, input_path, bits, value_range)
         sources = _source_ids(keywords, observation_id, source_dtm_id)
-        ident = identification_keywords(ortho_keywords(chosen.name), keywords, geometry, version)
-        product_id = _ortho_product_id(
-            chosen.name, product_id, input_path, geometry, dataset.count, observation_id, sources, sequence
-        )
+        ident = identification_keywords(chosen.ortho_keywords, keywords, geometry, version)
+        product_id = _ortho_product_id(chosen, product_id, ProductIdRequest(
+            input_path.stem, geometry, sources, None, version, dataset.count, observation_id, sequence,
+        ))
         outdir = prepare_output_dir(outdir)
         jp2_final, label_final = outdir / f"{product_id}.JP2", outdir / f"{product_id}.LBL"
         text = render_label("ortho.lbl.j2", _label_context(
-            chosen.name, product_id, ident, sources, geometry, dataset.count, mapping, jp2_final.name,
+            chosen, product_id, ident, sources, geometry, dataset.count, mapping, jp2_final.name,
         ))
         boxes = [geojp2_box(dataset.crs, dataset.transform)]
         if gmljp2:
@@ -140,11 +169,11 @@ def _check_input(dataset: DatasetReader, path: Path) -> None:
         raise PdsgenError(path, f"sample types {', '.join(dataset.dtypes)} are not one real number type")
 
 
-def _default_bits(dataset: DatasetReader, profile: str) -> int:
-    """Integers keep their width; floats get HiRISE's 10 bits or 16 bits elsewhere."""
+def _default_bits(dataset: DatasetReader, mission: Mission) -> int:
+    """Integers keep their width; floats get the mission's default (HiRISE 10 bits, else 16)."""
     dtype = np.dtype(dataset.dtypes[0])
     if dtype.kind == "f":
-        return 10 if profile == "hirise" else 16
+        return mission.default_ortho_bits_for_float
     return default_bits(dtype)
 
 
@@ -218,30 +247,16 @@ def _source_ids(
     return sources
 
 
-def _ortho_product_id(
-    profile: str,
-    explicit: str | None,
-    input_path: Path,
-    geometry: MapGeometry,
-    bands: int,
-    observation_id: str | None,
-    sources: Sequence[str],
-    sequence: int,
-) -> str:
+def _ortho_product_id(mission: Mission, explicit: str | None, request: ProductIdRequest) -> str:
     if explicit:
         return check_product_id(explicit)
-    if profile == "hirise":
-        observation = observation_id or (sources[0] if sources else None)
-        if not observation:
-            raise PdsgenError(
-                None, "the hirise profile needs --observation-id (e.g. ESP_042252_1930) or --product-id"
-            )
-        return hirise_ortho_product_id(observation, bands, geometry.map_scale, sequence)
-    return generic_product_id(input_path.stem)
+    if mission.ortho_product_id is not None:
+        return mission.ortho_product_id(request)
+    return generic_product_id(request.stem)
 
 
 def _label_context(
-    profile: str,
+    mission: Mission,
     product_id: str,
     ident: Mapping[str, ParamValue],
     sources: Sequence[str],
@@ -255,7 +270,8 @@ def _label_context(
     record_bytes = geometry.samples * sample_bits // 8
     file_records = geometry.lines * bands
     filters = ORTHO_FILTER_NAMES[bands]
-    wavelengths = ortho_filter_wavelengths(profile, filters)
+    known = mission.filter_wavelengths_nm
+    wavelengths = tuple(known[name] for name in filters) if known else None
     return {
         "product_id": product_id,
         "ident": ident,
@@ -266,7 +282,7 @@ def _label_context(
         "record_bytes": record_bytes,
         "file_records": file_records,
         "required_storage_bytes": record_bytes * file_records,
-        "description": ORTHO_DESCRIPTIONS[profile],
+        "description": mission.ortho_description,
         "bands": bands,
         "sample_type": Symbol("UNSIGNED_INTEGER" if sample_bits == 8 else "MSB_UNSIGNED_INTEGER"),
         "sample_bits": sample_bits,
@@ -294,4 +310,4 @@ def _is_symbol(text: str) -> bool:
     return True
 
 
-__all__ = ["OrthoProduct", "write_ortho"]
+__all__ = ["OrthoProduct", "write_jp2_ortho", "write_ortho"]

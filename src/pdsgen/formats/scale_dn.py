@@ -24,9 +24,9 @@ import numpy as np
 from rasterio.io import DatasetReader
 from rasterio.windows import Window
 
-from .errors import PdsgenError
-from .missing import invalid_mask
-from .read_raster import row_strips
+from ..errors import PdsgenError
+from .nodata import invalid_mask
+from .raster import row_strips
 
 BIT_DEPTHS = (8, 10, 16)
 

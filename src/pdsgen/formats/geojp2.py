@@ -25,7 +25,7 @@ from affine import Affine
 from rasterio.crs import CRS
 from rasterio.io import MemoryFile
 
-from .write_jp2 import box
+from .jp2 import box, jp2_boxes
 
 GEOJP2_UUID = uuid.UUID("b14bf8bd-083d-4b43-a5ae-8cd7d5a6ce03")
 GEOKEY_DIRECTORY_TAG = 34735
@@ -102,8 +102,6 @@ def _first_ifd_tags(tiff: bytes) -> dict[int, object]:
 
 def read_geojp2(path) -> bytes:
     """The GeoTIFF inside a JP2 file's GeoJP2 box (for checks and tests)."""
-    from .write_jp2 import jp2_boxes
-
     with open(path, "rb") as handle:
         for kind, offset, length in jp2_boxes(path):
             if kind != b"uuid":

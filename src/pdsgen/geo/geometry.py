@@ -18,7 +18,7 @@ from affine import Affine
 from rasterio.crs import CRS
 from rasterio.warp import transform as warp_transform
 
-from .errors import PdsgenError
+from ..errors import PdsgenError
 
 EQUIRECTANGULAR = "EQUIRECTANGULAR"
 POLAR_STEREOGRAPHIC = "POLAR STEREOGRAPHIC"
