@@ -60,14 +60,15 @@ print(json.dumps({"seconds": time.perf_counter() - start, "cpu": cpu, "labels": 
 def make_labels(workdir: Path, count: int) -> Path:
     import numpy as np
 
-    from pdsgen.pds4.products import write_dtm_pds4
+    from pdsgen.dtm import write_dtm
 
     from helpers import ORIGINS, elevation_array, write_raster
 
     products = []
     for name, (crs, transform) in ORIGINS.items():
         source = write_raster(workdir / f"{name}.tif", elevation_array(64, 64).astype(np.float32), crs, transform)
-        products.append(write_dtm_pds4(source, workdir / "src" / name, product_id=f"BENCH_{name.upper()}").path)
+        written = write_dtm(source, workdir / "src" / name, product_id=f"BENCH_{name.upper()}", label="pds4")
+        products.append(written.pds4_label_path)
     root = workdir / "labels"
     for i in range(count):
         product = products[i % len(products)]

@@ -4,17 +4,27 @@ the same grid, CRS, nodata and samples."""
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 import rasterio
+from lxml import etree
 
+from pdsgen.dtm import write_dtm
+from pdsgen.ortho import write_ortho
 from pdsgen.pds4 import schematron
-from pdsgen.pds4.products import write_dtm_pds4, write_ortho_pds4
 from pdsgen.pds4.validate import validate_pds4
+from pdsgen.validate import validate_paths
 
-from helpers import ORIGINS, elevation_array, write_raster
+from helpers import ORIGINS, elevation_array, run_cli, write_raster
 
 pytestmark = pytest.mark.skipif(not schematron.available(), reason="saxonche (pdsgen[pds4]) is not installed")
+
+
+def pds4(product) -> SimpleNamespace:
+    """The PDS4 label a `--label pds4` product wrote: its path and text."""
+    return SimpleNamespace(path=product.pds4_label_path, text=product.pds4_label_path.read_text(), product=product)
 
 
 @pytest.fixture(scope="module")
@@ -26,8 +36,8 @@ def dtms(tmp_path_factory):
         data = elevation_array(37, 53, seed=len(name))
         data[3, 5] = -9999.0
         source = write_raster(root / f"{name}.tif", data, crs, transform, nodata=-9999.0)
-        label = write_dtm_pds4(source, root / "out", product_id=f"DTM_{name.upper()}",
-                               byte_order="msb" if name == "polar" else "lsb")
+        label = pds4(write_dtm(source, root / "out", product_id=f"DTM_{name.upper()}", label="pds4",
+                               byte_order="msb" if name == "polar" else "lsb"))
         made[name] = (source, label)
     return made
 
@@ -71,11 +81,12 @@ def test_dtm_statistics_are_those_of_the_valid_samples(dtms):
     with rasterio.open(source) as original:
         values = original.read(1).astype(np.float64)
     values = values[values != -9999.0]
-    stats = label.statistics
-    assert stats.count == values.size
-    assert stats.minimum == np.float32(values.min()) and stats.maximum == np.float32(values.max())
-    assert stats.mean == pytest.approx(values.mean(), rel=1e-12)
-    assert stats.standard_deviation == pytest.approx(values.std(), rel=1e-9)
+    namespace = {"p": "http://pds.nasa.gov/pds4/pds/v1"}
+    stats = etree.fromstring(label.text.encode()).find(".//p:Object_Statistics", namespace)
+    stated = {child.tag.split("}")[1]: float(child.text) for child in stats}
+    assert np.float32(stated["minimum"]) == values.min() and np.float32(stated["maximum"]) == values.max()
+    assert stated["mean"] == pytest.approx(values.mean(), rel=1e-12)
+    assert stated["standard_deviation"] == pytest.approx(values.std(), rel=1e-9)
 
 
 @pytest.fixture(scope="module")
@@ -86,7 +97,8 @@ def ortho(tmp_path_factory):
     data = (rng.random((45, 70)) * 0.2 + 0.05).astype("float32")
     data[0, :4] = np.nan
     source = write_raster(root / "ortho.tif", data, crs, transform)
-    label = write_ortho_pds4(source, root / "out", product_id="PSP_008669_1705_RED_C_01_ORTHO", profile="hirise")
+    label = pds4(write_ortho(source, root / "out", product_id="PSP_008669_1705_RED_C_01_ORTHO", profile="hirise",
+                             label="pds4"))
     return source, label
 
 
@@ -99,7 +111,7 @@ def test_hirise_ortho_passes_schema_and_schematron(ortho):
 
 def test_ortho_primary_array_equals_the_jp2_and_keeps_the_grid(ortho):
     source, label = ortho
-    jp2 = label.path.with_suffix(".jp2")
+    jp2 = label.product.jp2_path
     with rasterio.open(label.path) as primary, rasterio.open(jp2) as encoded, rasterio.open(source) as original:
         assert primary.transform == original.transform and primary.crs == original.crs
         assert encoded.transform == original.transform
@@ -112,10 +124,49 @@ def test_three_band_ortho_is_an_array_3d_image_gdal_reads_band_by_band(tmp_path)
     crs, transform = ORIGINS["polar"]
     data = np.random.default_rng(8).integers(3, 1000, (3, 30, 41)).astype("uint16")
     source = write_raster(tmp_path / "irb.tif", data, crs, transform)
-    label = write_ortho_pds4(source, tmp_path / "out", product_id="PSP_008669_1705_IRB_C_01_ORTHO",
-                             profile="hirise", bits=10)
+    label = pds4(write_ortho(source, tmp_path / "out", product_id="PSP_008669_1705_IRB_C_01_ORTHO",
+                             profile="hirise", bits=10, label="pds4"))
     assert validate_pds4(label.path) == []
     assert "<Array_3D_Image>" in label.text and "<axis_name>Band</axis_name>" in label.text
-    with rasterio.open(label.path) as primary, rasterio.open(label.path.with_suffix(".jp2")) as encoded:
+    with rasterio.open(label.path) as primary, rasterio.open(label.product.jp2_path) as encoded:
         assert primary.count == 3 and primary.crs == encoded.crs
         assert np.array_equal(primary.read(), data) and np.array_equal(encoded.read(), data)
+
+
+def test_label_both_describes_the_pds3_image_without_a_second_copy(tmp_path):
+    crs, transform = ORIGINS["sinusoidal"]
+    data = elevation_array(21, 34, seed=4)
+    source = write_raster(tmp_path / "both.tif", data, crs, transform)
+    product = write_dtm(source, tmp_path / "out", product_id="BOTH_DTM", label="both")
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["BOTH_DTM.IMG", "BOTH_DTM.xml"]
+    assert validate_pds4(product.pds4_label_path) == []
+    text = product.pds4_label_path.read_text()
+    assert f'<offset unit="byte">{product.records.label_bytes}</offset>' in text
+    assert "<parsing_standard_id>PDS3</parsing_standard_id>" in text
+    with rasterio.open(product.pds4_label_path) as pds4_view, rasterio.open(product.path) as pds3_view:
+        assert pds4_view.driver == "PDS4" and pds3_view.driver == "PDS"
+        assert pds4_view.transform == pds3_view.transform and pds4_view.crs == pds3_view.crs
+        assert np.array_equal(pds4_view.read(1), data)
+    report = validate_paths([tmp_path / "out"], strict=True)
+    assert report.exit_code == 0, [f.message for f in report.findings]
+
+
+def test_ortho_label_both_writes_lbl_and_pds4_form(tmp_path):
+    crs, transform = ORIGINS["equirectangular"]
+    data = np.random.default_rng(6).integers(3, 1000, (16, 23)).astype("uint16")
+    source = write_raster(tmp_path / "o.tif", data, crs, transform)
+    product = write_ortho(source, tmp_path / "out", product_id="BOTH_ORTHO", bits=10, label="both")
+    assert sorted(p.name for p in product.files) == ["BOTH_ORTHO.JP2", "BOTH_ORTHO.LBL", "BOTH_ORTHO.img",
+                                                    "BOTH_ORTHO.xml"]
+    assert validate_pds4(product.pds4_label_path) == []
+    with rasterio.open(product.pds4_label_path) as primary:
+        assert np.array_equal(primary.read(1), data)
+
+
+def test_label_option_is_refused_where_the_profile_has_its_own_form(tmp_path):
+    crs, transform = ORIGINS["sinusoidal"]
+    source = write_raster(tmp_path / "h.tif", elevation_array(8, 8), crs, transform)
+    result = run_cli("dtm", source, "-o", tmp_path / "out", "--profile", "hrsc", "--product-id", "h1234_0000",
+                     "--label", "pds4")
+    assert result.returncode == 2 and "--label" in result.stderr
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())

@@ -30,6 +30,8 @@ from .label.render import RecordLayout, render_label
 from .label.values import Based, Symbol
 from .missions import Mission, ProductIdRequest, get_mission
 from .missions.generic import check_product_id, generic_product_id
+from .pds4.model import check_label_dialect
+from .pds4.products import ProductDescription, write_dtm_pds4_label, write_pds4_dtm
 from .products.dispatch import call_mission_writer
 from .products.identification import identification_keywords
 from .products.params import ParamValue, check_version, resolve_params
@@ -46,13 +48,14 @@ class DtmProduct:
     geometry: MapGeometry
     valid_minimum: float
     valid_maximum: float
-    records: RecordLayout
-    label_text: str
+    records: RecordLayout  # label_records 0: a raw PDS4 array file
+    label_text: str  # the PDS3 label, or the PDS4 label of a PDS4-only product
+    pds4_label_path: Path | None = None
 
     @property
     def files(self) -> tuple[Path, ...]:
         """Every file this product wrote."""
-        return (self.path,)
+        return (self.path,) + ((self.pds4_label_path,) if self.pds4_label_path else ())
 
 
 def write_dtm(
@@ -88,11 +91,17 @@ def write_pds3_dtm(
     institution: str | None = None,
     version: str = "1.0",
     overwrite: bool = False,
+    label: str = "pds3",
 ) -> DtmProduct:
-    """Convert a single-band elevation raster into `OUTDIR/<PRODUCT_ID>.IMG` (float32)."""
+    """Convert a single-band elevation raster into `OUTDIR/<PRODUCT_ID>.IMG` (float32).
+
+    label: "pds3" the .IMG with its attached label; "pds4" `<PRODUCT_ID>.img` (raw samples)
+    + `<PRODUCT_ID>.xml`; "both" the PDS3 .IMG and a PDS4 `.xml` describing that same file.
+    """
     byte_order = byte_order or "lsb"
     if byte_order not in BYTE_ORDERS:
         raise PdsgenError(None, f"byte order must be one of {', '.join(BYTE_ORDERS)}")
+    check_label_dialect(label)
     chosen = mission
     version = check_version(version)
     keywords = resolve_params(params)
@@ -139,11 +148,25 @@ def write_pds3_dtm(
                 raise PdsgenError(input_path, "has no valid pixels (all nodata)")
             return stats
 
-        final = prepare_output_dir(outdir) / f"{product_id}.IMG"
-        with StagedOutputs([final], overwrite) as staged:
-            records, text, stats = write_attached_product(
-                staged.path(final), render, dataset.width * 4, dataset.height, write_data
-            )
+        outdir = prepare_output_dir(outdir)
+        description = ProductDescription(product_id, chosen, version, ident, geometry, dataset)
+        big_endian = byte_order == "msb"
+        xml_final = outdir / f"{product_id}.xml"
+        if label == "pds4":
+            final = outdir / f"{product_id}.img"
+            with StagedOutputs([final, xml_final], overwrite) as staged:
+                stats, pds4 = write_pds4_dtm(description, staged.path(final), staged.path(xml_final), final.name,
+                                             big_endian)
+            records, text = RecordLayout(dataset.width * 4, 0, dataset.height), pds4.text
+        else:
+            final = outdir / f"{product_id}.IMG"
+            with StagedOutputs([final] + ([xml_final] if label == "both" else []), overwrite) as staged:
+                records, text, stats = write_attached_product(
+                    staged.path(final), render, dataset.width * 4, dataset.height, write_data
+                )
+                if label == "both":
+                    write_dtm_pds4_label(description, staged.path(xml_final), staged.path(final), final.name,
+                                         big_endian, records.label_bytes)
     return DtmProduct(
         product_id=product_id,
         path=final,
@@ -152,6 +175,7 @@ def write_pds3_dtm(
         valid_maximum=stats.maximum,
         records=records,
         label_text=text,
+        pds4_label_path=xml_final if label != "pds3" else None,
     )
 
 

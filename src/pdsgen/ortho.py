@@ -10,7 +10,8 @@ together, so either both appear or neither does.
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
+from contextlib import ExitStack
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -41,6 +42,9 @@ from .label.render import render_label
 from .label.values import Based, Quantity, Symbol
 from .missions import Mission, ProductIdRequest, get_mission
 from .missions.generic import check_product_id, generic_product_id
+from .pds4.content import digest_file
+from .pds4.model import check_label_dialect
+from .pds4.products import ArrayRowTap, ProductDescription, ortho_label_text
 from .products.dispatch import call_mission_writer
 from .products.identification import identification_keywords
 from .products.params import ParamValue, check_version, resolve_params
@@ -58,12 +62,14 @@ class OrthoProduct:
     offset: float
     bits: int
     bands: int
-    label_text: str
+    label_text: str  # the PDS3 label, or the PDS4 label of a PDS4-only product
+    pds4_label_path: Path | None = None  # with the uncompressed primary array beside it (.img)
 
     @property
     def files(self) -> tuple[Path, ...]:
         """Every file this product wrote."""
-        return (self.jp2_path, self.label_path)
+        pds4 = (self.pds4_label_path.with_suffix(".img"), self.pds4_label_path) if self.pds4_label_path else ()
+        return tuple(dict.fromkeys((self.jp2_path, self.label_path, *pds4)))
 
 
 # Band names of 1- and 3-band orthoimages, as HiRISE labels write them.
@@ -109,8 +115,15 @@ def write_jp2_ortho(
     gmljp2: bool = False,
     version: str = "1.0",
     overwrite: bool = False,
+    label: str = "pds3",
 ) -> OrthoProduct:
-    """Convert a 1-band (RED) or 3-band (IRB) orthoimage into `<PRODUCT_ID>.JP2` + `.LBL`."""
+    """Convert a 1-band (RED) or 3-band (IRB) orthoimage into `<PRODUCT_ID>.JP2` + `.LBL`.
+
+    label "pds4" writes the PDS4 form instead of the .LBL: the uncompressed DNs as the
+    primary array `<PRODUCT_ID>.img`, the JP2 as a supplemental Encoded_Image, and
+    `<PRODUCT_ID>.xml`; "both" writes the .LBL and the PDS4 form.
+    """
+    check_label_dialect(label)
     if bits is not None and bits not in BIT_DEPTHS:
         raise PdsgenError(None, f"--bits must be one of {', '.join(map(str, BIT_DEPTHS))}, not {bits}")
     chosen = mission
@@ -131,31 +144,47 @@ def write_jp2_ortho(
         ))
         outdir = prepare_output_dir(outdir)
         jp2_final, label_final = outdir / f"{product_id}.JP2", outdir / f"{product_id}.LBL"
+        img_final, xml_final = outdir / f"{product_id}.img", outdir / f"{product_id}.xml"
         text = render_label("ortho.lbl.j2", _label_context(
             chosen, product_id, ident, sources, geometry, dataset.count, mapping, jp2_final.name,
         ))
         boxes = [geojp2_box(dataset.crs, dataset.transform)]
         if gmljp2:
             boxes.append(gmljp2_box(dataset.crs, dataset.transform, dataset.height, dataset.width))
-        with StagedOutputs([jp2_final, label_final], overwrite) as staged:
+        finals = [jp2_final] + ([label_final] if label != "pds4" else []) + (
+            [img_final, xml_final] if label != "pds3" else [])
+        with StagedOutputs(finals, overwrite) as staged, ExitStack() as files:
             reader = _TileRowReader(dataset, mapping, str(input_path))
+            rows: Callable[[int, int], np.ndarray] = reader
+            if label != "pds3":  # the same DNs also go, uncompressed, into the PDS4 primary array
+                rows = ArrayRowTap(reader, files.enter_context(open(staged.path(img_final), "wb")), mapping.special)
             write_jp2(
                 staged.path(jp2_final), dataset.height, dataset.width, dataset.count,
-                mapping.special.bits, reader, boxes,
+                mapping.special.bits, rows, boxes,
             )
             if not reader.any_valid:
                 raise PdsgenError(input_path, "has no valid pixels (all nodata)")
-            staged.path(label_final).write_bytes(text.encode("ascii"))
+            files.close()
+            if label != "pds4":
+                staged.path(label_final).write_bytes(text.encode("ascii"))
+            if isinstance(rows, ArrayRowTap):
+                description = ProductDescription(product_id, chosen, version, ident, geometry, dataset)
+                pds4_text = ortho_label_text(description, img_final.name, rows, jp2_final.name,
+                                             digest_file(staged.path(jp2_final)), mapping.scaling_factor,
+                                             mapping.offset)
+                staged.path(xml_final).write_text(pds4_text, encoding="utf-8")
+                text = pds4_text if label == "pds4" else text
     return OrthoProduct(
         product_id=product_id,
         jp2_path=jp2_final,
-        label_path=label_final,
+        label_path=xml_final if label == "pds4" else label_final,
         geometry=geometry,
         scaling_factor=mapping.scaling_factor,
         offset=mapping.offset,
         bits=bits,
         bands=dataset.count,
         label_text=text,
+        pds4_label_path=xml_final if label != "pds3" else None,
     )
 
 

@@ -7,13 +7,14 @@ import click
 from ..dtm import DtmProduct, write_dtm
 from ..hrsc import HrscDtmProduct
 from ..imars import ImarsProduct
+from ..pds4.model import LABEL_DIALECTS
 from ..profiles import profile_names
 from ._profile_options import refuse_unused_options
 
 _COMMON = {"input_path", "outdir", "product_id", "source_ids", "product_version", "params_file", "overwrite"}
 USED_BY_PROFILE = {
-    "generic": _COMMON | {"byte_order"},
-    "hirise": _COMMON | {"byte_order", "institution"},
+    "generic": _COMMON | {"byte_order", "label"},
+    "hirise": _COMMON | {"byte_order", "institution", "label"},
     "hrsc": _COMMON | {"byte_order", "kind", "vertical_datum", "areoid", "precision", "reproject"},
     "imars": _COMMON | {"kind", "vertical_datum", "areoid", "precision"},
 }
@@ -45,13 +46,17 @@ USED_BY_PROFILE = {
               help="hrsc/imars: metres per stored integer step (SCALING_FACTOR).")
 @click.option("--reproject", is_flag=True,
               help="hrsc: warp the input into the HRSC projection and sphere instead of refusing it.")
+@click.option("--label", type=click.Choice(LABEL_DIALECTS), default="pds3", show_default=True,
+              help="generic/hirise: pds3 (.IMG, attached label), pds4 (.img + .xml) or both "
+                   "(.IMG + a PDS4 .xml describing it).")
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 @click.pass_context
 def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, product_version,
-        params_file, byte_order, kind, vertical_datum, areoid, precision, reproject, overwrite) -> None:
+        params_file, byte_order, kind, vertical_datum, areoid, precision, reproject, label, overwrite) -> None:
     """Convert the single-band elevation raster INPUT (any GDAL format, projected
     CRS: equirectangular, polar stereographic or sinusoidal) into a PDS3 DTM in OUTDIR:
-    <PRODUCT_ID>.IMG (float32); for --profile hrsc hOOOO_NNNN_dt4.img / _da4.img
+    <PRODUCT_ID>.IMG (float32), or with --label pds4 a PDS4 one (<PRODUCT_ID>.img + .xml);
+    for --profile hrsc hOOOO_NNNN_dt4.img / _da4.img
     (16-bit integers with MEX:DTM scaling); for --profile imars the iMars form:
     hOOOO_NNNN_da4_ucl.tif (int16 GeoTIFF), its .pvl metadata and hOOOO_NNNN.geojson."""
     refuse_unused_options(ctx, profile, USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"]))
@@ -59,7 +64,7 @@ def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, p
         "product_id": product_id, "source_product_ids": source_ids, "params": params_file,
         "version": product_version, "overwrite": overwrite, "byte_order": byte_order, "institution": institution,
         "kind": kind, "vertical_datum": vertical_datum, "areoid": areoid, "precision": precision,
-        "reproject_input": reproject,
+        "reproject_input": reproject, "label": label,
     }
     used = USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"])
     options = {name: value for name, value in given.items() if _CLI_NAMES.get(name, name) in used}
@@ -81,5 +86,6 @@ def _summary(product: object) -> str:
                 f"DN {product.valid_minimum} .. {product.valid_maximum} "
                 f"(x {product.encoding.scaling_factor:g} + {product.encoding.offset:g} m)")
     assert isinstance(product, DtmProduct)
-    return (f"{product.path}  {product.geometry.lines} x {product.geometry.samples}  "
+    pds4 = f"  {product.pds4_label_path.name}" if product.pds4_label_path else ""
+    return (f"{product.path}{pds4}  {product.geometry.lines} x {product.geometry.samples}  "
             f"valid {product.valid_minimum} .. {product.valid_maximum} m")

@@ -7,13 +7,14 @@ import click
 from ..hrsc import HrscImageProduct
 from ..imars import ImarsProduct
 from ..ortho import OrthoProduct, write_ortho
+from ..pds4.model import LABEL_DIALECTS
 from ..profiles import profile_names
 from ._profile_options import refuse_unused_options
 
 _COMMON = {"input_path", "outdir", "product_id", "value_range", "params_file", "product_version", "overwrite"}
 USED_BY_PROFILE = {
-    "generic": _COMMON | {"bits", "observation_id", "source_dtm_id", "sequence", "gmljp2"},
-    "hirise": _COMMON | {"bits", "observation_id", "source_dtm_id", "sequence", "gmljp2"},
+    "generic": _COMMON | {"bits", "observation_id", "source_dtm_id", "sequence", "gmljp2", "label"},
+    "hirise": _COMMON | {"bits", "observation_id", "source_dtm_id", "sequence", "gmljp2", "label"},
     "hrsc": _COMMON | {"bits", "source_ids", "reproject"},
     "imars": _COMMON | {"bits", "source_ids"},
 }
@@ -41,12 +42,15 @@ USED_BY_PROFILE = {
 @click.option("--source-product-id", "source_ids", multiple=True,
               help="hrsc/imars: source product (e.g. H1234_0000_ND3) giving orbit and sequence.")
 @click.option("--reproject", is_flag=True, help="hrsc: warp the input into the HRSC projection and sphere.")
+@click.option("--label", type=click.Choice(LABEL_DIALECTS), default="pds3", show_default=True,
+              help="generic/hirise: pds3 (.JP2 + .LBL), pds4 (.JP2 + uncompressed .img + .xml) or both.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 @click.pass_context
 def ortho(ctx, input_path, outdir, profile, product_id, bits, value_range, observation_id, source_dtm_id,
-          sequence, params_file, product_version, gmljp2, source_ids, reproject, overwrite) -> None:
+          sequence, params_file, product_version, gmljp2, source_ids, reproject, label, overwrite) -> None:
     """Convert the 1-band (RED) or 3-band (IRB) orthoimage INPUT (any GDAL format,
-    projected CRS as for DTMs) into OUTDIR/<PRODUCT_ID>.JP2 and .LBL; for --profile
+    projected CRS as for DTMs) into OUTDIR/<PRODUCT_ID>.JP2 and .LBL (--label pds4: .JP2,
+    .img and .xml); for --profile
     hrsc the 8-bit nadir image hOOOO_NNNN_nd4.img (attached label, DN 0 = no data);
     for --profile imars hOOOO_NNNN_nd4_ucl.tif with its .pvl and footprint."""
     used = USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"])
@@ -55,7 +59,7 @@ def ortho(ctx, input_path, outdir, profile, product_id, bits, value_range, obser
         "product_id": product_id, "bits": int(bits) if bits else None, "value_range": value_range or None,
         "observation_id": observation_id, "source_dtm_id": source_dtm_id, "sequence": sequence,
         "params": params_file, "gmljp2": gmljp2, "version": product_version, "overwrite": overwrite,
-        "source_product_ids": source_ids, "reproject_input": reproject,
+        "source_product_ids": source_ids, "reproject_input": reproject, "label": label,
     }
     options = {name: value for name, value in given.items() if _CLI_NAMES.get(name, name) in used}
     product = write_ortho(input_path, outdir, profile=profile, **options)
@@ -74,5 +78,6 @@ def _summary(product: object) -> str:
     if isinstance(product, ImarsProduct):
         return f"{product.tiff_path}  {product.pvl_path.name}  {product.footprint_path.name}"
     assert isinstance(product, OrthoProduct)
-    return (f"{product.jp2_path}  {product.geometry.lines} x {product.geometry.samples} x {product.bands}  "
+    pds4 = f"  {product.pds4_label_path.name}" if product.pds4_label_path else ""
+    return (f"{product.jp2_path}{pds4}  {product.geometry.lines} x {product.geometry.samples} x {product.bands}  "
             f"{product.bits}-bit DN * {product.scaling_factor:.6g} + {product.offset:.6g}")

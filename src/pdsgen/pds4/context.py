@@ -1,73 +1,17 @@
-"""PDS4 context facts: the investigation, observing system and target a label names.
+"""PDS4 context: the investigation, observing system and target a label names.
 
-PDS4 labels point at registered context products by LID. The mission parts come
-from the mission profile (`PDS4_MISSIONS`, keyed like `profiles.PROFILES`); the
-target from the body the CRS names. Unknown targets keep their name without a
-context reference rather than inventing a LID.
+PDS4 labels point at registered context products by LID. The mission's part comes
+from its module (`Mission.pds4`: bundle, investigation, host and instrument); the
+target from the body the CRS names. An unknown target keeps its name without a
+context reference rather than an invented LID.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
 
-from ..params import ParamValue
-
-
-@dataclass(frozen=True)
-class Component:
-    name: str
-    type: str  # Host, Instrument, ...
-    lid: str | None
-    reference_type: str
-
-
-@dataclass(frozen=True)
-class Pds4Mission:
-    """What a mission contributes to a PDS4 label."""
-
-    bundle: str  # LID bundle part
-    investigation_name: str
-    investigation_type: str
-    investigation_lid: str
-    components: tuple[Component, ...]
-
-
-_NO_INVESTIGATION = Pds4Mission(
-    bundle="pdsgen",
-    investigation_name="No Specific Investigation",
-    investigation_type="Individual Investigation",
-    investigation_lid="urn:nasa:pds:context:investigation:individual.none",
-    components=(),
-)
-
-PDS4_MISSIONS = {
-    "hirise": Pds4Mission(
-        bundle="mro_hirise",
-        investigation_name="Mars Reconnaissance Orbiter",
-        investigation_type="Mission",
-        investigation_lid="urn:nasa:pds:context:investigation:mission.mars_reconnaissance_orbiter",
-        components=(
-            Component("Mars Reconnaissance Orbiter", "Host",
-                      "urn:nasa:pds:context:instrument_host:spacecraft.mro", "is_instrument_host"),
-            Component("High Resolution Imaging Science Experiment", "Instrument",
-                      "urn:nasa:pds:context:instrument:mro.hirise", "is_instrument"),
-        ),
-    ),
-    "hrsc": Pds4Mission(
-        bundle="mex_hrsc",
-        investigation_name="Mars Express",
-        investigation_type="Mission",
-        investigation_lid="urn:nasa:pds:context:investigation:mission.mars_express",
-        components=(
-            Component("Mars Express", "Host", "urn:nasa:pds:context:instrument_host:spacecraft.mex",
-                      "is_instrument_host"),
-            Component("High Resolution Stereo Camera", "Instrument",
-                      "urn:nasa:pds:context:instrument:mex.hrsc", "is_instrument"),
-        ),
-    ),
-    "generic": _NO_INVESTIGATION,
-}
+from ..missions import ContextReference, Mission
+from ..products.params import ParamValue
 
 # Bodies pdsgen recognises from a CRS (geometry.target_name) -> (PDS4 name, type, context LID).
 TARGETS = {
@@ -84,24 +28,19 @@ TARGETS = {
 }
 
 
-def pds4_mission(profile: str) -> Pds4Mission:
-    return PDS4_MISSIONS.get(profile, _NO_INVESTIGATION)
-
-
-def observation(profile: str, target: str | None, summary: str,
+def observation(mission: Mission, target: str | None, summary: str,
                 keywords: Mapping[str, ParamValue]) -> dict[str, object]:
-    """The Observation_Area values (besides cartography) for a product of `profile`."""
-    mission = pds4_mission(profile)
+    """The Observation_Area values (besides cartography) for a product of `mission`."""
+    facts = mission.pds4
     name, kind, lid = TARGETS.get((target or "").upper(), ((target or "Unknown").title(), "Planet", None))
-    components = list(mission.components)
-    if not components:
+    components: list[ContextReference | dict[str, str | None]] = list(facts.observing_system)
+    if not components:  # PDS4 needs one; without a registered instrument, name the one given
         instrument = str(keywords.get("INSTRUMENT_NAME", "UNK"))
-        components = [Component(instrument if instrument != "UNK" else "Unknown", "Instrument", None, "")]
+        components = [{"name": instrument if instrument != "UNK" else "Unknown", "type": "Instrument",
+                       "lid": None, "reference_type": None}]
     return {
         "summary": summary,
-        "investigation_name": mission.investigation_name,
-        "investigation_type": mission.investigation_type,
-        "investigation_lid": mission.investigation_lid,
+        "investigation": facts.investigation,
         "components": components,
         "target_name": name,
         "target_type": kind,
@@ -109,6 +48,6 @@ def observation(profile: str, target: str | None, summary: str,
     }
 
 
-def logical_identifier(profile: str, collection: str, product_id: str) -> str:
+def logical_identifier(mission: Mission, collection: str, product_id: str) -> str:
     """urn:nasa:pds:<bundle>:<collection>:<product> (LIDs are lower case)."""
-    return f"urn:nasa:pds:{pds4_mission(profile).bundle}:{collection}:{product_id.lower()}"
+    return f"urn:nasa:pds:{mission.pds4.bundle}:{collection}:{product_id.lower()}"

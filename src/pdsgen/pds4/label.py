@@ -17,7 +17,7 @@ import jinja2
 from affine import Affine
 from rasterio.crs import CRS
 
-from ..geometry import EQUIRECTANGULAR, POLAR_STEREOGRAPHIC, SINUSOIDAL, MapGeometry
+from ..geo.geometry import EQUIRECTANGULAR, POLAR_STEREOGRAPHIC, SINUSOIDAL, MapGeometry
 from ..label.render import template_environment
 from ..label.values import format_real
 from ..resources import templates_dir

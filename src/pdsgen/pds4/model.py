@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..errors import ParamsError
+
 PDS_NS = "http://pds.nasa.gov/pds4/pds/v1"
 CART_NS = "http://pds.nasa.gov/pds4/cart/v1"
 DISP_NS = "http://pds.nasa.gov/pds4/disp/v1"
@@ -58,6 +60,15 @@ IM_1O00 = InformationModel(
 
 # The version pdsgen writes.
 CURRENT_IM = IM_1O00
+
+# Label dialects of the standard DTM and orthoimage products (`--label`).
+LABEL_DIALECTS = ("pds3", "pds4", "both")
+
+
+def check_label_dialect(label: str) -> str:
+    if label not in LABEL_DIALECTS:
+        raise ParamsError(None, f"--label must be one of {', '.join(LABEL_DIALECTS)}, not {label!r}")
+    return label
 
 # PDS4 array data types of the samples pdsgen writes, by (numpy kind+size, big endian).
 DATA_TYPES = {

@@ -22,11 +22,12 @@ from rasterio.io import DatasetReader
 
 from .. import __version__
 from ..errors import PdsgenError
-from ..geometry import MapGeometry
-from ..params import ParamValue
-from ..scale_dn import SpecialDns
-from ..write_image import MISSING_CONSTANT, BandStatistics, stream_float32_band
-from .content import ArrayStatistics, ContentTap, FileContent, digest_file
+from ..formats.img import MISSING_CONSTANT, BandStatistics, stream_float32_band
+from ..formats.scale_dn import SpecialDns
+from ..geo.geometry import MapGeometry
+from ..missions import Mission
+from ..products.params import ParamValue
+from .content import ArrayStatistics, ContentTap, FileContent
 from .context import logical_identifier, observation
 from .label import cartography, render_pds4
 from .model import DATA_TYPES
@@ -50,24 +51,28 @@ class ProductDescription:
     """Everything a label needs besides the data: names, keywords, geometry."""
 
     product_id: str
-    profile: str
+    mission: Mission
     version: str
     keywords: Mapping[str, ParamValue]
     geometry: MapGeometry
     dataset: DatasetReader
 
     def target(self) -> str | None:
-        return self.geometry.target_name or str(self.keywords.get("TARGET_NAME", "MARS"))
+        return self.geometry.target_name or str(self.keywords.get("TARGET_NAME", "")) or None
 
 
-def write_dtm_data(dataset: DatasetReader, out: BinaryIO, big_endian: bool
-                   ) -> tuple[BandStatistics, ArrayStatistics, FileContent]:
-    """Stream the DTM samples into `out`, taking MD5, size and Object_Statistics in the same pass."""
-    tap = ContentTap(out, (">" if big_endian else "<") + "f4", special=(float(MISSING_CONSTANT),))
-    stats = stream_float32_band(dataset, cast(BinaryIO, tap), big_endian=big_endian)  # it only calls write()
+def write_pds4_dtm(product: ProductDescription, data_path: Path, label_path: Path, data_name: str,
+                   big_endian: bool) -> tuple[BandStatistics, Pds4Label]:
+    """A float32 DTM as `data_path` (raw samples) + its PDS4 label, in one pass over the input:
+    the PDS3 writer's strip streaming, through a ContentTap taking MD5, size and statistics."""
+    with open(data_path, "wb") as out:
+        tap = ContentTap(out, (">" if big_endian else "<") + "f4", special=(float(MISSING_CONSTANT),))
+        stats = stream_float32_band(product.dataset, cast(BinaryIO, tap), big_endian)  # it only calls write()
     if stats.valid_count == 0:
-        raise PdsgenError(dataset.name, "has no valid pixels (all nodata)")
-    return stats, tap.statistics(), tap.content()
+        raise PdsgenError(product.dataset.name, "has no valid pixels (all nodata)")
+    text = dtm_label_text(product, data_name, big_endian, tap.statistics(), tap.content())
+    label_path.write_text(text, encoding="utf-8")
+    return stats, Pds4Label(label_path, text, tap.statistics(), tap.content())
 
 
 def dtm_label_text(product: ProductDescription, data_name: str, big_endian: bool, statistics: ArrayStatistics,
@@ -115,10 +120,10 @@ def _common(product: ProductDescription, collection: str, kind: str) -> dict[str
     geometry, dataset = product.geometry, product.dataset
     target = product.target()
     summary = f"{kind.capitalize()} {product.product_id}, written by pdsgen {__version__}."
-    obs = observation(product.profile, target, summary, product.keywords)
+    obs = observation(product.mission, target, summary, product.keywords)
     return {
         "ident": {
-            "lid": logical_identifier(product.profile, collection, product.product_id),
+            "lid": logical_identifier(product.mission, collection, product.product_id),
             "version_id": product.version,
             "title": f"{product.product_id}: {kind} of {obs['target_name']}",
         },
@@ -201,83 +206,3 @@ def ortho_label_text(product: ProductDescription, data_name: str, tap: ArrayRowT
         "jp2_file": {**_file_entry(jp2_name, jp2), "local_identifier": "jp2_file"},
         "array": array,
     })
-
-def write_dtm_pds4(
-    input_path: str | Path,
-    outdir: str | Path,
-    *,
-    profile: str = "generic",
-    product_id: str | None = None,
-    byte_order: str = "lsb",
-    version: str = "1.0",
-    overwrite: bool = False,
-) -> Pds4Label:
-    """A DTM as a PDS4 product only: `<id>.img` + `<id>.xml` in OUTDIR."""
-    from ..dtm import BYTE_ORDERS
-    from ..geometry import describe_geometry
-    from ..profiles import check_product_id, generic_product_id
-    from ..read_raster import open_raster, require_single_band
-    from ..staging import StagedOutputs, prepare_output_dir
-
-    if byte_order not in BYTE_ORDERS:
-        raise PdsgenError(None, f"byte order must be one of {', '.join(BYTE_ORDERS)}")
-    input_path = Path(input_path)
-    product_id = check_product_id(product_id) if product_id else generic_product_id(input_path.stem)
-    big_endian = byte_order == "msb"
-    with open_raster(input_path) as dataset:
-        require_single_band(dataset)
-        geometry = describe_geometry(dataset.crs, dataset.transform, dataset.width, dataset.height,
-                                     str(input_path))
-        product = ProductDescription(product_id, profile, version, {}, geometry, dataset)
-        outdir = prepare_output_dir(outdir)
-        data_final, label_final = outdir / f"{product_id.lower()}.img", outdir / f"{product_id.lower()}.xml"
-        with StagedOutputs([data_final, label_final], overwrite) as staged:
-            with open(staged.path(data_final), "wb") as handle:
-                _, statistics, content = write_dtm_data(dataset, handle, big_endian)
-            text = dtm_label_text(product, data_final.name, big_endian, statistics, content)
-            staged.path(label_final).write_text(text, encoding="utf-8")
-    return Pds4Label(label_final, text, statistics, content)
-
-
-def write_ortho_pds4(
-    input_path: str | Path,
-    outdir: str | Path,
-    *,
-    profile: str = "generic",
-    product_id: str,
-    bits: int | None = None,
-    version: str = "1.0",
-    overwrite: bool = False,
-) -> Pds4Label:
-    """An orthoimage as a PDS4 product: `<id>.img` (primary) + `<id>.jp2` (supplemental) + `<id>.xml`."""
-    from ..geojp2 import geojp2_box
-    from ..geometry import describe_geometry
-    from ..ortho import _check_input, _choose_mapping, _default_bits, _TileRowReader
-    from ..profiles import check_product_id
-    from ..read_raster import open_raster
-    from ..staging import StagedOutputs, prepare_output_dir
-    from ..write_jp2 import write_jp2
-
-    input_path = Path(input_path)
-    product_id = check_product_id(product_id)
-    with open_raster(input_path) as dataset:
-        _check_input(dataset, input_path)
-        geometry = describe_geometry(dataset.crs, dataset.transform, dataset.width, dataset.height,
-                                     str(input_path))
-        bits = bits or _default_bits(dataset, profile)
-        mapping = _choose_mapping(dataset, input_path, bits, None)
-        product = ProductDescription(product_id, profile, version, {}, geometry, dataset)
-        outdir = prepare_output_dir(outdir)
-        stem = product_id.lower()
-        data_final, jp2_final, label_final = (outdir / f"{stem}.img", outdir / f"{stem}.jp2",
-                                              outdir / f"{stem}.xml")
-        with StagedOutputs([data_final, jp2_final, label_final], overwrite) as staged:
-            with open(staged.path(data_final), "wb") as handle:
-                reader = _TileRowReader(dataset, mapping, str(input_path))
-                tap = ArrayRowTap(reader, handle, mapping.special)
-                write_jp2(staged.path(jp2_final), dataset.height, dataset.width, dataset.count,
-                          mapping.special.bits, tap, [geojp2_box(dataset.crs, dataset.transform)])
-            text = ortho_label_text(product, data_final.name, tap, jp2_final.name,
-                                    digest_file(staged.path(jp2_final)), mapping.scaling_factor, mapping.offset)
-            staged.path(label_final).write_text(text, encoding="utf-8")
-    return Pds4Label(label_final, text, tap.tap.statistics(), tap.tap.content())
