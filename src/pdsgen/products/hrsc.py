@@ -183,13 +183,15 @@ def hrsc_grid(dataset: DatasetReader, reproject_input: bool) -> Iterator[Dataset
         yield vrt
 
 
-def areoid_adjustment(areoid_path: str | os.PathLike[str], grid: DatasetReader, sign: float) -> Adjust:
+def areoid_adjustment(areoid_path: str | os.PathLike[str] | None, grid: DatasetReader, sign: float) -> Adjust:
     """Add (sign=+1) or subtract (sign=-1) areoid heights resampled onto each strip.
 
     The areoid grid (heights of the areoid above the 3396.0 km sphere, metres, any
     CRS GDAL knows) is read once, only over the DTM's footprint, and warped onto
     each strip with bilinear interpolation.
     """
+    if areoid_path is None:
+        raise PdsgenError(None, "converting between the sphere and the areoid needs --areoid")
     with open_raster(areoid_path) as areoid:
         require_single_band(areoid, "an areoid grid")
         if areoid.crs is None:
@@ -310,7 +312,7 @@ def hrsc_identification(
     """File name, PRODUCT_ID, orbit and identification keywords of one HRSC product."""
     sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
     base, orbit = hrsc_base_name(product_id, sources)
-    ident = {**defaults, "PRODUCT_VERSION_ID": version, "SOFTWARE_NAME": f"pdsgen {__version__}"}
+    ident: dict[str, ParamValue] = {**defaults, "PRODUCT_VERSION_ID": version, "SOFTWARE_NAME": f"pdsgen {__version__}"}
     ident.update({k: v for k, v in keywords.items() if k in ident})
     return {
         "file_name": f"{base}_{kind}.img",

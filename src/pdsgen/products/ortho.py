@@ -239,7 +239,7 @@ def _source_ids(
     keywords: Mapping[str, ParamValue], observation_id: str | None, source_dtm_id: str | None
 ) -> list[str]:
     listed = keywords.get("SOURCE_PRODUCT_ID", [])
-    sources = list(listed) if isinstance(listed, list) else [listed]
+    sources = [str(s) for s in listed] if isinstance(listed, list) else [str(listed)]
     if observation_id and observation_id not in sources:
         sources.insert(0, observation_id)
     if source_dtm_id and source_dtm_id not in sources:
