@@ -16,8 +16,8 @@ from typing import Any
 __version__ = "0.1.0"
 
 _LAZY = {
-    "write_dtm": "pdsgen.dtm",
-    "write_ortho": "pdsgen.ortho",
+    "write_dtm": "pdsgen.products.dtm",
+    "write_ortho": "pdsgen.products.ortho",
     "make_extras": "pdsgen.extras",
     "validate_paths": "pdsgen.validate",
     "register_mission": "pdsgen.missions",

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import click
 
-from ..dtm import DtmProduct, write_dtm
-from ..hrsc import HrscDtmProduct
-from ..imars import ImarsProduct
 from ..pds4.model import LABEL_DIALECTS
+from ..products.dtm import DtmProduct, write_dtm
+from ..products.hrsc import HrscDtmProduct
+from ..products.imars import ImarsProduct
 from ..profiles import profile_names
 from ._profile_options import refuse_unused_options
 

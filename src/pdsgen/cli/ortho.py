@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import click
 
-from ..hrsc import HrscImageProduct
-from ..imars import ImarsProduct
-from ..ortho import OrthoProduct, write_ortho
 from ..pds4.model import LABEL_DIALECTS
+from ..products.hrsc import HrscImageProduct
+from ..products.imars import ImarsProduct
+from ..products.ortho import OrthoProduct, write_ortho
 from ..profiles import profile_names
 from ._profile_options import refuse_unused_options
 

@@ -154,7 +154,7 @@ def _check_options(browse_width: int | None, thumb_width: int, azimuth: float, a
 
 def _check_int(what: str, value: object, low: int, high: int) -> None:
     if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not (
-            low <= value <= high):
+            low <= int(value) <= high):
         raise PdsgenError(None, f"{what} {value!r} must be a whole number of pixels, "
                                 f"{low} .. {high}")
 

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import struct
 import uuid
+from typing import Any
 
 import numpy as np
 from affine import Affine
@@ -77,14 +78,14 @@ def geokeys(tiff: bytes) -> dict[int, object]:
 _TYPE_FORMATS = {1: "B", 2: "s", 3: "H", 4: "I", 11: "f", 12: "d", 16: "Q"}
 
 
-def _first_ifd_tags(tiff: bytes) -> dict[int, object]:
+def _first_ifd_tags(tiff: bytes) -> dict[int, Any]:
     """Tag number -> values of the first image directory (classic TIFF only)."""
     order = {b"II": "<", b"MM": ">"}.get(tiff[:2])
     if order is None or struct.unpack(order + "H", tiff[2:4])[0] != 42:
         raise ValueError("not a classic TIFF")
     (ifd,) = struct.unpack(order + "I", tiff[4:8])
     (count,) = struct.unpack(order + "H", tiff[ifd:ifd + 2])
-    tags: dict[int, object] = {}
+    tags: dict[int, Any] = {}
     for index in range(count):
         entry = tiff[ifd + 2 + 12 * index: ifd + 14 + 12 * index]
         tag, kind, number = struct.unpack(order + "HHI", entry[:8])

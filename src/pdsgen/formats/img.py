@@ -14,7 +14,7 @@ from collections import deque
 from collections.abc import Callable, Iterator
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
-from typing import BinaryIO
+from typing import BinaryIO, Literal
 
 import numpy as np
 from rasterio.io import DatasetReader
@@ -142,7 +142,7 @@ def stream_band(
             stored = encode(values, invalid)
             n, lo, hi = valid_extremes(stored, invalid)
             count, low, high = count + n, min(low, lo), max(high, hi)
-            order = ">" if big_endian else "<"
+            order: Literal[">", "<"] = ">" if big_endian else "<"
             writer.submit(np.ascontiguousarray(stored.astype(stored.dtype.newbyteorder(order), copy=False)))
     return _statistics(count, low, high)
 
@@ -170,7 +170,7 @@ class StripWriter:
     def submit(self, array: np.ndarray) -> None:
         while len(self._pending) >= self._depth:
             self._pending.popleft().result()
-        self._pending.append(self._pool.submit(self._out.write, memoryview(array)))
+        self._pending.append(self._pool.submit(self._out.write, array.data))
 
     def __enter__(self) -> StripWriter:
         return self

@@ -99,7 +99,7 @@ class Mission:
         if named is None or callable(named):
             return named
         module, _, function = named.partition(":")
-        return getattr(importlib.import_module(module), function)  # type: ignore[no-any-return]
+        return getattr(importlib.import_module(module), function)
 
 
 _REGISTRY: dict[str, Mission] = {}

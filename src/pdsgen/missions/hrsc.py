@@ -92,7 +92,7 @@ MISSION = Mission(
     dtm_keywords=KEYWORDS,
     dtm_note=DTM_NOTE,
     credit=CREDIT,
-    dtm_writer="pdsgen.hrsc:write_hrsc_dtm",
-    ortho_writer="pdsgen.hrsc:write_hrsc_nd4",
+    dtm_writer="pdsgen.products.hrsc:write_hrsc_dtm",
+    ortho_writer="pdsgen.products.hrsc:write_hrsc_nd4",
     detect=is_hrsc,
 )

@@ -39,6 +39,6 @@ MISSION = Mission(
     name="imars",
     dtm_note=DTM_NOTE,
     credit=CREDIT,
-    dtm_writer="pdsgen.imars:write_imars_dtm",
-    ortho_writer="pdsgen.imars:write_imars_ori",
+    dtm_writer="pdsgen.products.imars:write_imars_dtm",
+    ortho_writer="pdsgen.products.imars:write_imars_ori",
 )

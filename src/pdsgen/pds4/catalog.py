@@ -78,7 +78,7 @@ def schema_references(tree: etree._ElementTree) -> SchemaReferences:
     node = root.getprevious()
     while node is not None:
         if isinstance(node, etree._ProcessingInstruction) and node.target == "xml-model":
-            attrs = node.attrib  # type: ignore[attr-defined]
+            attrs = node.attrib
             if attrs.get("schematypens", "") == SCHEMATRON_NS and attrs.get("href"):
                 sch.append(attrs["href"])
         node = node.getprevious()

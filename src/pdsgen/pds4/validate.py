@@ -440,7 +440,7 @@ def _read_cart(tree: etree._ElementTree) -> _Cart | None:
         number = _number(box, f"{C}{side}_bounding_coordinate")
         if number is not None:
             bounds[side] = number
-            bound_lines[side] = box.find(f"{C}{side}_bounding_coordinate").sourceline  # type: ignore[union-attr]
+            bound_lines[side] = box.find(f"{C}{side}_bounding_coordinate").sourceline
     encoding = planar.findtext(f"{C}Planar_Coordinate_Information/{C}planar_coordinate_encoding_method") or ""
     ref = cart.findtext(f"{P}Local_Internal_Reference/{P}local_identifier_reference")
     array = next((a for a in tree.iter() if isinstance(a.tag, str) and a.tag.startswith(f"{P}Array")

@@ -1,0 +1,190 @@
+"""The DTM product: a PDS3 .IMG of float32 elevations with an attached label.
+
+Data flows one way: read raster -> describe geometry -> choose names and
+keywords (profile + params) -> render the label -> stream the image.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import PdsgenError
+from ..formats.img import (
+    MISSING_BITS,
+    MISSING_CONSTANT,
+    BandStatistics,
+    stream_float32_band,
+    write_attached_product,
+)
+from ..formats.raster import open_raster, require_single_band
+from ..formats.staging import StagedOutputs, prepare_output_dir
+from ..geo.geometry import MapGeometry, describe_geometry
+from ..label.grammar import sample_type
+from ..label.render import RecordLayout, render_label
+from ..label.values import Based, Symbol
+from ..missions import Mission, ProductIdRequest, get_mission
+from ..missions.generic import check_product_id, generic_product_id
+from ..pds4.model import check_label_dialect
+from ..pds4.products import ProductDescription, write_dtm_pds4_label, write_pds4_dtm
+from .dispatch import call_mission_writer
+from .identification import identification_keywords
+from .params import ParamValue, check_version, resolve_params
+
+BYTE_ORDERS = ("lsb", "msb")
+
+
+@dataclass(frozen=True)
+class DtmProduct:
+    """What `write_dtm` produced, for callers that go on to make Extras or check it."""
+
+    product_id: str
+    path: Path
+    geometry: MapGeometry
+    valid_minimum: float
+    valid_maximum: float
+    records: RecordLayout  # label_records 0: a raw PDS4 array file
+    label_text: str  # the PDS3 label, or the PDS4 label of a PDS4-only product
+    pds4_label_path: Path | None = None
+
+    @property
+    def files(self) -> tuple[Path, ...]:
+        """Every file this product wrote."""
+        return (self.path,) + ((self.pds4_label_path,) if self.pds4_label_path else ())
+
+
+def write_dtm(
+    input_path: str | os.PathLike[str],
+    outdir: str | os.PathLike[str],
+    *,
+    profile: str = "generic",
+    **options: Any,
+) -> Any:
+    """Write the DTM product of `profile` from a single-band elevation raster.
+
+    Missions with their own product form (hrsc: DT4/DA4 .img, imars: GeoTIFF +
+    PVL + footprint) have their writer called with `options`; the others get the
+    standard float32 PDS3 .IMG from `write_pds3_dtm` with the mission's names and
+    keywords. An option the profile's writer does not take is refused.
+    """
+    mission = get_mission(profile)
+    own = mission.writer("dtm")
+    if own is not None:
+        return call_mission_writer(own, profile, input_path, outdir, options)
+    return call_mission_writer(write_pds3_dtm, profile, input_path, outdir, {**options, "mission": mission})
+
+
+def write_pds3_dtm(
+    input_path: str | os.PathLike[str],
+    outdir: str | os.PathLike[str],
+    *,
+    mission: Mission,
+    product_id: str | None = None,
+    source_product_ids: Sequence[str] = (),
+    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
+    byte_order: str | None = None,
+    institution: str | None = None,
+    version: str = "1.0",
+    overwrite: bool = False,
+    label: str = "pds3",
+) -> DtmProduct:
+    """Convert a single-band elevation raster into `OUTDIR/<PRODUCT_ID>.IMG` (float32).
+
+    label: "pds3" the .IMG with its attached label; "pds4" `<PRODUCT_ID>.img` (raw samples)
+    + `<PRODUCT_ID>.xml`; "both" the PDS3 .IMG and a PDS4 `.xml` describing that same file.
+    """
+    byte_order = byte_order or "lsb"
+    if byte_order not in BYTE_ORDERS:
+        raise PdsgenError(None, f"byte order must be one of {', '.join(BYTE_ORDERS)}")
+    check_label_dialect(label)
+    chosen = mission
+    version = check_version(version)
+    keywords = resolve_params(params)
+    input_path = Path(input_path)
+    with open_raster(input_path) as dataset:
+        require_single_band(dataset)
+        if np.dtype(dataset.dtypes[0]).kind not in "iuf":
+            raise PdsgenError(input_path, f"sample type {dataset.dtypes[0]} is not a real number type")
+        geometry = describe_geometry(
+            dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path)
+        )
+        sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
+        ident = identification_keywords(chosen.dtm_keywords, keywords, geometry, version)
+        product_id = _dtm_product_id(
+            chosen, product_id, ProductIdRequest(
+                input_path.stem, geometry, sources, institution, str(ident["PRODUCT_VERSION_ID"])
+            ),
+        )
+        context = {
+            "product_id": product_id,
+            "ident": ident,
+            "source_product_id": [Symbol(s) for s in sources] if sources else "N/A",
+            "geometry": geometry,
+            "note": str(keywords.get("DTM_NOTE", chosen.dtm_note)),
+            "bit_mask": Based(0xFFFFFFFF, 2, 32),
+            "sample_type": Symbol(sample_type(byte_order == "msb", "f")),
+            "missing_constant": Based(MISSING_BITS, 16, 8),
+        }
+
+        def render(records: RecordLayout, stats: BandStatistics) -> str:
+            return render_label(
+                "dtm.lbl.j2",
+                {
+                    **context,
+                    "records": records,
+                    "valid_minimum": stats.minimum,
+                    "valid_maximum": stats.maximum,
+                },
+            )
+
+        def write_data(handle) -> BandStatistics:
+            stats = stream_float32_band(dataset, handle, big_endian=byte_order == "msb")
+            if stats.valid_count == 0:
+                raise PdsgenError(input_path, "has no valid pixels (all nodata)")
+            return stats
+
+        outdir = prepare_output_dir(outdir)
+        description = ProductDescription(product_id, chosen, version, ident, geometry, dataset)
+        big_endian = byte_order == "msb"
+        xml_final = outdir / f"{product_id}.xml"
+        if label == "pds4":
+            final = outdir / f"{product_id}.img"
+            with StagedOutputs([final, xml_final], overwrite) as staged:
+                stats, pds4 = write_pds4_dtm(description, staged.path(final), staged.path(xml_final), final.name,
+                                             big_endian)
+            records, text = RecordLayout(dataset.width * 4, 0, dataset.height), pds4.text
+        else:
+            final = outdir / f"{product_id}.IMG"
+            with StagedOutputs([final] + ([xml_final] if label == "both" else []), overwrite) as staged:
+                records, text, stats = write_attached_product(
+                    staged.path(final), render, dataset.width * 4, dataset.height, write_data
+                )
+                if label == "both":
+                    write_dtm_pds4_label(description, staged.path(xml_final), staged.path(final), final.name,
+                                         big_endian, records.label_bytes)
+    return DtmProduct(
+        product_id=product_id,
+        path=final,
+        geometry=geometry,
+        valid_minimum=stats.minimum,
+        valid_maximum=stats.maximum,
+        records=records,
+        label_text=text,
+        pds4_label_path=xml_final if label != "pds3" else None,
+    )
+
+
+def _dtm_product_id(mission: Mission, explicit: str | None, request: ProductIdRequest) -> str:
+    if explicit:
+        return check_product_id(explicit)
+    if mission.dtm_product_id is not None:
+        return mission.dtm_product_id(request)
+    return generic_product_id(request.stem)
+
+
+__all__ = ["DtmProduct", "write_dtm", "write_pds3_dtm", "MISSING_CONSTANT"]
