@@ -17,6 +17,8 @@ import numpy as np
 
 from ..label.values import shortest_float32
 
+_SAMPLES_PER_STEP = 1 << 20  # statistics of at most this many samples at a time (8 MB of float64)
+
 
 @dataclass(frozen=True)
 class ArrayStatistics:
@@ -71,21 +73,28 @@ class ContentTap:
         if skip >= len(view):
             return
         stored = np.frombuffer(view[skip:], dtype=self._dtype)
+        for first in range(0, stored.size, _SAMPLES_PER_STEP):  # bounds the float64 scratch
+            self._add_part(stored[first:first + _SAMPLES_PER_STEP])
+
+    def _add_part(self, stored: np.ndarray) -> None:
         if self._special is not None and self._special.size:
-            stored = stored[~np.isin(stored, self._special)]
-        samples = stored.astype(np.float64)
-        n = samples.size
+            special = np.isin(stored, self._special)
+            if special.any():
+                stored = stored[~special]
+        n = stored.size
         if n == 0:
             return
+        samples = stored.astype(np.float64)
         mean = float(samples.mean())
-        m2 = float(((samples - mean) ** 2).sum())
+        samples -= mean
+        m2 = float(samples @ samples)
         total = self.count + n
         delta = mean - self._mean
         self._mean += delta * n / total
         self._m2 += m2 + delta * delta * self.count * n / total
         self.count = total
-        self._low = min(self._low, float(samples.min()))
-        self._high = max(self._high, float(samples.max()))
+        self._low = min(self._low, float(stored.min()))
+        self._high = max(self._high, float(stored.max()))
 
     def statistics(self) -> ArrayStatistics:
         if self.count == 0:

@@ -19,6 +19,7 @@ from .label_tree import P, Report, data_path, file_areas, number
 from .model import NUMPY_TYPES
 
 _READ_BYTES = 8 * 1024 * 1024  # one read of a data file
+_SAMPLES_PER_STEP = 1 << 20  # samples whose statistics are taken at a time (8 MB of float64)
 # ISIS special pixels (NULL, LRS, LIS, HIS, HRS) are the float32 values at or below NULL.
 _ISIS_SPECIAL_LIMIT = -3.4028226550889045e38
 
@@ -76,7 +77,11 @@ class _ArrayStatistics:
         data = self.pending + block[low - position:high - position]
         usable = len(data) - len(data) % self.dtype.itemsize
         self.pending = data[usable:]
-        values = np.frombuffer(data[:usable], dtype=self.dtype).astype(np.float64)
+        stored = np.frombuffer(data[:usable], dtype=self.dtype)
+        for first in range(0, stored.size, _SAMPLES_PER_STEP):  # bounds the float64 scratch
+            self._add(stored[first:first + _SAMPLES_PER_STEP].astype(np.float64))
+
+    def _add(self, values: np.ndarray) -> None:
         valid = ~np.isin(values, self.flagged) & np.isfinite(values)
         if self.dtype.kind == "f":
             special = values <= _ISIS_SPECIAL_LIMIT
@@ -86,11 +91,11 @@ class _ArrayStatistics:
         if chosen.size == 0:
             return
         self.shift = float(chosen[0]) if self.shift is None else self.shift
-        centred = chosen - self.shift
-        self.count += chosen.size
-        self.total += float(centred.sum())
-        self.squares += float((centred * centred).sum())
         self.low, self.high = min(self.low, float(chosen.min())), max(self.high, float(chosen.max()))
+        chosen -= self.shift
+        self.count += chosen.size
+        self.total += float(chosen.sum())
+        self.squares += float(chosen @ chosen)
 
     def report(self, report: Report) -> None:
         if self.undeclared:
