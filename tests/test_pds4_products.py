@@ -9,6 +9,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 import rasterio
+from affine import Affine
 from lxml import etree
 
 from pdsgen.dtm import write_dtm
@@ -166,7 +167,27 @@ def test_ortho_label_both_writes_lbl_and_pds4_form(tmp_path):
 def test_label_option_is_refused_where_the_profile_has_its_own_form(tmp_path):
     crs, transform = ORIGINS["sinusoidal"]
     source = write_raster(tmp_path / "h.tif", elevation_array(8, 8), crs, transform)
-    result = run_cli("dtm", source, "-o", tmp_path / "out", "--profile", "hrsc", "--product-id", "h1234_0000",
+    result = run_cli("dtm", source, "-o", tmp_path / "out", "--profile", "imars", "--product-id", "h1234_0000",
                      "--label", "pds4")
     assert result.returncode == 2 and "--label" in result.stderr
     assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+
+
+def test_hrsc_dtm_label_both_describes_the_scaled_int16_image(tmp_path):
+    data = elevation_array(30, 40, seed=12)
+    hrsc_sinusoidal = "+proj=sinu +lon_0=70 +R=3396000 +units=m +no_defs"
+    source = write_raster(tmp_path / "h.tif", data, hrsc_sinusoidal, Affine(50, 0, 100000, 0, -50, 300000))
+    product = write_dtm(source, tmp_path / "out", profile="hrsc", product_id="h1234_0000", precision=0.5,
+                        label="both")
+    assert product.pds4_label_path.name == "h1234_0000_dt4.xml"
+    assert validate_pds4(product.pds4_label_path) == []
+    text = product.pds4_label_path.read_text()
+    assert "urn:esa:psa:mex_hrsc:data_dtm:h1234_0000_dt4" in text and "<data_type>SignedMSB2</data_type>" in text
+    with rasterio.open(product.pds4_label_path) as pds4_view, rasterio.open(product.path) as pds3_view:
+        assert pds4_view.scales == (0.5,) and pds4_view.nodata == -32768
+        assert np.array_equal(pds4_view.read(1), pds3_view.read(1))
+        heights = pds4_view.read(1) * 0.5 + pds4_view.offsets[0]
+        assert np.abs(heights - data).max() <= 0.25 + 1e-3
+    refused = run_cli("dtm", source, "-o", tmp_path / "again", "--profile", "hrsc", "--product-id", "h1234_0000",
+                      "--label", "pds4")
+    assert refused.returncode == 2 and "--label both" in refused.stderr

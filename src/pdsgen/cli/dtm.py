@@ -15,7 +15,7 @@ _COMMON = {"input_path", "outdir", "product_id", "source_ids", "product_version"
 USED_BY_PROFILE = {
     "generic": _COMMON | {"byte_order", "label"},
     "hirise": _COMMON | {"byte_order", "institution", "label"},
-    "hrsc": _COMMON | {"byte_order", "kind", "vertical_datum", "areoid", "precision", "reproject"},
+    "hrsc": _COMMON | {"byte_order", "kind", "vertical_datum", "areoid", "precision", "reproject", "label"},
     "imars": _COMMON | {"kind", "vertical_datum", "areoid", "precision"},
 }
 
@@ -47,8 +47,8 @@ USED_BY_PROFILE = {
 @click.option("--reproject", is_flag=True,
               help="hrsc: warp the input into the HRSC projection and sphere instead of refusing it.")
 @click.option("--label", type=click.Choice(LABEL_DIALECTS), default="pds3", show_default=True,
-              help="generic/hirise: pds3 (.IMG, attached label), pds4 (.img + .xml) or both "
-                   "(.IMG + a PDS4 .xml describing it).")
+              help="pds3 (.IMG, attached label), pds4 (.img + .xml) or both (.IMG + a PDS4 .xml "
+                   "describing it); hrsc: pds3 or both.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 @click.pass_context
 def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, product_version,
@@ -82,7 +82,8 @@ def _summary(product: object) -> str:
     if isinstance(product, ImarsProduct):
         return f"{product.tiff_path}  {product.pvl_path.name}  {product.footprint_path.name}"
     if isinstance(product, HrscDtmProduct):
-        return (f"{product.path}  {product.geometry.lines} x {product.geometry.samples}  "
+        pds4 = f"  {product.pds4_label_path.name}" if product.pds4_label_path else ""
+        return (f"{product.path}{pds4}  {product.geometry.lines} x {product.geometry.samples}  "
                 f"DN {product.valid_minimum} .. {product.valid_maximum} "
                 f"(x {product.encoding.scaling_factor:g} + {product.encoding.offset:g} m)")
     assert isinstance(product, DtmProduct)

@@ -64,6 +64,7 @@ class Pds4Facts:
     bundle: str
     investigation: ContextReference
     observing_system: tuple[ContextReference, ...] = ()
+    authority: str = "urn:nasa:pds"  # LID prefix of the archive holding the products (ESA: urn:esa:psa)
 
 
 # Products of no particular mission (PDS4 requires an investigation; this is PDS's "none").

@@ -49,5 +49,5 @@ def observation(mission: Mission, target: str | None, summary: str,
 
 
 def logical_identifier(mission: Mission, collection: str, product_id: str) -> str:
-    """urn:nasa:pds:<bundle>:<collection>:<product> (LIDs are lower case)."""
-    return f"urn:nasa:pds:{mission.pds4.bundle}:{collection}:{product_id.lower()}"
+    """<authority>:<bundle>:<collection>:<product>, e.g. urn:nasa:pds:mro_hirise:data_dtm:... (lower case)."""
+    return f"{mission.pds4.authority}:{mission.pds4.bundle}:{collection}:{product_id.lower()}"

@@ -30,7 +30,7 @@ from ..products.params import ParamValue
 from .content import ArrayStatistics, ContentTap, FileContent
 from .context import logical_identifier, observation
 from .label import cartography, render_pds4
-from .model import DATA_TYPES
+from .model import DATA_TYPES, NUMPY_TYPES
 
 ARRAY_ID = "image"
 _READ_CHUNK = 8 * 1024 * 1024
@@ -61,35 +61,58 @@ class ProductDescription:
         return self.geometry.target_name or str(self.keywords.get("TARGET_NAME", "")) or None
 
 
+@dataclass(frozen=True)
+class StoredArray:
+    """How a DTM's samples are stored: what Element_Array and Special_Constants state."""
+
+    data_type: str  # PDS4 data_type, e.g. IEEE754LSBSingle
+    special: tuple[tuple[str, float], ...]  # Special_Constants, in the schema's order
+    description: str
+    unit: str = "m"
+    scaling: tuple[float, float] | None = None  # (scaling_factor, value_offset) of integer DNs
+
+    @property
+    def numpy_type(self) -> str:
+        return NUMPY_TYPES[self.data_type]
+
+
+def float32_dtm(big_endian: bool) -> StoredArray:
+    """The standard DTM: float32 elevations, the ISIS NULL as missing_constant."""
+    return StoredArray(DATA_TYPES[("f4", big_endian)], (("missing_constant", float(MISSING_CONSTANT)),),
+                       "Elevations in metres; samples equal to missing_constant hold no data.")
+
+
 def write_pds4_dtm(product: ProductDescription, data_path: Path, label_path: Path, data_name: str,
                    big_endian: bool) -> tuple[BandStatistics, Pds4Label]:
     """A float32 DTM as `data_path` (raw samples) + its PDS4 label, in one pass over the input:
     the PDS3 writer's strip streaming, through a ContentTap taking MD5, size and statistics."""
+    stored = float32_dtm(big_endian)
     with open(data_path, "wb") as out:
-        tap = ContentTap(out, (">" if big_endian else "<") + "f4", special=(float(MISSING_CONSTANT),))
+        tap = ContentTap(out, stored.numpy_type, special=tuple(v for _, v in stored.special))
         stats = stream_float32_band(product.dataset, cast(BinaryIO, tap), big_endian)  # it only calls write()
     if stats.valid_count == 0:
         raise PdsgenError(product.dataset.name, "has no valid pixels (all nodata)")
-    text = dtm_label_text(product, data_name, big_endian, tap.statistics(), tap.content())
+    text = dtm_label_text(product, data_name, stored, tap.statistics(), tap.content())
     label_path.write_text(text, encoding="utf-8")
     return stats, Pds4Label(label_path, text, tap.statistics(), tap.content())
 
 
-def dtm_label_text(product: ProductDescription, data_name: str, big_endian: bool, statistics: ArrayStatistics,
+def dtm_label_text(product: ProductDescription, data_name: str, stored: StoredArray, statistics: ArrayStatistics,
                    content: FileContent, header_bytes: int = 0) -> str:
-    """The PDS4 label of a float32 DTM stored in `data_name` (after `header_bytes` of PDS3 label)."""
+    """The PDS4 label of a DTM stored in `data_name` (after `header_bytes` of PDS3 label)."""
     array = {
         "element": "Array_2D_Image",
         "bands": None,
         "local_identifier": ARRAY_ID,
         "offset": header_bytes,
-        "description": "Elevations in metres; samples equal to missing_constant hold no data.",
-        "data_type": DATA_TYPES[("f4", big_endian)],
-        "unit": "m",
-        "scaling_factor": None,
+        "description": stored.description,
+        "data_type": stored.data_type,
+        "unit": stored.unit,
+        "scaling_factor": stored.scaling[0] if stored.scaling else None,
+        "value_offset": stored.scaling[1] if stored.scaling else None,
         "lines": product.geometry.lines,
         "samples": product.geometry.samples,
-        "special": [("missing_constant", float(MISSING_CONSTANT))],
+        "special": stored.special,
         "statistics": statistics,
     }
     return render_pds4("dtm.xml.j2", {
@@ -101,17 +124,17 @@ def dtm_label_text(product: ProductDescription, data_name: str, big_endian: bool
 
 
 def write_dtm_pds4_label(product: ProductDescription, label_path: Path, data_path: Path, data_name: str,
-                         big_endian: bool, header_bytes: int = 0) -> Pds4Label:
+                         stored: StoredArray, header_bytes: int = 0) -> Pds4Label:
     """Describe an already written DTM file (PDS3 `.IMG` with attached label, or raw) in a PDS4 label.
 
     Reads the file once for its MD5 and statistics: it was written before this label.
     """
-    dtype = (">" if big_endian else "<") + "f4"
+    itemsize = np.dtype(stored.numpy_type).itemsize
     with open(data_path, "rb") as handle:
-        tap = ContentTap(None, dtype, special=(float(MISSING_CONSTANT),), start=header_bytes)
-        while block := handle.read(_READ_CHUNK - _READ_CHUNK % 4):
+        tap = ContentTap(None, stored.numpy_type, special=tuple(v for _, v in stored.special), start=header_bytes)
+        while block := handle.read(_READ_CHUNK - _READ_CHUNK % itemsize):
             tap.write(block)
-    text = dtm_label_text(product, data_name, big_endian, tap.statistics(), tap.content(), header_bytes)
+    text = dtm_label_text(product, data_name, stored, tap.statistics(), tap.content(), header_bytes)
     label_path.write_text(text, encoding="utf-8")
     return Pds4Label(label_path, text, tap.statistics(), tap.content())
 

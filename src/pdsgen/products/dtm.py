@@ -31,7 +31,7 @@ from ..label.values import Based, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
 from ..missions.generic import check_product_id, generic_product_id
 from ..pds4.model import check_label_dialect
-from ..pds4.products import ProductDescription, write_dtm_pds4_label, write_pds4_dtm
+from ..pds4.products import ProductDescription, float32_dtm, write_dtm_pds4_label, write_pds4_dtm
 from .dispatch import call_mission_writer
 from .identification import identification_keywords
 from .params import ParamValue, check_version, resolve_params
@@ -166,7 +166,7 @@ def write_pds3_dtm(
                 )
                 if label == "both":
                     write_dtm_pds4_label(description, staged.path(xml_final), staged.path(final), final.name,
-                                         big_endian, records.label_bytes)
+                                         float32_dtm(big_endian), records.label_bytes)
     return DtmProduct(
         product_id=product_id,
         path=final,

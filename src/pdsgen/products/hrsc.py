@@ -29,7 +29,7 @@ from rasterio.windows import Window, from_bounds
 from rasterio.windows import transform as window_transform
 
 from .. import __version__
-from ..errors import PdsgenError
+from ..errors import ParamsError, PdsgenError
 from ..formats.img import Adjust, BandStatistics, scan_band, stream_band, write_attached_product
 from ..formats.raster import open_raster, require_single_band
 from ..formats.scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
@@ -40,6 +40,8 @@ from ..label.render import RecordLayout, render_label
 from ..label.values import Based, Symbol
 from ..missions import hrsc as hrsc_mission
 from ..missions.hrsc import DN_LIMIT, DTM_KINDS, MISSING_DN, NOT_APPLICABLE, POLAR_LIMIT_DEG
+from ..pds4.model import DATA_TYPES, check_label_dialect
+from ..pds4.products import ProductDescription, StoredArray, write_dtm_pds4_label
 from .params import ParamValue, check_version, resolve_params
 
 HRSC_SPHERE_M = hrsc_mission.SPHERE_M
@@ -70,11 +72,12 @@ class HrscDtmProduct:
     valid_minimum: int
     valid_maximum: int
     label_text: str
+    pds4_label_path: Path | None = None
 
     @property
     def files(self) -> tuple[Path, ...]:
         """Every file this product wrote."""
-        return (self.path,)
+        return (self.path,) + ((self.pds4_label_path,) if self.pds4_label_path else ())
 
 
 def hrsc_base_name(product_id: str | None, source_ids: Sequence[str]) -> tuple[str, int]:
@@ -233,8 +236,16 @@ def write_hrsc_dtm(
     byte_order: str | None = "msb",
     version: str = "1.0",
     overwrite: bool = False,
+    label: str = "pds3",
 ) -> HrscDtmProduct:
-    """Write `OUTDIR/hOOOO_NNNN_<kind>.img` from a single-band height raster."""
+    """Write `OUTDIR/hOOOO_NNNN_<kind>.img` from a single-band height raster.
+
+    label "both" adds `hOOOO_NNNN_<kind>.xml`, a PDS4 label of the same .img (its
+    attached PDS3 label as a Header, the DNs with their scaling as the array); HRSC
+    products keep their PDS3 form, so "pds4" alone is refused.
+    """
+    if check_label_dialect(label) == "pds4":
+        raise ParamsError(None, "HRSC DTMs keep their PDS3 .img; use --label both to add a PDS4 label")
     byte_order = byte_order or "msb"
     if kind not in DTM_KINDS:
         raise PdsgenError(None, f"HRSC DTM kind must be one of {', '.join(DTM_KINDS)}")
@@ -279,12 +290,23 @@ def write_hrsc_dtm(
             return stream_band(grid, handle, byte_order == "msb", encoding.encode, adjust)
 
         final = prepare_output_dir(outdir) / file_name
-        with StagedOutputs([final], overwrite) as staged:
-            _, text, stats = write_attached_product(
+        xml_final = final.with_suffix(".xml")
+        with StagedOutputs([final] + ([xml_final] if label == "both" else []), overwrite) as staged:
+            records, text, stats = write_attached_product(
                 staged.path(final), render, grid.width * 2, grid.height, write_data
             )
+            if label == "both":
+                stored = StoredArray(
+                    DATA_TYPES[("i2", byte_order == "msb")], (("missing_constant", float(MISSING_DN)),),
+                    f"{description.capitalize()} in metres = DN * scaling_factor + value_offset; "
+                    "DNs equal to missing_constant hold no data.",
+                    scaling=(encoding.scaling_factor, encoding.offset))
+                described = ProductDescription(final_id, hrsc_mission.MISSION, version, context["ident"], geometry,
+                                               grid)
+                write_dtm_pds4_label(described, staged.path(xml_final), staged.path(final), final.name, stored,
+                                     records.label_bytes)
     return HrscDtmProduct(final_id, final, geometry, kind, encoding, _as_int(stats.minimum),
-                          _as_int(stats.maximum), text)
+                          _as_int(stats.maximum), text, xml_final if label == "both" else None)
 
 
 @contextmanager
