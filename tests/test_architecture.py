@@ -18,6 +18,7 @@ from pdsgen.hrsc import HrscDtmProduct, HrscImageProduct
 from pdsgen.imars import ImarsProduct
 from pdsgen.missions import Mission, ProductIdRequest, get_mission, mission_names, register_mission, unregister_mission
 from pdsgen.ortho import OrthoProduct, write_ortho
+from pdsgen.products.result import ProductResult
 
 from helpers import CRS_EQUIRECTANGULAR, elevation_array, write_raster
 
@@ -156,20 +157,13 @@ ORTHO_CASES = {
 }
 
 
-@pytest.mark.parametrize("profile", sorted(DTM_CASES))
-def test_write_dtm_dispatches_to_every_profile(tmp_path, inputs, profile):
-    source, options, kind = DTM_CASES[profile]
-    product = write_dtm(inputs[source], tmp_path, profile=profile, **options)
-    assert isinstance(product, kind) and product.product_id
-    assert all(path.is_file() for path in product.files)
-
-
-@pytest.mark.parametrize("profile", sorted(ORTHO_CASES))
-def test_write_ortho_dispatches_to_every_profile(tmp_path, inputs, profile):
-    source, options, kind = ORTHO_CASES[profile]
-    product = write_ortho(inputs[source], tmp_path, profile=profile, **options)
-    assert isinstance(product, kind) and product.product_id
-    assert all(path.is_file() for path in product.files)
+@pytest.mark.parametrize(("product", "profile"), [(p, m) for p in ("dtm", "ortho") for m in sorted(DTM_CASES)])
+def test_write_dtm_and_write_ortho_dispatch_to_every_profile(tmp_path, inputs, product, profile):
+    writer, cases = (write_dtm, DTM_CASES) if product == "dtm" else (write_ortho, ORTHO_CASES)
+    source, options, kind = cases[profile]
+    result = writer(inputs[source], tmp_path, profile=profile, **options)
+    assert isinstance(result, kind) and isinstance(result, ProductResult) and result.product_id
+    assert result.files and all(path.is_file() for path in result.files)
 
 
 def test_an_option_the_profile_does_not_use_is_refused(tmp_path, inputs):

@@ -9,7 +9,7 @@ from ..products.dtm import DtmProduct, write_dtm
 from ..products.hrsc import HrscDtmProduct
 from ..products.imars import ImarsProduct
 from ..profiles import profile_names
-from ._profile_options import refuse_unused_options
+from ._profile_options import profile_options, refuse_unused_options
 
 _COMMON = {"input_path", "outdir", "product_id", "source_ids", "product_version", "params_file", "overwrite"}
 USED_BY_PROFILE = {
@@ -67,14 +67,9 @@ def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, p
         "reproject_input": reproject, "label": label,
     }
     used = USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"])
-    options = {name: value for name, value in given.items() if _CLI_NAMES.get(name, name) in used}
+    options = profile_options(given, used)
     product = write_dtm(input_path, outdir, profile=profile, **options)
     click.echo(_summary(product))
-
-
-# Library keyword -> click parameter name, where they differ.
-_CLI_NAMES = {"source_product_ids": "source_ids", "params": "params_file", "version": "product_version",
-              "reproject_input": "reproject"}
 
 
 def _summary(product: object) -> str:

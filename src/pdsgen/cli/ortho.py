@@ -9,7 +9,7 @@ from ..products.hrsc import HrscImageProduct
 from ..products.imars import ImarsProduct
 from ..products.ortho import OrthoProduct, write_ortho
 from ..profiles import profile_names
-from ._profile_options import refuse_unused_options
+from ._profile_options import profile_options, refuse_unused_options
 
 _COMMON = {"input_path", "outdir", "product_id", "value_range", "params_file", "product_version", "overwrite"}
 USED_BY_PROFILE = {
@@ -61,14 +61,9 @@ def ortho(ctx, input_path, outdir, profile, product_id, bits, value_range, obser
         "params": params_file, "gmljp2": gmljp2, "version": product_version, "overwrite": overwrite,
         "source_product_ids": source_ids, "reproject_input": reproject, "label": label,
     }
-    options = {name: value for name, value in given.items() if _CLI_NAMES.get(name, name) in used}
+    options = profile_options(given, used)
     product = write_ortho(input_path, outdir, profile=profile, **options)
     click.echo(_summary(product))
-
-
-# Library keyword -> click parameter name, where they differ.
-_CLI_NAMES = {"source_product_ids": "source_ids", "params": "params_file", "version": "product_version",
-              "reproject_input": "reproject"}
 
 
 def _summary(product: object) -> str:

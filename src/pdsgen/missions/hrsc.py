@@ -12,8 +12,10 @@ number does not apply.
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 from pathlib import Path
 
+from ..errors import PdsgenError
 from .base import ContextReference, LabelFacts, Mission, Pds4Facts
 
 INSTRUMENT_ID = "HRSC"
@@ -62,6 +64,19 @@ DTM_NOTE = "Heights in meters = DN * SCALING_FACTOR + OFFSET."
 def parse_name(name: str) -> re.Match[str] | None:
     """Orbit, sequence and (if present) kind of an HRSC file or product name."""
     return NAME_RE.match(Path(name).name)
+
+
+def base_name(product_id: str | None, source_ids: Sequence[str]) -> tuple[str, int]:
+    """`h6541_0000` and orbit 6541, from --product-id or the first source product."""
+    for candidate in ([product_id] if product_id else []) + list(source_ids):
+        match = parse_name(candidate)
+        if match:
+            return f"h{match.group('orbit')}_{match.group('sequence')}", int(match.group("orbit"))
+    raise PdsgenError(
+        None,
+        "HRSC names need the orbit and sequence: give --product-id h1234_0000 "
+        "or an HRSC --source-product-id such as H1234_0000_ND3",
+    )
 
 
 def name_kind(name: str) -> str | None:

@@ -29,11 +29,10 @@ from ..label.grammar import sample_type
 from ..label.render import RecordLayout, render_label
 from ..label.values import Based, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
-from ..missions.generic import check_product_id, generic_product_id
 from ..pds4.model import check_label_dialect
 from ..pds4.products import ProductDescription, float32_dtm, write_dtm_pds4_label, write_pds4_dtm
 from .dispatch import call_mission_writer
-from .identification import identification_keywords
+from .identification import choose_product_id, identification_keywords
 from .params import ParamValue, check_version, resolve_params
 
 BYTE_ORDERS = ("lsb", "msb")
@@ -115,8 +114,7 @@ def write_pds3_dtm(
         )
         sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
         ident = identification_keywords(chosen.dtm_keywords, keywords, geometry, version)
-        product_id = _dtm_product_id(
-            chosen, product_id, ProductIdRequest(
+        product_id = choose_product_id(product_id, chosen.dtm_product_id, ProductIdRequest(
                 input_path.stem, geometry, sources, institution, str(ident["PRODUCT_VERSION_ID"])
             ),
         )
@@ -177,14 +175,6 @@ def write_pds3_dtm(
         label_text=text,
         pds4_label_path=xml_final if label != "pds3" else None,
     )
-
-
-def _dtm_product_id(mission: Mission, explicit: str | None, request: ProductIdRequest) -> str:
-    if explicit:
-        return check_product_id(explicit)
-    if mission.dtm_product_id is not None:
-        return mission.dtm_product_id(request)
-    return generic_product_id(request.stem)
 
 
 __all__ = ["DtmProduct", "write_dtm", "write_pds3_dtm", "MISSING_CONSTANT"]

@@ -29,7 +29,8 @@ from ..formats.staging import StagedOutputs, prepare_output_dir
 from ..geo.geometry import MapGeometry, describe_geometry
 from ..missions import imars as imars_mission
 from ..missions.hrsc import MISSING_DN
-from .hrsc import Int16Encoding, areoid_adjustment, check_datum_conversion, choose_encoding, hrsc_base_name
+from ..missions.hrsc import base_name as hrsc_base_name
+from .heights import Int16Encoding, areoid_adjustment, check_datum_conversion, choose_encoding
 from .params import ParamValue, check_version, resolve_params
 
 IMARS_INSTITUTION = imars_mission.INSTITUTION

@@ -41,12 +41,11 @@ from ..geo.geometry import MapGeometry, describe_geometry
 from ..label.render import render_label
 from ..label.values import Based, Quantity, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
-from ..missions.generic import check_product_id, generic_product_id
 from ..pds4.content import digest_file
 from ..pds4.model import check_label_dialect
 from ..pds4.products import ArrayRowTap, ProductDescription, ortho_label_text
 from .dispatch import call_mission_writer
-from .identification import identification_keywords
+from .identification import choose_product_id, identification_keywords
 from .params import ParamValue, check_version, resolve_params
 
 
@@ -139,7 +138,7 @@ def write_jp2_ortho(
         mapping = _choose_mapping(dataset, input_path, bits, value_range)
         sources = _source_ids(keywords, observation_id, source_dtm_id)
         ident = identification_keywords(chosen.ortho_keywords, keywords, geometry, version)
-        product_id = _ortho_product_id(chosen, product_id, ProductIdRequest(
+        product_id = choose_product_id(product_id, chosen.ortho_product_id, ProductIdRequest(
             input_path.stem, geometry, sources, None, version, dataset.count, observation_id, sequence,
         ))
         outdir = prepare_output_dir(outdir)
@@ -274,14 +273,6 @@ def _source_ids(
     if source_dtm_id and source_dtm_id not in sources:
         sources.append(source_dtm_id)
     return sources
-
-
-def _ortho_product_id(mission: Mission, explicit: str | None, request: ProductIdRequest) -> str:
-    if explicit:
-        return check_product_id(explicit)
-    if mission.ortho_product_id is not None:
-        return mission.ortho_product_id(request)
-    return generic_product_id(request.stem)
 
 
 def _label_context(
