@@ -16,7 +16,16 @@ from pdsgen.dtm import DtmProduct, write_dtm
 from pdsgen.errors import InputError, OutputError, ParamsError, PdsgenError
 from pdsgen.hrsc import HrscDtmProduct, HrscImageProduct
 from pdsgen.imars import ImarsProduct
-from pdsgen.missions import Mission, ProductIdRequest, get_mission, mission_names, register_mission, unregister_mission
+from pdsgen.missions import (
+    LabelFacts,
+    Mission,
+    ProductIdRequest,
+    detect_mission,
+    get_mission,
+    mission_names,
+    register_mission,
+    unregister_mission,
+)
 from pdsgen.ortho import OrthoProduct, write_ortho
 from pdsgen.products.result import ProductResult
 
@@ -197,3 +206,18 @@ def test_adding_a_mission(tmp_path, inputs):
         unregister_mission("toy")
     with pytest.raises(PdsgenError, match="unknown profile 'toy'"):
         write_dtm(inputs["dtm"], tmp_path, profile="toy")
+
+
+@pytest.mark.parametrize(("facts", "expected"), [
+    (LabelFacts(instrument_id="HRSC"), "hrsc"),
+    (LabelFacts(data_set_id="MEX-M-HRSC-5-REFDR-DTM-V1.0"), "hrsc"),
+    (LabelFacts(group_names=frozenset({"MEX:DTM"})), "hrsc"),
+    (LabelFacts(file_name="h1234_0000_dt4.img"), "hrsc"),
+    (LabelFacts(file_name="h1234_0000_nd3.img"), None),  # level 3 names alone do not say level-4 HRSC
+    (LabelFacts(instrument_id="HIRISE"), "hirise"),
+    (LabelFacts(data_set_id="MRO-M-HIRISE-5-DTM-V1.0"), "hirise"),
+    (LabelFacts(instrument_id="MOLA", file_name="megt90n000cb.lbl"), None),
+])
+def test_one_mission_detection_for_extras_and_validator(facts, expected):
+    """Extras and the validator both ask `detect_mission`, so they cannot disagree again."""
+    assert detect_mission(facts) == expected

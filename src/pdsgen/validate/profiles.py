@@ -9,9 +9,8 @@ sphere, sinusoidal/polar stereographic by latitude.
 
 from __future__ import annotations
 
-from ..missions import LabelFacts
+from ..missions import LabelFacts, detect_mission
 from ..missions.hrsc import NAME_RE as HRSC_NAME
-from ..missions.hrsc import is_hrsc as _is_hrsc_label
 from ..missions.hrsc import name_kind as hrsc_kind
 from .context import FileContext
 
@@ -24,11 +23,11 @@ def is_hrsc(ctx: FileContext) -> bool:
     if cached is not None:
         return cached
     root = ctx.root
-    found = _is_hrsc_label(LabelFacts(
+    found = detect_mission(LabelFacts(
         instrument_id=root.text("INSTRUMENT_ID") or "",
         data_set_id=root.text("DATA_SET_ID") or "",
         group_names=frozenset({"MEX:DTM"}) if any(True for _ in root.find("MEX:DTM")) else frozenset(),
         file_name=ctx.path.name,
-    ))
+    )) == "hrsc"
     ctx.__dict__["_is_hrsc"] = found
     return found
