@@ -15,13 +15,12 @@ from pathlib import Path
 import numpy as np
 from lxml import etree
 
+from ..formats.nodata import ISIS_SPECIAL_LIMIT  # ISIS special pixels: float32 values at or below NULL
 from .label_tree import P, Report, data_path, file_areas, number
 from .model import NUMPY_TYPES
 
 _READ_BYTES = 8 * 1024 * 1024  # one read of a data file
 _SAMPLES_PER_STEP = 1 << 20  # samples whose statistics are taken at a time (8 MB of float64)
-# ISIS special pixels (NULL, LRS, LIS, HIS, HRS) are the float32 values at or below NULL.
-_ISIS_SPECIAL_LIMIT = -3.4028226550889045e38
 
 
 def check_data(report: Report, tree: etree._ElementTree) -> None:
@@ -84,7 +83,7 @@ class _ArrayStatistics:
     def _add(self, values: np.ndarray) -> None:
         valid = ~np.isin(values, self.flagged) & np.isfinite(values)
         if self.dtype.kind == "f":
-            special = values <= _ISIS_SPECIAL_LIMIT
+            special = values <= float(ISIS_SPECIAL_LIMIT)
             self.undeclared += int(np.count_nonzero(special & valid))
             valid &= ~special
         chosen = values[valid]
@@ -100,7 +99,7 @@ class _ArrayStatistics:
     def report(self, report: Report) -> None:
         if self.undeclared:
             report.add("PDS4-022", f"{self.undeclared} samples hold ISIS special-pixel values (e.g. NULL "
-                                   "-3.4028226550889045E+38) but Special_Constants does not declare them",
+                                   f"{float(ISIS_SPECIAL_LIMIT)!r}) but Special_Constants does not declare them",
                        self.element.sourceline, "missing_constant")
         stats = self.element.find(f"{P}Object_Statistics")
         if stats is None or self.count == 0 or self.shift is None:
