@@ -20,7 +20,8 @@ from pdsgen.validate import validate_paths
 
 from helpers import ORIGINS, elevation_array, run_cli, write_raster
 
-pytestmark = pytest.mark.skipif(not schematron.available(), reason="saxonche (pdsgen[pds4]) is not installed")
+# Without saxonche validation is schema-only: the Schematron acceptance tests need it.
+needs_saxon = pytest.mark.skipif(not schematron.available(), reason="saxonche (pdsgen[pds4]) is not installed")
 
 
 def pds4(product) -> SimpleNamespace:
@@ -43,6 +44,7 @@ def dtms(tmp_path_factory):
     return made
 
 
+@needs_saxon
 @pytest.mark.parametrize("name", sorted(ORIGINS))
 def test_dtm_label_passes_schema_and_schematron(dtms, name):
     _, label = dtms[name]
@@ -103,6 +105,7 @@ def ortho(tmp_path_factory):
     return source, label
 
 
+@needs_saxon
 def test_hirise_ortho_passes_schema_and_schematron(ortho):
     _, label = ortho
     assert validate_pds4(label.path) == []
@@ -149,7 +152,8 @@ def test_label_both_describes_the_pds3_image_without_a_second_copy(tmp_path):
         assert pds4_view.transform == pds3_view.transform and pds4_view.crs == pds3_view.crs
         assert np.array_equal(pds4_view.read(1), data)
     report = validate_paths([tmp_path / "out"], strict=True)
-    assert report.exit_code == 0, [f.message for f in report.findings]
+    problems = [f for f in report.findings if f.severity != "info" and f.rule != "PDS4-007"]  # 007: no Saxon
+    assert problems == [], [f.message for f in problems]
 
 
 def test_ortho_label_both_writes_lbl_and_pds4_form(tmp_path):
