@@ -195,3 +195,14 @@ def test_hrsc_dtm_label_both_describes_the_scaled_int16_image(tmp_path):
     refused = run_cli("dtm", source, "-o", tmp_path / "again", "--profile", "hrsc", "--product-id", "h1234_0000",
                       "--label", "pds4")
     assert refused.returncode == 2 and "--label both" in refused.stderr
+
+
+def test_labels_are_formatted_as_xmllint_formats_them(dtms, ortho):
+    """libxml2's own indentation (what `xmllint --format` writes), UTF-8, a final newline."""
+    for label in [*(written for _, written in dtms.values()), ortho[1]]:
+        data = label.path.read_bytes()
+        tree = etree.fromstring(data, etree.XMLParser(remove_blank_text=True)).getroottree()
+        formatted = etree.tostring(tree, pretty_print=True, encoding="UTF-8", xml_declaration=False)
+        declaration, _, body = data.partition(b"?>\n")
+        assert declaration == b'<?xml version="1.0" encoding="UTF-8"'
+        assert body.split(b"<Product_Observational", 1)[1] == formatted.split(b"<Product_Observational", 1)[1]
