@@ -206,3 +206,10 @@ def test_labels_are_formatted_as_xmllint_formats_them(dtms, ortho):
         declaration, _, body = data.partition(b"?>\n")
         assert declaration == b'<?xml version="1.0" encoding="UTF-8"'
         assert body.split(b"<Product_Observational", 1)[1] == formatted.split(b"<Product_Observational", 1)[1]
+
+
+def test_pds4_products_are_byte_for_byte_reproducible(dtms, tmp_path):
+    source, first = dtms["sinusoidal"]
+    again = write_dtm(source, tmp_path, product_id="DTM_SINUSOIDAL", label="pds4")
+    assert again.pds4_label_path.read_bytes() == first.path.read_bytes()
+    assert again.path.read_bytes() == first.path.with_suffix(".img").read_bytes()
