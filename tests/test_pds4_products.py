@@ -213,3 +213,15 @@ def test_pds4_products_are_byte_for_byte_reproducible(dtms, tmp_path):
     again = write_dtm(source, tmp_path, product_id="DTM_SINUSOIDAL", label="pds4")
     assert again.pds4_label_path.read_bytes() == first.path.read_bytes()
     assert again.path.read_bytes() == first.path.with_suffix(".img").read_bytes()
+
+
+def test_hrsc_nd4_label_both(tmp_path):
+    hrsc_sinusoidal = "+proj=sinu +lon_0=70 +R=3396000 +units=m +no_defs"
+    data = np.random.default_rng(13).integers(1, 256, (20, 30)).astype("uint8")
+    data[0, :3] = 0
+    source = write_raster(tmp_path / "n.tif", data, hrsc_sinusoidal, Affine(12.5, 0, 100000, 0, -12.5, 300000))
+    product = write_ortho(source, tmp_path / "out", profile="hrsc", product_id="h1234_0000", label="both")
+    assert product.pds4_label_path.name == "h1234_0000_nd4.xml"
+    assert validate_pds4(product.pds4_label_path) == []
+    with rasterio.open(product.pds4_label_path) as pds4_view:
+        assert pds4_view.nodata == 0 and np.array_equal(pds4_view.read(1), data)

@@ -15,7 +15,7 @@ _COMMON = {"input_path", "outdir", "product_id", "value_range", "params_file", "
 USED_BY_PROFILE = {
     "generic": _COMMON | {"bits", "observation_id", "source_dtm_id", "sequence", "gmljp2", "label"},
     "hirise": _COMMON | {"bits", "observation_id", "source_dtm_id", "sequence", "gmljp2", "label"},
-    "hrsc": _COMMON | {"bits", "source_ids", "reproject"},
+    "hrsc": _COMMON | {"bits", "source_ids", "reproject", "label"},
     "imars": _COMMON | {"bits", "source_ids"},
 }
 
@@ -43,7 +43,8 @@ USED_BY_PROFILE = {
               help="hrsc/imars: source product (e.g. H1234_0000_ND3) giving orbit and sequence.")
 @click.option("--reproject", is_flag=True, help="hrsc: warp the input into the HRSC projection and sphere.")
 @click.option("--label", type=click.Choice(LABEL_DIALECTS), default="pds3", show_default=True,
-              help="generic/hirise: pds3 (.JP2 + .LBL), pds4 (.JP2 + uncompressed .img + .xml) or both.")
+              help="pds3 (.JP2 + .LBL), pds4 (.JP2 + uncompressed .img + .xml) or both; "
+                   "hrsc: pds3 or both (the nd4 .img + a PDS4 .xml describing it).")
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 @click.pass_context
 def ortho(ctx, input_path, outdir, profile, product_id, bits, value_range, observation_id, source_dtm_id,
@@ -69,7 +70,8 @@ def ortho(ctx, input_path, outdir, profile, product_id, bits, value_range, obser
 def _summary(product: object) -> str:
     """The one line `pdsgen ortho` prints, in the form of the product the profile made."""
     if isinstance(product, HrscImageProduct):
-        return f"{product.path}  DN {product.valid_minimum} .. {product.valid_maximum}"
+        pds4 = f"  {product.pds4_label_path.name}" if product.pds4_label_path else ""
+        return f"{product.path}{pds4}  DN {product.valid_minimum} .. {product.valid_maximum}"
     if isinstance(product, ImarsProduct):
         return f"{product.tiff_path}  {product.pvl_path.name}  {product.footprint_path.name}"
     assert isinstance(product, OrthoProduct)

@@ -63,13 +63,16 @@ class ProductDescription:
 
 @dataclass(frozen=True)
 class StoredArray:
-    """How a DTM's samples are stored: what Element_Array and Special_Constants state."""
+    """How an image's samples are stored: what Element_Array and Special_Constants state,
+    and what the product is (its LID collection and the kind of product in its title)."""
 
     data_type: str  # PDS4 data_type, e.g. IEEE754LSBSingle
     special: tuple[tuple[str, float], ...]  # Special_Constants, in the schema's order
     description: str
-    unit: str = "m"
+    unit: str | None = "m"
     scaling: tuple[float, float] | None = None  # (scaling_factor, value_offset) of integer DNs
+    collection: str = "data_dtm"
+    kind: str = "digital terrain model"
 
     @property
     def numpy_type(self) -> str:
@@ -92,14 +95,15 @@ def write_pds4_dtm(product: ProductDescription, data_path: Path, label_path: Pat
         stats = stream_float32_band(product.dataset, cast(BinaryIO, tap), big_endian)  # it only calls write()
     if stats.valid_count == 0:
         raise PdsgenError(product.dataset.name, "has no valid pixels (all nodata)")
-    text = dtm_label_text(product, data_name, stored, tap.statistics(), tap.content())
+    text = image_label_text(product, data_name, stored, tap.statistics(), tap.content())
     label_path.write_text(text, encoding="utf-8")
     return stats, Pds4Label(label_path, text, tap.statistics(), tap.content())
 
 
-def dtm_label_text(product: ProductDescription, data_name: str, stored: StoredArray, statistics: ArrayStatistics,
-                   content: FileContent, header_bytes: int = 0) -> str:
-    """The PDS4 label of a DTM stored in `data_name` (after `header_bytes` of PDS3 label)."""
+def image_label_text(product: ProductDescription, data_name: str, stored: StoredArray, statistics: ArrayStatistics,
+                     content: FileContent, header_bytes: int = 0) -> str:
+    """The PDS4 label of a one-band image (a DTM, or HRSC's ND4) stored in `data_name`,
+    after `header_bytes` of attached PDS3 label when there is one."""
     array = {
         "element": "Array_2D_Image",
         "bands": None,
@@ -116,16 +120,16 @@ def dtm_label_text(product: ProductDescription, data_name: str, stored: StoredAr
         "statistics": statistics,
     }
     return render_pds4("dtm.xml.j2", {
-        **_common(product, "data_dtm", "digital terrain model"),
+        **_common(product, stored.collection, stored.kind),
         "data_file": _file_entry(data_name, content),
         "array": array,
         "pds3_header": header_bytes,
     })
 
 
-def write_dtm_pds4_label(product: ProductDescription, label_path: Path, data_path: Path, data_name: str,
-                         stored: StoredArray, header_bytes: int = 0) -> Pds4Label:
-    """Describe an already written DTM file (PDS3 `.IMG` with attached label, or raw) in a PDS4 label.
+def write_image_pds4_label(product: ProductDescription, label_path: Path, data_path: Path, data_name: str,
+                           stored: StoredArray, header_bytes: int = 0) -> Pds4Label:
+    """Describe an already written image file (PDS3 `.IMG` with attached label, or raw) in a PDS4 label.
 
     Reads the file once for its MD5 and statistics: it was written before this label.
     """
@@ -134,7 +138,7 @@ def write_dtm_pds4_label(product: ProductDescription, label_path: Path, data_pat
         tap = ContentTap(None, stored.numpy_type, special=tuple(v for _, v in stored.special), start=header_bytes)
         while block := handle.read(_READ_CHUNK - _READ_CHUNK % itemsize):
             tap.write(block)
-    text = dtm_label_text(product, data_name, stored, tap.statistics(), tap.content(), header_bytes)
+    text = image_label_text(product, data_name, stored, tap.statistics(), tap.content(), header_bytes)
     label_path.write_text(text, encoding="utf-8")
     return Pds4Label(label_path, text, tap.statistics(), tap.content())
 

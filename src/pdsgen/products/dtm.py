@@ -30,7 +30,7 @@ from ..label.render import RecordLayout, render_label
 from ..label.values import Based, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
 from ..pds4.model import check_label_dialect
-from ..pds4.products import ProductDescription, float32_dtm, write_dtm_pds4_label, write_pds4_dtm
+from ..pds4.products import ProductDescription, float32_dtm, write_image_pds4_label, write_pds4_dtm
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords
 from .params import ParamValue, check_version, resolve_params
@@ -163,7 +163,7 @@ def write_pds3_dtm(
                     staged.path(final), render, dataset.width * 4, dataset.height, write_data
                 )
                 if label == "both":
-                    write_dtm_pds4_label(description, staged.path(xml_final), staged.path(final), final.name,
+                    write_image_pds4_label(description, staged.path(xml_final), staged.path(final), final.name,
                                          float32_dtm(big_endian), records.label_bytes)
     return DtmProduct(
         product_id=product_id,

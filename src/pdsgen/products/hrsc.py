@@ -40,7 +40,7 @@ from ..missions import hrsc as hrsc_mission
 from ..missions.hrsc import DTM_KINDS, MISSING_DN, NOT_APPLICABLE, POLAR_LIMIT_DEG
 from ..missions.hrsc import base_name as hrsc_base_name
 from ..pds4.model import DATA_TYPES, check_label_dialect
-from ..pds4.products import ProductDescription, StoredArray, write_dtm_pds4_label
+from ..pds4.products import ProductDescription, StoredArray, write_image_pds4_label
 from .heights import Int16Encoding, areoid_adjustment, check_datum_conversion, choose_encoding
 from .params import ParamValue, check_version, resolve_params
 
@@ -141,8 +141,7 @@ def write_hrsc_dtm(
     attached PDS3 label as a Header, the DNs with their scaling as the array); HRSC
     products keep their PDS3 form, so "pds4" alone is refused.
     """
-    if check_label_dialect(label) == "pds4":
-        raise ParamsError(None, "HRSC DTMs keep their PDS3 .img; use --label both to add a PDS4 label")
+    _check_hrsc_label(label)
     byte_order = byte_order or "msb"
     if kind not in DTM_KINDS:
         raise PdsgenError(None, f"HRSC DTM kind must be one of {', '.join(DTM_KINDS)}")
@@ -200,7 +199,7 @@ def write_hrsc_dtm(
                     scaling=(encoding.scaling_factor, encoding.offset))
                 described = ProductDescription(final_id, hrsc_mission.MISSION, version, context["ident"], geometry,
                                                grid)
-                write_dtm_pds4_label(described, staged.path(xml_final), staged.path(final), final.name, stored,
+                write_image_pds4_label(described, staged.path(xml_final), staged.path(final), final.name, stored,
                                      records.label_bytes)
     return HrscDtmProduct(final_id, final, geometry, kind, encoding, _as_int(stats.minimum),
                           _as_int(stats.maximum), text, xml_final if label == "both" else None)
@@ -252,11 +251,12 @@ class HrscImageProduct:
     valid_minimum: int
     valid_maximum: int
     label_text: str
+    pds4_label_path: Path | None = None
 
     @property
     def files(self) -> tuple[Path, ...]:
         """Every file this product wrote."""
-        return (self.path,)
+        return (self.path,) + ((self.pds4_label_path,) if self.pds4_label_path else ())
 
 
 def write_hrsc_nd4(
@@ -270,13 +270,16 @@ def write_hrsc_nd4(
     params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
     version: str = "1.0",
     overwrite: bool = False,
+    label: str = "pds3",
 ) -> HrscImageProduct:
     """Write the nadir orthoimage `OUTDIR/hOOOO_NNNN_nd4.img`: 8-bit DNs, 0 = no data.
 
     Byte input keeps its DNs (0 is HRSC's no-data DN already); anything else is
     mapped linearly from its valid range (or `value_range`) onto DNs 1..254,
-    with SCALING_FACTOR and OFFSET giving the input values back.
+    with SCALING_FACTOR and OFFSET giving the input values back. label "both" adds
+    `hOOOO_NNNN_nd4.xml`, a PDS4 label of the same .img ("pds4" alone is refused).
     """
+    _check_hrsc_label(label)
     keywords = resolve_params(params)
     input_path = Path(input_path)
     special = SPECIAL_DNS[8]
@@ -307,10 +310,30 @@ def write_hrsc_nd4(
             return stats
 
         final = prepare_output_dir(outdir) / context["file_name"]
-        with StagedOutputs([final], overwrite) as staged:
-            _, text, stats = write_attached_product(staged.path(final), render, grid.width, grid.height, write_data)
+        xml_final = final.with_suffix(".xml")
+        with StagedOutputs([final] + ([xml_final] if label == "both" else []), overwrite) as staged:
+            records, text, stats = write_attached_product(
+                staged.path(final), render, grid.width, grid.height, write_data)
+            if label == "both":
+                identity = mapping.scaling_factor == 1.0 and mapping.offset == 0.0
+                stored = StoredArray(
+                    DATA_TYPES[("u1", True)], (("missing_constant", float(special.null)),),
+                    "Nadir orthoimage DNs" + ("" if identity else "; value = DN * scaling_factor + value_offset")
+                    + "; DN 0 marks missing data.",
+                    unit=None, scaling=None if identity else (mapping.scaling_factor, mapping.offset),
+                    collection="data_ortho", kind="nadir orthoimage")
+                described = ProductDescription(context["product_id"], hrsc_mission.MISSION, version,
+                                               context["ident"], geometry, grid)
+                write_image_pds4_label(described, staged.path(xml_final), staged.path(final), final.name, stored,
+                                       records.label_bytes)
     return HrscImageProduct(context["product_id"], final, geometry, mapping.scaling_factor, mapping.offset,
-                            _as_int(stats.minimum), _as_int(stats.maximum), text)
+                            _as_int(stats.minimum), _as_int(stats.maximum), text,
+                            xml_final if label == "both" else None)
+
+
+def _check_hrsc_label(label: str) -> None:
+    if check_label_dialect(label) == "pds4":
+        raise ParamsError(None, "HRSC products keep their PDS3 .img; use --label both to add a PDS4 label")
 
 
 def _as_int(value: float) -> int:
