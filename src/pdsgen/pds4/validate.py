@@ -152,8 +152,8 @@ def _schema_checks(tree: etree._ElementTree, catalog: SchemaCatalog, use_schemat
         except SchemaImportError as exc:
             report.add("PDS4-003", exc.problem)
             return
-        for line, message in xsd_errors(schema, tree):
-            report.add("PDS4-004", message, line)
+        for line, element, message in xsd_errors(schema, tree):
+            report.add("PDS4-004", message, line, element)
 
     def rules(report: Report) -> None:
         if not refs.sch:

@@ -92,8 +92,14 @@ def _schema_text(path: str) -> bytes:
     return etree.tostring(tree)
 
 
-def xsd_errors(schema: etree.XMLSchema, tree: etree._ElementTree) -> list[tuple[int | None, str]]:
-    """(line, message) of every XML Schema violation in the label."""
+def xsd_errors(schema: etree.XMLSchema, tree: etree._ElementTree) -> list[tuple[int | None, str | None, str]]:
+    """(line, element name, message) of every XML Schema violation in the label."""
     if schema.validate(tree):
         return []
-    return [(error.line or None, error.message) for error in schema.error_log]
+    return [(error.line or None, _element_name(error.path), error.message) for error in schema.error_log]
+
+
+def _element_name(path: str | None) -> str | None:
+    """The last named step of libxml2's error path (`/*/*[2]/cart:Planar/cart:Map_Projection`)."""
+    name = (path or "").rsplit("/", 1)[-1].split("[")[0]
+    return name if name and name != "*" else None
