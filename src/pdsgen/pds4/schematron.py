@@ -102,7 +102,7 @@ def _rule_template(rule: etree._Element, pattern: int, priority: int, renames: d
     check = etree.SubElement(template, f"{_X}if", test=f"not({pattern} = $fired)")
     for let in rule.iter(f"{_S}let"):
         etree.SubElement(check, f"{_X}variable", name=let.get("name"), select=_renamed(let.get("value"), renames))
-    for assertion in rule.iter(f"{_S}assert"):
+    for assertion in rule.iterchildren(f"{_S}assert", f"{_S}report"):
         check.append(_assertion(assertion, context, renames))
     handed_on = etree.SubElement(template, f"{_X}next-match")
     etree.SubElement(handed_on, f"{_X}with-param", name="fired", select=f"($fired, {pattern})", tunnel="yes")
@@ -110,9 +110,14 @@ def _rule_template(rule: etree._Element, pattern: int, priority: int, renames: d
 
 
 def _assertion(assertion: etree._Element, context: str, renames: dict[str, str]) -> etree._Element:
-    check = etree.Element(f"{_X}if", test=f"not({_renamed(assertion.get('test'), renames)})")
+    """An `assert` fires when its test is false, a `report` when it is true (default role:
+    error for asserts, warning for reports)."""
+    test = _renamed(assertion.get("test"), renames)
+    is_report = assertion.tag == f"{_S}report"
+    check = etree.Element(f"{_X}if", test=test if is_report else f"not({test})")
+    default_role = "warning" if is_report else "error"
     failure = etree.SubElement(check, f"{{{_REPORT_NS}}}failed",
-                               role=(assertion.get("role") or "error").lower(), context=context)
+                               role=(assertion.get("role") or default_role).lower(), context=context)
     etree.SubElement(failure, f"{_X}attribute", name="location", select="path()")
     text = etree.SubElement(failure, f"{_X}text")
     text.text = assertion.text or ""
