@@ -188,7 +188,7 @@ class _TileEncoder:
             opj.set_error_handler(codec, opj._ERROR_CALLBACK)
             opj.setup_encoder(codec, self._parameters(), image)
             opj.encoder_set_extra_options(codec, plt=self.settings.plt, tlm=False)
-            opj.codec_set_threads(codec, 1)  # parallel across tiles instead
+            opj.codec_set_threads(codec, 0)  # no worker threads: tiles run in parallel instead
             stream = opj.stream_create_default_file_stream(str(path), False)
             opj.start_compress(codec, image, stream)
             opj.write_tile(codec, 0, np.ascontiguousarray(tile, dtype=self.sample_dtype), stream)
