@@ -126,6 +126,10 @@ def test_bad_arguments_are_refused(tmp_path):
         _encode(tmp_path / "t.jp2", data, 8, threads=0)
     with pytest.raises(ValueError, match="bands"):
         write_jp2(tmp_path / "t.jp2", 10, 10, 2, 8, lambda first, n: data[first:first + n])
+    wide = _data((40, 100), 1, 8)
+    with pytest.raises(ValueError, match="power of two"):  # a 48-sample tile at x = 48 codes differently
+        _encode(tmp_path / "t.jp2", wide, 8, tile=48)
+    assert not list(tmp_path.iterdir())
 
 
 def test_a_failing_reader_leaves_no_scratch_files(tmp_path):
