@@ -424,7 +424,9 @@ def write_jp2(
     check_tiling(settings, lines, samples)  # arguments are checked before any file is created
     threads = encoder_threads(threads)
     path = Path(path)
-    with tempfile.TemporaryDirectory(prefix=f".{path.name}.", dir=path.parent) as scratch, \
+    # Tiles' one-tile code streams pass through local scratch files (one per encoder at a
+    # time), not the output directory, which may be a slow network file system.
+    with tempfile.TemporaryDirectory(prefix="pdsgen-jp2-") as scratch, \
             open(path, "wb") as handle:
         handle.write(_jp2_header(lines, samples, bands, precision))
         for payload in extra_boxes:
