@@ -40,6 +40,7 @@ CODE_BLOCK = (64, 64)
 PRECINCT = 256  # at every resolution: region decoding needs only nearby packets
 OVERVIEW_SIDE = 256  # the lowest resolution level is about this size or smaller
 MIN_LOWEST_TILE = 16  # smallest tile side at the lowest resolution level
+QUALITY_LAYERS = 1  # one layer holding every coding pass: nothing to truncate in a lossless archive
 
 # Code-block style flags (ISO/IEC 15444-1 Table A.19, SPcod/SPcoc "code-block style").
 CODE_BLOCK_STYLES = {
@@ -73,7 +74,6 @@ class Jp2Settings:
     progression: str = "RPCL"
     code_block_style: tuple[str, ...] = ("BYPASS",)
     reversible: bool = True  # 5/3 wavelet, integer: lossless
-    quality_layers: int = 1
     plt: bool = True
     tlm: bool = True
 
@@ -149,8 +149,8 @@ class _TileEncoder:
         cparams = opj.set_default_encoder_parameters()
         cparams.codec_fmt = opj.CODEC_J2K
         cparams.irreversible = 0 if s.reversible else 1
-        cparams.tcp_numlayers = s.quality_layers
-        cparams.tcp_rates[0] = 0  # no rate limit: lossless
+        cparams.tcp_numlayers = QUALITY_LAYERS
+        cparams.tcp_rates[0] = 0  # no rate limit: every coding pass is kept
         cparams.cp_disto_alloc = 1
         cparams.numresolution = s.resolutions
         cparams.cblockh_init, cparams.cblockw_init = s.code_block
@@ -186,7 +186,7 @@ class _TileEncoder:
         try:
             opj.set_error_handler(codec, opj._ERROR_CALLBACK)
             opj.setup_encoder(codec, self._parameters(), image)
-            opj.encoder_set_extra_options(codec, plt=self.settings.plt, tlm=False)
+            opj.encoder_set_extra_options(codec, plt=self.settings.plt)  # TLM: written by _CodeStreamWriter
             opj.codec_set_threads(codec, 0)  # no worker threads: tiles run in parallel instead
             stream = opj.stream_create_default_file_stream(str(path), False)
             opj.start_compress(codec, image, stream)
@@ -486,7 +486,7 @@ def describe_jp2(
         f"{precision} bits unsigned",
         "  Compression:        " + ("lossless, reversible 5/3 integer wavelet" if settings.reversible
                                     else "lossy, irreversible 9/7 wavelet"),
-        f"  Quality layers:     {settings.quality_layers}",
+        f"  Quality layers:     {QUALITY_LAYERS}",
         f"  Progression order:  {settings.progression} ({_PROGRESSIONS[settings.progression]})",
         f"  Tiles:              {settings.tile_shape[1]} x {settings.tile_shape[0]} samples, "
         f"{grid_cols} x {grid_rows} tiles, one tile-part each",
