@@ -16,7 +16,7 @@ import pytest
 import rasterio
 from PIL import Image
 
-from pdsgen.write_jp2 import CODE_BLOCK_STYLES, choose_settings, write_jp2
+from pdsgen.formats.jp2 import CODE_BLOCK_STYLES, choose_settings, write_jp2
 
 
 def _data(shape, bands, bits, seed=7):

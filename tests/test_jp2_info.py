@@ -73,3 +73,11 @@ def test_rewriting_a_product_replaces_its_entry_and_keeps_the_others(tmp_path):
     text = (out / "JP2INFO.TXT").read_bytes().decode("ascii")
     assert text.count("ONE.JP2\r\n") == 1 and text.count("TWO.JP2\r\n") == 1
     assert _entry(text, "ONE.JP2")["Image"].startswith("50 samples x 75 lines")
+
+
+def test_write_ortho_threads_limit_gives_the_same_product(tmp_path):
+    source = _input(tmp_path, (700, 600), "t.tif")
+    one = write_ortho(source, tmp_path / "one", threads=1)
+    every = write_ortho(source, tmp_path / "every")
+    assert one.jp2_path.read_bytes() == every.jp2_path.read_bytes()
+    assert (tmp_path / "one" / "JP2INFO.TXT").read_bytes() == (tmp_path / "every" / "JP2INFO.TXT").read_bytes()
