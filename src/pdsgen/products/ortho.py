@@ -22,7 +22,7 @@ from rasterio.windows import Window
 
 from ..errors import ParamsError, PdsgenError
 from ..formats.geojp2 import geojp2_box, gmljp2_box
-from ..formats.jp2 import TILE_SIZE, write_jp2
+from ..formats.jp2 import JP2INFO_NAME, TILE_SIZE, describe_jp2, jp2info_text, write_jp2
 from ..formats.raster import open_raster, row_strips
 from ..formats.scale_dn import (
     BIT_DEPTHS,
@@ -87,12 +87,15 @@ def write_ortho(
     Missions with their own form (hrsc: 8-bit ND4 .img, imars: GeoTIFF + PVL +
     footprint) have their writer called with `options` (their images are 8-bit:
     `bits` other than 8 is refused); the others get the JP2 + .LBL of
-    `write_jp2_ortho` with the mission's names and keywords.
+    `write_jp2_ortho` with the mission's names and keywords. `threads=N` caps the
+    cores the JPEG 2000 encoder uses (default: all; a batch running several
+    products at once gives each a share); the other forms use one core anyway.
     """
     mission = get_mission(profile)
     own = mission.writer("ortho")
     if own is None:
         return call_mission_writer(write_jp2_ortho, profile, input_path, outdir, {**options, "mission": mission})
+    options.pop("threads", None)  # a limit on cores, not a product option: these writers use one
     bits = options.pop("bits", None)
     if bits not in (None, 8):
         raise ParamsError(None, f"--profile {profile} orthoimages are 8-bit; --bits {bits} does not apply")
@@ -115,9 +118,12 @@ def write_jp2_ortho(
     version: str = "1.0",
     overwrite: bool = False,
     label: str = "pds3",
+    threads: int | None = None,
 ) -> OrthoProduct:
     """Convert a 1-band (RED) or 3-band (IRB) orthoimage into `<PRODUCT_ID>.JP2` + `.LBL`.
 
+    `threads` limits how many cores the JPEG 2000 encoder uses (default: all).
+    The directory's JP2INFO.TXT gets this JP2's encoding facts.
     label "pds4" writes the PDS4 form instead of the .LBL: the uncompressed DNs as the
     primary array `<PRODUCT_ID>.img`, the JP2 as a supplemental Encoded_Image, and
     `<PRODUCT_ID>.xml`; "both" writes the .LBL and the PDS4 form.
@@ -150,16 +156,17 @@ def write_jp2_ortho(
         boxes = [geojp2_box(dataset.crs, dataset.transform)]
         if gmljp2:
             boxes.append(gmljp2_box(dataset.crs, dataset.transform, dataset.height, dataset.width))
+        info_final = outdir / JP2INFO_NAME
         finals = [jp2_final] + ([label_final] if label != "pds4" else []) + (
             [img_final, xml_final] if label != "pds3" else [])
-        with StagedOutputs(finals, overwrite) as staged, ExitStack() as files:
+        with StagedOutputs(finals, overwrite, shared=[info_final]) as staged, ExitStack() as files:
             reader = _TileRowReader(dataset, mapping, str(input_path))
             rows: Callable[[int, int], np.ndarray] = reader
             if label != "pds3":  # the same DNs also go, uncompressed, into the PDS4 primary array
                 rows = ArrayRowTap(reader, files.enter_context(open(staged.path(img_final), "wb")), mapping.special)
-            write_jp2(
+            settings = write_jp2(
                 staged.path(jp2_final), dataset.height, dataset.width, dataset.count,
-                mapping.special.bits, rows, boxes,
+                mapping.special.bits, rows, boxes, threads=threads,
             )
             if not reader.any_valid:
                 raise PdsgenError(input_path, "has no valid pixels (all nodata)")
@@ -173,6 +180,10 @@ def write_jp2_ortho(
                                              mapping.offset)
                 staged.path(xml_final).write_text(pds4_text, encoding="utf-8")
                 text = pds4_text if label == "pds4" else text
+            entry = describe_jp2(jp2_final.name, settings, dataset.height, dataset.width, dataset.count,
+                                 mapping.special.bits, ["GeoJP2", "GMLJP2"][:len(boxes)])
+            previous = info_final.read_text("ascii", "replace") if info_final.is_file() else None
+            staged.path(info_final).write_bytes(jp2info_text(previous, entry, lambda name: (outdir / name).is_file()))
     return OrthoProduct(
         product_id=product_id,
         jp2_path=jp2_final,
@@ -298,6 +309,7 @@ def _label_context(
         "source_product_id": [Symbol(s) if _is_symbol(s) else s for s in sources] if sources else "N/A",
         "geometry": geometry,
         "jp2_name": jp2_name,
+        "jp2info_name": JP2INFO_NAME,
         "img_name": f"{product_id}.IMG",
         "record_bytes": record_bytes,
         "file_records": file_records,
