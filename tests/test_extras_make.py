@@ -76,7 +76,7 @@ def test_dtm_geotiff_gives_nine_previews_and_readme(dtm_tif: Path, tmp_path: Pat
     out = tmp_path / "out"
     written = make_extras([dtm_tif], out, browse_width=320)
     assert sorted(p.name for p in written) == sorted(
-        [f"crater_dtm.{c}.jpg" for c in DTM_CODES] + ["README.TXT", ".pdsgen-extras.json"])
+        [f"crater_dtm.{c}.jpg" for c in DTM_CODES] + ["README.TXT"])
     images = check_jpeg_set(out, "crater_dtm", DTM_CODES, 320)
     for code in ("br", "ab", "th", "sb", "sa", "st"):
         assert is_grey(images[code]), code

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
-import json
+import os
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -13,9 +15,9 @@ from click.testing import CliRunner
 from pdsgen.cli import main
 from pdsgen.errors import PdsgenError
 from pdsgen.extras import make_extras
+from pdsgen.extras.readme_index import parse_readme
+from pdsgen.extras.readme_txt import entry_files, render_readme
 from test_extras_helpers import crater_field, write_geotiff
-
-RECORD = ".pdsgen-extras.json"
 
 
 @pytest.fixture()
@@ -45,8 +47,7 @@ def test_second_call_adds_its_product_to_readme_without_overwrite(two_products, 
     text = readme.read_text()
     assert "first_dtm.ca.jpg" in text and "second_ortho.abrowse.jpg" in text
     assert "Team A; Team B" in text
-    record = json.loads((out / RECORD).read_text())
-    assert [p["product_id"] for p in record["products"]] == ["first_dtm", "second_ortho"]
+    assert sorted(p.name for p in out.iterdir() if p.name.startswith(".")) == []  # no hidden state
 
 
 def test_product_given_again_replaces_its_entry(two_products, tmp_path: Path):
@@ -88,13 +89,45 @@ def test_products_whose_extras_were_removed_are_dropped(two_products, tmp_path: 
     assert product_ids(out / "README.TXT") == ["second_ortho"]
 
 
-def test_damaged_record_is_a_user_error_before_anything_is_written(two_products,
-                                                                   tmp_path: Path):
+def test_readme_is_read_back_exactly(two_products, tmp_path: Path):
     dtm, ortho = two_products
     out = tmp_path / "out"
-    make_extras([dtm], out)
-    (out / RECORD).write_text('{"format": "something else"}')
+    make_extras([dtm, ortho], out, browse_width=40,
+                params={"KNOWN_ARTIFACTS": "Seams along the image edges. " * 6,
+                        "TECHNICAL_CONTACT": "J. Doe"})
+    data = (out / "README.TXT").read_bytes()
+    entries, keywords = parse_readme(data.decode("ascii"))
+    assert [e["product_id"] for e in entries] == ["first_dtm", "second_ortho"]
+    assert keywords["TECHNICAL_CONTACT"] == "J. Doe"
+    files = [entry_files(e, out) for e in entries]
+    assert render_readme(entries, files, keywords) == data  # the grammar round-trips
+
+
+def test_readme_not_written_by_pdsgen_is_a_user_error_before_anything_is_written(
+        two_products, tmp_path: Path):
+    _, ortho = two_products
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "README.TXT").write_text("Volume notes written by hand.\n")
     result = CliRunner().invoke(main, ["extras", str(ortho), "-o", str(out)])
     assert result.exit_code == 2 and result.stderr.count("\n") == 1
-    assert RECORD in result.stderr and "Traceback" not in result.output
+    assert "README.TXT" in result.stderr and "Traceback" not in result.output
     assert not list(out.glob("second_ortho.*"))
+
+
+def test_four_parallel_runs_into_one_directory_all_end_in_readme(tmp_path: Path):
+    """Four real processes, started together, each adding one product (a batch)."""
+    (tmp_path / "in").mkdir()
+    names = [f"scene_{i}" for i in range(4)]
+    inputs = [write_geotiff(tmp_path / "in" / f"{n}.tif", crater_field(60, 80, seed=i))
+              for i, n in enumerate(names)]
+    out = tmp_path / "out"
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+    runs = [subprocess.Popen([sys.executable, "-m", "pdsgen", "extras", str(path), "-o", str(out),
+                              "--browse-width", "64"], env=env, stdout=subprocess.DEVNULL,
+                             stderr=subprocess.PIPE, text=True) for path in inputs]
+    for run in runs:
+        _, err = run.communicate(timeout=300)
+        assert run.returncode == 0, err
+    assert sorted(product_ids(out / "README.TXT")) == names
+    assert not [p.name for p in out.iterdir() if p.name.startswith(".")]
