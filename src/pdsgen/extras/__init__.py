@@ -81,10 +81,10 @@ def make_extras(
             written += _write_product_extras(previews, outdir, overwrite)
             entries.append(product_entry(previews, credit_line, azimuth, altitude))
         readme = publish_readme(outdir, entries, directory_keywords(keywords))
-    for src in sources if report is not None else ():
-        # After success only: a failed run says one thing, its error.
-        what = "a DTM" if src.kind == DTM else "an orthoimage"
-        report(f"{src.path}: taken as {what} ({src.kind_reason})")
+    if report is not None:  # after success only: a failed run says one thing, its error
+        for src in sources:
+            what = "a DTM" if src.kind == DTM else "an orthoimage"
+            report(f"{src.path}: taken as {what} ({src.kind_reason})")
     return [*written, readme]
 
 
@@ -133,7 +133,7 @@ def _check_options(browse_width: int | None, thumb_width: int, azimuth: float, a
 
 def _check_int(what: str, value: object, low: int, high: int) -> None:
     if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not (
-            low <= value <= high):
+            low <= int(value) <= high):
         raise PdsgenError(None, f"{what} {value!r} must be a whole number of pixels, "
                                 f"{low} .. {high}")
 

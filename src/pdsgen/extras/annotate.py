@@ -29,6 +29,7 @@ from PIL import Image, ImageDraw, ImageFont
 
 from .colour_ramp import ramp_colours
 
+Font = ImageFont.FreeTypeFont | ImageFont.ImageFont
 BACKGROUND = (255, 255, 255)
 INK = (25, 25, 25)
 MUTED = (90, 90, 90)
@@ -165,7 +166,7 @@ class _Sizes:
 
 
 def _draw_scale_bar(draw: ImageDraw.ImageDraw, bar: ScaleBar, x0: int, y0: int,
-                    size: _Sizes, font: ImageFont.FreeTypeFont) -> tuple[int, int, int, int]:
+                    size: _Sizes, font: Font) -> tuple[int, int, int, int]:
     """Four alternating black/white segments, outlined; '0' and the length below."""
     x1, y1 = x0 + bar.pixels - 1, y0 + size.bar - 1
     segments = 4 if bar.pixels >= 40 else 1
@@ -184,7 +185,7 @@ def _draw_scale_bar(draw: ImageDraw.ImageDraw, bar: ScaleBar, x0: int, y0: int,
 
 
 def _draw_north_arrow(draw: ImageDraw.ImageDraw, north_deg: float, cx: float, cy: float,
-                      size: _Sizes, font: ImageFont.FreeTypeFont) -> tuple[float, float]:
+                      size: _Sizes, font: Font) -> tuple[float, float]:
     """An arrow pointing north (clockwise angle from up), 'N' beyond its tip."""
     length = size.arrow
     angle = math.radians(north_deg)
@@ -214,14 +215,14 @@ def _legend_labels(legend: Legend) -> list[tuple[float, str]]:
     return ends + inner
 
 
-def _content_width(legend: Legend, size: _Sizes, font: ImageFont.FreeTypeFont) -> int:
+def _content_width(legend: Legend, size: _Sizes, font: Font) -> int:
     widest = max(font.getlength(t) for _, t in _legend_labels(legend))
     words = max(font.getlength(w) for w in legend.heading.split())
     return int(max(round(size.text * 1.5) + size.gap * 2 + widest, font.getlength(legend.title),
                    words, 7 * size.small))
 
 
-def _heading_lines(legend: Legend, width: int, font: ImageFont.FreeTypeFont) -> list[str]:
+def _heading_lines(legend: Legend, width: int, font: Font) -> list[str]:
     """The heading ("Height (m) above the Mars 2000 areoid") wrapped to `width` pixels."""
     lines: list[str] = []
     for word in legend.heading.split():
@@ -232,12 +233,12 @@ def _heading_lines(legend: Legend, width: int, font: ImageFont.FreeTypeFont) -> 
     return lines
 
 
-def _ramp_margin_width(legend: Legend, size: _Sizes, font: ImageFont.FreeTypeFont) -> int:
+def _ramp_margin_width(legend: Legend, size: _Sizes, font: Font) -> int:
     return size.side + _content_width(legend, size, font) + size.side
 
 
 def _draw_legend(draw: ImageDraw.ImageDraw, legend: Legend, x0: int, y_img: int, height: int,
-                 size: _Sizes, font: ImageFont.FreeTypeFont) -> tuple[int, int, int, int]:
+                 size: _Sizes, font: Font) -> tuple[int, int, int, int]:
     """A vertical colour ramp (high at the top): heading with the datum, end values, ticks."""
     bar_w = round(size.text * 1.5)
     heading = _heading_lines(legend, _content_width(legend, size, font), font)
@@ -283,7 +284,8 @@ def _tick_step(legend: Legend) -> float:
 def _ticks(legend: Legend) -> list[float]:
     step = _tick_step(legend)
     first = math.ceil(legend.low / step - 1e-9) * step
-    ticks, value = [], first
+    ticks: list[float] = []
+    value = first
     while value <= legend.high + 1e-9 * step and len(ticks) < 50:
         ticks.append(value)
         value += step

@@ -39,7 +39,11 @@ __all__ = ["DTM", "ORTHO", "KINDS", "ProductSource", "open_product", "quiet_gdal
 
 # GDAL's block cache defaults to 5 % of RAM; a preview needs only a few blocks at a
 # time, so a small cache keeps memory bounded by the preview size, not the raster.
-GDAL_ENV = {"GDAL_CACHEMAX": 16 * 1024 * 1024, "GDAL_PAM_ENABLED": "NO"}
+# One decoding thread: GDAL reports a worker thread's errors (a damaged JPEG 2000
+# tile) on stderr itself and hands back zeros, where the calling thread's errors
+# reach rasterio as an exception we turn into one line.
+GDAL_ENV = {"GDAL_CACHEMAX": 16 * 1024 * 1024, "GDAL_PAM_ENABLED": "NO",
+            "GDAL_NUM_THREADS": "1"}
 
 _LABEL_SCAN_BYTES = 4 * 1024 * 1024
 _HRSC_NAME = re.compile(r"^h\d{4,5}_\d{4}_[a-z]{2}\d", re.IGNORECASE)
