@@ -55,7 +55,7 @@ def test_product_given_again_replaces_its_entry(two_products, tmp_path: Path):
     out = tmp_path / "out"
     make_extras([dtm, ortho], out, browse_width=40)
     before = (out / "README.TXT").read_text()
-    assert ("first_dtm.br.jpg Elevation as grey levels (dark low, light high), browse "
+    assert ("first_dtm.br.jpg Heights as grey levels (dark low, light high), browse "
             "(40 x 30 pixels)") in " ".join(before.split())
     with pytest.raises(PdsgenError, match="use --overwrite"):  # the JPEGs still need it
         make_extras([dtm], out, browse_width=60)
@@ -63,7 +63,7 @@ def test_product_given_again_replaces_its_entry(two_products, tmp_path: Path):
     make_extras([dtm], out, browse_width=60, overwrite=True, azimuth=200.0)
     after = " ".join((out / "README.TXT").read_text().split())
     assert product_ids(out / "README.TXT") == ["first_dtm", "second_ortho"]
-    assert "first_dtm.br.jpg Elevation as grey levels (dark low, light high), browse " \
+    assert "first_dtm.br.jpg Heights as grey levels (dark low, light high), browse " \
            "(60 x 45 pixels)" in after and "(40 x 30 pixels)" not in after
     assert "azimuth 200 degrees" in after
 

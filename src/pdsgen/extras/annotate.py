@@ -154,9 +154,9 @@ class _Sizes:
     """Font sizes and spacing that scale with the image width (legible at any size)."""
 
     def __init__(self, width: int) -> None:
-        self.title = max(14, round(width / 42))
-        self.text = max(11, round(width / 64))
-        self.small = max(10, round(width / 76))
+        self.title = max(16, round(width / 42))
+        self.text = max(13, round(width / 64))
+        self.small = max(12, round(width / 76))
         self.pad = max(6, round(self.text * 0.8))
         self.gap = max(3, round(self.text * 0.35))
         self.bar = max(5, round(self.text * 0.55))

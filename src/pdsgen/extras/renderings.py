@@ -49,10 +49,10 @@ class Rendering:
 
 
 DTM_RENDERINGS = (
-    Rendering("grey", "br", "ab", "th", "Elevation as grey levels (dark low, light high)"),
+    Rendering("grey", "br", "ab", "th", "Heights as grey levels (dark low, light high)"),
     Rendering("shade", "sb", "sa", "st", "Shaded relief"),
     Rendering("colour", "cb", "ca", "ct",
-              f"Colour-coded elevation ({RAMP_NAME} ramp) over shaded relief"),
+              f"Colour-coded heights ({RAMP_NAME} ramp) over shaded relief"),
 )
 ORTHO_RENDERING = Rendering("ortho", "browse", "abrowse", "thumb", "Orthoimage")
 # The full-scale quick-look JPEG 2000 of an orthoimage (see `qlook`).
@@ -153,7 +153,7 @@ def _render_dtm(src: ProductSource, credit: str, browse_width: int, thumb_width:
                 f"{stretch.high:.0f} m (light)",
         "shade": f"Shaded relief, light from azimuth {azimuth:g} deg, altitude "
                  f"{altitude:g} deg{_exaggeration_text(factor)}",
-        "colour": f"Colour-coded elevation over shaded relief (light {azimuth:g}/"
+        "colour": f"Colour-coded heights over shaded relief (light {azimuth:g}/"
                   f"{altitude:g} deg{_exaggeration_text(factor)})",
     }
     previews = []
