@@ -35,6 +35,7 @@ RECORD_BYTES = {SAMPLES}
 FILE_RECORDS = {LINES}
 ^IMAGE = ("FF99.IMG", 1)
 SPACECRAFT_NAME = MAGELLAN
+IMAGE_ID = 'F-MIDR.20S145;1'
 TARGET_NAME = VENUS
 OBJECT = IMAGE
  LINES = {LINES}
@@ -113,6 +114,7 @@ def test_cli_makes_extras_of_it_and_credits_the_mission(tmp_path: Path):
     text = (out / "README.TXT").read_text()
     assert "from the label's map projection object" in text
     assert "Image credit:      MAGELLAN" in text
+    assert "Label identifier: F-MIDR.20S145;1" in text  # its title, as the label writes it
 
 
 def test_real_magellan_framelet_lands_inside_its_label_bounds(corpus_dir: Path):

@@ -319,7 +319,7 @@ def test_credit_and_title_come_from_the_product(corpus_dir: Path, tmp_path: Path
     text = " ".join((out / "README.TXT").read_text().split())
     assert "Image credit: MARS GLOBAL SURVEYOR / GODDARD SPACE FLIGHT CENTER" in text
     assert "University of Arizona" not in text
-    assert "Label PRODUCT_ID: MEGT90N000CB.IMG" in text  # the title, as the label writes it
+    assert "Label identifier: MEGT90N000CB.IMG" in text  # the title, as the label writes it
     assert "Heights: metres above the Mars areoid" in text
 
 

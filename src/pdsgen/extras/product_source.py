@@ -329,11 +329,16 @@ def _mission(label: dict, path: Path) -> str:
 
 
 def _title(label: dict, path: Path) -> str:
-    """The product ID as the label writes it (case and all), for the annotated browses."""
-    value = str(label.get("PRODUCT_ID", "") or "").strip()
-    if not value or value.upper() in ("N/A", "UNK", "NULL"):
-        return path.stem
-    return " ".join(value.split())
+    """The product ID as the label writes it (case and all), for the annotated browses.
+
+    Older labels without PRODUCT_ID name the product by IMAGE_ID (Magellan's
+    'F-MIDR.20S145;1'); without either, the file name stands in.
+    """
+    for key in ("PRODUCT_ID", "IMAGE_ID"):
+        value = " ".join(str(label.get(key, "") or "").split())
+        if value and value.upper() not in ("N/A", "UNK", "NULL"):
+            return value
+    return path.stem
 
 
 def _first_line(exc: BaseException) -> str:

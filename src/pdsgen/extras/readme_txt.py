@@ -50,7 +50,7 @@ DEFAULT_ARTIFACTS = "None reported by the producer."
 # key) two spaces in; a field whose value is empty is left out.
 PRODUCT_ID_LABEL = "Product ID"
 ENTRY_FIELDS = (
-    ("Label PRODUCT_ID", "title"),
+    ("Label identifier", "title"),
     ("Type", "kind_text"),
     ("Product file", "file_name"),
     ("Source images", "sources"),
