@@ -131,3 +131,16 @@ def test_four_parallel_runs_into_one_directory_all_end_in_readme(tmp_path: Path)
         assert run.returncode == 0, err
     assert sorted(product_ids(out / "README.TXT")) == names
     assert not [p.name for p in out.iterdir() if p.name.startswith(".")]
+
+
+def test_record_of_earlier_versions_is_removed_and_unlabelled_products_get_no_credit(
+        two_products, tmp_path: Path):
+    dtm, _ = two_products
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / ".pdsgen-extras.json").write_text('{"format": "pdsgen extras README index 1"}')
+    make_extras([dtm], out)
+    assert sorted(p.name for p in out.iterdir() if p.name.startswith(".")) == []
+    text = (out / "README.TXT").read_text()
+    assert re.search(r"^Image credit:\s+none$", text, flags=re.MULTILINE)  # nobody named
+    assert "University of Arizona" not in text

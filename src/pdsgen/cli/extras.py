@@ -10,15 +10,14 @@ from ..extras import KINDS, make_extras
 from ..profiles import PROFILES
 
 
-@click.command(short_help="Make browse, annotated browse and thumbnail JPEGs and README.TXT.")
+@click.command(short_help="Make preview JPEGs, orthoimage quick-look JP2s and README.TXT.")
 @click.argument("products", metavar="PRODUCT...", nargs=-1, required=True,
                 type=click.Path(dir_okay=False))
 @click.option("-o", "--outdir", required=True, type=click.Path(file_okay=False),
               help="Output directory.")
 @click.option("--credit", help="Credit line on annotated images [default: params CREDIT, else the "
-                               "--profile's, else the mission's the label names (hirise: "
-                               "'NASA/JPL/University of Arizona'), else the label's mission and "
-                               "PRODUCER_INSTITUTION_NAME].")
+                               "--profile's, else that of the mission the label names, else the "
+                               "label's mission and PRODUCER_INSTITUTION_NAME].")
 @click.option("--params", "params_file", type=click.Path(dir_okay=False),
               help="PVL or TOML file of producer keywords (contact, known artifacts ...).")
 @click.option("--browse-width", type=int,
