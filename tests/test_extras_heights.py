@@ -125,3 +125,14 @@ def test_float_heights_without_label_name_no_datum(tmp_path: Path):
         assert ds.count == 1
     src = open_product(tif)
     assert src.heights is not None and "does not name" in src.heights.datum
+
+
+def test_real_ldem_label_offset_is_its_radius(corpus_dir: Path):
+    import pvl
+
+    from pdsgen.extras.heights import radius_offset_m
+
+    label = pvl.load(str(corpus_dir / "real" / "LDEM_4.LBL"))
+    offset = float(label["UNCOMPRESSED_FILE"]["IMAGE"]["OFFSET"])
+    assert radius_offset_m(label, offset) == MOON_R_M
+    assert radius_offset_m(label, 0.0) is None and radius_offset_m(label, 1737000.0) is None

@@ -94,11 +94,13 @@ def test_readme_is_read_back_exactly(two_products, tmp_path: Path):
     out = tmp_path / "out"
     make_extras([dtm, ortho], out, browse_width=40,
                 params={"KNOWN_ARTIFACTS": "Seams along the image edges. " * 6,
-                        "TECHNICAL_CONTACT": "J. Doe"})
+                        "TECHNICAL_CONTACT": "J. Doe",
+                        "PROJECT_NAME": "A project name long enough to be wrapped " * 3})
     data = (out / "README.TXT").read_bytes()
     entries, keywords = parse_readme(data.decode("ascii"))
     assert [e["product_id"] for e in entries] == ["first_dtm", "second_ortho"]
     assert keywords["TECHNICAL_CONTACT"] == "J. Doe"
+    assert keywords["PROJECT_NAME"] == " ".join(["A project name long enough to be wrapped"] * 3)
     files = [entry_files(e, out) for e in entries]
     assert render_readme(entries, files, keywords) == data  # the grammar round-trips
 

@@ -78,7 +78,8 @@ def parse_readme(text: str, path: Path | None = None) -> tuple[list[Entry], dict
                                 "section); move it away to start afresh")
     entries = _entries(sections["PRODUCTS"], path)
     keywords = _fields(sections["PRODUCER AND CONTACT"], 0, _DIRECTORY_LABELS)
-    keywords["PROJECT_NAME"] = lines[0].strip()
+    title = lines[:next((i for i, line in enumerate(lines) if line and set(line) == {"="}), 1)]
+    keywords["PROJECT_NAME"] = " ".join(" ".join(title).split())  # wrapped when long
     keywords["KNOWN_ARTIFACTS"] = " ".join(" ".join(sections.get("KNOWN ARTIFACTS", [])).split())
     defaults = keyword_defaults(entries)
     return entries, {k: v for k, v in keywords.items() if v and v != defaults.get(k)}

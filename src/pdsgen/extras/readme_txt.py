@@ -175,7 +175,9 @@ def render_readme(entries: Sequence[Mapping[str, str]], files: Sequence[list[tup
                              trim_blocks=True, lstrip_blocks=True, autoescape=False,
                              undefined=jinja2.StrictUndefined, keep_trailing_newline=True)
     env.filters["field"] = field_line
-    shown = {**keyword_defaults(entries), **{k: v for k, v in keywords.items() if v}}
+    # One paragraph each: README.TXT is read back, and wrapping keeps no line breaks.
+    given = {k: " ".join(v.split()) for k, v in keywords.items()}
+    shown = {**keyword_defaults(entries), **{k: v for k, v in given.items() if v}}
     text = env.get_template(TEMPLATE).render(
         project_name=shown["PROJECT_NAME"],
         products=[{**e, "files": f} for e, f in zip(entries, files, strict=True)],
