@@ -119,6 +119,13 @@ def annotate(image: Image.Image, note: Annotation) -> tuple[Image.Image, Layout]
                      text_font.getlength(_ascii(note.credit)))
     right = max(size.side, ramp_width, int(text_width) + size.side - width)
     middle = max(height, 16 * size.small) if note.legend else height  # room for the ramp
+    bar = nice_scale_bar(note.metres_per_pixel, width)
+    bar_right = size.side + bar.pixels - 1 + size.gap + small_font.getlength(bar.label)
+    arrow_x = bar_right + 2 * size.text + size.arrow_box / 2
+    credit = _ascii(note.credit)
+    credit_w = text_font.getlength(credit)
+    if credit and width + right - credit_w < arrow_x + size.arrow_box / 2 + size.text:
+        foot += size.text + size.gap  # a long credit line gets a line of its own
     canvas = Image.new("RGB", (size.side + width + right, top + middle + foot), BACKGROUND)
     x_img, y_img = size.side, top
     canvas.paste(image.convert("RGB"), (x_img, y_img))
@@ -130,17 +137,12 @@ def annotate(image: Image.Image, note: Annotation) -> tuple[Image.Image, Layout]
               font=text_font, fill=MUTED)
 
     foot_y = y_img + middle + 1 + size.pad
-    bar = nice_scale_bar(note.metres_per_pixel, width)
     bar_box = _draw_scale_bar(draw, bar, x_img, foot_y, size, small_font)
-    bar_right = bar_box[2] + size.gap + small_font.getlength(bar.label)
-    tip = _draw_north_arrow(draw, note.north_deg, bar_right + 2 * size.text + size.arrow_box / 2,
-                            foot_y + size.arrow_box / 2, size, small_font)
-    credit = _ascii(note.credit)
+    tip = _draw_north_arrow(draw, note.north_deg, arrow_x, foot_y + size.arrow_box / 2, size,
+                            small_font)
     if credit:
-        right = canvas.width - size.side
-        credit_w = draw.textlength(credit, font=text_font)
-        draw.text((right - credit_w, canvas.height - size.pad - size.text), credit,
-                  font=text_font, fill=MUTED)
+        draw.text((canvas.width - size.side - credit_w, canvas.height - size.pad - size.text),
+                  credit, font=text_font, fill=MUTED)
 
     ramp_box = None
     if note.legend is not None:
