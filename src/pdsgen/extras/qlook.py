@@ -8,11 +8,13 @@ carrying the product's CRS and geotransform so GIS tools place it like the
 product. No-data pixels are 0.
 
 Memory stays flat: the code stream is written tile by tile (the project's JP2
-layout from `write_jp2.choose_layout`, its box insertion and `geojp2_box`), and
-each tile is read from the product as one window of that tile's size; GDAL's
-block cache holds two block rows of the product, so a strip-organised source is
-not decoded again for every tile. `write_jp2.encode_jp2` encodes losslessly only,
-so the lossy encoding is set up here with the same glymur tile writers.
+layout from `write_jp2.choose_layout`, its `jp2_boxes` reader, and
+`geojp2_box`), and each tile is read from the product as one window of that
+tile's size; GDAL's block cache holds two block rows of the product, so a
+strip-organised source is not decoded again for every tile. The project's JP2
+writer encodes losslessly only (it has no compression-ratio setting), so this
+thin wrapper sets up the lossy encoding with glymur's tile writers and adds the
+GeoJP2 box after the JP2 header while copying the code stream in chunks.
 """
 
 from __future__ import annotations
@@ -30,13 +32,14 @@ from rasterio.windows import Window
 
 from ..geojp2 import geojp2_box
 from ..read_raster import streaming_cache_mb
-from ..write_jp2 import choose_layout, insert_boxes, set_encoder_threads
+from ..write_jp2 import choose_layout, jp2_boxes
 from .product_source import ProductSource
 from .stretch import Stretch
 
 # Compression ratio against 8-bit samples (0.4 bits per band sample): small, and
 # still sharp enough to judge an image at full scale.
 QLOOK_RATIO = 20
+_COPY_CHUNK = 8 * 1024 * 1024
 
 
 def write_qlook(src: ProductSource, stretches: Sequence[Stretch | None],
@@ -56,7 +59,7 @@ def write_qlook(src: ProductSource, stretches: Sequence[Stretch | None],
 
             _encode(scratch, src.height, src.width, len(bands), layout.tile_shape,
                     layout.resolutions, tile)
-        insert_boxes(scratch, path, [geojp2_box(src.crs, src.transform)])
+        _copy_with_box(scratch, path, geojp2_box(src.crs, src.transform))
     finally:
         scratch.unlink(missing_ok=True)
 
@@ -64,7 +67,7 @@ def write_qlook(src: ProductSource, stretches: Sequence[Stretch | None],
 def _encode(path: Path, lines: int, samples: int, bands: int, tile_shape: tuple[int, int],
             resolutions: int, tile) -> None:
     """Lossy JP2, one tile at a time in row-major order (glymur's tile writers)."""
-    set_encoder_threads()
+    glymur.set_option("lib.num_threads", os.cpu_count() or 1)
     options = dict(numres=resolutions, cratios=(QLOOK_RATIO,), irreversible=True, plt=True,
                    prog="RPCL", colorspace="gray" if bands == 1 else "rgb", mct=bands == 3)
     rows, cols = tile_shape
@@ -78,6 +81,25 @@ def _encode(path: Path, lines: int, samples: int, bands: int, tile_shape: tuple[
         row, col = divmod(index, columns)
         top, left = row * rows, col * cols
         tile_writer[:] = tile(top, left, min(rows, lines - top), min(cols, samples - left))
+
+
+def _copy_with_box(encoded: Path, final: Path, extra: bytes) -> None:
+    """Copy ENCODED to FINAL with EXTRA (a whole box) right after the JP2 header box."""
+    boxes = jp2_boxes(encoded)
+    kinds = [kind for kind, _, _ in boxes]
+    if b"jp2h" not in kinds:
+        raise RuntimeError(f"{encoded} is not a JP2 file with a header box")
+    with open(encoded, "rb") as source, open(final, "wb") as target:
+        for kind, offset, length in boxes:
+            source.seek(offset)
+            while length:
+                chunk = source.read(min(_COPY_CHUNK, length))
+                if not chunk:
+                    raise RuntimeError(f"{encoded} ends inside a box")
+                target.write(chunk)
+                length -= len(chunk)
+            if kind == b"jp2h":
+                target.write(extra)
 
 
 def _stretched(ds, src: ProductSource, bands: list[int], stretches: Sequence[Stretch | None],
