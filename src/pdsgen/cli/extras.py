@@ -7,7 +7,7 @@ import logging
 import click
 
 from ..extras import KINDS, make_extras
-from ..profiles import PROFILES
+from ..profiles import profile_names
 
 
 @click.command(short_help="Make preview JPEGs, orthoimage quick-look JP2s and README.TXT.")
@@ -34,7 +34,7 @@ from ..profiles import PROFILES
 @click.option("--kind", type=click.Choice(KINDS),
               help="Treat every PRODUCT as this kind [default: from the label, metadata or "
                    "values; refused when they do not say].")
-@click.option("--profile", type=click.Choice(sorted(PROFILES)),
+@click.option("--profile", type=click.Choice(profile_names()),
               help="Mission conventions (credit line) [default: from each product's label].")
 @click.option("--overwrite", is_flag=True, help="Replace existing Extras files.")
 def extras(products, outdir, credit, params_file, browse_width, thumb_width, azimuth, altitude,

@@ -21,8 +21,8 @@ from pathlib import Path
 from PIL import Image
 
 from ..errors import PdsgenError
-from ..params import ParamValue, resolve_params
-from ..staging import StagedOutputs, prepare_output_dir
+from ..formats.staging import StagedOutputs, prepare_output_dir
+from ..products.params import ParamValue, resolve_params
 from .credit import product_credit
 from .product_source import DTM, KINDS, ProductSource, open_product, quiet_gdal
 from .qlook import write_qlook

@@ -15,8 +15,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from ..errors import PdsgenError
-from ..params import ParamValue
-from ..profiles import PROFILES
+from ..missions import get_mission, mission_names
+from ..products.params import ParamValue
 from .product_source import ProductSource
 
 _MISSION_KEYS = ("MISSION_NAME", "INSTRUMENT_HOST_NAME", "SPACECRAFT_NAME")
@@ -46,7 +46,7 @@ def label_credit(label: Mapping[str, object]) -> str:
 
 
 def _profile_credit(name: str | None) -> str:
-    return PROFILES[name].credit if name in PROFILES else ""
+    return get_mission(name).credit if name and name in mission_names() else ""
 
 
 def _text(label: Mapping[str, object], key: str) -> str:

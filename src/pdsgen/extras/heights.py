@@ -22,6 +22,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from ..missions import get_mission, mission_names
 from .label_georef import projection_object
 
 # A radius OFFSET and A_AXIS_RADIUS agree when within this many metres (labels
@@ -84,18 +85,10 @@ def _target(label: Mapping[str, Any]) -> str:
     return target if target and target.upper() not in ("N/A", "UNK") else ""
 
 
-# The missions' own conventions (DTM heights): HiRISE DTMs are heights above the
-# Mars 2000 areoid; HRSC level-4 DT4 above the 3396.0 km sphere, DA4 above the
-# GMM-3 areoid (iMars keeps HRSC's names and datums).
-_HRSC_DATUMS = {"dt4": "the 3396.0 km Mars sphere", "da4": "the Mars GMM-3 areoid"}
-_HRSC_KIND = re.compile(r"_(d[at]4)(?![a-z0-9])", re.IGNORECASE)
-
 
 def mission_datum(mission: str, name: str) -> str | None:
-    """The height datum a mission's DTM named NAME uses, if the mission fixes one."""
-    if mission == "hirise":
-        return "the Mars 2000 areoid"
-    if mission in ("hrsc", "imars"):
-        match = _HRSC_KIND.search(name)
-        return _HRSC_DATUMS[match.group(1).lower()] if match else None
-    return None
+    """The height datum the mission fixes for its DTM named NAME (missions/), if any."""
+    if mission not in mission_names():
+        return None
+    datum = get_mission(mission).dtm_height_datum
+    return datum(name) if datum is not None else None

@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import PdsgenError
+from ..missions.hrsc import is_dtm_name as is_hrsc_dtm_name
 
 DTM = "dtm"
 ORTHO = "ortho"
@@ -41,7 +42,6 @@ _LABEL_HEIGHT_WORDS = re.compile(
     r"(?<![A-Z0-9])(TOPOGRAPHY|ELEVATIONS?|HEIGHTS?|RADI(?:US|I)|DTMS?|DEMS?|ALTIMETRY)"
     r"(?![A-Z0-9])")
 _IMAGE_WORDS = re.compile(r"(?<![A-Z0-9])(I/F|IOF|REFLECTANCE|RADIANCE|ALBEDO|ORTHO\w*)(?![A-Z0-9])")
-_HRSC_DTM_NAME = re.compile(r"_d[at]4(?![a-z0-9])", re.IGNORECASE)
 # Float data: reflectance (I/F) lies in 0..REFLECTANCE_MAX (a little below 0 from
 # calibration noise); heights reach below HEIGHT_BELOW.
 REFLECTANCE_MIN, REFLECTANCE_MAX = -0.05, 2.0
@@ -100,7 +100,7 @@ def _from_metadata(info: Mapping[str, Any], path: Path) -> KindDecision | None:
     picture = _IMAGE_WORDS.search(hints)
     if picture:
         return KindDecision(ORTHO, f"its metadata say {picture.group(1).lower()}")
-    if _HRSC_DTM_NAME.search(path.stem):
+    if is_hrsc_dtm_name(path.stem):
         return KindDecision(DTM, "its name is an HRSC DTM's (_dt4/_da4)")
     if info["dtype"] == "int16" and (info["scale"] not in (None, 1.0)
                                      or info["offset"] not in (None, 0.0)):

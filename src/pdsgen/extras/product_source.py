@@ -31,6 +31,8 @@ from rasterio.errors import NotGeoreferencedWarning, RasterioError
 from rasterio.transform import Affine
 
 from ..errors import PdsgenError
+from ..label.grammar import FLOAT_SAMPLE_TYPES
+from ..missions import LabelFacts, detect_mission
 from .heights import HeightReference, height_reference, mission_datum, radius_offset_m
 from .kind import DTM, KINDS, LENGTH_UNITS, ORTHO, KindDecision, decide_kind
 from .label_georef import LabelGeorefError, label_georeferencing
@@ -39,16 +41,15 @@ __all__ = ["DTM", "ORTHO", "KINDS", "ProductSource", "open_product", "quiet_gdal
 
 # GDAL's block cache defaults to 5 % of RAM; a preview needs only a few blocks at a
 # time, so a small cache keeps memory bounded by the preview size, not the raster.
+# In MB, the unit formats/raster.py measured: as a byte count GDAL_CACHEMAX raised peak memory.
 # One decoding thread: GDAL reports a worker thread's errors (a damaged JPEG 2000
 # tile) on stderr itself and hands back zeros, where the calling thread's errors
 # reach rasterio as an exception we turn into one line.
-GDAL_ENV = {"GDAL_CACHEMAX": 16 * 1024 * 1024, "GDAL_PAM_ENABLED": "NO",
-            "GDAL_NUM_THREADS": "1"}
+GDAL_ENV = {"GDAL_CACHEMAX": 16, "GDAL_PAM_ENABLED": "NO", "GDAL_NUM_THREADS": "1"}
 
 _LABEL_SCAN_BYTES = 4 * 1024 * 1024
-_HRSC_NAME = re.compile(r"^h\d{4,5}_\d{4}_[a-z]{2}\d", re.IGNORECASE)
 _END_LINE = re.compile(rb"^[ \t]*END[ \t]*\r?$", re.MULTILINE)
-_FLOAT_TYPES = {"PC_REAL", "IEEE_REAL", "REAL", "MAC_REAL", "SUN_REAL", "FLOAT"}
+_FLOAT_TYPES = FLOAT_SAMPLE_TYPES
 # GDAL metadata items that describe a raster's content (searched for height words).
 _DESCRIPTIVE_TAGS = ("DESCRIPTION", "TIFFTAG_IMAGEDESCRIPTION", "PRODUCT_ID", "PRODUCT_TYPE")
 KIND_SAMPLE_SIDE = 256  # the decimated read that tells heights from reflectance
@@ -320,12 +321,13 @@ def _image_object(label: dict) -> dict:
 
 def _mission(label: dict, path: Path) -> str:
     """"hrsc" or "hirise" when the label (or an HRSC file name) says so, else ""."""
-    instrument = str(label.get("INSTRUMENT_ID", "") or "").upper()
-    if instrument == "HRSC" or "MEX:DTM" in label or _HRSC_NAME.match(path.name):
-        return "hrsc"
-    if instrument == "HIRISE":
-        return "hirise"
-    return ""
+    facts = LabelFacts(
+        instrument_id=str(label.get("INSTRUMENT_ID", "") or ""),
+        data_set_id=str(label.get("DATA_SET_ID", "") or ""),
+        group_names=frozenset(str(key).upper() for key, value in label.items() if hasattr(value, "keys")),
+        file_name=path.name,
+    )
+    return detect_mission(facts) or ""
 
 
 def _title(label: dict, path: Path) -> str:

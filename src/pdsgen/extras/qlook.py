@@ -30,9 +30,9 @@ import numpy as np
 import rasterio
 from rasterio.windows import Window
 
-from ..geojp2 import geojp2_box
-from ..read_raster import streaming_cache_mb
-from ..write_jp2 import choose_layout, jp2_boxes
+from ..formats.geojp2 import geojp2_box
+from ..formats.jp2 import choose_layout, jp2_boxes
+from ..formats.raster import streaming_cache_mb
 from .product_source import ProductSource
 from .stretch import Stretch
 

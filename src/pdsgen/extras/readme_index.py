@@ -23,7 +23,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from ..errors import PdsgenError
-from ..staging import StagedOutputs
+from ..formats.staging import StagedOutputs
 from .readme_txt import (
     DIRECTORY_FIELDS,
     ENTRY_FIELDS,
