@@ -30,6 +30,11 @@ def two_products(tmp_path: Path) -> tuple[Path, Path]:
     return dtm, ortho
 
 
+def hidden_files(outdir: Path) -> list[str]:
+    """Names a delivery would ship without anyone seeing them."""
+    return sorted(p.name for p in outdir.iterdir() if p.name.startswith("."))
+
+
 def product_ids(readme: Path) -> list[str]:
     return re.findall(r"^Product ID:\s+(\S+)", readme.read_text(), flags=re.MULTILINE)
 
@@ -47,7 +52,7 @@ def test_second_call_adds_its_product_to_readme_without_overwrite(two_products, 
     text = readme.read_text()
     assert "first_dtm.ca.jpg" in text and "second_ortho.abrowse.jpg" in text
     assert "Team A; Team B" in text
-    assert sorted(p.name for p in out.iterdir() if p.name.startswith(".")) == []  # no hidden state
+    assert hidden_files(out) == []  # no hidden state
 
 
 def test_product_given_again_replaces_its_entry(two_products, tmp_path: Path):
@@ -132,7 +137,7 @@ def test_four_parallel_runs_into_one_directory_all_end_in_readme(tmp_path: Path)
         _, err = run.communicate(timeout=300)
         assert run.returncode == 0, err
     assert sorted(product_ids(out / "README.TXT")) == names
-    assert not [p.name for p in out.iterdir() if p.name.startswith(".")]
+    assert hidden_files(out) == []
 
 
 def test_record_of_earlier_versions_is_removed_and_unlabelled_products_get_no_credit(
@@ -142,7 +147,7 @@ def test_record_of_earlier_versions_is_removed_and_unlabelled_products_get_no_cr
     out.mkdir()
     (out / ".pdsgen-extras.json").write_text('{"format": "pdsgen extras README index 1"}')
     make_extras([dtm], out)
-    assert sorted(p.name for p in out.iterdir() if p.name.startswith(".")) == []
+    assert hidden_files(out) == []
     text = (out / "README.TXT").read_text()
     assert re.search(r"^Image credit:\s+none$", text, flags=re.MULTILINE)  # nobody named
     assert "University of Arizona" not in text
