@@ -6,8 +6,9 @@ keywords (profile + params) -> render the label -> stream the image.
 
 from __future__ import annotations
 
+import math
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -27,7 +28,7 @@ from ..formats.staging import StagedOutputs, prepare_output_dir
 from ..geo.geometry import MapGeometry, describe_geometry
 from ..label.grammar import sample_type
 from ..label.render import RecordLayout, render_label
-from ..label.values import Based, Symbol
+from ..label.values import Based, Fixed, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords
@@ -126,8 +127,8 @@ def write_pds3_dtm(
                 {
                     **context,
                     "records": records,
-                    "valid_minimum": stats.minimum,
-                    "valid_maximum": stats.maximum,
+                    "valid_minimum": valid_bound(stats.minimum, chosen.valid_range_decimals, math.floor),
+                    "valid_maximum": valid_bound(stats.maximum, chosen.valid_range_decimals, math.ceil),
                 },
             )
 
@@ -151,6 +152,20 @@ def write_pds3_dtm(
         records=records,
         label_text=text,
     )
+
+
+def valid_bound(value: float, decimals: int | None, direction: Callable[[float], float]) -> float | Fixed:
+    """VALID_MINIMUM/MAXIMUM as the mission writes them.
+
+    Exact (shortest round-trip text) unless the mission states a number of
+    decimals (HiRISE: two, as the release and hidtmgen write them); then the
+    bound is rounded outwards (`math.floor` for the minimum, `math.ceil` for the
+    maximum) so that it still bounds every valid value.
+    """
+    if decimals is None:
+        return value
+    scale = 10.0**decimals
+    return Fixed(direction(round(value * scale, 6)) / scale, decimals)
 
 
 __all__ = ["DtmProduct", "write_dtm", "write_pds3_dtm", "MISSING_CONSTANT"]

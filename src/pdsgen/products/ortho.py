@@ -237,13 +237,11 @@ class _TileRowReader:
 def _source_ids(
     keywords: Mapping[str, ParamValue], observation_id: str | None, source_dtm_id: str | None
 ) -> list[str]:
+    """SOURCE_PRODUCT_ID in hidtmgen's order: the DTM, then the observation, then any others."""
     listed = keywords.get("SOURCE_PRODUCT_ID", [])
     sources = [str(s) for s in listed] if isinstance(listed, list) else [str(listed)]
-    if observation_id and observation_id not in sources:
-        sources.insert(0, observation_id)
-    if source_dtm_id and source_dtm_id not in sources:
-        sources.append(source_dtm_id)
-    return sources
+    first = [s for s in (source_dtm_id, observation_id) if s]
+    return first + [s for s in sources if s not in first]
 
 
 def _label_context(
@@ -283,6 +281,11 @@ def _label_context(
         "special": special,
         "filter_name": filters[0] if bands == 1 else list(filters),
         "center_wavelength": _wavelengths(wavelengths, bands),
+        "standard_parallels_na": mission.ortho_standard_parallels_na,
+        "stretch_namespace": mission.ortho_stretch_namespace,
+        # The linear display stretch of the valid DNs (the release: 3 and 1021 for 10-bit data).
+        "minimum_stretch": special.valid_min if bands == 1 else [special.valid_min] * bands,
+        "maximum_stretch": special.valid_max if bands == 1 else [special.valid_max] * bands,
     }
 
 
