@@ -24,7 +24,7 @@ def refuse_unused_options(ctx: click.Context, profile: str, used: set[str]) -> N
 
 # Library keyword -> click parameter name, where they differ.
 _CLI_NAMES = {"source_product_ids": "source_ids", "params": "params_file", "version": "product_version",
-              "reproject_input": "reproject"}
+              "reproject_input": "reproject", "allow_dictionary_deviations": "allow_deviations"}
 
 
 def profile_options(given: dict[str, object], used: set[str]) -> dict[str, object]:

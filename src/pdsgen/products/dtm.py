@@ -27,9 +27,10 @@ from ..formats.raster import open_raster, require_single_band
 from ..formats.staging import StagedOutputs, prepare_output_dir
 from ..geo.geometry import MapGeometry, describe_geometry
 from ..label.grammar import sample_type
-from ..label.render import RecordLayout, render_label
+from ..label.render import RecordLayout, render_label, settle_attached_label
 from ..label.values import Based, Fixed, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
+from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords
 from .params import ParamValue, check_version, resolve_params
@@ -48,6 +49,7 @@ class DtmProduct:
     valid_maximum: float
     records: RecordLayout
     label_text: str
+    warnings: tuple[str, ...] = ()  # dictionary deviations kept (--allow-dictionary-deviations)
 
     @property
     def files(self) -> tuple[Path, ...]:
@@ -88,6 +90,7 @@ def write_pds3_dtm(
     institution: str | None = None,
     version: str = "1.0",
     overwrite: bool = False,
+    allow_dictionary_deviations: bool | None = None,
 ) -> DtmProduct:
     """Convert a single-band elevation raster into `OUTDIR/<PRODUCT_ID>.IMG` (float32)."""
     byte_order = byte_order or "lsb"
@@ -96,6 +99,8 @@ def write_pds3_dtm(
     chosen = mission
     version = check_version(version)
     keywords = resolve_params(params)
+    allow = allows_deviations(allow_dictionary_deviations, keywords)
+    keywords = label_keywords(keywords)
     input_path = Path(input_path)
     with open_raster(input_path) as dataset:
         require_single_band(dataset)
@@ -139,10 +144,16 @@ def write_pds3_dtm(
             return stats
 
         final = prepare_output_dir(outdir) / f"{product_id}.IMG"
+        # Refuse before the data pass what the final label would be refused for.
+        _, provisional = settle_attached_label(
+            lambda records: render(records, BandStatistics(0, 0.0, 0.0)), dataset.width * 4, dataset.height
+        )
+        check_label(provisional, final.name, allow_deviations=allow)
         with StagedOutputs([final], overwrite) as staged:
             records, text, stats = write_attached_product(
                 staged.path(final), render, dataset.width * 4, dataset.height, write_data
             )
+            warnings = check_label(text, final.name, allow_deviations=allow)
     return DtmProduct(
         product_id=product_id,
         path=final,
@@ -151,6 +162,7 @@ def write_pds3_dtm(
         valid_maximum=stats.maximum,
         records=records,
         label_text=text,
+        warnings=warnings,
     )
 
 

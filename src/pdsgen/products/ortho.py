@@ -40,6 +40,7 @@ from ..geo.geometry import MapGeometry, describe_geometry
 from ..label.render import render_label
 from ..label.values import Based, Quantity, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
+from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords
 from .params import ParamValue, check_version, resolve_params
@@ -58,6 +59,7 @@ class OrthoProduct:
     bits: int
     bands: int
     label_text: str
+    warnings: tuple[str, ...] = ()  # dictionary deviations kept (--allow-dictionary-deviations)
 
     @property
     def files(self) -> tuple[Path, ...]:
@@ -108,6 +110,7 @@ def write_jp2_ortho(
     gmljp2: bool = False,
     version: str = "1.0",
     overwrite: bool = False,
+    allow_dictionary_deviations: bool | None = None,
 ) -> OrthoProduct:
     """Convert a 1-band (RED) or 3-band (IRB) orthoimage into `<PRODUCT_ID>.JP2` + `.LBL`."""
     if bits is not None and bits not in BIT_DEPTHS:
@@ -117,6 +120,8 @@ def write_jp2_ortho(
         raise PdsgenError(None, f"the {chosen.name} profile writes orthoimages in its own form, not as JP2 + LBL")
     version = check_version(version)
     keywords = resolve_params(params)
+    allow = allows_deviations(allow_dictionary_deviations, keywords)
+    keywords = label_keywords(keywords)
     input_path = Path(input_path)
     with open_raster(input_path) as dataset:
         _check_input(dataset, input_path)
@@ -133,6 +138,7 @@ def write_jp2_ortho(
         text = render_label("ortho.lbl.j2", _label_context(
             chosen, product_id, ident, sources, geometry, dataset.count, mapping, jp2_final.name,
         ))
+        warnings = check_label(text, label_final.name, allow_deviations=allow)
         boxes = [geojp2_box(dataset.crs, dataset.transform)]
         if gmljp2:
             boxes.append(gmljp2_box(dataset.crs, dataset.transform, dataset.height, dataset.width))
@@ -155,6 +161,7 @@ def write_jp2_ortho(
         bits=bits,
         bands=dataset.count,
         label_text=text,
+        warnings=warnings,
     )
 
 
