@@ -14,7 +14,8 @@ _COMMON = {"input_path", "outdir", "product_id", "source_ids", "product_version"
 USED_BY_PROFILE = {
     "generic": _COMMON | {"allow_deviations", "byte_order"},
     "hirise": _COMMON | {"allow_deviations", "byte_order", "institution"},
-    "hrsc": _COMMON | {"byte_order", "kind", "vertical_datum", "areoid", "precision", "reproject"},
+    "hrsc": _COMMON | {"source_labels", "offset_convention", "byte_order", "kind", "vertical_datum", "areoid",
+                       "precision", "reproject"},
     "imars": _COMMON | {"kind", "vertical_datum", "areoid", "precision"},
 }
 
@@ -45,14 +46,20 @@ USED_BY_PROFILE = {
               help="hrsc/imars: metres per stored integer step (SCALING_FACTOR).")
 @click.option("--reproject", is_flag=True,
               help="hrsc: warp the input into the HRSC projection and sphere instead of refusing it.")
+@click.option("--source-label", "source_labels", multiple=True, type=click.Path(dir_okay=False),
+              help="hrsc: level-2/3 label whose identification, time and orbit keywords the product "
+                   "carries; repeat for each source.")
+@click.option("--offset-convention", type=click.Choice(["standard", "dlr"]), default="standard",
+              show_default=True, help="hrsc: PDS3 standard projection offsets (GDAL reads them exactly) "
+                                      "or DLR's own, one pixel apart.")
 @click.option("--allow-dictionary-deviations", "allow_deviations", is_flag=True, default=None,
               help="Keep label values that break the PDS3 data dictionary (warned once) instead of "
                    "refusing the product.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 @click.pass_context
 def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, product_version,
-        params_file, byte_order, kind, vertical_datum, areoid, precision, reproject, allow_deviations,
-        overwrite) -> None:
+        params_file, byte_order, kind, vertical_datum, areoid, precision, reproject, source_labels,
+        offset_convention, allow_deviations, overwrite) -> None:
     """Convert the single-band elevation raster INPUT (any GDAL format, projected
     CRS: equirectangular, polar stereographic or sinusoidal) into a PDS3 DTM in OUTDIR:
     <PRODUCT_ID>.IMG (float32); for --profile hrsc hOOOO_NNNN_dt4.img / _da4.img
@@ -64,6 +71,7 @@ def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, p
         "version": product_version, "overwrite": overwrite, "byte_order": byte_order, "institution": institution,
         "kind": kind, "vertical_datum": vertical_datum, "areoid": areoid, "precision": precision,
         "reproject_input": reproject, "allow_dictionary_deviations": allow_deviations or None,
+        "source_labels": source_labels, "offset_convention": offset_convention,
     }
     used = USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"])
     options = profile_options(given, used)
