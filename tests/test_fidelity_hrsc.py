@@ -168,3 +168,29 @@ def test_reproject_converts_heights_between_reference_surfaces(tmp_path):
     # at ~40 degrees the surfaces differ by far more than the 190 m of the equator
     assert expected.min() < height - 3000
     assert re.search(r"MAP_PROJECTION_TYPE\s+= \"SINUSOIDAL\"", product.label_text)
+
+
+@pytest.mark.filterwarnings("ignore::rasterio.errors.NotGeoreferencedWarning")  # the VICAR part alone
+def test_vicar2_header_is_read_by_gdals_vicar_driver(tmp_path, heights):
+    product = write_hrsc_dtm(heights, tmp_path / "out", product_id="h0010_0023", precision=0.5)
+    label = pvl.loads(product.label_text)
+    header = label["IMAGE_HEADER"]
+    assert (header["HEADER_TYPE"], header["INTERCHANGE_FORMAT"]) == ("VICAR2", "ASCII")
+    assert header["^DESCRIPTION"] == "VICAR2.TXT" and (tmp_path / "out" / "VICAR2.TXT").is_file()
+    record = label["RECORD_BYTES"]
+    assert label["^IMAGE"] == label["^IMAGE_HEADER"] + header["BYTES"] // record
+    with rasterio.open(product.path) as pds:
+        assert pds.driver == "PDS"
+        expected = pds.read(1)
+    # GDAL hands a PDS3 file with a VICAR header to its VICAR driver when asked to
+    with rasterio.Env(GDAL_TRY_PDS3_WITH_VICAR="YES"), rasterio.open(product.path) as vicar:
+        assert vicar.driver == "VICAR"
+        np.testing.assert_array_equal(vicar.read(1), expected)
+    # and the VICAR part alone (header + image) is a VICAR file
+    data = product.path.read_bytes()
+    alone = tmp_path / "alone.vic"
+    alone.write_bytes(data[(label["^IMAGE_HEADER"] - 1) * record:])
+    with rasterio.open(alone) as vicar:
+        assert vicar.driver == "VICAR" and vicar.dtypes == ("int16",)
+        np.testing.assert_array_equal(vicar.read(1), expected)
+    assert _errors(product.path) == []

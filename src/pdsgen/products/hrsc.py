@@ -32,6 +32,7 @@ from ..formats.img import BandStatistics, scan_band, stream_band, write_attached
 from ..formats.raster import open_raster, require_single_band
 from ..formats.scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
 from ..formats.staging import StagedOutputs, prepare_output_dir
+from ..formats.vicar import vicar_label
 from ..geo.geometry import POLAR_STEREOGRAPHIC, SINUSOIDAL, MapGeometry, describe_geometry
 from ..label.grammar import sample_type
 from ..label.render import RecordLayout, render_label
@@ -48,7 +49,16 @@ from .heights import (
     source_body,
     sphere_change,
 )
-from .hrsc_label import DnMoments, carried_context, check_offset_convention, offset_context
+from .hrsc_label import (
+    VICAR_DESCRIPTION,
+    VICAR_DESCRIPTION_NAME,
+    DnMoments,
+    carried_context,
+    check_offset_convention,
+    offset_context,
+    pds_label_part,
+    with_header,
+)
 from .params import ParamValue, check_version, resolve_params
 
 HRSC_SPHERE_M = hrsc_mission.SPHERE_M
@@ -190,19 +200,26 @@ def write_hrsc_dtm(
             ),
         }
 
+        big_endian = byte_order == "msb"
+        header = vicar_label(np.dtype(np.int16), grid.height, grid.width, 1, grid.width * 2, big_endian)
+
         def render(records: RecordLayout, stats: BandStatistics) -> str:
-            return render_label("hrsc_dtm.lbl.j2", {**context, "records": records, "stats": moments.summary(stats)})
+            return with_header(lambda view: render_label("hrsc_dtm.lbl.j2", {
+                **context, "records": view, "stats": moments.summary(stats),
+                "vicar_description": VICAR_DESCRIPTION_NAME,
+            }), header, grid.width * 2)(records)
 
         def write_data(handle) -> BandStatistics:
-            return stream_band(grid, handle, byte_order == "msb", moments.counting(encoding.encode), adjust)
+            return stream_band(grid, handle, big_endian, moments.counting(encoding.encode), adjust)
 
         final = prepare_output_dir(outdir) / file_name
-        with StagedOutputs([final], overwrite) as staged:
+        with StagedOutputs([final, *_vicar_description(final)], overwrite) as staged:
             _, text, stats = write_attached_product(
                 staged.path(final), render, grid.width * 2, grid.height, write_data
             )
+            _write_vicar_description(staged, final)
     return HrscDtmProduct(final_id, final, geometry, kind, encoding, _as_int(stats.minimum),
-                          _as_int(stats.maximum), text)
+                          _as_int(stats.maximum), pds_label_part(text))
 
 
 @contextmanager
@@ -310,8 +327,13 @@ def write_hrsc_nd4(
 
         encode = moments.counting(dn_encoder(mapping, str(input_path)))
 
+        header = vicar_label(np.dtype(np.uint8), grid.height, grid.width, 1, grid.width, True)
+
         def render(records: RecordLayout, stats: BandStatistics) -> str:
-            return render_label("hrsc_nd4.lbl.j2", {**context, "records": records, "stats": moments.summary(stats)})
+            return with_header(lambda view: render_label("hrsc_nd4.lbl.j2", {
+                **context, "records": view, "stats": moments.summary(stats),
+                "vicar_description": VICAR_DESCRIPTION_NAME,
+            }), header, grid.width)(records)
 
         def write_data(handle) -> BandStatistics:
             stats = stream_band(grid, handle, True, encode)
@@ -320,10 +342,22 @@ def write_hrsc_nd4(
             return stats
 
         final = prepare_output_dir(outdir) / context["file_name"]
-        with StagedOutputs([final], overwrite) as staged:
+        with StagedOutputs([final, *_vicar_description(final)], overwrite) as staged:
             _, text, stats = write_attached_product(staged.path(final), render, grid.width, grid.height, write_data)
+            _write_vicar_description(staged, final)
     return HrscImageProduct(context["product_id"], final, geometry, mapping.scaling_factor, mapping.offset,
-                            _as_int(stats.minimum), _as_int(stats.maximum), text)
+                            _as_int(stats.minimum), _as_int(stats.maximum), pds_label_part(text))
+
+
+def _vicar_description(product: Path) -> list[Path]:
+    """VICAR2.TXT beside the product, when the directory does not hold it yet."""
+    path = product.parent / VICAR_DESCRIPTION_NAME
+    return [] if path.exists() else [path]
+
+
+def _write_vicar_description(staged: StagedOutputs, product: Path) -> None:
+    for path in _vicar_description(product):
+        staged.path(path).write_bytes(VICAR_DESCRIPTION.replace("\n", "\r\n").encode("ascii"))
 
 
 def _as_int(value: float) -> int:

@@ -156,3 +156,77 @@ class DnMoments:
 
 def _significant(value: float, digits: int) -> float:
     return float(f"{value:.{digits}g}")
+
+
+# -- the VICAR2 header DLR writes between the PDS label and the image ----------------------
+VICAR_DESCRIPTION_NAME = "VICAR2.TXT"
+VICAR_DESCRIPTION = """VICAR2.TXT - the VICAR header of the HRSC level-4 image files in this directory
+
+Each image file (h<orbit>_<sequence>_<kind>.img) holds, one after the other: the PDS3
+label (LABEL_RECORDS records), a VICAR2 label (the IMAGE_HEADER object: ^IMAGE_HEADER
+gives its first record, BYTES its length) and the image (^IMAGE). Both labels describe
+the same image, so PDS3 readers and VICAR tools (and GDAL's VICAR driver) read it alike.
+
+The VICAR2 label is ASCII text of KEY=VALUE items separated by blanks, padded with
+blanks to whole records:
+  LBLSIZE   length of the VICAR label in bytes (a multiple of RECSIZE)
+  FORMAT    sample type: BYTE (8-bit unsigned), HALF (16-bit signed integer)
+  TYPE      IMAGE;  ORG  BSQ (band sequential)
+  NL NS NB  lines, samples per line, bands (also N1 = NS, N2 = NL, N3 = NB)
+  RECSIZE   bytes per image line; BUFSIZ the same
+  NBB NLB   0: no binary prefix bytes or header records
+  EOL       0: no label after the image
+  INTFMT    HIGH (big-endian integers) or LOW; REALFMT IEEE or RIEEE likewise
+  HOST      the byte-order family of the writing machine; B* items for binary parts
+The physical meaning of the samples (SCALING_FACTOR, OFFSET, missing DN) is given by
+the PDS3 label only.
+"""
+
+
+class HeaderedRecords:
+    """Record numbers of a PDS3 file with a header between label and image:
+    [PDS3 label | VICAR header | image], all in records of `record_bytes`."""
+
+    def __init__(self, record_bytes: int, label_records: int, header_records: int, data_records: int) -> None:
+        self.record_bytes = record_bytes
+        self.label_records = label_records
+        self.header_records = header_records
+        self.data_records = data_records
+
+    @property
+    def header_pointer(self) -> int:
+        return self.label_records + 1
+
+    @property
+    def header_bytes(self) -> int:
+        return self.header_records * self.record_bytes
+
+    @property
+    def image_pointer(self) -> int:
+        return self.label_records + self.header_records + 1
+
+    @property
+    def file_records(self) -> int:
+        return self.label_records + self.header_records + self.data_records
+
+
+def with_header(render: Callable[[HeaderedRecords], str], header: bytes, record_bytes: int
+                ) -> Callable[[Any], str]:
+    """A renderer for write_attached_product whose "label" is the PDS3 label padded to
+    whole records followed by `header`; the PDS3 label states the split."""
+    header_records = len(header) // record_bytes
+
+    def render_both(layout: Any) -> str:
+        label_records = max(layout.label_records - header_records, 1)
+        view = HeaderedRecords(record_bytes, label_records, header_records, layout.data_records)
+        text = render(view)
+        padding = " " * max(label_records * record_bytes - len(text), 0)
+        return text + padding + header.decode("ascii")
+
+    return render_both
+
+
+def pds_label_part(text: str) -> str:
+    """The PDS3 label of a file's leading text (everything up to and including END)."""
+    end = text.index("\r\nEND\r\n") + len("\r\nEND\r\n")
+    return text[:end]
