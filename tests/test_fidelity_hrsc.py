@@ -194,3 +194,11 @@ def test_vicar2_header_is_read_by_gdals_vicar_driver(tmp_path, heights):
         assert vicar.driver == "VICAR" and vicar.dtypes == ("int16",)
         np.testing.assert_array_equal(vicar.read(1), expected)
     assert _errors(product.path) == []
+
+
+def test_da4_note_keeps_the_acronyms_case(tmp_path, heights):
+    product = write_hrsc_dtm(heights, tmp_path / "out", product_id="h0010_0023", kind="da4",
+                             vertical_datum="areoid")
+    label = pvl.loads(product.label_text)
+    assert "GM3 areoid" in label["IMAGE"]["NOTE"] and "gm3" not in label["IMAGE"]["NOTE"]
+    assert label["MEX:DTM"]["MEX:DTM_DESC"] == "HEIGHT ABOVE GM3-AREOID"

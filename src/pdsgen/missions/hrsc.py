@@ -31,6 +31,11 @@ DN_LIMIT = 32767  # stored heights use -32767..32767; -32768 is MISSING_DN
 NOT_APPLICABLE = -1e32  # HRSC's numeric "not applicable" value
 SPHERE_DESC = "HEIGHT ABOVE SPHEROID"
 AREOID_DESC = "HEIGHT ABOVE GM3-AREOID"
+# What the heights of each kind are above, for the IMAGE NOTE (acronyms keep their case).
+DTM_NOTE_DATUMS = {
+    "dt4": "above the 3396.0 km sphere (SPHEROID)",
+    "da4": "above the GM3 areoid (MGS-M-MOLA-5-MEGDR-L3-V1.0)",
+}
 # DTM kinds: the datum the stored heights are above, and MEX:DTM_DESC.
 DTM_KINDS = {
     "dt4": ("sphere", SPHERE_DESC),

@@ -195,7 +195,7 @@ def write_hrsc_dtm(
             "dtm_radius_km": hrsc_mission.SPHERE_KM if kind == "dt4" else NOT_APPLICABLE,
             "dtm_desc": description,
             "note": (
-                f"Heights in meters {description.lower().replace('height ', '')} = DN * SCALING_FACTOR "
+                f"Heights in meters {hrsc_mission.DTM_NOTE_DATUMS[kind]} = DN * SCALING_FACTOR "
                 f"+ OFFSET, quantised to {encoding.scaling_factor:g} m. DN {MISSING_DN} marks missing data."
             ),
         }
