@@ -106,3 +106,19 @@ def test_allowed_deviation_is_written_and_warned_once(tmp_path, inputs):
     assert {(f.rule, f.keyword) for f in report.findings if f.severity == "error"} == {
         ("DICT-006", "PRODUCER_FULL_NAME")
     }
+
+
+def test_hrsc_labels_are_checked_too(tmp_path):
+    from pdsgen.hrsc import write_hrsc_dtm
+
+    from helpers import elevation_array, write_raster
+
+    source = write_raster(tmp_path / "in.tif", elevation_array(12, 10), "+proj=sinu +lon_0=70 +R=3396000 +units=m",
+                          Affine(50.0, 0, -10000.0, 0, -50.0, -1000000.0))
+    params = {"PRODUCER_FULL_NAME": LONG_NAME}
+    with pytest.raises(ParamsError, match="^PRODUCER_FULL_NAME"):
+        write_hrsc_dtm(source, tmp_path / "out", product_id="h0010_0023", params=params)
+    assert not list((tmp_path / "out").iterdir())
+    kept = write_hrsc_dtm(source, tmp_path / "out", product_id="h0010_0023", params=params,
+                          allow_dictionary_deviations=True)
+    assert len(kept.warnings) == 1 and "PRODUCER_FULL_NAME" in kept.warnings[0]

@@ -8,14 +8,14 @@ from ..products.dtm import DtmProduct, write_dtm
 from ..products.hrsc import HrscDtmProduct
 from ..products.imars import ImarsProduct
 from ..profiles import profile_names
-from ._profile_options import profile_options, refuse_unused_options
+from ._profile_options import label_fidelity_options, profile_options, refuse_unused_options
 
 _COMMON = {"input_path", "outdir", "product_id", "source_ids", "product_version", "params_file", "overwrite"}
 USED_BY_PROFILE = {
     "generic": _COMMON | {"allow_deviations", "byte_order"},
     "hirise": _COMMON | {"allow_deviations", "byte_order", "institution"},
-    "hrsc": _COMMON | {"source_labels", "offset_convention", "byte_order", "kind", "vertical_datum", "areoid",
-                       "precision", "reproject"},
+    "hrsc": _COMMON | {"allow_deviations", "source_labels", "offset_convention", "byte_order", "kind",
+                       "vertical_datum", "areoid", "precision", "reproject"},
     "imars": _COMMON | {"kind", "vertical_datum", "areoid", "precision"},
 }
 
@@ -46,15 +46,7 @@ USED_BY_PROFILE = {
               help="hrsc/imars: metres per stored integer step (SCALING_FACTOR).")
 @click.option("--reproject", is_flag=True,
               help="hrsc: warp the input into the HRSC projection and sphere instead of refusing it.")
-@click.option("--source-label", "source_labels", multiple=True, type=click.Path(dir_okay=False),
-              help="hrsc: level-2/3 label whose identification, time and orbit keywords the product "
-                   "carries; repeat for each source.")
-@click.option("--offset-convention", type=click.Choice(["standard", "dlr"]), default="standard",
-              show_default=True, help="hrsc: PDS3 standard projection offsets (GDAL reads them exactly) "
-                                      "or DLR's own, one pixel apart.")
-@click.option("--allow-dictionary-deviations", "allow_deviations", is_flag=True, default=None,
-              help="Keep label values that break the PDS3 data dictionary (warned once) instead of "
-                   "refusing the product.")
+@label_fidelity_options
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 @click.pass_context
 def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, product_version,

@@ -8,13 +8,13 @@ from ..products.hrsc import HrscImageProduct
 from ..products.imars import ImarsProduct
 from ..products.ortho import OrthoProduct, write_ortho
 from ..profiles import profile_names
-from ._profile_options import profile_options, refuse_unused_options
+from ._profile_options import label_fidelity_options, profile_options, refuse_unused_options
 
 _COMMON = {"input_path", "outdir", "product_id", "value_range", "params_file", "product_version", "overwrite"}
 USED_BY_PROFILE = {
     "generic": _COMMON | {"allow_deviations", "bits", "observation_id", "source_dtm_id", "sequence", "gmljp2"},
     "hirise": _COMMON | {"allow_deviations", "bits", "observation_id", "source_dtm_id", "sequence", "gmljp2"},
-    "hrsc": _COMMON | {"source_labels", "offset_convention", "bits", "source_ids", "reproject"},
+    "hrsc": _COMMON | {"allow_deviations", "source_labels", "offset_convention", "bits", "source_ids", "reproject"},
     "imars": _COMMON | {"bits", "source_ids"},
 }
 
@@ -41,15 +41,7 @@ USED_BY_PROFILE = {
 @click.option("--source-product-id", "source_ids", multiple=True,
               help="hrsc/imars: source product (e.g. H1234_0000_ND3) giving orbit and sequence.")
 @click.option("--reproject", is_flag=True, help="hrsc: warp the input into the HRSC projection and sphere.")
-@click.option("--source-label", "source_labels", multiple=True, type=click.Path(dir_okay=False),
-              help="hrsc: level-2/3 label whose identification, time and orbit keywords the product "
-                   "carries; repeat for each source.")
-@click.option("--offset-convention", type=click.Choice(["standard", "dlr"]), default="standard",
-              show_default=True, help="hrsc: PDS3 standard projection offsets (GDAL reads them exactly) "
-                                      "or DLR's own, one pixel apart.")
-@click.option("--allow-dictionary-deviations", "allow_deviations", is_flag=True, default=None,
-              help="Keep label values that break the PDS3 data dictionary (warned once) instead of "
-                   "refusing the product.")
+@label_fidelity_options
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 @click.pass_context
 def ortho(ctx, input_path, outdir, profile, product_id, bits, value_range, observation_id, source_dtm_id,

@@ -40,6 +40,7 @@ from ..label.values import Based, Symbol
 from ..missions import hrsc as hrsc_mission
 from ..missions.hrsc import DTM_KINDS, MISSING_DN, NOT_APPLICABLE, POLAR_LIMIT_DEG
 from ..missions.hrsc import base_name as hrsc_base_name
+from .agreement import allows_deviations, check_label
 from .heights import (
     Int16Encoding,
     areoid_adjustment,
@@ -75,6 +76,7 @@ class HrscDtmProduct:
     valid_minimum: int
     valid_maximum: int
     label_text: str
+    warnings: tuple[str, ...] = ()  # dictionary deviations kept (--allow-dictionary-deviations)
 
     @property
     def files(self) -> tuple[Path, ...]:
@@ -151,6 +153,7 @@ def write_hrsc_dtm(
     overwrite: bool = False,
     source_labels: Sequence[str | os.PathLike[str]] = (),
     offset_convention: str = "standard",
+    allow_dictionary_deviations: bool | None = None,
 ) -> HrscDtmProduct:
     """Write `OUTDIR/hOOOO_NNNN_<kind>.img` from a single-band height raster.
 
@@ -218,8 +221,10 @@ def write_hrsc_dtm(
                 staged.path(final), render, grid.width * 2, grid.height, write_data
             )
             _write_vicar_description(staged, final)
+            warnings = check_label(pds_label_part(text), final.name,
+                                   allow_deviations=allows_deviations(allow_dictionary_deviations, keywords))
     return HrscDtmProduct(final_id, final, geometry, kind, encoding, _as_int(stats.minimum),
-                          _as_int(stats.maximum), pds_label_part(text))
+                          _as_int(stats.maximum), pds_label_part(text), warnings)
 
 
 @contextmanager
@@ -277,6 +282,7 @@ class HrscImageProduct:
     valid_minimum: int
     valid_maximum: int
     label_text: str
+    warnings: tuple[str, ...] = ()  # dictionary deviations kept (--allow-dictionary-deviations)
 
     @property
     def files(self) -> tuple[Path, ...]:
@@ -297,6 +303,7 @@ def write_hrsc_nd4(
     overwrite: bool = False,
     source_labels: Sequence[str | os.PathLike[str]] = (),
     offset_convention: str = "standard",
+    allow_dictionary_deviations: bool | None = None,
 ) -> HrscImageProduct:
     """Write the nadir orthoimage `OUTDIR/hOOOO_NNNN_nd4.img`: 8-bit DNs, 0 = no data.
 
@@ -345,8 +352,10 @@ def write_hrsc_nd4(
         with StagedOutputs([final, *_vicar_description(final)], overwrite) as staged:
             _, text, stats = write_attached_product(staged.path(final), render, grid.width, grid.height, write_data)
             _write_vicar_description(staged, final)
+            warnings = check_label(pds_label_part(text), final.name,
+                                   allow_deviations=allows_deviations(allow_dictionary_deviations, keywords))
     return HrscImageProduct(context["product_id"], final, geometry, mapping.scaling_factor, mapping.offset,
-                            _as_int(stats.minimum), _as_int(stats.maximum), pds_label_part(text))
+                            _as_int(stats.minimum), _as_int(stats.maximum), pds_label_part(text), warnings)
 
 
 def _vicar_description(product: Path) -> list[Path]:
