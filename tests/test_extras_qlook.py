@@ -72,3 +72,16 @@ def test_qlook_memory_does_not_hold_the_image(tmp_path: Path, monkeypatch):
     assert max(h * w for h, w in shapes) <= 512 * 512 and len(shapes) == 3 * 3
     with rasterio.open(tmp_path / "q.jp2") as ds:
         assert ds.crs == src.crs and (ds.width, ds.height) == (1300, 1100)
+
+
+def test_jpylyzer_finds_the_qlook_valid_and_lossy(tmp_path: Path):
+    """An independent validator (not OpenJPEG) checks the boxes around the inserted GeoJP2."""
+    jpylyzer = pytest.importorskip("jpylyzer.jpylyzer")
+    data = (np.arange(600 * 700) % 251).reshape(600, 700).astype(np.uint8) + 1
+    src = open_product(write_geotiff(tmp_path / "img.tif", data, nodata=0))
+    write_qlook(src, [Stretch(1.0, 251.0)], tmp_path / "q.jp2")
+    result = jpylyzer.checkOneFile(str(tmp_path / "q.jp2"))
+    failed = [n.tag for n in result.find("tests").iter() if n.text == "False"]
+    assert result.find("isValid").text == "True", failed
+    cod = result.find("properties/contiguousCodestreamBox/cod")
+    assert cod.find("transformation").text == "9-7 irreversible"
