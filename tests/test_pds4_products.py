@@ -9,7 +9,6 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 import rasterio
-from affine import Affine
 from lxml import etree
 
 from pdsgen.dtm import write_dtm
@@ -177,25 +176,6 @@ def test_label_option_is_refused_where_the_profile_has_its_own_form(tmp_path):
     assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
 
 
-def test_hrsc_dtm_label_both_describes_the_scaled_int16_image(tmp_path):
-    data = elevation_array(30, 40, seed=12)
-    hrsc_sinusoidal = "+proj=sinu +lon_0=70 +R=3396000 +units=m +no_defs"
-    source = write_raster(tmp_path / "h.tif", data, hrsc_sinusoidal, Affine(50, 0, 100000, 0, -50, 300000))
-    product = write_dtm(source, tmp_path / "out", profile="hrsc", product_id="h1234_0000", precision=0.5,
-                        label="both")
-    assert product.pds4_label_path.name == "h1234_0000_dt4.xml"
-    assert validate_pds4(product.pds4_label_path) == []
-    text = product.pds4_label_path.read_text()
-    assert "urn:esa:psa:mex_hrsc:data_dtm:h1234_0000_dt4" in text and "<data_type>SignedMSB2</data_type>" in text
-    with rasterio.open(product.pds4_label_path) as pds4_view, rasterio.open(product.path) as pds3_view:
-        assert pds4_view.scales == (0.5,) and pds4_view.nodata == -32768
-        assert np.array_equal(pds4_view.read(1), pds3_view.read(1))
-        heights = pds4_view.read(1) * 0.5 + pds4_view.offsets[0]
-        assert np.abs(heights - data).max() <= 0.25 + 1e-3
-    refused = run_cli("dtm", source, "-o", tmp_path / "again", "--profile", "hrsc", "--product-id", "h1234_0000",
-                      "--label", "pds4")
-    assert refused.returncode == 2 and "--label both" in refused.stderr
-
 
 def test_labels_are_formatted_as_xmllint_formats_them(dtms, ortho):
     """libxml2's own indentation (what `xmllint --format` writes), UTF-8, a final newline."""
@@ -214,14 +194,3 @@ def test_pds4_products_are_byte_for_byte_reproducible(dtms, tmp_path):
     assert again.pds4_label_path.read_bytes() == first.path.read_bytes()
     assert again.path.read_bytes() == first.path.with_suffix(".img").read_bytes()
 
-
-def test_hrsc_nd4_label_both(tmp_path):
-    hrsc_sinusoidal = "+proj=sinu +lon_0=70 +R=3396000 +units=m +no_defs"
-    data = np.random.default_rng(13).integers(1, 256, (20, 30)).astype("uint8")
-    data[0, :3] = 0
-    source = write_raster(tmp_path / "n.tif", data, hrsc_sinusoidal, Affine(12.5, 0, 100000, 0, -12.5, 300000))
-    product = write_ortho(source, tmp_path / "out", profile="hrsc", product_id="h1234_0000", label="both")
-    assert product.pds4_label_path.name == "h1234_0000_nd4.xml"
-    assert validate_pds4(product.pds4_label_path) == []
-    with rasterio.open(product.pds4_label_path) as pds4_view:
-        assert pds4_view.nodata == 0 and np.array_equal(pds4_view.read(1), data)

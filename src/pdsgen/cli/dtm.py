@@ -9,13 +9,14 @@ from ..products.dtm import DtmProduct, write_dtm
 from ..products.hrsc import HrscDtmProduct
 from ..products.imars import ImarsProduct
 from ..profiles import profile_names
-from ._profile_options import profile_options, refuse_unused_options
+from ._profile_options import label_fidelity_options, profile_options, refuse_unused_options
 
 _COMMON = {"input_path", "outdir", "product_id", "source_ids", "product_version", "params_file", "overwrite"}
 USED_BY_PROFILE = {
-    "generic": _COMMON | {"byte_order", "label"},
-    "hirise": _COMMON | {"byte_order", "institution", "label"},
-    "hrsc": _COMMON | {"byte_order", "kind", "vertical_datum", "areoid", "precision", "reproject", "label"},
+    "generic": _COMMON | {"allow_deviations", "byte_order", "label"},
+    "hirise": _COMMON | {"allow_deviations", "byte_order", "institution", "label"},
+    "hrsc": _COMMON | {"allow_deviations", "source_labels", "offset_convention", "byte_order", "kind",
+                       "vertical_datum", "areoid", "precision", "reproject"},
     "imars": _COMMON | {"kind", "vertical_datum", "areoid", "precision"},
 }
 
@@ -46,13 +47,15 @@ USED_BY_PROFILE = {
               help="hrsc/imars: metres per stored integer step (SCALING_FACTOR).")
 @click.option("--reproject", is_flag=True,
               help="hrsc: warp the input into the HRSC projection and sphere instead of refusing it.")
+@label_fidelity_options
 @click.option("--label", type=click.Choice(LABEL_DIALECTS), default="pds3", show_default=True,
               help="pds3 (.IMG, attached label), pds4 (.img + .xml) or both (.IMG + a PDS4 .xml "
                    "describing it); hrsc: pds3 or both.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 @click.pass_context
 def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, product_version,
-        params_file, byte_order, kind, vertical_datum, areoid, precision, reproject, label, overwrite) -> None:
+        params_file, byte_order, kind, vertical_datum, areoid, precision, reproject, source_labels,
+        offset_convention, allow_deviations, label, overwrite) -> None:
     """Convert the single-band elevation raster INPUT (any GDAL format, projected
     CRS: equirectangular, polar stereographic or sinusoidal) into a PDS3 DTM in OUTDIR:
     <PRODUCT_ID>.IMG (float32), or with --label pds4 a PDS4 one (<PRODUCT_ID>.img + .xml);
@@ -64,11 +67,14 @@ def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, p
         "product_id": product_id, "source_product_ids": source_ids, "params": params_file,
         "version": product_version, "overwrite": overwrite, "byte_order": byte_order, "institution": institution,
         "kind": kind, "vertical_datum": vertical_datum, "areoid": areoid, "precision": precision,
-        "reproject_input": reproject, "label": label,
+        "reproject_input": reproject, "allow_dictionary_deviations": allow_deviations or None,
+        "source_labels": source_labels, "offset_convention": offset_convention, "label": label,
     }
     used = USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"])
     options = profile_options(given, used)
     product = write_dtm(input_path, outdir, profile=profile, **options)
+    for warning in getattr(product, "warnings", ()):
+        click.echo(f"warning: {warning}", err=True)
     click.echo(_summary(product))
 
 
@@ -77,8 +83,7 @@ def _summary(product: object) -> str:
     if isinstance(product, ImarsProduct):
         return f"{product.tiff_path}  {product.pvl_path.name}  {product.footprint_path.name}"
     if isinstance(product, HrscDtmProduct):
-        pds4 = f"  {product.pds4_label_path.name}" if product.pds4_label_path else ""
-        return (f"{product.path}{pds4}  {product.geometry.lines} x {product.geometry.samples}  "
+        return (f"{product.path}  {product.geometry.lines} x {product.geometry.samples}  "
                 f"DN {product.valid_minimum} .. {product.valid_maximum} "
                 f"(x {product.encoding.scaling_factor:g} + {product.encoding.offset:g} m)")
     assert isinstance(product, DtmProduct)

@@ -9,13 +9,13 @@ from ..products.hrsc import HrscImageProduct
 from ..products.imars import ImarsProduct
 from ..products.ortho import OrthoProduct, write_ortho
 from ..profiles import profile_names
-from ._profile_options import profile_options, refuse_unused_options
+from ._profile_options import label_fidelity_options, profile_options, refuse_unused_options
 
 _COMMON = {"input_path", "outdir", "product_id", "value_range", "params_file", "product_version", "overwrite"}
 USED_BY_PROFILE = {
-    "generic": _COMMON | {"bits", "observation_id", "source_dtm_id", "sequence", "gmljp2", "label"},
-    "hirise": _COMMON | {"bits", "observation_id", "source_dtm_id", "sequence", "gmljp2", "label"},
-    "hrsc": _COMMON | {"bits", "source_ids", "reproject", "label"},
+    "generic": _COMMON | {"allow_deviations", "bits", "observation_id", "source_dtm_id", "sequence", "gmljp2", "label"},
+    "hirise": _COMMON | {"allow_deviations", "bits", "observation_id", "source_dtm_id", "sequence", "gmljp2", "label"},
+    "hrsc": _COMMON | {"allow_deviations", "source_labels", "offset_convention", "bits", "source_ids", "reproject"},
     "imars": _COMMON | {"bits", "source_ids"},
 }
 
@@ -42,13 +42,15 @@ USED_BY_PROFILE = {
 @click.option("--source-product-id", "source_ids", multiple=True,
               help="hrsc/imars: source product (e.g. H1234_0000_ND3) giving orbit and sequence.")
 @click.option("--reproject", is_flag=True, help="hrsc: warp the input into the HRSC projection and sphere.")
+@label_fidelity_options
 @click.option("--label", type=click.Choice(LABEL_DIALECTS), default="pds3", show_default=True,
               help="pds3 (.JP2 + .LBL), pds4 (.JP2 + uncompressed .img + .xml) or both; "
                    "hrsc: pds3 or both (the nd4 .img + a PDS4 .xml describing it).")
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 @click.pass_context
 def ortho(ctx, input_path, outdir, profile, product_id, bits, value_range, observation_id, source_dtm_id,
-          sequence, params_file, product_version, gmljp2, source_ids, reproject, label, overwrite) -> None:
+          sequence, params_file, product_version, gmljp2, source_ids, reproject, source_labels,
+          offset_convention, allow_deviations, label, overwrite) -> None:
     """Convert the 1-band (RED) or 3-band (IRB) orthoimage INPUT (any GDAL format,
     projected CRS as for DTMs) into OUTDIR/<PRODUCT_ID>.JP2 and .LBL (--label pds4: .JP2,
     .img and .xml); for --profile
@@ -64,14 +66,15 @@ def ortho(ctx, input_path, outdir, profile, product_id, bits, value_range, obser
     }
     options = profile_options(given, used)
     product = write_ortho(input_path, outdir, profile=profile, **options)
+    for warning in getattr(product, "warnings", ()):
+        click.echo(f"warning: {warning}", err=True)
     click.echo(_summary(product))
 
 
 def _summary(product: object) -> str:
     """The one line `pdsgen ortho` prints, in the form of the product the profile made."""
     if isinstance(product, HrscImageProduct):
-        pds4 = f"  {product.pds4_label_path.name}" if product.pds4_label_path else ""
-        return f"{product.path}{pds4}  DN {product.valid_minimum} .. {product.valid_maximum}"
+        return f"{product.path}  DN {product.valid_minimum} .. {product.valid_maximum}"
     if isinstance(product, ImarsProduct):
         return f"{product.tiff_path}  {product.pvl_path.name}  {product.footprint_path.name}"
     assert isinstance(product, OrthoProduct)

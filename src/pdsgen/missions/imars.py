@@ -8,7 +8,7 @@ HRSC's (see missions/hrsc.py), so are the sphere and the no-data DN.
 from __future__ import annotations
 
 from .base import Mission
-from .hrsc import AREOID_DESC, SPHERE_DESC
+from .hrsc import AREOID_DESC, SPHERE_DESC, height_datum
 
 CREDIT = "ESA/DLR/FU Berlin/UCL"
 INSTITUTION = "UCL MULLARD SPACE SCIENCE LABORATORY"
@@ -35,10 +35,28 @@ def footprint_name(base: str) -> str:
     return f"{base}.geojson"
 
 
+def footprint_shapefile_names(base: str) -> dict[str, str]:
+    """The Shapefile of the footprint, as the delivery lists it: `<base>.shp .shx .dbf .prj`
+    (and QGIS's `.qpj`), beside the GeoJSON."""
+    return {part: f"{base}{part}" for part in (".shp", ".shx", ".dbf", ".prj", ".qpj")}
+
+
+# The facts of the real iMars metadata (PVL objects and GeoTIFF tags).
+PROCESSING_ORGANISATION = "UCL MSSL IMAGING GROUP"
+SOFTWARE_NAME = "pdsgen"
+PROCESSING_LEVEL = "4"
+DATA_SET_NAME = "iMars HRSC DTM and ORI products"
+PRODUCT_TYPES = {  # product type -> (ProductTypeName, ProductTypeID)
+    "DTM": ("DIGITAL TERRAIN MODEL", "DTM"),
+    "ORI": ("ORTHORECTIFIED IMAGE", "ORI"),
+}
+
+
 MISSION = Mission(
     name="imars",
     dtm_note=DTM_NOTE,
     credit=CREDIT,
+    dtm_height_datum=height_datum,  # HRSC's kinds and datums
     dtm_writer="pdsgen.products.imars:write_imars_dtm",
     ortho_writer="pdsgen.products.imars:write_imars_ori",
 )

@@ -6,8 +6,9 @@ keywords (profile + params) -> render the label -> stream the image.
 
 from __future__ import annotations
 
+import math
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -26,11 +27,12 @@ from ..formats.raster import open_raster, require_single_band
 from ..formats.staging import StagedOutputs, prepare_output_dir
 from ..geo.geometry import MapGeometry, describe_geometry
 from ..label.grammar import sample_type
-from ..label.render import RecordLayout, render_label
-from ..label.values import Based, Symbol
+from ..label.render import RecordLayout, render_label, settle_attached_label
+from ..label.values import Based, Fixed, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
 from ..pds4.model import check_label_dialect
 from ..pds4.products import ProductDescription, float32_dtm, write_image_pds4_label, write_pds4_dtm
+from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords
 from .params import ParamValue, check_version, resolve_params
@@ -50,6 +52,7 @@ class DtmProduct:
     records: RecordLayout  # label_records 0: a raw PDS4 array file
     label_text: str  # the PDS3 label, or the PDS4 label of a PDS4-only product
     pds4_label_path: Path | None = None
+    warnings: tuple[str, ...] = ()  # dictionary deviations kept (--allow-dictionary-deviations)
 
     @property
     def files(self) -> tuple[Path, ...]:
@@ -91,6 +94,7 @@ def write_pds3_dtm(
     version: str = "1.0",
     overwrite: bool = False,
     label: str = "pds3",
+    allow_dictionary_deviations: bool | None = None,
 ) -> DtmProduct:
     """Convert a single-band elevation raster into `OUTDIR/<PRODUCT_ID>.IMG` (float32).
 
@@ -104,6 +108,8 @@ def write_pds3_dtm(
     chosen = mission
     version = check_version(version)
     keywords = resolve_params(params)
+    allow = allows_deviations(allow_dictionary_deviations, keywords)
+    keywords = label_keywords(keywords)
     input_path = Path(input_path)
     with open_raster(input_path) as dataset:
         require_single_band(dataset)
@@ -135,8 +141,8 @@ def write_pds3_dtm(
                 {
                     **context,
                     "records": records,
-                    "valid_minimum": stats.minimum,
-                    "valid_maximum": stats.maximum,
+                    "valid_minimum": valid_bound(stats.minimum, chosen.valid_range_decimals, math.floor),
+                    "valid_maximum": valid_bound(stats.maximum, chosen.valid_range_decimals, math.ceil),
                 },
             )
 
@@ -150,6 +156,7 @@ def write_pds3_dtm(
         description = ProductDescription(product_id, chosen, version, ident, geometry, dataset)
         big_endian = byte_order == "msb"
         xml_final = outdir / f"{product_id}.xml"
+        warnings: tuple[str, ...] = ()
         if label == "pds4":
             final = outdir / f"{product_id}.img"
             with StagedOutputs([final, xml_final], overwrite) as staged:
@@ -158,13 +165,19 @@ def write_pds3_dtm(
             records, text = RecordLayout(dataset.width * 4, 0, dataset.height), pds4.text
         else:
             final = outdir / f"{product_id}.IMG"
+            # Refuse before the data pass what the final label would be refused for.
+            _, provisional = settle_attached_label(
+                lambda records: render(records, BandStatistics(0, 0.0, 0.0)), dataset.width * 4, dataset.height
+            )
+            check_label(provisional, final.name, allow_deviations=allow)
             with StagedOutputs([final] + ([xml_final] if label == "both" else []), overwrite) as staged:
                 records, text, stats = write_attached_product(
                     staged.path(final), render, dataset.width * 4, dataset.height, write_data
                 )
+                warnings = check_label(text, final.name, allow_deviations=allow)
                 if label == "both":
                     write_image_pds4_label(description, staged.path(xml_final), staged.path(final), final.name,
-                                         float32_dtm(big_endian), records.label_bytes)
+                                           float32_dtm(big_endian), records.label_bytes)
     return DtmProduct(
         product_id=product_id,
         path=final,
@@ -174,7 +187,22 @@ def write_pds3_dtm(
         records=records,
         label_text=text,
         pds4_label_path=xml_final if label != "pds3" else None,
+        warnings=warnings,
     )
+
+
+def valid_bound(value: float, decimals: int | None, direction: Callable[[float], float]) -> float | Fixed:
+    """VALID_MINIMUM/MAXIMUM as the mission writes them.
+
+    Exact (shortest round-trip text) unless the mission states a number of
+    decimals (HiRISE: two, as the release and hidtmgen write them); then the
+    bound is rounded outwards (`math.floor` for the minimum, `math.ceil` for the
+    maximum) so that it still bounds every valid value.
+    """
+    if decimals is None:
+        return value
+    scale = 10.0**decimals
+    return Fixed(direction(round(value * scale, 6)) / scale, decimals)
 
 
 __all__ = ["DtmProduct", "write_dtm", "write_pds3_dtm", "MISSING_CONSTANT"]

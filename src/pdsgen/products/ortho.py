@@ -44,6 +44,7 @@ from ..missions import Mission, ProductIdRequest, get_mission
 from ..pds4.content import digest_file
 from ..pds4.model import check_label_dialect
 from ..pds4.products import ArrayRowTap, ProductDescription, ortho_label_text
+from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords
 from .params import ParamValue, check_version, resolve_params
@@ -63,6 +64,7 @@ class OrthoProduct:
     bands: int
     label_text: str  # the PDS3 label, or the PDS4 label of a PDS4-only product
     pds4_label_path: Path | None = None  # with the uncompressed primary array beside it (.img)
+    warnings: tuple[str, ...] = ()  # dictionary deviations kept (--allow-dictionary-deviations)
 
     @property
     def files(self) -> tuple[Path, ...]:
@@ -118,6 +120,7 @@ def write_jp2_ortho(
     version: str = "1.0",
     overwrite: bool = False,
     label: str = "pds3",
+    allow_dictionary_deviations: bool | None = None,
     threads: int | None = None,
 ) -> OrthoProduct:
     """Convert a 1-band (RED) or 3-band (IRB) orthoimage into `<PRODUCT_ID>.JP2` + `.LBL`.
@@ -136,6 +139,8 @@ def write_jp2_ortho(
         raise PdsgenError(None, f"the {chosen.name} profile writes orthoimages in its own form, not as JP2 + LBL")
     version = check_version(version)
     keywords = resolve_params(params)
+    allow = allows_deviations(allow_dictionary_deviations, keywords)
+    keywords = label_keywords(keywords)
     input_path = Path(input_path)
     with open_raster(input_path) as dataset:
         _check_input(dataset, input_path)
@@ -153,6 +158,7 @@ def write_jp2_ortho(
         text = render_label("ortho.lbl.j2", _label_context(
             chosen, product_id, ident, sources, geometry, dataset.count, mapping, jp2_final.name,
         ))
+        warnings = check_label(text, label_final.name, allow_deviations=allow)
         boxes = [geojp2_box(dataset.crs, dataset.transform)]
         if gmljp2:
             boxes.append(gmljp2_box(dataset.crs, dataset.transform, dataset.height, dataset.width))
@@ -195,6 +201,7 @@ def write_jp2_ortho(
         bands=dataset.count,
         label_text=text,
         pds4_label_path=xml_final if label != "pds3" else None,
+        warnings=warnings,
     )
 
 
@@ -277,13 +284,11 @@ class _TileRowReader:
 def _source_ids(
     keywords: Mapping[str, ParamValue], observation_id: str | None, source_dtm_id: str | None
 ) -> list[str]:
+    """SOURCE_PRODUCT_ID in hidtmgen's order: the DTM, then the observation, then any others."""
     listed = keywords.get("SOURCE_PRODUCT_ID", [])
     sources = [str(s) for s in listed] if isinstance(listed, list) else [str(listed)]
-    if observation_id and observation_id not in sources:
-        sources.insert(0, observation_id)
-    if source_dtm_id and source_dtm_id not in sources:
-        sources.append(source_dtm_id)
-    return sources
+    first = [s for s in (source_dtm_id, observation_id) if s]
+    return first + [s for s in sources if s not in first]
 
 
 def _label_context(
@@ -324,6 +329,11 @@ def _label_context(
         "special": special,
         "filter_name": filters[0] if bands == 1 else list(filters),
         "center_wavelength": _wavelengths(wavelengths, bands),
+        "standard_parallels_na": mission.ortho_standard_parallels_na,
+        "stretch_namespace": mission.ortho_stretch_namespace,
+        # The linear display stretch of the valid DNs (the release: 3 and 1021 for 10-bit data).
+        "minimum_stretch": special.valid_min if bands == 1 else [special.valid_min] * bands,
+        "maximum_stretch": special.valid_max if bands == 1 else [special.valid_max] * bands,
     }
 
 
