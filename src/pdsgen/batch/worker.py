@@ -1,0 +1,88 @@
+"""What a Dask worker does with one job: check its marker, run it in a child, record it.
+
+This function is what `client.submit` sends. It never raises: every outcome - done,
+skipped because a current marker says so, failed with a one-line reason, crashed,
+timed out - comes back as a small dict, so the client can report and go on.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import json
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+from .child import thread_environment
+from .resume import file_stats, is_done, may_replace, read_marker, remove_marker, write_marker
+
+PR_SET_PDEATHSIG = 1  # linux/prctl.h
+
+
+def run_job(task: dict[str, Any]) -> dict[str, Any]:
+    """Run one job (see child.py) unless its marker shows it done; the outcome as a dict."""
+    start = time.monotonic()
+    marker_file = Path(task["marker"])
+    marker = read_marker(marker_file)
+    if is_done(marker, task["options"], task["inputs"]):
+        assert marker is not None
+        return _outcome(task, "skipped", start, outputs=list(marker["outputs"]), products=marker["products"])
+    inputs = file_stats(task["inputs"])
+    owner = may_replace(marker)
+    write_marker(marker_file, state="started", options=task["options"], id=task["id"], owner=owner)
+    result = _run_child({**task, "resume": owner})
+    if not result.get("ok"):
+        if owner:
+            write_marker(marker_file, state="failed", options=task["options"], id=task["id"], owner=True)
+        else:
+            remove_marker(marker_file)
+        return _outcome(task, "failed", start, error=result["error"], retry=result.get("retry", False))
+    write_marker(marker_file, state="done", options=task["options"], id=task["id"], inputs=inputs,
+                 outputs=file_stats(result["outputs"]), products=result["products"], version=task["version"])
+    return _outcome(task, "done", start, outputs=result["outputs"], products=result["products"])
+
+
+def _outcome(task: dict[str, Any], status: str, start: float, **fields: Any) -> dict[str, Any]:
+    return {"id": task["id"], "status": status, "seconds": round(time.monotonic() - start, 3),
+            "log": task["log"], "outputs": [], "products": [], "error": None, **fields}
+
+
+def _run_child(task: dict[str, Any]) -> dict[str, Any]:
+    """The job's body in `python -m pdsgen.batch.child`, its output appended to the job's log."""
+    log = Path(task["log"])
+    log.parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(prefix="pdsgen-job-") as tmp, open(log, "ab") as log_file:
+        task_file, result_file = Path(tmp) / "task.json", Path(tmp) / "result.json"
+        task_file.write_text(json.dumps(task), encoding="utf-8")
+        log_file.write(f"== pdsgen batch: {task['kind']} {task['id']} ({time.strftime('%Y-%m-%d %H:%M:%S')})\n"
+                       .encode())
+        log_file.flush()
+        env = {**os.environ, **thread_environment(task["threads"]), "PYTHONUNBUFFERED": "1"}
+        try:
+            proc = subprocess.run([sys.executable, "-m", "pdsgen.batch.child", str(task_file), str(result_file)],
+                                  stdin=subprocess.DEVNULL, stdout=log_file, stderr=subprocess.STDOUT, env=env,
+                                  timeout=task["timeout"], preexec_fn=_die_with_parent, check=False)
+        except subprocess.TimeoutExpired:
+            return {"ok": False, "error": f"timed out after {task['timeout']:g} s", "retry": True}
+        if proc.returncode < 0:
+            name = signal.Signals(-proc.returncode).name
+            return {"ok": False, "error": f"crashed (killed by {name}); see {log}", "retry": True}
+        try:
+            return json.loads(result_file.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            return {"ok": False, "error": f"exited with status {proc.returncode} without a result; see {log}",
+                    "retry": True}
+
+
+def _die_with_parent() -> None:
+    """In the child, before exec: end with the worker, never run on as an orphan.
+
+    A batch killed part way must not leave jobs finishing behind the next run's back.
+    """
+    if sys.platform.startswith("linux"):
+        ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
