@@ -295,28 +295,25 @@ class _Checker:
 
     def _scheduling(self, entry: Mapping[str, Any], where: str) -> dict[str, Any] | None:
         """memory, threads, timeout and retries of one job: its own, else [batch]'s, else defaults."""
-        from dask.utils import parse_bytes
-
-        values = {"memory": DEFAULT_MEMORY, "threads": DEFAULT_THREADS, "timeout": None, "retries": 0}
+        values: dict[str, Any] = {"memory": DEFAULT_MEMORY, "threads": DEFAULT_THREADS, "timeout": None,
+                                  "retries": 0}
+        rules = {"memory": ("a whole number of bytes or a size such as '2 GB'", 1, True),
+                 "threads": ("a whole number > 0", 1, True),
+                 "timeout": ("a number of seconds > 0", 0.001, False),
+                 "retries": ("a whole number >= 0", 0, True)}
         ok = True
-        for key in values:
+        for key, (wanted, least, whole) in rules.items():
             value = entry.get(key, self.batch.get(key, values[key]))
+            if value is None:
+                continue
             if key == "memory" and isinstance(value, str):
-                try:
-                    value = parse_bytes(value)
-                except ValueError:
-                    value = None
+                value = _parse_size(value)
             number = isinstance(value, int | float) and not isinstance(value, bool)
-            whole = key != "timeout"
-            if value is not None and not (number and value >= (0 if key == "retries" else 1)
-                                          and (not whole or value == int(value))):
-                kind = "a whole number" if whole else "a number of seconds"
-                self.problems.append(f"{where}: {key} must be {kind} " +
-                                     ("of bytes or a size such as '2 GB'" if key == "memory" else
-                                      ">= 0" if key == "retries" else "> 0"))
+            if not (number and value >= least and (not whole or value == int(value))):
+                self.problems.append(f"{where}: {key} must be {wanted}")
                 ok = False
                 continue
-            values[key] = int(value) if whole and value is not None else value
+            values[key] = int(value) if whole else float(value)
         return values if ok else None
 
     def _check_graph(self, jobs: Sequence[Job]) -> None:
@@ -347,6 +344,16 @@ class _Checker:
                     self.problems.append(
                         f"extras jobs {first.id!r} and {second.id!r} both write {outdir}/README.TXT: "
                         "give them different outdir, or make one `after` the other")
+
+
+def _parse_size(text: str) -> int | None:
+    """'2 GB' -> 2000000000 (Dask's own reading of sizes); None if it is no size."""
+    from dask.utils import parse_bytes
+
+    try:
+        return int(parse_bytes(text))
+    except ValueError:
+        return None
 
 
 def _refuse_unused(kind: str, ctx: click.Context) -> None:
