@@ -236,6 +236,7 @@ def test_killed_run_resumes_without_remaking(tmp_path):
     summary = json.loads((tmp_path / "out" / ".pdsgen-batch" / "logs" / "summary.json").read_text())
     assert {j["id"] for j in summary["jobs"] if j["status"] == "skipped"} >= set(done_before)
     assert all(_identity(out) == before for out, before in made.items())  # none made twice
+    assert not list((tmp_path / "out").rglob("*.part"))  # temporary files of killed jobs are gone
     for n in range(sets):
         report = json.loads((tmp_path / "out" / "reports" / f"set{n}.json").read_text())
         assert report["summary"]["errors"] == 0

@@ -37,6 +37,9 @@ class Progress:
             self._line(f"{status:<8}{kind:<9}{outcome['id']}  {outcome['seconds']:.1f} s")
         self._draw()
 
+    def note(self, text: str) -> None:
+        self._line(text)
+
     def close(self) -> None:
         if self.bar:
             self.stream.write("\r\033[K")

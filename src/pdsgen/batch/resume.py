@@ -94,3 +94,23 @@ def may_replace(marker: Mapping[str, Any] | None) -> bool:
     if marker is None:
         return False
     return marker.get("state") in ("done", "started") or bool(marker.get("owner"))
+
+
+def remove_interrupted_leftovers(markers: Iterable[Path]) -> list[Path]:
+    """Delete the temporary files (`.NAME.*.part`, see staging.py) that jobs killed part way left.
+
+    Called before any job of a run starts, for the outdirs of jobs whose marker says
+    "started", so no temporary file of a running job can be among them.
+    """
+    removed = []
+    for marker in markers:
+        data = read_marker(marker)
+        if not data or data.get("state") != "started" or not isinstance(data.get("outdir"), str):
+            continue
+        for leftover in Path(data["outdir"]).glob(".*.part"):
+            try:
+                leftover.unlink()
+            except OSError:
+                continue
+            removed.append(leftover)
+    return removed

@@ -22,7 +22,15 @@ from .. import __version__
 from .cluster import RESOURCE, check_workers, open_client
 from .manifest import OUTPUT_OPTIONS, Job, Manifest, command
 from .progress import Progress
-from .resume import STATE_DIR, file_stats, is_done, marker_path, options_hash, read_marker
+from .resume import (
+    STATE_DIR,
+    file_stats,
+    is_done,
+    marker_path,
+    options_hash,
+    read_marker,
+    remove_interrupted_leftovers,
+)
 
 
 @dataclass
@@ -52,13 +60,14 @@ def log_dir(manifest: Manifest, settings: Settings) -> Path:
 
 def make_task(job: Job, manifest: Manifest, settings: Settings, products: Mapping[str, list[str]]) -> dict[str, Any]:
     """What the worker needs to run JOB (JSON only): parameters, inputs, hash, marker and log paths."""
-    params = {k: list(v) if isinstance(v, tuple) else v for k, v in job.params.items()}
+    params: dict[str, Any] = {k: list(v) if isinstance(v, tuple) else v for k, v in job.params.items()}
     if job.inputs_from_after:
         params[job.argument] = [p for needed in job.after for p in products.get(needed, [])]
     inputs = [str(v) for name in input_names(job.kind) for v in _as_list(params.get(name))]
     digest = options_hash(job.kind, params, __version__)
+    output = params.get("outdir") or (str(Path(params["output"]).parent) if params.get("output") else None)
     return {
-        "id": job.id, "kind": job.kind, "params": params, "inputs": inputs, "options": digest,
+        "id": job.id, "kind": job.kind, "params": params, "inputs": inputs, "options": digest, "outdir": output,
         "threads": job.threads, "timeout": job.timeout, "version": __version__,
         "marker": str(marker_path(manifest.outdir, job.id)),
         "log": str(log_dir(manifest, settings) / f"{job.id}.log"),
@@ -135,6 +144,9 @@ def run(manifest: Manifest, settings: Settings, progress_stream: TextIO | None =
     products: dict[str, list[str]] = {}
     with open_client(settings.scheduler, settings.workers) as client:
         check_workers(client, manifest.jobs, __version__)
+        removed = remove_interrupted_leftovers(marker_path(manifest.outdir, j.id) for j in manifest.jobs)
+        if removed:
+            progress.note(f"removed {len(removed)} temporary file(s) left by an interrupted run")
         futures = as_completed()
         kinds = {j.id: j.kind for j in manifest.jobs}
 
@@ -198,7 +210,9 @@ def _write_summary(manifest: Manifest, settings: Settings, outcomes: Mapping[str
         outcome = outcomes[job.id]
         jobs.append({"id": job.id, "kind": job.kind, "status": outcome["status"],
                      "seconds": outcome["seconds"], "attempts": outcome.get("attempts", 0),
-                     "outputs": outcome["outputs"], "error": outcome["error"], "log": outcome["log"]})
+                     "outputs": outcome["outputs"], "error": outcome["error"], "log": outcome["log"],
+                     "peak_mb": outcome.get("peak_mb"), "worker": outcome.get("worker"),
+                     "worker_peak_mb": outcome.get("worker_peak_mb")})
     counts = {s: sum(j["status"] == s for j in jobs) for s in ("done", "skipped", "failed", "blocked")}
     data = {"manifest": str(manifest.path.resolve()), "outdir": str(manifest.outdir),
             "pdsgen": __version__, "scheduler": settings.scheduler or f"local, {settings.workers} worker(s)",

@@ -10,10 +10,12 @@ from __future__ import annotations
 import ctypes
 import json
 import os
+import resource
 import signal
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 from pathlib import Path
 from typing import Any
@@ -34,22 +36,38 @@ def run_job(task: dict[str, Any]) -> dict[str, Any]:
         return _outcome(task, "skipped", start, outputs=list(marker["outputs"]), products=marker["products"])
     inputs = file_stats(task["inputs"])
     owner = may_replace(marker)
-    write_marker(marker_file, state="started", options=task["options"], id=task["id"], owner=owner)
+    write_marker(marker_file, state="started", options=task["options"], id=task["id"], owner=owner,
+                 outdir=task["outdir"])
     result = _run_child({**task, "resume": owner})
     if not result.get("ok"):
         if owner:
             write_marker(marker_file, state="failed", options=task["options"], id=task["id"], owner=True)
         else:
             remove_marker(marker_file)
-        return _outcome(task, "failed", start, error=result["error"], retry=result.get("retry", False))
+        return _outcome(task, "failed", start, error=result["error"], retry=result.get("retry", False),
+                        peak_mb=result["peak_mb"])
     write_marker(marker_file, state="done", options=task["options"], id=task["id"], inputs=inputs,
                  outputs=file_stats(result["outputs"]), products=result["products"], version=task["version"])
-    return _outcome(task, "done", start, outputs=result["outputs"], products=result["products"])
+    return _outcome(task, "done", start, outputs=result["outputs"], products=result["products"],
+                    peak_mb=result["peak_mb"])
 
 
 def _outcome(task: dict[str, Any], status: str, start: float, **fields: Any) -> dict[str, Any]:
+    """The job's outcome; `peak_mb` is its child's peak RSS, `worker` where it ran (with that
+    worker process's own peak RSS), for sizing the MEMORY a job declares."""
     return {"id": task["id"], "status": status, "seconds": round(time.monotonic() - start, 3),
-            "log": task["log"], "outputs": [], "products": [], "error": None, **fields}
+            "log": task["log"], "outputs": [], "products": [], "error": None, "peak_mb": None,
+            **_where(), **fields}
+
+
+def _where() -> dict[str, Any]:
+    try:
+        from distributed import get_worker
+
+        address = get_worker().address
+    except (ImportError, ValueError):
+        address = None
+    return {"worker": address, "worker_peak_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1)}
 
 
 def _run_child(task: dict[str, Any]) -> dict[str, Any]:
@@ -63,20 +81,32 @@ def _run_child(task: dict[str, Any]) -> dict[str, Any]:
                        .encode())
         log_file.flush()
         env = {**os.environ, **thread_environment(task["threads"]), "PYTHONUNBUFFERED": "1"}
+        proc = subprocess.Popen([sys.executable, "-m", "pdsgen.batch.child", str(task_file), str(result_file)],
+                                stdin=subprocess.DEVNULL, stdout=log_file, stderr=subprocess.STDOUT, env=env,
+                                preexec_fn=_die_with_parent)
+        timed_out = threading.Event()
+
+        def stop() -> None:
+            timed_out.set()
+            proc.kill()
+
+        timer = threading.Timer(task["timeout"] or 0, stop)
+        if task["timeout"]:
+            timer.start()
+        _, status, usage = os.wait4(proc.pid, 0)  # the child's own peak memory comes with its status
+        timer.cancel()
+        proc.returncode = code = os.waitstatus_to_exitcode(status)
+        peak = {"peak_mb": round(usage.ru_maxrss / 1024, 1)}
+        if timed_out.is_set():
+            return {"ok": False, "error": f"timed out after {task['timeout']:g} s", "retry": True, **peak}
+        if code < 0:
+            name = signal.Signals(-code).name
+            return {"ok": False, "error": f"crashed (killed by {name}); see {log}", "retry": True, **peak}
         try:
-            proc = subprocess.run([sys.executable, "-m", "pdsgen.batch.child", str(task_file), str(result_file)],
-                                  stdin=subprocess.DEVNULL, stdout=log_file, stderr=subprocess.STDOUT, env=env,
-                                  timeout=task["timeout"], preexec_fn=_die_with_parent, check=False)
-        except subprocess.TimeoutExpired:
-            return {"ok": False, "error": f"timed out after {task['timeout']:g} s", "retry": True}
-        if proc.returncode < 0:
-            name = signal.Signals(-proc.returncode).name
-            return {"ok": False, "error": f"crashed (killed by {name}); see {log}", "retry": True}
-        try:
-            return json.loads(result_file.read_text(encoding="utf-8"))
+            return {**json.loads(result_file.read_text(encoding="utf-8")), **peak}
         except (OSError, ValueError):
-            return {"ok": False, "error": f"exited with status {proc.returncode} without a result; see {log}",
-                    "retry": True}
+            return {"ok": False, "error": f"exited with status {code} without a result; see {log}",
+                    "retry": True, **peak}
 
 
 def _die_with_parent() -> None:
