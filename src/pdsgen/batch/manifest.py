@@ -75,9 +75,6 @@ class Manifest:
     outdir: Path
     jobs: list[Job] = field(default_factory=list)
 
-    def job(self, job_id: str) -> Job:
-        return next(j for j in self.jobs if j.id == job_id)
-
 
 def command(kind: str) -> click.Command:
     """The click command behind `pdsgen KIND`, found the way the CLI finds it."""

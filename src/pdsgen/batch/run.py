@@ -148,12 +148,13 @@ def run(manifest: Manifest, settings: Settings, progress_stream: TextIO | None =
         if removed:
             progress.note(f"removed {len(removed)} temporary file(s) left by an interrupted run")
         futures = as_completed()
-        kinds = {j.id: j.kind for j in manifest.jobs}
+        submitted: dict[str, Job] = {}  # future key -> job
 
         def submit(job: Job) -> None:
             task = make_task(job, manifest, settings, products)
             attempts[job.id] = attempts.get(job.id, 0) + 1
             key = f"{job.kind}-{job.id}-{task['options'][:12]}-{attempts[job.id]}"
+            submitted[key] = job
             futures.add(client.submit(run_job, task, key=key, resources={RESOURCE: job.memory}, pure=False))
             progress.started()
 
@@ -174,12 +175,9 @@ def run(manifest: Manifest, settings: Settings, progress_stream: TextIO | None =
 
         release_ready()
         for future in futures:
-            outcome = _outcome_of(future)
+            job = submitted.pop(future.key)
+            outcome = {**_outcome_of(future), "id": job.id}
             future.release()
-            job = manifest.job(outcome["id"]) if outcome["id"] in kinds else None
-            if job is None:  # the worker died holding it: the key names the job
-                job = next(j for j in manifest.jobs if future.key.startswith(f"{j.kind}-{j.id}-"))
-                outcome["id"] = job.id
             if outcome["status"] == "failed" and outcome.pop("retry", False) and attempts[job.id] <= job.retries:
                 progress.running -= 1
                 submit(job)

@@ -37,6 +37,8 @@ def batch(manifest, outdir, scheduler, workers, threads_per_job, dry_run, retrie
         return
     if manifest is None:
         raise click.UsageError("give a MANIFEST (see pdsgen batch --example)")
+    if scheduler and workers:
+        raise click.UsageError("--workers sizes the local cluster; a --scheduler's cluster has its own workers")
     overrides = {k: v for k, v in (("threads", threads_per_job), ("retries", retries)) if v is not None}
     try:
         checked = load_manifest(manifest, outdir, overrides)
