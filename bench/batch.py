@@ -80,11 +80,14 @@ def main() -> None:
     parser.add_argument("--size", type=int, default=512, help="posts per side of each raster")
     args = parser.parse_args()
     cores = os.cpu_count() or 1
+    load_before = os.getloadavg()[0]
     with tempfile.TemporaryDirectory(prefix="pdsgen-bench-batch-") as tmp:
         manifest = write_sets(Path(tmp), args.sets, args.size)
         results = {workers: run_batch(manifest, Path(tmp) / f"out{workers}", workers) for workers in (1, cores)}
     jobs = len(results[1][1]["jobs"])
     print(f"pdsgen batch: {args.sets} sets of {args.size} x {args.size} (DTM + ortho + Extras = {jobs} jobs)")
+    print(f"  machine: {cores} cores, load average {load_before:.1f} before, {os.getloadavg()[0]:.1f} after "
+          "(other processes' load lowers the speed-up)")
     print(f"  {'workers':>8s} {'wall s':>9s} {'jobs/min':>9s}")
     for workers, (seconds, _) in results.items():
         print(f"  {workers:8d} {seconds:9.2f} {jobs / seconds * 60:9.1f}")
