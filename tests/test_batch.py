@@ -138,6 +138,7 @@ id = "aborts"
 input = "input/dtm0.tif"
 product_id = "ABORTS"
 params = "abort-on-open.toml"
+retries = 1
 """
     manifest = load_manifest(write_manifest(folder, SETS, extra), tmp_path / "local")
     summary = run(manifest, Settings(workers=2), bar=False)
@@ -147,6 +148,8 @@ params = "abort-on-open.toml"
     assert status["broken"]["status"] == "failed" and "missing.tif: no such file" in status["broken"]["error"]
     assert status["broken_extras"]["status"] == "blocked"  # the broken DTM costs its own Extras only
     assert status["aborts"]["status"] == "failed" and "SIGABRT" in status["aborts"]["error"]
+    assert status["aborts"]["attempts"] == 2  # a crash is retried; a missing file is not
+    assert status["broken"]["attempts"] == 1
     good = [j for j in summary.data["jobs"] if not j["id"].startswith(("broken", "aborts"))]
     assert {j["status"] for j in good} == {"done"} and len(good) == SETS * 4
     assert tree(tmp_path / "local") == expected
