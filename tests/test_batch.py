@@ -243,6 +243,8 @@ def test_killed_run_resumes_without_remaking(tmp_path):
     for n in range(sets):
         report = json.loads((tmp_path / "out" / "reports" / f"set{n}.json").read_text())
         assert report["summary"]["errors"] == 0
+    plan = subprocess.run([*command, "--dry-run"], capture_output=True, text=True, timeout=60)
+    assert f"{sets * 4} jobs: 0 to do, {sets * 4} done, 0 blocked" in plan.stdout
 
 
 def _done(markers: Path) -> dict[str, dict]:
