@@ -13,10 +13,10 @@ from rasterio.crs import CRS
 
 from pdsgen.cli import main
 from pdsgen.errors import PdsgenError
+from pdsgen.formats.jp2 import TILE_SIZE
+from pdsgen.formats.scale_dn import SPECIAL_DNS
 from pdsgen.ortho import write_ortho
-from pdsgen.scale_dn import SPECIAL_DNS
 from pdsgen.synthetic import write_geotiff
-from pdsgen.write_jp2 import TILE_SIZE
 
 EQC = CRS.from_proj4("+proj=eqc +lat_ts=-5 +lat_0=0 +lon_0=180 +R=3396190 +units=m +no_defs")
 TRANSFORM = Affine(0.5, 0.0, 6099776.0, 0.0, -0.5, -563110.0)
@@ -240,7 +240,7 @@ def test_cli_writes_both_files(tmp_path):
 
 
 def test_layout_gives_several_resolution_levels_for_large_images():
-    from pdsgen.write_jp2 import choose_layout
+    from pdsgen.formats.jp2 import choose_layout
 
     big = choose_layout(67395, 19243)
     assert big.tile_shape == (TILE_SIZE, TILE_SIZE) and big.resolutions >= 5

@@ -20,3 +20,13 @@ def refuse_unused_options(ctx: click.Context, profile: str, used: set[str]) -> N
         if ctx.get_parameter_source(param.name) not in (ParameterSource.DEFAULT, None):
             flag = max(param.opts, key=len)
             raise PdsgenError(None, f"{flag} does not apply to --profile {profile}")
+
+
+# Library keyword -> click parameter name, where they differ.
+_CLI_NAMES = {"source_product_ids": "source_ids", "params": "params_file", "version": "product_version",
+              "reproject_input": "reproject"}
+
+
+def profile_options(given: dict[str, object], used: set[str]) -> dict[str, object]:
+    """The library keywords (with their values) of the options `used` by a profile."""
+    return {name: value for name, value in given.items() if _CLI_NAMES.get(name, name) in used}

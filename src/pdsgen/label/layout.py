@@ -11,7 +11,9 @@ from __future__ import annotations
 
 import re
 
-MAX_CONTENT = 78  # characters per line before CR LF (80 bytes in all)
+from .grammar import MAX_LINE_CHARS
+
+MAX_CONTENT = MAX_LINE_CHARS  # characters per line before CR LF (80 bytes in all)
 INDENT = "  "
 
 _STATEMENT_RE = re.compile(r"^(?P<key>\^?[A-Za-z][A-Za-z0-9_:]*)\s*=\s*(?P<value>.*)$")

@@ -16,7 +16,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-_SYMBOL_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
+from .grammar import IDENTIFIER_PATTERN
+
+_SYMBOL_RE = re.compile(f"^{IDENTIFIER_PATTERN}$")
 _UNIT_RE = re.compile(r"^[A-Za-z0-9_/*.^()\- ]+$")
 
 

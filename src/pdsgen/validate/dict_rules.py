@@ -9,6 +9,7 @@ from __future__ import annotations
 import re
 from collections.abc import Iterator
 
+from ..missions.hrsc import NOT_APPLICABLE
 from .context import FileContext
 from .dictionary import PLACEHOLDERS
 from .lexer import date_problem
@@ -117,7 +118,7 @@ def check_number_for_text(ctx: FileContext) -> Iterator[Hit]:
 
 # HRSC labels write -1e+32 where a number does not apply (RIGHT_ASCENSION of a
 # surface image, the radii of a DA4's MEX:DTM group): the archive's own convention.
-HRSC_NOT_APPLICABLE = -1e32
+HRSC_NOT_APPLICABLE = NOT_APPLICABLE
 
 
 def _hrsc_placeholder(ctx: FileContext, value: Value) -> bool:

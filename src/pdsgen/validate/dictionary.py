@@ -13,10 +13,11 @@ from functools import cache
 from pathlib import Path
 
 from ..errors import PdsgenError
+from ..label.grammar import PLACEHOLDERS as GRAMMAR_PLACEHOLDERS
 from ..resources import schemas_dir
 from .psdd import read_psdd
 
-PLACEHOLDERS = frozenset({"N/A", "UNK", "NULL", "UNKNOWN"})
+PLACEHOLDERS = GRAMMAR_PLACEHOLDERS
 
 
 @dataclass(frozen=True)

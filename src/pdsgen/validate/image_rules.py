@@ -14,43 +14,12 @@ from collections.abc import Iterator
 
 import numpy as np
 
+from ..label.grammar import SAMPLE_TYPES, SPECIAL_CONSTANTS
 from .context import FileContext
 from .datastats import Layout, Stats, image_stats
 from .model import Block, Hit, Value
 
-_TYPES = {
-    # sample type: (byte order, kind) ; kind i signed, u unsigned, f float
-    "MSB_INTEGER": (">", "i"),
-    "SUN_INTEGER": (">", "i"),
-    "MAC_INTEGER": (">", "i"),
-    "INTEGER": (">", "i"),
-    "LSB_INTEGER": ("<", "i"),
-    "PC_INTEGER": ("<", "i"),
-    "VAX_INTEGER": ("<", "i"),
-    "MSB_UNSIGNED_INTEGER": (">", "u"),
-    "UNSIGNED_INTEGER": (">", "u"),
-    "SUN_UNSIGNED_INTEGER": (">", "u"),
-    "MAC_UNSIGNED_INTEGER": (">", "u"),
-    "LSB_UNSIGNED_INTEGER": ("<", "u"),
-    "PC_UNSIGNED_INTEGER": ("<", "u"),
-    "VAX_UNSIGNED_INTEGER": ("<", "u"),
-    "IEEE_REAL": (">", "f"),
-    "FLOAT": (">", "f"),
-    "REAL": (">", "f"),
-    "SUN_REAL": (">", "f"),
-    "MAC_REAL": (">", "f"),
-    "PC_REAL": ("<", "f"),
-}
-SPECIAL_CONSTANTS = (
-    "MISSING_CONSTANT",
-    "NULL",
-    "CORE_NULL",
-    "INVALID_CONSTANT",
-    "CORE_LOW_REPR_SATURATION",
-    "CORE_LOW_INSTR_SATURATION",
-    "CORE_HIGH_REPR_SATURATION",
-    "CORE_HIGH_INSTR_SATURATION",
-)
+_TYPES = SAMPLE_TYPES
 _EXCLUDED = SPECIAL_CONSTANTS  # values left out of the statistics
 _REQUIRED = ("LINES", "LINE_SAMPLES", "SAMPLE_TYPE", "SAMPLE_BITS")
 _STORAGE = ("BAND_SEQUENTIAL", "LINE_INTERLEAVED", "SAMPLE_INTERLEAVED")

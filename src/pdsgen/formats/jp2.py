@@ -23,6 +23,7 @@ from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import glymur
 import numpy as np
@@ -107,7 +108,7 @@ def encode_jp2(
     layout = layout or choose_layout(lines, samples)
     set_encoder_threads()
     shape = (lines, samples) if bands == 1 else (lines, samples, bands)
-    options = dict(
+    options: dict[str, Any] = dict(
         numres=layout.resolutions,
         cbsize=layout.code_block,
         psizes=list(layout.precincts),

@@ -20,8 +20,8 @@ from rasterio.features import shapes
 from rasterio.io import DatasetReader
 from rasterio.warp import transform_geom
 
-from .errors import PdsgenError
-from .geometry import ellipsoid_axes
+from ..errors import PdsgenError
+from ..geo.geometry import ellipsoid_axes
 
 FOOTPRINT_SIZE = 1024
 

@@ -16,8 +16,8 @@ from typing import Any
 
 import tomllib
 
-from .errors import PdsgenError
-from .resources import schemas_dir
+from ..errors import PdsgenError
+from ..resources import schemas_dir
 
 ParamValue = str | list[str] | dict[str, str | int | float]
 
