@@ -2,8 +2,10 @@
 
 A job's parameters are those its click command parsed (see manifest.py), under the
 click parameter names; each function here passes them to the library function
-behind the command and returns what the job wrote: `outputs` (every file) and
-`products` (the files a later job reads: a DTM's .IMG, an orthoimage's .LBL).
+behind the command - through the command's own `library_options` where it has
+one, so the keywords are chosen in one place - and returns what the job wrote:
+`outputs` (every file) and `products` (the files a later job reads: a DTM's .IMG,
+an orthoimage's .LBL).
 """
 
 from __future__ import annotations
@@ -12,60 +14,33 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
+from ..products.result import ProductResult
+
 Outputs = dict[str, list[str]]
+# Files `pdsgen extras` and `pdsgen validate` take for a product: its PDS3 label.
+LABEL_SUFFIXES = (".img", ".lbl")
 
 
 def run_dtm(p: Mapping[str, Any], overwrite: bool) -> Outputs:
-    common = dict(product_id=p["product_id"], source_product_ids=tuple(p["source_ids"]),
-                  params=p["params_file"], version=p["product_version"], overwrite=overwrite)
-    if p["profile"] == "imars":
-        from ..imars import write_imars_dtm
+    from ..cli.dtm import library_options
+    from ..products.dtm import write_dtm
 
-        imars = write_imars_dtm(p["input_path"], p["outdir"], kind=p["kind"][:2],
-                                vertical_datum=p["vertical_datum"], areoid=p["areoid"],
-                                precision=p["precision"], **common)
-        return _written([imars.tiff_path, imars.pvl_path, imars.footprint_path], [imars.tiff_path])
-    if p["profile"] == "hrsc":
-        from ..hrsc import write_hrsc_dtm
-
-        hrsc = write_hrsc_dtm(p["input_path"], p["outdir"], kind=p["kind"], vertical_datum=p["vertical_datum"],
-                              areoid=p["areoid"], precision=p["precision"], reproject_input=p["reproject"],
-                              byte_order=p["byte_order"] or "msb", **common)
-        return _written([hrsc.path], [hrsc.path])
-    from ..dtm import write_dtm
-
-    dtm = write_dtm(p["input_path"], p["outdir"], profile=p["profile"], byte_order=p["byte_order"] or "lsb",
-                    institution=p["institution"], **common)
-    return _written([dtm.path], [dtm.path])
+    options = {**library_options(p), "overwrite": overwrite}
+    return _product(write_dtm(p["input_path"], p["outdir"], profile=p["profile"], **options))
 
 
 def run_ortho(p: Mapping[str, Any], overwrite: bool) -> Outputs:
-    from ..errors import PdsgenError
+    from ..cli.ortho import library_options
+    from ..products.ortho import write_ortho
 
-    value_range = tuple(p["value_range"]) if p["value_range"] else None
-    common = dict(product_id=p["product_id"], params=p["params_file"], version=p["product_version"],
-                  overwrite=overwrite)
-    if p["profile"] in ("hrsc", "imars") and p["bits"] not in (None, "8"):
-        raise PdsgenError(None, f"--profile {p['profile']} orthoimages are 8-bit; --bits {p['bits']} does not apply")
-    if p["profile"] == "hrsc":
-        from ..hrsc import write_hrsc_nd4
+    options = {**library_options(p), "overwrite": overwrite}
+    return _product(write_ortho(p["input_path"], p["outdir"], profile=p["profile"], **options))
 
-        nd4 = write_hrsc_nd4(p["input_path"], p["outdir"], value_range=value_range, reproject_input=p["reproject"],
-                             source_product_ids=tuple(p["source_ids"]), **common)
-        return _written([nd4.path], [nd4.path])
-    if p["profile"] == "imars":
-        from ..imars import write_imars_ori
 
-        ori = write_imars_ori(p["input_path"], p["outdir"], source_product_ids=tuple(p["source_ids"]),
-                              value_range=value_range, **common)
-        return _written([ori.tiff_path, ori.pvl_path, ori.footprint_path], [ori.tiff_path])
-    from ..ortho import write_ortho
-
-    ortho = write_ortho(p["input_path"], p["outdir"], profile=p["profile"],
-                        bits=int(p["bits"]) if p["bits"] else None, value_range=value_range,
-                        observation_id=p["observation_id"], source_dtm_id=p["source_dtm_id"],
-                        sequence=p["sequence"], gmljp2=p["gmljp2"], **common)
-    return _written([ortho.jp2_path, ortho.label_path], [ortho.label_path])
+def _product(product: ProductResult) -> Outputs:
+    """Every file of a product; the one later jobs read is its label (or, for iMars, its GeoTIFF)."""
+    labels = [f for f in product.files if f.suffix.lower() in LABEL_SUFFIXES]
+    return _written(list(product.files), labels[:1] or list(product.files[:1]))
 
 
 def run_extras(p: Mapping[str, Any], overwrite: bool) -> Outputs:
@@ -84,7 +59,7 @@ class ProblemsFound(Exception):
 
 def run_validate(p: Mapping[str, Any], overwrite: bool) -> Outputs:
     """Validate; the report goes to `output` (written whole, then renamed) when given."""
-    from ..staging import StagedOutputs
+    from ..formats.staging import StagedOutputs
     from ..validate import render, validate_paths
 
     report = validate_paths(p["paths"], strict=p["strict"], jobs=p["jobs"], labels_only=p["labels_only"],

@@ -28,11 +28,12 @@ def thread_environment(threads: int) -> dict[str, str]:
 
 def run(task: dict[str, Any]) -> dict[str, Any]:
     """Make the job's library call; the result is JSON: outputs, or a one-line error."""
+    import glymur
+
     from ..errors import PdsgenError
-    from ..write_jp2 import set_encoder_threads
     from .calls import RUNNERS, ProblemsFound
 
-    set_encoder_threads(task["threads"])
+    glymur.set_option("lib.num_threads", task["threads"])  # OpenJPEG's pool, for decoding and encoding
     params = task["params"]
     try:
         written = RUNNERS[task["kind"]](params, bool(params.get("overwrite")) or task["resume"])
