@@ -228,14 +228,14 @@ def test_existing_product_is_kept_without_overwrite(tmp_path):
     with pytest.raises(PdsgenError, match="--overwrite"):
         write_ortho(source, tmp_path / "out")
     assert first.jp2_path.read_bytes() == before
-    assert sorted(os.listdir(tmp_path / "out")) == ["IN.JP2", "IN.LBL"]
+    assert sorted(os.listdir(tmp_path / "out")) == ["IN.JP2", "IN.LBL", "JP2INFO.TXT"]
 
 
 def test_cli_writes_both_files(tmp_path):
     source = _write(tmp_path, _texture((80, 90), 0.1, 0.3).astype(np.float32), name="demo_red.tif")
     result = CliRunner().invoke(main, ["ortho", str(source), "-o", str(tmp_path / "o"), "--bits", "8", "--gmljp2"])
     assert result.exit_code == 0, result.output
-    assert sorted(os.listdir(tmp_path / "o")) == ["DEMO_RED.JP2", "DEMO_RED.LBL"]
+    assert sorted(os.listdir(tmp_path / "o")) == ["DEMO_RED.JP2", "DEMO_RED.LBL", "JP2INFO.TXT"]
     assert "8-bit" in result.output
 
 

@@ -21,7 +21,7 @@ from rasterio.windows import Window
 
 from ..errors import ParamsError, PdsgenError
 from ..formats.geojp2 import geojp2_box, gmljp2_box
-from ..formats.jp2 import TILE_SIZE, write_jp2
+from ..formats.jp2 import JP2INFO_NAME, TILE_SIZE, describe_jp2, jp2info_text, write_jp2
 from ..formats.raster import open_raster, row_strips
 from ..formats.scale_dn import (
     BIT_DEPTHS,
@@ -81,12 +81,15 @@ def write_ortho(
     Missions with their own form (hrsc: 8-bit ND4 .img, imars: GeoTIFF + PVL +
     footprint) have their writer called with `options` (their images are 8-bit:
     `bits` other than 8 is refused); the others get the JP2 + .LBL of
-    `write_jp2_ortho` with the mission's names and keywords.
+    `write_jp2_ortho` with the mission's names and keywords. `threads=N` caps the
+    cores the JPEG 2000 encoder uses (default: all; a batch running several
+    products at once gives each a share); the other forms use one core anyway.
     """
     mission = get_mission(profile)
     own = mission.writer("ortho")
     if own is None:
         return call_mission_writer(write_jp2_ortho, profile, input_path, outdir, {**options, "mission": mission})
+    options.pop("threads", None)  # a limit on cores, not a product option: these writers use one
     bits = options.pop("bits", None)
     if bits not in (None, 8):
         raise ParamsError(None, f"--profile {profile} orthoimages are 8-bit; --bits {bits} does not apply")
@@ -108,8 +111,13 @@ def write_jp2_ortho(
     gmljp2: bool = False,
     version: str = "1.0",
     overwrite: bool = False,
+    threads: int | None = None,
 ) -> OrthoProduct:
-    """Convert a 1-band (RED) or 3-band (IRB) orthoimage into `<PRODUCT_ID>.JP2` + `.LBL`."""
+    """Convert a 1-band (RED) or 3-band (IRB) orthoimage into `<PRODUCT_ID>.JP2` + `.LBL`.
+
+    `threads` limits how many cores the JPEG 2000 encoder uses (default: all).
+    The directory's JP2INFO.TXT gets this JP2's encoding facts.
+    """
     if bits is not None and bits not in BIT_DEPTHS:
         raise PdsgenError(None, f"--bits must be one of {', '.join(map(str, BIT_DEPTHS))}, not {bits}")
     chosen = mission
@@ -136,15 +144,20 @@ def write_jp2_ortho(
         boxes = [geojp2_box(dataset.crs, dataset.transform)]
         if gmljp2:
             boxes.append(gmljp2_box(dataset.crs, dataset.transform, dataset.height, dataset.width))
-        with StagedOutputs([jp2_final, label_final], overwrite) as staged:
+        info_final = outdir / JP2INFO_NAME
+        with StagedOutputs([jp2_final, label_final], overwrite, shared=[info_final]) as staged:
             reader = _TileRowReader(dataset, mapping, str(input_path))
-            write_jp2(
+            settings = write_jp2(
                 staged.path(jp2_final), dataset.height, dataset.width, dataset.count,
-                mapping.special.bits, reader, boxes,
+                mapping.special.bits, reader, boxes, threads=threads,
             )
             if not reader.any_valid:
                 raise PdsgenError(input_path, "has no valid pixels (all nodata)")
             staged.path(label_final).write_bytes(text.encode("ascii"))
+            entry = describe_jp2(jp2_final.name, settings, dataset.height, dataset.width, dataset.count,
+                                 mapping.special.bits, ["GeoJP2", "GMLJP2"][:len(boxes)])
+            previous = info_final.read_text("ascii", "replace") if info_final.is_file() else None
+            staged.path(info_final).write_bytes(jp2info_text(previous, entry, lambda name: (outdir / name).is_file()))
     return OrthoProduct(
         product_id=product_id,
         jp2_path=jp2_final,
@@ -269,6 +282,7 @@ def _label_context(
         "source_product_id": [Symbol(s) if _is_symbol(s) else s for s in sources] if sources else "N/A",
         "geometry": geometry,
         "jp2_name": jp2_name,
+        "jp2info_name": JP2INFO_NAME,
         "img_name": f"{product_id}.IMG",
         "record_bytes": record_bytes,
         "file_records": file_records,
