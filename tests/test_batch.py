@@ -79,7 +79,7 @@ def run_sequentially(manifest_path: Path, outdir: Path) -> None:
     products: dict[str, list[str]] = {}
     for job in manifest.jobs:  # the manifest lists dtm, ortho, extras, validate in that order
         task = make_task(job, manifest, Settings(), products)
-        products[job.id] = RUNNERS[job.kind](task["params"], False)["products"]
+        products[job.id] = RUNNERS[job.kind](task["params"], False, 1)["products"]
 
 
 def tree(root: Path) -> dict[str, bytes]:

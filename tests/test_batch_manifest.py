@@ -42,7 +42,7 @@ def test_example_parses_and_its_jobs_run(tmp_path):
     assert manifest.outdir == tmp_path / "delivery"
     products: dict[str, list[str]] = {}
     for job in manifest.jobs:
-        products[job.id] = RUNNERS[job.kind](make_task(job, manifest, Settings(), products)["params"], False)[
+        products[job.id] = RUNNERS[job.kind](make_task(job, manifest, Settings(), products)["params"], False, 1)[
             "products"]
     assert validate_paths([tmp_path / "delivery"], strict=True).exit_code == 0
     assert (tmp_path / "delivery" / "extras" / "README.TXT").is_file()

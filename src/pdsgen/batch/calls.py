@@ -21,7 +21,7 @@ Outputs = dict[str, list[str]]
 LABEL_SUFFIXES = (".img", ".lbl")
 
 
-def run_dtm(p: Mapping[str, Any], overwrite: bool) -> Outputs:
+def run_dtm(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
     from ..cli.dtm import library_options
     from ..products.dtm import write_dtm
 
@@ -29,11 +29,11 @@ def run_dtm(p: Mapping[str, Any], overwrite: bool) -> Outputs:
     return _product(write_dtm(p["input_path"], p["outdir"], profile=p["profile"], **options))
 
 
-def run_ortho(p: Mapping[str, Any], overwrite: bool) -> Outputs:
+def run_ortho(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
     from ..cli.ortho import library_options
     from ..products.ortho import write_ortho
 
-    options = {**library_options(p), "overwrite": overwrite}
+    options = {**library_options(p), "overwrite": overwrite, "threads": threads}
     return _product(write_ortho(p["input_path"], p["outdir"], profile=p["profile"], **options))
 
 
@@ -43,7 +43,7 @@ def _product(product: ProductResult) -> Outputs:
     return _written(list(product.files), labels[:1] or list(product.files[:1]))
 
 
-def run_extras(p: Mapping[str, Any], overwrite: bool) -> Outputs:
+def run_extras(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
     from ..extras import make_extras
 
     written = make_extras(p["products"], p["outdir"], credit=p["credit"], params=p["params_file"],
@@ -57,7 +57,7 @@ class ProblemsFound(Exception):
     """A validation that ran and found errors: the job failed, with the report's summary as reason."""
 
 
-def run_validate(p: Mapping[str, Any], overwrite: bool) -> Outputs:
+def run_validate(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
     """Validate; the report goes to `output` (written whole, then renamed) when given."""
     from ..formats.staging import StagedOutputs
     from ..validate import render, validate_paths
@@ -82,6 +82,9 @@ def _written(outputs: list[Path], products: list[Path]) -> Outputs:
     return {"outputs": [str(o) for o in outputs], "products": [str(p) for p in products]}
 
 
-RUNNERS: dict[str, Callable[[Mapping[str, Any], bool], Outputs]] = {
+# Each takes the job's parameters, whether it may replace its earlier outputs, and its
+# thread budget (GDAL's comes from the child's environment; the JPEG 2000 encoder's is
+# passed to write_ortho).
+RUNNERS: dict[str, Callable[[Mapping[str, Any], bool, int], Outputs]] = {
     "dtm": run_dtm, "ortho": run_ortho, "extras": run_extras, "validate": run_validate,
 }

@@ -36,7 +36,7 @@ def run(task: dict[str, Any]) -> dict[str, Any]:
     glymur.set_option("lib.num_threads", task["threads"])  # OpenJPEG's pool, for decoding and encoding
     params = task["params"]
     try:
-        written = RUNNERS[task["kind"]](params, bool(params.get("overwrite")) or task["resume"])
+        written = RUNNERS[task["kind"]](params, bool(params.get("overwrite")) or task["resume"], task["threads"])
     except (PdsgenError, ProblemsFound) as exc:
         return {"ok": False, "error": str(exc), "retry": False}
     except Exception as exc:  # a bug or an environment failure: keep the traceback in the log

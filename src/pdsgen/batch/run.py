@@ -32,6 +32,12 @@ from .resume import (
     remove_interrupted_leftovers,
 )
 
+# Kinds whose jobs update a file shared by their whole output directory (an ortho
+# writes its entry into JP2INFO.TXT): such jobs in one directory take turns. Extras
+# (README.TXT) are ordered by `after` instead, checked in the manifest, because
+# README.TXT lists products in the order they were made.
+SHARED_FILE_KINDS = ("ortho",)
+
 
 @dataclass
 class Settings:
@@ -68,6 +74,7 @@ def make_task(job: Job, manifest: Manifest, settings: Settings, products: Mappin
     output = params.get("outdir") or (str(Path(params["output"]).parent) if params.get("output") else None)
     return {
         "id": job.id, "kind": job.kind, "params": params, "inputs": inputs, "options": digest, "outdir": output,
+        "lock": f"pdsgen-batch:{output}" if job.kind in SHARED_FILE_KINDS else None,
         "threads": job.threads, "timeout": job.timeout, "version": __version__,
         "marker": str(marker_path(manifest.outdir, job.id)),
         "log": str(log_dir(manifest, settings) / f"{job.id}.log"),

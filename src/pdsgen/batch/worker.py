@@ -7,6 +7,7 @@ timed out - comes back as a small dict, so the client can report and go on.
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
 import json
 import os
@@ -17,6 +18,7 @@ import sys
 import tempfile
 import threading
 import time
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -38,7 +40,8 @@ def run_job(task: dict[str, Any]) -> dict[str, Any]:
     owner = may_replace(marker)
     write_marker(marker_file, state="started", options=task["options"], id=task["id"], owner=owner,
                  outdir=task["outdir"])
-    result = _run_child({**task, "resume": owner})
+    with _directory_lock(task["lock"]):
+        result = _run_child({**task, "resume": owner})
     if not result.get("ok"):
         if owner:
             write_marker(marker_file, state="failed", options=task["options"], id=task["id"], owner=True)
@@ -68,6 +71,25 @@ def _where() -> dict[str, Any]:
     except (ImportError, ValueError):
         address = None
     return {"worker": address, "worker_peak_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1)}
+
+
+@contextlib.contextmanager
+def _directory_lock(name: str | None) -> Iterator[None]:
+    """Hold the cluster-wide lock NAME (if any) while the job runs.
+
+    Jobs that read, extend and rewrite a file shared by a whole directory (an
+    orthoimage's JP2INFO.TXT) take turns, or one would drop the other's entry. While
+    waiting, the job leaves its worker thread free for other jobs (Dask's secede).
+    """
+    if name is None:
+        yield
+        return
+    from distributed import Lock, rejoin, secede
+
+    secede()
+    with Lock(name):
+        rejoin()
+        yield
 
 
 def _run_child(task: dict[str, Any]) -> dict[str, Any]:
