@@ -1,11 +1,12 @@
 """Benchmark: `pdsgen batch` of 16 small sets on 1 worker vs one worker per core.
 
 Each set is a DTM, an orthoimage and their Extras (three jobs), from generated
-rasters. The same manifest runs twice into fresh directories, through the CLI as a
-user runs it: `--workers 1`, then `--workers <cores>`. Printed side by side: wall
-time, jobs per minute, the speed-up (the target is at least 0.8 x cores), and per
-worker the peak memory of its own process and of the largest job it ran (each job
-runs in a child process; its peak RSS is recorded in summary.json).
+rasters, in its own directory as in an archive release. The same manifest runs
+twice into fresh directories, through the CLI as a user runs it: `--workers 1`,
+then `--workers <cores>`. Printed side by side: wall time, jobs per minute, the
+speed-up (the target is at least 0.8 x cores), and per worker the peak memory of
+its own process and of the largest job it ran (each job runs in a child process;
+its peak RSS is recorded in summary.json).
 
 Run: .venv/bin/python bench/batch.py [--sets 16] [--size 512]
 """
@@ -39,13 +40,15 @@ def write_sets(folder: Path, sets: int, size: int) -> Path:
 [[dtm]]
 input = "input/dtm{n}.tif"
 product_id = "SET{n}_DTM"
+outdir = "set{n}"
 [[ortho]]
 input = "input/ortho{n}.tif"
 product_id = "SET{n}_ORTHO"
+outdir = "set{n}"
 [[extras]]
 id = "set{n}_extras"
 after = ["SET{n}_DTM", "SET{n}_ORTHO"]
-outdir = "extras/set{n}"
+outdir = "set{n}/extras"
 """)
     manifest = folder / "batch.toml"
     manifest.write_text("".join(entries), encoding="utf-8")
