@@ -157,3 +157,17 @@ def test_progress_bar_on_a_terminal_lines_otherwise():
     assert plain.getvalue() == "done    dtm      a  1.2 s\nFAILED  ortho    b: b.tif: no such file\n"
     assert "\r" in bar.getvalue() and "2/2" in bar.getvalue() and "running 0" in bar.getvalue()
     assert "FAILED  ortho    b: b.tif: no such file\n" in bar.getvalue()
+
+
+def test_bar_only_when_the_stream_is_a_terminal():
+    import os
+    import pty
+
+    leader, follower = pty.openpty()
+    try:
+        with os.fdopen(follower, "w", closefd=False) as terminal:
+            assert Progress(1, terminal).bar
+    finally:
+        os.close(leader)
+        os.close(follower)
+    assert not Progress(1, io.StringIO()).bar
