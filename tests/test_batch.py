@@ -166,9 +166,9 @@ def _free_port() -> int:
 
 
 def _stop(procs: list[subprocess.Popen]) -> None:
-    for proc in procs:
+    """Workers first, then the scheduler (a worker whose scheduler is gone takes 8 s to close)."""
+    for proc in reversed(procs):
         proc.terminate()
-    for proc in procs:
         try:
             proc.wait(timeout=15)
         except subprocess.TimeoutExpired:
@@ -190,9 +190,9 @@ def scheduler(tmp_path):
             procs.append(subprocess.Popen([BIN / "dask", "worker", address, "--host", "127.0.0.1", "--nthreads", "1",
                                            "--resources", "MEMORY=2e9", "--no-dashboard", "--memory-limit", "0"],
                                           stdout=log, stderr=log))
-        try:
-            from distributed import Client
+        from distributed import Client
 
+        try:
             with Client(address, timeout="30s") as client:
                 client.wait_for_workers(2, timeout=60)
             yield address
