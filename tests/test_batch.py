@@ -272,3 +272,38 @@ def test_job_past_its_timeout_is_stopped(tmp_path):
     outcome = run_job({**task, "timeout": 0.01})
     assert outcome["status"] == "failed" and outcome["error"] == "timed out after 0.01 s" and outcome["retry"]
     assert not Path(task["marker"]).exists() and not list((tmp_path / "out").glob("*.IMG"))
+
+
+def test_jobs_sharing_a_readme_stay_done(tmp_path):
+    """Two Extras jobs in one directory (ordered by `after`) both stay done: the second
+    rewriting README.TXT does not make the first look changed."""
+    write_inputs(tmp_path / "input", 2)
+    (tmp_path / "batch.toml").write_text("""
+[[dtm]]
+input = "input/dtm0.tif"
+[[dtm]]
+input = "input/dtm1.tif"
+[[extras]]
+id = "first"
+after = ["dtm0"]
+outdir = "extras"
+[[extras]]
+id = "second"
+after = ["dtm1", "first"]
+outdir = "extras"
+""", encoding="utf-8")
+    manifest = load_manifest(tmp_path / "batch.toml", tmp_path / "out")
+
+    def run_all() -> list[str]:
+        products: dict[str, list[str]] = {}
+        statuses = []
+        for job in manifest.jobs:
+            outcome = run_job(make_task(job, manifest, Settings(), products))
+            products[job.id] = outcome["products"]
+            statuses.append(outcome["status"])
+        return statuses
+
+    assert run_all() == ["done"] * 4
+    readme = (tmp_path / "out" / "extras" / "README.TXT").read_text()
+    assert "DTM0" in readme and "DTM1" in readme
+    assert run_all() == ["skipped"] * 4

@@ -4,13 +4,13 @@ A job's parameters are those its click command parsed (see manifest.py), under t
 click parameter names; each function here passes them to the library function
 behind the command - through the command's own `library_options` where it has
 one, so the keywords are chosen in one place - and returns what the job wrote:
-`outputs` (every file) and `products` (the files a later job reads: a DTM's .IMG,
-an orthoimage's .LBL).
+`outputs` (the files it made), `shared` (directory-wide files it updated) and
+`products` (the files a later job reads: a DTM's .IMG, an orthoimage's .LBL).
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -45,12 +45,15 @@ def _product(product: ProductResult) -> Outputs:
 
 def run_extras(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
     from ..extras import make_extras
+    from ..extras.readme_index import INDEX_NAME
+    from ..extras.readme_txt import README_NAME
 
     written = make_extras(p["products"], p["outdir"], credit=p["credit"], params=p["params_file"],
                           browse_width=p["browse_width"], thumb_width=p["thumb_width"], azimuth=p["azimuth"],
                           altitude=p["altitude"], exaggeration=p["exaggeration"], kind=p["kind"],
                           profile=p["profile"], overwrite=overwrite)
-    return _written(written, [])
+    directory_files = [w for w in written if w.name in (README_NAME, INDEX_NAME)]
+    return _written([w for w in written if w not in directory_files], [], shared=directory_files)
 
 
 class ProblemsFound(Exception):
@@ -78,8 +81,11 @@ def run_validate(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs
     return _written(written, [])
 
 
-def _written(outputs: list[Path], products: list[Path]) -> Outputs:
-    return {"outputs": [str(o) for o in outputs], "products": [str(p) for p in products]}
+def _written(outputs: list[Path], products: list[Path], shared: Sequence[Path] = ()) -> Outputs:
+    """`shared`: files the job updated that describe its whole directory (README.TXT);
+    a later job in that directory rewrites them, so they are reported, not checked on resume."""
+    return {"outputs": [str(o) for o in outputs], "products": [str(p) for p in products],
+            "shared": [str(s) for s in shared]}
 
 
 # Each takes the job's parameters, whether it may replace its earlier outputs, and its

@@ -5,6 +5,8 @@ writes `<outdir>/.pdsgen-batch/jobs/<id>.json` holding a hash of the job's optio
 and pdsgen's version, the size and modification time of each input, and the same
 of each output. A re-run skips the job only if all of these still match; a changed
 option, input or pdsgen version, or an output deleted or touched, makes it run again.
+Files that describe a whole directory (an Extras README.TXT), which later jobs in
+the same directory rewrite, need only still exist.
 
 Before a job starts, the marker says "started". A run killed part way leaves that
 state behind. A job whose marker shows it published its outputs before (done, or
@@ -82,7 +84,10 @@ def is_done(marker: Mapping[str, Any] | None, digest: str, inputs: Iterable[str]
     if marker.get("inputs") != file_stats(inputs):
         return False
     outputs = marker.get("outputs", {})
-    return isinstance(outputs, dict) and outputs == file_stats(outputs)
+    if not (isinstance(outputs, dict) and outputs == file_stats(outputs)):
+        return False
+    # directory-wide files (README.TXT) are rewritten by later jobs: they need only exist
+    return all(Path(shared).is_file() for shared in marker.get("shared", []))
 
 
 def may_replace(marker: Mapping[str, Any] | None) -> bool:

@@ -50,8 +50,9 @@ def run_job(task: dict[str, Any]) -> dict[str, Any]:
         return _outcome(task, "failed", start, error=result["error"], retry=result.get("retry", False),
                         peak_mb=result["peak_mb"])
     write_marker(marker_file, state="done", options=task["options"], id=task["id"], inputs=inputs,
-                 outputs=file_stats(result["outputs"]), products=result["products"], version=task["version"])
-    return _outcome(task, "done", start, outputs=result["outputs"], products=result["products"],
+                 outputs=file_stats(result["outputs"]), shared=result["shared"], products=result["products"],
+                 version=task["version"])
+    return _outcome(task, "done", start, outputs=result["outputs"] + result["shared"], products=result["products"],
                     peak_mb=result["peak_mb"])
 
 
