@@ -140,63 +140,76 @@ def _in_order(jobs: list[Job]) -> list[Job]:
 def run(manifest: Manifest, settings: Settings, progress_stream: TextIO | None = None,
         bar: bool | None = None) -> Summary:
     """Run every job of MANIFEST on the cluster; the summary (also written as summary.json)."""
-    from distributed import as_completed
-
-    from .worker import run_job
-
     started = time.time()
     progress = Progress(len(manifest.jobs), progress_stream, bar)
-    outcomes: dict[str, dict[str, Any]] = {}
-    attempts: dict[str, int] = {}
-    products: dict[str, list[str]] = {}
     with open_client(settings.scheduler, settings.workers) as client:
         check_workers(client, manifest.jobs, __version__)
         removed = remove_interrupted_leftovers(marker_path(manifest.outdir, j.id) for j in manifest.jobs)
         if removed:
             progress.note(f"removed {len(removed)} temporary file(s) left by an interrupted run")
-        futures = as_completed()
-        submitted: dict[str, Job] = {}  # future key -> job
-
-        def submit(job: Job) -> None:
-            task = make_task(job, manifest, settings, products)
-            attempts[job.id] = attempts.get(job.id, 0) + 1
-            key = f"{job.kind}-{job.id}-{task['options'][:12]}-{attempts[job.id]}"
-            submitted[key] = job
-            futures.add(client.submit(run_job, task, key=key, resources={RESOURCE: job.memory}, pure=False))
-            progress.started()
-
-        def release_ready() -> None:
-            for job in manifest.jobs:
-                if job.id in outcomes or job.id in attempts:
-                    continue
-                failed = [a for a in job.after if outcomes.get(a, {}).get("status") in ("failed", "blocked")]
-                if failed:
-                    outcomes[job.id] = {"id": job.id, "status": "blocked", "seconds": 0.0, "outputs": [],
-                                        "products": [], "log": None,
-                                        "error": f"not run: it is after {', '.join(failed)}, which failed"}
-                    progress.finished(outcomes[job.id], job.kind, was_running=False)
-                    release_ready()
-                    return
-                if all(outcomes.get(a, {}).get("status") in ("done", "skipped") for a in job.after):
-                    submit(job)
-
-        release_ready()
-        for future in futures:
-            job = submitted.pop(future.key)
-            outcome = {**_outcome_of(future), "id": job.id}
-            future.release()
-            if outcome["status"] == "failed" and outcome.pop("retry", False) and attempts[job.id] <= job.retries:
-                progress.running -= 1
-                submit(job)
-                continue
-            outcome.pop("retry", None)
-            outcome["attempts"] = attempts[job.id]
-            outcomes[job.id] = outcome
-            products[job.id] = outcome["products"]
-            progress.finished(outcome, job.kind)
-            release_ready()
+        outcomes = _Submitter(client, manifest, settings, progress).run_all()
     progress.close()
     return _write_summary(manifest, settings, outcomes, started)
+
+
+class _Submitter:
+    """Submits each job once the jobs it is after are done, and collects the outcomes."""
+
+    def __init__(self, client: Any, manifest: Manifest, settings: Settings, progress: Progress) -> None:
+        from distributed import as_completed
+
+        self.client, self.manifest, self.settings, self.progress = client, manifest, settings, progress
+        self.futures = as_completed()
+        self.submitted: dict[str, Job] = {}  # future key -> job
+        self.attempts: dict[str, int] = {}
+        self.outcomes: dict[str, dict[str, Any]] = {}
+        self.products: dict[str, list[str]] = {}
+
+    def run_all(self) -> dict[str, dict[str, Any]]:
+        self._release_ready()
+        for future in self.futures:
+            job = self.submitted.pop(future.key)
+            outcome = {**_outcome_of(future), "id": job.id}
+            future.release()
+            if outcome["status"] == "failed" and outcome.pop("retry", False) and self.attempts[job.id] <= job.retries:
+                self.progress.running -= 1
+                self._submit(job)
+                continue
+            outcome.pop("retry", None)
+            self._finish(job, {**outcome, "attempts": self.attempts[job.id]})
+        return self.outcomes
+
+    def _submit(self, job: Job) -> None:
+        from .worker import run_job
+
+        task = make_task(job, self.manifest, self.settings, self.products)
+        self.attempts[job.id] = self.attempts.get(job.id, 0) + 1
+        key = f"{job.kind}-{job.id}-{task['options'][:12]}-{self.attempts[job.id]}"
+        self.submitted[key] = job
+        self.futures.add(self.client.submit(run_job, task, key=key, resources={RESOURCE: job.memory}, pure=False))
+        self.progress.started()
+
+    def _finish(self, job: Job, outcome: dict[str, Any], was_running: bool = True) -> None:
+        self.outcomes[job.id] = outcome
+        self.products[job.id] = outcome["products"]
+        self.progress.finished(outcome, job.kind, was_running)
+        self._release_ready()
+
+    def _release_ready(self) -> None:
+        """Submit the jobs whose `after` jobs are all done; mark blocked those after a failed one."""
+        for job in self.manifest.jobs:
+            if job.id in self.outcomes or job.id in self.attempts:
+                continue
+            states = [self.outcomes.get(a, {}).get("status") for a in job.after]
+            failed = [a for a, state in zip(job.after, states, strict=True) if state in ("failed", "blocked")]
+            if failed:
+                self._finish(job, {"id": job.id, "status": "blocked", "seconds": 0.0, "outputs": [], "products": [],
+                                   "log": None, "attempts": 0,
+                                   "error": f"not run: it is after {', '.join(failed)}, which did not succeed"},
+                             was_running=False)
+                return  # _finish released what this unblocked
+            if all(state in ("done", "skipped") for state in states):
+                self._submit(job)
 
 
 def _outcome_of(future: Any) -> dict[str, Any]:
