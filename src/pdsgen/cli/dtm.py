@@ -11,13 +11,14 @@ from ..products.dtm import DtmProduct, write_dtm
 from ..products.hrsc import HrscDtmProduct
 from ..products.imars import ImarsProduct
 from ..profiles import profile_names
-from ._profile_options import profile_options, refuse_unused_options
+from ._profile_options import label_fidelity_options, profile_options, refuse_unused_options
 
 _COMMON = {"input_path", "outdir", "product_id", "source_ids", "product_version", "params_file", "overwrite"}
 USED_BY_PROFILE = {
-    "generic": _COMMON | {"byte_order"},
-    "hirise": _COMMON | {"byte_order", "institution"},
-    "hrsc": _COMMON | {"byte_order", "kind", "vertical_datum", "areoid", "precision", "reproject"},
+    "generic": _COMMON | {"allow_deviations", "byte_order"},
+    "hirise": _COMMON | {"allow_deviations", "byte_order", "institution"},
+    "hrsc": _COMMON | {"allow_deviations", "source_labels", "offset_convention", "byte_order", "kind",
+                       "vertical_datum", "areoid", "precision", "reproject"},
     "imars": _COMMON | {"kind", "vertical_datum", "areoid", "precision"},
 }
 
@@ -48,10 +49,12 @@ USED_BY_PROFILE = {
               help="hrsc/imars: metres per stored integer step (SCALING_FACTOR).")
 @click.option("--reproject", is_flag=True,
               help="hrsc: warp the input into the HRSC projection and sphere instead of refusing it.")
+@label_fidelity_options
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 @click.pass_context
 def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, product_version,
-        params_file, byte_order, kind, vertical_datum, areoid, precision, reproject, overwrite) -> None:
+        params_file, byte_order, kind, vertical_datum, areoid, precision, reproject, source_labels,
+        offset_convention, allow_deviations, overwrite) -> None:
     """Convert the single-band elevation raster INPUT (any GDAL format, projected
     CRS: equirectangular, polar stereographic or sinusoidal) into a PDS3 DTM in OUTDIR:
     <PRODUCT_ID>.IMG (float32); for --profile hrsc hOOOO_NNNN_dt4.img / _da4.img
@@ -59,6 +62,8 @@ def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, p
     hOOOO_NNNN_da4_ucl.tif (int16 GeoTIFF), its .pvl metadata and hOOOO_NNNN.geojson."""
     refuse_unused_options(ctx, profile, USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"]))
     product = write_dtm(input_path, outdir, profile=profile, **library_options(ctx.params))
+    for warning in getattr(product, "warnings", ()):
+        click.echo(f"warning: {warning}", err=True)
     click.echo(_summary(product))
 
 
@@ -72,7 +77,8 @@ def library_options(params: Mapping[str, Any]) -> dict[str, object]:
         "params": params["params_file"], "version": params["product_version"], "overwrite": params["overwrite"],
         "byte_order": params["byte_order"], "institution": params["institution"], "kind": params["kind"],
         "vertical_datum": params["vertical_datum"], "areoid": params["areoid"], "precision": params["precision"],
-        "reproject_input": params["reproject"],
+        "reproject_input": params["reproject"], "allow_dictionary_deviations": params["allow_deviations"] or None,
+        "source_labels": tuple(params["source_labels"]), "offset_convention": params["offset_convention"],
     }
     return profile_options(given, USED_BY_PROFILE.get(params["profile"], USED_BY_PROFILE["generic"]))
 
