@@ -48,14 +48,13 @@ def _product(product: ProductResult) -> Outputs:
 
 def run_extras(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
     from ..extras import make_extras
-    from ..extras.readme_index import INDEX_NAME
     from ..extras.readme_txt import README_NAME
 
     written = make_extras(p["products"], p["outdir"], credit=p["credit"], params=p["params_file"],
                           browse_width=p["browse_width"], thumb_width=p["thumb_width"], azimuth=p["azimuth"],
                           altitude=p["altitude"], exaggeration=p["exaggeration"], kind=p["kind"],
-                          profile=p["profile"], overwrite=overwrite)
-    directory_files = [w for w in written if w.name in (README_NAME, INDEX_NAME)]
+                          profile=p["profile"], overwrite=overwrite, report=print)  # notes into the log
+    directory_files = [w for w in written if w.name == README_NAME]
     return _written([w for w in written if w not in directory_files], [], shared=directory_files)
 
 
