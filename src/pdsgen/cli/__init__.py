@@ -23,6 +23,7 @@ COMMANDS = {
     "demo": "demo",
     "extras": "extras",
     "validate": "validate",
+    "batch": "batch",
 }
 
 

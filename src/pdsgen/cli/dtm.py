@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import Any
+
 import click
 
 from ..pds4.model import LABEL_DIALECTS
@@ -63,19 +66,27 @@ def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, p
     (16-bit integers with MEX:DTM scaling); for --profile imars the iMars form:
     hOOOO_NNNN_da4_ucl.tif (int16 GeoTIFF), its .pvl metadata and hOOOO_NNNN.geojson."""
     refuse_unused_options(ctx, profile, USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"]))
-    given = {
-        "product_id": product_id, "source_product_ids": source_ids, "params": params_file,
-        "version": product_version, "overwrite": overwrite, "byte_order": byte_order, "institution": institution,
-        "kind": kind, "vertical_datum": vertical_datum, "areoid": areoid, "precision": precision,
-        "reproject_input": reproject, "allow_dictionary_deviations": allow_deviations or None,
-        "source_labels": source_labels, "offset_convention": offset_convention, "label": label,
-    }
-    used = USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"])
-    options = profile_options(given, used)
-    product = write_dtm(input_path, outdir, profile=profile, **options)
+    product = write_dtm(input_path, outdir, profile=profile, **library_options(ctx.params))
     for warning in getattr(product, "warnings", ()):
         click.echo(f"warning: {warning}", err=True)
     click.echo(_summary(product))
+
+
+def library_options(params: Mapping[str, Any]) -> dict[str, object]:
+    """write_dtm's keywords from the command's parsed parameters: those the profile uses.
+
+    `pdsgen batch` calls it too, so a manifest's job and the command make the same call.
+    """
+    given = {
+        "product_id": params["product_id"], "source_product_ids": tuple(params["source_ids"]),
+        "params": params["params_file"], "version": params["product_version"], "overwrite": params["overwrite"],
+        "byte_order": params["byte_order"], "institution": params["institution"], "kind": params["kind"],
+        "vertical_datum": params["vertical_datum"], "areoid": params["areoid"], "precision": params["precision"],
+        "reproject_input": params["reproject"], "allow_dictionary_deviations": params["allow_deviations"] or None,
+        "source_labels": tuple(params["source_labels"]), "offset_convention": params["offset_convention"],
+        "label": params["label"],
+    }
+    return profile_options(given, USED_BY_PROFILE.get(params["profile"], USED_BY_PROFILE["generic"]))
 
 
 def _summary(product: object) -> str:

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import Any
+
 import click
 
 from ..pds4.model import LABEL_DIALECTS
@@ -56,19 +59,29 @@ def ortho(ctx, input_path, outdir, profile, product_id, bits, value_range, obser
     .img and .xml); for --profile
     hrsc the 8-bit nadir image hOOOO_NNNN_nd4.img (attached label, DN 0 = no data);
     for --profile imars hOOOO_NNNN_nd4_ucl.tif with its .pvl and footprint."""
-    used = USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"])
-    refuse_unused_options(ctx, profile, used)
-    given = {
-        "product_id": product_id, "bits": int(bits) if bits else None, "value_range": value_range or None,
-        "observation_id": observation_id, "source_dtm_id": source_dtm_id, "sequence": sequence,
-        "params": params_file, "gmljp2": gmljp2, "version": product_version, "overwrite": overwrite,
-        "source_product_ids": source_ids, "reproject_input": reproject, "label": label,
-    }
-    options = profile_options(given, used)
-    product = write_ortho(input_path, outdir, profile=profile, **options)
+    refuse_unused_options(ctx, profile, USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"]))
+    product = write_ortho(input_path, outdir, profile=profile, **library_options(ctx.params))
     for warning in getattr(product, "warnings", ()):
         click.echo(f"warning: {warning}", err=True)
     click.echo(_summary(product))
+
+
+def library_options(params: Mapping[str, Any]) -> dict[str, object]:
+    """write_ortho's keywords from the command's parsed parameters: those the profile uses.
+
+    `pdsgen batch` calls it too, so a manifest's job and the command make the same call.
+    """
+    bits, value_range = params["bits"], params["value_range"]
+    given = {
+        "product_id": params["product_id"], "bits": int(bits) if bits else None,
+        "value_range": tuple(value_range) if value_range else None, "observation_id": params["observation_id"],
+        "source_dtm_id": params["source_dtm_id"], "sequence": params["sequence"], "params": params["params_file"],
+        "gmljp2": params["gmljp2"], "version": params["product_version"], "overwrite": params["overwrite"],
+        "source_product_ids": tuple(params["source_ids"]), "reproject_input": params["reproject"],
+        "label": params["label"], "allow_dictionary_deviations": params["allow_deviations"] or None,
+        "source_labels": tuple(params["source_labels"]), "offset_convention": params["offset_convention"],
+    }
+    return profile_options(given, USED_BY_PROFILE.get(params["profile"], USED_BY_PROFILE["generic"]))
 
 
 def _summary(product: object) -> str:

@@ -1,0 +1,121 @@
+"""Done-markers: what lets a re-run skip the jobs that are finished and still current.
+
+After a job's outputs are published (renamed into place, see staging.py) the worker
+writes `<outdir>/.pdsgen-batch/jobs/<id>.json` holding a hash of the job's options
+and pdsgen's version, the size and modification time of each input, and the same
+of each output. A re-run skips the job only if all of these still match; a changed
+option, input or pdsgen version, or an output deleted or touched, makes it run again.
+Files that describe a whole directory (an Extras README.TXT), which later jobs in
+the same directory rewrite, need only still exist.
+
+Before a job starts, the marker says "started". A run killed part way leaves that
+state behind. A job whose marker shows it published its outputs before (done, or
+started and killed) may replace them when it runs again; a job that never did gets
+no marker when it fails, so an "output exists" refusal is never turned into an
+overwrite of somebody else's file.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+from typing import Any
+
+STATE_DIR = ".pdsgen-batch"
+MARKER_FORMAT = "pdsgen batch marker 1"
+
+
+def options_hash(kind: str, params: Mapping[str, Any], version: str) -> str:
+    """Hash of what a job is asked to make: its kind, parameters and pdsgen's version."""
+    text = json.dumps({"kind": kind, "params": params, "version": version}, sort_keys=True, default=str)
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def marker_path(outdir: Path, job_id: str) -> Path:
+    return outdir / STATE_DIR / "jobs" / f"{job_id}.json"
+
+
+def file_stats(paths: Iterable[str]) -> dict[str, list[int] | None]:
+    """path -> [size, mtime in ns] (None if missing), directories expanded to their files."""
+    stats: dict[str, list[int] | None] = {}
+    for name in paths:
+        path = Path(name)
+        files = sorted(p for p in path.rglob("*") if p.is_file()) if path.is_dir() else [path]
+        for file in files:
+            try:
+                st = file.stat()
+            except OSError:
+                stats[str(file)] = None
+            else:
+                stats[str(file)] = [st.st_size, st.st_mtime_ns]
+    return stats
+
+
+def read_marker(path: Path) -> dict[str, Any] | None:
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    return data if isinstance(data, dict) and data.get("format") == MARKER_FORMAT else None
+
+
+def write_marker(path: Path, **fields: Any) -> None:
+    """Write the marker whole under a temporary name, then rename it into place."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.part")
+    tmp.write_text(json.dumps({"format": MARKER_FORMAT, **fields}, indent=1, sort_keys=True), encoding="utf-8")
+    os.replace(tmp, path)
+
+
+def remove_marker(path: Path) -> None:
+    try:
+        path.unlink()
+    except FileNotFoundError:
+        pass
+
+
+def is_done(marker: Mapping[str, Any] | None, digest: str, inputs: Iterable[str]) -> bool:
+    """Whether MARKER records this very job as finished, with its inputs and outputs unchanged."""
+    if not marker or marker.get("state") != "done" or marker.get("options") != digest:
+        return False
+    if marker.get("inputs") != file_stats(inputs):
+        return False
+    outputs = marker.get("outputs", {})
+    if not (isinstance(outputs, dict) and outputs == file_stats(outputs)):
+        return False
+    # directory-wide files (README.TXT) are rewritten by later jobs: they need only exist
+    return all(Path(shared).is_file() for shared in marker.get("shared", []))
+
+
+def may_replace(marker: Mapping[str, Any] | None) -> bool:
+    """Whether this job's earlier runs published (or may have published) its outputs.
+
+    Then the job may replace them: it was finished and has changed, or was killed part
+    way, or failed after such a run. A job with no marker never replaces a file.
+    """
+    if marker is None:
+        return False
+    return marker.get("state") in ("done", "started") or bool(marker.get("owner"))
+
+
+def remove_interrupted_leftovers(markers: Iterable[Path]) -> list[Path]:
+    """Delete the temporary files (`.NAME.*.part`, see staging.py) that jobs killed part way left.
+
+    Called before any job of a run starts, for the outdirs of jobs whose marker says
+    "started", so no temporary file of a running job can be among them.
+    """
+    removed = []
+    for marker in markers:
+        data = read_marker(marker)
+        if not data or data.get("state") != "started" or not isinstance(data.get("outdir"), str):
+            continue
+        for leftover in Path(data["outdir"]).glob(".*.part"):
+            try:
+                leftover.unlink()
+            except OSError:
+                continue
+            removed.append(leftover)
+    return removed

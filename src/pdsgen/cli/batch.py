@@ -1,0 +1,61 @@
+"""`pdsgen batch`: run a manifest of product jobs on Dask (local processes or a cluster)."""
+
+from __future__ import annotations
+
+import sys
+from importlib.resources import files
+
+import click
+
+from ..batch import ManifestError, Settings, load_manifest, plan, run
+from ..batch.cluster import local_workers
+
+
+@click.command(short_help="Make many products from a TOML manifest, on Dask.")
+@click.argument("manifest", required=False, type=click.Path(dir_okay=False))
+@click.option("-o", "--outdir", type=click.Path(file_okay=False),
+              help="Batch output directory [default: the manifest's [batch] outdir].")
+@click.option("--scheduler", metavar="ADDRESS",
+              help="Run on this Dask scheduler (e.g. tcp://10.0.0.5:8786) [default: a local cluster].")
+@click.option("--workers", type=click.IntRange(min=1),
+              help="Local worker processes [default: one per core / --threads-per-job].")
+@click.option("--threads-per-job", type=click.IntRange(min=1),
+              help="Threads each job's GDAL and JPEG 2000 encoder use [default: [batch] threads, else 1].")
+@click.option("--dry-run", is_flag=True, help="Print the plan (to do / done / blocked) and run nothing.")
+@click.option("--retries", type=click.IntRange(min=0),
+              help="Re-runs of a job that crashed or timed out [default: [batch] retries, else 0].")
+@click.option("--log-dir", type=click.Path(file_okay=False),
+              help="One log per job and summary.json [default: OUTDIR/.pdsgen-batch/logs].")
+@click.option("--example", is_flag=True, help="Print a commented example manifest and exit.")
+def batch(manifest, outdir, scheduler, workers, threads_per_job, dry_run, retries, log_dir, example) -> None:
+    """Run the jobs of MANIFEST (TOML: [[dtm]], [[ortho]], [[extras]], [[validate]] tables
+    whose keys are those commands' options) on Dask, each job in its own process.
+    Finished jobs are skipped on a re-run. Exit status: 0 all jobs succeeded,
+    1 some failed (each named), 2 bad manifest or cluster."""
+    if example:
+        click.echo(files("pdsgen.batch").joinpath("example.toml").read_text(encoding="utf-8"), nl=False)
+        return
+    if manifest is None:
+        raise click.UsageError("give a MANIFEST (see pdsgen batch --example)")
+    if scheduler and workers:
+        raise click.UsageError("--workers sizes the local cluster; a --scheduler's cluster has its own workers")
+    overrides = {k: v for k, v in (("threads", threads_per_job), ("retries", retries)) if v is not None}
+    try:
+        checked = load_manifest(manifest, outdir, overrides)
+    except ManifestError as exc:
+        for line in exc.lines():
+            click.echo(f"pdsgen: error: {line}", err=True)
+        sys.exit(2)
+    threads = max(j.threads for j in checked.jobs)
+    settings = Settings(scheduler=scheduler, workers=workers or local_workers(threads), log_dir=log_dir)
+    if dry_run:
+        plan(checked, settings, sys.stdout)
+        return
+    summary = run(checked, settings)
+    counts = summary.data["counts"]
+    click.echo(f"{len(summary.data['jobs'])} jobs in {summary.data['seconds']:.1f} s: {counts['done']} done, "
+               f"{counts['skipped']} already done, {counts['failed']} failed, {counts['blocked']} blocked; "
+               f"summary {summary.path}", err=True)
+    for job in summary.failed:
+        click.echo(f"pdsgen: {job['status']}: {job['kind']} {job['id']}: {job['error']}", err=True)
+    sys.exit(summary.exit_code)
