@@ -142,3 +142,19 @@ def test_a_failing_reader_leaves_no_scratch_files(tmp_path):
     with pytest.raises(OSError, match="read error"):
         write_jp2(tmp_path / "t.jp2", 100, 80, 1, 8, broken, settings=settings)
     assert [p.name for p in tmp_path.iterdir()] == ["t.jp2"]  # the caller stages and removes it
+
+
+def test_lossy_settings_cut_each_tile_to_the_compression_ratio(tmp_path):
+    """reversible=False with compression_ratio: 9/7, about 1/N of the samples' bytes, still decodable."""
+    data = _data((256, 192), 3, 8)
+    lines, samples = data.shape[:2]
+    settings = dataclasses.replace(choose_settings(lines, samples), tile_shape=(64, 64),
+                                   reversible=False, compression_ratio=20)
+    path = tmp_path / "lossy.jp2"
+    write_jp2(path, lines, samples, 3, 8, lambda first, n: data[first:first + n].copy(), settings=settings)
+    assert path.stat().st_size < data.nbytes / 15
+    decoded, _ = _gdal(path)
+    assert decoded.shape == data.shape and not np.array_equal(decoded, data)
+    assert np.abs(decoded.astype(float) - data).mean() < 12  # lossy, the same picture
+    cod = next(s for s in glymur.Jp2k(str(path)).get_codestream().segment if s.marker_id == "COD")
+    assert cod.xform == 0  # 9/7 irreversible wavelet

@@ -74,6 +74,7 @@ class Jp2Settings:
     progression: str = "RPCL"
     code_block_style: tuple[str, ...] = ("BYPASS",)
     reversible: bool = True  # 5/3 wavelet, integer: lossless
+    compression_ratio: float = 0  # 0: every coding pass kept; N: each tile cut to 1/N of its size (lossy)
     plt: bool = True
     tlm: bool = True
 
@@ -150,7 +151,7 @@ class _TileEncoder:
         cparams.codec_fmt = opj.CODEC_J2K
         cparams.irreversible = 0 if s.reversible else 1
         cparams.tcp_numlayers = QUALITY_LAYERS
-        cparams.tcp_rates[0] = 0  # no rate limit: every coding pass is kept
+        cparams.tcp_rates[0] = s.compression_ratio  # 0: no rate limit, every coding pass is kept
         cparams.cp_disto_alloc = 1
         cparams.numresolution = s.resolutions
         cparams.cblockh_init, cparams.cblockw_init = s.code_block
@@ -412,7 +413,9 @@ def write_jp2(
     settings: Jp2Settings | None = None,
     threads: int | None = None,
 ) -> Jp2Settings:
-    """Write a lossless JP2 at `path`: header boxes, `extra_boxes` (GeoJP2 ...), code stream.
+    """Write a JP2 at `path`: header boxes, `extra_boxes` (GeoJP2 ...), code stream.
+
+    Lossless unless `settings` say otherwise (`reversible=False`, `compression_ratio`).
 
     `threads` limits how many tiles are encoded at once (default: every core).
     """
@@ -485,7 +488,8 @@ def describe_jp2(
         f"  Image:              {samples} samples x {lines} lines, {bands} band(s), "
         f"{precision} bits unsigned",
         "  Compression:        " + ("lossless, reversible 5/3 integer wavelet" if settings.reversible
-                                    else "lossy, irreversible 9/7 wavelet"),
+                                    else "lossy, irreversible 9/7 wavelet")
+        + (f", compression ratio {settings.compression_ratio:g}:1" if settings.compression_ratio else ""),
         f"  Quality layers:     {QUALITY_LAYERS}",
         f"  Progression order:  {settings.progression} ({_PROGRESSIONS[settings.progression]})",
         f"  Tiles:              {settings.tile_shape[1]} x {settings.tile_shape[0]} samples, "
@@ -497,7 +501,8 @@ def describe_jp2(
         + (" at every resolution level" if len(precincts) == 1 else ""),
         "  PLT markers:        " + ("yes (packet lengths in each tile-part header)" if settings.plt else "no"),
         "  TLM markers:        " + ("yes (tile-part lengths in the main header)" if settings.tlm else "no"),
-        "  Colour transform:   " + ("reversible (RCT) across the 3 bands" if bands >= 3 else "none"),
+        "  Colour transform:   " + ("none" if bands < 3 else "reversible (RCT) across the 3 bands"
+                                    if settings.reversible else "irreversible (ICT) across the 3 bands"),
         "  Georeferencing:     " + (" and ".join(f"{kind} box" for kind in geo_boxes) or "none"),
     ]
     return entry
