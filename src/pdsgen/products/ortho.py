@@ -21,7 +21,7 @@ from rasterio.windows import Window
 
 from ..errors import ParamsError, PdsgenError
 from ..formats.geojp2 import geojp2_box, gmljp2_box
-from ..formats.jp2 import JP2INFO_NAME, TILE_SIZE, describe_jp2, jp2info_text, write_jp2
+from ..formats.jp2 import JP2INFO_NAME, TILE_SIZE, describe_jp2, jp2info_text, require_openjpeg, write_jp2
 from ..formats.raster import open_raster, row_strips
 from ..formats.scale_dn import (
     BIT_DEPTHS,
@@ -125,6 +125,7 @@ def write_jp2_ortho(
         raise PdsgenError(None, f"the {chosen.name} profile writes orthoimages in its own form, not as JP2 + LBL")
     version = check_version(version)
     keywords = resolve_params(params)
+    require_openjpeg()
     input_path = Path(input_path)
     with open_raster(input_path) as dataset:
         _check_input(dataset, input_path)

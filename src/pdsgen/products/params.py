@@ -14,8 +14,7 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
-import tomllib
-
+from .._compat import tomllib
 from ..errors import PdsgenError
 from ..resources import schemas_dir
 
