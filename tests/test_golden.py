@@ -104,7 +104,8 @@ def test_hrsc_dt4_and_nd4_labels(tmp_path):
     check_golden("hrsc_nd4.lbl", attached_label(nd4.path))
 
 
-def test_imars_pvl(tmp_path):
+def test_imars_pvl(tmp_path, monkeypatch):
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "1700000000")  # ProcessingDate 2023-11-14, reproducibly
     heights = elevation_array(30, 20, seed=11)
     heights[:3, :] = np.nan
     transform = Affine(100.0, 0, -20000.0, 0, -100.0, 150000.0)

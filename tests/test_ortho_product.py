@@ -137,7 +137,8 @@ def test_label_is_pds3_and_pdr_reads_label_and_image(tmp_path):
     raw = product.label_path.read_bytes()
     assert all(len(line) <= 80 for line in raw.split(b"\r\n")) and raw.endswith(b"END\r\n")
     label = pvl.loads(raw.decode("ascii"))
-    assert label["SOURCE_PRODUCT_ID"] == ["ESP_042252_1930", "DTEEC_042252_1930_042753_1930_A01"]
+    # hidtmgen's order: the DTM the image was projected on, then the observation
+    assert label["SOURCE_PRODUCT_ID"] == ["DTEEC_042252_1930_042753_1930_A01", "ESP_042252_1930"]
     compressed, uncompressed = label["COMPRESSED_FILE"], label["UNCOMPRESSED_FILE"]
     image = uncompressed["IMAGE"]
     assert compressed["FILE_NAME"] == product.jp2_path.name
@@ -182,7 +183,10 @@ def test_hirise_red_name_and_source_ids_from_params(tmp_path):
     )
     assert product.product_id == "ESP_013951_1955_RED_C_01_ORTHO"
     label = pvl.load(str(product.label_path))
-    assert label["SOURCE_PRODUCT_ID"][-1] == "DTEEC_013951_1955_014017_1955_U01"
+    # the DTM first (hidtmgen's order), then the sources the params list
+    assert label["SOURCE_PRODUCT_ID"] == [
+        "DTEEC_013951_1955_014017_1955_U01", "ESP_013951_1955", "ESP_014017_1955"
+    ]
     assert _label_image(label)["CENTER_FILTER_WAVELENGTH"].value == 700
 
 

@@ -8,13 +8,14 @@ from ..products.dtm import DtmProduct, write_dtm
 from ..products.hrsc import HrscDtmProduct
 from ..products.imars import ImarsProduct
 from ..profiles import profile_names
-from ._profile_options import profile_options, refuse_unused_options
+from ._profile_options import label_fidelity_options, profile_options, refuse_unused_options
 
 _COMMON = {"input_path", "outdir", "product_id", "source_ids", "product_version", "params_file", "overwrite"}
 USED_BY_PROFILE = {
-    "generic": _COMMON | {"byte_order"},
-    "hirise": _COMMON | {"byte_order", "institution"},
-    "hrsc": _COMMON | {"byte_order", "kind", "vertical_datum", "areoid", "precision", "reproject"},
+    "generic": _COMMON | {"allow_deviations", "byte_order"},
+    "hirise": _COMMON | {"allow_deviations", "byte_order", "institution"},
+    "hrsc": _COMMON | {"allow_deviations", "source_labels", "offset_convention", "byte_order", "kind",
+                       "vertical_datum", "areoid", "precision", "reproject"},
     "imars": _COMMON | {"kind", "vertical_datum", "areoid", "precision"},
 }
 
@@ -45,10 +46,12 @@ USED_BY_PROFILE = {
               help="hrsc/imars: metres per stored integer step (SCALING_FACTOR).")
 @click.option("--reproject", is_flag=True,
               help="hrsc: warp the input into the HRSC projection and sphere instead of refusing it.")
+@label_fidelity_options
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 @click.pass_context
 def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, product_version,
-        params_file, byte_order, kind, vertical_datum, areoid, precision, reproject, overwrite) -> None:
+        params_file, byte_order, kind, vertical_datum, areoid, precision, reproject, source_labels,
+        offset_convention, allow_deviations, overwrite) -> None:
     """Convert the single-band elevation raster INPUT (any GDAL format, projected
     CRS: equirectangular, polar stereographic or sinusoidal) into a PDS3 DTM in OUTDIR:
     <PRODUCT_ID>.IMG (float32); for --profile hrsc hOOOO_NNNN_dt4.img / _da4.img
@@ -59,11 +62,14 @@ def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, p
         "product_id": product_id, "source_product_ids": source_ids, "params": params_file,
         "version": product_version, "overwrite": overwrite, "byte_order": byte_order, "institution": institution,
         "kind": kind, "vertical_datum": vertical_datum, "areoid": areoid, "precision": precision,
-        "reproject_input": reproject,
+        "reproject_input": reproject, "allow_dictionary_deviations": allow_deviations or None,
+        "source_labels": source_labels, "offset_convention": offset_convention,
     }
     used = USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"])
     options = profile_options(given, used)
     product = write_dtm(input_path, outdir, profile=profile, **options)
+    for warning in getattr(product, "warnings", ()):
+        click.echo(f"warning: {warning}", err=True)
     click.echo(_summary(product))
 
 

@@ -8,13 +8,13 @@ from ..products.hrsc import HrscImageProduct
 from ..products.imars import ImarsProduct
 from ..products.ortho import OrthoProduct, write_ortho
 from ..profiles import profile_names
-from ._profile_options import profile_options, refuse_unused_options
+from ._profile_options import label_fidelity_options, profile_options, refuse_unused_options
 
 _COMMON = {"input_path", "outdir", "product_id", "value_range", "params_file", "product_version", "overwrite"}
 USED_BY_PROFILE = {
-    "generic": _COMMON | {"bits", "observation_id", "source_dtm_id", "sequence", "gmljp2"},
-    "hirise": _COMMON | {"bits", "observation_id", "source_dtm_id", "sequence", "gmljp2"},
-    "hrsc": _COMMON | {"bits", "source_ids", "reproject"},
+    "generic": _COMMON | {"allow_deviations", "bits", "observation_id", "source_dtm_id", "sequence", "gmljp2"},
+    "hirise": _COMMON | {"allow_deviations", "bits", "observation_id", "source_dtm_id", "sequence", "gmljp2"},
+    "hrsc": _COMMON | {"allow_deviations", "source_labels", "offset_convention", "bits", "source_ids", "reproject"},
     "imars": _COMMON | {"bits", "source_ids"},
 }
 
@@ -41,10 +41,12 @@ USED_BY_PROFILE = {
 @click.option("--source-product-id", "source_ids", multiple=True,
               help="hrsc/imars: source product (e.g. H1234_0000_ND3) giving orbit and sequence.")
 @click.option("--reproject", is_flag=True, help="hrsc: warp the input into the HRSC projection and sphere.")
+@label_fidelity_options
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 @click.pass_context
 def ortho(ctx, input_path, outdir, profile, product_id, bits, value_range, observation_id, source_dtm_id,
-          sequence, params_file, product_version, gmljp2, source_ids, reproject, overwrite) -> None:
+          sequence, params_file, product_version, gmljp2, source_ids, reproject, source_labels,
+          offset_convention, allow_deviations, overwrite) -> None:
     """Convert the 1-band (RED) or 3-band (IRB) orthoimage INPUT (any GDAL format,
     projected CRS as for DTMs) into OUTDIR/<PRODUCT_ID>.JP2 and .LBL; for --profile
     hrsc the 8-bit nadir image hOOOO_NNNN_nd4.img (attached label, DN 0 = no data);
@@ -59,6 +61,8 @@ def ortho(ctx, input_path, outdir, profile, product_id, bits, value_range, obser
     }
     options = profile_options(given, used)
     product = write_ortho(input_path, outdir, profile=profile, **options)
+    for warning in getattr(product, "warnings", ()):
+        click.echo(f"warning: {warning}", err=True)
     click.echo(_summary(product))
 
 

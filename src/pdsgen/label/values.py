@@ -44,6 +44,14 @@ class Quantity:
 
 
 @dataclass(frozen=True)
+class Fixed:
+    """A real written with a fixed number of decimals, e.g. ``-4049.48`` (release formats)."""
+
+    value: float
+    decimals: int
+
+
+@dataclass(frozen=True)
 class Based:
     """A based integer such as ``16#FF7FFFFB#`` or ``2#0000001111111111#``.
 
@@ -135,6 +143,8 @@ def format_value(value: object) -> str:
         return f"{format_value(value.value)} <{value.unit}>"
     if isinstance(value, Based):
         return format_based(value)
+    if isinstance(value, Fixed):
+        return f"{value.value:.{value.decimals}f}"
     if isinstance(value, _dt.datetime):
         return value.replace(tzinfo=None).isoformat(timespec="milliseconds")
     if isinstance(value, _dt.date):

@@ -59,6 +59,9 @@ class Mission:
     ortho_description: str = "Orthorectified image"
     filter_wavelengths_nm: Mapping[str, int] | None = None
     default_ortho_bits_for_float: int = 16
+    valid_range_decimals: int | None = None  # VALID_MINIMUM/MAXIMUM to this many decimals (None: exact)
+    ortho_stretch_namespace: str | None = None  # e.g. "MRO": MRO:MINIMUM_STRETCH/MAXIMUM_STRETCH per band
+    ortho_standard_parallels_na: bool = False  # FIRST/SECOND_STANDARD_PARALLEL = "N/A" in ortho labels
     dtm_product_id: Callable[[ProductIdRequest], str] | None = None  # None: from the input file name
     ortho_product_id: Callable[[ProductIdRequest], str] | None = None
     dtm_writer: Writer | str | None = None  # None: the standard float32 PDS3 DTM writer

@@ -50,6 +50,12 @@ DTM_NOTE = (
     "(equipotential surface, Smith et al., 2001). Physical value = "
     "DN * SCALING_FACTOR + OFFSET. Pixels equal to MISSING_CONSTANT hold no data."
 )
+# The release (and hidtmgen's REAL,2 format) gives VALID_MINIMUM/MAXIMUM to two decimals.
+# Not used yet: the validator's IMG-007 compares them with the data to 1e-6 and would
+# reject the rounded values, and a product must pass the validator. Set this to
+# RELEASE_VALID_RANGE_DECIMALS once IMG-007 accepts values stated to the label's precision.
+RELEASE_VALID_RANGE_DECIMALS = 2
+VALID_RANGE_DECIMALS: int | None = None
 # Orthoimages of HiRISE DTMs are released in the DTM data set, beside the DTM.
 ORTHO_DESCRIPTION = "HiRISE orthorectified image, projected onto the DTM named in SOURCE_PRODUCT_ID"
 
@@ -136,7 +142,9 @@ def ortho_id(observation_id: str, bands: int, map_scale: float, sequence: int) -
 
 
 def ortho_product_id(request: ProductIdRequest) -> str:
-    observation = request.observation_id or (request.sources[0] if request.sources else None)
+    observation = request.observation_id or next(
+        (s for s in request.sources if ORTHO_OBSERVATION_RE.match(s.strip().upper())), None
+    )
     if not observation:
         raise PdsgenError(None, "the hirise profile needs --observation-id (e.g. ESP_042252_1930) or --product-id")
     return ortho_id(observation, request.bands, request.geometry.map_scale, request.sequence)
@@ -156,6 +164,9 @@ MISSION = Mission(
     ortho_description=ORTHO_DESCRIPTION,
     filter_wavelengths_nm=FILTER_WAVELENGTHS_NM,
     default_ortho_bits_for_float=10,
+    valid_range_decimals=VALID_RANGE_DECIMALS,
+    ortho_stretch_namespace="MRO",
+    ortho_standard_parallels_na=True,
     dtm_product_id=dtm_product_id,
     ortho_product_id=ortho_product_id,
     detect=is_hirise,

@@ -31,6 +31,11 @@ DN_LIMIT = 32767  # stored heights use -32767..32767; -32768 is MISSING_DN
 NOT_APPLICABLE = -1e32  # HRSC's numeric "not applicable" value
 SPHERE_DESC = "HEIGHT ABOVE SPHEROID"
 AREOID_DESC = "HEIGHT ABOVE GM3-AREOID"
+# What the heights of each kind are above, for the IMAGE NOTE (acronyms keep their case).
+DTM_NOTE_DATUMS = {
+    "dt4": "above the 3396.0 km sphere (SPHEROID)",
+    "da4": "above the GM3 areoid (MGS-M-MOLA-5-MEGDR-L3-V1.0)",
+}
 # DTM kinds: the datum the stored heights are above, and MEX:DTM_DESC.
 DTM_KINDS = {
     "dt4": ("sphere", SPHERE_DESC),
@@ -53,10 +58,45 @@ KEYWORDS = {
     "TARGET_NAME": "MARS",
     "RATIONALE_DESC": "UNK",
 }
-ND4_KEYWORDS = {
-    **KEYWORDS,
-    "DATA_SET_ID": "MEX-M-HRSC-5-REFDR-MAPPROJECTED-V2.0",
-    "DATA_SET_NAME": "MARS EXPRESS HRSC MAP PROJECTED REDUCED DATA RECORD V2.0",
+# Level-4 nadir images are released beside the DT4/DA4 of the same orbit, in the DTM data set.
+ND4_KEYWORDS = dict(KEYWORDS)
+PROCESSING_LEVEL = 4
+MISSION_NAME = "MARS EXPRESS"
+
+# Keywords DLR's pipeline carries from the source level-2/3 labels into level-4 labels,
+# by label section, in DLR's order. Written only when a source label (--source-label)
+# gives them: pdsgen never writes placeholders for them.
+CARRIED_KEYWORDS = {
+    "identification": ("DETECTOR_ID", "EVENT_TYPE"),
+    "mission_phase": ("MISSION_PHASE_NAME",),
+    "time": ("SPACECRAFT_CLOCK_START_COUNT", "SPACECRAFT_CLOCK_STOP_COUNT", "START_TIME", "STOP_TIME"),
+    "orbit": (
+        "ASCENDING_NODE_LONGITUDE", "ORBIT_NUMBER", "ORBITAL_ECCENTRICITY", "ORBITAL_INCLINATION",
+        "ORBITAL_SEMIMAJOR_AXIS", "PERIAPSIS_ALTITUDE", "PERIAPSIS_ARGUMENT_ANGLE", "PERIAPSIS_TIME",
+        "SPACECRAFT_ORIENTATION", "^MEX_ORIENTATION_DESC", "SPACECRAFT_POINTING_MODE",
+        "^MEX_POINTING_DESC", "RIGHT_ASCENSION", "DECLINATION", "OFFSET_ANGLE",
+        "SPACECRAFT_SOLAR_DISTANCE",
+    ),
+}
+# Of several source labels, the time span runs from the earliest start to the latest stop.
+START_KEYWORDS = ("SPACECRAFT_CLOCK_START_COUNT", "START_TIME")
+STOP_KEYWORDS = ("SPACECRAFT_CLOCK_STOP_COUNT", "STOP_TIME")
+
+# Projection offsets: "standard" is the PDS3 convention GDAL reads exactly; "dlr" is the
+# one DLR's own pipeline writes (DSMAP.CAT's formula, one pixel apart from the standard
+# values in both directions), for byte-compatibility with DLR's products.
+OFFSET_CONVENTIONS = {"standard": 0.0, "dlr": 1.0}
+OFFSET_NOTES = {
+    "standard": (
+        "/* LINE/SAMPLE_PROJECTION_OFFSET follow the PDS3 standard convention:  */",
+        "/* the projection origin counted from the centre of the first pixel,   */",
+        "/* as GDAL reads them (DLR's own products count one pixel further).    */",
+    ),
+    "dlr": (
+        "/* LINE/SAMPLE_PROJECTION_OFFSET follow DLR's convention (DSMAP.CAT),   */",
+        "/* one pixel beyond the PDS3 standard values: default GDAL places this  */",
+        "/* grid one pixel off (pdsgen's default is the standard convention).    */",
+    ),
 }
 DTM_NOTE = "Heights in meters = DN * SCALING_FACTOR + OFFSET."
 

@@ -35,6 +35,23 @@ def footprint_name(base: str) -> str:
     return f"{base}.geojson"
 
 
+def footprint_shapefile_names(base: str) -> dict[str, str]:
+    """The Shapefile of the footprint, as the delivery lists it: `<base>.shp .shx .dbf .prj`
+    (and QGIS's `.qpj`), beside the GeoJSON."""
+    return {part: f"{base}{part}" for part in (".shp", ".shx", ".dbf", ".prj", ".qpj")}
+
+
+# The facts of the real iMars metadata (PVL objects and GeoTIFF tags).
+PROCESSING_ORGANISATION = "UCL MSSL IMAGING GROUP"
+SOFTWARE_NAME = "pdsgen"
+PROCESSING_LEVEL = "4"
+DATA_SET_NAME = "iMars HRSC DTM and ORI products"
+PRODUCT_TYPES = {  # product type -> (ProductTypeName, ProductTypeID)
+    "DTM": ("DIGITAL TERRAIN MODEL", "DTM"),
+    "ORI": ("ORTHORECTIFIED IMAGE", "ORI"),
+}
+
+
 MISSION = Mission(
     name="imars",
     dtm_note=DTM_NOTE,

@@ -6,8 +6,9 @@ keywords (profile + params) -> render the label -> stream the image.
 
 from __future__ import annotations
 
+import math
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -26,9 +27,10 @@ from ..formats.raster import open_raster, require_single_band
 from ..formats.staging import StagedOutputs, prepare_output_dir
 from ..geo.geometry import MapGeometry, describe_geometry
 from ..label.grammar import sample_type
-from ..label.render import RecordLayout, render_label
-from ..label.values import Based, Symbol
+from ..label.render import RecordLayout, render_label, settle_attached_label
+from ..label.values import Based, Fixed, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
+from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords
 from .params import ParamValue, check_version, resolve_params
@@ -47,6 +49,7 @@ class DtmProduct:
     valid_maximum: float
     records: RecordLayout
     label_text: str
+    warnings: tuple[str, ...] = ()  # dictionary deviations kept (--allow-dictionary-deviations)
 
     @property
     def files(self) -> tuple[Path, ...]:
@@ -87,6 +90,7 @@ def write_pds3_dtm(
     institution: str | None = None,
     version: str = "1.0",
     overwrite: bool = False,
+    allow_dictionary_deviations: bool | None = None,
 ) -> DtmProduct:
     """Convert a single-band elevation raster into `OUTDIR/<PRODUCT_ID>.IMG` (float32)."""
     byte_order = byte_order or "lsb"
@@ -95,6 +99,8 @@ def write_pds3_dtm(
     chosen = mission
     version = check_version(version)
     keywords = resolve_params(params)
+    allow = allows_deviations(allow_dictionary_deviations, keywords)
+    keywords = label_keywords(keywords)
     input_path = Path(input_path)
     with open_raster(input_path) as dataset:
         require_single_band(dataset)
@@ -126,8 +132,8 @@ def write_pds3_dtm(
                 {
                     **context,
                     "records": records,
-                    "valid_minimum": stats.minimum,
-                    "valid_maximum": stats.maximum,
+                    "valid_minimum": valid_bound(stats.minimum, chosen.valid_range_decimals, math.floor),
+                    "valid_maximum": valid_bound(stats.maximum, chosen.valid_range_decimals, math.ceil),
                 },
             )
 
@@ -138,10 +144,16 @@ def write_pds3_dtm(
             return stats
 
         final = prepare_output_dir(outdir) / f"{product_id}.IMG"
+        # Refuse before the data pass what the final label would be refused for.
+        _, provisional = settle_attached_label(
+            lambda records: render(records, BandStatistics(0, 0.0, 0.0)), dataset.width * 4, dataset.height
+        )
+        check_label(provisional, final.name, allow_deviations=allow)
         with StagedOutputs([final], overwrite) as staged:
             records, text, stats = write_attached_product(
                 staged.path(final), render, dataset.width * 4, dataset.height, write_data
             )
+            warnings = check_label(text, final.name, allow_deviations=allow)
     return DtmProduct(
         product_id=product_id,
         path=final,
@@ -150,7 +162,22 @@ def write_pds3_dtm(
         valid_maximum=stats.maximum,
         records=records,
         label_text=text,
+        warnings=warnings,
     )
+
+
+def valid_bound(value: float, decimals: int | None, direction: Callable[[float], float]) -> float | Fixed:
+    """VALID_MINIMUM/MAXIMUM as the mission writes them.
+
+    Exact (shortest round-trip text) unless the mission states a number of
+    decimals (HiRISE: two, as the release and hidtmgen write them); then the
+    bound is rounded outwards (`math.floor` for the minimum, `math.ceil` for the
+    maximum) so that it still bounds every valid value.
+    """
+    if decimals is None:
+        return value
+    scale = 10.0**decimals
+    return Fixed(direction(round(value * scale, 6)) / scale, decimals)
 
 
 __all__ = ["DtmProduct", "write_dtm", "write_pds3_dtm", "MISSING_CONSTANT"]

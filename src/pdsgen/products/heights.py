@@ -21,7 +21,7 @@ from rasterio.windows import transform as window_transform
 from ..errors import PdsgenError
 from ..formats.img import Adjust, BandStatistics
 from ..formats.raster import open_raster, require_single_band
-from ..missions.hrsc import DN_LIMIT, MISSING_DN
+from ..missions.hrsc import DN_LIMIT, MISSING_DN, SPHERE_M
 
 
 @dataclass(frozen=True)
@@ -112,3 +112,64 @@ def areoid_adjustment(areoid_path: str | os.PathLike[str] | None, grid: DatasetR
         return values + np.float32(sign) * heights
 
     return adjust
+
+
+def source_body(dataset: DatasetReader) -> tuple[float, float] | None:
+    """(a, c) in metres of the reference body the input's heights are measured from:
+    the ellipsoid (or sphere) of its CRS. None when the CRS names no body."""
+    if dataset.crs is None:
+        return None
+    from ..geo.geometry import ellipsoid_axes
+
+    return ellipsoid_axes(dataset.crs, str(dataset.name))
+
+
+def body_radius(a: float, c: float, latitude_deg: np.ndarray) -> np.ndarray:
+    """Distance (m) from the centre of an ellipsoid of revolution (axes a, c) to its surface
+    at the latitude its CRS uses (geodetic, as PROJ's latitudes on an ellipsoid are):
+    R = sqrt(((a^2 cos(lat))^2 + (c^2 sin(lat))^2) / ((a cos(lat))^2 + (c sin(lat))^2))."""
+    phi = np.radians(latitude_deg)
+    cos, sin = np.cos(phi), np.sin(phi)
+    return np.sqrt(((a * a * cos) ** 2 + (c * c * sin) ** 2) / ((a * cos) ** 2 + (c * sin) ** 2))
+
+
+def sphere_change(body: tuple[float, float], grid: DatasetReader) -> Adjust:
+    """Heights above the input's body -> heights above the 3396.0 km sphere, post by post.
+
+    radius = R_in(lat) + h and h' = radius - 3396.0 km, where lat is the latitude of the
+    post, which the warp carries over unchanged from the input's CRS. For a sphere input
+    the change is the constant R_in - 3396.0 km (190 m from a 3396.19 km sphere).
+    """
+    a, c = body
+    if math.isclose(a, c, rel_tol=0, abs_tol=1e-6):
+        constant = np.float32(a - SPHERE_M)
+        return lambda values, strip: values + constant
+    from rasterio.crs import CRS
+    from rasterio.warp import transform as warp_transform
+
+    lonlat = CRS.from_proj4(f"+proj=longlat +R={SPHERE_M:.0f} +no_defs")
+    grid_transform, grid_crs = grid.transform, grid.crs
+
+    def adjust(values: np.ndarray, strip: Window) -> np.ndarray:
+        rows, cols = np.mgrid[0:values.shape[0], 0:values.shape[1]]
+        xs, ys = window_transform(strip, grid_transform) @ (cols.ravel() + 0.5, rows.ravel() + 0.5)
+        _, lats = warp_transform(grid_crs, lonlat, xs, ys)
+        radius = body_radius(a, c, np.asarray(lats)).reshape(values.shape)
+        return values + (radius - SPHERE_M).astype(np.float32)
+
+    return adjust
+
+
+def chain_adjustments(adjusts: list[Adjust]) -> Adjust | None:
+    """One adjustment applying each of `adjusts` in turn (None when there are none)."""
+    if not adjusts:
+        return None
+    if len(adjusts) == 1:
+        return adjusts[0]
+
+    def chained(values: np.ndarray, strip: Window) -> np.ndarray:
+        for adjust in adjusts:
+            values = adjust(values, strip)
+        return values
+
+    return chained

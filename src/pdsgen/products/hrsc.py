@@ -32,6 +32,7 @@ from ..formats.img import BandStatistics, scan_band, stream_band, write_attached
 from ..formats.raster import open_raster, require_single_band
 from ..formats.scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
 from ..formats.staging import StagedOutputs, prepare_output_dir
+from ..formats.vicar import vicar_label
 from ..geo.geometry import POLAR_STEREOGRAPHIC, SINUSOIDAL, MapGeometry, describe_geometry
 from ..label.grammar import sample_type
 from ..label.render import RecordLayout, render_label
@@ -39,7 +40,26 @@ from ..label.values import Based, Symbol
 from ..missions import hrsc as hrsc_mission
 from ..missions.hrsc import DTM_KINDS, MISSING_DN, NOT_APPLICABLE, POLAR_LIMIT_DEG
 from ..missions.hrsc import base_name as hrsc_base_name
-from .heights import Int16Encoding, areoid_adjustment, check_datum_conversion, choose_encoding
+from .agreement import allows_deviations, check_label
+from .heights import (
+    Int16Encoding,
+    areoid_adjustment,
+    chain_adjustments,
+    check_datum_conversion,
+    choose_encoding,
+    source_body,
+    sphere_change,
+)
+from .hrsc_label import (
+    VICAR_DESCRIPTION,
+    VICAR_DESCRIPTION_NAME,
+    DnMoments,
+    carried_context,
+    check_offset_convention,
+    offset_context,
+    pds_label_part,
+    with_header,
+)
 from .params import ParamValue, check_version, resolve_params
 
 HRSC_SPHERE_M = hrsc_mission.SPHERE_M
@@ -56,6 +76,7 @@ class HrscDtmProduct:
     valid_minimum: int
     valid_maximum: int
     label_text: str
+    warnings: tuple[str, ...] = ()  # dictionary deviations kept (--allow-dictionary-deviations)
 
     @property
     def files(self) -> tuple[Path, ...]:
@@ -130,9 +151,20 @@ def write_hrsc_dtm(
     byte_order: str | None = "msb",
     version: str = "1.0",
     overwrite: bool = False,
+    source_labels: Sequence[str | os.PathLike[str]] = (),
+    offset_convention: str = "standard",
+    allow_dictionary_deviations: bool | None = None,
 ) -> HrscDtmProduct:
-    """Write `OUTDIR/hOOOO_NNNN_<kind>.img` from a single-band height raster."""
+    """Write `OUTDIR/hOOOO_NNNN_<kind>.img` from a single-band height raster.
+
+    `source_labels`: level-2/3 labels whose identification, time and orbit keywords
+    the product carries (left out without them). `offset_convention`: "standard"
+    (PDS3, GDAL reads the grid exactly) or "dlr" (DLR's pipeline, one pixel apart).
+    With `reproject_input`, heights above the input's own reference surface are
+    converted to the 3396.0 km sphere (radius = R_in + h, h' = radius - 3396.0 km).
+    """
     byte_order = byte_order or "msb"
+    check_offset_convention(offset_convention)
     if kind not in DTM_KINDS:
         raise PdsgenError(None, f"HRSC DTM kind must be one of {', '.join(DTM_KINDS)}")
     output_datum, description = DTM_KINDS[kind]
@@ -140,16 +172,22 @@ def write_hrsc_dtm(
     version = check_version(version)
     keywords = resolve_params(params)
     input_path = Path(input_path)
-    with hrsc_input(input_path, reproject_input) as (grid, geometry):
-        adjust = None
+    with hrsc_input(input_path, reproject_input) as (grid, geometry, source_body):
+        adjusts = []
+        if vertical_datum == "sphere" and source_body is not None:
+            adjusts.append(sphere_change(source_body, grid))
         if output_datum != vertical_datum:
-            adjust = areoid_adjustment(areoid, grid, +1.0 if output_datum == "sphere" else -1.0)
+            adjusts.append(areoid_adjustment(areoid, grid, +1.0 if output_datum == "sphere" else -1.0))
+        adjust = chain_adjustments(adjusts)
         physical = scan_band(grid, adjust)
         if physical.valid_count == 0:
             raise PdsgenError(input_path, "has no valid pixels (all nodata)")
         encoding = choose_encoding(physical, precision, str(input_path))
         context = hrsc_identification(hrsc_mission.KEYWORDS, keywords, product_id, source_product_ids, kind, version)
         file_name, final_id = context["file_name"], context["product_id"]
+        context |= carried_context(source_labels, context["orbit"], Path(outdir))
+        context |= offset_context(geometry, offset_convention)
+        moments = DnMoments()
         context |= {
             "geometry": geometry,
             "sample_type": Symbol(sample_type(byte_order == "msb", "i")),
@@ -160,39 +198,49 @@ def write_hrsc_dtm(
             "dtm_radius_km": hrsc_mission.SPHERE_KM if kind == "dt4" else NOT_APPLICABLE,
             "dtm_desc": description,
             "note": (
-                f"Heights in meters {description.lower().replace('height ', '')} = DN * SCALING_FACTOR "
+                f"Heights in meters {hrsc_mission.DTM_NOTE_DATUMS[kind]} = DN * SCALING_FACTOR "
                 f"+ OFFSET, quantised to {encoding.scaling_factor:g} m. DN {MISSING_DN} marks missing data."
             ),
         }
 
+        big_endian = byte_order == "msb"
+        header = vicar_label(np.dtype(np.int16), grid.height, grid.width, 1, grid.width * 2, big_endian)
+
         def render(records: RecordLayout, stats: BandStatistics) -> str:
-            return render_label(
-                "hrsc_dtm.lbl.j2",
-                {**context, "records": records, "valid_minimum": _as_int(stats.minimum),
-                 "valid_maximum": _as_int(stats.maximum)},
-            )
+            return with_header(lambda view: render_label("hrsc_dtm.lbl.j2", {
+                **context, "records": view, "stats": moments.summary(stats),
+                "vicar_description": VICAR_DESCRIPTION_NAME,
+            }), header, grid.width * 2)(records)
 
         def write_data(handle) -> BandStatistics:
-            return stream_band(grid, handle, byte_order == "msb", encoding.encode, adjust)
+            return stream_band(grid, handle, big_endian, moments.counting(encoding.encode), adjust)
 
         final = prepare_output_dir(outdir) / file_name
-        with StagedOutputs([final], overwrite) as staged:
+        with StagedOutputs([final, *_vicar_description(final)], overwrite) as staged:
             _, text, stats = write_attached_product(
                 staged.path(final), render, grid.width * 2, grid.height, write_data
             )
+            _write_vicar_description(staged, final)
+            warnings = check_label(pds_label_part(text), final.name,
+                                   allow_deviations=allows_deviations(allow_dictionary_deviations, keywords))
     return HrscDtmProduct(final_id, final, geometry, kind, encoding, _as_int(stats.minimum),
-                          _as_int(stats.maximum), text)
+                          _as_int(stats.maximum), pds_label_part(text), warnings)
 
 
 @contextmanager
 def hrsc_input(
     input_path: Path, reproject_input: bool, what: str = "a DTM"
-) -> Iterator[tuple[DatasetReader, MapGeometry]]:
-    """Open a single-band input on the HRSC grid (as is, or warped) and check its geometry."""
+) -> Iterator[tuple[DatasetReader, MapGeometry, tuple[float, float] | None]]:
+    """Open a single-band input on the HRSC grid (as is, or warped) and check its geometry.
+
+    Also yields the input's reference body (a, c in metres) when the grid was warped
+    from another body, so heights above it can be converted (None otherwise).
+    """
     with open_raster(input_path) as dataset:
         require_single_band(dataset, what)
         with hrsc_grid(dataset, reproject_input) as grid:
-            yield grid, _checked_hrsc_geometry(grid, input_path)
+            body = source_body(dataset) if reproject_input else None
+            yield grid, _checked_hrsc_geometry(grid, input_path), body
 
 
 def _checked_hrsc_geometry(grid: DatasetReader, input_path: Path) -> MapGeometry:
@@ -209,12 +257,16 @@ def hrsc_identification(
     """File name, PRODUCT_ID, orbit and identification keywords of one HRSC product."""
     sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
     base, orbit = hrsc_base_name(product_id, sources)
-    ident: dict[str, ParamValue] = {**defaults, "PRODUCT_VERSION_ID": version, "SOFTWARE_NAME": f"pdsgen {__version__}"}
+    ident: dict[str, ParamValue] = {
+        **defaults, "MISSION_NAME": hrsc_mission.MISSION_NAME, "PRODUCT_VERSION_ID": version,
+        "SOFTWARE_NAME": f"pdsgen {__version__}",
+    }
     ident.update({k: v for k, v in keywords.items() if k in ident})
     return {
         "file_name": f"{base}_{kind}.img",
         "product_id": f"{base}_{kind}".upper(),
         "orbit": orbit,
+        "processing_level": hrsc_mission.PROCESSING_LEVEL,
         "ident": ident,
         "source_product_id": [Symbol(s) for s in sources] if sources else "N/A",
     }
@@ -230,6 +282,7 @@ class HrscImageProduct:
     valid_minimum: int
     valid_maximum: int
     label_text: str
+    warnings: tuple[str, ...] = ()  # dictionary deviations kept (--allow-dictionary-deviations)
 
     @property
     def files(self) -> tuple[Path, ...]:
@@ -248,6 +301,9 @@ def write_hrsc_nd4(
     params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
     version: str = "1.0",
     overwrite: bool = False,
+    source_labels: Sequence[str | os.PathLike[str]] = (),
+    offset_convention: str = "standard",
+    allow_dictionary_deviations: bool | None = None,
 ) -> HrscImageProduct:
     """Write the nadir orthoimage `OUTDIR/hOOOO_NNNN_nd4.img`: 8-bit DNs, 0 = no data.
 
@@ -255,14 +311,18 @@ def write_hrsc_nd4(
     mapped linearly from its valid range (or `value_range`) onto DNs 1..254,
     with SCALING_FACTOR and OFFSET giving the input values back.
     """
+    check_offset_convention(offset_convention)
     keywords = resolve_params(params)
     input_path = Path(input_path)
     special = SPECIAL_DNS[8]
-    with hrsc_input(input_path, reproject_input, "an HRSC nadir image") as (grid, geometry):
+    with hrsc_input(input_path, reproject_input, "an HRSC nadir image") as (grid, geometry, _):
         mapping = null_zero_byte_mapping(grid, value_range, str(input_path))
         context = hrsc_identification(
             hrsc_mission.ND4_KEYWORDS, keywords, product_id, source_product_ids, "nd4", version
         )
+        context |= carried_context(source_labels, context["orbit"], Path(outdir))
+        context |= offset_context(geometry, offset_convention)
+        moments = DnMoments()
         context |= {
             "geometry": geometry,
             "bit_mask": Based(0xFF, 2, 8),
@@ -272,11 +332,15 @@ def write_hrsc_nd4(
             "note": "Nadir orthoimage. Value = DN * SCALING_FACTOR + OFFSET; DN 0 marks missing data.",
         }
 
-        encode = dn_encoder(mapping, str(input_path))
+        encode = moments.counting(dn_encoder(mapping, str(input_path)))
+
+        header = vicar_label(np.dtype(np.uint8), grid.height, grid.width, 1, grid.width, True)
+
         def render(records: RecordLayout, stats: BandStatistics) -> str:
-            return render_label("hrsc_nd4.lbl.j2", {**context, "records": records,
-                                                    "valid_minimum": _as_int(stats.minimum),
-                                                    "valid_maximum": _as_int(stats.maximum)})
+            return with_header(lambda view: render_label("hrsc_nd4.lbl.j2", {
+                **context, "records": view, "stats": moments.summary(stats),
+                "vicar_description": VICAR_DESCRIPTION_NAME,
+            }), header, grid.width)(records)
 
         def write_data(handle) -> BandStatistics:
             stats = stream_band(grid, handle, True, encode)
@@ -285,10 +349,24 @@ def write_hrsc_nd4(
             return stats
 
         final = prepare_output_dir(outdir) / context["file_name"]
-        with StagedOutputs([final], overwrite) as staged:
+        with StagedOutputs([final, *_vicar_description(final)], overwrite) as staged:
             _, text, stats = write_attached_product(staged.path(final), render, grid.width, grid.height, write_data)
+            _write_vicar_description(staged, final)
+            warnings = check_label(pds_label_part(text), final.name,
+                                   allow_deviations=allows_deviations(allow_dictionary_deviations, keywords))
     return HrscImageProduct(context["product_id"], final, geometry, mapping.scaling_factor, mapping.offset,
-                            _as_int(stats.minimum), _as_int(stats.maximum), text)
+                            _as_int(stats.minimum), _as_int(stats.maximum), pds_label_part(text), warnings)
+
+
+def _vicar_description(product: Path) -> list[Path]:
+    """VICAR2.TXT beside the product, when the directory does not hold it yet."""
+    path = product.parent / VICAR_DESCRIPTION_NAME
+    return [] if path.exists() else [path]
+
+
+def _write_vicar_description(staged: StagedOutputs, product: Path) -> None:
+    for path in _vicar_description(product):
+        staged.path(path).write_bytes(VICAR_DESCRIPTION.replace("\n", "\r\n").encode("ascii"))
 
 
 def _as_int(value: float) -> int:

@@ -40,6 +40,7 @@ from ..geo.geometry import MapGeometry, describe_geometry
 from ..label.render import render_label
 from ..label.values import Based, Quantity, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
+from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords
 from .params import ParamValue, check_version, resolve_params
@@ -58,6 +59,7 @@ class OrthoProduct:
     bits: int
     bands: int
     label_text: str
+    warnings: tuple[str, ...] = ()  # dictionary deviations kept (--allow-dictionary-deviations)
 
     @property
     def files(self) -> tuple[Path, ...]:
@@ -111,6 +113,7 @@ def write_jp2_ortho(
     gmljp2: bool = False,
     version: str = "1.0",
     overwrite: bool = False,
+    allow_dictionary_deviations: bool | None = None,
     threads: int | None = None,
 ) -> OrthoProduct:
     """Convert a 1-band (RED) or 3-band (IRB) orthoimage into `<PRODUCT_ID>.JP2` + `.LBL`.
@@ -126,6 +129,8 @@ def write_jp2_ortho(
     version = check_version(version)
     keywords = resolve_params(params)
     require_openjpeg()
+    allow = allows_deviations(allow_dictionary_deviations, keywords)
+    keywords = label_keywords(keywords)
     input_path = Path(input_path)
     with open_raster(input_path) as dataset:
         _check_input(dataset, input_path)
@@ -142,6 +147,7 @@ def write_jp2_ortho(
         text = render_label("ortho.lbl.j2", _label_context(
             chosen, product_id, ident, sources, geometry, dataset.count, mapping, jp2_final.name,
         ))
+        warnings = check_label(text, label_final.name, allow_deviations=allow)
         boxes = [geojp2_box(dataset.crs, dataset.transform)]
         if gmljp2:
             boxes.append(gmljp2_box(dataset.crs, dataset.transform, dataset.height, dataset.width))
@@ -169,6 +175,7 @@ def write_jp2_ortho(
         bits=bits,
         bands=dataset.count,
         label_text=text,
+        warnings=warnings,
     )
 
 
@@ -251,13 +258,11 @@ class _TileRowReader:
 def _source_ids(
     keywords: Mapping[str, ParamValue], observation_id: str | None, source_dtm_id: str | None
 ) -> list[str]:
+    """SOURCE_PRODUCT_ID in hidtmgen's order: the DTM, then the observation, then any others."""
     listed = keywords.get("SOURCE_PRODUCT_ID", [])
     sources = [str(s) for s in listed] if isinstance(listed, list) else [str(listed)]
-    if observation_id and observation_id not in sources:
-        sources.insert(0, observation_id)
-    if source_dtm_id and source_dtm_id not in sources:
-        sources.append(source_dtm_id)
-    return sources
+    first = [s for s in (source_dtm_id, observation_id) if s]
+    return first + [s for s in sources if s not in first]
 
 
 def _label_context(
@@ -298,6 +303,11 @@ def _label_context(
         "special": special,
         "filter_name": filters[0] if bands == 1 else list(filters),
         "center_wavelength": _wavelengths(wavelengths, bands),
+        "standard_parallels_na": mission.ortho_standard_parallels_na,
+        "stretch_namespace": mission.ortho_stretch_namespace,
+        # The linear display stretch of the valid DNs (the release: 3 and 1021 for 10-bit data).
+        "minimum_stretch": special.valid_min if bands == 1 else [special.valid_min] * bands,
+        "maximum_stretch": special.valid_max if bands == 1 else [special.valid_max] * bands,
     }
 
 
