@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import importlib
 import sys
+import warnings
 
 import click
 
@@ -41,6 +42,9 @@ class _Group(click.Group):
     def main(self, *args, **kwargs):
         """Usage errors as one line (click's default is a usage block of several lines)."""
         kwargs["standalone_mode"] = False
+        # rasterio warns (two lines, with its source line) on opening a raster without a
+        # geotransform; pdsgen reports what that means for the product itself, in one line.
+        warnings.filterwarnings("ignore", message="Dataset has no geotransform")
         try:
             result = super().main(*args, **kwargs)
         except click.exceptions.NoArgsIsHelpError as exc:

@@ -44,7 +44,22 @@ def open_raster(path: str | os.PathLike[str]) -> Iterator[DatasetReader]:
         reason = str(exc).splitlines()[0] if str(exc) else "unknown format"
         raise PdsgenError(path, f"not a raster GDAL can read ({reason})") from None
     with dataset, rasterio.Env(GDAL_CACHEMAX=streaming_cache_mb(dataset)):
-        yield dataset
+        try:
+            yield dataset
+        except RasterioIOError as exc:
+            reason = gdal_reason(exc)
+            raise PdsgenError(path, f"cannot read the raster data; truncated or damaged? (GDAL: {reason})") from None
+
+
+def gdal_reason(exc: BaseException) -> str:
+    """GDAL's own words for a failure, without rasterio's "See previous exception" wrapper.
+
+    rasterio chains the GDAL error (e.g. "IReadBlock failed ... TIFFReadEncodedStrip()
+    failed": a truncated file) as the cause; that is the part a person can act on.
+    """
+    cause = exc.__cause__ or exc.__context__ or exc
+    text = str(cause.args[-1] if cause.args else cause)
+    return text.splitlines()[0] if text else "read failed"
 
 
 def streaming_cache_mb(dataset: DatasetReader) -> int:

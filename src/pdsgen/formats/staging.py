@@ -7,13 +7,19 @@ product that a later delivery step might pick up.
 
 from __future__ import annotations
 
+import errno
 import os
 import tempfile
 from collections.abc import Iterable
 from pathlib import Path
 from types import TracebackType
 
-from ..errors import PdsgenError
+from ..errors import OutputError, PdsgenError
+
+# Failures of writing itself: reported as the output's problem in one line, not a traceback.
+_WRITE_ERRNOS = {errno.ENOSPC: "no space left on device", errno.EDQUOT: "disk quota exceeded",
+                 errno.EFBIG: "file too large for the file system", errno.EIO: "input/output error",
+                 errno.EROFS: "read-only file system"}
 
 
 def prepare_output_dir(outdir: str | os.PathLike[str]) -> Path:
@@ -78,6 +84,9 @@ class StagedOutputs:
     ) -> None:
         if exc_type is not None:
             self._discard()
+            if isinstance(exc, OSError) and not isinstance(exc, PdsgenError) and exc.errno in _WRITE_ERRNOS:
+                where = self.final_paths[0].parent if self.final_paths else None
+                raise OutputError(where, f"cannot write the product: {_WRITE_ERRNOS[exc.errno]}") from None
             return
         for final, tmp in self._temps.items():
             os.chmod(tmp, 0o644 & ~_umask())

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 
 from .. import __version__
 from ..geo.geometry import MapGeometry
+from ..label.grammar import IDENTIFIER_RE
+from ..label.values import Symbol
 from ..missions import ProductIdRequest
 from ..missions.generic import check_product_id, generic_product_id
 from .params import ParamValue
@@ -33,3 +35,10 @@ def choose_product_id(
     if naming_rule is not None:
         return naming_rule(request)
     return generic_product_id(request.stem)
+
+
+def source_id_values(sources: Sequence[str]) -> list[Symbol | str] | str:
+    """SOURCE_PRODUCT_ID as written: bare where it is a PDS identifier, else quoted; N/A if none."""
+    if not sources:
+        return "N/A"
+    return [Symbol(s) if IDENTIFIER_RE.fullmatch(s) else s for s in sources]

@@ -42,8 +42,8 @@ from ..label.values import Based, Quantity, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
-from .identification import choose_product_id, identification_keywords
-from .params import ParamValue, check_version, resolve_params
+from .identification import choose_product_id, identification_keywords, source_id_values
+from .params import ParamValue, check_source_id, check_version, resolve_params, source_ids
 
 
 @dataclass(frozen=True)
@@ -259,8 +259,11 @@ def _source_ids(
     keywords: Mapping[str, ParamValue], observation_id: str | None, source_dtm_id: str | None
 ) -> list[str]:
     """SOURCE_PRODUCT_ID in hidtmgen's order: the DTM, then the observation, then any others."""
-    listed = keywords.get("SOURCE_PRODUCT_ID", [])
-    sources = [str(s) for s in listed] if isinstance(listed, list) else [str(listed)]
+    sources = source_ids((), keywords)
+    if observation_id is not None:
+        check_source_id(observation_id, "--observation-id")
+    if source_dtm_id is not None:
+        check_source_id(source_dtm_id, "--source-dtm-id")
     first = [s for s in (source_dtm_id, observation_id) if s]
     return first + [s for s in sources if s not in first]
 
@@ -285,7 +288,7 @@ def _label_context(
     return {
         "product_id": product_id,
         "ident": ident,
-        "source_product_id": [Symbol(s) if _is_symbol(s) else s for s in sources] if sources else "N/A",
+        "source_product_id": source_id_values(sources),
         "geometry": geometry,
         "jp2_name": jp2_name,
         "jp2info_name": JP2INFO_NAME,
@@ -316,14 +319,6 @@ def _wavelengths(wavelengths: tuple[int, ...] | None, bands: int) -> object:
         return "UNK" if bands == 1 else ["UNK"] * bands
     quantities = [Quantity(nm, "NM") for nm in wavelengths]
     return quantities[0] if bands == 1 else quantities
-
-
-def _is_symbol(text: str) -> bool:
-    try:
-        Symbol(text)
-    except ValueError:
-        return False
-    return True
 
 
 __all__ = ["OrthoProduct", "write_jp2_ortho", "write_ortho"]
