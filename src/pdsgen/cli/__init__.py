@@ -68,6 +68,10 @@ class _Group(click.Group):
         except PdsgenError as exc:
             click.echo(f"pdsgen: error: {exc}", err=True)
             sys.exit(2)
+        except KeyboardInterrupt:
+            # the writers' staging has already removed its temporary files on the way out
+            click.echo("pdsgen: interrupted (no partial output left)", err=True)
+            sys.exit(130)
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})

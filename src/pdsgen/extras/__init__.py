@@ -20,7 +20,7 @@ from pathlib import Path
 from PIL import Image
 
 from ..errors import PdsgenError
-from ..formats.staging import StagedOutputs, prepare_output_dir
+from ..formats.staging import StagedOutputs, prepare_output_dir, publishes_together
 from ..missions import hirise as hirise_mission
 from ..missions import mission_names
 from ..missions.base import get_mission
@@ -36,6 +36,7 @@ JPEG_QUALITY = 90
 __all__ = ["make_extras", "extras_file_names", "DEFAULT_CREDIT", "KINDS"]
 
 
+@publishes_together
 def make_extras(
     products: Sequence[str | os.PathLike[str]],
     outdir: str | os.PathLike[str],

@@ -8,11 +8,17 @@ product that a later delivery step might pick up.
 from __future__ import annotations
 
 import errno
+import functools
 import os
+import signal
 import tempfile
-from collections.abc import Iterable
+import threading
+from collections.abc import Callable, Iterable, Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
 from pathlib import Path
 from types import TracebackType
+from typing import ParamSpec, TypeVar
 
 from ..errors import OutputError, PdsgenError
 
@@ -62,14 +68,13 @@ class StagedOutputs:
                 raise PdsgenError(final, "output path is a directory")
             if final.exists() and not self.overwrite and final not in self.shared:
                 raise PdsgenError(final, "output exists; use --overwrite to replace it")
-        for final in self.final_paths:
-            try:
-                fd, tmp = tempfile.mkstemp(prefix=f".{final.name}.", suffix=".part", dir=final.parent)
-            except OSError as exc:
-                self._discard()
-                raise PdsgenError(final.parent, f"cannot write output ({exc.strerror})") from None
-            os.close(fd)
-            self._temps[final] = Path(tmp)
+        try:
+            for final in self.final_paths:
+                with _interruption_deferred():
+                    self._temps[final] = _make_temp(final)
+        except BaseException:  # an interruption here too must leave no temporary file behind
+            self._discard()
+            raise
         return self
 
     def path(self, final: str | os.PathLike[str]) -> Path:
@@ -88,6 +93,14 @@ class StagedOutputs:
                 where = self.final_paths[0].parent if self.final_paths else None
                 raise OutputError(where, f"cannot write the product: {_WRITE_ERRNOS[exc.errno]}") from None
             return
+        with _interruption_deferred():
+            group = _GROUP.get()
+            if group is not None:
+                group.append(self)  # published when the whole group completes
+                return
+            self._publish()
+
+    def _publish(self) -> None:
         for final, tmp in self._temps.items():
             os.chmod(tmp, 0o644 & ~_umask())
             os.replace(tmp, final)
@@ -100,6 +113,77 @@ class StagedOutputs:
             except FileNotFoundError:
                 pass
         self._temps.clear()
+
+
+@contextmanager
+def _interruption_deferred() -> Iterator[None]:
+    """Hold Ctrl-C back for a few file operations that must not be cut in half (a
+    temporary file created but not yet recorded; a finished set not yet handed over).
+
+    The handler is swapped rather than the signal masked: with GDAL's or the
+    encoder's threads running, the kernel may deliver SIGINT to any of them.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    received: list[int] = []
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: received.append(signum))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if received and callable(previous):
+        previous(signal.SIGINT, None)
+
+
+def _make_temp(final: Path) -> Path:
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{final.name}.", suffix=".part", dir=final.parent)
+    except OSError as exc:
+        raise PdsgenError(final.parent, f"cannot write output ({exc.strerror})") from None
+    os.close(fd)
+    return Path(tmp)
+
+
+_GROUP: ContextVar[list[StagedOutputs] | None] = ContextVar("pdsgen_staged_group", default=None)
+
+
+@contextmanager
+def published_together() -> Iterator[None]:
+    """Hold back every StagedOutputs completed inside the block until the block completes.
+
+    A call that writes several sets of files (Extras of several products, then the
+    README that lists them) either publishes all of them or, interrupted or failing
+    part-way, none: a half set would block the re-run (files exist, no --overwrite).
+    """
+    pending: list[StagedOutputs] = []
+    token = _GROUP.set(pending)
+    try:
+        yield
+    except BaseException:
+        for staged in pending:
+            staged._discard()
+        raise
+    finally:
+        _GROUP.reset(token)
+    with _interruption_deferred():
+        for staged in pending:
+            staged._publish()
+
+
+P = ParamSpec("P")
+R = TypeVar("R")
+
+
+def publishes_together(function: Callable[P, R]) -> Callable[P, R]:
+    """Decorator form of `published_together` for a writer function."""
+
+    @functools.wraps(function)
+    def wrapper(*args: P.args, **kwargs: P.kwargs) -> R:
+        with published_together():
+            return function(*args, **kwargs)
+
+    return wrapper
 
 
 def _umask() -> int:
