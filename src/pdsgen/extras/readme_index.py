@@ -49,7 +49,7 @@ def merge_entries(previous: Sequence[Entry], new: Sequence[Entry], outdir: Path)
     fresh = {e["product_id"]: e for e in new}
     merged = [fresh.pop(e["product_id"], e) for e in previous]
     merged += list(fresh.values())
-    return [e for e in merged if all((outdir / name).is_file() for name, _, _ in e["files"])]
+    return [e for e in merged if e in new or all((outdir / name).is_file() for name, _, _ in e["files"])]
 
 
 def index_bytes(entries: Sequence[Entry], keywords: Mapping[str, str]) -> bytes:
