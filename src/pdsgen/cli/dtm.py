@@ -8,6 +8,7 @@ from ..products.dtm import DtmProduct, write_dtm
 from ..products.hrsc import HrscDtmProduct
 from ..products.imars import ImarsProduct
 from ..profiles import profile_names
+from ._output import Outcome, output_options, product_summary
 from ._profile_options import label_fidelity_options, profile_options, refuse_unused_options
 
 _COMMON = {"input_path", "outdir", "product_id", "source_ids", "product_version", "params_file", "overwrite"}
@@ -21,6 +22,7 @@ USED_BY_PROFILE = {
 
 
 @click.command(short_help="Make a PDS3 DTM (.IMG with attached label).")
+@output_options
 @click.argument("input_path", metavar="INPUT", type=click.Path(dir_okay=False))
 @click.option("-o", "--outdir", required=True, type=click.Path(file_okay=False), help="Output directory.")
 @click.option("--profile", type=click.Choice(profile_names()), default="generic", show_default=True,
@@ -51,7 +53,7 @@ USED_BY_PROFILE = {
 @click.pass_context
 def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, product_version,
         params_file, byte_order, kind, vertical_datum, areoid, precision, reproject, source_labels,
-        offset_convention, allow_deviations, overwrite) -> None:
+        offset_convention, allow_deviations, overwrite) -> Outcome:
     """Convert the single-band elevation raster INPUT (any GDAL format, projected
     CRS: equirectangular, polar stereographic or sinusoidal) into a PDS3 DTM in OUTDIR:
     <PRODUCT_ID>.IMG (float32); for --profile hrsc hOOOO_NNNN_dt4.img / _da4.img
@@ -68,9 +70,7 @@ def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, p
     used = USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"])
     options = profile_options(given, used)
     product = write_dtm(input_path, outdir, profile=profile, **options)
-    for warning in getattr(product, "warnings", ()):
-        click.echo(f"warning: {warning}", err=True)
-    click.echo(_summary(product))
+    return Outcome([_summary(product)], product_summary("dtm", product), getattr(product, "warnings", ()))
 
 
 def _summary(product: object) -> str:

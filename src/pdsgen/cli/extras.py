@@ -7,9 +7,11 @@ import click
 from ..extras import DEFAULT_CREDIT, KINDS, make_extras
 from ..missions.hrsc import CREDIT as HRSC_CREDIT
 from ..profiles import profile_names
+from ._output import Outcome, files_summary, output_options
 
 
 @click.command(short_help="Make browse, annotated browse and thumbnail JPEGs and README.TXT.")
+@output_options
 @click.argument("products", metavar="PRODUCT...", nargs=-1, required=True,
                 type=click.Path(dir_okay=False))
 @click.option("-o", "--outdir", required=True, type=click.Path(file_okay=False),
@@ -35,11 +37,11 @@ from ..profiles import profile_names
               help="Mission conventions (credit line) [default: from each product's label].")
 @click.option("--overwrite", is_flag=True, help="Replace existing Extras files.")
 def extras(products, outdir, credit, params_file, browse_width, thumb_width, azimuth, altitude,
-           exaggeration, kind, profile, overwrite) -> None:
+           exaggeration, kind, profile, overwrite) -> Outcome:
     """Write the Extras of each PRODUCT (a PDS3 .IMG/.LBL/.JP2 or a GeoTIFF) into OUTDIR."""
     written = make_extras(products, outdir, credit=credit, params=params_file,
                           browse_width=browse_width, thumb_width=thumb_width, azimuth=azimuth,
                           altitude=altitude, exaggeration=exaggeration, kind=kind,
                           profile=profile, overwrite=overwrite)
-    for path in written:
-        click.echo(str(path))
+    summary = {"command": "extras", "files": files_summary(written)}
+    return Outcome([str(path) for path in written], summary)

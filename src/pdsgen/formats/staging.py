@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import errno
 import functools
+import logging
 import os
 import signal
 import tempfile
@@ -21,6 +22,8 @@ from types import TracebackType
 from typing import ParamSpec, TypeVar
 
 from ..errors import OutputError, PdsgenError
+
+log = logging.getLogger(__name__)  # what was written: shown by `pdsgen ... --verbose`
 
 # Failures of writing itself: reported as the output's problem in one line, not a traceback.
 _WRITE_ERRNOS = {errno.ENOSPC: "no space left on device", errno.EDQUOT: "disk quota exceeded",
@@ -104,6 +107,7 @@ class StagedOutputs:
         for final, tmp in self._temps.items():
             os.chmod(tmp, 0o644 & ~_umask())
             os.replace(tmp, final)
+            log.info("wrote %s (%d bytes)", final, final.stat().st_size)
         self._temps.clear()
 
     def _discard(self) -> None:

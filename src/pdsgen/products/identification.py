@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Callable, Mapping, Sequence
 
 from .. import __version__
@@ -11,6 +12,8 @@ from ..label.values import Symbol
 from ..missions import ProductIdRequest
 from ..missions.generic import check_product_id, generic_product_id
 from .params import ParamValue
+
+log = logging.getLogger(__name__)
 
 
 def identification_keywords(
@@ -31,10 +34,13 @@ def choose_product_id(
 ) -> str:
     """The product ID given (checked), else the mission's naming rule's, else one from the file name."""
     if explicit:
-        return check_product_id(explicit)
-    if naming_rule is not None:
-        return naming_rule(request)
-    return generic_product_id(request.stem)
+        chosen, why = check_product_id(explicit), "given"
+    elif naming_rule is not None:
+        chosen, why = naming_rule(request), "the mission's naming rule"
+    else:
+        chosen, why = generic_product_id(request.stem), "the input file name"
+    log.info("product ID %s (%s)", chosen, why)
+    return chosen
 
 
 def source_id_values(sources: Sequence[str]) -> list[Symbol | str] | str:

@@ -9,6 +9,7 @@ together, so either both appear or neither does.
 
 from __future__ import annotations
 
+import logging
 import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -44,6 +45,8 @@ from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords, source_id_values
 from .params import ParamValue, check_source_id, check_version, resolve_params, source_ids
+
+log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -137,6 +140,8 @@ def write_jp2_ortho(
         geometry = describe_geometry(dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path))
         bits = bits or _default_bits(dataset, chosen)
         mapping = _choose_mapping(dataset, input_path, bits, value_range)
+        log.info("DNs: %d-bit, value = DN * %.6g + %.6g%s", bits, mapping.scaling_factor, mapping.offset,
+                 "" if mapping.keeps_values else f" (input {mapping.low:.6g} .. {mapping.high:.6g} mapped)")
         sources = _source_ids(keywords, observation_id, source_dtm_id)
         ident = identification_keywords(chosen.ortho_keywords, keywords, geometry, version)
         product_id = choose_product_id(product_id, chosen.ortho_product_id, ProductIdRequest(
