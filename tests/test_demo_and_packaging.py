@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 import zipfile
@@ -70,3 +71,23 @@ def test_wheel_ships_templates_and_schemas(tmp_path):
     assert "pdsgen/templates/dtm.lbl.j2" in names
     assert "pdsgen/schemas/params.toml" in names
     assert "pdsgen/cli/__init__.py" in names
+
+
+def test_shell_completion_script_and_completions():
+    """The README's `eval "$(_PDSGEN_COMPLETE=bash_source pdsgen)"` gets a real bash script,
+    and that script's callback completes commands and option choices."""
+    env = {**os.environ, "_PDSGEN_COMPLETE": "bash_source"}
+    script = subprocess.run([sys.executable, "-m", "pdsgen"], env=env, capture_output=True, text=True, timeout=60)
+    assert script.returncode == 0, script.stderr
+    assert "complete -o nosort -F _pdsgen_completion pdsgen" in script.stdout
+    syntax = subprocess.run(["bash", "-n"], input=script.stdout, capture_output=True, text=True, timeout=60)
+    assert syntax.returncode == 0, syntax.stderr
+
+    def complete(words: str) -> list[str]:
+        env = {**os.environ, "_PDSGEN_COMPLETE": "bash_complete", "COMP_WORDS": words,
+               "COMP_CWORD": str(len(words.split()) - (0 if words.endswith(" ") else 1))}
+        run = subprocess.run([sys.executable, "-m", "pdsgen"], env=env, capture_output=True, text=True, timeout=60)
+        return [line.split(",", 1)[1] for line in run.stdout.splitlines()]
+
+    assert complete("pdsgen d") == ["demo", "dtm"]
+    assert complete("pdsgen dtm in.tif --profile ") == ["generic", "hirise", "hrsc", "imars"]
