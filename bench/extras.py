@@ -12,7 +12,14 @@ the two measurements never mix.
 With --memory-size N it also makes the Extras of an N x N DTM (pdsgen only) to show
 that peak memory follows the preview size, not the raster size.
 
+With --ortho-size N it makes the Extras of an N x N 16-bit orthoimage GeoTIFF - the
+browse JPEGs and the full-scale QLOOK.JP2 - and of one of half that side, beside
+`gdal_translate -of JP2OpenJPEG` making a lossy 8-bit JPEG 2000 of the same image
+(-scale, REVERSIBLE=NO, QUALITY=5); peak RSS at both sizes shows whether the
+quick look's memory grows with the raster (measured through bench/_measure.py).
+
 Run: PYTHONPATH=src python bench/extras.py [--size 8000] [--memory-size 16000]
+                                           [--ortho-size 12000] [--skip-dtm]
 """
 
 from __future__ import annotations
@@ -31,6 +38,9 @@ import numpy as np
 import rasterio
 from rasterio.transform import from_origin
 from rasterio.windows import Window
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _measure import measure  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
 NODATA = -3.4028226550889045e38
@@ -80,6 +90,60 @@ def make_dtm(path: Path, size: int) -> None:
             ds.write(z, 1, window=Window(0, top, size, z.shape[0]))
 
 
+def make_ortho(path: Path, size: int) -> None:
+    """A textured 16-bit orthoimage (DN 0 = no data along the left edge), written in strips."""
+    profile = {"driver": "GTiff", "width": size, "height": size, "count": 1,
+               "dtype": "uint16", "crs": MARS_EQC, "nodata": 0,
+               "transform": from_origin(100000.0, 50000.0, 0.25, 0.25), "tiled": True,
+               "blockxsize": 512, "blockysize": 512}
+    strip = 512
+    cols = np.arange(size, dtype=np.float32)
+    rng = np.random.default_rng(5)
+    with rasterio.open(path, "w", **profile) as ds:
+        for top in range(0, size, strip):
+            rows = np.arange(top, min(top + strip, size), dtype=np.float32)[:, None]
+            dn = (400.0 + 250.0 * np.sin(cols / 83.0) * np.cos(rows / 61.0)
+                  + rng.normal(0.0, 20.0, (rows.shape[0], size)))
+            dn[:, : size // 20] = 0
+            ds.write(np.clip(dn, 0, 1023).astype(np.uint16), 1,
+                     window=Window(0, top, size, dn.shape[0]))
+
+
+def ortho_bench(size: int) -> None:
+    """pdsgen Extras of an orthoimage (with QLOOK.JP2) vs gdal_translate to lossy JP2."""
+    env = {**os.environ, "PYTHONPATH": f"{REPO / 'src'}{os.pathsep}" + os.environ.get(
+        "PYTHONPATH", "")}
+    code = ("from pdsgen.extras import make_extras; import sys; "
+            "make_extras([sys.argv[1]], sys.argv[2], overwrite=True)")
+    rows = []
+    for side in (size // 2, size):
+        with tempfile.TemporaryDirectory(prefix="pdsgen-bench-") as tmp:
+            work = Path(tmp)
+            tif = work / "ortho.tif"
+            make_ortho(tif, side)
+            ours = measure([sys.executable, "-c", code, str(tif), str(work / "extras")], env)
+            qlook = work / "extras" / "ortho.QLOOK.JP2"
+            gdal = measure(["gdal_translate", "-q", "-of", "JP2OpenJPEG", "-ot", "Byte",
+                            "-scale", "1", "1023", "1", "255", "-co", "REVERSIBLE=NO",
+                            "-co", "QUALITY=5", "-co", "BLOCKXSIZE=512", "-co",
+                            "BLOCKYSIZE=512", str(tif), str(work / "gdal.jp2")], env)
+            rows.append((side, ours, gdal, qlook.stat().st_size, tif.stat().st_size,
+                         (work / "gdal.jp2").stat().st_size))
+    print("Orthoimage Extras (browse, abrowse, thumb, QLOOK.JP2) vs gdal_translate lossy JP2")
+    print(f"{'':30}{'wall s':>9}{'peak MB':>9}{'JP2 MB':>8}")
+    for side, ours, gdal, ql_bytes, tif_bytes, gdal_bytes in rows:
+        print(f"{side} x {side} uint16 ({tif_bytes / 2**20:.0f} MB GeoTIFF)")
+        print(f"  {'pdsgen extras':28}{ours.seconds:>9.2f}{ours.peak_mb:>9.1f}"
+              f"{ql_bytes / 2**20:>8.1f}")
+        print(f"  {'gdal_translate JP2OpenJPEG':28}{gdal.seconds:>9.2f}{gdal.peak_mb:>9.1f}"
+              f"{gdal_bytes / 2**20:>8.1f}")
+        print(f"  ratio pdsgen/GDAL: time {ours.seconds / gdal.seconds:.2f}, "
+              f"memory {ours.peak_mb / gdal.peak_mb:.2f}")
+    small, large = rows[0][1], rows[1][1]
+    print(f"pdsgen peak RSS at 4x the pixels: {large.peak_mb / small.peak_mb:.2f}x "
+          f"({small.peak_mb:.0f} -> {large.peak_mb:.0f} MB; flat means ~1)")
+
+
 def colour_file(path: Path) -> None:
     """Viridis control points over the DTM's range, for gdaldem color-relief."""
     stops = ["440154", "3b528b", "21918c", "5ec962", "fde725"]
@@ -125,10 +189,20 @@ def main() -> None:
     parser.add_argument("--size", type=int, default=8000, help="DTM width and height")
     parser.add_argument("--memory-size", type=int, default=0,
                         help="also run pdsgen alone on an N x N DTM (e.g. 16000)")
+    parser.add_argument("--ortho-size", type=int, default=12000,
+                        help="orthoimage side for the QLOOK.JP2 run (0 to skip)")
+    parser.add_argument("--skip-dtm", action="store_true", help="only the orthoimage run")
     args = parser.parse_args()
     for tool in ("gdaldem", "gdal_translate"):
         if shutil.which(tool) is None:
             sys.exit(f"bench/extras.py: {tool} not found (install gdal-bin)")
+    if not args.skip_dtm:
+        dtm_bench(args)
+    if args.ortho_size:
+        ortho_bench(args.ortho_size)
+
+
+def dtm_bench(args: argparse.Namespace) -> None:
     with tempfile.TemporaryDirectory(prefix="pdsgen-bench-") as tmp:
         work = Path(tmp)
         dtm = work / "dtm.tif"

@@ -74,3 +74,16 @@ def test_colour_legend_runs_from_first_colour_at_the_bottom_to_last_at_the_top()
     assert np.abs(rgb[y1 - 2, xm].astype(int) - CONTROL_POINTS[0]).max() <= 12
     assert np.abs(rgb[y0 + 2, xm].astype(int) - CONTROL_POINTS[-1]).max() <= 12
     assert x0 > layout.image_box[2]  # beside the data, not over it
+
+
+def test_long_credit_line_never_runs_into_the_north_arrow():
+    from pdsgen.extras.annotate import _Sizes
+
+    credit = "LUNAR RECONNAISSANCE ORBITER / GODDARD SPACE FLIGHT CENTER"
+    short, _ = annotate(browse(200, 100), Annotation("X", "s", "", 1.0, 0.0))
+    image, layout = annotate(browse(200, 100), Annotation("X", "s", credit, 1.0, 0.0))
+    assert image.height > short.height            # the credit got a line of its own
+    size = _Sizes(200)
+    credit_top = image.height - size.pad - size.text
+    arrow_tail = layout.north_tip[1] + size.arrow  # north up: the tail is below the tip
+    assert arrow_tail < credit_top

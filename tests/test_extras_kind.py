@@ -109,3 +109,40 @@ def test_gdal_band_unit_in_kilometres_gives_heights_in_metres(tmp_path: Path):
         ds.units = ("km",)
     low, high = preview_range(tif)
     assert float(z.min()) - 1 <= low < high <= float(z.max()) + 1
+
+
+def test_float_reflectance_geotiff_is_an_orthoimage_not_a_dtm(tmp_path: Path):
+    """I/F 0.06 .. 0.14 once got shaded relief and an 'Elevation (m) 0.06-0.14' ramp."""
+    from click.testing import CliRunner
+
+    from pdsgen.cli import main
+
+    (tmp_path / "in").mkdir()
+    rows, cols = np.mgrid[0:80, 0:120]
+    iof = (0.06 + 0.08 * ((rows * 5 + cols * 3) % 97) / 96.0).astype(np.float32)
+    tif = write_geotiff(tmp_path / "in" / "scene_iof.tif", iof)
+    src = open_product(tif)
+    assert src.kind == ORTHO and "reflectance" in src.kind_reason
+    result = CliRunner().invoke(main, ["extras", str(tif), "-o", str(tmp_path / "out")])
+    assert result.exit_code == 0, result.output
+    assert "taken as an orthoimage" in result.stderr and result.stderr.count("\n") == 1
+    names = {p.name for p in (tmp_path / "out").iterdir()}
+    assert "scene_iof.abrowse.jpg" in names and not any(".sa." in n for n in names)
+
+
+def test_ambiguous_float_raster_is_refused_with_a_hint_to_give_kind(tmp_path: Path):
+    from click.testing import CliRunner
+
+    from pdsgen.cli import main
+
+    (tmp_path / "in").mkdir()
+    values = (crater_field(60, 80) + 4500.0).astype(np.float32)   # 420 .. 500, nothing said
+    tif = write_geotiff(tmp_path / "in" / "unknown.tif", values)
+    result = CliRunner().invoke(main, ["extras", str(tif), "-o", str(tmp_path / "out")])
+    assert result.exit_code == 2 and result.stderr.count("\n") == 1
+    assert "--kind dtm or --kind ortho" in result.stderr and "unknown.tif" in result.stderr
+    assert not (tmp_path / "out").exists()
+    assert open_product(tif, "dtm").kind == DTM            # the user decides
+    with rasterio.open(tif, "r+") as ds:
+        ds.units = ("metre",)
+    assert open_product(tif).kind_reason == "its band unit is metre"

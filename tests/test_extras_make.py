@@ -76,7 +76,7 @@ def test_dtm_geotiff_gives_nine_previews_and_readme(dtm_tif: Path, tmp_path: Pat
     out = tmp_path / "out"
     written = make_extras([dtm_tif], out, browse_width=320)
     assert sorted(p.name for p in written) == sorted(
-        [f"crater_dtm.{c}.jpg" for c in DTM_CODES] + ["README.TXT", ".pdsgen-extras.json"])
+        [f"crater_dtm.{c}.jpg" for c in DTM_CODES] + ["README.TXT"])
     images = check_jpeg_set(out, "crater_dtm", DTM_CODES, 320)
     for code in ("br", "ab", "th", "sb", "sa", "st"):
         assert is_grey(images[code]), code
@@ -295,3 +295,48 @@ def test_archived_label_whose_data_file_is_absent_is_a_clear_error(corpus_dir: P
     with pytest.raises(PdsgenError, match="byte.tif"):
         make_extras([label], tmp_path / "out")
     assert not (tmp_path / "out").exists()
+
+
+def test_damaged_data_leaks_no_library_warning(tmp_path: Path):
+    """Garbage floats from a damaged tile: numpy/rasterio warnings stay inside."""
+    z = crater_field(300, 400)
+    tif = write_geotiff(tmp_path / "in" / "damaged.tif", z, compress="deflate", tiled=True)
+    data = bytearray(tif.read_bytes())
+    middle = len(data) // 3
+    data[middle:middle + 2000] = b"\x55" * 2000
+    tif.write_bytes(bytes(data))
+    result = CliRunner().invoke(main, ["extras", str(tif), "-o", str(tmp_path / "out"),
+                                       "--kind", "dtm"])
+    assert "Warning" not in result.stderr and "Traceback" not in result.output
+    assert "previous exception" not in result.stderr
+    assert result.stderr.count("\n") == 1  # the kind line, or one error line
+
+
+def test_credit_and_title_come_from_the_product(corpus_dir: Path, tmp_path: Path):
+    label = corpus_dir / "products" / "MOLA_MEGDR_megt90n000cb" / "megt90n000cb.lbl"
+    out = tmp_path / "out"
+    make_extras([label], out, browse_width=360)
+    text = " ".join((out / "README.TXT").read_text().split())
+    assert "Image credit: MARS GLOBAL SURVEYOR / GODDARD SPACE FLIGHT CENTER" in text
+    assert "University of Arizona" not in text
+    assert "Label identifier: MEGT90N000CB.IMG" in text  # the title, as the label writes it
+    assert "Heights: metres above the Mars areoid" in text
+
+
+def test_truncated_jp2_is_one_line_without_gdal_messages(tmp_path: Path):
+    """Run as a real process: GDAL writes its own messages to file descriptor 2."""
+    from pdsgen import ortho
+
+    from helpers import run_cli
+
+    rng = np.random.default_rng(3)
+    iof = (0.05 + 0.1 * rng.random((1100, 1200))).astype(np.float32)
+    tif = write_geotiff(tmp_path / "in" / "o.tif", iof)
+    product = ortho.write_ortho(tif, tmp_path / "p", product_id="CUT")
+    with open(product.jp2_path, "r+b") as handle:
+        handle.truncate(product.jp2_path.stat().st_size // 3)
+    result = run_cli("extras", product.label_path, "-o", tmp_path / "out")
+    assert result.returncode == 2 and result.stderr.count("\n") == 1, result.stderr
+    assert "CUT.LBL: cannot read the raster" in result.stderr
+    assert "ERROR" not in result.stderr and "previous exception" not in result.stderr
+    assert not (tmp_path / "out").exists() or not list((tmp_path / "out").iterdir())

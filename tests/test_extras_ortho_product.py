@@ -32,7 +32,7 @@ def test_extras_of_a_pdsgen_orthoimage_from_its_label_and_from_its_jp2(tmp_path:
         written = make_extras([entry], out, browse_width=240)
         assert sorted(p.name for p in written) == sorted(
             [f"TEST_ORTHO_{bands}.{c}.jpg" for c in ("browse", "abrowse", "thumb")]
-            + ["README.TXT", ".pdsgen-extras.json"])
+            + [f"TEST_ORTHO_{bands}.QLOOK.JP2", "README.TXT"])
         with Image.open(out / f"TEST_ORTHO_{bands}.browse.jpg") as im:
             assert im.format == "JPEG" and im.width == 240
             assert im.mode == ("RGB" if bands == 3 else "L")

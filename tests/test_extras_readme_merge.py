@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
-import json
+import os
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -13,9 +15,9 @@ from click.testing import CliRunner
 from pdsgen.cli import main
 from pdsgen.errors import PdsgenError
 from pdsgen.extras import make_extras
+from pdsgen.extras.readme_index import parse_readme
+from pdsgen.extras.readme_txt import entry_files, render_readme
 from test_extras_helpers import crater_field, write_geotiff
-
-RECORD = ".pdsgen-extras.json"
 
 
 @pytest.fixture()
@@ -26,6 +28,11 @@ def two_products(tmp_path: Path) -> tuple[Path, Path]:
     image = (20 + (rows * 3 + cols * 2) % 200).astype(np.uint8)
     ortho = write_geotiff(tmp_path / "in" / "second_ortho.tif", image)
     return dtm, ortho
+
+
+def hidden_files(outdir: Path) -> list[str]:
+    """Names a delivery would ship without anyone seeing them."""
+    return sorted(p.name for p in outdir.iterdir() if p.name.startswith("."))
 
 
 def product_ids(readme: Path) -> list[str]:
@@ -45,8 +52,7 @@ def test_second_call_adds_its_product_to_readme_without_overwrite(two_products, 
     text = readme.read_text()
     assert "first_dtm.ca.jpg" in text and "second_ortho.abrowse.jpg" in text
     assert "Team A; Team B" in text
-    record = json.loads((out / RECORD).read_text())
-    assert [p["product_id"] for p in record["products"]] == ["first_dtm", "second_ortho"]
+    assert hidden_files(out) == []  # no hidden state
 
 
 def test_product_given_again_replaces_its_entry(two_products, tmp_path: Path):
@@ -54,7 +60,7 @@ def test_product_given_again_replaces_its_entry(two_products, tmp_path: Path):
     out = tmp_path / "out"
     make_extras([dtm, ortho], out, browse_width=40)
     before = (out / "README.TXT").read_text()
-    assert ("first_dtm.br.jpg Elevation as grey levels (dark low, light high), browse "
+    assert ("first_dtm.br.jpg Heights as grey levels (dark low, light high), browse "
             "(40 x 30 pixels)") in " ".join(before.split())
     with pytest.raises(PdsgenError, match="use --overwrite"):  # the JPEGs still need it
         make_extras([dtm], out, browse_width=60)
@@ -62,7 +68,7 @@ def test_product_given_again_replaces_its_entry(two_products, tmp_path: Path):
     make_extras([dtm], out, browse_width=60, overwrite=True, azimuth=200.0)
     after = " ".join((out / "README.TXT").read_text().split())
     assert product_ids(out / "README.TXT") == ["first_dtm", "second_ortho"]
-    assert "first_dtm.br.jpg Elevation as grey levels (dark low, light high), browse " \
+    assert "first_dtm.br.jpg Heights as grey levels (dark low, light high), browse " \
            "(60 x 45 pixels)" in after and "(40 x 30 pixels)" not in after
     assert "azimuth 200 degrees" in after
 
@@ -88,13 +94,60 @@ def test_products_whose_extras_were_removed_are_dropped(two_products, tmp_path: 
     assert product_ids(out / "README.TXT") == ["second_ortho"]
 
 
-def test_damaged_record_is_a_user_error_before_anything_is_written(two_products,
-                                                                   tmp_path: Path):
+def test_readme_is_read_back_exactly(two_products, tmp_path: Path):
     dtm, ortho = two_products
     out = tmp_path / "out"
-    make_extras([dtm], out)
-    (out / RECORD).write_text('{"format": "something else"}')
+    make_extras([dtm, ortho], out, browse_width=40,
+                params={"KNOWN_ARTIFACTS": "Seams along the image edges. " * 6,
+                        "TECHNICAL_CONTACT": "J. Doe",
+                        "PROJECT_NAME": "A project name long enough to be wrapped " * 3})
+    data = (out / "README.TXT").read_bytes()
+    entries, keywords = parse_readme(data.decode("ascii"))
+    assert [e["product_id"] for e in entries] == ["first_dtm", "second_ortho"]
+    assert keywords["TECHNICAL_CONTACT"] == "J. Doe"
+    assert keywords["PROJECT_NAME"] == " ".join(["A project name long enough to be wrapped"] * 3)
+    files = [entry_files(e, out) for e in entries]
+    assert render_readme(entries, files, keywords) == data  # the grammar round-trips
+
+
+def test_readme_not_written_by_pdsgen_is_a_user_error_before_anything_is_written(
+        two_products, tmp_path: Path):
+    _, ortho = two_products
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "README.TXT").write_text("Volume notes written by hand.\n")
     result = CliRunner().invoke(main, ["extras", str(ortho), "-o", str(out)])
     assert result.exit_code == 2 and result.stderr.count("\n") == 1
-    assert RECORD in result.stderr and "Traceback" not in result.output
+    assert "README.TXT" in result.stderr and "Traceback" not in result.output
     assert not list(out.glob("second_ortho.*"))
+
+
+def test_four_parallel_runs_into_one_directory_all_end_in_readme(tmp_path: Path):
+    """Four real processes, started together, each adding one product (a batch)."""
+    (tmp_path / "in").mkdir()
+    names = [f"scene_{i}" for i in range(4)]
+    inputs = [write_geotiff(tmp_path / "in" / f"{n}.tif", crater_field(60, 80, seed=i))
+              for i, n in enumerate(names)]
+    out = tmp_path / "out"
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+    runs = [subprocess.Popen([sys.executable, "-m", "pdsgen", "extras", str(path), "-o", str(out),
+                              "--browse-width", "64"], env=env, stdout=subprocess.DEVNULL,
+                             stderr=subprocess.PIPE, text=True) for path in inputs]
+    for run in runs:
+        _, err = run.communicate(timeout=300)
+        assert run.returncode == 0, err
+    assert sorted(product_ids(out / "README.TXT")) == names
+    assert hidden_files(out) == []
+
+
+def test_record_of_earlier_versions_is_removed_and_unlabelled_products_get_no_credit(
+        two_products, tmp_path: Path):
+    dtm, _ = two_products
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / ".pdsgen-extras.json").write_text('{"format": "pdsgen extras README index 1"}')
+    make_extras([dtm], out)
+    assert hidden_files(out) == []
+    text = (out / "README.TXT").read_text()
+    assert re.search(r"^Image credit:\s+none$", text, flags=re.MULTILINE)  # nobody named
+    assert "University of Arizona" not in text

@@ -34,7 +34,7 @@ def test_sparse_product_gets_a_denser_sample_of_at_least_a_million_values(tmp_pa
 def test_small_product_is_sampled_whole(tmp_path: Path):
     data = np.arange(400 * 300, dtype=np.float32).reshape(400, 300)
     tif = write_geotiff(tmp_path / "small.tif", data)
-    src = open_product(tif)
+    src = open_product(tif, kind="dtm")
     grid = preview_grid(src, 1024)
     assert (grid.width, grid.height) == (300, 400)  # never enlarged
     browse = read_physical(src, grid, [1])
@@ -47,7 +47,7 @@ def test_averaging_leaves_no_data_out_of_each_preview_pixel(tmp_path: Path):
     data = np.full((100, 100), 7.0, dtype=np.float32)
     data[:, :53] = -3.4028226550889045e38
     tif = write_geotiff(tmp_path / "edge.tif", data, nodata=-3.4028226550889045e38)
-    src = open_product(tif)
+    src = open_product(tif, kind="dtm")
     browse = read_physical(src, preview_grid(src, 10), [1])
     assert np.ma.getmaskarray(browse)[0, :, :5].all()
     assert np.allclose(browse[0, :, 6:].compressed(), 7.0)

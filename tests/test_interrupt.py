@@ -7,6 +7,7 @@ import signal
 import subprocess
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 from helpers import CRS_EQUIRECTANGULAR, ORIGINS, elevation_array, run_cli, write_raster
@@ -16,13 +17,19 @@ def _dtm(path: Path, size: int) -> Path:
     return write_raster(path, elevation_array(size, size), CRS_EQUIRECTANGULAR, ORIGINS["equirectangular"][1])
 
 
-def _interrupt_when_staging(args: list[str], outdir: Path) -> subprocess.CompletedProcess:
-    """Start `python -m pdsgen ARGS`; send SIGINT once a staged (.part) file shows it is writing."""
+def _staging(path: Path) -> bool:
+    return path.name.endswith(".part")
+
+
+def _interrupt_when(args: list[str], outdir: Path, seen: Callable[[Path], bool] = _staging,
+                    ) -> subprocess.CompletedProcess:
+    """Start `python -m pdsgen ARGS`; send SIGINT once a file in OUTDIR is `seen` (by default
+    a staged .part file: it is writing)."""
     process = subprocess.Popen([sys.executable, "-m", "pdsgen", *args], stdout=subprocess.PIPE,
                                stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and process.poll() is None:
-        if outdir.is_dir() and any(p.name.endswith(".part") for p in outdir.iterdir()):
+        if outdir.is_dir() and any(seen(p) for p in outdir.iterdir()):
             break
         time.sleep(0.005)
     assert process.poll() is None, "finished before it could be interrupted; make the input larger"
@@ -41,17 +48,23 @@ def test_interrupted_dtm_leaves_nothing_and_reruns(tmp_path):
     source = _dtm(tmp_path / "big.tif", 3000)
     outdir = tmp_path / "out"
     args = ["dtm", str(source), "-o", str(outdir)]
-    _assert_interrupted(_interrupt_when_staging(args, outdir), outdir)
+    _assert_interrupted(_interrupt_when(args, outdir), outdir)
     again = run_cli(*args)
     assert again.returncode == 0, again.stderr
     assert [p.suffix for p in outdir.iterdir()] == [".IMG"]
 
 
 def test_interrupted_extras_leaves_no_half_set(tmp_path):
+    """Interrupted once the first product's previews are published, while the second
+    renders: they are taken back, so the re-run without --overwrite is not refused."""
     first, second = _dtm(tmp_path / "first.tif", 400), _dtm(tmp_path / "second.tif", 3000)
     outdir = tmp_path / "extras"
     args = ["extras", str(first), str(second), "-o", str(outdir)]
-    _assert_interrupted(_interrupt_when_staging(args, outdir), outdir)
+
+    def first_published(path: Path) -> bool:
+        return path.name.startswith("first.") and path.name.endswith(".jpg")
+
+    _assert_interrupted(_interrupt_when(args, outdir, first_published), outdir)
     again = run_cli(*args)
     assert again.returncode == 0, again.stderr
     names = sorted(p.name for p in outdir.iterdir())

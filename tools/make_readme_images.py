@@ -2,8 +2,10 @@
 
 Runs the demo into a temporary directory, makes the Extras of its DTM and of its
 orthoimage (the demo's .JP2 product, or one written here with pdsgen.ortho from the
-demo's orthoimage input when the demo makes none), and stores reduced copies of the annotated browses and a strip of
-thumbnails, each kept under 150 KB.
+demo's orthoimage input when the demo makes none), and stores the colour-coded and
+the orthoimage annotated browses and a strip of the four thumbnails, each under
+150 KB. The README shows each picture at its own size, one per row: the annotation
+text is sized for that (about 13 px), so it stays legible.
 
 Run from the repository root: PYTHONPATH=src python tools/make_readme_images.py
 """
@@ -65,8 +67,6 @@ def main() -> None:
         made += make_extras([ortho], extras / "ortho", browse_width=BROWSE_WIDTH)
         by_suffix = {p.name.split(".", 1)[1]: p for p in made}
         for code, name in (("ca.jpg", "extras_colour_annotated.jpg"),
-                           ("sa.jpg", "extras_shaded_annotated.jpg"),
-                           ("ab.jpg", "extras_grey_annotated.jpg"),
                            ("abrowse.jpg", "extras_ortho_annotated.jpg")):
             save_small(Image.open(by_suffix[code]).convert("RGB"), OUT / name)
         strip = thumbnail_strip([by_suffix[c] for c in ("th.jpg", "st.jpg", "ct.jpg",

@@ -2,22 +2,24 @@
 
 from __future__ import annotations
 
+import logging
+
 import click
 
-from ..extras import DEFAULT_CREDIT, KINDS, make_extras
-from ..missions.hrsc import CREDIT as HRSC_CREDIT
+from ..extras import KINDS, make_extras
 from ..profiles import profile_names
 from ._output import Outcome, files_summary, output_options
 
 
-@click.command(short_help="Make browse, annotated browse and thumbnail JPEGs and README.TXT.")
+@click.command(short_help="Make preview JPEGs, orthoimage quick-look JP2s and README.TXT.")
 @output_options
 @click.argument("products", metavar="PRODUCT...", nargs=-1, required=True,
                 type=click.Path(dir_okay=False))
 @click.option("-o", "--outdir", required=True, type=click.Path(file_okay=False),
               help="Output directory.")
-@click.option("--credit", help=f"Credit line on annotated images [default: params CREDIT, else the "
-                               f"profile's (hrsc: {HRSC_CREDIT!r}), else {DEFAULT_CREDIT!r}].")
+@click.option("--credit", help="Credit line on annotated images [default: params CREDIT, else the "
+                               "--profile's, else that of the mission the label names, else the "
+                               "label's mission and PRODUCER_INSTITUTION_NAME].")
 @click.option("--params", "params_file", type=click.Path(dir_okay=False),
               help="PVL or TOML file of producer keywords (contact, known artifacts ...).")
 @click.option("--browse-width", type=int,
@@ -32,16 +34,25 @@ from ._output import Outcome, files_summary, output_options
               help="Vertical exaggeration of the shaded relief [default: 1, raised "
                    "automatically when the relief is too faint at preview scale].")
 @click.option("--kind", type=click.Choice(KINDS),
-              help="Treat every PRODUCT as this kind [default: from the label or data type].")
+              help="Treat every PRODUCT as this kind [default: from the label, metadata or "
+                   "values; refused when they do not say].")
 @click.option("--profile", type=click.Choice(profile_names()),
               help="Mission conventions (credit line) [default: from each product's label].")
 @click.option("--overwrite", is_flag=True, help="Replace existing Extras files.")
 def extras(products, outdir, credit, params_file, browse_width, thumb_width, azimuth, altitude,
            exaggeration, kind, profile, overwrite) -> Outcome:
-    """Write the Extras of each PRODUCT (a PDS3 .IMG/.LBL/.JP2 or a GeoTIFF) into OUTDIR."""
+    """Write the Extras of each PRODUCT (a PDS3 .IMG/.LBL/.JP2 or a GeoTIFF) into OUTDIR.
+
+    One line per product on stderr says whether it was taken for a DTM or an
+    orthoimage, and why.
+    """
+    # GDAL's own messages reach rasterio's logger; the user sees pdsgen's one-line
+    # errors instead (a NullHandler keeps Python's last-resort printer quiet).
+    logging.getLogger("rasterio").addHandler(logging.NullHandler())
     written = make_extras(products, outdir, credit=credit, params=params_file,
                           browse_width=browse_width, thumb_width=thumb_width, azimuth=azimuth,
                           altitude=altitude, exaggeration=exaggeration, kind=kind,
-                          profile=profile, overwrite=overwrite)
+                          profile=profile, overwrite=overwrite,
+                          report=lambda line: click.echo(f"pdsgen: {line}", err=True))
     summary = {"command": "extras", "files": files_summary(written)}
     return Outcome([str(path) for path in written], summary)

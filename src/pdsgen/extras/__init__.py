@@ -2,11 +2,12 @@
 
 `make_extras` takes products this tool wrote, archived PDS3 products it did not
 write, or GeoTIFFs, and writes for each its browse, annotated browse and thumbnail
-JPEGs (three renderings for a DTM, one for an orthoimage), then one README.TXT that
-describes every product whose Extras are in the directory, those of earlier calls
-included (see `readme_index`). Every product is inspected before anything is written, so a bad
-input stops the run with nothing written; each product's files then appear all
-together or not at all.
+JPEGs (three renderings for a DTM, one for an orthoimage, plus a full-scale
+quick-look JPEG 2000 for an orthoimage), then one README.TXT that describes every
+product whose Extras are in the directory, those of earlier and concurrent calls
+included (see `readme_index`). Every product is inspected before anything is
+written, so a bad input stops the run with nothing written; each product's files
+then appear all together or not at all.
 """
 
 from __future__ import annotations
@@ -14,26 +15,24 @@ from __future__ import annotations
 import math
 import numbers
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 
 from PIL import Image
 
 from ..errors import PdsgenError
 from ..formats.staging import StagedOutputs, prepare_output_dir, publishes_together
-from ..missions import hirise as hirise_mission
-from ..missions import mission_names
-from ..missions.base import get_mission
 from ..products.params import ParamValue, resolve_params
-from .product_source import KINDS, ProductSource, open_product
-from .readme_index import INDEX_NAME, index_bytes, load_index, merge_entries
-from .readme_txt import README_NAME, directory_keywords, product_entry, render_readme
-from .renderings import THUMB_WIDTH, ProductPreviews, render_product
+from .credit import product_credit
+from .product_source import DTM, KINDS, ProductSource, open_product, quiet_gdal
+from .qlook import write_qlook
+from .readme_index import publish_readme, read_readme
+from .readme_txt import directory_keywords, product_entry
+from .renderings import QLOOK_SUFFIX, THUMB_WIDTH, ProductPreviews, render_product
 
-DEFAULT_CREDIT = hirise_mission.CREDIT
 JPEG_QUALITY = 90
 
-__all__ = ["make_extras", "extras_file_names", "DEFAULT_CREDIT", "KINDS"]
+__all__ = ["make_extras", "KINDS"]
 
 
 @publishes_together
@@ -51,6 +50,7 @@ def make_extras(
     kind: str | None = None,
     profile: str | None = None,
     overwrite: bool = False,
+    report: Callable[[str], None] | None = None,
 ) -> list[Path]:
     """Write the Extras of PRODUCTS into OUTDIR; return the paths written.
 
@@ -58,57 +58,40 @@ def make_extras(
     wider than the data); `kind` ("dtm" or "ortho") overrides detection for all
     products. `exaggeration` is the shaded relief's vertical exaggeration (default:
     1, raised automatically when the relief would be too faint to see at preview
-    scale, and then printed on the images). The credit line is `credit`, else the params' CREDIT, else
-    the credit of `profile`, else that of the mission the product's label names (HRSC:
-    "ESA/DLR/FU Berlin"), else "NASA/JPL/University of Arizona".
+    scale, and then printed on the images). The credit line is `credit`, else the
+    params' CREDIT, else the credit of `profile`, else the product's own (see
+    `credit.product_credit`). `report`, when given, receives one line per product
+    saying which kind it was taken for and why (after success).
     """
     if not products:
         raise PdsgenError(None, "no products given")
     azimuth = _check_options(browse_width, thumb_width, azimuth, altitude, exaggeration)
     keywords = resolve_params(params)
-    sources = [open_product(p, kind) for p in products]
-    credits = [_credit(credit, keywords, profile or src.mission) for src in sources]
-    _check_unique_ids(sources)
-    previous, recorded_keywords = load_index(Path(outdir))
-    outdir = prepare_output_dir(outdir)
-    written: list[Path] = []
-    entries = []
-    for src, credit_line in zip(sources, credits, strict=True):
-        previews = render_product(src, credit=credit_line, browse_width=browse_width,
-                                  thumb_width=thumb_width, azimuth=azimuth, altitude=altitude,
-                                  exaggeration=exaggeration)
-        written += _write_previews(previews, outdir, overwrite)
-        entries.append(product_entry(previews, credit_line, azimuth, altitude))
-    return [*written, *_write_readme(outdir, merge_entries(previous, entries, outdir),
-                                     {**recorded_keywords, **directory_keywords(keywords)})]
+    with quiet_gdal():
+        sources = [open_product(p, kind) for p in products]
+        credits = [product_credit(src, credit, keywords, profile) for src in sources]
+        _check_unique_ids(sources)
+        read_readme(Path(outdir))  # an unreadable README.TXT stops the run before writing
+        outdir = prepare_output_dir(outdir)
+        written: list[Path] = []
+        entries = []
+        for src, credit_line in zip(sources, credits, strict=True):
+            previews = render_product(src, credit=credit_line, browse_width=browse_width,
+                                      thumb_width=thumb_width, azimuth=azimuth,
+                                      altitude=altitude, exaggeration=exaggeration)
+            written += _write_product_extras(previews, outdir, overwrite)
+            entries.append(product_entry(previews, credit_line, azimuth, altitude))
+        readme = publish_readme(outdir, entries, directory_keywords(keywords))
+    if report is not None:  # after success only: a failed run says one thing, its error
+        for src in sources:
+            what = "a DTM" if src.kind == DTM else "an orthoimage"
+            report(f"{src.path}: taken as {what} ({src.kind_reason})")
+    return [*written, readme]
 
 
-def _write_readme(outdir: Path, entries: list[dict], keywords: dict[str, str]) -> list[Path]:
-    """README.TXT for every product in OUTDIR, and the record it is made from.
-
-    Both describe the directory, not one call, so they are replaced without
-    --overwrite (the record keeps what earlier calls put in).
-    """
-    readme, index = outdir / README_NAME, outdir / INDEX_NAME
-    with StagedOutputs([readme, index], overwrite=True) as staged:
-        staged.path(readme).write_bytes(render_readme(entries, keywords))
-        staged.path(index).write_bytes(index_bytes(entries, keywords))
-    return [readme, index]
-
-
-def extras_file_names(previews: ProductPreviews) -> list[tuple[str, str]]:
-    """(file name, what it is) for every preview file of one product."""
-    pid = previews.source.product_id
-    names = []
-    for p in previews.previews:
-        r = p.rendering
-        names += [(f"{pid}.{r.browse}.jpg", f"{r.description}, browse"),
-                  (f"{pid}.{r.annotated}.jpg", f"{r.description}, annotated browse"),
-                  (f"{pid}.{r.thumb}.jpg", f"{r.description}, thumbnail")]
-    return names
-
-
-def _write_previews(previews: ProductPreviews, outdir: Path, overwrite: bool) -> list[Path]:
+def _write_product_extras(previews: ProductPreviews, outdir: Path, overwrite: bool
+                          ) -> list[Path]:
+    """One product's JPEGs (and an orthoimage's QLOOK.JP2), all published together."""
     pid = previews.source.product_id
     jobs: list[tuple[Path, Image.Image, bool]] = []
     for p in previews.previews:
@@ -116,21 +99,17 @@ def _write_previews(previews: ProductPreviews, outdir: Path, overwrite: bool) ->
         jobs += [(outdir / f"{pid}.{r.browse}.jpg", p.browse, False),
                  (outdir / f"{pid}.{r.annotated}.jpg", p.annotated, True),
                  (outdir / f"{pid}.{r.thumb}.jpg", p.thumb, False)]
-    with StagedOutputs([path for path, _, _ in jobs], overwrite) as staged:
+    paths = [path for path, _, _ in jobs]
+    qlook = outdir / f"{pid}.{QLOOK_SUFFIX}" if previews.source.kind != DTM else None
+    with StagedOutputs(paths + ([qlook] if qlook else []), overwrite) as staged:
         for path, image, annotated in jobs:
             options = {"quality": JPEG_QUALITY}
             if annotated or image.mode == "RGB":
                 options["subsampling"] = 0 if annotated else 2
             image.save(staged.path(path), format="JPEG", **options)
-    return [path for path, _, _ in jobs]
-
-
-def _credit(credit: str | None, keywords: Mapping[str, ParamValue], profile: str) -> str:
-    profile_credit = get_mission(profile).credit if profile in mission_names() else ""
-    text = credit if credit is not None else str(keywords.get("CREDIT", profile_credit or DEFAULT_CREDIT))
-    if not text.isascii():
-        raise PdsgenError(None, f"credit line {text!r} must be ASCII text")
-    return " ".join(text.split())
+        if qlook is not None:
+            write_qlook(previews.source, previews.stretches, staged.path(qlook))
+    return paths + ([qlook] if qlook else [])
 
 
 def _check_options(browse_width: int | None, thumb_width: int, azimuth: float, altitude: float,

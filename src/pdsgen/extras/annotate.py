@@ -29,6 +29,7 @@ from PIL import Image, ImageDraw, ImageFont
 
 from .colour_ramp import ramp_colours
 
+Font = ImageFont.FreeTypeFont | ImageFont.ImageFont
 BACKGROUND = (255, 255, 255)
 INK = (25, 25, 25)
 MUTED = (90, 90, 90)
@@ -45,11 +46,20 @@ class ScaleBar:
 
 @dataclass(frozen=True)
 class Legend:
-    """The colour ramp legend: the elevation range it spans, in metres."""
+    """The colour ramp legend: the height range it spans (metres) and what from.
+
+    `datum` completes "Height (m) above ..." (e.g. "the Mars 2000 areoid"); the
+    ramp's two ends are labelled with their exact values, round values between.
+    """
 
     low: float
     high: float
-    title: str = "Elevation (m)"
+    datum: str = ""
+    title: str = "Height (m)"
+
+    @property
+    def heading(self) -> str:
+        return f"{self.title} above {self.datum}" if self.datum else self.title
 
 
 @dataclass(frozen=True)
@@ -108,7 +118,14 @@ def annotate(image: Image.Image, note: Annotation) -> tuple[Image.Image, Layout]
                      text_font.getlength(_ascii(note.subtitle)),
                      text_font.getlength(_ascii(note.credit)))
     right = max(size.side, ramp_width, int(text_width) + size.side - width)
-    middle = max(height, 12 * size.small) if note.legend else height  # room for the ramp
+    middle = max(height, 16 * size.small) if note.legend else height  # room for the ramp
+    bar = nice_scale_bar(note.metres_per_pixel, width)
+    bar_right = size.side + bar.pixels - 1 + size.gap + small_font.getlength(bar.label)
+    arrow_x = bar_right + 2 * size.text + size.arrow_box / 2
+    credit = _ascii(note.credit)
+    credit_w = text_font.getlength(credit)
+    if credit and width + right - credit_w < arrow_x + size.arrow_box / 2 + size.text:
+        foot += size.text + size.gap  # a long credit line gets a line of its own
     canvas = Image.new("RGB", (size.side + width + right, top + middle + foot), BACKGROUND)
     x_img, y_img = size.side, top
     canvas.paste(image.convert("RGB"), (x_img, y_img))
@@ -120,17 +137,12 @@ def annotate(image: Image.Image, note: Annotation) -> tuple[Image.Image, Layout]
               font=text_font, fill=MUTED)
 
     foot_y = y_img + middle + 1 + size.pad
-    bar = nice_scale_bar(note.metres_per_pixel, width)
     bar_box = _draw_scale_bar(draw, bar, x_img, foot_y, size, small_font)
-    bar_right = bar_box[2] + size.gap + small_font.getlength(bar.label)
-    tip = _draw_north_arrow(draw, note.north_deg, bar_right + 2 * size.text + size.arrow_box / 2,
-                            foot_y + size.arrow_box / 2, size, small_font)
-    credit = _ascii(note.credit)
+    tip = _draw_north_arrow(draw, note.north_deg, arrow_x, foot_y + size.arrow_box / 2, size,
+                            small_font)
     if credit:
-        right = canvas.width - size.side
-        credit_w = draw.textlength(credit, font=text_font)
-        draw.text((right - credit_w, canvas.height - size.pad - size.text), credit,
-                  font=text_font, fill=MUTED)
+        draw.text((canvas.width - size.side - credit_w, canvas.height - size.pad - size.text),
+                  credit, font=text_font, fill=MUTED)
 
     ramp_box = None
     if note.legend is not None:
@@ -144,9 +156,9 @@ class _Sizes:
     """Font sizes and spacing that scale with the image width (legible at any size)."""
 
     def __init__(self, width: int) -> None:
-        self.title = max(14, round(width / 42))
-        self.text = max(11, round(width / 64))
-        self.small = max(10, round(width / 76))
+        self.title = max(16, round(width / 42))
+        self.text = max(13, round(width / 64))
+        self.small = max(12, round(width / 76))
         self.pad = max(6, round(self.text * 0.8))
         self.gap = max(3, round(self.text * 0.35))
         self.bar = max(5, round(self.text * 0.55))
@@ -156,7 +168,7 @@ class _Sizes:
 
 
 def _draw_scale_bar(draw: ImageDraw.ImageDraw, bar: ScaleBar, x0: int, y0: int,
-                    size: _Sizes, font: ImageFont.FreeTypeFont | ImageFont.ImageFont) -> tuple[int, int, int, int]:
+                    size: _Sizes, font: Font) -> tuple[int, int, int, int]:
     """Four alternating black/white segments, outlined; '0' and the length below."""
     x1, y1 = x0 + bar.pixels - 1, y0 + size.bar - 1
     segments = 4 if bar.pixels >= 40 else 1
@@ -175,7 +187,7 @@ def _draw_scale_bar(draw: ImageDraw.ImageDraw, bar: ScaleBar, x0: int, y0: int,
 
 
 def _draw_north_arrow(draw: ImageDraw.ImageDraw, north_deg: float, cx: float, cy: float,
-                      size: _Sizes, font: ImageFont.FreeTypeFont | ImageFont.ImageFont) -> tuple[float, float]:
+                      size: _Sizes, font: Font) -> tuple[float, float]:
     """An arrow pointing north (clockwise angle from up), 'N' beyond its tip."""
     length = size.arrow
     angle = math.radians(north_deg)
@@ -195,33 +207,67 @@ def _draw_north_arrow(draw: ImageDraw.ImageDraw, north_deg: float, cx: float, cy
     return tip
 
 
-def _ramp_margin_width(legend: Legend, size: _Sizes, font: ImageFont.FreeTypeFont | ImageFont.ImageFont) -> int:
-    labels = [_tick_label(v, _tick_step(legend)) for v in _ticks(legend)]
-    widest = max(font.getlength(t) for t in labels)
-    content = max(round(size.text * 1.5) + size.gap * 2 + widest, font.getlength(legend.title))
-    return int(size.side + content + size.side)
+def _legend_labels(legend: Legend) -> list[tuple[float, str]]:
+    """(value, text) beside the ramp: both ends exactly, round values in between."""
+    step = _tick_step(legend)
+    ends = [(legend.high, _end_label(legend.high, step)), (legend.low, _end_label(legend.low, step))]
+    span = legend.high - legend.low
+    inner = [(v, _tick_label(v, step)) for v in _ticks(legend)
+             if span > 0 and min(abs(v - legend.low), abs(v - legend.high)) > 0.12 * span]
+    return ends + inner
+
+
+def _content_width(legend: Legend, size: _Sizes, font: Font) -> int:
+    widest = max(font.getlength(t) for _, t in _legend_labels(legend))
+    words = max(font.getlength(w) for w in legend.heading.split())
+    return int(max(round(size.text * 1.5) + size.gap * 2 + widest, font.getlength(legend.title),
+                   words, 7 * size.small))
+
+
+def _heading_lines(legend: Legend, width: int, font: Font) -> list[str]:
+    """The heading ("Height (m) above the Mars 2000 areoid") wrapped to `width` pixels."""
+    lines: list[str] = []
+    for word in legend.heading.split():
+        if lines and font.getlength(f"{lines[-1]} {word}") <= width:
+            lines[-1] = f"{lines[-1]} {word}"
+        else:
+            lines.append(word)
+    return lines
+
+
+def _ramp_margin_width(legend: Legend, size: _Sizes, font: Font) -> int:
+    return size.side + _content_width(legend, size, font) + size.side
 
 
 def _draw_legend(draw: ImageDraw.ImageDraw, legend: Legend, x0: int, y_img: int, height: int,
-                 size: _Sizes, font: ImageFont.FreeTypeFont | ImageFont.ImageFont) -> tuple[int, int, int, int]:
-    """A vertical colour ramp (high at the top) with ticks at round elevations."""
+                 size: _Sizes, font: Font) -> tuple[int, int, int, int]:
+    """A vertical colour ramp (high at the top): heading with the datum, end values, ticks."""
     bar_w = round(size.text * 1.5)
-    y0 = y_img + size.small + size.gap * 2
-    bar_h = max(20, min(height - (y0 - y_img), round(height * 0.7)))
+    heading = _heading_lines(legend, _content_width(legend, size, font), font)
+    line_h = size.small + size.gap
+    for i, line in enumerate(heading):
+        draw.text((x0, y_img + i * line_h), _ascii(line), font=font, fill=INK)
+    y0 = y_img + len(heading) * line_h + size.gap + size.small // 2
+    bar_h = max(20, min(height - (y0 - y_img) - size.small, round(height * 0.7)))
     y1 = y0 + bar_h - 1
     values = np.linspace(legend.high, legend.low, bar_h, dtype=np.float64)
     colours = ramp_colours(values, legend.low, legend.high)
     for i, colour in enumerate(np.rint(colours).astype(np.uint8)):
         draw.line(((x0, y0 + i), (x0 + bar_w - 1, y0 + i)), fill=tuple(int(c) for c in colour))
     draw.rectangle((x0, y0, x0 + bar_w - 1, y1), outline=INK)
-    draw.text((x0, y_img), legend.title, font=font, fill=INK)
-    step = _tick_step(legend)
-    for value in _ticks(legend):
-        y = y0 + (legend.high - value) / (legend.high - legend.low) * (bar_h - 1)
+    span = legend.high - legend.low
+    for value, text in _legend_labels(legend):
+        y = y0 + ((legend.high - value) / span * (bar_h - 1) if span > 0 else 0)
         draw.line(((x0 + bar_w, y), (x0 + bar_w + size.gap, y)), fill=INK)
-        draw.text((x0 + bar_w + size.gap * 2, y), _tick_label(value, step), font=font,
-                  fill=INK, anchor="lm")
+        draw.text((x0 + bar_w + size.gap * 2, y), text, font=font, fill=INK, anchor="lm")
     return (x0, y0, x0 + bar_w - 1, y1)
+
+
+def _end_label(value: float, step: float) -> str:
+    """An end of the ramp: one more decimal than the ticks, so it reads as exact."""
+    decimals = max(0, -math.floor(math.log10(step)) + 1) if step < 10 else 0
+    text = f"{value:.{decimals}f}"
+    return "0" if text.strip("-0.") == "" else text
 
 
 def _tick_step(legend: Legend) -> float:

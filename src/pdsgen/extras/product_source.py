@@ -15,6 +15,7 @@ import math
 import os
 import re
 import struct
+import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -22,36 +23,53 @@ from pathlib import Path
 from typing import Any
 from xml.sax.saxutils import escape
 
+import numpy as np
 import pvl
 import rasterio
-from rasterio.errors import RasterioIOError
+from rasterio.enums import Resampling
+from rasterio.errors import NotGeoreferencedWarning, RasterioError
 from rasterio.transform import Affine
 
 from ..errors import PdsgenError
 from ..label.grammar import FLOAT_SAMPLE_TYPES
 from ..missions import LabelFacts, detect_mission
-from ..missions.hrsc import is_dtm_name as is_hrsc_dtm_name
+from .heights import HeightReference, height_reference, mission_datum, radius_offset_m
+from .kind import DTM, KINDS, LENGTH_UNITS, ORTHO, KindDecision, decide_kind
+from .label_georef import LabelGeorefError, label_georeferencing
 
-DTM = "dtm"
-ORTHO = "ortho"
-KINDS = (DTM, ORTHO)
+__all__ = ["DTM", "ORTHO", "KINDS", "ProductSource", "open_product", "quiet_gdal"]
 
 # GDAL's block cache defaults to 5 % of RAM; a preview needs only a few blocks at a
 # time, so a small cache keeps memory bounded by the preview size, not the raster.
 # In MB, the unit formats/raster.py measured: as a byte count GDAL_CACHEMAX raised peak memory.
-GDAL_ENV = {"GDAL_CACHEMAX": 16, "GDAL_PAM_ENABLED": "NO"}
+# One decoding thread: GDAL reports a worker thread's errors (a damaged JPEG 2000
+# tile) on stderr itself and hands back zeros, where the calling thread's errors
+# reach rasterio as an exception we turn into one line.
+GDAL_ENV = {"GDAL_CACHEMAX": 16, "GDAL_PAM_ENABLED": "NO", "GDAL_NUM_THREADS": "1"}
 
 _LABEL_SCAN_BYTES = 4 * 1024 * 1024
 _END_LINE = re.compile(rb"^[ \t]*END[ \t]*\r?$", re.MULTILINE)
 _FLOAT_TYPES = FLOAT_SAMPLE_TYPES
-_ELEVATION_WORDS = ("TOPOGRAPHY", "ELEVATION", "HEIGHT", "RADIUS", "DTM", "DEM", "ALTIMETRY")
-# GDAL metadata items that describe a raster's content; words in them that mean
-# heights (whole words: "DEMO" or "DTMAKER" do not count).
+# GDAL metadata items that describe a raster's content (searched for height words).
 _DESCRIPTIVE_TAGS = ("DESCRIPTION", "TIFFTAG_IMAGEDESCRIPTION", "PRODUCT_ID", "PRODUCT_TYPE")
-_ELEVATION_TAG_WORDS = re.compile(
-    r"(?<![A-Z0-9])(TOPOGRAPHY|ELEVATIONS?|HEIGHTS?|DTMS?|DEMS?|ALTIMETRY)(?![A-Z0-9])")
-_LENGTH_UNITS = {"M": 1.0, "METER": 1.0, "METERS": 1.0, "METRE": 1.0, "METRES": 1.0,
-                 "KM": 1000.0, "KILOMETER": 1000.0, "KILOMETERS": 1000.0}
+KIND_SAMPLE_SIDE = 256  # the decimated read that tells heights from reflectance
+
+
+@contextmanager
+def quiet_gdal() -> Iterator[None]:
+    """GDAL settings for previews, with library warnings kept from the user.
+
+    GDAL's block cache defaults to 5 % of RAM; a preview needs only a few blocks
+    at a time, so a small cache keeps memory bounded by the preview size. A
+    product without a geotransform (its georeferencing then comes from the
+    label) makes rasterio warn, and damaged data make numpy warn about
+    overflows: neither is the user's business beyond the one-line error or the
+    result, so both are silenced here.
+    """
+    with warnings.catch_warnings(), np.errstate(all="ignore"), rasterio.Env(**GDAL_ENV):
+        warnings.simplefilter("ignore", NotGeoreferencedWarning)
+        warnings.simplefilter("ignore", RuntimeWarning)
+        yield
 
 
 @dataclass
@@ -80,6 +98,10 @@ class ProductSource:
 
     gdal_nodata: float | None = None     # what GDAL itself reports
     mission: str = ""                    # profile whose conventions the product follows, if known
+    title: str = ""                      # PRODUCT_ID as the label writes it (else product_id)
+    kind_reason: str = ""                # why the product was taken for a DTM or an orthoimage
+    heights: HeightReference | None = None   # DTMs: what the heights are measured from
+    georeferencing: str = "GDAL"         # "GDAL" or "label" (IMAGE_MAP_PROJECTION read here)
 
     @contextmanager
     def open(self, out_shape: tuple[int, int] | None = None
@@ -93,15 +115,15 @@ class ProductSource:
         resolution level (JPEG 2000 level, GeoTIFF overview) that is still at
         least that size: the read then decodes that level only.
         """
-        with rasterio.Env(**GDAL_ENV):
+        with quiet_gdal():
             target: str | Path = self.raster_path
             try:
                 if self.nodata is not None and not _same_nodata(self.gdal_nodata, self.nodata):
                     target = self._nodata_vrt(self._overview_level(out_shape))
                 with rasterio.open(target) as ds:
                     yield ds
-            except RasterioIOError as exc:
-                raise PdsgenError(self.path, f"cannot read the raster ({exc})") from None
+            except RasterioError as exc:
+                raise PdsgenError(self.path, f"cannot read the raster ({_first_line(exc)})") from None
 
     def _overview_level(self, out_shape: tuple[int, int] | None) -> int | None:
         if out_shape is None:
@@ -132,10 +154,11 @@ class ProductSource:
             for b in range(1, self.band_count + 1)
         )
         geo = ""
-        if self.crs is not None:
+        if self.crs is not None and self.georeferencing == "GDAL":
             geo += f"<SRS>{escape(self.crs.to_wkt())}</SRS>"
-        t = transform
-        geo += f"<GeoTransform>{t.c!r}, {t.a!r}, {t.b!r}, {t.f!r}, {t.d!r}, {t.e!r}</GeoTransform>"
+            t = transform
+            geo += (f"<GeoTransform>{t.c!r}, {t.a!r}, {t.b!r}, {t.f!r}, {t.d!r}, {t.e!r}"
+                    "</GeoTransform>")
         return (f'<VRTDataset rasterXSize="{width}" rasterYSize="{height}">'
                 f"{geo}{bands}</VRTDataset>")
 
@@ -150,32 +173,64 @@ def open_product(path: str | os.PathLike[str], kind: str | None = None) -> Produ
     label_path, label = _find_label(path)
     raster_path = _raster_path(path, label_path, label)
     try:
-        with rasterio.Env(**GDAL_ENV), rasterio.open(raster_path) as ds:
+        with quiet_gdal(), rasterio.open(raster_path) as ds:
             info = _dataset_info(ds)
-    except RasterioIOError:
+    except RasterioError:
         raise PdsgenError(raster_path, "not a raster GDAL can read") from None
     image = _image_object(label)
+    mission = _mission(label, path)
     src = ProductSource(
         path=path, raster_path=raster_path, label_path=label_path,
-        product_id=_product_id(label, path), kind="", label=label, mission=_mission(label, path),
+        product_id=_product_id(label, path), kind="", label=label, mission=mission,
         nodata=_label_nodata(image, info["dtype"], info["nodata"]),
-        special_dns=_special_dns(image),
+        special_dns=_special_dns(image), title=_title(label, path),
         **{k: v for k, v in info.items() if k not in ("nodata", "scale", "offset", "hints")},
     )
     src.gdal_nodata = info["nodata"]
     src.scale, src.offset = _scaling(image, info)
     src.unit = str(image.get("UNIT", "") or "") or src.unit  # the label's, else GDAL's
-    src.kind = kind or _detect_kind(label, image, info, path)
+    decision = (KindDecision(kind, "--kind says so") if kind else
+                decide_kind(label, image, info, path, lambda: _value_range(src)))
+    src.kind, src.kind_reason = decision.kind, decision.reason
     _check_band_count(src)
     if src.kind == DTM:
-        factor = _LENGTH_UNITS.get(src.unit.upper(), 1.0)
+        factor = LENGTH_UNITS.get(src.unit.upper(), 1.0)
         src.scale, src.offset = src.scale * factor, src.offset * factor
+        radius = radius_offset_m(label, src.offset)
+        src.heights = height_reference(label, image, mission_datum(mission, path.name), radius)
+        if radius is not None:  # radii -> heights above the reference sphere
+            src.offset -= radius
     src.valid_minimum = _physical(image.get("VALID_MINIMUM"), src)
     src.valid_maximum = _physical(image.get("VALID_MAXIMUM"), src)
     if src.crs is None:
-        raise PdsgenError(path, "has no map projection GDAL can read; Extras need "
-                                "georeferencing for the scale bar and north arrow")
+        _georeference_from_label(src)
     return src
+
+
+def _georeference_from_label(src: ProductSource) -> None:
+    """CRS and geotransform from the label's map projection when GDAL found none."""
+    try:
+        found = label_georeferencing(src.label)
+    except LabelGeorefError as exc:
+        raise PdsgenError(src.label_path or src.path, f"GDAL finds no georeferencing and the "
+                                                      f"label's cannot be used: {exc}") from None
+    if found is None:
+        raise PdsgenError(src.path, "has no map projection (neither GDAL nor a PDS3 label "
+                                    "gives one); Extras need georeferencing for the scale bar "
+                                    "and north arrow")
+    src.crs, src.transform = found
+    src.georeferencing = "label"
+
+
+def _value_range(src: ProductSource) -> tuple[float, float] | None:
+    """Minimum and maximum of a small decimated read of band 1, physical units."""
+    factor = max(1.0, max(src.width, src.height) / KIND_SAMPLE_SIDE)
+    shape = (max(1, round(src.height / factor)), max(1, round(src.width / factor)))
+    with src.open(shape) as ds:
+        dn = ds.read(1, out_shape=shape, resampling=Resampling.nearest, masked=True)
+    values = dn.compressed().astype(np.float64) * src.scale + src.offset
+    values = values[np.isfinite(values)]
+    return (float(values.min()), float(values.max())) if values.size else None
 
 
 def _check_band_count(src: ProductSource) -> None:
@@ -275,6 +330,29 @@ def _mission(label: dict, path: Path) -> str:
     return detect_mission(facts) or ""
 
 
+def _title(label: dict, path: Path) -> str:
+    """The product ID as the label writes it (case and all), for the annotated browses.
+
+    Older labels without PRODUCT_ID name the product by IMAGE_ID (Magellan's
+    'F-MIDR.20S145;1'); without either, the file name stands in.
+    """
+    for key in ("PRODUCT_ID", "IMAGE_ID"):
+        value = " ".join(str(label.get(key, "") or "").split())
+        if value and value.upper() not in ("N/A", "UNK", "NULL"):
+            return value
+    return path.stem
+
+
+def _first_line(exc: BaseException) -> str:
+    """A GDAL error's first line, without rasterio's pointer to "the previous exception"."""
+    text = (str(exc).splitlines() or [""])[0]
+    text = re.sub(r"\s*See previous exception.*$", "", text, flags=re.IGNORECASE).strip()
+    cause = exc.__cause__ or exc.__context__
+    if not text and cause is not None:
+        return _first_line(cause)
+    return text or type(exc).__name__
+
+
 def _product_id(label: dict, path: Path) -> str:
     """PRODUCT_ID without a file extension some archives include (MOLA's "X.IMG").
 
@@ -322,34 +400,6 @@ def _scaling(image: dict, info: dict) -> tuple[float, float]:
     offset = _number(image.get("OFFSET"))
     return (float(scale) if scale is not None else float(info["scale"] or 1.0),
             float(offset) if offset is not None else float(info["offset"] or 0.0))
-
-
-def _detect_kind(label: dict, image: dict, info: dict, path: Path) -> str:
-    """DTM or orthoimage, from the label if there is one, else from GDAL's metadata.
-
-    Floating-point data are elevations. Integer rasters are DTMs when their label
-    says so, or, without a PDS3 label, when their GDAL metadata speak of heights,
-    when their name is an HRSC/iMars DTM's (`_dt4`, `_da4`), or when they are int16
-    with a band scale or offset (how iMars and other producers pack heights).
-    """
-    if "COMPRESSED_FILE" in label:
-        return ORTHO
-    if info["dtype"].startswith("float"):
-        return DTM
-    if image:
-        unit = str(image.get("UNIT", "")).upper()
-        words = " ".join(str(image.get(k, "")) for k in ("NAME", "DESCRIPTION", "NOTE")).upper()
-        if unit in _LENGTH_UNITS or any(w in words for w in _ELEVATION_WORDS):
-            return DTM
-        return ORTHO
-    if label:
-        return ORTHO
-    if _ELEVATION_TAG_WORDS.search(info["hints"]) or is_hrsc_dtm_name(path.stem):
-        return DTM
-    if info["dtype"] == "int16" and (info["scale"] not in (None, 1.0)
-                                     or info["offset"] not in (None, 0.0)):
-        return DTM
-    return ORTHO
 
 
 def _number(value: Any) -> int | float | None:

@@ -5,6 +5,12 @@ fills it from the products' labels, the params file and the previews just made, 
 then enforces the archive's plain-text rules: 7-bit ASCII, CR LF line ends, no line
 longer than 80 bytes with its CR LF (long lines are wrapped under their value
 column).
+
+README.TXT is also the only record of what the directory holds: a later
+`pdsgen extras` call into the same directory reads the product entries and the
+producer keywords back from it (`readme_index`), so nothing hidden is kept beside
+it. The field tables below are that grammar, shared by the template that writes
+the fields and the parser that reads them back.
 """
 
 from __future__ import annotations
@@ -12,15 +18,19 @@ from __future__ import annotations
 import re
 import textwrap
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 import jinja2
+from PIL import Image
 
 from ..label.grammar import MAX_LINE_BYTES as GRAMMAR_MAX_LINE_BYTES
 from ..products.params import ParamValue
 from ..resources import templates_dir
 from .colour_ramp import RAMP_NAME
+from .decimate import valid_range
 from .product_source import DTM, ProductSource
+from .renderings import extras_file_names
 from .stretch import DTM_HIGH_PERCENT, DTM_LOW_PERCENT
 
 if TYPE_CHECKING:
@@ -29,76 +39,166 @@ if TYPE_CHECKING:
 README_NAME = "README.TXT"
 TEMPLATE = "extras_readme.txt.j2"
 MAX_LINE_BYTES = GRAMMAR_MAX_LINE_BYTES
+VALUE_COLUMN = 19
 _HANGING = re.compile(r"^(\s*[A-Za-z][A-Za-z0-9_ ()/.-]*:\s+)\S")
 
+DTM_TYPE = "Digital terrain model (heights)"
+ORTHO_TYPE = "Orthoimage"
+DEFAULT_PROJECT_NAME = "Extras of PDS3 map products"
+DEFAULT_ARTIFACTS = "None reported by the producer."
 
-# Params keywords README.TXT shows; they describe the whole directory, so a later
-# call's value replaces an earlier one and a keyword not given again is kept.
-DIRECTORY_KEYWORDS = ("PROJECT_NAME", "PRODUCER_FULL_NAME", "PRODUCER_INSTITUTION_NAME",
-                      "TECHNICAL_CONTACT", "RATIONALE_DESC", "EXTRACTION_METHOD",
-                      "VERTICAL_PRECISION", "KNOWN_ARTIFACTS")
+# The product block: "Product ID:" at the margin, then these fields (label, entry
+# key) two spaces in; a field whose value is empty is left out.
+PRODUCT_ID_LABEL = "Product ID"
+ENTRY_FIELDS = (
+    ("Label identifier", "title"),
+    ("Type", "kind_text"),
+    ("Product file", "file_name"),
+    ("Source images", "sources"),
+    ("Size", "size"),
+    ("Projection", "projection"),
+    ("Georeferencing", "georeferencing"),
+    ("Post spacing", "spacing"),
+    ("True scale", "true_scale"),
+    ("Heights", "heights"),
+    ("VALID_MINIMUM", "valid_minimum"),
+    ("VALID_MAXIMUM", "valid_maximum"),
+    ("DN to physical", "conversion"),
+    ("No data", "nodata"),
+    ("Relief shading", "shading"),
+    ("Image credit", "credit"),
+    ("Label producer", "label_producer"),
+    ("Label institution", "label_institution"),
+)
+ENTRY_KEYS = ("product_id", *(key for _, key in ENTRY_FIELDS))
+FILES_LABEL = "Extras files"
 
-# What a product entry holds (all JSON types), so a recorded entry can be checked.
-ENTRY_KEYS = frozenset({
-    "product_id", "kind_text", "file_name", "sources", "width", "height", "bands",
-    "projection", "spacing", "true_scale", "valid_minimum", "valid_maximum", "conversion",
-    "nodata", "is_dtm", "exaggeration", "files", "credit", "azimuth", "altitude",
-    "label_producer", "label_institution",
-})
+# Params keywords README.TXT shows (label at the margin); they describe the whole
+# directory, so a later call's value replaces an earlier one and a keyword not
+# given again is kept (read back from README.TXT).
+DIRECTORY_FIELDS = (
+    ("PRODUCER_FULL_NAME", "Producer"),
+    ("PRODUCER_INSTITUTION_NAME", "Institution"),
+    ("TECHNICAL_CONTACT", "Technical contact"),
+    ("RATIONALE_DESC", "Rationale"),
+    ("EXTRACTION_METHOD", "Extraction method"),
+    ("VERTICAL_PRECISION", "Vertical precision"),
+)
+DIRECTORY_KEYWORDS = ("PROJECT_NAME", *(k for k, _ in DIRECTORY_FIELDS), "KNOWN_ARTIFACTS")
+
+Entry = dict[str, str]
+
+
+def field_line(label: str, indent: int = 2) -> str:
+    """The start of a field line: indent, "Label:", padding to the value column."""
+    head = " " * indent + f"{label}:"
+    return head.ljust(VALUE_COLUMN) if len(head) < VALUE_COLUMN else head + " "
 
 
 def product_entry(previews: ProductPreviews, credit: str, azimuth: float,
-                  altitude: float) -> dict[str, Any]:
-    """Everything README.TXT says about one product, as plain JSON-able values.
+                  altitude: float) -> Entry:
+    """Everything README.TXT says about one product, as text (see ENTRY_FIELDS)."""
+    src = previews.source
+    is_dtm = src.kind == DTM
+    low, high = _valid_range(previews)
+    bands = f" x {src.band_count} bands" if src.band_count > 1 else ""
+    shading = (f"light from azimuth {azimuth:g} degrees, altitude {altitude:g} degrees, "
+               f"vertical exaggeration {previews.exaggeration:g}x") if is_dtm else ""
+    return {
+        "product_id": src.product_id,
+        "title": src.title if src.title and src.title != src.product_id else "",
+        "kind_text": DTM_TYPE if is_dtm else ORTHO_TYPE,
+        "file_name": src.path.name,
+        "sources": _sources(src),
+        "size": f"{src.width} samples x {src.height} lines{bands}",
+        "projection": _projection(src),
+        "georeferencing": _georeferencing(src),
+        "spacing": _spacing(src),
+        "true_scale": (f"{_metres(previews.scale.metres_per_column / previews.grid.step_x)} "
+                       f"per product pixel along rows at the image centre (latitude "
+                       f"{previews.scale.latitude:.3f}, longitude "
+                       f"{previews.scale.longitude % 360.0:.3f} east)"),
+        "heights": _heights(src) if is_dtm else "",
+        "valid_minimum": low, "valid_maximum": high,
+        "conversion": _conversion(src),
+        "nodata": _nodata(src),
+        "shading": shading,
+        "credit": credit,
+        "label_producer": _label(src, "PRODUCER_FULL_NAME"),
+        "label_institution": _label(src, "PRODUCER_INSTITUTION_NAME"),
+    }
 
-    The entry is all README.TXT needs, so products of earlier calls can be described
-    again from their recorded entries without re-reading them.
-    """
-    entry = _product_context(previews)
-    entry["files"] = [list(f) for f in entry["files"]]
-    entry.update(credit=credit, azimuth=f"{azimuth:g}", altitude=f"{altitude:g}",
-                 label_producer=_label([previews], "PRODUCER_FULL_NAME"),
-                 label_institution=_label([previews], "PRODUCER_INSTITUTION_NAME"))
-    return entry
+
+def is_dtm_entry(entry: Mapping[str, str]) -> bool:
+    return entry.get("kind_text") == DTM_TYPE
+
+
+def entry_files(entry: Mapping[str, str], outdir: Path) -> list[tuple[str, str, str]] | None:
+    """(name, what, size) of the entry's Extras files in OUTDIR; None if one is missing."""
+    files = []
+    for name, what in extras_file_names(entry["product_id"], is_dtm_entry(entry)):
+        size = _image_size(outdir / name)
+        if size is None:
+            return None
+        files.append((name, what, f"{size[0]} x {size[1]} pixels"))
+    return files
+
+
+def _image_size(path: Path) -> tuple[int, int] | None:
+    """Width and height from the image header (Pillow reads only the header)."""
+    if not path.is_file():
+        return None
+    try:
+        with Image.open(path) as image:
+            return image.size
+    except OSError:
+        return None
 
 
 def directory_keywords(params: Mapping[str, ParamValue]) -> dict[str, str]:
     """The README keywords this call's params give (only those given)."""
-    return {key: _param(params, key, "") for key in DIRECTORY_KEYWORDS if key in params}
+    return {key: _param(params, key) for key in DIRECTORY_KEYWORDS if key in params}
 
 
-def render_readme(entries: Sequence[Mapping[str, Any]], keywords: Mapping[str, str]) -> bytes:
-    """The README.TXT bytes for these product entries (ASCII, CR LF, <= 80 bytes a line)."""
+def keyword_defaults(entries: Sequence[Mapping[str, str]]) -> dict[str, str]:
+    """What README.TXT shows for each directory keyword nobody gave."""
+    return {"PROJECT_NAME": DEFAULT_PROJECT_NAME,
+            "PRODUCER_FULL_NAME": _first(entries, "label_producer"),
+            "PRODUCER_INSTITUTION_NAME": _first(entries, "label_institution"),
+            "TECHNICAL_CONTACT": "UNK", "RATIONALE_DESC": "", "EXTRACTION_METHOD": "",
+            "VERTICAL_PRECISION": "", "KNOWN_ARTIFACTS": DEFAULT_ARTIFACTS}
+
+
+def render_readme(entries: Sequence[Mapping[str, str]], files: Sequence[list[tuple[str, str, str]]],
+                  keywords: Mapping[str, str]) -> bytes:
+    """README.TXT bytes for these entries and their files (ASCII, CR LF, <= 80 bytes a line)."""
     env = jinja2.Environment(loader=jinja2.FileSystemLoader(templates_dir()),
                              trim_blocks=True, lstrip_blocks=True, autoescape=False,
                              undefined=jinja2.StrictUndefined, keep_trailing_newline=True)
-    light = [e for e in entries if e["is_dtm"]] or list(entries)
+    env.filters["field"] = field_line
+    # One paragraph each: README.TXT is read back, and wrapping keeps no line breaks.
+    given = {k: " ".join(v.split()) for k, v in keywords.items()}
+    shown = {**keyword_defaults(entries), **{k: v for k, v in given.items() if v}}
     text = env.get_template(TEMPLATE).render(
-        project_name=keywords.get("PROJECT_NAME", "Extras of PDS3 map products"),
-        products=entries,
-        producer=keywords.get("PRODUCER_FULL_NAME", _first(entries, "label_producer")),
-        institution=keywords.get("PRODUCER_INSTITUTION_NAME",
-                                 _first(entries, "label_institution")),
-        contact=keywords.get("TECHNICAL_CONTACT", "UNK"),
+        project_name=shown["PROJECT_NAME"],
+        products=[{**e, "files": f} for e, f in zip(entries, files, strict=True)],
+        product_id_label=PRODUCT_ID_LABEL, entry_fields=ENTRY_FIELDS, files_label=FILES_LABEL,
+        directory=[(label, shown[key]) for key, label in DIRECTORY_FIELDS if shown[key]],
         credit=_distinct(entries, "credit", "; ") or "none",
-        rationale=keywords.get("RATIONALE_DESC", ""),
-        extraction_method=keywords.get("EXTRACTION_METHOD", ""),
-        vertical_precision=keywords.get("VERTICAL_PRECISION", ""),
-        known_artifacts=keywords.get("KNOWN_ARTIFACTS", "None reported by the producer."),
+        known_artifacts=shown["KNOWN_ARTIFACTS"],
         dtm_low=f"{DTM_LOW_PERCENT:g}", dtm_high=f"{100 - DTM_HIGH_PERCENT:g}",
-        azimuth=_distinct(light, "azimuth", " or "), altitude=_distinct(light, "altitude", " or "),
         ramp=RAMP_NAME,
     )
     return plain_text_bytes(text)
 
 
-def _distinct(entries: Sequence[Mapping[str, Any]], key: str, separator: str) -> str:
+def _distinct(entries: Sequence[Mapping[str, str]], key: str, separator: str) -> str:
     """The different values of `key` among the entries, in order of first appearance."""
-    return separator.join(dict.fromkeys(str(e[key]) for e in entries if e[key]))
+    return separator.join(dict.fromkeys(str(e[key]) for e in entries if e.get(key)))
 
 
-def _first(entries: Sequence[Mapping[str, Any]], key: str) -> str:
-    return next((str(e[key]) for e in entries if e[key] not in ("", "UNK")), "UNK")
+def _first(entries: Sequence[Mapping[str, str]], key: str) -> str:
+    return next((str(e[key]) for e in entries if e.get(key) not in (None, "", "UNK")), "UNK")
 
 
 def plain_text_bytes(text: str) -> bytes:
@@ -123,47 +223,8 @@ def _wrap(line: str, width: int) -> list[str]:
     return wrapped or [line[:width]]
 
 
-def _product_context(previews: ProductPreviews) -> dict[str, Any]:
-    from . import extras_file_names  # the names are defined next to the writer
-
-    src = previews.source
-    sizes = {}
-    for p in previews.previews:
-        r = p.rendering
-        sizes[r.browse] = p.browse.size
-        sizes[r.annotated] = p.annotated.size
-        sizes[r.thumb] = p.thumb.size
-    files = []
-    for name, what in extras_file_names(previews):
-        code = name[len(src.product_id) + 1: -len(".jpg")]
-        w, h = sizes[code]
-        files.append((name, what, f"{w} x {h} pixels"))
-    low, high = _valid_range(previews)
-    return {
-        "product_id": src.product_id,
-        "kind_text": "Digital terrain model (elevations)" if src.kind == DTM else "Orthoimage",
-        "file_name": src.path.name,
-        "sources": _sources(src),
-        "width": src.width, "height": src.height, "bands": src.band_count,
-        "projection": _projection(src),
-        "spacing": _spacing(src),
-        "true_scale": (f"{_metres(previews.scale.metres_per_column / previews.grid.step_x)} "
-                       f"per product pixel along rows at the image centre (latitude "
-                       f"{previews.scale.latitude:.3f}, longitude "
-                       f"{previews.scale.longitude % 360.0:.3f} east)"),
-        "valid_minimum": low, "valid_maximum": high,
-        "conversion": _conversion(src),
-        "nodata": _nodata(src),
-        "is_dtm": src.kind == DTM,
-        "exaggeration": f"{previews.exaggeration:g}",
-        "files": files,
-    }
-
-
 def _valid_range(previews: ProductPreviews) -> tuple[str, str]:
     """The label's VALID_MINIMUM/MAXIMUM, else (for DTMs) computed over the full raster."""
-    from .decimate import valid_range
-
     src = previews.source
     if src.valid_minimum is not None and src.valid_maximum is not None:
         return _number(src.valid_minimum), _number(src.valid_maximum)
@@ -185,7 +246,9 @@ def _sources(src: ProductSource) -> str:
 
 
 def _projection(src: ProductSource) -> str:
-    mp = src.label.get("IMAGE_MAP_PROJECTION")
+    from .label_georef import projection_object
+
+    mp = projection_object(src.label)
     if mp is not None and "MAP_PROJECTION_TYPE" in mp:
         parts = [str(mp["MAP_PROJECTION_TYPE"])]
         for key, name in (("CENTER_LATITUDE", "centre latitude"),
@@ -199,24 +262,40 @@ def _projection(src: ProductSource) -> str:
     return f"{name} (from the GDAL georeferencing)"
 
 
+def _georeferencing(src: ProductSource) -> str:
+    if src.georeferencing != "label":
+        return ""
+    return ("from the label's map projection object (GDAL reads none), with the "
+            "standard PDS3 projection offset convention")
+
+
 def _spacing(src: ProductSource) -> str:
-    mp = src.label.get("IMAGE_MAP_PROJECTION")
+    from .label_georef import projection_object
+
+    mp = projection_object(src.label)
     if mp is not None and "MAP_SCALE" in mp:
         scale = mp["MAP_SCALE"]
         value, unit = getattr(scale, "value", scale), getattr(scale, "units", "")
-        return f"{value:g} {unit or 'METERS/PIXEL'} (MAP_SCALE)"
+        return f"{value:g} {unit or 'KM/PIXEL'} (MAP_SCALE)"
     unit = "degrees" if src.crs.is_geographic else "metres"
     return f"{abs(src.transform.a):.6g} x {abs(src.transform.e):.6g} {unit} per pixel"
 
 
+def _heights(src: ProductSource) -> str:
+    assert src.heights is not None
+    text = f"metres above {src.heights.datum}"
+    if src.heights.radius_removed_m is not None:
+        text += (f"; the label's OFFSET ({src.heights.radius_removed_m:.10g} m) is that "
+                 f"sphere's radius, so planetary radius = height + OFFSET")
+    return text
+
+
 def _conversion(src: ProductSource) -> str:
-    scale = src.scale
-    offset = src.offset
     if src.kind == DTM:
-        return f"elevation in metres = DN * {scale:.10g} + {offset:.10g}"
+        return f"height in metres = DN * {src.scale:.10g} + {src.offset:.10g}"
     image = src.label.get("UNCOMPRESSED_FILE", {}).get("IMAGE", src.label.get("IMAGE", {}))
     what = "I/F" if "SCALING_FACTOR" in image else "physical value"
-    return f"{what} = DN * {scale:.10g} + {offset:.10g}"
+    return f"{what} = DN * {src.scale:.10g} + {src.offset:.10g}"
 
 
 def _nodata(src: ProductSource) -> str:
@@ -237,16 +316,13 @@ def _number(value: float) -> str:
     return f"{value:.10g}"
 
 
-def _param(params: Mapping[str, ParamValue], key: str, default: str) -> str:
+def _param(params: Mapping[str, ParamValue], key: str) -> str:
     value = params.get(key)
     if value is None:
-        return default
+        return ""
     return ", ".join(value) if isinstance(value, list) else str(value)
 
 
-def _label(products: Sequence[ProductPreviews], key: str) -> str:
-    for p in products:
-        value = p.source.label.get(key)
-        if value not in (None, "", "N/A"):
-            return str(value)
-    return "UNK"
+def _label(src: ProductSource, key: str) -> str:
+    value = src.label.get(key)
+    return "" if value in (None, "", "N/A", "UNK") else " ".join(str(value).split())

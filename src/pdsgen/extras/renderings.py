@@ -17,7 +17,7 @@ from PIL import Image
 from rasterio.transform import Affine
 
 from ..errors import PdsgenError
-from .annotate import Annotation, Legend, annotate
+from .annotate import Annotation, Layout, Legend, annotate
 from .colour_ramp import RAMP_NAME, blend_with_shade, ramp_colours
 from .decimate import PreviewGrid, preview_grid, read_physical, statistics_sample
 from .ground_scale import GroundScale, ground_scale_at
@@ -28,6 +28,7 @@ from .stretch import (
     DTM_LOW_PERCENT,
     ORTHO_HIGH_PERCENT,
     ORTHO_LOW_PERCENT,
+    Stretch,
     percentile_stretch,
 )
 
@@ -48,12 +49,28 @@ class Rendering:
 
 
 DTM_RENDERINGS = (
-    Rendering("grey", "br", "ab", "th", "Elevation as grey levels (dark low, light high)"),
+    Rendering("grey", "br", "ab", "th", "Heights as grey levels (dark low, light high)"),
     Rendering("shade", "sb", "sa", "st", "Shaded relief"),
     Rendering("colour", "cb", "ca", "ct",
-              f"Colour-coded elevation ({RAMP_NAME} ramp) over shaded relief"),
+              f"Colour-coded heights ({RAMP_NAME} ramp) over shaded relief"),
 )
 ORTHO_RENDERING = Rendering("ortho", "browse", "abrowse", "thumb", "Orthoimage")
+# The full-scale quick-look JPEG 2000 of an orthoimage (see `qlook`).
+QLOOK_SUFFIX = "QLOOK.JP2"
+QLOOK_DESCRIPTION = ("Orthoimage quick look, full scale, lossy JPEG 2000, stretched as the "
+                     "browse, georeferenced (GeoJP2)")
+
+
+def extras_file_names(product_id: str, is_dtm: bool) -> list[tuple[str, str]]:
+    """(file name, what it is) of every Extras file of one product, in README order."""
+    names = []
+    for r in DTM_RENDERINGS if is_dtm else (ORTHO_RENDERING,):
+        names += [(f"{product_id}.{r.browse}.jpg", f"{r.description}, browse"),
+                  (f"{product_id}.{r.annotated}.jpg", f"{r.description}, annotated browse"),
+                  (f"{product_id}.{r.thumb}.jpg", f"{r.description}, thumbnail")]
+    if not is_dtm:
+        names.append((f"{product_id}.{QLOOK_SUFFIX}", QLOOK_DESCRIPTION))
+    return names
 
 
 @dataclass
@@ -64,6 +81,7 @@ class Preview:
     browse: Image.Image
     annotated: Image.Image
     thumb: Image.Image
+    layout: Layout            # where the annotations went in `annotated`
 
 
 @dataclass
@@ -76,6 +94,7 @@ class ProductPreviews:
     scale: GroundScale
     display_range: tuple[float, float] | None
     exaggeration: float = 1.0
+    stretches: tuple[Stretch | None, ...] = ()   # orthoimages: per band, as the browse
 
 
 def render_product(src: ProductSource, *, credit: str, browse_width: int | None,
@@ -125,20 +144,21 @@ def _render_dtm(src: ProductSource, credit: str, browse_width: int, thumb_width:
                               altitude)
     colour[~valid] = 0
 
-    legend = Legend(stretch.low, stretch.high)
+    datum = src.heights.datum if src.heights else ""
+    legend = Legend(stretch.low, stretch.high, datum)
     images = {"grey": Image.fromarray(grey, "L"), "shade": Image.fromarray(shaded, "L"),
               "colour": Image.fromarray(colour, "RGB")}
     subtitles = {
-        "grey": f"Elevation, grey levels from {stretch.low:.0f} m (dark) to "
+        "grey": f"Height above {datum}, grey levels from {stretch.low:.0f} m (dark) to "
                 f"{stretch.high:.0f} m (light)",
         "shade": f"Shaded relief, light from azimuth {azimuth:g} deg, altitude "
                  f"{altitude:g} deg{_exaggeration_text(factor)}",
-        "colour": f"Colour-coded elevation over shaded relief (light {azimuth:g}/"
+        "colour": f"Colour-coded heights over shaded relief (light {azimuth:g}/"
                   f"{altitude:g} deg{_exaggeration_text(factor)})",
     }
     previews = []
     for rendering in DTM_RENDERINGS:
-        note = Annotation(src.product_id, subtitles[rendering.key], credit,
+        note = Annotation(src.title or src.product_id, subtitles[rendering.key], credit,
                           scale.metres_per_column, scale.north_deg,
                           legend if rendering.key == "colour" else None)
         previews.append(_preview(rendering, images[rendering.key], note, thumb_width))
@@ -158,8 +178,9 @@ def _render_ortho(src: ProductSource, credit: str, browse_width: int,
         raise PdsgenError(src.path, "has no valid pixels (all no-data)")
     sample = statistics_sample(src, data, bands)
     channels = []
-    for i in range(len(bands)):
-        stretch = percentile_stretch(sample[i], ORTHO_LOW_PERCENT, ORTHO_HIGH_PERCENT)
+    stretches = tuple(percentile_stretch(sample[i], ORTHO_LOW_PERCENT, ORTHO_HIGH_PERCENT)
+                      for i in range(len(bands)))
+    for i, stretch in enumerate(stretches):
         if stretch is None:
             channels.append(np.zeros(data.shape[1:], np.uint8))
             continue
@@ -172,16 +193,16 @@ def _render_ortho(src: ProductSource, credit: str, browse_width: int,
         image = Image.fromarray(channels[0], "L")
         subtitle = "Orthoimage, linear stretch (0.1 % to black, 0.01 % to white)"
     scale = _grid_scale(src, grid)
-    note = Annotation(src.product_id, subtitle, credit, scale.metres_per_column,
+    note = Annotation(src.title or src.product_id, subtitle, credit, scale.metres_per_column,
                       scale.north_deg)
     preview = _preview(ORTHO_RENDERING, image, note, thumb_width)
-    return ProductPreviews(src, [preview], grid, scale, None)
+    return ProductPreviews(src, [preview], grid, scale, None, stretches=stretches)
 
 
 def _preview(rendering: Rendering, browse: Image.Image, note: Annotation,
              thumb_width: int) -> Preview:
-    annotated, _ = annotate(browse, note)
-    return Preview(rendering, browse, annotated, thumbnail(browse, thumb_width))
+    annotated, layout = annotate(browse, note)
+    return Preview(rendering, browse, annotated, thumbnail(browse, thumb_width), layout)
 
 
 def thumbnail(browse: Image.Image, thumb_width: int) -> Image.Image:

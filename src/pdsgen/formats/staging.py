@@ -97,15 +97,18 @@ class StagedOutputs:
                 raise OutputError(where, f"cannot write the product: {_WRITE_ERRNOS[exc.errno]}") from None
             return
         with _interruption_deferred():
-            group = _GROUP.get()
-            if group is not None:
-                group.append(self)  # published when the whole group completes
-                return
-            self._publish()
+            self._publish(_GROUP.get())
 
-    def _publish(self) -> None:
+    def _publish(self, undo: list[tuple[Path, Path | None]] | None = None) -> None:
+        """Rename the temporaries into place; inside `published_together`, record in
+        `undo` each final name and the backup of the file it replaced (if any)."""
         for final, tmp in self._temps.items():
             os.chmod(tmp, 0o644 & ~_umask())
+            if undo is not None:
+                backup = _make_temp(final) if final.exists() else None
+                if backup is not None:
+                    os.replace(final, backup)
+                undo.append((final, backup))
             os.replace(tmp, final)
             log.info("wrote %s (%d bytes)", final, final.stat().st_size)
         self._temps.clear()
@@ -149,30 +152,35 @@ def _make_temp(final: Path) -> Path:
     return Path(tmp)
 
 
-_GROUP: ContextVar[list[StagedOutputs] | None] = ContextVar("pdsgen_staged_group", default=None)
+_GROUP: ContextVar[list[tuple[Path, Path | None]] | None] = ContextVar("pdsgen_staged_group", default=None)
 
 
 @contextmanager
 def published_together() -> Iterator[None]:
-    """Hold back every StagedOutputs completed inside the block until the block completes.
+    """Make every StagedOutputs completed inside the block one set: all kept, or none.
 
     A call that writes several sets of files (Extras of several products, then the
-    README that lists them) either publishes all of them or, interrupted or failing
-    part-way, none: a half set would block the re-run (files exist, no --overwrite).
+    README that lists them) publishes each as it completes - later steps may look
+    for the files - but, interrupted or failing part-way, takes them all back and
+    restores the files they replaced: a half set would block the re-run (files
+    exist, no --overwrite).
     """
-    pending: list[StagedOutputs] = []
-    token = _GROUP.set(pending)
+    undo: list[tuple[Path, Path | None]] = []
+    token = _GROUP.set(undo)
     try:
         yield
     except BaseException:
-        for staged in pending:
-            staged._discard()
+        with _interruption_deferred():
+            for final, backup in reversed(undo):
+                final.unlink(missing_ok=True)
+                if backup is not None:
+                    os.replace(backup, final)
         raise
     finally:
         _GROUP.reset(token)
-    with _interruption_deferred():
-        for staged in pending:
-            staged._publish()
+    for _, backup in undo:
+        if backup is not None:
+            backup.unlink(missing_ok=True)
 
 
 P = ParamSpec("P")

@@ -67,6 +67,8 @@ class Mission:
     dtm_writer: Writer | str | None = None  # None: the standard float32 PDS3 DTM writer
     ortho_writer: Writer | str | None = None  # None: the standard JP2 + LBL writer
     detect: Callable[[LabelFacts], bool] | None = None  # does a label belong to this mission?
+    # What the heights of a DTM so named are above ("the Mars 2000 areoid"); Extras legends.
+    dtm_height_datum: Callable[[str], str | None] | None = None
 
     def writer(self, which: str) -> Writer | None:
         """The mission's own DTM or ortho writer ("dtm"/"ortho"), imported on first use."""

@@ -18,6 +18,7 @@ from .base import LabelFacts, Mission, ProductIdRequest
 INSTRUMENT_ID = "HIRISE"
 DATA_SET_PREFIX = "MRO-M-HIRISE"
 CREDIT = "NASA/JPL/University of Arizona"
+HEIGHT_DATUM = "the Mars 2000 areoid"  # every HiRISE DTM's heights (DTM_NOTE says so too)
 
 # HiRISE scale letters: A = 0.25 m, doubling to J = 128 m; a scale must be within 10 %.
 SCALE_LETTERS = {letter: 0.25 * 2**i for i, letter in enumerate("ABCDEFGHIJ")}
@@ -150,6 +151,11 @@ def ortho_product_id(request: ProductIdRequest) -> str:
     return ortho_id(observation, request.bands, request.geometry.map_scale, request.sequence)
 
 
+def height_datum(name: str) -> str:
+    """What a HiRISE DTM's heights are above, whatever its name."""
+    return HEIGHT_DATUM
+
+
 def is_hirise(facts: LabelFacts) -> bool:
     """A HiRISE label names the instrument (or the MRO HiRISE data set)."""
     return facts.instrument_id.upper() == INSTRUMENT_ID or facts.data_set_id.upper().startswith(DATA_SET_PREFIX)
@@ -170,4 +176,5 @@ MISSION = Mission(
     dtm_product_id=dtm_product_id,
     ortho_product_id=ortho_product_id,
     detect=is_hirise,
+    dtm_height_datum=height_datum,
 )

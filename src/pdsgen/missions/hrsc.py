@@ -31,10 +31,12 @@ DN_LIMIT = 32767  # stored heights use -32767..32767; -32768 is MISSING_DN
 NOT_APPLICABLE = -1e32  # HRSC's numeric "not applicable" value
 SPHERE_DESC = "HEIGHT ABOVE SPHEROID"
 AREOID_DESC = "HEIGHT ABOVE GM3-AREOID"
-# What the heights of each kind are above, for the IMAGE NOTE (acronyms keep their case).
+# The datums of DTM_KINDS in words (acronyms keep their case): Extras legends say "m above ...",
+# the IMAGE NOTE of each kind names the datum's source after it.
+HEIGHT_DATUMS = {"sphere": f"the {SPHERE_KM:.1f} km sphere", "areoid": "the GM3 areoid"}
 DTM_NOTE_DATUMS = {
-    "dt4": "above the 3396.0 km sphere (SPHEROID)",
-    "da4": "above the GM3 areoid (MGS-M-MOLA-5-MEGDR-L3-V1.0)",
+    "dt4": f"above {HEIGHT_DATUMS['sphere']} (SPHEROID)",
+    "da4": f"above {HEIGHT_DATUMS['areoid']} (MGS-M-MOLA-5-MEGDR-L3-V1.0)",
 }
 # DTM kinds: the datum the stored heights are above, and MEX:DTM_DESC.
 DTM_KINDS = {
@@ -131,6 +133,12 @@ def is_dtm_name(name: str) -> bool:
     return name_kind(name) in DTM_KINDS
 
 
+def height_datum(name: str) -> str | None:
+    """What an HRSC (or iMars) DTM's heights are above, from its kind (dt4, da4); None otherwise."""
+    kind = name_kind(name)
+    return HEIGHT_DATUMS[DTM_KINDS[kind][0]] if kind in DTM_KINDS else None
+
+
 def is_hrsc(facts: LabelFacts) -> bool:
     """An HRSC product: the instrument, the data set, a MEX:DTM group or a level-4 file name says so."""
     kind = name_kind(facts.file_name)
@@ -150,4 +158,5 @@ MISSION = Mission(
     dtm_writer="pdsgen.products.hrsc:write_hrsc_dtm",
     ortho_writer="pdsgen.products.hrsc:write_hrsc_nd4",
     detect=is_hrsc,
+    dtm_height_datum=height_datum,
 )

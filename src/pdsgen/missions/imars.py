@@ -8,7 +8,7 @@ HRSC's (see missions/hrsc.py), so are the sphere and the no-data DN.
 from __future__ import annotations
 
 from .base import Mission
-from .hrsc import AREOID_DESC, SPHERE_DESC
+from .hrsc import AREOID_DESC, SPHERE_DESC, height_datum
 
 CREDIT = "ESA/DLR/FU Berlin/UCL"
 INSTITUTION = "UCL MULLARD SPACE SCIENCE LABORATORY"
@@ -56,6 +56,7 @@ MISSION = Mission(
     name="imars",
     dtm_note=DTM_NOTE,
     credit=CREDIT,
+    dtm_height_datum=height_datum,  # HRSC's kinds and datums
     dtm_writer="pdsgen.products.imars:write_imars_dtm",
     ortho_writer="pdsgen.products.imars:write_imars_ori",
 )
