@@ -45,6 +45,9 @@ class _Group(click.Group):
         # rasterio warns (two lines, with its source line) on opening a raster without a
         # geotransform; pdsgen reports what that means for the product itself, in one line.
         warnings.filterwarnings("ignore", message="Dataset has no geotransform")
+        # glymur warns on import when OpenJPEG is missing; commands that need OpenJPEG say
+        # so in one line with what to install (formats.jp2.require_openjpeg).
+        warnings.filterwarnings("ignore", message="The openjp2 library")
         try:
             result = super().main(*args, **kwargs)
         except click.exceptions.NoArgsIsHelpError as exc:
