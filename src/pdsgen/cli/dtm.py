@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import click
 
+from ..pds4.model import LABEL_DIALECTS
 from ..products.dtm import DtmProduct, write_dtm
 from ..products.hrsc import HrscDtmProduct
 from ..products.imars import ImarsProduct
@@ -13,8 +14,8 @@ from ._profile_options import label_fidelity_options, profile_options, refuse_un
 
 _COMMON = {"input_path", "outdir", "product_id", "source_ids", "product_version", "params_file", "overwrite"}
 USED_BY_PROFILE = {
-    "generic": _COMMON | {"allow_deviations", "byte_order"},
-    "hirise": _COMMON | {"allow_deviations", "byte_order", "institution"},
+    "generic": _COMMON | {"allow_deviations", "byte_order", "label"},
+    "hirise": _COMMON | {"allow_deviations", "byte_order", "institution", "label"},
     "hrsc": _COMMON | {"allow_deviations", "source_labels", "offset_convention", "byte_order", "kind",
                        "vertical_datum", "areoid", "precision", "reproject"},
     "imars": _COMMON | {"kind", "vertical_datum", "areoid", "precision"},
@@ -49,14 +50,18 @@ USED_BY_PROFILE = {
 @click.option("--reproject", is_flag=True,
               help="hrsc: warp the input into the HRSC projection and sphere instead of refusing it.")
 @label_fidelity_options
+@click.option("--label", type=click.Choice(LABEL_DIALECTS), default="pds3", show_default=True,
+              help="pds3 (.IMG, attached label), pds4 (.img + .xml) or both (.IMG + a PDS4 .xml "
+                   "describing it); hrsc: pds3 or both.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 @click.pass_context
 def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, product_version,
         params_file, byte_order, kind, vertical_datum, areoid, precision, reproject, source_labels,
-        offset_convention, allow_deviations, overwrite) -> Outcome:
+        offset_convention, allow_deviations, label, overwrite) -> Outcome:
     """Convert the single-band elevation raster INPUT (any GDAL format, projected
     CRS: equirectangular, polar stereographic or sinusoidal) into a PDS3 DTM in OUTDIR:
-    <PRODUCT_ID>.IMG (float32); for --profile hrsc hOOOO_NNNN_dt4.img / _da4.img
+    <PRODUCT_ID>.IMG (float32), or with --label pds4 a PDS4 one (<PRODUCT_ID>.img + .xml);
+    for --profile hrsc hOOOO_NNNN_dt4.img / _da4.img
     (16-bit integers with MEX:DTM scaling); for --profile imars the iMars form:
     hOOOO_NNNN_da4_ucl.tif (int16 GeoTIFF), its .pvl metadata and hOOOO_NNNN.geojson."""
     refuse_unused_options(ctx, profile, USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"]))
@@ -65,7 +70,7 @@ def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, p
         "version": product_version, "overwrite": overwrite, "byte_order": byte_order, "institution": institution,
         "kind": kind, "vertical_datum": vertical_datum, "areoid": areoid, "precision": precision,
         "reproject_input": reproject, "allow_dictionary_deviations": allow_deviations or None,
-        "source_labels": source_labels, "offset_convention": offset_convention,
+        "source_labels": source_labels, "offset_convention": offset_convention, "label": label,
     }
     used = USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"])
     options = profile_options(given, used)
@@ -82,5 +87,6 @@ def _summary(product: object) -> str:
                 f"DN {product.valid_minimum} .. {product.valid_maximum} "
                 f"(x {product.encoding.scaling_factor:g} + {product.encoding.offset:g} m)")
     assert isinstance(product, DtmProduct)
-    return (f"{product.path}  {product.geometry.lines} x {product.geometry.samples}  "
+    pds4 = f"  {product.pds4_label_path.name}" if product.pds4_label_path else ""
+    return (f"{product.path}{pds4}  {product.geometry.lines} x {product.geometry.samples}  "
             f"valid {product.valid_minimum} .. {product.valid_maximum} m")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import click
 
+from ..pds4.model import LABEL_DIALECTS
 from ..products.hrsc import HrscImageProduct
 from ..products.imars import ImarsProduct
 from ..products.ortho import OrthoProduct, write_ortho
@@ -13,8 +14,8 @@ from ._profile_options import label_fidelity_options, profile_options, refuse_un
 
 _COMMON = {"input_path", "outdir", "product_id", "value_range", "params_file", "product_version", "overwrite"}
 USED_BY_PROFILE = {
-    "generic": _COMMON | {"allow_deviations", "bits", "observation_id", "source_dtm_id", "sequence", "gmljp2"},
-    "hirise": _COMMON | {"allow_deviations", "bits", "observation_id", "source_dtm_id", "sequence", "gmljp2"},
+    "generic": _COMMON | {"allow_deviations", "bits", "observation_id", "source_dtm_id", "sequence", "gmljp2", "label"},
+    "hirise": _COMMON | {"allow_deviations", "bits", "observation_id", "source_dtm_id", "sequence", "gmljp2", "label"},
     "hrsc": _COMMON | {"allow_deviations", "source_labels", "offset_convention", "bits", "source_ids", "reproject"},
     "imars": _COMMON | {"bits", "source_ids"},
 }
@@ -44,13 +45,17 @@ USED_BY_PROFILE = {
               help="hrsc/imars: source product (e.g. H1234_0000_ND3) giving orbit and sequence.")
 @click.option("--reproject", is_flag=True, help="hrsc: warp the input into the HRSC projection and sphere.")
 @label_fidelity_options
+@click.option("--label", type=click.Choice(LABEL_DIALECTS), default="pds3", show_default=True,
+              help="pds3 (.JP2 + .LBL), pds4 (.JP2 + uncompressed .img + .xml) or both; "
+                   "hrsc: pds3 or both (the nd4 .img + a PDS4 .xml describing it).")
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 @click.pass_context
 def ortho(ctx, input_path, outdir, profile, product_id, bits, value_range, observation_id, source_dtm_id,
           sequence, params_file, product_version, gmljp2, source_ids, reproject, source_labels,
-          offset_convention, allow_deviations, overwrite) -> Outcome:
+          offset_convention, allow_deviations, label, overwrite) -> Outcome:
     """Convert the 1-band (RED) or 3-band (IRB) orthoimage INPUT (any GDAL format,
-    projected CRS as for DTMs) into OUTDIR/<PRODUCT_ID>.JP2 and .LBL; for --profile
+    projected CRS as for DTMs) into OUTDIR/<PRODUCT_ID>.JP2 and .LBL (--label pds4: .JP2,
+    .img and .xml); for --profile
     hrsc the 8-bit nadir image hOOOO_NNNN_nd4.img (attached label, DN 0 = no data);
     for --profile imars hOOOO_NNNN_nd4_ucl.tif with its .pvl and footprint."""
     used = USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"])
@@ -59,7 +64,7 @@ def ortho(ctx, input_path, outdir, profile, product_id, bits, value_range, obser
         "product_id": product_id, "bits": int(bits) if bits else None, "value_range": value_range or None,
         "observation_id": observation_id, "source_dtm_id": source_dtm_id, "sequence": sequence,
         "params": params_file, "gmljp2": gmljp2, "version": product_version, "overwrite": overwrite,
-        "source_product_ids": source_ids, "reproject_input": reproject,
+        "source_product_ids": source_ids, "reproject_input": reproject, "label": label,
     }
     options = profile_options(given, used)
     product = write_ortho(input_path, outdir, profile=profile, **options)
@@ -73,5 +78,6 @@ def _summary(product: object) -> str:
     if isinstance(product, ImarsProduct):
         return f"{product.tiff_path}  {product.pvl_path.name}  {product.footprint_path.name}"
     assert isinstance(product, OrthoProduct)
-    return (f"{product.jp2_path}  {product.geometry.lines} x {product.geometry.samples} x {product.bands}  "
+    pds4 = f"  {product.pds4_label_path.name}" if product.pds4_label_path else ""
+    return (f"{product.jp2_path}{pds4}  {product.geometry.lines} x {product.geometry.samples} x {product.bands}  "
             f"{product.bits}-bit DN * {product.scaling_factor:.6g} + {product.offset:.6g}")

@@ -27,12 +27,16 @@ def _list_rules() -> str:
               help="Check label text only; do not open the data files it points to.")
 @click.option("--dictionary", "dictionaries", multiple=True, type=click.Path(dir_okay=False),
               help="Extra data dictionary (PSDD .full format) merged over the built-in one; repeatable.")
+@click.option("--schemas", "schemas", multiple=True, type=click.Path(file_okay=False),
+              help="Directory of PDS4 schemas (.xsd/.sch) for Information Model versions pdsgen does not "
+                   "ship (1O00 is shipped); repeatable.")
 @click.option("--list-rules", "list_rules", is_flag=True, help="Print the rule table and exit.")
 @click.option("--output", "-o", type=click.Path(dir_okay=False),
               help="Write the report to this file instead of standard output.")
 def validate(paths: tuple[str, ...], fmt: str, strict: bool, jobs: int, labels_only: bool,
-             dictionaries: tuple[str, ...], list_rules: bool, output: str | None) -> None:
-    """Validate PATHS (label files, or directories searched recursively).
+             dictionaries: tuple[str, ...], schemas: tuple[str, ...], list_rules: bool, output: str | None) -> None:
+    """Validate PATHS (label files, or directories searched recursively): PDS3 labels,
+    and PDS4 .xml labels (XML Schema, Schematron, and the data they describe).
 
     Exit status: 0 no errors (and no warnings with --strict), 1 problems found,
     2 usage error.
@@ -44,7 +48,7 @@ def validate(paths: tuple[str, ...], fmt: str, strict: bool, jobs: int, labels_o
         raise PdsgenError(None, "give at least one label file or directory to validate")
     progress = terminal_progress if sys.stderr.isatty() else None
     report = validate_paths(paths, strict=strict, jobs=jobs, labels_only=labels_only,
-                            progress=progress, dictionaries=dictionaries)
+                            progress=progress, dictionaries=dictionaries, schemas=schemas)
     text = render(report, fmt)
     if output:
         try:

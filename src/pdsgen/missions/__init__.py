@@ -9,8 +9,10 @@ from __future__ import annotations
 
 from . import generic, hirise, hrsc, imars
 from .base import (
+    ContextReference,
     LabelFacts,
     Mission,
+    Pds4Facts,
     ProductIdRequest,
     detect_mission,
     get_mission,
@@ -23,8 +25,10 @@ for _module in (generic, hirise, hrsc, imars):
     register_mission(_module.MISSION)
 
 __all__ = [
+    "ContextReference",
     "LabelFacts",
     "Mission",
+    "Pds4Facts",
     "ProductIdRequest",
     "detect_mission",
     "get_mission",

@@ -48,6 +48,34 @@ class LabelFacts:
 
 
 @dataclass(frozen=True)
+class ContextReference:
+    """A registered PDS4 context product a label points at: investigation, host, instrument."""
+
+    name: str
+    type: str  # Mission / Individual Investigation; Host / Instrument
+    lid: str
+    reference_type: str  # data_to_investigation, is_instrument_host, is_instrument
+
+
+@dataclass(frozen=True)
+class Pds4Facts:
+    """What a mission contributes to its PDS4 labels: the LID's bundle part and context."""
+
+    bundle: str
+    investigation: ContextReference
+    observing_system: tuple[ContextReference, ...] = ()
+    authority: str = "urn:nasa:pds"  # LID prefix of the archive holding the products (ESA: urn:esa:psa)
+
+
+# Products of no particular mission (PDS4 requires an investigation; this is PDS's "none").
+INDIVIDUAL_INVESTIGATION = Pds4Facts(
+    bundle="pdsgen",
+    investigation=ContextReference("No Specific Investigation", "Individual Investigation",
+                                   "urn:nasa:pds:context:investigation:individual.none", "data_to_investigation"),
+)
+
+
+@dataclass(frozen=True)
 class Mission:
     """One mission profile: names, keyword defaults, credit, detection and writers."""
 
@@ -69,6 +97,7 @@ class Mission:
     detect: Callable[[LabelFacts], bool] | None = None  # does a label belong to this mission?
     # What the heights of a DTM so named are above ("the Mars 2000 areoid"); Extras legends.
     dtm_height_datum: Callable[[str], str | None] | None = None
+    pds4: Pds4Facts = INDIVIDUAL_INVESTIGATION  # context of the standard products' PDS4 labels
 
     def writer(self, which: str) -> Writer | None:
         """The mission's own DTM or ortho writer ("dtm"/"ortho"), imported on first use."""

@@ -13,7 +13,7 @@ import re
 
 from ..errors import PdsgenError
 from ..geo.geometry import EQUIRECTANGULAR, POLAR_STEREOGRAPHIC
-from .base import LabelFacts, Mission, ProductIdRequest
+from .base import ContextReference, LabelFacts, Mission, Pds4Facts, ProductIdRequest
 
 INSTRUMENT_ID = "HIRISE"
 DATA_SET_PREFIX = "MRO-M-HIRISE"
@@ -161,6 +161,20 @@ def is_hirise(facts: LabelFacts) -> bool:
     return facts.instrument_id.upper() == INSTRUMENT_ID or facts.data_set_id.upper().startswith(DATA_SET_PREFIX)
 
 
+# PDS4: the mro_hirise bundle and the registered MRO and HiRISE context products.
+PDS4 = Pds4Facts(
+    bundle="mro_hirise",
+    investigation=ContextReference(
+        "Mars Reconnaissance Orbiter", "Mission",
+        "urn:nasa:pds:context:investigation:mission.mars_reconnaissance_orbiter", "data_to_investigation"),
+    observing_system=(
+        ContextReference("Mars Reconnaissance Orbiter", "Host",
+                         "urn:nasa:pds:context:instrument_host:spacecraft.mro", "is_instrument_host"),
+        ContextReference("High Resolution Imaging Science Experiment", "Instrument",
+                         "urn:nasa:pds:context:instrument:mro.hirise", "is_instrument"),
+    ),
+)
+
 MISSION = Mission(
     name="hirise",
     dtm_keywords=KEYWORDS,
@@ -177,4 +191,5 @@ MISSION = Mission(
     ortho_product_id=ortho_product_id,
     detect=is_hirise,
     dtm_height_datum=height_datum,
+    pds4=PDS4,
 )

@@ -16,7 +16,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from ..errors import PdsgenError
-from .base import LabelFacts, Mission
+from .base import ContextReference, LabelFacts, Mission, Pds4Facts
 
 INSTRUMENT_ID = "HRSC"
 DATA_SET_PREFIX = "MEX-M-HRSC"
@@ -150,6 +150,21 @@ def is_hrsc(facts: LabelFacts) -> bool:
     )
 
 
+# PDS4 (ESA's PSA holds Mars Express in PDS4): the mex_hrsc bundle and the registered
+# Mars Express and HRSC context products.
+PDS4 = Pds4Facts(
+    bundle="mex_hrsc",
+    authority="urn:esa:psa",
+    investigation=ContextReference("Mars Express", "Mission",
+                                   "urn:esa:psa:context:investigation:mission.mex", "data_to_investigation"),
+    observing_system=(
+        ContextReference("Mars Express", "Host", "urn:esa:psa:context:instrument_host:spacecraft.mex",
+                         "is_instrument_host"),
+        ContextReference("High Resolution Stereo Camera", "Instrument",
+                         "urn:esa:psa:context:instrument:mex.hrsc", "is_instrument"),
+    ),
+)
+
 MISSION = Mission(
     name="hrsc",
     dtm_keywords=KEYWORDS,
@@ -159,4 +174,5 @@ MISSION = Mission(
     ortho_writer="pdsgen.products.hrsc:write_hrsc_nd4",
     detect=is_hrsc,
     dtm_height_datum=height_datum,
+    pds4=PDS4,
 )

@@ -30,6 +30,8 @@ from ..label.grammar import sample_type
 from ..label.render import RecordLayout, render_label, settle_attached_label
 from ..label.values import Based, Fixed, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
+from ..pds4.model import check_label_dialect
+from ..pds4.products import ProductDescription, float32_dtm, write_image_pds4_label, write_pds4_dtm
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords, source_id_values
@@ -47,14 +49,15 @@ class DtmProduct:
     geometry: MapGeometry
     valid_minimum: float
     valid_maximum: float
-    records: RecordLayout
-    label_text: str
+    records: RecordLayout  # label_records 0: a raw PDS4 array file
+    label_text: str  # the PDS3 label, or the PDS4 label of a PDS4-only product
+    pds4_label_path: Path | None = None
     warnings: tuple[str, ...] = ()  # dictionary deviations kept (--allow-dictionary-deviations)
 
     @property
     def files(self) -> tuple[Path, ...]:
         """Every file this product wrote."""
-        return (self.path,)
+        return (self.path,) + ((self.pds4_label_path,) if self.pds4_label_path else ())
 
 
 def write_dtm(
@@ -90,12 +93,18 @@ def write_pds3_dtm(
     institution: str | None = None,
     version: str = "1.0",
     overwrite: bool = False,
+    label: str = "pds3",
     allow_dictionary_deviations: bool | None = None,
 ) -> DtmProduct:
-    """Convert a single-band elevation raster into `OUTDIR/<PRODUCT_ID>.IMG` (float32)."""
+    """Convert a single-band elevation raster into `OUTDIR/<PRODUCT_ID>.IMG` (float32).
+
+    label: "pds3" the .IMG with its attached label; "pds4" `<PRODUCT_ID>.img` (raw samples)
+    + `<PRODUCT_ID>.xml`; "both" the PDS3 .IMG and a PDS4 `.xml` describing that same file.
+    """
     byte_order = byte_order or "lsb"
     if byte_order not in BYTE_ORDERS:
         raise PdsgenError(None, f"byte order must be one of {', '.join(BYTE_ORDERS)}")
+    check_label_dialect(label)
     chosen = mission
     version = check_version(version)
     keywords = resolve_params(params)
@@ -143,17 +152,32 @@ def write_pds3_dtm(
                 raise PdsgenError(input_path, "has no valid pixels (all nodata)")
             return stats
 
-        final = prepare_output_dir(outdir) / f"{product_id}.IMG"
-        # Refuse before the data pass what the final label would be refused for.
-        _, provisional = settle_attached_label(
-            lambda records: render(records, BandStatistics(0, 0.0, 0.0)), dataset.width * 4, dataset.height
-        )
-        check_label(provisional, final.name, allow_deviations=allow)
-        with StagedOutputs([final], overwrite) as staged:
-            records, text, stats = write_attached_product(
-                staged.path(final), render, dataset.width * 4, dataset.height, write_data
+        outdir = prepare_output_dir(outdir)
+        description = ProductDescription(product_id, chosen, version, ident, geometry, dataset)
+        big_endian = byte_order == "msb"
+        xml_final = outdir / f"{product_id}.xml"
+        warnings: tuple[str, ...] = ()
+        if label == "pds4":
+            final = outdir / f"{product_id}.img"
+            with StagedOutputs([final, xml_final], overwrite) as staged:
+                stats, pds4 = write_pds4_dtm(description, staged.path(final), staged.path(xml_final), final.name,
+                                             big_endian)
+            records, text = RecordLayout(dataset.width * 4, 0, dataset.height), pds4.text
+        else:
+            final = outdir / f"{product_id}.IMG"
+            # Refuse before the data pass what the final label would be refused for.
+            _, provisional = settle_attached_label(
+                lambda records: render(records, BandStatistics(0, 0.0, 0.0)), dataset.width * 4, dataset.height
             )
-            warnings = check_label(text, final.name, allow_deviations=allow)
+            check_label(provisional, final.name, allow_deviations=allow)
+            with StagedOutputs([final] + ([xml_final] if label == "both" else []), overwrite) as staged:
+                records, text, stats = write_attached_product(
+                    staged.path(final), render, dataset.width * 4, dataset.height, write_data
+                )
+                warnings = check_label(text, final.name, allow_deviations=allow)
+                if label == "both":
+                    write_image_pds4_label(description, staged.path(xml_final), staged.path(final), final.name,
+                                           float32_dtm(big_endian), records.label_bytes)
     return DtmProduct(
         product_id=product_id,
         path=final,
@@ -162,6 +186,7 @@ def write_pds3_dtm(
         valid_maximum=stats.maximum,
         records=records,
         label_text=text,
+        pds4_label_path=xml_final if label != "pds3" else None,
         warnings=warnings,
     )
 

@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import logging
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
+from contextlib import ExitStack
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -41,6 +42,9 @@ from ..geo.geometry import MapGeometry, describe_geometry
 from ..label.render import render_label
 from ..label.values import Based, Quantity, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
+from ..pds4.content import digest_file
+from ..pds4.model import check_label_dialect
+from ..pds4.products import ArrayRowTap, ProductDescription, ortho_label_text
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords, source_id_values
@@ -61,13 +65,15 @@ class OrthoProduct:
     offset: float
     bits: int
     bands: int
-    label_text: str
+    label_text: str  # the PDS3 label, or the PDS4 label of a PDS4-only product
+    pds4_label_path: Path | None = None  # with the uncompressed primary array beside it (.img)
     warnings: tuple[str, ...] = ()  # dictionary deviations kept (--allow-dictionary-deviations)
 
     @property
     def files(self) -> tuple[Path, ...]:
         """Every file this product wrote."""
-        return (self.jp2_path, self.label_path)
+        pds4 = (self.pds4_label_path.with_suffix(".img"), self.pds4_label_path) if self.pds4_label_path else ()
+        return tuple(dict.fromkeys((self.jp2_path, self.label_path, *pds4)))
 
 
 # Band names of 1- and 3-band orthoimages, as HiRISE labels write them.
@@ -116,6 +122,7 @@ def write_jp2_ortho(
     gmljp2: bool = False,
     version: str = "1.0",
     overwrite: bool = False,
+    label: str = "pds3",
     allow_dictionary_deviations: bool | None = None,
     threads: int | None = None,
 ) -> OrthoProduct:
@@ -123,7 +130,11 @@ def write_jp2_ortho(
 
     `threads` limits how many cores the JPEG 2000 encoder uses (default: all).
     The directory's JP2INFO.TXT gets this JP2's encoding facts.
+    label "pds4" writes the PDS4 form instead of the .LBL: the uncompressed DNs as the
+    primary array `<PRODUCT_ID>.img`, the JP2 as a supplemental Encoded_Image, and
+    `<PRODUCT_ID>.xml`; "both" writes the .LBL and the PDS4 form.
     """
+    check_label_dialect(label)
     if bits is not None and bits not in BIT_DEPTHS:
         raise PdsgenError(None, f"--bits must be one of {', '.join(map(str, BIT_DEPTHS))}, not {bits}")
     chosen = mission
@@ -149,6 +160,7 @@ def write_jp2_ortho(
         ))
         outdir = prepare_output_dir(outdir)
         jp2_final, label_final = outdir / f"{product_id}.JP2", outdir / f"{product_id}.LBL"
+        img_final, xml_final = outdir / f"{product_id}.img", outdir / f"{product_id}.xml"
         text = render_label("ortho.lbl.j2", _label_context(
             chosen, product_id, ident, sources, geometry, dataset.count, mapping, jp2_final.name,
         ))
@@ -157,15 +169,29 @@ def write_jp2_ortho(
         if gmljp2:
             boxes.append(gmljp2_box(dataset.crs, dataset.transform, dataset.height, dataset.width))
         info_final = outdir / JP2INFO_NAME
-        with StagedOutputs([jp2_final, label_final], overwrite, shared=[info_final]) as staged:
+        finals = [jp2_final] + ([label_final] if label != "pds4" else []) + (
+            [img_final, xml_final] if label != "pds3" else [])
+        with StagedOutputs(finals, overwrite, shared=[info_final]) as staged, ExitStack() as files:
             reader = _TileRowReader(dataset, mapping, str(input_path))
+            rows: Callable[[int, int], np.ndarray] = reader
+            if label != "pds3":  # the same DNs also go, uncompressed, into the PDS4 primary array
+                rows = ArrayRowTap(reader, files.enter_context(open(staged.path(img_final), "wb")), mapping.special)
             settings = write_jp2(
                 staged.path(jp2_final), dataset.height, dataset.width, dataset.count,
-                mapping.special.bits, reader, boxes, threads=threads,
+                mapping.special.bits, rows, boxes, threads=threads,
             )
             if not reader.any_valid:
                 raise PdsgenError(input_path, "has no valid pixels (all nodata)")
-            staged.path(label_final).write_bytes(text.encode("ascii"))
+            files.close()
+            if label != "pds4":
+                staged.path(label_final).write_bytes(text.encode("ascii"))
+            if isinstance(rows, ArrayRowTap):
+                description = ProductDescription(product_id, chosen, version, ident, geometry, dataset)
+                pds4_text = ortho_label_text(description, img_final.name, rows, jp2_final.name,
+                                             digest_file(staged.path(jp2_final)), mapping.scaling_factor,
+                                             mapping.offset)
+                staged.path(xml_final).write_text(pds4_text, encoding="utf-8")
+                text = pds4_text if label == "pds4" else text
             entry = describe_jp2(jp2_final.name, settings, dataset.height, dataset.width, dataset.count,
                                  mapping.special.bits, ["GeoJP2", "GMLJP2"][:len(boxes)])
             previous = info_final.read_text("ascii", "replace") if info_final.is_file() else None
@@ -173,13 +199,14 @@ def write_jp2_ortho(
     return OrthoProduct(
         product_id=product_id,
         jp2_path=jp2_final,
-        label_path=label_final,
+        label_path=xml_final if label == "pds4" else label_final,
         geometry=geometry,
         scaling_factor=mapping.scaling_factor,
         offset=mapping.offset,
         bits=bits,
         bands=dataset.count,
         label_text=text,
+        pds4_label_path=xml_final if label != "pds3" else None,
         warnings=warnings,
     )
 

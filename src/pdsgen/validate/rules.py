@@ -18,6 +18,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
+from ..pds4.rules import RULES as PDS4_RULES
 from . import file_rules as F
 from . import image_rules as I
 from . import map_rules as M
@@ -26,7 +27,7 @@ from . import syntax_rules as S
 from .context import FileContext
 from .model import Finding, Hit
 
-FAMILIES = ("FILE", "SYNTAX", "DICT", "PTR", "REC", "IMG", "MAP", "GEO", "HRSC", "SET", "IMARS")
+FAMILIES = ("FILE", "SYNTAX", "DICT", "PTR", "REC", "IMG", "MAP", "GEO", "HRSC", "SET", "IMARS", "PDS4")
 
 
 @dataclass(frozen=True)
@@ -221,6 +222,8 @@ def _table() -> list[Rule]:
              set_check=T.check_extras),
         Rule("SET-005", "warning", "a product label describes data: a data pointer or an OBJECT "
              "(*.FMT/*.CAT and labels others include are exempt)", None, set_check=T.check_describes_data),
+        # PDS4 labels are checked by pdsgen.pds4 (the runner hands them over); listed here for --list-rules
+        *(Rule(r.id, r.severity, r.summary, None, target="pds4") for r in PDS4_RULES),
     ]
 
 

@@ -17,6 +17,7 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 from ..errors import PdsgenError
+from ..pds4 import validate as pds4
 from .context import FileContext
 from .dictionary import load as load_dictionary
 from .imars_context import ImarsContext, is_imars_metadata
@@ -32,7 +33,7 @@ _SNIFF = (b"PDS_VERSION_ID", b"CCSD3")
 def is_label_file(path: Path) -> bool:
     """Detached labels by name, iMars metadata files (`*_ucl.pvl`); other files only if
     they start with a PDS3 label."""
-    if path.suffix.lower() in LABEL_SUFFIXES or is_imars_metadata(path):
+    if path.suffix.lower() in LABEL_SUFFIXES or is_imars_metadata(path) or pds4.is_pds4_label(path):
         return True
     try:
         with open(path, "rb") as fh:
@@ -84,9 +85,11 @@ def discover(paths: Iterable[str | os.PathLike[str]]) -> list[Path]:
     return list(dict.fromkeys(found))  # a file named twice (itself and in its directory) once
 
 
-def validate_file(path: Path, labels_only: bool = False, dictionaries: tuple[str, ...] = ()
-                  ) -> tuple[FileReport, Summary | None]:
+def validate_file(path: Path, labels_only: bool = False, dictionaries: tuple[str, ...] = (),
+                  schemas: tuple[str, ...] = ()) -> tuple[FileReport, Summary | None]:
     """All per-file rules on one file: PDS3 label rules, or IMARS rules for iMars metadata."""
+    if pds4.is_pds4_label(path):  # PDS4 hook: pdsgen.pds4 checks it and returns Findings
+        return FileReport(str(path), pds4.validate_label(path, schemas, labels_only)), None
     imars = is_imars_metadata(path)
     try:
         ctx = ImarsContext(path, labels_only) if imars else FileContext(
@@ -124,8 +127,8 @@ def _run_rules(ctx: FileContext | ImarsContext, path: Path, target: str, labels_
     return findings
 
 
-def _one(args: tuple[str, bool, tuple[str, ...]]) -> tuple[FileReport, Summary | None]:
-    return validate_file(Path(args[0]), args[1], args[2])
+def _one(args: tuple[str, bool, tuple[str, ...], tuple[str, ...]]) -> tuple[FileReport, Summary | None]:
+    return validate_file(Path(args[0]), args[1], args[2], args[3])
 
 
 def validate_paths(
@@ -135,6 +138,7 @@ def validate_paths(
     labels_only: bool = False,
     progress: Callable[[int, int], None] | None = None,
     dictionaries: Iterable[str | os.PathLike[str]] = (),
+    schemas: Iterable[str | os.PathLike[str]] = (),
 ) -> Report:
     """Validate label files and directories of them; the API behind `pdsgen validate`.
 
@@ -143,6 +147,7 @@ def validate_paths(
     strict makes warnings fail the run too. labels_only skips every rule that opens the
     data files (data existence, file sizes, statistics, JP2), for label-only checks.
     dictionaries are extra data dictionaries (PSDD `.full` format) merged over the built-in one.
+    schemas are directories of PDS4 schemas (.xsd/.sch) added to the shipped ones.
     """
     extra = tuple(str(d) for d in dictionaries)
     for d in extra:
@@ -153,12 +158,13 @@ def validate_paths(
             raise PdsgenError(d, reason)
     if extra:
         load_dictionary(extra)  # refuses a file that is not a PSDD dictionary; cached for this process
+    schema_dirs = pds4.check_schema_dirs(schemas)
     paths = list(paths)
     files = discover(paths)
     if not files:  # a CI job pointed at the wrong directory must not pass
         raise PdsgenError(None, "no PDS3 labels found under " + ", ".join(os.fspath(p) for p in paths))
     results: list[tuple[FileReport, Summary | None]] = []
-    work = [(str(p), labels_only, extra) for p in files]
+    work = [(str(p), labels_only, extra, schema_dirs) for p in files]
     if jobs > 1 and len(files) > 1:
         with ProcessPoolExecutor(max_workers=jobs) as pool:
             for i, result in enumerate(pool.map(_one, work, chunksize=max(1, len(work) // (jobs * 8)))):
@@ -171,6 +177,7 @@ def validate_paths(
             if progress:
                 progress(i + 1, len(files))
     reports = [r for r, _ in results]
+    pds4.add_run_notes(reports)  # PDS4 hook: one note when Schematron could not run
     summaries = [s for _, s in results if s is not None]
     by_path = {r.path: r for r in reports}
     for rule in rules().values():

@@ -1,0 +1,12 @@
+"""PDS4: the second label dialect over the same geometry, statistics and data writers.
+
+Writing (`--label pds4|both`): `products` (DTM and orthoimage labels and the data taps),
+`label` (cart: values, template rendering), `context` (investigation, instruments,
+target), `content` (MD5, size and statistics taken while writing), for the Information
+Model in `model.CURRENT_IM` (1O00 = 1.24.0.0), from `templates/pds4/`.
+
+Validating (`pdsgen validate`): `validate` (entry points and the schema checks), `catalog`
+(schema URLs -> local files: shipped `schemas/pds4/` and `--schemas DIR`), `xsd` (lxml),
+`schematron` (Saxon, optional), `data_checks` and `cart_checks` (the label against its
+data), `rules` (the PDS4 rule ids), `label_tree` (what the checks share).
+"""

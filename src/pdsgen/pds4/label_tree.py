@@ -1,0 +1,70 @@
+"""What the PDS4 checks share: the report they add findings to, and reading label values.
+
+Values are read in the units the checks compute in (metres, metres per pixel,
+degrees), whatever unit attribute the label gives.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from pathlib import Path
+
+from lxml import etree
+
+from ..validate.model import Finding
+from .model import CART_NS, PDS_NS
+from .rules import RULES
+
+P = f"{{{PDS_NS}}}"
+C = f"{{{CART_NS}}}"
+SEVERITY = {rule.id: rule.severity for rule in RULES}
+
+
+class Report:
+    """The findings of one PDS4 label."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self.findings: list[Finding] = []
+
+    def add(self, rule: str, message: str, line: int | None = None, keyword: str | None = None,
+            severity: str | None = None) -> None:
+        self.findings.append(Finding(rule, severity or SEVERITY[rule], str(self.path), message, line, keyword))
+
+
+
+def file_areas(tree: etree._ElementTree) -> Iterator[etree._Element]:
+    for area in tree.getroot():
+        if isinstance(area.tag, str) and area.tag.startswith(f"{P}File_Area"):
+            yield area
+
+
+# Units a label may state, to metres, metres per pixel, degrees (the PDS4 unit classes we read).
+_UNITS = {"m": 1.0, "km": 1000.0, "cm": 0.01, "mm": 0.001, "m/pixel": 1.0, "km/pixel": 1000.0,
+          "mm/pixel": 0.001, "deg": 1.0, "rad": 180.0 / math.pi, "mrad": 0.18 / math.pi}
+
+
+def number(element: etree._Element | None, path: str) -> float | None:
+    """A numeric element's value in metres / metres per pixel / degrees (per its unit attribute)."""
+    found = element.find(path) if element is not None else None
+    if found is None or found.text is None:
+        return None
+    try:
+        value = float(found.text)
+    except ValueError:
+        return None
+    return value * _UNITS.get(found.get("unit", ""), 1.0)
+
+
+def data_path(report: Report, area: etree._Element, report_missing: bool = True) -> Path | None:
+    file = area.find(f"{P}File")
+    name = file.findtext(f"{P}file_name") if file is not None else None
+    if not name:
+        return None
+    path = report.path.parent / name
+    if not path.is_file():
+        if report_missing:
+            report.add("PDS4-010", f"data file {name} not found beside the label", file.sourceline, "file_name")
+        return None
+    return path

@@ -1,0 +1,40 @@
+"""The PDS4 rule ids, severities and summaries (listed by `pdsgen validate --list-rules`).
+
+Ids never change meaning once published. The checks live in `validate.py`; this module
+imports nothing, so the PDS3 rule table can list these without importing the checks.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Pds4Rule:
+    id: str
+    severity: str
+    summary: str
+
+
+RULES = (
+    Pds4Rule("PDS4-001", "error", "a PDS4 label is well-formed XML with a Product_* root"),
+    Pds4Rule("PDS4-002", "warning", "the schemas of the label's Information Model version are available "
+                                    "(shipped or --schemas); otherwise schema checks are skipped"),
+    Pds4Rule("PDS4-003", "error", "every schema import resolves offline (none silently skipped)"),
+    Pds4Rule("PDS4-004", "error", "the label is valid against its XML Schemas"),
+    Pds4Rule("PDS4-005", "error", "the label passes its Schematron rules (role error)"),
+    Pds4Rule("PDS4-006", "warning", "the label passes its Schematron rules (role warning)"),
+    Pds4Rule("PDS4-007", "warning", "Schematron ran (needs saxonche: pip install pdsgen[pds4])"),
+    Pds4Rule("PDS4-010", "error", "every File named by the label exists beside it"),
+    Pds4Rule("PDS4-011", "error", "file_size equals the size of the file"),
+    Pds4Rule("PDS4-012", "error", "md5_checksum equals the MD5 of the file"),
+    Pds4Rule("PDS4-013", "error", "each array fits in its file (offset + elements x sample size)"),
+    Pds4Rule("PDS4-020", "error", "Object_Statistics minimum and maximum equal the valid samples' extremes"),
+    Pds4Rule("PDS4-021", "warning", "Object_Statistics mean and standard_deviation match the valid samples"),
+    Pds4Rule("PDS4-022", "error", "samples in the ISIS special-pixel range are declared Special_Constants"),
+    Pds4Rule("PDS4-023", "error", "each special constant can be stored in the array's data type"),
+    Pds4Rule("PDS4-030", "error", "cart: pixel_scale agrees with pixel_resolution and the body radius"),
+    Pds4Rule("PDS4-031", "error", "cart: bounding coordinates agree with Geo_Transformation within half a pixel"),
+    Pds4Rule("PDS4-032", "error", "cart: map_projection_name has the parameter block of that projection"),
+    Pds4Rule("PDS4-040", "error", "an Encoded_Image JP2's GeoJP2 box agrees with cart: Geo_Transformation"),
+)

@@ -1,0 +1,205 @@
+"""Schematron (ISO, queryBinding xslt2) for PDS4 labels, run by Saxon-HE (`saxonche`).
+
+PDS4 Schematron files use a small part of ISO Schematron: `ns`, `pattern`, `rule`
+(context), `let`, `assert` (test, role) and `value-of` in messages. We translate
+them into one XSLT 3.0 stylesheet ourselves, compile it once per set of files and
+reuse the compiled stylesheet for every label (compiling is the expensive part).
+
+Semantics kept from Schematron: within a pattern a node is handled by the first
+rule whose context matches it (later rules of that pattern skip it); patterns are
+independent; a pattern's own `let`s are evaluated at the document root.
+
+Saxon is optional (`pip install pdsgen[pds4]`); `available()` says whether it is here.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+from lxml import etree
+
+from .model import SCHEMATRON_NS
+
+_XSL = "http://www.w3.org/1999/XSL/Transform"
+_S = f"{{{SCHEMATRON_NS}}}"
+_X = f"{{{_XSL}}}"
+_REPORT_NS = "urn:pdsgen:schematron-report"
+
+
+@dataclass(frozen=True)
+class SchematronFailure:
+    """One failed assertion: its role (error/warning), message and where (an XPath)."""
+
+    role: str
+    message: str
+    location: str
+    rule_context: str
+
+
+def available() -> bool:
+    try:
+        import saxonche  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def compile_to_xslt(schematron_files: list[Path]) -> str:
+    """One XSLT 3.0 stylesheet that reports every failed assertion of all the files.
+
+    One pass over the label: every element and attribute is matched against templates
+    (Saxon indexes match patterns by name, so each node meets only the rules that can
+    fire on it). Each rule is a template, in Schematron order by priority; it checks,
+    then hands the node on with `xsl:next-match` so rules of other patterns see it too,
+    carrying the patterns already fired so a pattern's later rules skip it.
+    """
+    namespaces: dict[str, str] = {}
+    parts: list[etree._Element] = []
+    rules = 0
+    patterns = []
+    for path in schematron_files:
+        root = etree.parse(str(path)).getroot()
+        for ns in root.iter(f"{_S}ns"):
+            namespaces[ns.get("prefix")] = ns.get("uri")
+        patterns.extend(root.iter(f"{_S}pattern"))
+    total = sum(len(list(p.iter(f"{_S}rule"))) for p in patterns)
+    for number, pattern in enumerate(patterns):
+        renames = {let.get("name"): f"p{number}_{let.get('name')}" for let in pattern.iterchildren(f"{_S}let")}
+        for let in pattern.iterchildren(f"{_S}let"):  # pattern variables: global, at the document root
+            parts.append(etree.Element(f"{_X}variable", name=renames[let.get("name")],
+                                       select=_renamed(let.get("value"), renames)))
+        for rule in pattern.iter(f"{_S}rule"):
+            if rule.get("context"):
+                parts.append(_rule_template(rule, number, total - rules, renames))
+                rules += 1
+    nsmap = {"xsl": _XSL, "r": _REPORT_NS, **namespaces}
+    sheet = etree.Element(f"{_X}stylesheet", nsmap=nsmap, version="3.0",
+                          attrib={"exclude-result-prefixes": " ".join(p for p in nsmap if p != "r")})
+    etree.SubElement(sheet, f"{_X}output", method="xml", indent="no")
+    etree.SubElement(sheet, f"{_X}mode", name="check", attrib={"on-no-match": "deep-skip"})
+    start = etree.SubElement(sheet, f"{_X}template", match="/")
+    report = etree.SubElement(start, f"{{{_REPORT_NS}}}report")
+    etree.SubElement(report, f"{_X}apply-templates", select="//(*|@*)", mode="check")
+    sheet.extend(parts)
+    return etree.tostring(sheet, encoding="unicode")
+
+
+def _renamed(expression: str | None, renames: dict[str, str]) -> str:
+    """An XPath expression with the pattern's variables under their global names."""
+    text = expression or "()"
+    for old, new in renames.items():
+        text = re.sub(rf"\${re.escape(old)}(?![\w.-])", f"${new}", text)
+    return text
+
+
+def _rule_template(rule: etree._Element, pattern: int, priority: int, renames: dict[str, str]) -> etree._Element:
+    context = rule.get("context", "")
+    template = etree.Element(f"{_X}template", match=context, mode="check", priority=str(priority))
+    etree.SubElement(template, f"{_X}param", name="fired", select="()", tunnel="yes")
+    check = etree.SubElement(template, f"{_X}if", test=f"not({pattern} = $fired)")
+    for let in rule.iter(f"{_S}let"):
+        etree.SubElement(check, f"{_X}variable", name=let.get("name"), select=_renamed(let.get("value"), renames))
+    for assertion in rule.iterchildren(f"{_S}assert", f"{_S}report"):
+        check.append(_assertion(assertion, context, renames))
+    handed_on = etree.SubElement(template, f"{_X}next-match")
+    etree.SubElement(handed_on, f"{_X}with-param", name="fired", select=f"($fired, {pattern})", tunnel="yes")
+    return template
+
+
+def _assertion(assertion: etree._Element, context: str, renames: dict[str, str]) -> etree._Element:
+    """An `assert` fires when its test is false, a `report` when it is true (default role:
+    error for asserts, warning for reports)."""
+    test = _renamed(assertion.get("test"), renames)
+    is_report = assertion.tag == f"{_S}report"
+    check = etree.Element(f"{_X}if", test=test if is_report else f"not({test})")
+    default_role = "warning" if is_report else "error"
+    failure = etree.SubElement(check, f"{{{_REPORT_NS}}}failed",
+                               role=(assertion.get("role") or default_role).lower(), context=context)
+    etree.SubElement(failure, f"{_X}attribute", name="location", select="path()")
+    text = etree.SubElement(failure, f"{_X}text")
+    text.text = assertion.text or ""
+    for child in assertion:
+        if child.tag == f"{_S}value-of":
+            etree.SubElement(failure, f"{_X}value-of", select=_renamed(child.get("select"), renames))
+        elif child.tag == f"{_S}name":
+            etree.SubElement(failure, f"{_X}value-of", select=f"name({child.get('path') or '.'})")
+        # other children (PDS puts a <title> in each assert) are not part of the message
+        tail = etree.SubElement(failure, f"{_X}text")
+        tail.text = child.tail or ""
+    return check
+
+
+class Schematron:
+    """Compiled Schematron for one set of .sch files, reusable for many labels."""
+
+    def __init__(self, schematron_files: list[Path]) -> None:
+        from saxonche import PySaxonApiError
+
+        self._processor = _processor()
+        compiler = self._processor.new_xslt30_processor()
+        try:
+            self._executable = compiler.compile_stylesheet(stylesheet_text=compile_to_xslt(schematron_files))
+        except PySaxonApiError as exc:
+            names = ", ".join(p.name for p in schematron_files)
+            raise RuntimeError(f"Schematron {names} does not compile: {exc}") from None
+
+    def check(self, label_text: str) -> list[SchematronFailure]:
+        """Failed assertions of one label (its text, as UTF-8 XML)."""
+        node = self._processor.parse_xml(xml_text=label_text)
+        result = self._executable.transform_to_string(xdm_node=node)
+        report = etree.fromstring(result.encode("utf-8"))
+        return [
+            SchematronFailure(f.get("role", "error"), " ".join((f.text or "").split()),
+                              f.get("location", ""), f.get("context", ""))
+            for f in report.iter(f"{{{_REPORT_NS}}}failed")
+        ]
+
+
+_PROCESSORS: dict[int, object] = {}
+_COMPILED: dict[tuple, Schematron] = {}
+
+
+def _processor():  # noqa: ANN202 - saxonche ships no type information
+    """One Saxon processor per process (a forked worker must not reuse its parent's)."""
+    from saxonche import PySaxonProcessor
+
+    pid = os.getpid()
+    if pid not in _PROCESSORS:
+        _PROCESSORS.clear()
+        _COMPILED.clear()
+        _PROCESSORS[pid] = PySaxonProcessor(license=False)
+    return _PROCESSORS[pid]
+
+
+def compiled(schematron_files: list[Path]) -> Schematron:
+    """The compiled Schematron for these files, compiled once per process."""
+    _processor()
+    key = tuple(str(p) for p in schematron_files)
+    if key not in _COMPILED:
+        _COMPILED[key] = Schematron(schematron_files)
+    return _COMPILED[key]
+
+
+# One step of an XPath 3.1 `path()`: /Q{uri}local[n] for elements (URIs hold slashes), else /@attr etc.
+_STEP = re.compile(r"/(?:Q\{(?P<uri>[^}]*)\}(?P<local>[^/\[]+)\[(?P<n>\d+)\]|(?P<other>[^/]*))")
+
+
+def location_line(tree: etree._ElementTree, location: str) -> int | None:
+    """Source line of the element a Saxon `path()` names (an attribute: its element)."""
+    element: etree._Element | None = None
+    for match in _STEP.finditer(location):
+        if match["local"] is None:  # an attribute or text step: report the element holding it
+            break
+        tag = f"{{{match['uri']}}}{match['local']}" if match["uri"] else match["local"]
+        if element is None:
+            candidates = [tree.getroot()] if tree.getroot().tag == tag else []
+        else:
+            candidates = [child for child in element if child.tag == tag]
+        index = int(match["n"]) - 1
+        if index >= len(candidates):
+            break
+        element = candidates[index]
+    return element.sourceline if element is not None else None

@@ -1,0 +1,173 @@
+"""Validate one PDS4 label offline: XML Schema, Schematron, and the label against its data.
+
+Order: parse -> find the schemas it names in the catalog (shipped + `--schemas`)
+-> XML Schema (lxml) -> Schematron (Saxon, when installed) -> content checks
+(file size, MD5, array statistics, special constants, cartography against the
+georeferencing). Every problem is a Finding with a PDS4-nnn rule id; nothing a
+label holds can raise out of here.
+
+The content checks compute independently of the writer: they read the data file
+with numpy and project with the validator's own closed-form sphere formulas.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from collections.abc import Callable, Iterable
+from pathlib import Path
+
+from lxml import etree
+
+from ..validate.model import Finding
+from . import schematron
+from .cart_checks import check_cartography, check_encoded_jp2
+from .catalog import SchemaCatalog, schema_references
+from .data_checks import check_data, check_special_constants
+from .label_tree import SEVERITY, P, Report
+from .xsd import SchemaImportError, build_schema, xsd_errors
+
+# Checks of the label against its data (skipped by --labels-only), and of the label alone.
+CONTENT_CHECKS = (check_data, check_special_constants, check_cartography, check_encoded_jp2)
+LABEL_ONLY_CHECKS = (check_special_constants, check_cartography)
+
+
+def is_pds4_label(path: Path) -> bool:
+    """An .xml file whose root element is a PDS4 Product_* (read from its first few KB)."""
+    if path.suffix.lower() != ".xml":
+        return False
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(8192)
+    except OSError:
+        return False
+    return b"http://pds.nasa.gov/pds4/pds/v1" in head and b"<Product_" in head
+
+
+def check_schema_dirs(directories: Iterable[str | os.PathLike[str]]) -> tuple[str, ...]:
+    """The `--schemas` directories as strings, refusing one that is not a directory (usage error)."""
+    checked = tuple(os.fspath(d) for d in directories)
+    SchemaCatalog.build(checked)
+    return checked
+
+
+def validate_label(path: str | Path, schema_dirs: tuple[str, ...] = (), labels_only: bool = False) -> list[Finding]:
+    """The validator's entry point for one PDS4 label (catalog cached per set of directories)."""
+    if schema_dirs not in _CATALOGS:
+        _CATALOGS[schema_dirs] = SchemaCatalog.build(schema_dirs)
+    return validate_pds4(path, _CATALOGS[schema_dirs], labels_only)
+
+
+_CATALOGS: dict[tuple[str, ...], SchemaCatalog] = {}
+
+
+def add_run_notes(reports: list) -> None:  # noqa: ANN001 - the validator's FileReport list
+    """One PDS4-007 warning for a run that checked PDS4 labels without Saxon (schema-only)."""
+    if schematron.available():
+        return
+    first = next((r for r in reports if is_pds4_label(Path(r.path))), None)
+    if first is not None:
+        first.findings.append(Finding("PDS4-007", SEVERITY["PDS4-007"], first.path,
+                                      "Schematron not run: saxonche is not installed (pip install pdsgen[pds4]); "
+                                      "PDS4 labels were checked against their XML Schemas only"))
+
+
+def validate_pds4(path: str | Path, catalog: SchemaCatalog | None = None, labels_only: bool = False,
+                  use_schematron: bool = True) -> list[Finding]:
+    """Every finding for one PDS4 label."""
+    path = Path(path)
+    report = Report(path)
+    catalog = catalog or SchemaCatalog.build()
+    tree = _parse(report)
+    if tree is None:
+        return report.findings
+    root = tree.getroot()
+    if not (root.tag.startswith(P) and root.tag[len(P):].startswith("Product_")):
+        report.add("PDS4-001", f"root element {root.tag} is not a PDS4 Product_*", root.sourceline)
+        return report.findings
+    for check in _schema_checks(tree, catalog, use_schematron):
+        check(report)
+    for content_check in CONTENT_CHECKS:
+        if labels_only and content_check not in LABEL_ONLY_CHECKS:
+            continue
+        try:
+            content_check(report, tree)
+        except Exception as exc:  # a check must never turn odd input into a traceback
+            report.add("PDS4-001", f"check {content_check.__name__} could not run ({type(exc).__name__}: {exc})",
+                       severity="error")
+    return sorted(report.findings, key=lambda f: (f.line or 0, f.rule))
+
+
+_DECLARATION = re.compile(rb"<\?xml\s[^>]*\?>")
+
+
+def _parse(report: Report) -> etree._ElementTree | None:
+    """The label's tree, or None after a PDS4-001 finding. A label whose XML declaration
+    follows a comment (not well-formed, but readers such as GDAL accept it) is reported
+    and then checked without the misplaced declaration, keeping its line numbers."""
+    parser = etree.XMLParser(no_network=True, resolve_entities=False)
+    try:
+        data = report.path.read_bytes()
+        return etree.ElementTree(etree.fromstring(data, parser))
+    except OSError as exc:
+        report.add("PDS4-001", f"cannot read the label: {exc.strerror or exc}")
+        return None
+    except etree.XMLSyntaxError as exc:
+        declaration = _DECLARATION.search(data)
+        if declaration is None or declaration.start() == 0:
+            report.add("PDS4-001", f"not well-formed XML: {exc}", exc.lineno)
+            return None
+        line = data.count(b"\n", 0, declaration.start()) + 1
+        report.add("PDS4-001", "the XML declaration is not at the start of the file (not well-formed XML)", line)
+        blanked = data[:declaration.start()] + b" " * len(declaration.group()) + data[declaration.end():]
+        try:
+            return etree.ElementTree(etree.fromstring(blanked, parser))
+        except etree.XMLSyntaxError as again:
+            report.add("PDS4-001", f"not well-formed XML: {again}", again.lineno)
+            return None
+
+
+def _schema_checks(tree: etree._ElementTree, catalog: SchemaCatalog, use_schematron: bool
+                   ) -> list[Callable[[Report], None]]:
+    refs = schema_references(tree)
+    version = tree.findtext(f"{P}Identification_Area/{P}information_model_version") or "unknown"
+    missing = [url for _, url in refs.xsd if catalog.resolve(url) is None]
+    missing += [url for url in refs.sch if catalog.resolve(url) is None]
+
+    def not_shipped(report: Report) -> None:
+        names = ", ".join(Path(u).name for u in dict.fromkeys(missing))
+        report.add("PDS4-002", f"IM version {version} not shipped: no local copy of {names}; schema and "
+                               f"Schematron checks skipped (supply that version's schemas with --schemas DIR)",
+                   tree.getroot().sourceline, "information_model_version")
+
+    if missing:
+        return [not_shipped]
+    if not refs.xsd:
+        return [lambda r: r.add("PDS4-004", "the label names no XML Schema (xsi:schemaLocation)",
+                                tree.getroot().sourceline)]
+
+    def xml_schema(report: Report) -> None:
+        try:
+            schema = build_schema(catalog, refs.xsd)
+        except SchemaImportError as exc:
+            report.add("PDS4-003", exc.problem)
+            return
+        for line, element, message in xsd_errors(schema, tree):
+            report.add("PDS4-004", message, line, element)
+
+    def rules(report: Report) -> None:
+        if not refs.sch:
+            return
+        if not schematron.available():
+            return  # reported once per run (add_run_notes), not once per label
+        files = [p for p in (catalog.resolve(u) for u in refs.sch) if p is not None]
+        text = etree.tostring(tree, encoding="unicode")
+        for failure in schematron.compiled(files).check(text):
+            rule = "PDS4-006" if failure.role in ("warning", "warn", "info") else "PDS4-005"
+            report.add(rule, failure.message, schematron.location_line(tree, failure.location),
+                       failure.rule_context)
+
+    return [xml_schema, rules] if use_schematron else [xml_schema]
+
+
+# --- content checks -------------------------------------------------------------------------
