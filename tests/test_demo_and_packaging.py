@@ -2,23 +2,31 @@
 
 from __future__ import annotations
 
+import json
+import os
 import subprocess
 import sys
 import zipfile
+from pathlib import Path
 
 import numpy as np
 import pvl
 import rasterio
 
 from pdsgen import __version__
-from pdsgen.demo import run_demo
 
 from helpers import run_cli
 
 
 def test_demo_writes_inputs_and_a_dtm_gdal_reads(tmp_path):
-    result = run_demo(tmp_path / "demo")
-    dtm = next(p for p in result.products if p.suffix == ".IMG")
+    """Through the CLI with --json: the summary names files that exist, with their sizes."""
+    run = run_cli("demo", tmp_path / "demo", "--json")
+    assert run.returncode == 0, run.stderr
+    summary = json.loads(run.stdout)
+    files = [Path(entry["path"]) for entry in summary["files"] + summary["inputs"]]
+    assert all(path.stat().st_size == entry["bytes"]
+               for path, entry in zip(files, summary["files"] + summary["inputs"], strict=True))
+    dtm = next(p for p in files if p.suffix == ".IMG")
     assert dtm.name == "DTEEC_008669_1705_009025_1705_U01.IMG"
     with rasterio.open(tmp_path / "demo" / "input" / "demo_dtm.tif") as src, rasterio.open(dtm) as out:
         assert (out.width, out.height) == (2000, 3000)
@@ -28,9 +36,7 @@ def test_demo_writes_inputs_and_a_dtm_gdal_reads(tmp_path):
     valid = np.isfinite(source)
     assert 0.001 < (~valid).mean() < 0.2  # the demo has real nodata holes
     assert np.array_equal(written[valid], source[valid])
-    assert result.validation is not None
-    assert result.validation.count("error") == 0 and result.validation.count("warning") == 0
-    assert any(line.startswith("CHECK") and line.endswith("OK") for line in result.lines)
+    assert summary["checks"]["exit_code"] == 0 and summary["checks"]["validate"].endswith("OK")
     label = pvl.load(str(dtm))
     assert np.float32(label["IMAGE"]["VALID_MINIMUM"]) == source[valid].min()
 
@@ -65,3 +71,23 @@ def test_wheel_ships_templates_and_schemas(tmp_path):
     assert "pdsgen/templates/dtm.lbl.j2" in names
     assert "pdsgen/schemas/params.toml" in names
     assert "pdsgen/cli/__init__.py" in names
+
+
+def test_shell_completion_script_and_completions():
+    """The README's `eval "$(_PDSGEN_COMPLETE=bash_source pdsgen)"` gets a real bash script,
+    and that script's callback completes commands and option choices."""
+    env = {**os.environ, "_PDSGEN_COMPLETE": "bash_source"}
+    script = subprocess.run([sys.executable, "-m", "pdsgen"], env=env, capture_output=True, text=True, timeout=60)
+    assert script.returncode == 0, script.stderr
+    assert "complete -o nosort -F _pdsgen_completion pdsgen" in script.stdout
+    syntax = subprocess.run(["bash", "-n"], input=script.stdout, capture_output=True, text=True, timeout=60)
+    assert syntax.returncode == 0, syntax.stderr
+
+    def complete(words: str) -> list[str]:
+        env = {**os.environ, "_PDSGEN_COMPLETE": "bash_complete", "COMP_WORDS": words,
+               "COMP_CWORD": str(len(words.split()) - (0 if words.endswith(" ") else 1))}
+        run = subprocess.run([sys.executable, "-m", "pdsgen"], env=env, capture_output=True, text=True, timeout=60)
+        return [line.split(",", 1)[1] for line in run.stdout.splitlines()]
+
+    assert complete("pdsgen d") == ["demo", "dtm"]
+    assert complete("pdsgen dtm in.tif --profile ") == ["generic", "hirise", "hrsc", "imars"]

@@ -1,5 +1,9 @@
-"""`python -m pdsgen` runs the command-line interface."""
+"""`python -m pdsgen` runs the command-line interface.
+
+It runs under the name `pdsgen`, so its messages and shell completion
+(`_PDSGEN_COMPLETE`) are those of the installed command.
+"""
 
 from .cli import main
 
-main()
+main(prog_name="pdsgen")

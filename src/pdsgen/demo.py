@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .extras import make_extras
+from .formats.jp2 import require_openjpeg
 from .formats.staging import prepare_output_dir
 from .products.dtm import write_dtm
 from .products.ortho import write_ortho
@@ -33,6 +34,7 @@ class DemoResult:
 
 def run_demo(outdir: str | os.PathLike[str], overwrite: bool = True) -> DemoResult:
     """Generate the synthetic inputs and every product from them into OUTDIR."""
+    require_openjpeg()  # the orthoimage needs it: refuse before anything is written
     outdir = prepare_output_dir(outdir)
     input_dir = prepare_output_dir(outdir / "input")
     scene = make_scene()

@@ -19,8 +19,8 @@ from pathlib import Path
 from typing import Any
 
 import click
-import tomllib
 
+from .._compat import tomllib
 from ..errors import PdsgenError
 
 KINDS = ("dtm", "ortho", "extras", "validate")

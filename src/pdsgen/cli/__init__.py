@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import importlib
 import sys
+import warnings
 
 import click
 
@@ -42,6 +43,12 @@ class _Group(click.Group):
     def main(self, *args, **kwargs):
         """Usage errors as one line (click's default is a usage block of several lines)."""
         kwargs["standalone_mode"] = False
+        # rasterio warns (two lines, with its source line) on opening a raster without a
+        # geotransform; pdsgen reports what that means for the product itself, in one line.
+        warnings.filterwarnings("ignore", message="Dataset has no geotransform")
+        # glymur warns on import when OpenJPEG is missing; commands that need OpenJPEG say
+        # so in one line with what to install (formats.jp2.require_openjpeg).
+        warnings.filterwarnings("ignore", message="The openjp2 library")
         try:
             result = super().main(*args, **kwargs)
         except click.exceptions.NoArgsIsHelpError as exc:
@@ -65,6 +72,10 @@ class _Group(click.Group):
         except PdsgenError as exc:
             click.echo(f"pdsgen: error: {exc}", err=True)
             sys.exit(2)
+        except KeyboardInterrupt:
+            # the writers' staging has already removed its temporary files on the way out
+            click.echo("pdsgen: interrupted (no partial output left)", err=True)
+            sys.exit(130)
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})

@@ -10,12 +10,14 @@ import click
 from click.core import ParameterSource
 
 from ..errors import PdsgenError
+from ._output import OUTPUT_OPTIONS
 
 
 def refuse_unused_options(ctx: click.Context, profile: str, used: set[str]) -> None:
     """PdsgenError naming the first option given on the command line that `profile` does not use."""
     for param in ctx.command.params:
-        if param.name in used or param.name == "profile" or not isinstance(param, click.Option):
+        if param.name in used or param.name in OUTPUT_OPTIONS or param.name == "profile" \
+                or not isinstance(param, click.Option):
             continue
         if ctx.get_parameter_source(param.name) not in (ParameterSource.DEFAULT, None):
             flag = max(param.opts, key=len)

@@ -5,16 +5,24 @@ from __future__ import annotations
 import click
 
 from ..demo import run_demo
+from ._output import Outcome, files_summary, output_options
 
 
 @click.command(short_help="Make every product from a built-in synthetic Mars scene.")
+@output_options
 @click.argument("outdir", type=click.Path(file_okay=False), default="out/demo")
-def demo(outdir: str) -> None:
+def demo(outdir: str) -> Outcome:
     """Write a synthetic Mars DTM and orthoimage under OUTDIR/input/, then every
     product pdsgen can make from them into OUTDIR."""
     result = run_demo(outdir)
-    click.echo(f"inputs in {outdir}/input: " + ", ".join(p.name for p in result.inputs))
-    for line in result.lines:
-        click.echo(line)
-    if result.validation is not None and result.validation.exit_code:
-        raise SystemExit(result.validation.exit_code)  # the demo's own products must validate
+    lines = [f"inputs in {outdir}/input: " + ", ".join(p.name for p in result.inputs), *result.lines]
+    validation = result.validation
+    summary = {
+        "command": "demo",
+        "inputs": files_summary(result.inputs),
+        "files": files_summary(result.products),
+        "checks": {"validate": validation.summary_line() if validation else "not run",
+                   "exit_code": validation.exit_code if validation else None},
+    }
+    # the demo's own products must validate: its exit code is the validator's
+    return Outcome(lines, summary, exit_code=validation.exit_code if validation else 0)

@@ -12,6 +12,7 @@ from ..products.dtm import DtmProduct, write_dtm
 from ..products.hrsc import HrscDtmProduct
 from ..products.imars import ImarsProduct
 from ..profiles import profile_names
+from ._output import Outcome, output_options, product_summary
 from ._profile_options import label_fidelity_options, profile_options, refuse_unused_options
 
 _COMMON = {"input_path", "outdir", "product_id", "source_ids", "product_version", "params_file", "overwrite"}
@@ -25,6 +26,7 @@ USED_BY_PROFILE = {
 
 
 @click.command(short_help="Make a PDS3 DTM (.IMG with attached label).")
+@output_options
 @click.argument("input_path", metavar="INPUT", type=click.Path(dir_okay=False))
 @click.option("-o", "--outdir", required=True, type=click.Path(file_okay=False), help="Output directory.")
 @click.option("--profile", type=click.Choice(profile_names()), default="generic", show_default=True,
@@ -58,7 +60,7 @@ USED_BY_PROFILE = {
 @click.pass_context
 def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, product_version,
         params_file, byte_order, kind, vertical_datum, areoid, precision, reproject, source_labels,
-        offset_convention, allow_deviations, label, overwrite) -> None:
+        offset_convention, allow_deviations, label, overwrite) -> Outcome:
     """Convert the single-band elevation raster INPUT (any GDAL format, projected
     CRS: equirectangular, polar stereographic or sinusoidal) into a PDS3 DTM in OUTDIR:
     <PRODUCT_ID>.IMG (float32), or with --label pds4 a PDS4 one (<PRODUCT_ID>.img + .xml);
@@ -67,9 +69,7 @@ def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, p
     hOOOO_NNNN_da4_ucl.tif (int16 GeoTIFF), its .pvl metadata and hOOOO_NNNN.geojson."""
     refuse_unused_options(ctx, profile, USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"]))
     product = write_dtm(input_path, outdir, profile=profile, **library_options(ctx.params))
-    for warning in getattr(product, "warnings", ()):
-        click.echo(f"warning: {warning}", err=True)
-    click.echo(_summary(product))
+    return Outcome([_summary(product)], product_summary("dtm", product), getattr(product, "warnings", ()))
 
 
 def library_options(params: Mapping[str, Any]) -> dict[str, object]:

@@ -8,9 +8,11 @@ import click
 
 from ..extras import KINDS, make_extras
 from ..profiles import profile_names
+from ._output import Outcome, files_summary, output_options
 
 
 @click.command(short_help="Make preview JPEGs, orthoimage quick-look JP2s and README.TXT.")
+@output_options
 @click.argument("products", metavar="PRODUCT...", nargs=-1, required=True,
                 type=click.Path(dir_okay=False))
 @click.option("-o", "--outdir", required=True, type=click.Path(file_okay=False),
@@ -38,7 +40,7 @@ from ..profiles import profile_names
               help="Mission conventions (credit line) [default: from each product's label].")
 @click.option("--overwrite", is_flag=True, help="Replace existing Extras files.")
 def extras(products, outdir, credit, params_file, browse_width, thumb_width, azimuth, altitude,
-           exaggeration, kind, profile, overwrite) -> None:
+           exaggeration, kind, profile, overwrite) -> Outcome:
     """Write the Extras of each PRODUCT (a PDS3 .IMG/.LBL/.JP2 or a GeoTIFF) into OUTDIR.
 
     One line per product on stderr says whether it was taken for a DTM or an
@@ -52,5 +54,5 @@ def extras(products, outdir, credit, params_file, browse_width, thumb_width, azi
                           altitude=altitude, exaggeration=exaggeration, kind=kind,
                           profile=profile, overwrite=overwrite,
                           report=lambda line: click.echo(f"pdsgen: {line}", err=True))
-    for path in written:
-        click.echo(str(path))
+    summary = {"command": "extras", "files": files_summary(written)}
+    return Outcome([str(path) for path in written], summary)

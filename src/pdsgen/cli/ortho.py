@@ -12,6 +12,7 @@ from ..products.hrsc import HrscImageProduct
 from ..products.imars import ImarsProduct
 from ..products.ortho import OrthoProduct, write_ortho
 from ..profiles import profile_names
+from ._output import Outcome, output_options, product_summary
 from ._profile_options import label_fidelity_options, profile_options, refuse_unused_options
 
 _COMMON = {"input_path", "outdir", "product_id", "value_range", "params_file", "product_version", "overwrite"}
@@ -24,6 +25,7 @@ USED_BY_PROFILE = {
 
 
 @click.command(short_help="Make a PDS3 orthoimage (.JP2 + detached .LBL).")
+@output_options
 @click.argument("input_path", metavar="INPUT", type=click.Path(dir_okay=False))
 @click.option("-o", "--outdir", required=True, type=click.Path(file_okay=False), help="Output directory.")
 @click.option("--profile", type=click.Choice(profile_names()),
@@ -53,7 +55,7 @@ USED_BY_PROFILE = {
 @click.pass_context
 def ortho(ctx, input_path, outdir, profile, product_id, bits, value_range, observation_id, source_dtm_id,
           sequence, params_file, product_version, gmljp2, source_ids, reproject, source_labels,
-          offset_convention, allow_deviations, label, overwrite) -> None:
+          offset_convention, allow_deviations, label, overwrite) -> Outcome:
     """Convert the 1-band (RED) or 3-band (IRB) orthoimage INPUT (any GDAL format,
     projected CRS as for DTMs) into OUTDIR/<PRODUCT_ID>.JP2 and .LBL (--label pds4: .JP2,
     .img and .xml); for --profile
@@ -61,9 +63,7 @@ def ortho(ctx, input_path, outdir, profile, product_id, bits, value_range, obser
     for --profile imars hOOOO_NNNN_nd4_ucl.tif with its .pvl and footprint."""
     refuse_unused_options(ctx, profile, USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"]))
     product = write_ortho(input_path, outdir, profile=profile, **library_options(ctx.params))
-    for warning in getattr(product, "warnings", ()):
-        click.echo(f"warning: {warning}", err=True)
-    click.echo(_summary(product))
+    return Outcome([_summary(product)], product_summary("ortho", product), getattr(product, "warnings", ()))
 
 
 def library_options(params: Mapping[str, Any]) -> dict[str, object]:

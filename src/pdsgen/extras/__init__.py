@@ -21,7 +21,7 @@ from pathlib import Path
 from PIL import Image
 
 from ..errors import PdsgenError
-from ..formats.staging import StagedOutputs, prepare_output_dir
+from ..formats.staging import StagedOutputs, prepare_output_dir, publishes_together
 from ..products.params import ParamValue, resolve_params
 from .credit import product_credit
 from .product_source import DTM, KINDS, ProductSource, open_product, quiet_gdal
@@ -35,6 +35,7 @@ JPEG_QUALITY = 90
 __all__ = ["make_extras", "KINDS"]
 
 
+@publishes_together
 def make_extras(
     products: Sequence[str | os.PathLike[str]],
     outdir: str | os.PathLike[str],

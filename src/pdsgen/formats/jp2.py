@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import struct
 import tempfile
 from collections import deque
@@ -34,6 +35,8 @@ from pathlib import Path
 from typing import BinaryIO
 
 import numpy as np
+
+from ..errors import PdsgenError
 
 TILE_SIZE = 512  # an OpenJPEG tile encoder needs ~17 bytes per tile pixel; 512 keeps memory low
 CODE_BLOCK = (64, 64)
@@ -121,6 +124,30 @@ def encoder_threads(threads: int | None = None) -> int:
         return len(os.sched_getaffinity(0)) or 1
     except AttributeError:  # not on Linux
         return os.cpu_count() or 1
+
+
+MIN_OPENJPEG = (2, 4, 0)  # the oldest OpenJPEG whose tile-encoding API glymur drives
+OPENJPEG_HINT = ("install OpenJPEG 2.4 or newer "
+                 "(Debian/Ubuntu: apt-get install libopenjp2-7; macOS: brew install openjpeg)")
+
+
+def require_openjpeg() -> None:
+    """Refuse before any output exists when OpenJPEG cannot be loaded.
+
+    OpenJPEG is a system library that `pip install` cannot provide; without it
+    glymur fails deep inside the encoder, after the output directory was made.
+    """
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # glymur warns about the missing library on import
+        from glymur.lib import openjp2
+    if openjp2.OPENJP2 is None:
+        raise PdsgenError(None, f"the OpenJPEG library (libopenjp2) was not found: {OPENJPEG_HINT}")
+    found = openjp2.version()
+    parts = tuple(int(part) for part in re.findall(r"\d+", found)[:3])
+    if parts < MIN_OPENJPEG:
+        raise PdsgenError(None, f"OpenJPEG {found} is too old (2.4.0 or newer is needed): {OPENJPEG_HINT}")
 
 
 # -- one tile -> one tile-part ------------------------------------------------------

@@ -7,6 +7,7 @@ before any output is created.
 
 from __future__ import annotations
 
+import logging
 import math
 import os
 from collections.abc import Iterator
@@ -26,6 +27,7 @@ STRIP_BYTES = 16 * 1024 * 1024  # working-set size of one strip of input
 # past; we read each block once, so a cache of two block rows keeps memory flat.
 # Sizes are in MB: given as a large byte count, GDAL_CACHEMAX was measured to
 # leave peak memory higher (e.g. 156 MB against 124 MB on an 8000 x 8000 DTM).
+log = logging.getLogger(__name__)  # what was read: shown by `pdsgen ... --verbose`
 MIN_CACHE_MB = 4
 MAX_CACHE_MB = 64
 
@@ -43,8 +45,32 @@ def open_raster(path: str | os.PathLike[str]) -> Iterator[DatasetReader]:
     except RasterioIOError as exc:
         reason = str(exc).splitlines()[0] if str(exc) else "unknown format"
         raise PdsgenError(path, f"not a raster GDAL can read ({reason})") from None
+    log.info("read %s: %d lines x %d samples, %d band(s) of %s, projection %s", path, dataset.height,
+             dataset.width, dataset.count, dataset.dtypes[0], _projection_name(dataset))
     with dataset, rasterio.Env(GDAL_CACHEMAX=streaming_cache_mb(dataset)):
-        yield dataset
+        try:
+            yield dataset
+        except RasterioIOError as exc:
+            reason = gdal_reason(exc)
+            raise PdsgenError(path, f"cannot read the raster data; truncated or damaged? (GDAL: {reason})") from None
+
+
+def gdal_reason(exc: BaseException) -> str:
+    """GDAL's own words for a failure, without rasterio's "See previous exception" wrapper.
+
+    rasterio chains the GDAL error (e.g. "IReadBlock failed ... TIFFReadEncodedStrip()
+    failed": a truncated file) as the cause; that is the part a person can act on.
+    """
+    cause = exc.__cause__ or exc.__context__ or exc
+    text = str(cause.args[-1] if cause.args else cause)
+    return text.splitlines()[0] if text else "read failed"
+
+
+def _projection_name(dataset: DatasetReader) -> str:
+    """The PROJ short name (eqc, stere, sinu ...), short enough for a log line."""
+    if dataset.crs is None:
+        return "none"
+    return str(dataset.crs.to_dict().get("proj", "not a PROJ projection"))
 
 
 def streaming_cache_mb(dataset: DatasetReader) -> int:

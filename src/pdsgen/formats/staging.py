@@ -7,13 +7,28 @@ product that a later delivery step might pick up.
 
 from __future__ import annotations
 
+import errno
+import functools
+import logging
 import os
+import signal
 import tempfile
-from collections.abc import Iterable
+import threading
+from collections.abc import Callable, Iterable, Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
 from pathlib import Path
 from types import TracebackType
+from typing import ParamSpec, TypeVar
 
-from ..errors import PdsgenError
+from ..errors import OutputError, PdsgenError
+
+log = logging.getLogger(__name__)  # what was written: shown by `pdsgen ... --verbose`
+
+# Failures of writing itself: reported as the output's problem in one line, not a traceback.
+_WRITE_ERRNOS = {errno.ENOSPC: "no space left on device", errno.EDQUOT: "disk quota exceeded",
+                 errno.EFBIG: "file too large for the file system", errno.EIO: "input/output error",
+                 errno.EROFS: "read-only file system"}
 
 
 def prepare_output_dir(outdir: str | os.PathLike[str]) -> Path:
@@ -56,14 +71,13 @@ class StagedOutputs:
                 raise PdsgenError(final, "output path is a directory")
             if final.exists() and not self.overwrite and final not in self.shared:
                 raise PdsgenError(final, "output exists; use --overwrite to replace it")
-        for final in self.final_paths:
-            try:
-                fd, tmp = tempfile.mkstemp(prefix=f".{final.name}.", suffix=".part", dir=final.parent)
-            except OSError as exc:
-                self._discard()
-                raise PdsgenError(final.parent, f"cannot write output ({exc.strerror})") from None
-            os.close(fd)
-            self._temps[final] = Path(tmp)
+        try:
+            for final in self.final_paths:
+                with _interruption_deferred():
+                    self._temps[final] = _make_temp(final)
+        except BaseException:  # an interruption here too must leave no temporary file behind
+            self._discard()
+            raise
         return self
 
     def path(self, final: str | os.PathLike[str]) -> Path:
@@ -78,10 +92,25 @@ class StagedOutputs:
     ) -> None:
         if exc_type is not None:
             self._discard()
+            if isinstance(exc, OSError) and not isinstance(exc, PdsgenError) and exc.errno in _WRITE_ERRNOS:
+                where = self.final_paths[0].parent if self.final_paths else None
+                raise OutputError(where, f"cannot write the product: {_WRITE_ERRNOS[exc.errno]}") from None
             return
+        with _interruption_deferred():
+            self._publish(_GROUP.get())
+
+    def _publish(self, undo: list[tuple[Path, Path | None]] | None = None) -> None:
+        """Rename the temporaries into place; inside `published_together`, record in
+        `undo` each final name and the backup of the file it replaced (if any)."""
         for final, tmp in self._temps.items():
             os.chmod(tmp, 0o644 & ~_umask())
+            if undo is not None:
+                backup = _make_temp(final) if final.exists() else None
+                if backup is not None:
+                    os.replace(final, backup)
+                undo.append((final, backup))
             os.replace(tmp, final)
+            log.info("wrote %s (%d bytes)", final, final.stat().st_size)
         self._temps.clear()
 
     def _discard(self) -> None:
@@ -91,6 +120,82 @@ class StagedOutputs:
             except FileNotFoundError:
                 pass
         self._temps.clear()
+
+
+@contextmanager
+def _interruption_deferred() -> Iterator[None]:
+    """Hold Ctrl-C back for a few file operations that must not be cut in half (a
+    temporary file created but not yet recorded; a finished set not yet handed over).
+
+    The handler is swapped rather than the signal masked: with GDAL's or the
+    encoder's threads running, the kernel may deliver SIGINT to any of them.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    received: list[int] = []
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: received.append(signum))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if received and callable(previous):
+        previous(signal.SIGINT, None)
+
+
+def _make_temp(final: Path) -> Path:
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{final.name}.", suffix=".part", dir=final.parent)
+    except OSError as exc:
+        raise PdsgenError(final.parent, f"cannot write output ({exc.strerror})") from None
+    os.close(fd)
+    return Path(tmp)
+
+
+_GROUP: ContextVar[list[tuple[Path, Path | None]] | None] = ContextVar("pdsgen_staged_group", default=None)
+
+
+@contextmanager
+def published_together() -> Iterator[None]:
+    """Make every StagedOutputs completed inside the block one set: all kept, or none.
+
+    A call that writes several sets of files (Extras of several products, then the
+    README that lists them) publishes each as it completes - later steps may look
+    for the files - but, interrupted or failing part-way, takes them all back and
+    restores the files they replaced: a half set would block the re-run (files
+    exist, no --overwrite).
+    """
+    undo: list[tuple[Path, Path | None]] = []
+    token = _GROUP.set(undo)
+    try:
+        yield
+    except BaseException:
+        with _interruption_deferred():
+            for final, backup in reversed(undo):
+                final.unlink(missing_ok=True)
+                if backup is not None:
+                    os.replace(backup, final)
+        raise
+    finally:
+        _GROUP.reset(token)
+    for _, backup in undo:
+        if backup is not None:
+            backup.unlink(missing_ok=True)
+
+
+P = ParamSpec("P")
+R = TypeVar("R")
+
+
+def publishes_together(function: Callable[P, R]) -> Callable[P, R]:
+    """Decorator form of `published_together` for a writer function."""
+
+    @functools.wraps(function)
+    def wrapper(*args: P.args, **kwargs: P.kwargs) -> R:
+        with published_together():
+            return function(*args, **kwargs)
+
+    return wrapper
 
 
 def _umask() -> int:

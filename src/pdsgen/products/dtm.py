@@ -34,8 +34,8 @@ from ..pds4.model import check_label_dialect
 from ..pds4.products import ProductDescription, float32_dtm, write_image_pds4_label, write_pds4_dtm
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
-from .identification import choose_product_id, identification_keywords
-from .params import ParamValue, check_version, resolve_params
+from .identification import choose_product_id, identification_keywords, source_id_values
+from .params import ParamValue, check_version, resolve_params, source_ids
 
 BYTE_ORDERS = ("lsb", "msb")
 
@@ -118,7 +118,7 @@ def write_pds3_dtm(
         geometry = describe_geometry(
             dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path)
         )
-        sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
+        sources = source_ids(source_product_ids, keywords)
         ident = identification_keywords(chosen.dtm_keywords, keywords, geometry, version)
         product_id = choose_product_id(product_id, chosen.dtm_product_id, ProductIdRequest(
                 input_path.stem, geometry, sources, institution, str(ident["PRODUCT_VERSION_ID"])
@@ -127,7 +127,7 @@ def write_pds3_dtm(
         context = {
             "product_id": product_id,
             "ident": ident,
-            "source_product_id": [Symbol(s) for s in sources] if sources else "N/A",
+            "source_product_id": source_id_values(sources),
             "geometry": geometry,
             "note": str(keywords.get("DTM_NOTE", chosen.dtm_note)),
             "bit_mask": Based(0xFFFFFFFF, 2, 32),

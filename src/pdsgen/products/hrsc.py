@@ -60,7 +60,8 @@ from .hrsc_label import (
     pds_label_part,
     with_header,
 )
-from .params import ParamValue, check_version, resolve_params
+from .identification import source_id_values
+from .params import ParamValue, check_version, resolve_params, source_ids
 
 HRSC_SPHERE_M = hrsc_mission.SPHERE_M
 HRSC_CREDIT = hrsc_mission.CREDIT
@@ -255,7 +256,7 @@ def hrsc_identification(
     source_product_ids: Sequence[str], kind: str, version: str,
 ) -> dict:
     """File name, PRODUCT_ID, orbit and identification keywords of one HRSC product."""
-    sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
+    sources = source_ids(source_product_ids, keywords)
     base, orbit = hrsc_base_name(product_id, sources)
     ident: dict[str, ParamValue] = {
         **defaults, "MISSION_NAME": hrsc_mission.MISSION_NAME, "PRODUCT_VERSION_ID": version,
@@ -268,7 +269,7 @@ def hrsc_identification(
         "orbit": orbit,
         "processing_level": hrsc_mission.PROCESSING_LEVEL,
         "ident": ident,
-        "source_product_id": [Symbol(s) for s in sources] if sources else "N/A",
+        "source_product_id": source_id_values(sources),
     }
 
 

@@ -2,13 +2,18 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+import logging
+from collections.abc import Callable, Mapping, Sequence
 
 from .. import __version__
 from ..geo.geometry import MapGeometry
+from ..label.grammar import IDENTIFIER_RE
+from ..label.values import Symbol
 from ..missions import ProductIdRequest
 from ..missions.generic import check_product_id, generic_product_id
 from .params import ParamValue
+
+log = logging.getLogger(__name__)
 
 
 def identification_keywords(
@@ -29,7 +34,17 @@ def choose_product_id(
 ) -> str:
     """The product ID given (checked), else the mission's naming rule's, else one from the file name."""
     if explicit:
-        return check_product_id(explicit)
-    if naming_rule is not None:
-        return naming_rule(request)
-    return generic_product_id(request.stem)
+        chosen, why = check_product_id(explicit), "given"
+    elif naming_rule is not None:
+        chosen, why = naming_rule(request), "the mission's naming rule"
+    else:
+        chosen, why = generic_product_id(request.stem), "the input file name"
+    log.info("product ID %s (%s)", chosen, why)
+    return chosen
+
+
+def source_id_values(sources: Sequence[str]) -> list[Symbol | str] | str:
+    """SOURCE_PRODUCT_ID as written: bare where it is a PDS identifier, else quoted; N/A if none."""
+    if not sources:
+        return "N/A"
+    return [Symbol(s) if IDENTIFIER_RE.fullmatch(s) else s for s in sources]

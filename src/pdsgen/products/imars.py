@@ -33,7 +33,7 @@ from ..missions import imars as imars_mission
 from ..missions.hrsc import MISSING_DN
 from ..missions.hrsc import base_name as hrsc_base_name
 from .heights import Int16Encoding, areoid_adjustment, check_datum_conversion, choose_encoding
-from .params import ParamValue, check_version, resolve_params
+from .params import ParamValue, check_version, resolve_params, source_ids
 
 IMARS_INSTITUTION = imars_mission.INSTITUTION
 _DTM_DESCRIPTIONS = imars_mission.DTM_DESCRIPTIONS
@@ -83,7 +83,7 @@ def write_imars_dtm(
     output_datum = "areoid" if kind == "da" else "sphere"
     check_datum_conversion(f"{kind}4", output_datum, vertical_datum or output_datum, areoid)
     keywords = resolve_params(params)
-    sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
+    sources = source_ids(source_product_ids, keywords)
     base, _ = hrsc_base_name(product_id, sources)
     stem = imars_mission.product_stem(base, kind)
     input_path = Path(input_path)
@@ -177,7 +177,7 @@ def write_imars_ori(
     """Write the orthoimage `<ID>_nd4_ucl.tif` (byte, nodata 0), its `.pvl` and the scene footprint."""
     version = check_version(version)
     keywords = resolve_params(params)
-    sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
+    sources = source_ids(source_product_ids, keywords)
     base, _ = hrsc_base_name(product_id, sources)
     stem = imars_mission.product_stem(base, "nd")
     input_path = Path(input_path)

@@ -9,6 +9,7 @@ together, so either both appear or neither does.
 
 from __future__ import annotations
 
+import logging
 import os
 from collections.abc import Callable, Mapping, Sequence
 from contextlib import ExitStack
@@ -22,7 +23,7 @@ from rasterio.windows import Window
 
 from ..errors import ParamsError, PdsgenError
 from ..formats.geojp2 import geojp2_box, gmljp2_box
-from ..formats.jp2 import JP2INFO_NAME, TILE_SIZE, describe_jp2, jp2info_text, write_jp2
+from ..formats.jp2 import JP2INFO_NAME, TILE_SIZE, describe_jp2, jp2info_text, require_openjpeg, write_jp2
 from ..formats.raster import open_raster, row_strips
 from ..formats.scale_dn import (
     BIT_DEPTHS,
@@ -46,8 +47,10 @@ from ..pds4.model import check_label_dialect
 from ..pds4.products import ArrayRowTap, ProductDescription, ortho_label_text
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
-from .identification import choose_product_id, identification_keywords
-from .params import ParamValue, check_version, resolve_params
+from .identification import choose_product_id, identification_keywords, source_id_values
+from .params import ParamValue, check_source_id, check_version, resolve_params, source_ids
+
+log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -139,6 +142,7 @@ def write_jp2_ortho(
         raise PdsgenError(None, f"the {chosen.name} profile writes orthoimages in its own form, not as JP2 + LBL")
     version = check_version(version)
     keywords = resolve_params(params)
+    require_openjpeg()
     allow = allows_deviations(allow_dictionary_deviations, keywords)
     keywords = label_keywords(keywords)
     input_path = Path(input_path)
@@ -147,6 +151,8 @@ def write_jp2_ortho(
         geometry = describe_geometry(dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path))
         bits = bits or _default_bits(dataset, chosen)
         mapping = _choose_mapping(dataset, input_path, bits, value_range)
+        log.info("DNs: %d-bit, value = DN * %.6g + %.6g%s", bits, mapping.scaling_factor, mapping.offset,
+                 "" if mapping.keeps_values else f" (input {mapping.low:.6g} .. {mapping.high:.6g} mapped)")
         sources = _source_ids(keywords, observation_id, source_dtm_id)
         ident = identification_keywords(chosen.ortho_keywords, keywords, geometry, version)
         product_id = choose_product_id(product_id, chosen.ortho_product_id, ProductIdRequest(
@@ -285,8 +291,11 @@ def _source_ids(
     keywords: Mapping[str, ParamValue], observation_id: str | None, source_dtm_id: str | None
 ) -> list[str]:
     """SOURCE_PRODUCT_ID in hidtmgen's order: the DTM, then the observation, then any others."""
-    listed = keywords.get("SOURCE_PRODUCT_ID", [])
-    sources = [str(s) for s in listed] if isinstance(listed, list) else [str(listed)]
+    sources = source_ids((), keywords)
+    if observation_id is not None:
+        check_source_id(observation_id, "--observation-id")
+    if source_dtm_id is not None:
+        check_source_id(source_dtm_id, "--source-dtm-id")
     first = [s for s in (source_dtm_id, observation_id) if s]
     return first + [s for s in sources if s not in first]
 
@@ -311,7 +320,7 @@ def _label_context(
     return {
         "product_id": product_id,
         "ident": ident,
-        "source_product_id": [Symbol(s) if _is_symbol(s) else s for s in sources] if sources else "N/A",
+        "source_product_id": source_id_values(sources),
         "geometry": geometry,
         "jp2_name": jp2_name,
         "jp2info_name": JP2INFO_NAME,
@@ -342,14 +351,6 @@ def _wavelengths(wavelengths: tuple[int, ...] | None, bands: int) -> object:
         return "UNK" if bands == 1 else ["UNK"] * bands
     quantities = [Quantity(nm, "NM") for nm in wavelengths]
     return quantities[0] if bands == 1 else quantities
-
-
-def _is_symbol(text: str) -> bool:
-    try:
-        Symbol(text)
-    except ValueError:
-        return False
-    return True
 
 
 __all__ = ["OrthoProduct", "write_jp2_ortho", "write_ortho"]

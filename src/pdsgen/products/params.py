@@ -9,17 +9,20 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from functools import cache
 from pathlib import Path
 from typing import Any
 
-import tomllib
-
+from .._compat import tomllib
 from ..errors import PdsgenError
 from ..resources import schemas_dir
 
 ParamValue = str | list[str] | dict[str, str | int | float]
+
+# Label lines hold 78 characters and wrap between words only; after the aligned
+# `KEYWORD = "` (about 30 columns) this is the longest word sure to fit on a line.
+LONGEST_WORD = 45
 
 _VERSION_RE = re.compile(r"^\d+(\.\d+)*$")
 _IDENTIFIER_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.\-]*$")
@@ -38,6 +41,25 @@ def check_version(version: str) -> str:
     if not _VERSION_RE.match(text):
         raise PdsgenError(None, f"product version must look like 1.0, got {version!r}")
     return text
+
+
+def check_source_id(value: object, option: str = "--source-product-id") -> str:
+    """A source product ID given by the caller: ASCII letters, digits, '_', '.', '-' only.
+
+    Refused rather than quoted, so a space, quote, newline or non-ASCII character
+    from a shell mistake never reaches a label.
+    """
+    if not isinstance(value, str) or not _IDENTIFIER_RE.fullmatch(value):
+        raise PdsgenError(None, f"{option} {value!r} is not a product ID "
+                                "(ASCII letters, digits, '_', '.' and '-' only)")
+    return value
+
+
+def source_ids(given: Sequence[str], keywords: Mapping[str, ParamValue]) -> list[str]:
+    """SOURCE_PRODUCT_ID values: those given (checked), else the params file's (checked on load)."""
+    checked = [check_source_id(item) for item in given]
+    listed = keywords.get("SOURCE_PRODUCT_ID", [])
+    return checked or ([str(s) for s in listed] if isinstance(listed, list) else [str(listed)])
 
 
 def resolve_params(params: str | os.PathLike[str] | Mapping[str, ParamValue] | None) -> dict[str, ParamValue]:
@@ -93,8 +115,7 @@ def _check_value(path: Path, key: str, value: Any) -> ParamValue:
         return table
     if kind == "list":
         items = list(value) if isinstance(value, (list, tuple)) else [value]
-        items = [str(item) for item in items]
-        bad = [item for item in items if not _IDENTIFIER_RE.match(item)]
+        bad = [item for item in items if not isinstance(item, str) or not _IDENTIFIER_RE.fullmatch(item)]
         if bad or not items:
             raise PdsgenError(path, f"{key} must be product identifiers, got {bad or value!r}")
         return items
@@ -110,4 +131,8 @@ def _check_value(path: Path, key: str, value: Any) -> ParamValue:
         raise PdsgenError(path, f"{key} must be 7-bit ASCII text without double quotes")
     if kind == "version" and not _VERSION_RE.match(text):
         raise PdsgenError(path, f"{key} must look like 1.0, got {text!r}")
+    longest = max(text.split(), key=len, default="")
+    if len(longest) > LONGEST_WORD:
+        raise PdsgenError(path, f"{key} has a word of {len(longest)} characters ({longest[:20]}...); label lines "
+                                f"wrap only between words, so keep words to {LONGEST_WORD} characters")
     return " ".join(text.split())
