@@ -112,6 +112,17 @@ def check_start_possible(ctx: FileContext) -> Iterator[Hit]:
                   f"{offset + blanks + 1}, pointer says {offset + 1})", ptr.statement.line, _kw(ptr))
 
 
+def check_data_present(ctx: FileContext) -> Iterator[Hit]:
+    """Said once for a label-only copy of an attached label: the data are absent, so nothing
+    is checked (or computed) from them, and no error is reported about them."""
+    if ctx.data_absent and not ctx.labels_only:
+        lowest = _lowest_attached(ctx)
+        where = f"; {_kw(lowest[0])} starts at byte {lowest[1] + 1}" if lowest else ""
+        yield Hit(f"the file ends with its label ({ctx.size} bytes{where}): a label-only copy, "
+                  "the data it describes are absent; data checks skipped",
+                  lowest[0].statement.line if lowest else None, _kw(lowest[0]) if lowest else None)
+
+
 def check_record_bytes_present(ctx: FileContext) -> Iterator[Hit]:
     for block in ctx.root.walk():
         rt = block.get("RECORD_TYPE")
