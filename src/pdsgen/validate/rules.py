@@ -176,7 +176,8 @@ def _table() -> list[Rule]:
              M.check_convention_old),
         Rule("MAP-006", "error", "axis radii are positive and A >= B >= C", M.check_radii),
         Rule("MAP-007", "error", "MAP_PROJECTION_TYPE is a projection GDAL knows",
-             M.check_projection_name),
+             M.check_projection_name, note="warning for a PDS3 projection GDAL does not georeference "
+             "(POINT_PERSPECTIVE, ORTHOGRAPHIC ...)"),
         Rule("MAP-008", "error", "LINE/SAMPLE_LAST_PIXEL match the image size", M.check_last_pixel),
         Rule("MAP-009", "info", "bounds not checked (projection without formulas here)",
              M.check_not_checked),
