@@ -284,7 +284,6 @@ class SarifWriter(Writer):
         driver = {
             "name": "pdsgen validate",
             "version": __version__,
-            "informationUri": "https://github.com/pdsgen/pdsgen#validating-labels-and-deliveries",
             "rules": [
                 {"id": r.id, "name": r.id.replace("-", ""),
                  "shortDescription": {"text": r.summary},
