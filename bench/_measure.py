@@ -26,6 +26,7 @@ if pid == 0:
 _, status, usage = os.wait4(pid, 0)
 with open(sys.argv[1], "w") as handle:
     json.dump({"seconds": time.perf_counter() - start, "peak_kb": usage.ru_maxrss,
+               "cpu": usage.ru_utime + usage.ru_stime,
                "exit": os.waitstatus_to_exitcode(status)}, handle)
 """
 
@@ -34,6 +35,7 @@ with open(sys.argv[1], "w") as handle:
 class Run:
     seconds: float
     peak_mb: float
+    cpu_seconds: float = 0.0  # user + system time of the command and its threads
 
 
 def measure(command: list[str], env: dict[str, str] | None = None) -> Run:
@@ -44,7 +46,7 @@ def measure(command: list[str], env: dict[str, str] | None = None) -> Run:
         result = json.loads(open(report.name).read() or "{}")
     if process.returncode != 0 or result.get("exit") != 0:
         raise SystemExit(f"command failed: {' '.join(command)}\n{process.stderr.decode(errors='replace')}")
-    return Run(result["seconds"], result["peak_kb"] / 1024.0)
+    return Run(result["seconds"], result["peak_kb"] / 1024.0, result["cpu"])
 
 
 def best_of(command: list[str], repeat: int, outputs: list[str], env: dict[str, str] | None = None) -> Run:

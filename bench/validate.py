@@ -203,13 +203,16 @@ def bench_corpus(workdir: Path, copies: int, jobs: int, repeat: int) -> None:
             label = f"{name}, {'one process' if j == 1 else f'--jobs {j}'}"
             print(f"  {label:42s} {count / sec:10.0f} {sec:9.2f} {peak:9.1f}")
             rates.append((count, j, count / sec))
-    files = sorted(p for p in root.rglob("*") if p.is_file())
+    # pvl.load is slow on the copies' largest labels (minutes for 10,000): the baseline runs on
+    # the corpus itself, and the ratio compares rates
+    files = sorted(p for p in GENUINE.rglob("*") if p.is_file() and p.suffix != ".md")
     sec, peak = best(lambda: run_child("pvl", files, workdir), repeat)
-    print(f"  {'pvl.load alone on the copies (baseline)':42s} {made / sec:10.0f} {sec:9.2f} {peak:9.1f}")
+    pvl_rate = n / sec
+    print(f"  {'pvl.load alone on the corpus (baseline)':42s} {pvl_rate:10.0f} {sec:9.2f} {peak:9.1f}")
     for count, j, rate in rates:
-        if count == made:
-            print(f"  pdsgen/pvl.load time ratio, {'one process' if j == 1 else f'--jobs {j}'}: "
-                  f"{(made / rate) / sec:.2f}x")
+        where = "corpus" if count == n else "copies"
+        print(f"  pdsgen rate / pvl.load rate, {where}, {'one process' if j == 1 else f'--jobs {j}'}: "
+              f"{rate / pvl_rate:.2f}x")
     best_rate = max(r for c, _, r in rates if c == made)
     print(f"  target >= 300 labels/s on 2 cores: {'met' if best_rate >= 300 else 'NOT met'} "
           f"({best_rate:.0f} labels/s on the copies)")

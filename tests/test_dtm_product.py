@@ -157,7 +157,7 @@ def test_msb_byte_order_reads_back_identically(tmp_path):
 
 
 def test_integer_input_and_multiple_strips(tmp_path, monkeypatch):
-    import pdsgen.read_raster as read_raster
+    import pdsgen.formats.raster as read_raster
 
     monkeypatch.setattr(read_raster, "STRIP_BYTES", 4096)  # force many strips on a small raster
     data = (elevation_array(257, 61) * 1).astype(np.int16)

@@ -9,7 +9,7 @@ from affine import Affine
 from rasterio.crs import CRS
 
 from pdsgen.errors import PdsgenError
-from pdsgen.geometry import describe_geometry
+from pdsgen.geo.geometry import describe_geometry
 
 R = 3396190.0
 

@@ -55,7 +55,7 @@ def test_pvl_metadata_matches_the_geotiff(tmp_path, polar_dtm):
     assert product.pvl_path.name == "h0022_0000_da4_ucl.pvl"
     label = pvl.load(str(product.pvl_path))
     assert set(label.keys()) >= {"ProductInfo", "Image", "DataProduct", "MapProjection", "Algorithm"}
-    assert label["ProductInfo"]["Producer"]["Institution"]
+    assert label["ProductInfo"]["Producer"]["ProducerInstitutionName"]
     with rasterio.open(product.tiff_path) as out:
         image = label["Image"]
         assert (image["Lines"], image["Samples"], image["Bands"]) == (out.height, out.width, out.count)

@@ -7,7 +7,7 @@ from affine import Affine
 from rasterio.crs import CRS
 from rasterio.warp import transform as warp_transform
 
-from pdsgen.geojp2 import (
+from pdsgen.formats.geojp2 import (
     GEOJP2_UUID,
     PROJ_CENTER_LAT,
     PROJ_STD_PARALLEL1,
@@ -15,9 +15,9 @@ from pdsgen.geojp2 import (
     geokeys,
     read_geojp2,
 )
+from pdsgen.formats.jp2 import jp2_boxes
 from pdsgen.ortho import write_ortho
 from pdsgen.synthetic import write_geotiff
-from pdsgen.write_jp2 import jp2_boxes
 
 MARS = "+R=3396190 +units=m +no_defs"
 PROJECTIONS = {

@@ -13,10 +13,10 @@ from rasterio.crs import CRS
 
 from pdsgen.cli import main
 from pdsgen.errors import PdsgenError
+from pdsgen.formats.jp2 import TILE_SIZE
+from pdsgen.formats.scale_dn import SPECIAL_DNS
 from pdsgen.ortho import write_ortho
-from pdsgen.scale_dn import SPECIAL_DNS
 from pdsgen.synthetic import write_geotiff
-from pdsgen.write_jp2 import TILE_SIZE
 
 EQC = CRS.from_proj4("+proj=eqc +lat_ts=-5 +lat_0=0 +lon_0=180 +R=3396190 +units=m +no_defs")
 TRANSFORM = Affine(0.5, 0.0, 6099776.0, 0.0, -0.5, -563110.0)
@@ -137,7 +137,8 @@ def test_label_is_pds3_and_pdr_reads_label_and_image(tmp_path):
     raw = product.label_path.read_bytes()
     assert all(len(line) <= 80 for line in raw.split(b"\r\n")) and raw.endswith(b"END\r\n")
     label = pvl.loads(raw.decode("ascii"))
-    assert label["SOURCE_PRODUCT_ID"] == ["ESP_042252_1930", "DTEEC_042252_1930_042753_1930_A01"]
+    # hidtmgen's order: the DTM the image was projected on, then the observation
+    assert label["SOURCE_PRODUCT_ID"] == ["DTEEC_042252_1930_042753_1930_A01", "ESP_042252_1930"]
     compressed, uncompressed = label["COMPRESSED_FILE"], label["UNCOMPRESSED_FILE"]
     image = uncompressed["IMAGE"]
     assert compressed["FILE_NAME"] == product.jp2_path.name
@@ -182,7 +183,10 @@ def test_hirise_red_name_and_source_ids_from_params(tmp_path):
     )
     assert product.product_id == "ESP_013951_1955_RED_C_01_ORTHO"
     label = pvl.load(str(product.label_path))
-    assert label["SOURCE_PRODUCT_ID"][-1] == "DTEEC_013951_1955_014017_1955_U01"
+    # the DTM first (hidtmgen's order), then the sources the params list
+    assert label["SOURCE_PRODUCT_ID"] == [
+        "DTEEC_013951_1955_014017_1955_U01", "ESP_013951_1955", "ESP_014017_1955"
+    ]
     assert _label_image(label)["CENTER_FILTER_WAVELENGTH"].value == 700
 
 
@@ -228,19 +232,19 @@ def test_existing_product_is_kept_without_overwrite(tmp_path):
     with pytest.raises(PdsgenError, match="--overwrite"):
         write_ortho(source, tmp_path / "out")
     assert first.jp2_path.read_bytes() == before
-    assert sorted(os.listdir(tmp_path / "out")) == ["IN.JP2", "IN.LBL"]
+    assert sorted(os.listdir(tmp_path / "out")) == ["IN.JP2", "IN.LBL", "JP2INFO.TXT"]
 
 
 def test_cli_writes_both_files(tmp_path):
     source = _write(tmp_path, _texture((80, 90), 0.1, 0.3).astype(np.float32), name="demo_red.tif")
     result = CliRunner().invoke(main, ["ortho", str(source), "-o", str(tmp_path / "o"), "--bits", "8", "--gmljp2"])
     assert result.exit_code == 0, result.output
-    assert sorted(os.listdir(tmp_path / "o")) == ["DEMO_RED.JP2", "DEMO_RED.LBL"]
+    assert sorted(os.listdir(tmp_path / "o")) == ["DEMO_RED.JP2", "DEMO_RED.LBL", "JP2INFO.TXT"]
     assert "8-bit" in result.output
 
 
 def test_layout_gives_several_resolution_levels_for_large_images():
-    from pdsgen.write_jp2 import choose_layout
+    from pdsgen.formats.jp2 import choose_layout
 
     big = choose_layout(67395, 19243)
     assert big.tile_shape == (TILE_SIZE, TILE_SIZE) and big.resolutions >= 5

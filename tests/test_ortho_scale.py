@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from pdsgen.errors import PdsgenError
-from pdsgen.scale_dn import (
+from pdsgen.formats.scale_dn import (
     SPECIAL_DNS,
     default_bits,
     dtype_fits,

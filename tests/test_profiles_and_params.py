@@ -7,8 +7,8 @@ from affine import Affine
 from rasterio.crs import CRS
 
 from pdsgen.errors import PdsgenError
-from pdsgen.geometry import describe_geometry
-from pdsgen.params import load_params
+from pdsgen.geo.geometry import describe_geometry
+from pdsgen.products.params import load_params
 from pdsgen.profiles import (
     generic_product_id,
     hirise_dtm_product_id,

@@ -60,8 +60,22 @@ def lf_line_ends(path: Path) -> None:
 
 
 def line_of_81_bytes(path: Path) -> None:
-    old = b"\r\nOBJECT = IMAGE\r\n"
-    resize_label_text(path, old, b"\r\nOBJECT = IMAGE" + b" " * (79 - len("OBJECT = IMAGE")) + b"\r\n")
+    """Widen one comment line to 79 characters (81 bytes with CR LF), taking the spaces
+    from another comment so the label keeps its length whatever its padding."""
+    data = path.read_bytes()
+    end = label_end(data)
+    lines = data[:end].split(b"\r\n")
+    comments = [i for i, line in enumerate(lines) if line.rstrip().endswith(b" */")]
+    def trailing_spaces(i: int) -> int:
+        return len(lines[i][:-2]) - len(lines[i][:-2].rstrip(b" "))
+
+    donor = max(comments, key=trailing_spaces)
+    wide = next(i for i in comments if i != donor)
+    grow = 79 - len(lines[wide])
+    assert trailing_spaces(donor) > grow
+    lines[wide] = lines[wide][:-2] + b" " * grow + b"*/"
+    lines[donor] = lines[donor][:-2 - grow] + b"*/"
+    path.write_bytes(b"\r\n".join(lines) + data[end:])
 
 
 def valid_maximum_wrong(path: Path) -> None:

@@ -11,7 +11,7 @@ import pytest
 import rasterio
 from affine import Affine
 
-from pdsgen.geometry import describe_geometry
+from pdsgen.geo.geometry import describe_geometry
 from pdsgen.label.values import format_real
 from pdsgen.validate import validate_paths
 from pdsgen.validate.geojp2 import GEOJP2_UUID, read_jp2

@@ -282,13 +282,13 @@ def test_level_2_hrsc_label_without_a_map_has_no_hrsc_finding(corpus_dir):
 
 def test_statistics_leave_out_mex_dtm_missing_dn_pixels(tmp_path):
     """Real HRSC labels may carry the missing DN only in MEX:DTM: with the IMAGE's
-    MISSING_CONSTANT removed, the -32768 pixels still stay out of VALID_MINIMUM, and
+    MISSING_CONSTANT removed, the -32768 pixels still stay out of MINIMUM, and
     HRSC-001 has nothing to compare (as for those archive labels)."""
     path = _dtm(tmp_path)
-    resize_label_text(path, b"  MISSING_CONSTANT = -32768\r\n", b"")
+    resize_label_text(path, b"  MISSING_CONSTANT   = -32768\r\n", b"")  # aligned with STANDARD_DEVIATION
     report = validate_paths([path], strict=True)
     assert _not_info(report) == []
-    # control: with the group's DN changed too, -32768 counts as data and VALID_MINIMUM is wrong
+    # control: with the group's DN changed too, -32768 counts as data and MINIMUM is wrong
     replace_in_label(path, b"MEX:DTM_MISSING_DN     = -32768", b"MEX:DTM_MISSING_DN     = -32767")
     errors = _errors(validate_paths([path]))
     assert set(errors) == {"IMG-007"} and "-32768" in errors["IMG-007"]

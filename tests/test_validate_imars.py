@@ -100,7 +100,7 @@ def test_lines_wrong(tmp_path):
 
 def test_upper_left_corner_moved_by_one_pixel(tmp_path):
     dtm, _ = _delivery(tmp_path)
-    _edit(dtm.pvl_path, "UpperLeftCornerX = -20000.0 <m>", "UpperLeftCornerX = -19900.0 <m>")
+    _edit(dtm.pvl_path, "UpperLeftCornerX  = -20000.0 <m>", "UpperLeftCornerX  = -19900.0 <m>")
     errors = _errors(validate_paths([dtm.pvl_path]))
     assert set(errors) == {"IMARS-007"}
     assert "-19900.0" in errors["IMARS-007"][0] and "-20000.0" in errors["IMARS-007"][0]
@@ -109,9 +109,9 @@ def test_upper_left_corner_moved_by_one_pixel(tmp_path):
 
 def test_sub_tolerance_corner_is_accepted_and_pixel_size_is_checked_at_the_far_edge(tmp_path):
     dtm, _ = _delivery(tmp_path)
-    _edit(dtm.pvl_path, "UpperLeftCornerX = -20000.0 <m>", "UpperLeftCornerX = -20000.05 <m>")  # 5e-4 px
+    _edit(dtm.pvl_path, "UpperLeftCornerX  = -20000.0 <m>", "UpperLeftCornerX  = -20000.05 <m>")  # 5e-4 px
     assert validate_paths([dtm.pvl_path]).exit_code == 0
-    _edit(dtm.pvl_path, "PixelResolution  = 100.0 <m>", "PixelResolution  = 100.01 <m>")  # 0.009 px at 90 px
+    _edit(dtm.pvl_path, "PixelResolution   = 100.0 <m>", "PixelResolution   = 100.01 <m>")  # 0.009 px at 90 px
     assert set(_errors(validate_paths([dtm.pvl_path]))) == {"IMARS-007"}
 
 

@@ -10,10 +10,10 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .dtm import write_dtm
 from .extras import make_extras
-from .ortho import write_ortho
-from .staging import prepare_output_dir
+from .formats.staging import prepare_output_dir
+from .products.dtm import write_dtm
+from .products.ortho import write_ortho
 from .synthetic import make_scene, write_geotiff
 from .validate import validate_paths
 from .validate.report import Report

@@ -21,3 +21,21 @@ class PdsgenError(Exception):
         if self.path is None:
             return self.problem
         return f"{self.path}: {self.problem}"
+
+
+class InputError(PdsgenError, ValueError):
+    """An input file cannot be used (missing, unreadable, wrong content)."""
+
+
+class OutputError(PdsgenError, OSError):
+    """An output cannot be written (exists without --overwrite, unwritable directory)."""
+
+    def __init__(self, path: str | os.PathLike[str] | None, problem: str) -> None:
+        PdsgenError.__init__(self, path, problem)
+
+
+class ParamsError(PdsgenError, ValueError):
+    """An option or parameter value is unusable (unknown keyword, bad version, unused option)."""
+
+
+__all__ = ["InputError", "OutputError", "ParamsError", "PdsgenError"]

@@ -38,7 +38,7 @@ class _Group(click.Group):
         module = importlib.import_module(f"{__name__}.{COMMANDS[name]}")
         return getattr(module, name.replace("-", "_"))
 
-    def main(self, *args, **kwargs):  # type: ignore[override]
+    def main(self, *args, **kwargs):
         """Usage errors as one line (click's default is a usage block of several lines)."""
         kwargs["standalone_mode"] = False
         try:
@@ -58,7 +58,7 @@ class _Group(click.Group):
             sys.exit(1)
         sys.exit(result if isinstance(result, int) else 0)
 
-    def invoke(self, ctx: click.Context):  # type: ignore[override]
+    def invoke(self, ctx: click.Context):
         try:
             return super().invoke(ctx)
         except PdsgenError as exc:

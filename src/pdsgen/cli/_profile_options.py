@@ -20,3 +20,32 @@ def refuse_unused_options(ctx: click.Context, profile: str, used: set[str]) -> N
         if ctx.get_parameter_source(param.name) not in (ParameterSource.DEFAULT, None):
             flag = max(param.opts, key=len)
             raise PdsgenError(None, f"{flag} does not apply to --profile {profile}")
+
+
+# Library keyword -> click parameter name, where they differ.
+_CLI_NAMES = {"source_product_ids": "source_ids", "params": "params_file", "version": "product_version",
+              "reproject_input": "reproject", "allow_dictionary_deviations": "allow_deviations"}
+
+
+def profile_options(given: dict[str, object], used: set[str]) -> dict[str, object]:
+    """The library keywords (with their values) of the options `used` by a profile."""
+    return {name: value for name, value in given.items() if _CLI_NAMES.get(name, name) in used}
+
+
+def label_fidelity_options(command):
+    """The options of `pdsgen dtm` and `pdsgen ortho` about what their labels carry:
+    HRSC source labels and offset convention, and keeping dictionary deviations."""
+    options = [
+        click.option("--source-label", "source_labels", multiple=True, type=click.Path(dir_okay=False),
+                     help="hrsc: level-2/3 label whose identification, time and orbit keywords the "
+                          "product carries; repeat for each source."),
+        click.option("--offset-convention", type=click.Choice(["standard", "dlr"]), default="standard",
+                     show_default=True, help="hrsc: PDS3 standard projection offsets (GDAL reads them "
+                                             "exactly) or DLR's own, one pixel apart."),
+        click.option("--allow-dictionary-deviations", "allow_deviations", is_flag=True, default=None,
+                     help="Keep label values that break the PDS3 data dictionary (warned once) instead "
+                          "of refusing the product."),
+    ]
+    for option in reversed(options):
+        command = option(command)
+    return command

@@ -4,14 +4,18 @@ from __future__ import annotations
 
 import click
 
-from ..profiles import PROFILES
-from ._profile_options import refuse_unused_options
+from ..products.dtm import DtmProduct, write_dtm
+from ..products.hrsc import HrscDtmProduct
+from ..products.imars import ImarsProduct
+from ..profiles import profile_names
+from ._profile_options import label_fidelity_options, profile_options, refuse_unused_options
 
 _COMMON = {"input_path", "outdir", "product_id", "source_ids", "product_version", "params_file", "overwrite"}
 USED_BY_PROFILE = {
-    "generic": _COMMON | {"byte_order"},
-    "hirise": _COMMON | {"byte_order", "institution"},
-    "hrsc": _COMMON | {"byte_order", "kind", "vertical_datum", "areoid", "precision", "reproject"},
+    "generic": _COMMON | {"allow_deviations", "byte_order"},
+    "hirise": _COMMON | {"allow_deviations", "byte_order", "institution"},
+    "hrsc": _COMMON | {"allow_deviations", "source_labels", "offset_convention", "byte_order", "kind",
+                       "vertical_datum", "areoid", "precision", "reproject"},
     "imars": _COMMON | {"kind", "vertical_datum", "areoid", "precision"},
 }
 
@@ -19,7 +23,7 @@ USED_BY_PROFILE = {
 @click.command(short_help="Make a PDS3 DTM (.IMG with attached label).")
 @click.argument("input_path", metavar="INPUT", type=click.Path(dir_okay=False))
 @click.option("-o", "--outdir", required=True, type=click.Path(file_okay=False), help="Output directory.")
-@click.option("--profile", type=click.Choice(sorted(PROFILES)), default="generic", show_default=True,
+@click.option("--profile", type=click.Choice(profile_names()), default="generic", show_default=True,
               help="Mission profile: names and keywords.")
 @click.option("--product-id", help="Product ID (default: built by the profile; hrsc: h1234_0000).")
 @click.option("--source-product-id", "source_ids", multiple=True,
@@ -42,44 +46,41 @@ USED_BY_PROFILE = {
               help="hrsc/imars: metres per stored integer step (SCALING_FACTOR).")
 @click.option("--reproject", is_flag=True,
               help="hrsc: warp the input into the HRSC projection and sphere instead of refusing it.")
+@label_fidelity_options
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 @click.pass_context
 def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, product_version,
-        params_file, byte_order, kind, vertical_datum, areoid, precision, reproject, overwrite) -> None:
+        params_file, byte_order, kind, vertical_datum, areoid, precision, reproject, source_labels,
+        offset_convention, allow_deviations, overwrite) -> None:
     """Convert the single-band elevation raster INPUT (any GDAL format, projected
     CRS: equirectangular, polar stereographic or sinusoidal) into a PDS3 DTM in OUTDIR:
     <PRODUCT_ID>.IMG (float32); for --profile hrsc hOOOO_NNNN_dt4.img / _da4.img
     (16-bit integers with MEX:DTM scaling); for --profile imars the iMars form:
     hOOOO_NNNN_da4_ucl.tif (int16 GeoTIFF), its .pvl metadata and hOOOO_NNNN.geojson."""
     refuse_unused_options(ctx, profile, USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"]))
-    if profile == "imars":
-        from ..imars import write_imars_dtm
+    given = {
+        "product_id": product_id, "source_product_ids": source_ids, "params": params_file,
+        "version": product_version, "overwrite": overwrite, "byte_order": byte_order, "institution": institution,
+        "kind": kind, "vertical_datum": vertical_datum, "areoid": areoid, "precision": precision,
+        "reproject_input": reproject, "allow_dictionary_deviations": allow_deviations or None,
+        "source_labels": source_labels, "offset_convention": offset_convention,
+    }
+    used = USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"])
+    options = profile_options(given, used)
+    product = write_dtm(input_path, outdir, profile=profile, **options)
+    for warning in getattr(product, "warnings", ()):
+        click.echo(f"warning: {warning}", err=True)
+    click.echo(_summary(product))
 
-        product = write_imars_dtm(
-            input_path, outdir, product_id=product_id, source_product_ids=source_ids, kind=kind[:2],
-            vertical_datum=vertical_datum, areoid=areoid, precision=precision, params=params_file,
-            version=product_version, overwrite=overwrite,
-        )
-        click.echo(f"{product.tiff_path}  {product.pvl_path.name}  {product.footprint_path.name}")
-        return
-    if profile == "hrsc":
-        from ..hrsc import write_hrsc_dtm
 
-        product = write_hrsc_dtm(
-            input_path, outdir, kind=kind, vertical_datum=vertical_datum, areoid=areoid, precision=precision,
-            reproject_input=reproject, product_id=product_id, source_product_ids=source_ids,
-            params=params_file, byte_order=byte_order or "msb", version=product_version, overwrite=overwrite,
-        )
-        click.echo(f"{product.path}  {product.geometry.lines} x {product.geometry.samples}  "
-                   f"DN {product.valid_minimum} .. {product.valid_maximum} "
-                   f"(x {product.encoding.scaling_factor:g} + {product.encoding.offset:g} m)")
-        return
-    from ..dtm import write_dtm
-
-    product = write_dtm(
-        input_path, outdir, profile=profile, product_id=product_id,
-        source_product_ids=source_ids, params=params_file, byte_order=byte_order or "lsb",
-        institution=institution, version=product_version, overwrite=overwrite,
-    )
-    click.echo(f"{product.path}  {product.geometry.lines} x {product.geometry.samples}  "
-               f"valid {product.valid_minimum} .. {product.valid_maximum} m")
+def _summary(product: object) -> str:
+    """The one line `pdsgen dtm` prints, in the form of the product the profile made."""
+    if isinstance(product, ImarsProduct):
+        return f"{product.tiff_path}  {product.pvl_path.name}  {product.footprint_path.name}"
+    if isinstance(product, HrscDtmProduct):
+        return (f"{product.path}  {product.geometry.lines} x {product.geometry.samples}  "
+                f"DN {product.valid_minimum} .. {product.valid_maximum} "
+                f"(x {product.encoding.scaling_factor:g} + {product.encoding.offset:g} m)")
+    assert isinstance(product, DtmProduct)
+    return (f"{product.path}  {product.geometry.lines} x {product.geometry.samples}  "
+            f"valid {product.valid_minimum} .. {product.valid_maximum} m")

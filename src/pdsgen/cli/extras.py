@@ -5,7 +5,8 @@ from __future__ import annotations
 import click
 
 from ..extras import DEFAULT_CREDIT, KINDS, make_extras
-from ..profiles import PROFILES
+from ..missions.hrsc import CREDIT as HRSC_CREDIT
+from ..profiles import profile_names
 
 
 @click.command(short_help="Make browse, annotated browse and thumbnail JPEGs and README.TXT.")
@@ -14,7 +15,7 @@ from ..profiles import PROFILES
 @click.option("-o", "--outdir", required=True, type=click.Path(file_okay=False),
               help="Output directory.")
 @click.option("--credit", help=f"Credit line on annotated images [default: params CREDIT, else the "
-                               f"profile's (hrsc: 'ESA/DLR/FU Berlin'), else {DEFAULT_CREDIT!r}].")
+                               f"profile's (hrsc: {HRSC_CREDIT!r}), else {DEFAULT_CREDIT!r}].")
 @click.option("--params", "params_file", type=click.Path(dir_okay=False),
               help="PVL or TOML file of producer keywords (contact, known artifacts ...).")
 @click.option("--browse-width", type=int,
@@ -30,7 +31,7 @@ from ..profiles import PROFILES
                    "automatically when the relief is too faint at preview scale].")
 @click.option("--kind", type=click.Choice(KINDS),
               help="Treat every PRODUCT as this kind [default: from the label or data type].")
-@click.option("--profile", type=click.Choice(sorted(PROFILES)),
+@click.option("--profile", type=click.Choice(profile_names()),
               help="Mission conventions (credit line) [default: from each product's label].")
 @click.option("--overwrite", is_flag=True, help="Replace existing Extras files.")
 def extras(products, outdir, credit, params_file, browse_width, thumb_width, azimuth, altitude,

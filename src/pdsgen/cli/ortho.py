@@ -4,15 +4,17 @@ from __future__ import annotations
 
 import click
 
-from ..errors import PdsgenError
-from ..profiles import PROFILES
-from ._profile_options import refuse_unused_options
+from ..products.hrsc import HrscImageProduct
+from ..products.imars import ImarsProduct
+from ..products.ortho import OrthoProduct, write_ortho
+from ..profiles import profile_names
+from ._profile_options import label_fidelity_options, profile_options, refuse_unused_options
 
 _COMMON = {"input_path", "outdir", "product_id", "value_range", "params_file", "product_version", "overwrite"}
 USED_BY_PROFILE = {
-    "generic": _COMMON | {"bits", "observation_id", "source_dtm_id", "sequence", "gmljp2"},
-    "hirise": _COMMON | {"bits", "observation_id", "source_dtm_id", "sequence", "gmljp2"},
-    "hrsc": _COMMON | {"bits", "source_ids", "reproject"},
+    "generic": _COMMON | {"allow_deviations", "bits", "observation_id", "source_dtm_id", "sequence", "gmljp2"},
+    "hirise": _COMMON | {"allow_deviations", "bits", "observation_id", "source_dtm_id", "sequence", "gmljp2"},
+    "hrsc": _COMMON | {"allow_deviations", "source_labels", "offset_convention", "bits", "source_ids", "reproject"},
     "imars": _COMMON | {"bits", "source_ids"},
 }
 
@@ -20,7 +22,7 @@ USED_BY_PROFILE = {
 @click.command(short_help="Make a PDS3 orthoimage (.JP2 + detached .LBL).")
 @click.argument("input_path", metavar="INPUT", type=click.Path(dir_okay=False))
 @click.option("-o", "--outdir", required=True, type=click.Path(file_okay=False), help="Output directory.")
-@click.option("--profile", type=click.Choice(sorted(PROFILES)),
+@click.option("--profile", type=click.Choice(profile_names()),
               default="generic", show_default=True, help="Mission profile: names and keywords.")
 @click.option("--product-id", help="Product ID (default: built by the profile).")
 @click.option("--bits", type=click.Choice(["8", "10", "16"]),
@@ -39,40 +41,37 @@ USED_BY_PROFILE = {
 @click.option("--source-product-id", "source_ids", multiple=True,
               help="hrsc/imars: source product (e.g. H1234_0000_ND3) giving orbit and sequence.")
 @click.option("--reproject", is_flag=True, help="hrsc: warp the input into the HRSC projection and sphere.")
+@label_fidelity_options
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 @click.pass_context
 def ortho(ctx, input_path, outdir, profile, product_id, bits, value_range, observation_id, source_dtm_id,
-          sequence, params_file, product_version, gmljp2, source_ids, reproject, overwrite) -> None:
+          sequence, params_file, product_version, gmljp2, source_ids, reproject, source_labels,
+          offset_convention, allow_deviations, overwrite) -> None:
     """Convert the 1-band (RED) or 3-band (IRB) orthoimage INPUT (any GDAL format,
     projected CRS as for DTMs) into OUTDIR/<PRODUCT_ID>.JP2 and .LBL; for --profile
     hrsc the 8-bit nadir image hOOOO_NNNN_nd4.img (attached label, DN 0 = no data);
     for --profile imars hOOOO_NNNN_nd4_ucl.tif with its .pvl and footprint."""
-    refuse_unused_options(ctx, profile, USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"]))
-    if profile in ("hrsc", "imars") and bits not in (None, "8"):
-        raise PdsgenError(None, f"--profile {profile} orthoimages are 8-bit; --bits {bits} does not apply")
-    if profile == "hrsc":
-        from ..hrsc import write_hrsc_nd4
+    used = USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"])
+    refuse_unused_options(ctx, profile, used)
+    given = {
+        "product_id": product_id, "bits": int(bits) if bits else None, "value_range": value_range or None,
+        "observation_id": observation_id, "source_dtm_id": source_dtm_id, "sequence": sequence,
+        "params": params_file, "gmljp2": gmljp2, "version": product_version, "overwrite": overwrite,
+        "source_product_ids": source_ids, "reproject_input": reproject,
+    }
+    options = profile_options(given, used)
+    product = write_ortho(input_path, outdir, profile=profile, **options)
+    for warning in getattr(product, "warnings", ()):
+        click.echo(f"warning: {warning}", err=True)
+    click.echo(_summary(product))
 
-        nd4 = write_hrsc_nd4(input_path, outdir, value_range=value_range or None, reproject_input=reproject,
-                             product_id=product_id, source_product_ids=source_ids, params=params_file,
-                             version=product_version, overwrite=overwrite)
-        click.echo(f"{nd4.path}  DN {nd4.valid_minimum} .. {nd4.valid_maximum}")
-        return
-    if profile == "imars":
-        from ..imars import write_imars_ori
 
-        ori = write_imars_ori(input_path, outdir, product_id=product_id, source_product_ids=source_ids,
-                              value_range=value_range or None, params=params_file, version=product_version,
-                              overwrite=overwrite)
-        click.echo(f"{ori.tiff_path}  {ori.pvl_path.name}  {ori.footprint_path.name}")
-        return
-    from ..ortho import write_ortho
-
-    product = write_ortho(
-        input_path, outdir, profile=profile, product_id=product_id,
-        bits=int(bits) if bits else None, value_range=value_range or None,
-        observation_id=observation_id, source_dtm_id=source_dtm_id, sequence=sequence,
-        params=params_file, gmljp2=gmljp2, version=product_version, overwrite=overwrite,
-    )
-    click.echo(f"{product.jp2_path}  {product.geometry.lines} x {product.geometry.samples} x {product.bands}  "
-               f"{product.bits}-bit DN * {product.scaling_factor:.6g} + {product.offset:.6g}")
+def _summary(product: object) -> str:
+    """The one line `pdsgen ortho` prints, in the form of the product the profile made."""
+    if isinstance(product, HrscImageProduct):
+        return f"{product.path}  DN {product.valid_minimum} .. {product.valid_maximum}"
+    if isinstance(product, ImarsProduct):
+        return f"{product.tiff_path}  {product.pvl_path.name}  {product.footprint_path.name}"
+    assert isinstance(product, OrthoProduct)
+    return (f"{product.jp2_path}  {product.geometry.lines} x {product.geometry.samples} x {product.bands}  "
+            f"{product.bits}-bit DN * {product.scaling_factor:.6g} + {product.offset:.6g}")

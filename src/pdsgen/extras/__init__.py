@@ -20,15 +20,17 @@ from pathlib import Path
 from PIL import Image
 
 from ..errors import PdsgenError
-from ..params import ParamValue, resolve_params
-from ..profiles import PROFILES
-from ..staging import StagedOutputs, prepare_output_dir
+from ..formats.staging import StagedOutputs, prepare_output_dir
+from ..missions import hirise as hirise_mission
+from ..missions import mission_names
+from ..missions.base import get_mission
+from ..products.params import ParamValue, resolve_params
 from .product_source import KINDS, ProductSource, open_product
 from .readme_index import INDEX_NAME, index_bytes, load_index, merge_entries
 from .readme_txt import README_NAME, directory_keywords, product_entry, render_readme
 from .renderings import THUMB_WIDTH, ProductPreviews, render_product
 
-DEFAULT_CREDIT = "NASA/JPL/University of Arizona"
+DEFAULT_CREDIT = hirise_mission.CREDIT
 JPEG_QUALITY = 90
 
 __all__ = ["make_extras", "extras_file_names", "DEFAULT_CREDIT", "KINDS"]
@@ -123,7 +125,7 @@ def _write_previews(previews: ProductPreviews, outdir: Path, overwrite: bool) ->
 
 
 def _credit(credit: str | None, keywords: Mapping[str, ParamValue], profile: str) -> str:
-    profile_credit = PROFILES[profile].credit if profile in PROFILES else ""
+    profile_credit = get_mission(profile).credit if profile in mission_names() else ""
     text = credit if credit is not None else str(keywords.get("CREDIT", profile_credit or DEFAULT_CREDIT))
     if not text.isascii():
         raise PdsgenError(None, f"credit line {text!r} must be ASCII text")
@@ -152,7 +154,7 @@ def _check_options(browse_width: int | None, thumb_width: int, azimuth: float, a
 
 def _check_int(what: str, value: object, low: int, high: int) -> None:
     if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not (
-            low <= value <= high):
+            low <= int(value) <= high):
         raise PdsgenError(None, f"{what} {value!r} must be a whole number of pixels, "
                                 f"{low} .. {high}")
 

@@ -156,7 +156,7 @@ class _Sizes:
 
 
 def _draw_scale_bar(draw: ImageDraw.ImageDraw, bar: ScaleBar, x0: int, y0: int,
-                    size: _Sizes, font: ImageFont.FreeTypeFont) -> tuple[int, int, int, int]:
+                    size: _Sizes, font: ImageFont.FreeTypeFont | ImageFont.ImageFont) -> tuple[int, int, int, int]:
     """Four alternating black/white segments, outlined; '0' and the length below."""
     x1, y1 = x0 + bar.pixels - 1, y0 + size.bar - 1
     segments = 4 if bar.pixels >= 40 else 1
@@ -175,7 +175,7 @@ def _draw_scale_bar(draw: ImageDraw.ImageDraw, bar: ScaleBar, x0: int, y0: int,
 
 
 def _draw_north_arrow(draw: ImageDraw.ImageDraw, north_deg: float, cx: float, cy: float,
-                      size: _Sizes, font: ImageFont.FreeTypeFont) -> tuple[float, float]:
+                      size: _Sizes, font: ImageFont.FreeTypeFont | ImageFont.ImageFont) -> tuple[float, float]:
     """An arrow pointing north (clockwise angle from up), 'N' beyond its tip."""
     length = size.arrow
     angle = math.radians(north_deg)
@@ -195,7 +195,7 @@ def _draw_north_arrow(draw: ImageDraw.ImageDraw, north_deg: float, cx: float, cy
     return tip
 
 
-def _ramp_margin_width(legend: Legend, size: _Sizes, font: ImageFont.FreeTypeFont) -> int:
+def _ramp_margin_width(legend: Legend, size: _Sizes, font: ImageFont.FreeTypeFont | ImageFont.ImageFont) -> int:
     labels = [_tick_label(v, _tick_step(legend)) for v in _ticks(legend)]
     widest = max(font.getlength(t) for t in labels)
     content = max(round(size.text * 1.5) + size.gap * 2 + widest, font.getlength(legend.title))
@@ -203,7 +203,7 @@ def _ramp_margin_width(legend: Legend, size: _Sizes, font: ImageFont.FreeTypeFon
 
 
 def _draw_legend(draw: ImageDraw.ImageDraw, legend: Legend, x0: int, y_img: int, height: int,
-                 size: _Sizes, font: ImageFont.FreeTypeFont) -> tuple[int, int, int, int]:
+                 size: _Sizes, font: ImageFont.FreeTypeFont | ImageFont.ImageFont) -> tuple[int, int, int, int]:
     """A vertical colour ramp (high at the top) with ticks at round elevations."""
     bar_w = round(size.text * 1.5)
     y0 = y_img + size.small + size.gap * 2
@@ -240,7 +240,8 @@ def _tick_step(legend: Legend) -> float:
 def _ticks(legend: Legend) -> list[float]:
     step = _tick_step(legend)
     first = math.ceil(legend.low / step - 1e-9) * step
-    ticks, value = [], first
+    ticks: list[float] = []
+    value = first
     while value <= legend.high + 1e-9 * step and len(ticks) < 50:
         ticks.append(value)
         value += step

@@ -28,6 +28,9 @@ from rasterio.errors import RasterioIOError
 from rasterio.transform import Affine
 
 from ..errors import PdsgenError
+from ..label.grammar import FLOAT_SAMPLE_TYPES
+from ..missions import LabelFacts, detect_mission
+from ..missions.hrsc import is_dtm_name as is_hrsc_dtm_name
 
 DTM = "dtm"
 ORTHO = "ortho"
@@ -35,19 +38,18 @@ KINDS = (DTM, ORTHO)
 
 # GDAL's block cache defaults to 5 % of RAM; a preview needs only a few blocks at a
 # time, so a small cache keeps memory bounded by the preview size, not the raster.
-GDAL_ENV = {"GDAL_CACHEMAX": 16 * 1024 * 1024, "GDAL_PAM_ENABLED": "NO"}
+# In MB, the unit formats/raster.py measured: as a byte count GDAL_CACHEMAX raised peak memory.
+GDAL_ENV = {"GDAL_CACHEMAX": 16, "GDAL_PAM_ENABLED": "NO"}
 
 _LABEL_SCAN_BYTES = 4 * 1024 * 1024
-_HRSC_NAME = re.compile(r"^h\d{4,5}_\d{4}_[a-z]{2}\d", re.IGNORECASE)
 _END_LINE = re.compile(rb"^[ \t]*END[ \t]*\r?$", re.MULTILINE)
-_FLOAT_TYPES = {"PC_REAL", "IEEE_REAL", "REAL", "MAC_REAL", "SUN_REAL", "FLOAT"}
+_FLOAT_TYPES = FLOAT_SAMPLE_TYPES
 _ELEVATION_WORDS = ("TOPOGRAPHY", "ELEVATION", "HEIGHT", "RADIUS", "DTM", "DEM", "ALTIMETRY")
 # GDAL metadata items that describe a raster's content; words in them that mean
 # heights (whole words: "DEMO" or "DTMAKER" do not count).
 _DESCRIPTIVE_TAGS = ("DESCRIPTION", "TIFFTAG_IMAGEDESCRIPTION", "PRODUCT_ID", "PRODUCT_TYPE")
 _ELEVATION_TAG_WORDS = re.compile(
     r"(?<![A-Z0-9])(TOPOGRAPHY|ELEVATIONS?|HEIGHTS?|DTMS?|DEMS?|ALTIMETRY)(?![A-Z0-9])")
-_HRSC_DTM_NAME = re.compile(r"_d[at]4(?![a-z0-9])", re.IGNORECASE)
 _LENGTH_UNITS = {"M": 1.0, "METER": 1.0, "METERS": 1.0, "METRE": 1.0, "METRES": 1.0,
                  "KM": 1000.0, "KILOMETER": 1000.0, "KILOMETERS": 1000.0}
 
@@ -264,12 +266,13 @@ def _image_object(label: dict) -> dict:
 
 def _mission(label: dict, path: Path) -> str:
     """"hrsc" or "hirise" when the label (or an HRSC file name) says so, else ""."""
-    instrument = str(label.get("INSTRUMENT_ID", "") or "").upper()
-    if instrument == "HRSC" or "MEX:DTM" in label or _HRSC_NAME.match(path.name):
-        return "hrsc"
-    if instrument == "HIRISE":
-        return "hirise"
-    return ""
+    facts = LabelFacts(
+        instrument_id=str(label.get("INSTRUMENT_ID", "") or ""),
+        data_set_id=str(label.get("DATA_SET_ID", "") or ""),
+        group_names=frozenset(str(key).upper() for key, value in label.items() if hasattr(value, "keys")),
+        file_name=path.name,
+    )
+    return detect_mission(facts) or ""
 
 
 def _product_id(label: dict, path: Path) -> str:
@@ -341,7 +344,7 @@ def _detect_kind(label: dict, image: dict, info: dict, path: Path) -> str:
         return ORTHO
     if label:
         return ORTHO
-    if _ELEVATION_TAG_WORDS.search(info["hints"]) or _HRSC_DTM_NAME.search(path.stem):
+    if _ELEVATION_TAG_WORDS.search(info["hints"]) or is_hrsc_dtm_name(path.stem):
         return DTM
     if info["dtype"] == "int16" and (info["scale"] not in (None, 1.0)
                                      or info["offset"] not in (None, 0.0)):

@@ -16,7 +16,8 @@ from typing import TYPE_CHECKING, Any
 
 import jinja2
 
-from ..params import ParamValue
+from ..label.grammar import MAX_LINE_BYTES as GRAMMAR_MAX_LINE_BYTES
+from ..products.params import ParamValue
 from ..resources import templates_dir
 from .colour_ramp import RAMP_NAME
 from .product_source import DTM, ProductSource
@@ -27,7 +28,7 @@ if TYPE_CHECKING:
 
 README_NAME = "README.TXT"
 TEMPLATE = "extras_readme.txt.j2"
-MAX_LINE_BYTES = 80
+MAX_LINE_BYTES = GRAMMAR_MAX_LINE_BYTES
 _HANGING = re.compile(r"^(\s*[A-Za-z][A-Za-z0-9_ ()/.-]*:\s+)\S")
 
 

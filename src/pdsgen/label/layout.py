@@ -11,7 +11,10 @@ from __future__ import annotations
 
 import re
 
-MAX_CONTENT = 78  # characters per line before CR LF (80 bytes in all)
+from ..errors import ParamsError
+from .grammar import MAX_LINE_CHARS
+
+MAX_CONTENT = MAX_LINE_CHARS  # characters per line before CR LF (80 bytes in all)
 INDENT = "  "
 
 _STATEMENT_RE = re.compile(r"^(?P<key>\^?[A-Za-z][A-Za-z0-9_:]*)\s*=\s*(?P<value>.*)$")
@@ -19,8 +22,12 @@ _OPENERS = ("OBJECT", "GROUP")
 _CLOSERS = ("END_OBJECT", "END_GROUP")
 
 
-class LabelLayoutError(ValueError):
-    """The statements cannot be laid out within the PDS line rules."""
+class LabelLayoutError(ParamsError):
+    """The statements cannot be laid out within the PDS line rules (e.g. a params value
+    with a word longer than a line): one line for the user, not a traceback."""
+
+    def __init__(self, problem: str) -> None:
+        super().__init__(None, problem)
 
 
 def layout_label(text: str) -> str:

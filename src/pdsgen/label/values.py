@@ -16,7 +16,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-_SYMBOL_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
+from .grammar import IDENTIFIER_PATTERN
+
+_SYMBOL_RE = re.compile(f"^{IDENTIFIER_PATTERN}$")
 _UNIT_RE = re.compile(r"^[A-Za-z0-9_/*.^()\- ]+$")
 
 
@@ -39,6 +41,14 @@ class Quantity:
     def __post_init__(self) -> None:
         if not _UNIT_RE.match(self.unit):
             raise ValueError(f"{self.unit!r} is not a valid PDS unit")
+
+
+@dataclass(frozen=True)
+class Fixed:
+    """A real written with a fixed number of decimals, e.g. ``-4049.48`` (release formats)."""
+
+    value: float
+    decimals: int
 
 
 @dataclass(frozen=True)
@@ -133,6 +143,8 @@ def format_value(value: object) -> str:
         return f"{format_value(value.value)} <{value.unit}>"
     if isinstance(value, Based):
         return format_based(value)
+    if isinstance(value, Fixed):
+        return f"{value.value:.{value.decimals}f}"
     if isinstance(value, _dt.datetime):
         return value.replace(tzinfo=None).isoformat(timespec="milliseconds")
     if isinstance(value, _dt.date):

@@ -9,9 +9,9 @@ from __future__ import annotations
 import re
 from collections.abc import Iterator
 
+from ..label.grammar import DATA_TYPES
 from .context import FileContext
 from .dictionary import NUMERIC_PLACEHOLDERS, PLACEHOLDERS
-from .image_rules import DATA_TYPES
 from .lexer import date_problem
 from .model import Hit, Statement, Value
 
@@ -163,7 +163,15 @@ def check_range(ctx: FileContext) -> Iterator[Hit]:
             unit = f" <{entry['unit']}>" if value.unit and entry.get("unit") else ""
             shown = f" ({number:g}{unit})" if unit else ""
             yield Hit(f"{stmt.keyword} = {value.raw}{shown} is outside {lo if lo is not None else '-inf'}.."
-                      f"{hi if hi is not None else 'inf'}{unit}", value.line, stmt.keyword)
+                      f"{hi if hi is not None else 'inf'}{unit}", value.line, stmt.keyword,
+                      severity=_deviation_level(ctx))
+
+
+def _deviation_level(ctx: FileContext) -> str | None:
+    """Ranges and lengths: warnings in labels others wrote (genuine archives break them, e.g.
+    long DATA_SET_NAMEs), errors in labels pdsgen writes and under --strict (the writers
+    refuse them before publishing, see products/agreement.py)."""
+    return "error" if ctx.strict or ctx.written_by_pdsgen else None
 
 
 def check_hrsc_not_applicable(ctx: FileContext) -> Iterator[Hit]:
@@ -261,9 +269,11 @@ def check_length(ctx: FileContext) -> Iterator[Hit]:
             length = len(" ".join(str(value.py).split()))
         lo, hi = entry.get("min_length"), entry.get("max_length")
         if lo is not None and length < lo:
-            yield Hit(f"{stmt.keyword} has {length} characters, at least {lo}", value.line, stmt.keyword)
+            yield Hit(f"{stmt.keyword} has {length} characters, at least {lo}", value.line, stmt.keyword,
+                      severity=_deviation_level(ctx))
         elif hi is not None and length > hi:
-            yield Hit(f"{stmt.keyword} has {length} characters, at most {hi}", value.line, stmt.keyword)
+            yield Hit(f"{stmt.keyword} has {length} characters, at most {hi}", value.line, stmt.keyword,
+                      severity=_deviation_level(ctx))
 
 
 def check_units(ctx: FileContext) -> Iterator[Hit]:

@@ -14,13 +14,15 @@ from functools import cache
 from pathlib import Path
 
 from ..errors import PdsgenError
+from ..label.grammar import PLACEHOLDERS as GRAMMAR_PLACEHOLDERS
+from ..missions.hrsc import NOT_APPLICABLE as HRSC_NOT_APPLICABLE
 from ..resources import schemas_dir
 from .psdd import read_psdd
 
-PLACEHOLDERS = frozenset({"N/A", "UNK", "NULL", "UNKNOWN"})
+PLACEHOLDERS = GRAMMAR_PLACEHOLDERS
 # Numbers missions write where a value does not apply or is not known: the 32-bit integer
-# minimum, -9.99e+31 (VICAR/MIPL), -1e+32 (HRSC, DLR). Like "N/A" they skip range checks.
-NUMERIC_PLACEHOLDERS = frozenset({-2147483648, -9.99e31, -1e32})
+# minimum, -9.99e+31 (VICAR/MIPL), HRSC's -1e+32 (DLR). Like "N/A" they skip range checks.
+NUMERIC_PLACEHOLDERS = frozenset({-2147483648, -9.99e31, HRSC_NOT_APPLICABLE})
 
 
 @dataclass(frozen=True)

@@ -9,13 +9,11 @@ be checked. A GMLJP2 box (an `asoc` with GML XML) is read with lxml.
 from __future__ import annotations
 
 import struct
-import uuid
 from dataclasses import dataclass, field
 from pathlib import Path
 
-GEOJP2_UUID = uuid.UUID("b14bf8bd-083d-4b43-a5ae-8cd7d5a6ce03")
-_TYPES = {1: ("B", 1), 2: ("c", 1), 3: ("H", 2), 4: ("I", 4), 5: ("II", 8), 6: ("b", 1),
-          8: ("h", 2), 9: ("i", 4), 11: ("f", 4), 12: ("d", 8), 16: ("Q", 8)}
+from ..formats.geojp2 import GEOJP2_UUID, geokeys_of
+from ..formats.geojp2 import tiff_tags as _tiff_tags
 
 # GeoKey ids used by the checks
 GT_RASTER_TYPE = 1025
@@ -86,37 +84,6 @@ def read_jp2(path: Path) -> Jp2Info:
                    bits if isinstance(bits, int) else int(bits[0]), bool(ihdr.signed), georefs)
 
 
-def _tiff_tags(data: bytes) -> dict[int, tuple]:
-    if data[:2] == b"II":
-        order = "<"
-    elif data[:2] == b"MM":
-        order = ">"
-    else:
-        raise ValueError("not a TIFF")
-    (magic,) = struct.unpack_from(order + "H", data, 2)
-    if magic != 42:
-        raise ValueError("not a classic TIFF")
-    (ifd,) = struct.unpack_from(order + "I", data, 4)
-    (count,) = struct.unpack_from(order + "H", data, ifd)
-    tags: dict[int, tuple] = {}
-    for i in range(count):
-        tag, typ, n, raw = struct.unpack_from(order + "HHI4s", data, ifd + 2 + 12 * i)
-        if typ not in _TYPES:
-            continue
-        fmt, size = _TYPES[typ]
-        total = size * n
-        if total <= 4:
-            blob = raw[:total]
-        else:
-            (offset,) = struct.unpack(order + "I", raw)
-            blob = data[offset : offset + total]
-        if typ == 2:
-            tags[tag] = (blob.rstrip(b"\x00").decode("latin-1"),)
-        else:
-            tags[tag] = struct.unpack(order + fmt * n, blob)
-    return tags
-
-
 def geotiff_georef(data: bytes) -> Georef | None:
     """Geotransform and GeoKeys of the GeoTIFF inside a GeoJP2 box."""
     try:
@@ -124,18 +91,7 @@ def geotiff_georef(data: bytes) -> Georef | None:
     except (ValueError, struct.error):
         return None
     scale, tie = tags.get(33550), tags.get(33922)
-    keys: dict[int, object] = {}
-    directory = tags.get(34735)
-    doubles, asciis = tags.get(34736, ()), tags.get(34737, ("",))[0]
-    if directory and len(directory) >= 4:
-        for k in range(directory[3]):
-            key, loc, count, value = directory[4 + 4 * k : 8 + 4 * k]
-            if loc == 0:
-                keys[key] = value
-            elif loc == 34736:
-                keys[key] = doubles[value] if count == 1 else tuple(doubles[value : value + count])
-            elif loc == 34737:
-                keys[key] = asciis[value : value + count].rstrip("|")
+    keys = geokeys_of(tags)
     if not scale or not tie or len(tie) < 6:
         return None
     sx, sy = scale[0], scale[1]

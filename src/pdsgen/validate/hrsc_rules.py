@@ -18,6 +18,8 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 
+from ..label.grammar import PLACEHOLDERS
+from ..missions.hrsc import AREOID_DESC, NOT_APPLICABLE, POLAR_LIMIT_DEG, SPHERE_DESC, SPHERE_KM
 from .context import FileContext
 from .image_rules import is_image
 from .map_rules import geometry
@@ -26,13 +28,10 @@ from .profiles import hrsc_kind, is_hrsc
 from .projection import normalise
 from .quantities import kilometres as _km
 
-HRSC_SPHERE_KM = 3396.0
-POLAR_LIMIT_DEG = 85.0
-SPHERE_DESC = "HEIGHT ABOVE SPHEROID"
-AREOID_DESC = "HEIGHT ABOVE GM3-AREOID"
-NOT_SET = -1e32  # HRSC's "not applicable" number
+HRSC_SPHERE_KM = SPHERE_KM
+NOT_SET = NOT_APPLICABLE  # HRSC's "not applicable" number
 _DESC_BY_KIND = {"dt4": SPHERE_DESC, "da4": AREOID_DESC}
-_PLACEHOLDERS = frozenset({"N/A", "UNK", "NULL", ""})
+_PLACEHOLDERS = PLACEHOLDERS | {""}
 
 
 def _group(ctx: FileContext) -> Block | None:

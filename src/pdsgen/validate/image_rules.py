@@ -14,52 +14,12 @@ from collections.abc import Iterator
 
 import numpy as np
 
+from ..label.grammar import DATA_TYPES, SAMPLE_TYPES, SPECIAL_CONSTANTS
 from .context import FileContext
 from .datastats import Layout, Stats, image_stats
 from .model import Block, Hit, Value
 
-_TYPES = {
-    # sample type: (byte order, kind) ; kind i signed, u unsigned, f float
-    "MSB_INTEGER": (">", "i"),
-    "SUN_INTEGER": (">", "i"),
-    "MAC_INTEGER": (">", "i"),
-    "INTEGER": (">", "i"),
-    "LSB_INTEGER": ("<", "i"),
-    "PC_INTEGER": ("<", "i"),
-    "VAX_INTEGER": ("<", "i"),
-    "MSB_UNSIGNED_INTEGER": (">", "u"),
-    "UNSIGNED_INTEGER": (">", "u"),
-    "SUN_UNSIGNED_INTEGER": (">", "u"),
-    "MAC_UNSIGNED_INTEGER": (">", "u"),
-    "LSB_UNSIGNED_INTEGER": ("<", "u"),
-    "PC_UNSIGNED_INTEGER": ("<", "u"),
-    "VAX_UNSIGNED_INTEGER": ("<", "u"),
-    "IEEE_REAL": (">", "f"),
-    "FLOAT": (">", "f"),
-    "REAL": (">", "f"),
-    "SUN_REAL": (">", "f"),
-    "MAC_REAL": (">", "f"),
-    "PC_REAL": ("<", "f"),
-}
-# Every PDS3 data type name (Standards Reference appendix C): those samples can be read
-# as (above), and the rest, which are valid types a reader may not decode here.
-DATA_TYPES = frozenset(_TYPES) | frozenset({
-    "VAX_REAL", "VAXG_REAL", "VAX_DOUBLE", "VAX_COMPLEX", "VAXG_COMPLEX", "VAX_BIT_STRING",
-    "IEEE_COMPLEX", "PC_COMPLEX", "MAC_COMPLEX", "SUN_COMPLEX", "COMPLEX", "IBM_INTEGER",
-    "IBM_UNSIGNED_INTEGER", "IBM_REAL", "IBM_COMPLEX", "MSB_BIT_STRING", "LSB_BIT_STRING", "BIT_STRING",
-    "ASCII_REAL", "ASCII_INTEGER", "ASCII_COMPLEX", "CHARACTER", "EBCDIC_CHARACTER", "BOOLEAN",
-    "DATE", "TIME", "DOUBLE", "N/A",
-})
-SPECIAL_CONSTANTS = (
-    "MISSING_CONSTANT",
-    "NULL",
-    "CORE_NULL",
-    "INVALID_CONSTANT",
-    "CORE_LOW_REPR_SATURATION",
-    "CORE_LOW_INSTR_SATURATION",
-    "CORE_HIGH_REPR_SATURATION",
-    "CORE_HIGH_INSTR_SATURATION",
-)
+_TYPES = SAMPLE_TYPES
 _EXCLUDED = SPECIAL_CONSTANTS  # values left out of the statistics
 _REQUIRED = ("LINES", "LINE_SAMPLES", "SAMPLE_TYPE", "SAMPLE_BITS")
 _STORAGE = ("BAND_SEQUENTIAL", "LINE_INTERLEAVED", "SAMPLE_INTERLEAVED")

@@ -18,6 +18,7 @@ from typing import Any
 
 import pvl
 
+from ..missions.imars import is_metadata_name
 from .context import directory_listing, resolve_beside
 
 _SNIFF_BYTES = 64 * 1024
@@ -31,7 +32,7 @@ def is_imars_metadata(path: Path) -> bool:
     """An iMars metadata file: `*_ucl.pvl`, or a `.pvl` with ProductInfo and Image objects."""
     if path.suffix.lower() != ".pvl":
         return False
-    if path.name.lower().endswith("_ucl.pvl"):
+    if is_metadata_name(path.name):
         return True
     try:
         with open(path, "rb") as fh:

@@ -11,12 +11,14 @@ from __future__ import annotations
 
 import json
 import math
-import re
 from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
 
+from ..missions.hrsc import parse_name as parse_hrsc_name
+from ..missions.imars import footprint_name as imars_footprint_name
+from ..missions.imars import metadata_name
 from .imars_context import ImarsContext
 from .model import Hit
 
@@ -29,7 +31,6 @@ REQUIRED_KEYWORDS = {
     "MapProjection": ("PixelResolution", "UpperLeftCornerX", "UpperLeftCornerY", "Proj4"),
 }
 TOLERANCE_PX = 1e-3
-_SCENE_ID = re.compile(r"^(h\d{4,5}_\d{4})", re.IGNORECASE)
 _GDAL_TYPES = {"byte": "uint8", "int8": "int8", "uint16": "uint16", "int16": "int16", "uint32": "uint32",
                "int32": "int32", "float32": "float32", "float64": "float64"}
 _LENGTH_TO_M = {"m": 1.0, "meter": 1.0, "meters": 1.0, "metre": 1.0, "metres": 1.0, "km": 1000.0}
@@ -94,7 +95,7 @@ def check_product_id(ctx: ImarsContext) -> Iterator[Hit]:
     pid = product_id(ctx)
     if pid is None:
         return
-    expected = f"{pid}_ucl.pvl"
+    expected = metadata_name(pid)
     if ctx.path.name.lower() != expected.lower():
         yield Hit(f"ProductInfo.ProductId = {pid} but the file is named {ctx.path.name}; expected "
                   f"{expected}", ctx.line("ProductInfo", "ProductId"), "ProductId")
@@ -281,9 +282,9 @@ def check_valid_range(ctx: ImarsContext) -> Iterator[Hit]:
 def footprint_name(ctx: ImarsContext) -> str | None:
     """`<hOOOO_NNNN>.geojson`: the scene part of the product id (or of the file name)."""
     for candidate in (product_id(ctx) or "", ctx.path.name):
-        match = _SCENE_ID.match(candidate)
+        match = parse_hrsc_name(candidate)
         if match:
-            return f"{match.group(1)}.geojson"
+            return imars_footprint_name(candidate[: match.end("sequence")])
     return None
 
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import re
 
+from ..label.grammar import IDENTIFIER_RE
 from .model import Block, Issue, Label, Line, Statement, Value
 
 _WS = re.compile(r"[ \t\f\v\x00]+")
@@ -25,7 +26,7 @@ _INT = re.compile(r"[+-]?\d+")
 _REAL = re.compile(r"[+-]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][+-]?\d+)?")
 _BASED = re.compile(r"([+-]?)(\d+)#([^#]*)#")
 _KEYWORD = re.compile(r"\^?(?:([A-Za-z][A-Za-z0-9_]*):)?([A-Za-z][A-Za-z0-9_]*)")
-_IDENT = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
+_IDENT = IDENTIFIER_RE
 _DATE_START = re.compile(r"\d{1,4}-\d|\d{1,2}:\d")
 _DATE = re.compile(
     r"(?P<year>\d{4})(?:-(?P<doy>\d{3})|-(?P<month>\d{2})(?:-(?P<day>\d{2}))?)"

@@ -11,15 +11,12 @@ from __future__ import annotations
 
 import re
 
+from ..missions import LabelFacts, detect_mission
+from ..missions.hrsc import NAME_RE as HRSC_NAME
+from ..missions.hrsc import name_kind as hrsc_kind
 from .context import FileContext
 
-HRSC_NAME = re.compile(r"^h(?P<orbit>\d{4,5})_(?P<sequence>\d{4})_(?P<kind>[a-z]{2}\d)", re.IGNORECASE)
-
-
-def hrsc_kind(name: str) -> str | None:
-    """The product kind of an HRSC file name (`dt4`, `da4`, `nd4`, `ir4` ...), lower case."""
-    match = HRSC_NAME.match(name)
-    return match.group("kind").lower() if match else None
+__all__ = ["HRSC_NAME", "hrsc_kind", "is_hrsc"]
 
 
 def hrsc_orbit(name: str) -> str | None:
@@ -49,14 +46,11 @@ def is_hrsc(ctx: FileContext) -> bool:
     if cached is not None:
         return cached
     root = ctx.root
-    instrument = (root.text("INSTRUMENT_ID") or "").strip().upper()
-    data_set = (root.text("DATA_SET_ID") or "").strip().upper()
-    kind = hrsc_kind(ctx.path.name)
-    found = (
-        instrument == "HRSC"
-        or data_set.startswith("MEX-M-HRSC")
-        or any(True for _ in root.find("MEX:DTM"))
-        or (kind is not None and kind.endswith("4"))
-    )
+    found = detect_mission(LabelFacts(
+        instrument_id=root.text("INSTRUMENT_ID") or "",
+        data_set_id=root.text("DATA_SET_ID") or "",
+        group_names=frozenset({"MEX:DTM"}) if any(True for _ in root.find("MEX:DTM")) else frozenset(),
+        file_name=ctx.path.name,
+    )) == "hrsc"
     ctx.__dict__["_is_hrsc"] = found
     return found

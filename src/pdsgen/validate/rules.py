@@ -102,7 +102,7 @@ def _table() -> list[Rule]:
              D.check_unknown),
         Rule("DICT-002", "error", "values have the dictionary type of their keyword", D.check_type),
         Rule("DICT-003", "warning", "numeric values lie within the dictionary range (in its unit)",
-             D.check_range),
+             D.check_range, note="error in labels pdsgen writes and under --strict: its writers refuse them"),
         Rule("DICT-004", "error", "values of closed (STATIC) value sets are standard values",
              D.check_static_values),
         Rule("DICT-013", "warning", "mission identity values (MISSION_NAME, INSTRUMENT_HOST_ID ...) are "
@@ -114,7 +114,7 @@ def _table() -> list[Rule]:
         Rule("DICT-009", "info", "text keywords given unquoted numbers (readers accept them)",
              D.check_number_for_text),
         Rule("DICT-006", "warning", "value lengths lie within the dictionary minimum/maximum length",
-             D.check_length),
+             D.check_length, note="error in labels pdsgen writes and under --strict: its writers refuse them"),
         Rule("DICT-007", "warning", "units are known PDS units", D.check_units),
         Rule("DICT-011", "error", "units measure what the dictionary's unit measures (KM, DEG ...)",
              D.check_unit_dimension),

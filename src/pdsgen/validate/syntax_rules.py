@@ -6,13 +6,13 @@ those on, so every syntax finding goes through the one rule table.
 
 from __future__ import annotations
 
-import re
 from collections.abc import Callable, Iterator
 
+from ..label.grammar import IDENTIFIER_RE
 from .context import FileContext
 from .model import Hit
 
-_IDENT = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
+_IDENT = IDENTIFIER_RE
 
 
 def from_reader(rule: str) -> Callable[[FileContext], Iterator[Hit]]:

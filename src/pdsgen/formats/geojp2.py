@@ -19,13 +19,14 @@ from __future__ import annotations
 
 import struct
 import uuid
+from typing import Any
 
 import numpy as np
 from affine import Affine
 from rasterio.crs import CRS
 from rasterio.io import MemoryFile
 
-from .write_jp2 import box
+from .jp2 import box, jp2_boxes
 
 GEOJP2_UUID = uuid.UUID("b14bf8bd-083d-4b43-a5ae-8cd7d5a6ce03")
 GEOKEY_DIRECTORY_TAG = 34735
@@ -57,53 +58,68 @@ def geojp2_box(crs: CRS, transform: Affine) -> bytes:
 
 def geokeys(tiff: bytes) -> dict[int, object]:
     """GeoKey number -> value (int, float, tuple of floats, or str) of a GeoTIFF."""
-    tags = _first_ifd_tags(tiff)
-    directory = tags[GEOKEY_DIRECTORY_TAG]
-    doubles = tags.get(GEO_DOUBLE_PARAMS_TAG, ())
-    text = tags.get(GEO_ASCII_PARAMS_TAG, "")
-    keys: dict[int, object] = {}
-    for start in range(4, 4 * (directory[3] + 1), 4):
-        key, location, count, value = directory[start:start + 4]
-        if location == 0:
-            keys[key] = value
-        elif location == GEO_DOUBLE_PARAMS_TAG:
-            chosen = doubles[value:value + count]
-            keys[key] = chosen[0] if count == 1 else tuple(chosen)
-        elif location == GEO_ASCII_PARAMS_TAG:
-            keys[key] = text[value:value + count].rstrip("|\x00")
-    return keys
+    return geokeys_of(tiff_tags(tiff))
 
 
-_TYPE_FORMATS = {1: "B", 2: "s", 3: "H", 4: "I", 11: "f", 12: "d", 16: "Q"}
+# TIFF field type -> (struct code, bytes per value); 5 (RATIONAL) is two longs.
+_TIFF_TYPES = {1: ("B", 1), 2: ("c", 1), 3: ("H", 2), 4: ("I", 4), 5: ("II", 8), 6: ("b", 1),
+               8: ("h", 2), 9: ("i", 4), 11: ("f", 4), 12: ("d", 8), 16: ("Q", 8)}
 
 
-def _first_ifd_tags(tiff: bytes) -> dict[int, object]:
-    """Tag number -> values of the first image directory (classic TIFF only)."""
-    order = {b"II": "<", b"MM": ">"}.get(tiff[:2])
-    if order is None or struct.unpack(order + "H", tiff[2:4])[0] != 42:
+def tiff_tags(data: bytes) -> dict[int, tuple[Any, ...]]:
+    """Tag number -> values of the first image directory of a classic TIFF (ASCII as a 1-tuple).
+
+    The one GeoTIFF reader of the package: the tests read the writer's GeoJP2 box
+    with it, and the validator reads any producer's. Raises ValueError (or
+    struct.error on a truncated file) when the bytes are not a classic TIFF.
+    """
+    order = {b"II": "<", b"MM": ">"}.get(data[:2])
+    if order is None:
+        raise ValueError("not a TIFF")
+    (magic,) = struct.unpack_from(order + "H", data, 2)
+    if magic != 42:
         raise ValueError("not a classic TIFF")
-    (ifd,) = struct.unpack(order + "I", tiff[4:8])
-    (count,) = struct.unpack(order + "H", tiff[ifd:ifd + 2])
-    tags: dict[int, object] = {}
-    for index in range(count):
-        entry = tiff[ifd + 2 + 12 * index: ifd + 14 + 12 * index]
-        tag, kind, number = struct.unpack(order + "HHI", entry[:8])
-        if kind not in _TYPE_FORMATS:
+    (ifd,) = struct.unpack_from(order + "I", data, 4)
+    (count,) = struct.unpack_from(order + "H", data, ifd)
+    tags: dict[int, tuple[Any, ...]] = {}
+    for i in range(count):
+        tag, typ, n, raw = struct.unpack_from(order + "HHI4s", data, ifd + 2 + 12 * i)
+        if typ not in _TIFF_TYPES:
             continue
-        code = _TYPE_FORMATS[kind]
-        size = struct.calcsize(code) * number
-        raw = entry[8:8 + size] if size <= 4 else tiff[struct.unpack(order + "I", entry[8:12])[0]:][:size]
-        if code == "s":
-            tags[tag] = raw.decode("ascii", "replace")
+        fmt, size = _TIFF_TYPES[typ]
+        total = size * n
+        if total <= 4:
+            blob = raw[:total]
         else:
-            tags[tag] = struct.unpack(f"{order}{number}{code}", raw)
+            (offset,) = struct.unpack(order + "I", raw)
+            blob = data[offset : offset + total]
+        if typ == 2:
+            tags[tag] = (blob.rstrip(b"\x00").decode("latin-1"),)
+        else:
+            tags[tag] = struct.unpack(order + fmt * n, blob)
     return tags
+
+
+def geokeys_of(tags: dict[int, tuple[Any, ...]]) -> dict[int, object]:
+    """The GeoKeys a GeoKeyDirectory (34735) lists, with their double (34736) and ASCII (34737) values."""
+    keys: dict[int, object] = {}
+    directory = tags.get(GEOKEY_DIRECTORY_TAG)
+    doubles = tags.get(GEO_DOUBLE_PARAMS_TAG, ())
+    asciis = tags.get(GEO_ASCII_PARAMS_TAG, ("",))[0]
+    if directory and len(directory) >= 4:
+        for k in range(directory[3]):
+            key, loc, count, value = directory[4 + 4 * k : 8 + 4 * k]
+            if loc == 0:
+                keys[key] = value
+            elif loc == GEO_DOUBLE_PARAMS_TAG:
+                keys[key] = doubles[value] if count == 1 else tuple(doubles[value : value + count])
+            elif loc == GEO_ASCII_PARAMS_TAG:
+                keys[key] = asciis[value : value + count].rstrip("|")
+    return keys
 
 
 def read_geojp2(path) -> bytes:
     """The GeoTIFF inside a JP2 file's GeoJP2 box (for checks and tests)."""
-    from .write_jp2 import jp2_boxes
-
     with open(path, "rb") as handle:
         for kind, offset, length in jp2_boxes(path):
             if kind != b"uuid":

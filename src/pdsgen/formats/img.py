@@ -14,22 +14,23 @@ from collections import deque
 from collections.abc import Callable, Iterator
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
-from typing import BinaryIO
+from typing import BinaryIO, Literal
 
 import numpy as np
 from rasterio.io import DatasetReader
 from rasterio.windows import Window
 
-from .errors import PdsgenError
-from .label.render import RecordLayout, pad_label, settle_attached_label
-from .label.values import shortest_float32
-from .missing import invalid_mask
-from .read_raster import row_strips
+from ..errors import PdsgenError
+from ..label.grammar import ISIS_NULL_BITS
+from ..label.render import RecordLayout, pad_label, settle_attached_label
+from ..label.values import shortest_float32
+from .nodata import invalid_mask
+from .raster import row_strips
 
 # ISIS special pixels (NULL, LRS, LIS, HIS, HRS) are the five most negative float32
 # values; NULL (16#FF7FFFFB#) is the one PDS DTMs use as MISSING_CONSTANT.
 MISSING_CONSTANT = np.frombuffer(bytes.fromhex("FF7FFFFB"), dtype=">f4")[0].astype(np.float32)
-MISSING_BITS = 0xFF7FFFFB
+MISSING_BITS = ISIS_NULL_BITS
 # A value no real label statistic can be wider than when written.
 _WIDEST_STATISTIC = -1.2345678901234567e-300
 _COPY_CHUNK = 8 * 1024 * 1024
@@ -141,7 +142,7 @@ def stream_band(
             stored = encode(values, invalid)
             n, lo, hi = valid_extremes(stored, invalid)
             count, low, high = count + n, min(low, lo), max(high, hi)
-            order = ">" if big_endian else "<"
+            order: Literal[">", "<"] = ">" if big_endian else "<"
             writer.submit(np.ascontiguousarray(stored.astype(stored.dtype.newbyteorder(order), copy=False)))
     return _statistics(count, low, high)
 
@@ -169,7 +170,7 @@ class StripWriter:
     def submit(self, array: np.ndarray) -> None:
         while len(self._pending) >= self._depth:
             self._pending.popleft().result()
-        self._pending.append(self._pool.submit(self._out.write, memoryview(array)))
+        self._pending.append(self._pool.submit(self._out.write, array.data))
 
     def __enter__(self) -> StripWriter:
         return self

@@ -13,7 +13,7 @@ from collections.abc import Iterable
 from pathlib import Path
 from types import TracebackType
 
-from .errors import PdsgenError
+from ..errors import PdsgenError
 
 
 def prepare_output_dir(outdir: str | os.PathLike[str]) -> Path:

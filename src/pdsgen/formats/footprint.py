@@ -20,8 +20,8 @@ from rasterio.features import shapes
 from rasterio.io import DatasetReader
 from rasterio.warp import transform_geom
 
-from .errors import PdsgenError
-from .geometry import ellipsoid_axes
+from ..errors import PdsgenError
+from ..geo.geometry import ellipsoid_axes
 
 FOOTPRINT_SIZE = 1024
 
@@ -45,7 +45,7 @@ def valid_data_outline(dataset: DatasetReader, valid_fn) -> list[dict[str, Any]]
 def write_footprint(
     path: str | os.PathLike[str], staged_path: str | os.PathLike[str], feature_id: str,
     polygons: list[dict[str, Any]], properties: dict[str, Any], body: str,
-) -> None:
+) -> dict[str, Any]:
     """Add or replace one product's feature in the scene's footprint collection.
 
     One footprint file serves a scene: the DTM and the orthoimage of an iMars
@@ -68,6 +68,58 @@ def write_footprint(
     )
     collection["features"].sort(key=lambda feature: str(feature.get("id")))
     Path(staged_path).write_text(json.dumps(collection, indent=1) + "\n")
+    return collection
+
+
+SHAPEFILE_PARTS = (".shp", ".shx", ".dbf", ".prj", ".qpj")
+
+
+def footprint_wkt(crs: CRS) -> str:
+    """The longitude/latitude CRS of a footprint (on the product's body), in ESRI's WKT
+    dialect as .prj files hold it."""
+    a, b = ellipsoid_axes(crs)
+    return CRS.from_proj4(f"+proj=longlat +a={a!r} +b={b!r} +no_defs").to_wkt(version="WKT1_ESRI")
+_FIELDS = (("PRODUCT_ID", 40), ("TYPE", 8), ("FILE", 80))
+
+
+def write_shapefile(collection: dict[str, Any], staged: dict[str, Path], wkt: str) -> None:
+    """The footprint collection as an ESRI Shapefile: one polygon record per product.
+
+    `staged` maps each of SHAPEFILE_PARTS to the path to write it to; `wkt` is the
+    longitude/latitude CRS of the coordinates (the .prj in ESRI's WKT dialect, the
+    .qpj, QGIS's copy of it, likewise). pyshp writes .shp/.shx/.dbf; rings are
+    wound as the format requires (outer rings clockwise, holes counter-clockwise).
+    """
+    import shapefile  # pyshp: a small pure-Python writer for exactly this format
+
+    with open(staged[".shp"], "wb") as shp, open(staged[".shx"], "wb") as shx, open(staged[".dbf"], "wb") as dbf:
+        writer = shapefile.Writer(shp=shp, shx=shx, dbf=dbf, shapeType=shapefile.POLYGON)
+        for name, size in _FIELDS:
+            writer.field(name, "C", size=size)
+        for feature in collection["features"]:
+            writer.poly(_shapefile_rings(feature["geometry"]))
+            properties = feature.get("properties", {})
+            writer.record(str(feature.get("id", "")), str(properties.get("type", "")),
+                          str(properties.get("file", "")))
+        writer.close()
+    for part in (".prj", ".qpj"):
+        Path(staged[part]).write_text(wkt + "\n")
+
+
+def _shapefile_rings(geometry: dict[str, Any]) -> list[list[list[float]]]:
+    polygons = [geometry["coordinates"]] if geometry["type"] == "Polygon" else geometry["coordinates"]
+    rings = []
+    for polygon in polygons:
+        for index, ring in enumerate(polygon):
+            clockwise = _signed_area(ring) < 0
+            outer = index == 0
+            rings.append([list(point) for point in (ring if clockwise == outer else ring[::-1])])
+    return rings
+
+
+def _signed_area(ring: list[list[float]]) -> float:
+    """Shoelace area: positive for counter-clockwise rings (x east, y north)."""
+    return 0.5 * sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(ring, ring[1:] + ring[:1], strict=True))
 
 
 def _existing_features(path: Path) -> list[dict[str, Any]]:

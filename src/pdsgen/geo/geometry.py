@@ -18,7 +18,8 @@ from affine import Affine
 from rasterio.crs import CRS
 from rasterio.warp import transform as warp_transform
 
-from .errors import PdsgenError
+from ..errors import PdsgenError
+from .conventions import map_resolution, projection_offsets
 
 EQUIRECTANGULAR = "EQUIRECTANGULAR"
 POLAR_STEREOGRAPHIC = "POLAR STEREOGRAPHIC"
@@ -91,6 +92,7 @@ def describe_geometry(
     ulx = transform.c - projection.false_easting
     uly = transform.f - projection.false_northing
     radius = projection.b if projection.kind == POLAR_STEREOGRAPHIC else projection.a
+    sample_offset, line_offset = projection_offsets(ulx, uly, scale)
     lat_min, lat_max, lon_west, lon_east = _bounds(crs, transform, width, height, projection, source)
     return MapGeometry(
         projection_type=projection.kind,
@@ -100,9 +102,9 @@ def describe_geometry(
         center_latitude=projection.center_latitude,
         center_longitude=projection.center_longitude % 360.0,
         map_scale=scale,
-        map_resolution=(math.pi * radius / 180.0) / scale,
-        line_projection_offset=uly / scale - 0.5,
-        sample_projection_offset=-ulx / scale - 0.5,
+        map_resolution=map_resolution(radius, scale),
+        line_projection_offset=line_offset,
+        sample_projection_offset=sample_offset,
         minimum_latitude=lat_min,
         maximum_latitude=lat_max,
         westernmost_longitude=lon_west,

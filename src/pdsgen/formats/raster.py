@@ -19,7 +19,7 @@ from rasterio.errors import RasterioIOError
 from rasterio.io import DatasetReader
 from rasterio.windows import Window
 
-from .errors import PdsgenError
+from ..errors import PdsgenError
 
 STRIP_BYTES = 16 * 1024 * 1024  # working-set size of one strip of input
 # GDAL's block cache defaults to 5 % of RAM and would keep every block we stream

@@ -16,8 +16,8 @@ from typing import Any
 
 import tomllib
 
-from .errors import PdsgenError
-from .resources import schemas_dir
+from ..errors import PdsgenError
+from ..resources import schemas_dir
 
 ParamValue = str | list[str] | dict[str, str | int | float]
 
@@ -98,6 +98,11 @@ def _check_value(path: Path, key: str, value: Any) -> ParamValue:
         if bad or not items:
             raise PdsgenError(path, f"{key} must be product identifiers, got {bad or value!r}")
         return items
+    if kind == "flag":
+        flag = str(value).strip().lower()
+        if flag not in ("true", "false"):
+            raise PdsgenError(path, f"{key} must be true or false, got {value!r}")
+        return flag
     if isinstance(value, (dict, list, tuple)):
         raise PdsgenError(path, f"{key} must be a single value")
     text = str(value)

@@ -24,9 +24,9 @@ import numpy as np
 from rasterio.io import DatasetReader
 from rasterio.windows import Window
 
-from .errors import PdsgenError
-from .missing import invalid_mask
-from .read_raster import row_strips
+from ..errors import PdsgenError
+from .nodata import invalid_mask
+from .raster import row_strips
 
 BIT_DEPTHS = (8, 10, 16)
 
@@ -157,6 +157,7 @@ def _kept_dns(values: np.ndarray, invalid: np.ndarray | None, special: SpecialDn
 
 def _scaled_dns(values: np.ndarray, mapping: DnMapping) -> np.ndarray:
     special = mapping.special
+    assert mapping.low is not None, "a scaling mapping has the low end of its range"
     with np.errstate(invalid="ignore", over="ignore"):
         scaled = (values.astype(np.float64) - mapping.low) / mapping.scaling_factor
         np.rint(scaled, out=scaled)

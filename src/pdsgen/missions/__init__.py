@@ -1,0 +1,34 @@
+"""Missions: every fact about a mission in one module, and the registry of profiles.
+
+`generic`, `hirise`, `hrsc` and `imars` are registered here; `register_mission`
+adds another (see README "Adding a mission"). Writers, Extras and the validator
+import mission facts from these modules and nowhere else.
+"""
+
+from __future__ import annotations
+
+from . import generic, hirise, hrsc, imars
+from .base import (
+    LabelFacts,
+    Mission,
+    ProductIdRequest,
+    detect_mission,
+    get_mission,
+    mission_names,
+    register_mission,
+    unregister_mission,
+)
+
+for _module in (generic, hirise, hrsc, imars):
+    register_mission(_module.MISSION)
+
+__all__ = [
+    "LabelFacts",
+    "Mission",
+    "ProductIdRequest",
+    "detect_mission",
+    "get_mission",
+    "mission_names",
+    "register_mission",
+    "unregister_mission",
+]

@@ -1,0 +1,111 @@
+"""What a mission is to pdsgen, and the registry of missions by profile name.
+
+A mission is data plus, when its products have their own form, the writers that
+make them. A mission whose DTMs and orthoimages are the standard PDS3 forms
+(float32 .IMG, JP2 + .LBL) needs no writer of its own: it gives its keyword
+defaults, credit and naming rule, and the standard writers use them.
+Writers are named as "module:function" so the registry never imports a writer
+(the writers import mission facts; naming them keeps the import graph acyclic).
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+from ..errors import PdsgenError
+
+if TYPE_CHECKING:
+    from ..geo.geometry import MapGeometry
+
+Writer = Callable[..., Any]
+
+
+@dataclass(frozen=True)
+class ProductIdRequest:
+    """Everything a mission may use to name a product it was not given an ID for."""
+
+    stem: str
+    geometry: MapGeometry
+    sources: Sequence[str] = ()
+    institution: str | None = None
+    version: str = "1.0"
+    bands: int = 1
+    observation_id: str | None = None
+    sequence: int = 1
+
+
+@dataclass(frozen=True)
+class LabelFacts:
+    """What mission detection looks at, taken from a label by whichever reader parsed it."""
+
+    instrument_id: str = ""
+    data_set_id: str = ""
+    group_names: frozenset[str] = frozenset()  # OBJECT and GROUP names, upper case
+    file_name: str = ""
+
+
+@dataclass(frozen=True)
+class Mission:
+    """One mission profile: names, keyword defaults, credit, detection and writers."""
+
+    name: str
+    dtm_keywords: Mapping[str, str] = field(default_factory=dict)
+    dtm_note: str = ""
+    credit: str = ""
+    ortho_keywords: Mapping[str, str] | None = None  # None: no standard JP2 + LBL orthoimages
+    ortho_description: str = "Orthorectified image"
+    filter_wavelengths_nm: Mapping[str, int] | None = None
+    default_ortho_bits_for_float: int = 16
+    valid_range_decimals: int | None = None  # VALID_MINIMUM/MAXIMUM to this many decimals (None: exact)
+    ortho_stretch_namespace: str | None = None  # e.g. "MRO": MRO:MINIMUM_STRETCH/MAXIMUM_STRETCH per band
+    ortho_standard_parallels_na: bool = False  # FIRST/SECOND_STANDARD_PARALLEL = "N/A" in ortho labels
+    dtm_product_id: Callable[[ProductIdRequest], str] | None = None  # None: from the input file name
+    ortho_product_id: Callable[[ProductIdRequest], str] | None = None
+    dtm_writer: Writer | str | None = None  # None: the standard float32 PDS3 DTM writer
+    ortho_writer: Writer | str | None = None  # None: the standard JP2 + LBL writer
+    detect: Callable[[LabelFacts], bool] | None = None  # does a label belong to this mission?
+
+    def writer(self, which: str) -> Writer | None:
+        """The mission's own DTM or ortho writer ("dtm"/"ortho"), imported on first use."""
+        named = self.dtm_writer if which == "dtm" else self.ortho_writer
+        if named is None or callable(named):
+            return named
+        module, _, function = named.partition(":")
+        return getattr(importlib.import_module(module), function)
+
+
+_REGISTRY: dict[str, Mission] = {}
+
+
+def register_mission(mission: Mission, *, replace: bool = False) -> Mission:
+    """Make `mission` available as `profile=mission.name` to the writers and the CLI."""
+    if mission.name in _REGISTRY and not replace:
+        raise ValueError(f"a mission named {mission.name!r} is already registered")
+    _REGISTRY[mission.name] = mission
+    return mission
+
+
+def unregister_mission(name: str) -> None:
+    _REGISTRY.pop(name, None)
+
+
+def get_mission(name: str) -> Mission:
+    try:
+        return _REGISTRY[name]
+    except KeyError:
+        raise PdsgenError(None, f"unknown profile {name!r}; choose from {', '.join(_REGISTRY)}") from None
+
+
+def mission_names() -> list[str]:
+    return list(_REGISTRY)
+
+
+def detect_mission(facts: LabelFacts) -> str | None:
+    """The first registered mission that recognises this label (and file name), if any."""
+    for mission in _REGISTRY.values():
+        if mission.detect is not None and mission.detect(facts):
+            return mission.name
+    return None

@@ -1,0 +1,173 @@
+"""MRO HiRISE: product names (DTMs and orthoimages), keywords, credit, filters.
+
+Names (pds3-products.md): DTMs `DT` + `E` (areoid) + projection letter (E/P) +
+scale letter (A = 0.25 m ... J = 128 m, within 10 %) + the two source
+observations' `OOOOOO_LLLL` + institution letter + two-digit version
+(`DTEEC_008669_1705_009025_1705_U01`); orthoimages observation + colour
+(RED/IRB) + scale letter + sequence + `_ORTHO` (`ESP_042252_1930_IRB_B_41_ORTHO`).
+"""
+
+from __future__ import annotations
+
+import re
+
+from ..errors import PdsgenError
+from ..geo.geometry import EQUIRECTANGULAR, POLAR_STEREOGRAPHIC
+from .base import LabelFacts, Mission, ProductIdRequest
+
+INSTRUMENT_ID = "HIRISE"
+DATA_SET_PREFIX = "MRO-M-HIRISE"
+CREDIT = "NASA/JPL/University of Arizona"
+
+# HiRISE scale letters: A = 0.25 m, doubling to J = 128 m; a scale must be within 10 %.
+SCALE_LETTERS = {letter: 0.25 * 2**i for i, letter in enumerate("ABCDEFGHIJ")}
+OBSERVATION_RE = re.compile(r"^(?:[A-Z]{3}_)?(?P<orbit>\d{6})_(?P<lat>\d{4})(?:_\w+)?$")
+ORTHO_OBSERVATION_RE = re.compile(r"^[A-Z]{3}_\d{6}_\d{4}$")
+PROJECTION_LETTERS = {EQUIRECTANGULAR: "E", POLAR_STEREOGRAPHIC: "P"}
+
+# HiRISE filters: band names as HiRISE labels write them, centre wavelengths in nm.
+FILTER_WAVELENGTHS_NM = {"RED": 700, "NEAR-INFRARED": 900, "BLUE-GREEN": 500}
+ORTHO_COLOR_CODES = {1: "RED", 3: "IRB"}
+
+MRO_KEYWORDS = {
+    "PRODUCER_INSTITUTION_NAME": "UNIVERSITY OF ARIZONA",
+    "PRODUCER_ID": "UA",
+    "PRODUCER_FULL_NAME": "UNK",
+    "INSTRUMENT_HOST_NAME": "MARS RECONNAISSANCE ORBITER",
+    "INSTRUMENT_HOST_ID": "MRO",
+    "INSTRUMENT_NAME": "HIGH RESOLUTION IMAGING SCIENCE EXPERIMENT",
+    "INSTRUMENT_ID": INSTRUMENT_ID,
+}
+KEYWORDS = {
+    "DATA_SET_ID": "MRO-M-HIRISE-5-DTM-V1.0",
+    "DATA_SET_NAME": "MRO MARS HIGH RESOLUTION IMAGING SCIENCE EXPERIMENT DTM V1.0",
+    **MRO_KEYWORDS,
+    "TARGET_NAME": "MARS",
+    "RATIONALE_DESC": "UNK",
+}
+DTM_NOTE = (
+    "Pixel values are elevations in meters above the Mars 2000 areoid "
+    "(equipotential surface, Smith et al., 2001). Physical value = "
+    "DN * SCALING_FACTOR + OFFSET. Pixels equal to MISSING_CONSTANT hold no data."
+)
+# The release (and hidtmgen's REAL,2 format) gives VALID_MINIMUM/MAXIMUM to two decimals.
+# Not used yet: the validator's IMG-007 compares them with the data to 1e-6 and would
+# reject the rounded values, and a product must pass the validator. Set this to
+# RELEASE_VALID_RANGE_DECIMALS once IMG-007 accepts values stated to the label's precision.
+RELEASE_VALID_RANGE_DECIMALS = 2
+VALID_RANGE_DECIMALS: int | None = None
+# Orthoimages of HiRISE DTMs are released in the DTM data set, beside the DTM.
+ORTHO_DESCRIPTION = "HiRISE orthorectified image, projected onto the DTM named in SOURCE_PRODUCT_ID"
+
+
+def scale_letter(map_scale: float) -> str:
+    """The letter of the nominal HiRISE post spacing within 10 % of `map_scale`."""
+    for letter, nominal in SCALE_LETTERS.items():
+        if abs(map_scale - nominal) <= 0.1 * nominal:
+            return letter
+    raise PdsgenError(
+        None,
+        f"map scale {map_scale:g} m is not within 10 % of a HiRISE scale "
+        "(0.25, 0.5, 1, 2 ... 128 m); give --product-id",
+    )
+
+
+def version_code(version: str) -> str:
+    """Two-digit version code: 1.0 -> 01, 9.0 -> 09, 1.5 -> 15.
+
+    Only versions N.0 (N = 1..9) and N.M (N, M = 1..9) are encodable; the codes
+    of the two forms never collide (N.0 gives 0N, N.M gives NM with M > 0), which
+    ISIS's encoder does not guarantee. Anything else is refused.
+    """
+    match = re.fullmatch(r"([1-9])\.([0-9])", version.strip())
+    if match is None:
+        raise PdsgenError(
+            None,
+            f"version {version!r} cannot be encoded in a two-digit HiRISE code "
+            "(use N.0 or N.M with single digits 1-9)",
+        )
+    major, minor = match.groups()
+    return f"0{major}" if minor == "0" else f"{major}{minor}"
+
+
+def observation_code(source_id: str) -> str:
+    """`PSP_008669_1705` (or `008669_1705`) -> `008669_1705`."""
+    match = OBSERVATION_RE.match(source_id.strip().upper())
+    if match is None:
+        raise PdsgenError(None, f"{source_id!r} is not a HiRISE observation ID like PSP_008669_1705")
+    return f"{match.group('orbit')}_{match.group('lat')}"
+
+
+def dtm_product_id(request: ProductIdRequest) -> str:
+    """DT + E (areoid) + projection letter + scale letter + sources + institution + version."""
+    sources, institution, geometry = list(request.sources), request.institution, request.geometry
+    if len(sources) != 2:
+        raise PdsgenError(
+            None,
+            f"the hirise profile builds the DTM product ID from two --source-product-id "
+            f"values (got {len(sources)}); or give --product-id",
+        )
+    if institution is None or not re.fullmatch(r"[A-Z]", institution):
+        raise PdsgenError(
+            None,
+            "the hirise profile needs --institution as one upper-case letter "
+            "to build the product ID; or give --product-id",
+        )
+    if geometry.projection_type not in PROJECTION_LETTERS:
+        raise PdsgenError(
+            None,
+            f"HiRISE DTM names have no letter for {geometry.projection_type} products; "
+            "give --product-id",
+        )
+    first, second = (observation_code(s) for s in sources)
+    return (
+        f"DTE{PROJECTION_LETTERS[geometry.projection_type]}"
+        f"{scale_letter(geometry.map_scale)}_{first}_{second}_"
+        f"{institution}{version_code(request.version)}"
+    )
+
+
+def ortho_id(observation_id: str, bands: int, map_scale: float, sequence: int) -> str:
+    """`ESP_042252_1930` + IRB + 0.5 m + 41 -> `ESP_042252_1930_IRB_B_41_ORTHO`."""
+    observation = observation_id.strip().upper()
+    if not ORTHO_OBSERVATION_RE.match(observation):
+        raise PdsgenError(
+            None, f"{observation_id!r} is not a HiRISE observation ID like ESP_042252_1930; give --observation-id"
+        )
+    if bands not in ORTHO_COLOR_CODES:
+        raise PdsgenError(None, f"HiRISE orthoimages have 1 (RED) or 3 (IRB) bands, not {bands}")
+    if not 0 <= sequence <= 99:
+        raise PdsgenError(None, f"sequence number {sequence} does not fit the two digits of a HiRISE ID")
+    return f"{observation}_{ORTHO_COLOR_CODES[bands]}_{scale_letter(map_scale)}_{sequence:02d}_ORTHO"
+
+
+def ortho_product_id(request: ProductIdRequest) -> str:
+    observation = request.observation_id or next(
+        (s for s in request.sources if ORTHO_OBSERVATION_RE.match(s.strip().upper())), None
+    )
+    if not observation:
+        raise PdsgenError(None, "the hirise profile needs --observation-id (e.g. ESP_042252_1930) or --product-id")
+    return ortho_id(observation, request.bands, request.geometry.map_scale, request.sequence)
+
+
+def is_hirise(facts: LabelFacts) -> bool:
+    """A HiRISE label names the instrument (or the MRO HiRISE data set)."""
+    return facts.instrument_id.upper() == INSTRUMENT_ID or facts.data_set_id.upper().startswith(DATA_SET_PREFIX)
+
+
+MISSION = Mission(
+    name="hirise",
+    dtm_keywords=KEYWORDS,
+    dtm_note=DTM_NOTE,
+    credit=CREDIT,
+    ortho_keywords=KEYWORDS,
+    ortho_description=ORTHO_DESCRIPTION,
+    filter_wavelengths_nm=FILTER_WAVELENGTHS_NM,
+    default_ortho_bits_for_float=10,
+    valid_range_decimals=VALID_RANGE_DECIMALS,
+    ortho_stretch_namespace="MRO",
+    ortho_standard_parallels_na=True,
+    dtm_product_id=dtm_product_id,
+    ortho_product_id=ortho_product_id,
+    detect=is_hirise,
+)

@@ -1,0 +1,61 @@
+"""iMars deliveries (UCL): int16 GeoTIFF + PVL metadata + GeoJSON footprint of HRSC scenes.
+
+Names: `<hOOOO_NNNN>_<kind>4_ucl.tif` and `.pvl` (kind `da`/`dt` for DTMs, `nd`
+for the orthoimage), footprint `<hOOOO_NNNN>.geojson`; orbit and sequence are
+HRSC's (see missions/hrsc.py), so are the sphere and the no-data DN.
+"""
+
+from __future__ import annotations
+
+from .base import Mission
+from .hrsc import AREOID_DESC, SPHERE_DESC
+
+CREDIT = "ESA/DLR/FU Berlin/UCL"
+INSTITUTION = "UCL MULLARD SPACE SCIENCE LABORATORY"
+METADATA_SUFFIX = "_ucl.pvl"
+DTM_DESCRIPTIONS = {"dt": SPHERE_DESC, "da": AREOID_DESC}
+DTM_NOTE = "Heights in meters = DN * SCALING_FACTOR + OFFSET."
+
+
+def product_stem(base: str, kind: str) -> str:
+    """`h1234_0000` + `da` -> `h1234_0000_da4_ucl` (the .tif and .pvl share it)."""
+    return f"{base}_{kind}4_ucl"
+
+
+def metadata_name(product_id: str) -> str:
+    """The metadata file of a product: `<ProductId>_ucl.pvl`."""
+    return f"{product_id}{METADATA_SUFFIX}"
+
+
+def is_metadata_name(name: str) -> bool:
+    return name.lower().endswith(METADATA_SUFFIX)
+
+
+def footprint_name(base: str) -> str:
+    return f"{base}.geojson"
+
+
+def footprint_shapefile_names(base: str) -> dict[str, str]:
+    """The Shapefile of the footprint, as the delivery lists it: `<base>.shp .shx .dbf .prj`
+    (and QGIS's `.qpj`), beside the GeoJSON."""
+    return {part: f"{base}{part}" for part in (".shp", ".shx", ".dbf", ".prj", ".qpj")}
+
+
+# The facts of the real iMars metadata (PVL objects and GeoTIFF tags).
+PROCESSING_ORGANISATION = "UCL MSSL IMAGING GROUP"
+SOFTWARE_NAME = "pdsgen"
+PROCESSING_LEVEL = "4"
+DATA_SET_NAME = "iMars HRSC DTM and ORI products"
+PRODUCT_TYPES = {  # product type -> (ProductTypeName, ProductTypeID)
+    "DTM": ("DIGITAL TERRAIN MODEL", "DTM"),
+    "ORI": ("ORTHORECTIFIED IMAGE", "ORI"),
+}
+
+
+MISSION = Mission(
+    name="imars",
+    dtm_note=DTM_NOTE,
+    credit=CREDIT,
+    dtm_writer="pdsgen.products.imars:write_imars_dtm",
+    ortho_writer="pdsgen.products.imars:write_imars_ori",
+)

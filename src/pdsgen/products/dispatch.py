@@ -1,0 +1,29 @@
+"""Calling a mission's writer with the options a caller gave, refusing those it does not take."""
+
+from __future__ import annotations
+
+import inspect
+import os
+from collections.abc import Callable, Mapping
+from typing import Any
+
+from ..errors import ParamsError
+
+
+def call_mission_writer(
+    writer: Callable[..., Any],
+    profile: str,
+    input_path: str | os.PathLike[str],
+    outdir: str | os.PathLike[str],
+    options: Mapping[str, Any],
+) -> Any:
+    """`writer(input_path, outdir, **options)`, after checking each option is one it takes.
+
+    An option the profile does not use is refused rather than ignored, in Python
+    as on the command line, so a misplaced keyword never drops a value silently.
+    """
+    accepted = inspect.signature(writer).parameters
+    unused = sorted(name for name in options if name not in accepted)
+    if unused:
+        raise ParamsError(None, f"the {profile} profile does not use {', '.join(unused)}")
+    return writer(input_path, outdir, **options)

@@ -1,0 +1,183 @@
+"""The DTM product: a PDS3 .IMG of float32 elevations with an attached label.
+
+Data flows one way: read raster -> describe geometry -> choose names and
+keywords (profile + params) -> render the label -> stream the image.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import PdsgenError
+from ..formats.img import (
+    MISSING_BITS,
+    MISSING_CONSTANT,
+    BandStatistics,
+    stream_float32_band,
+    write_attached_product,
+)
+from ..formats.raster import open_raster, require_single_band
+from ..formats.staging import StagedOutputs, prepare_output_dir
+from ..geo.geometry import MapGeometry, describe_geometry
+from ..label.grammar import sample_type
+from ..label.render import RecordLayout, render_label, settle_attached_label
+from ..label.values import Based, Fixed, Symbol
+from ..missions import Mission, ProductIdRequest, get_mission
+from .agreement import allows_deviations, check_label, label_keywords
+from .dispatch import call_mission_writer
+from .identification import choose_product_id, identification_keywords
+from .params import ParamValue, check_version, resolve_params
+
+BYTE_ORDERS = ("lsb", "msb")
+
+
+@dataclass(frozen=True)
+class DtmProduct:
+    """What `write_dtm` produced, for callers that go on to make Extras or check it."""
+
+    product_id: str
+    path: Path
+    geometry: MapGeometry
+    valid_minimum: float
+    valid_maximum: float
+    records: RecordLayout
+    label_text: str
+    warnings: tuple[str, ...] = ()  # dictionary deviations kept (--allow-dictionary-deviations)
+
+    @property
+    def files(self) -> tuple[Path, ...]:
+        """Every file this product wrote."""
+        return (self.path,)
+
+
+def write_dtm(
+    input_path: str | os.PathLike[str],
+    outdir: str | os.PathLike[str],
+    *,
+    profile: str = "generic",
+    **options: Any,
+) -> Any:
+    """Write the DTM product of `profile` from a single-band elevation raster.
+
+    Missions with their own product form (hrsc: DT4/DA4 .img, imars: GeoTIFF +
+    PVL + footprint) have their writer called with `options`; the others get the
+    standard float32 PDS3 .IMG from `write_pds3_dtm` with the mission's names and
+    keywords. An option the profile's writer does not take is refused.
+    """
+    mission = get_mission(profile)
+    own = mission.writer("dtm")
+    if own is not None:
+        return call_mission_writer(own, profile, input_path, outdir, options)
+    return call_mission_writer(write_pds3_dtm, profile, input_path, outdir, {**options, "mission": mission})
+
+
+def write_pds3_dtm(
+    input_path: str | os.PathLike[str],
+    outdir: str | os.PathLike[str],
+    *,
+    mission: Mission,
+    product_id: str | None = None,
+    source_product_ids: Sequence[str] = (),
+    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
+    byte_order: str | None = None,
+    institution: str | None = None,
+    version: str = "1.0",
+    overwrite: bool = False,
+    allow_dictionary_deviations: bool | None = None,
+) -> DtmProduct:
+    """Convert a single-band elevation raster into `OUTDIR/<PRODUCT_ID>.IMG` (float32)."""
+    byte_order = byte_order or "lsb"
+    if byte_order not in BYTE_ORDERS:
+        raise PdsgenError(None, f"byte order must be one of {', '.join(BYTE_ORDERS)}")
+    chosen = mission
+    version = check_version(version)
+    keywords = resolve_params(params)
+    allow = allows_deviations(allow_dictionary_deviations, keywords)
+    keywords = label_keywords(keywords)
+    input_path = Path(input_path)
+    with open_raster(input_path) as dataset:
+        require_single_band(dataset)
+        if np.dtype(dataset.dtypes[0]).kind not in "iuf":
+            raise PdsgenError(input_path, f"sample type {dataset.dtypes[0]} is not a real number type")
+        geometry = describe_geometry(
+            dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path)
+        )
+        sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
+        ident = identification_keywords(chosen.dtm_keywords, keywords, geometry, version)
+        product_id = choose_product_id(product_id, chosen.dtm_product_id, ProductIdRequest(
+                input_path.stem, geometry, sources, institution, str(ident["PRODUCT_VERSION_ID"])
+            ),
+        )
+        context = {
+            "product_id": product_id,
+            "ident": ident,
+            "source_product_id": [Symbol(s) for s in sources] if sources else "N/A",
+            "geometry": geometry,
+            "note": str(keywords.get("DTM_NOTE", chosen.dtm_note)),
+            "bit_mask": Based(0xFFFFFFFF, 2, 32),
+            "sample_type": Symbol(sample_type(byte_order == "msb", "f")),
+            "missing_constant": Based(MISSING_BITS, 16, 8),
+        }
+
+        def render(records: RecordLayout, stats: BandStatistics) -> str:
+            return render_label(
+                "dtm.lbl.j2",
+                {
+                    **context,
+                    "records": records,
+                    "valid_minimum": valid_bound(stats.minimum, chosen.valid_range_decimals, math.floor),
+                    "valid_maximum": valid_bound(stats.maximum, chosen.valid_range_decimals, math.ceil),
+                },
+            )
+
+        def write_data(handle) -> BandStatistics:
+            stats = stream_float32_band(dataset, handle, big_endian=byte_order == "msb")
+            if stats.valid_count == 0:
+                raise PdsgenError(input_path, "has no valid pixels (all nodata)")
+            return stats
+
+        final = prepare_output_dir(outdir) / f"{product_id}.IMG"
+        # Refuse before the data pass what the final label would be refused for.
+        _, provisional = settle_attached_label(
+            lambda records: render(records, BandStatistics(0, 0.0, 0.0)), dataset.width * 4, dataset.height
+        )
+        check_label(provisional, final.name, allow_deviations=allow)
+        with StagedOutputs([final], overwrite) as staged:
+            records, text, stats = write_attached_product(
+                staged.path(final), render, dataset.width * 4, dataset.height, write_data
+            )
+            warnings = check_label(text, final.name, allow_deviations=allow)
+    return DtmProduct(
+        product_id=product_id,
+        path=final,
+        geometry=geometry,
+        valid_minimum=stats.minimum,
+        valid_maximum=stats.maximum,
+        records=records,
+        label_text=text,
+        warnings=warnings,
+    )
+
+
+def valid_bound(value: float, decimals: int | None, direction: Callable[[float], float]) -> float | Fixed:
+    """VALID_MINIMUM/MAXIMUM as the mission writes them.
+
+    Exact (shortest round-trip text) unless the mission states a number of
+    decimals (HiRISE: two, as the release and hidtmgen write them); then the
+    bound is rounded outwards (`math.floor` for the minimum, `math.ceil` for the
+    maximum) so that it still bounds every valid value.
+    """
+    if decimals is None:
+        return value
+    scale = 10.0**decimals
+    return Fixed(direction(round(value * scale, 6)) / scale, decimals)
+
+
+__all__ = ["DtmProduct", "write_dtm", "write_pds3_dtm", "MISSING_CONSTANT"]

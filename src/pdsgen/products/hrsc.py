@@ -1,0 +1,395 @@
+"""Mars Express HRSC level-4 DTMs: DT4 (heights above the 3396.0 km sphere) and DA4
+(heights above the areoid), as signed 16-bit samples with the MEX:DTM group.
+
+HRSC's archive conventions (docs section 7): file names `hOOOO_NNNN_dt4.img`,
+map reference body a sphere of 3396.0 km, sinusoidal for centre latitudes within
++-85 degrees and polar stereographic poleward. Inputs in other projections are
+refused, or warped on the fly (`reproject=True`) through a GDAL warped VRT that
+is read strip by strip like any other input.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Iterator, Mapping, Sequence
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from affine import Affine
+from rasterio.crs import CRS
+from rasterio.enums import Resampling
+from rasterio.io import DatasetReader
+from rasterio.vrt import WarpedVRT
+from rasterio.warp import calculate_default_transform
+from rasterio.warp import transform as warp_transform
+
+from .. import __version__
+from ..errors import PdsgenError
+from ..formats.img import BandStatistics, scan_band, stream_band, write_attached_product
+from ..formats.raster import open_raster, require_single_band
+from ..formats.scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
+from ..formats.staging import StagedOutputs, prepare_output_dir
+from ..formats.vicar import vicar_label
+from ..geo.geometry import POLAR_STEREOGRAPHIC, SINUSOIDAL, MapGeometry, describe_geometry
+from ..label.grammar import sample_type
+from ..label.render import RecordLayout, render_label
+from ..label.values import Based, Symbol
+from ..missions import hrsc as hrsc_mission
+from ..missions.hrsc import DTM_KINDS, MISSING_DN, NOT_APPLICABLE, POLAR_LIMIT_DEG
+from ..missions.hrsc import base_name as hrsc_base_name
+from .agreement import allows_deviations, check_label
+from .heights import (
+    Int16Encoding,
+    areoid_adjustment,
+    chain_adjustments,
+    check_datum_conversion,
+    choose_encoding,
+    source_body,
+    sphere_change,
+)
+from .hrsc_label import (
+    VICAR_DESCRIPTION,
+    VICAR_DESCRIPTION_NAME,
+    DnMoments,
+    carried_context,
+    check_offset_convention,
+    offset_context,
+    pds_label_part,
+    with_header,
+)
+from .params import ParamValue, check_version, resolve_params
+
+HRSC_SPHERE_M = hrsc_mission.SPHERE_M
+HRSC_CREDIT = hrsc_mission.CREDIT
+
+
+@dataclass(frozen=True)
+class HrscDtmProduct:
+    product_id: str
+    path: Path
+    geometry: MapGeometry
+    kind: str
+    encoding: Int16Encoding
+    valid_minimum: int
+    valid_maximum: int
+    label_text: str
+    warnings: tuple[str, ...] = ()  # dictionary deviations kept (--allow-dictionary-deviations)
+
+    @property
+    def files(self) -> tuple[Path, ...]:
+        """Every file this product wrote."""
+        return (self.path,)
+
+
+def hrsc_target_crs(dataset: DatasetReader) -> CRS:
+    """The HRSC projection for this input: sinusoidal or polar stereographic on 3396.0 km."""
+    lon, lat = _centre_lonlat(dataset.crs, dataset.transform, dataset.width, dataset.height)
+    if abs(lat) > POLAR_LIMIT_DEG:
+        return CRS.from_proj4(
+            f"+proj=stere +lat_0={math.copysign(90, lat):.0f} +lon_0=0 +k=1 +R={HRSC_SPHERE_M:.0f} "
+            "+units=m +no_defs"
+        )
+    return CRS.from_proj4(f"+proj=sinu +lon_0={round(lon):d} +R={HRSC_SPHERE_M:.0f} +units=m +no_defs")
+
+
+def check_hrsc_geometry(geometry: MapGeometry, centre_latitude: float, source: str) -> None:
+    """HRSC level-4 products are on the 3396.0 km sphere, in the projection their latitude calls for."""
+    expected = POLAR_STEREOGRAPHIC if abs(centre_latitude) > POLAR_LIMIT_DEG else SINUSOIDAL
+    if geometry.projection_type != expected:
+        raise PdsgenError(
+            source,
+            f"HRSC products at centre latitude {centre_latitude:.1f} are {expected.lower()}, "
+            f"the input is {geometry.projection_type.lower()}; rerun with --reproject",
+        )
+    if not (geometry.is_sphere and math.isclose(geometry.a_axis_km, hrsc_mission.SPHERE_KM, abs_tol=1e-9)):
+        raise PdsgenError(
+            source,
+            f"HRSC products use the 3396.0 km sphere, the input uses {geometry.a_axis_km:g} x "
+            f"{geometry.c_axis_km:g} km; rerun with --reproject",
+        )
+
+
+@contextmanager
+def hrsc_grid(dataset: DatasetReader, reproject_input: bool) -> Iterator[DatasetReader]:
+    """The input as is, or warped into the HRSC projection at its own pixel size."""
+    if not reproject_input:
+        yield dataset
+        return
+    if dataset.crs is None:
+        raise PdsgenError(dataset.name, "raster has no coordinate reference system (map projection)")
+    target = hrsc_target_crs(dataset)
+    resolution = abs(dataset.transform.a)
+    transform, width, height = calculate_default_transform(
+        dataset.crs, target, dataset.width, dataset.height, *dataset.bounds, resolution=resolution
+    )
+    transform, width, height = _snap_to_pixels(transform, width, height, resolution)
+    floating = np.dtype(dataset.dtypes[0]).kind == "f"
+    nodata = dataset.nodata if dataset.nodata is not None else (math.nan if floating else None)
+    with WarpedVRT(
+        dataset, crs=target, transform=transform, width=width, height=height,
+        resampling=Resampling.bilinear, src_nodata=dataset.nodata, nodata=nodata,
+        warp_mem_limit=64, dtype="float32",
+    ) as vrt:
+        yield vrt
+
+
+def write_hrsc_dtm(
+    input_path: str | os.PathLike[str],
+    outdir: str | os.PathLike[str],
+    *,
+    kind: str = "dt4",
+    vertical_datum: str = "sphere",
+    areoid: str | os.PathLike[str] | None = None,
+    precision: float = 1.0,
+    reproject_input: bool = False,
+    product_id: str | None = None,
+    source_product_ids: Sequence[str] = (),
+    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
+    byte_order: str | None = "msb",
+    version: str = "1.0",
+    overwrite: bool = False,
+    source_labels: Sequence[str | os.PathLike[str]] = (),
+    offset_convention: str = "standard",
+    allow_dictionary_deviations: bool | None = None,
+) -> HrscDtmProduct:
+    """Write `OUTDIR/hOOOO_NNNN_<kind>.img` from a single-band height raster.
+
+    `source_labels`: level-2/3 labels whose identification, time and orbit keywords
+    the product carries (left out without them). `offset_convention`: "standard"
+    (PDS3, GDAL reads the grid exactly) or "dlr" (DLR's pipeline, one pixel apart).
+    With `reproject_input`, heights above the input's own reference surface are
+    converted to the 3396.0 km sphere (radius = R_in + h, h' = radius - 3396.0 km).
+    """
+    byte_order = byte_order or "msb"
+    check_offset_convention(offset_convention)
+    if kind not in DTM_KINDS:
+        raise PdsgenError(None, f"HRSC DTM kind must be one of {', '.join(DTM_KINDS)}")
+    output_datum, description = DTM_KINDS[kind]
+    check_datum_conversion(kind, output_datum, vertical_datum, areoid)
+    version = check_version(version)
+    keywords = resolve_params(params)
+    input_path = Path(input_path)
+    with hrsc_input(input_path, reproject_input) as (grid, geometry, source_body):
+        adjusts = []
+        if vertical_datum == "sphere" and source_body is not None:
+            adjusts.append(sphere_change(source_body, grid))
+        if output_datum != vertical_datum:
+            adjusts.append(areoid_adjustment(areoid, grid, +1.0 if output_datum == "sphere" else -1.0))
+        adjust = chain_adjustments(adjusts)
+        physical = scan_band(grid, adjust)
+        if physical.valid_count == 0:
+            raise PdsgenError(input_path, "has no valid pixels (all nodata)")
+        encoding = choose_encoding(physical, precision, str(input_path))
+        context = hrsc_identification(hrsc_mission.KEYWORDS, keywords, product_id, source_product_ids, kind, version)
+        file_name, final_id = context["file_name"], context["product_id"]
+        context |= carried_context(source_labels, context["orbit"], Path(outdir))
+        context |= offset_context(geometry, offset_convention)
+        moments = DnMoments()
+        context |= {
+            "geometry": geometry,
+            "sample_type": Symbol(sample_type(byte_order == "msb", "i")),
+            "bit_mask": Based(0xFFFF, 2, 16),
+            "offset": encoding.offset,
+            "scaling_factor": encoding.scaling_factor,
+            "missing_dn": MISSING_DN,
+            "dtm_radius_km": hrsc_mission.SPHERE_KM if kind == "dt4" else NOT_APPLICABLE,
+            "dtm_desc": description,
+            "note": (
+                f"Heights in meters {hrsc_mission.DTM_NOTE_DATUMS[kind]} = DN * SCALING_FACTOR "
+                f"+ OFFSET, quantised to {encoding.scaling_factor:g} m. DN {MISSING_DN} marks missing data."
+            ),
+        }
+
+        big_endian = byte_order == "msb"
+        header = vicar_label(np.dtype(np.int16), grid.height, grid.width, 1, grid.width * 2, big_endian)
+
+        def render(records: RecordLayout, stats: BandStatistics) -> str:
+            return with_header(lambda view: render_label("hrsc_dtm.lbl.j2", {
+                **context, "records": view, "stats": moments.summary(stats),
+                "vicar_description": VICAR_DESCRIPTION_NAME,
+            }), header, grid.width * 2)(records)
+
+        def write_data(handle) -> BandStatistics:
+            return stream_band(grid, handle, big_endian, moments.counting(encoding.encode), adjust)
+
+        final = prepare_output_dir(outdir) / file_name
+        with StagedOutputs([final, *_vicar_description(final)], overwrite) as staged:
+            _, text, stats = write_attached_product(
+                staged.path(final), render, grid.width * 2, grid.height, write_data
+            )
+            _write_vicar_description(staged, final)
+            warnings = check_label(pds_label_part(text), final.name,
+                                   allow_deviations=allows_deviations(allow_dictionary_deviations, keywords))
+    return HrscDtmProduct(final_id, final, geometry, kind, encoding, _as_int(stats.minimum),
+                          _as_int(stats.maximum), pds_label_part(text), warnings)
+
+
+@contextmanager
+def hrsc_input(
+    input_path: Path, reproject_input: bool, what: str = "a DTM"
+) -> Iterator[tuple[DatasetReader, MapGeometry, tuple[float, float] | None]]:
+    """Open a single-band input on the HRSC grid (as is, or warped) and check its geometry.
+
+    Also yields the input's reference body (a, c in metres) when the grid was warped
+    from another body, so heights above it can be converted (None otherwise).
+    """
+    with open_raster(input_path) as dataset:
+        require_single_band(dataset, what)
+        with hrsc_grid(dataset, reproject_input) as grid:
+            body = source_body(dataset) if reproject_input else None
+            yield grid, _checked_hrsc_geometry(grid, input_path), body
+
+
+def _checked_hrsc_geometry(grid: DatasetReader, input_path: Path) -> MapGeometry:
+    geometry = describe_geometry(grid.crs, grid.transform, grid.width, grid.height, str(input_path))
+    _, centre_lat = _centre_lonlat(grid.crs, grid.transform, grid.width, grid.height)
+    check_hrsc_geometry(geometry, centre_lat, str(input_path))
+    return geometry
+
+
+def hrsc_identification(
+    defaults: Mapping[str, str], keywords: Mapping[str, ParamValue], product_id: str | None,
+    source_product_ids: Sequence[str], kind: str, version: str,
+) -> dict:
+    """File name, PRODUCT_ID, orbit and identification keywords of one HRSC product."""
+    sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
+    base, orbit = hrsc_base_name(product_id, sources)
+    ident: dict[str, ParamValue] = {
+        **defaults, "MISSION_NAME": hrsc_mission.MISSION_NAME, "PRODUCT_VERSION_ID": version,
+        "SOFTWARE_NAME": f"pdsgen {__version__}",
+    }
+    ident.update({k: v for k, v in keywords.items() if k in ident})
+    return {
+        "file_name": f"{base}_{kind}.img",
+        "product_id": f"{base}_{kind}".upper(),
+        "orbit": orbit,
+        "processing_level": hrsc_mission.PROCESSING_LEVEL,
+        "ident": ident,
+        "source_product_id": [Symbol(s) for s in sources] if sources else "N/A",
+    }
+
+
+@dataclass(frozen=True)
+class HrscImageProduct:
+    product_id: str
+    path: Path
+    geometry: MapGeometry
+    scaling_factor: float
+    offset: float
+    valid_minimum: int
+    valid_maximum: int
+    label_text: str
+    warnings: tuple[str, ...] = ()  # dictionary deviations kept (--allow-dictionary-deviations)
+
+    @property
+    def files(self) -> tuple[Path, ...]:
+        """Every file this product wrote."""
+        return (self.path,)
+
+
+def write_hrsc_nd4(
+    input_path: str | os.PathLike[str],
+    outdir: str | os.PathLike[str],
+    *,
+    value_range: tuple[float, float] | None = None,
+    reproject_input: bool = False,
+    product_id: str | None = None,
+    source_product_ids: Sequence[str] = (),
+    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
+    version: str = "1.0",
+    overwrite: bool = False,
+    source_labels: Sequence[str | os.PathLike[str]] = (),
+    offset_convention: str = "standard",
+    allow_dictionary_deviations: bool | None = None,
+) -> HrscImageProduct:
+    """Write the nadir orthoimage `OUTDIR/hOOOO_NNNN_nd4.img`: 8-bit DNs, 0 = no data.
+
+    Byte input keeps its DNs (0 is HRSC's no-data DN already); anything else is
+    mapped linearly from its valid range (or `value_range`) onto DNs 1..254,
+    with SCALING_FACTOR and OFFSET giving the input values back.
+    """
+    check_offset_convention(offset_convention)
+    keywords = resolve_params(params)
+    input_path = Path(input_path)
+    special = SPECIAL_DNS[8]
+    with hrsc_input(input_path, reproject_input, "an HRSC nadir image") as (grid, geometry, _):
+        mapping = null_zero_byte_mapping(grid, value_range, str(input_path))
+        context = hrsc_identification(
+            hrsc_mission.ND4_KEYWORDS, keywords, product_id, source_product_ids, "nd4", version
+        )
+        context |= carried_context(source_labels, context["orbit"], Path(outdir))
+        context |= offset_context(geometry, offset_convention)
+        moments = DnMoments()
+        context |= {
+            "geometry": geometry,
+            "bit_mask": Based(0xFF, 2, 8),
+            "offset": mapping.offset,
+            "scaling_factor": mapping.scaling_factor,
+            "missing_dn": special.null,
+            "note": "Nadir orthoimage. Value = DN * SCALING_FACTOR + OFFSET; DN 0 marks missing data.",
+        }
+
+        encode = moments.counting(dn_encoder(mapping, str(input_path)))
+
+        header = vicar_label(np.dtype(np.uint8), grid.height, grid.width, 1, grid.width, True)
+
+        def render(records: RecordLayout, stats: BandStatistics) -> str:
+            return with_header(lambda view: render_label("hrsc_nd4.lbl.j2", {
+                **context, "records": view, "stats": moments.summary(stats),
+                "vicar_description": VICAR_DESCRIPTION_NAME,
+            }), header, grid.width)(records)
+
+        def write_data(handle) -> BandStatistics:
+            stats = stream_band(grid, handle, True, encode)
+            if stats.valid_count == 0:
+                raise PdsgenError(input_path, "has no valid pixels (all nodata)")
+            return stats
+
+        final = prepare_output_dir(outdir) / context["file_name"]
+        with StagedOutputs([final, *_vicar_description(final)], overwrite) as staged:
+            _, text, stats = write_attached_product(staged.path(final), render, grid.width, grid.height, write_data)
+            _write_vicar_description(staged, final)
+            warnings = check_label(pds_label_part(text), final.name,
+                                   allow_deviations=allows_deviations(allow_dictionary_deviations, keywords))
+    return HrscImageProduct(context["product_id"], final, geometry, mapping.scaling_factor, mapping.offset,
+                            _as_int(stats.minimum), _as_int(stats.maximum), pds_label_part(text), warnings)
+
+
+def _vicar_description(product: Path) -> list[Path]:
+    """VICAR2.TXT beside the product, when the directory does not hold it yet."""
+    path = product.parent / VICAR_DESCRIPTION_NAME
+    return [] if path.exists() else [path]
+
+
+def _write_vicar_description(staged: StagedOutputs, product: Path) -> None:
+    for path in _vicar_description(product):
+        staged.path(path).write_bytes(VICAR_DESCRIPTION.replace("\n", "\r\n").encode("ascii"))
+
+
+def _as_int(value: float) -> int:
+    """DN statistics are integers; write_attached_product's label-size reservation passes
+    a non-integer placeholder, which must stay at least as wide as any int16 when written."""
+    return int(value) if float(value).is_integer() else -(10**23)
+
+
+def _centre_lonlat(crs: CRS, transform: Affine, width: int, height: int) -> tuple[float, float]:
+    x, y = transform @ (width / 2.0, height / 2.0)
+    lons, lats = warp_transform(crs, CRS.from_proj4(f"+proj=longlat +R={HRSC_SPHERE_M:.0f} +no_defs"), [x], [y])
+    return float(lons[0]), float(lats[0])
+
+
+def _snap_to_pixels(transform: Affine, width: int, height: int, resolution: float):
+    """Put the warped grid's corners on whole multiples of the pixel size."""
+    left = math.floor(transform.c / resolution) * resolution
+    top = math.ceil(transform.f / resolution) * resolution
+    right = transform.c + width * transform.a
+    bottom = transform.f + height * transform.e
+    width = math.ceil((right - left) / resolution)
+    height = math.ceil((top - bottom) / resolution)
+    return Affine(resolution, 0.0, left, 0.0, -resolution, top), width, height
+
+
+__all__ = ["write_hrsc_dtm", "write_hrsc_nd4", "HrscDtmProduct", "HrscImageProduct", "Int16Encoding", "HRSC_CREDIT"]

@@ -1,0 +1,354 @@
+"""The iMars delivery form of HRSC-derived DTMs: GeoTIFF + PVL metadata + footprint.
+
+iMars (the EU FP7 project that processed HRSC south-polar and regional DTMs at UCL)
+delivered each product as a GeoTIFF (int16 DTM with nodata -32768, byte ORI with
+nodata 0) carrying its processing metadata in GeoTIFF tags, a PVL metadata file
+`<ID>_<type>4_ucl.pvl` (objects ProductInfo with group Producer, Image,
+DataProduct, MapProjection, Algorithm), and a GIS footprint `<ID>.geojson`.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import os
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pvl
+import rasterio
+
+from .. import __version__
+from ..errors import PdsgenError
+from ..formats.footprint import footprint_wkt, valid_data_outline, write_footprint, write_shapefile
+from ..formats.img import Adjust, physical_strips, scan_band, valid_extremes
+from ..formats.raster import open_raster, require_single_band
+from ..formats.scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
+from ..formats.staging import StagedOutputs, prepare_output_dir
+from ..geo.geometry import MapGeometry, describe_geometry
+from ..missions import hrsc as hrsc_mission
+from ..missions import imars as imars_mission
+from ..missions.hrsc import MISSING_DN
+from ..missions.hrsc import base_name as hrsc_base_name
+from .heights import Int16Encoding, areoid_adjustment, check_datum_conversion, choose_encoding
+from .params import ParamValue, check_version, resolve_params
+
+IMARS_INSTITUTION = imars_mission.INSTITUTION
+_DTM_DESCRIPTIONS = imars_mission.DTM_DESCRIPTIONS
+
+
+@dataclass(frozen=True)
+class ImarsProduct:
+    product_id: str
+    tiff_path: Path
+    pvl_path: Path
+    footprint_path: Path
+    geometry: MapGeometry
+    encoding: Int16Encoding
+    valid_minimum: int
+    valid_maximum: int
+    shapefile_paths: tuple[Path, ...] = ()  # the footprint as .shp .shx .dbf .prj .qpj
+
+    @property
+    def files(self) -> tuple[Path, ...]:
+        """Every file this product wrote."""
+        return (self.tiff_path, self.pvl_path, self.footprint_path, *self.shapefile_paths)
+
+
+def write_imars_dtm(
+    input_path: str | os.PathLike[str],
+    outdir: str | os.PathLike[str],
+    *,
+    product_id: str | None = None,
+    source_product_ids: tuple[str, ...] | list[str] = (),
+    kind: str = "da",
+    vertical_datum: str | None = None,
+    areoid: str | os.PathLike[str] | None = None,
+    precision: float = 1.0,
+    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
+    version: str = "1.0",
+    overwrite: bool = False,
+) -> ImarsProduct:
+    """Write `<ID>_<kind>4_ucl.tif` (int16), its `.pvl` and the scene footprint.
+
+    `vertical_datum` says what the input heights are measured from (default: the
+    datum of `kind`); when it differs from the kind's, `areoid` converts, as for HRSC.
+    """
+    kind = kind[:2] if kind in ("dt4", "da4") else kind  # the CLI's --kind dt4/da4 names them too
+    if kind not in _DTM_DESCRIPTIONS:
+        raise PdsgenError(None, "iMars DTM kind must be da (areoid heights) or dt (sphere heights)")
+    version = check_version(version)
+    output_datum = "areoid" if kind == "da" else "sphere"
+    check_datum_conversion(f"{kind}4", output_datum, vertical_datum or output_datum, areoid)
+    keywords = resolve_params(params)
+    sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
+    base, _ = hrsc_base_name(product_id, sources)
+    stem = imars_mission.product_stem(base, kind)
+    input_path = Path(input_path)
+    with open_raster(input_path) as dataset:
+        require_single_band(dataset)
+        geometry = describe_geometry(dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path))
+        adjust = None
+        if vertical_datum is not None and vertical_datum != output_datum:
+            adjust = areoid_adjustment(areoid, dataset, +1.0 if output_datum == "sphere" else -1.0)
+        physical = scan_band(dataset, adjust)
+        if physical.valid_count == 0:
+            raise PdsgenError(input_path, "has no valid pixels (all nodata)")
+        encoding = choose_encoding(physical, precision, str(input_path))
+        out = prepare_output_dir(outdir)
+        tiff, metadata = out / f"{stem}.tif", out / f"{stem}.pvl"
+        facts = imars_facts(f"{base}_{kind}4", "DTM", keywords, geometry.target_name or "MARS")
+        tags = _processing_tags(f"{base}_{kind}4", _DTM_DESCRIPTIONS[kind], encoding.scaling_factor,
+                                encoding.offset, MISSING_DN, keywords, sources, facts)
+        footprint = out / imars_mission.footprint_name(base)
+        shapes = {part: out / name for part, name in imars_mission.footprint_shapefile_names(base).items()}
+        with StagedOutputs([tiff, metadata], overwrite, shared=[footprint, *shapes.values()]) as staged:
+            low, high = _write_geotiff(dataset, staged.path(tiff), "int16", MISSING_DN, encoding.encode,
+                                       encoding.scaling_factor, encoding.offset, tags, adjust)
+            with rasterio.open(staged.path(tiff)) as written:
+                written_crs = written.crs
+                text = imars_pvl_text(written, tiff.name, f"{base}_{kind}4", "DTM", geometry, keywords, sources,
+                                      version, {"ValidMinimum": low, "ValidMaximum": high,
+                                                "HeightReference": _DTM_DESCRIPTIONS[kind],
+                                                "Precision": pvl.Quantity(encoding.scaling_factor, "m")},
+                                      facts)
+                polygons = valid_data_outline(written, lambda a: a != MISSING_DN)
+            staged.path(metadata).write_text(text)
+            collection = write_footprint(footprint, staged.path(footprint), f"{base}_{kind}4", polygons,
+                                         {"type": "DTM", "file": tiff.name}, geometry.target_name or "MARS")
+            write_shapefile(collection, {part: staged.path(path) for part, path in shapes.items()},
+                            footprint_wkt(written_crs))
+    return ImarsProduct(f"{base}_{kind}4", tiff, metadata, footprint, geometry, encoding, low, high,
+                        tuple(shapes.values()))
+
+
+def _write_geotiff(dataset, path: Path, dtype: str, nodata: int, encode, scale: float, offset: float,
+                   tags: dict[str, str], adjust: Adjust | None = None) -> tuple[int, int]:
+    """Stream encoded samples into a tiled, compressed GeoTIFF; return the valid DN range."""
+    profile = {
+        "driver": "GTiff", "width": dataset.width, "height": dataset.height, "count": 1, "dtype": dtype,
+        "crs": dataset.crs, "transform": dataset.transform, "nodata": nodata, "tiled": True,
+        "blockxsize": 256, "blockysize": 256, "compress": "deflate", "predictor": 2, "BIGTIFF": "IF_SAFER",
+    }
+    low, high = np.iinfo(dtype).max, np.iinfo(dtype).min
+    with rasterio.open(path, "w", **profile) as out:
+        out.scales = (scale,)
+        out.offsets = (offset,)
+        out.update_tags(**tags)
+        for values, invalid, window in physical_strips(dataset, adjust):
+            stored = encode(values, invalid)
+            count, lo, hi = valid_extremes(stored, invalid)
+            if count:
+                low, high = min(low, int(lo)), max(high, int(hi))
+            out.write(stored, 1, window=window)
+    return low, high
+
+
+def _processing_tags(product: str, description: str, scale: float, offset: float, missing: int, keywords,
+                     sources, facts: Mapping[str, str]) -> dict[str, str]:
+    return {
+        **fact_tags(facts),
+        "TIFFTAG_SOFTWARE": f"pdsgen {__version__}",
+        "TIFFTAG_IMAGEDESCRIPTION": f"{product} iMars HRSC {description}, value = DN * {scale:g} + {offset:g}",
+        "PRODUCT_ID": product,
+        "DESCRIPTION": description,
+        "SCALING_FACTOR": repr(scale),
+        "OFFSET": repr(offset),
+        "MISSING_DN": str(missing),
+        "PRODUCER": str(keywords.get("PRODUCER_INSTITUTION_NAME", IMARS_INSTITUTION)),
+        "SOURCE_PRODUCT_ID": ",".join(sources) or "N/A",
+        "ALGORITHM": str(keywords.get("EXTRACTION_METHOD", "UNK")),
+    }
+
+
+def write_imars_ori(
+    input_path: str | os.PathLike[str],
+    outdir: str | os.PathLike[str],
+    *,
+    product_id: str | None = None,
+    source_product_ids: tuple[str, ...] | list[str] = (),
+    value_range: tuple[float, float] | None = None,
+    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
+    version: str = "1.0",
+    overwrite: bool = False,
+) -> ImarsProduct:
+    """Write the orthoimage `<ID>_nd4_ucl.tif` (byte, nodata 0), its `.pvl` and the scene footprint."""
+    version = check_version(version)
+    keywords = resolve_params(params)
+    sources = list(source_product_ids) or list(keywords.get("SOURCE_PRODUCT_ID", []))
+    base, _ = hrsc_base_name(product_id, sources)
+    stem = imars_mission.product_stem(base, "nd")
+    input_path = Path(input_path)
+    special = SPECIAL_DNS[8]
+    with open_raster(input_path) as dataset:
+        require_single_band(dataset, "an iMars orthoimage")
+        geometry = describe_geometry(dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path))
+        mapping = null_zero_byte_mapping(dataset, value_range, str(input_path))
+
+        encode = dn_encoder(mapping, str(input_path))
+        out = prepare_output_dir(outdir)
+        tiff, metadata = out / f"{stem}.tif", out / f"{stem}.pvl"
+        facts = imars_facts(f"{base}_nd4", "ORI", keywords, geometry.target_name or "MARS")
+        tags = _processing_tags(f"{base}_nd4", "ORTHOIMAGE", mapping.scaling_factor, mapping.offset,
+                                special.null, keywords, sources, facts)
+        footprint = out / imars_mission.footprint_name(base)
+        shapes = {part: out / name for part, name in imars_mission.footprint_shapefile_names(base).items()}
+        with StagedOutputs([tiff, metadata], overwrite, shared=[footprint, *shapes.values()]) as staged:
+            low, high = _write_geotiff(dataset, staged.path(tiff), "uint8", special.null, encode,
+                                       mapping.scaling_factor, mapping.offset, tags)
+            with rasterio.open(staged.path(tiff)) as written:
+                written_crs = written.crs
+                text = imars_pvl_text(written, tiff.name, f"{base}_nd4", "ORI", geometry, keywords, sources,
+                                      version, {"ValidMinimum": low, "ValidMaximum": high}, facts)
+                polygons = valid_data_outline(written, lambda a: a != special.null)
+            staged.path(metadata).write_text(text)
+            collection = write_footprint(footprint, staged.path(footprint), f"{base}_nd4", polygons,
+                                         {"type": "ORI", "file": tiff.name}, geometry.target_name or "MARS")
+            write_shapefile(collection, {part: staged.path(path) for part, path in shapes.items()},
+                            footprint_wkt(written_crs))
+    encoding = Int16Encoding(mapping.scaling_factor, mapping.offset)
+    return ImarsProduct(f"{base}_nd4", tiff, metadata, footprint, geometry, encoding, low, high,
+                        tuple(shapes.values()))
+
+
+def processing_date() -> str:
+    """Today (UTC), or the day of SOURCE_DATE_EPOCH when set (reproducible builds)."""
+    epoch = os.environ.get("SOURCE_DATE_EPOCH")
+    when = dt.datetime.fromtimestamp(int(epoch), dt.timezone.utc) if epoch else dt.datetime.now(dt.timezone.utc)
+    return when.date().isoformat()
+
+
+# The facts the real iMars files give twice: PVL (object, keyword) and GeoTIFF metadata tag.
+# One table; the tags are derived from it, so the two cannot drift apart.
+FACT_PLACES = {
+    "software_name": ("Producer", "SoftwareName", "PRODUCER.SOFTWARE_NAME"),
+    "software_version": ("Producer", "SoftwareVersion", "PRODUCER.SOFTWARE_VERSION"),
+    "institution": ("Producer", "ProducerInstitutionName", "PRODUCER.INSTITUTION_NAME"),
+    "organisation": ("Producer", "ProcessingOrganisation", "PRODUCER.PROCESSING_ORGANISATION"),
+    "contact": ("Producer", "ContactPerson", "PRODUCER.CONTACT_PERSON"),
+    "product_id": ("DataProduct", "ID", "PRODUCT.ID"),
+    "host_name": ("DataProduct", "InstrumentHostName", "PRODUCT.INSTRUMENT_HOST_NAME"),
+    "host_id": ("DataProduct", "InstrumentHostID", "PRODUCT.INSTRUMENT_HOST_ID"),
+    "target": ("DataProduct", "TargetName", "PRODUCT.TARGET_NAME"),
+    "instrument_name": ("DataProduct", "InstrumentName", "PRODUCT.INSTRUMENT_NAME"),
+    "instrument_id": ("DataProduct", "InstrumentID", "PRODUCT.INSTRUMENT_ID"),
+    "level": ("DataProduct", "ProcessingLevel", "PRODUCT.PROCESSING_LEVEL"),
+    "type_name": ("DataProduct", "ProductTypeName", "PRODUCT.TYPE_NAME"),
+    "type_id": ("DataProduct", "ProductTypeID", "PRODUCT.TYPE_ID"),
+    "data_set": ("DataProduct", "DataSetName", "PRODUCT.DATA_SET_NAME"),
+    "date": ("DataProduct", "ProcessingDate", "PRODUCT.PROCESSING_DATE"),
+}
+
+
+def imars_facts(product_id: str, product_type: str, keywords: Mapping[str, Any], target: str) -> dict[str, str]:
+    """Producer and product facts of one delivery, from the missions and the params."""
+    type_name, type_id = imars_mission.PRODUCT_TYPES[product_type]
+    hrsc = hrsc_mission.KEYWORDS
+    return {
+        "software_name": imars_mission.SOFTWARE_NAME,
+        "software_version": __version__,
+        "institution": str(keywords.get("PRODUCER_INSTITUTION_NAME", IMARS_INSTITUTION)),
+        "organisation": imars_mission.PROCESSING_ORGANISATION,
+        "contact": str(keywords.get("TECHNICAL_CONTACT", keywords.get("PRODUCER_FULL_NAME", "UNK"))),
+        "product_id": product_id,
+        "host_name": hrsc["INSTRUMENT_HOST_NAME"],
+        "host_id": hrsc["INSTRUMENT_HOST_ID"],
+        "target": target,
+        "instrument_name": hrsc["INSTRUMENT_NAME"],
+        "instrument_id": hrsc["INSTRUMENT_ID"],
+        "level": imars_mission.PROCESSING_LEVEL,
+        "type_name": type_name,
+        "type_id": type_id,
+        "data_set": str(keywords.get("DATA_SET_NAME", imars_mission.DATA_SET_NAME)),
+        "date": processing_date(),
+    }
+
+
+def fact_tags(facts: Mapping[str, str]) -> dict[str, str]:
+    """The facts as GeoTIFF metadata tags (PRODUCER.INSTITUTION_NAME, PRODUCT.PROCESSING_DATE ...)."""
+    return {tag: facts[name] for name, (_, _, tag) in FACT_PLACES.items()}
+
+
+def _facts_of(facts: Mapping[str, str], place: str) -> list[tuple[str, object]]:
+    """The facts of one PVL object or group (the processing date as a PVL date)."""
+    return [(key, dt.date.fromisoformat(facts[name]) if name == "date" else facts[name])
+            for name, (where, key, _) in FACT_PLACES.items() if where == place]
+
+
+def imars_pvl_text(
+    written, file_name: str, product_id: str, product_type: str, geometry: MapGeometry, keywords: Mapping[str, Any],
+    sources: list[str], version: str, image_extra: Mapping[str, Any], facts: Mapping[str, str],
+) -> str:
+    """The metadata file, built from the GeoTIFF as written so the two cannot disagree.
+
+    Shaped like the real iMars files (ProductInfo with group Producer, Image,
+    DataProduct, MapProjection, Algorithm and their keywords); the keywords the
+    validator's IMARS rules read (Samples, NoData, PixelResolution, Proj4 ...) are
+    kept beside the real ones.
+    """
+    transform = written.transform
+    resolution = pvl.Quantity(transform.a, "m")
+    module = pvl.PVLModule([
+        ("ProductInfo", pvl.PVLObject([
+            ("ProductId", product_id),
+            ("ProductType", product_type),
+            ("ProductVersionId", version),
+            ("SourceProductId", sources or ["N/A"]),
+            ("Producer", pvl.PVLGroup(_facts_of(facts, "Producer"))),
+        ])),
+        ("Image", pvl.PVLObject([
+            ("FileName", file_name),
+            ("Format", "GeoTIFF"),
+            ("Lines", written.height),
+            ("LineSample", written.width),
+            ("Band", written.count),
+            ("BitDepth", np.dtype(written.dtypes[0]).itemsize * 8),
+            ("DTMResolution" if product_type == "DTM" else "ORIResolution", resolution),
+            ("Unit", "m" if product_type == "DTM" else "DN"),
+            ("NodataValue", int(written.nodata)),
+            ("Projection", geometry.projection_type),
+            ("Samples", written.width),
+            ("Bands", written.count),
+            ("SampleType", written.dtypes[0]),
+            ("NoData", int(written.nodata)),
+            ("ScalingFactor", float(written.scales[0])),
+            ("Offset", float(written.offsets[0])),
+            *image_extra.items(),
+        ])),
+        ("DataProduct", pvl.PVLObject([
+            *_facts_of(facts, "DataProduct"),
+            ("FileName", file_name),
+            ("Format", "GeoTIFF"),
+            ("Units", "m" if product_type == "DTM" else "DN"),
+        ])),
+        ("MapProjection", pvl.PVLObject([
+            ("MapProjectionType", geometry.projection_type),
+            ("TargetName", geometry.target_name or "MARS"),
+            ("AAxisRadius", pvl.Quantity(geometry.a_axis_km, "km")),
+            ("BAxisRadius", pvl.Quantity(geometry.b_axis_km, "km")),
+            ("CAxisRadius", pvl.Quantity(geometry.c_axis_km, "km")),
+            ("CenterLatitude", geometry.center_latitude),
+            ("CenterLongitude", geometry.center_longitude),
+            ("MapScale", pvl.Quantity(geometry.map_scale, "m/pixel")),
+            ("PixelResolution", resolution),
+            ("UpperLeftCornerX", pvl.Quantity(transform.c, "m")),
+            ("UpperLeftCornerY", pvl.Quantity(transform.f, "m")),
+            ("MinimumLatitude", geometry.minimum_latitude),
+            ("MaximumLatitude", geometry.maximum_latitude),
+            ("MinimumLongitude", geometry.westernmost_longitude),
+            ("MaximumLongitude", geometry.easternmost_longitude),
+            ("Proj4", proj4_string(written.crs)),
+        ])),
+        ("Algorithm", pvl.PVLObject([
+            ("Name", str(keywords.get("EXTRACTION_METHOD", "UNK"))),
+            *[(key, value) for key, value in dict(keywords.get("MATCHER_PARAMETERS", {}) or {}).items()],
+        ])),
+    ])
+    return pvl.dumps(module, encoder=pvl.encoder.ISISEncoder())
+
+
+def proj4_string(crs) -> str:
+    """The CRS as a PROJ string in PROJ's own spelling (`+no_defs`, not `+no_defs=True`)."""
+    return " ".join(f"+{key}" if value is True else f"+{key}={value}" for key, value in crs.to_dict().items())

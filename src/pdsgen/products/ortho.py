@@ -1,0 +1,328 @@
+"""The orthoimage product: a lossless JPEG 2000 (.JP2) with a detached PDS3 label.
+
+Data flows one way: read raster -> describe geometry -> decide the DN mapping
+(from the data type, --range, or one streamed min/max pass for floats) ->
+choose names and keywords -> render the label -> encode the JP2 tile row by
+tile row with its GeoJP2 (and optional GMLJP2) box. Both files are staged
+together, so either both appear or neither does.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from rasterio.io import DatasetReader
+from rasterio.windows import Window
+
+from ..errors import ParamsError, PdsgenError
+from ..formats.geojp2 import geojp2_box, gmljp2_box
+from ..formats.jp2 import JP2INFO_NAME, TILE_SIZE, describe_jp2, jp2info_text, write_jp2
+from ..formats.raster import open_raster, row_strips
+from ..formats.scale_dn import (
+    BIT_DEPTHS,
+    SPECIAL_DNS,
+    DnMapping,
+    default_bits,
+    dtype_fits,
+    identity_mapping,
+    invalid_mask,
+    linear_mapping,
+    to_dns,
+    valid_range,
+)
+from ..formats.staging import StagedOutputs, prepare_output_dir
+from ..geo.geometry import MapGeometry, describe_geometry
+from ..label.render import render_label
+from ..label.values import Based, Quantity, Symbol
+from ..missions import Mission, ProductIdRequest, get_mission
+from .agreement import allows_deviations, check_label, label_keywords
+from .dispatch import call_mission_writer
+from .identification import choose_product_id, identification_keywords
+from .params import ParamValue, check_version, resolve_params
+
+
+@dataclass(frozen=True)
+class OrthoProduct:
+    """What `write_ortho` produced, for callers that go on to make Extras or check it."""
+
+    product_id: str
+    jp2_path: Path
+    label_path: Path
+    geometry: MapGeometry
+    scaling_factor: float
+    offset: float
+    bits: int
+    bands: int
+    label_text: str
+    warnings: tuple[str, ...] = ()  # dictionary deviations kept (--allow-dictionary-deviations)
+
+    @property
+    def files(self) -> tuple[Path, ...]:
+        """Every file this product wrote."""
+        return (self.jp2_path, self.label_path)
+
+
+# Band names of 1- and 3-band orthoimages, as HiRISE labels write them.
+ORTHO_FILTER_NAMES = {1: ("RED",), 3: ("NEAR-INFRARED", "RED", "BLUE-GREEN")}
+
+
+def write_ortho(
+    input_path: str | os.PathLike[str],
+    outdir: str | os.PathLike[str],
+    *,
+    profile: str = "generic",
+    **options: Any,
+) -> Any:
+    """Write the orthoimage product of `profile`.
+
+    Missions with their own form (hrsc: 8-bit ND4 .img, imars: GeoTIFF + PVL +
+    footprint) have their writer called with `options` (their images are 8-bit:
+    `bits` other than 8 is refused); the others get the JP2 + .LBL of
+    `write_jp2_ortho` with the mission's names and keywords. `threads=N` caps the
+    cores the JPEG 2000 encoder uses (default: all; a batch running several
+    products at once gives each a share); the other forms use one core anyway.
+    """
+    mission = get_mission(profile)
+    own = mission.writer("ortho")
+    if own is None:
+        return call_mission_writer(write_jp2_ortho, profile, input_path, outdir, {**options, "mission": mission})
+    options.pop("threads", None)  # a limit on cores, not a product option: these writers use one
+    bits = options.pop("bits", None)
+    if bits not in (None, 8):
+        raise ParamsError(None, f"--profile {profile} orthoimages are 8-bit; --bits {bits} does not apply")
+    return call_mission_writer(own, profile, input_path, outdir, options)
+
+
+def write_jp2_ortho(
+    input_path: str | os.PathLike[str],
+    outdir: str | os.PathLike[str],
+    *,
+    mission: Mission,
+    product_id: str | None = None,
+    bits: int | None = None,
+    value_range: tuple[float, float] | None = None,
+    source_dtm_id: str | None = None,
+    observation_id: str | None = None,
+    sequence: int = 1,
+    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
+    gmljp2: bool = False,
+    version: str = "1.0",
+    overwrite: bool = False,
+    allow_dictionary_deviations: bool | None = None,
+    threads: int | None = None,
+) -> OrthoProduct:
+    """Convert a 1-band (RED) or 3-band (IRB) orthoimage into `<PRODUCT_ID>.JP2` + `.LBL`.
+
+    `threads` limits how many cores the JPEG 2000 encoder uses (default: all).
+    The directory's JP2INFO.TXT gets this JP2's encoding facts.
+    """
+    if bits is not None and bits not in BIT_DEPTHS:
+        raise PdsgenError(None, f"--bits must be one of {', '.join(map(str, BIT_DEPTHS))}, not {bits}")
+    chosen = mission
+    if chosen.ortho_keywords is None:
+        raise PdsgenError(None, f"the {chosen.name} profile writes orthoimages in its own form, not as JP2 + LBL")
+    version = check_version(version)
+    keywords = resolve_params(params)
+    allow = allows_deviations(allow_dictionary_deviations, keywords)
+    keywords = label_keywords(keywords)
+    input_path = Path(input_path)
+    with open_raster(input_path) as dataset:
+        _check_input(dataset, input_path)
+        geometry = describe_geometry(dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path))
+        bits = bits or _default_bits(dataset, chosen)
+        mapping = _choose_mapping(dataset, input_path, bits, value_range)
+        sources = _source_ids(keywords, observation_id, source_dtm_id)
+        ident = identification_keywords(chosen.ortho_keywords, keywords, geometry, version)
+        product_id = choose_product_id(product_id, chosen.ortho_product_id, ProductIdRequest(
+            input_path.stem, geometry, sources, None, version, dataset.count, observation_id, sequence,
+        ))
+        outdir = prepare_output_dir(outdir)
+        jp2_final, label_final = outdir / f"{product_id}.JP2", outdir / f"{product_id}.LBL"
+        text = render_label("ortho.lbl.j2", _label_context(
+            chosen, product_id, ident, sources, geometry, dataset.count, mapping, jp2_final.name,
+        ))
+        warnings = check_label(text, label_final.name, allow_deviations=allow)
+        boxes = [geojp2_box(dataset.crs, dataset.transform)]
+        if gmljp2:
+            boxes.append(gmljp2_box(dataset.crs, dataset.transform, dataset.height, dataset.width))
+        info_final = outdir / JP2INFO_NAME
+        with StagedOutputs([jp2_final, label_final], overwrite, shared=[info_final]) as staged:
+            reader = _TileRowReader(dataset, mapping, str(input_path))
+            settings = write_jp2(
+                staged.path(jp2_final), dataset.height, dataset.width, dataset.count,
+                mapping.special.bits, reader, boxes, threads=threads,
+            )
+            if not reader.any_valid:
+                raise PdsgenError(input_path, "has no valid pixels (all nodata)")
+            staged.path(label_final).write_bytes(text.encode("ascii"))
+            entry = describe_jp2(jp2_final.name, settings, dataset.height, dataset.width, dataset.count,
+                                 mapping.special.bits, ["GeoJP2", "GMLJP2"][:len(boxes)])
+            previous = info_final.read_text("ascii", "replace") if info_final.is_file() else None
+            staged.path(info_final).write_bytes(jp2info_text(previous, entry, lambda name: (outdir / name).is_file()))
+    return OrthoProduct(
+        product_id=product_id,
+        jp2_path=jp2_final,
+        label_path=label_final,
+        geometry=geometry,
+        scaling_factor=mapping.scaling_factor,
+        offset=mapping.offset,
+        bits=bits,
+        bands=dataset.count,
+        label_text=text,
+        warnings=warnings,
+    )
+
+
+def _check_input(dataset: DatasetReader, path: Path) -> None:
+    if dataset.count not in ORTHO_FILTER_NAMES:
+        raise PdsgenError(
+            path, f"has {dataset.count} bands; an orthoimage has 1 (RED) or 3 (near-infrared, red, blue-green)"
+        )
+    kinds = {np.dtype(dt).kind for dt in dataset.dtypes}
+    if not kinds <= set("iuf") or len(set(dataset.dtypes)) != 1:
+        raise PdsgenError(path, f"sample types {', '.join(dataset.dtypes)} are not one real number type")
+
+
+def _default_bits(dataset: DatasetReader, mission: Mission) -> int:
+    """Integers keep their width; floats get the mission's default (HiRISE 10 bits, else 16)."""
+    dtype = np.dtype(dataset.dtypes[0])
+    if dtype.kind == "f":
+        return mission.default_ortho_bits_for_float
+    return default_bits(dtype)
+
+
+def _choose_mapping(
+    dataset: DatasetReader, path: Path, bits: int, value_range: tuple[float, float] | None
+) -> DnMapping:
+    special = SPECIAL_DNS[bits]
+    if value_range is not None:
+        low, high = (float(v) for v in value_range)
+        if not high > low:
+            raise PdsgenError(None, f"--range MIN MAX needs MIN < MAX, got {low:g} {high:g}")
+        return linear_mapping(special, low, high)
+    dtype = np.dtype(dataset.dtypes[0])
+    if dtype_fits(dtype, bits):
+        return identity_mapping(special)
+    found = valid_range(dataset, row_strips(dataset))
+    if found is None:
+        raise PdsgenError(path, "has no valid pixels (all nodata)")
+    low, high = found
+    if dtype.kind in "iu" and low >= 0 and high <= special.max_dn:
+        return identity_mapping(special)
+    return linear_mapping(special, low, high)
+
+
+class _TileRowReader:
+    """Reads one row of tiles of every band and turns it into DNs."""
+
+    def __init__(self, dataset: DatasetReader, mapping: DnMapping, source: str) -> None:
+        self.dataset = dataset
+        self.mapping = mapping
+        self.source = source
+        self.any_valid = False
+
+    def __call__(self, first_line: int, lines: int) -> np.ndarray:
+        dataset, special = self.dataset, self.mapping.special
+        native = dataset.read(window=Window(0, first_line, dataset.width, lines))
+        if self.mapping.keeps_values and native.dtype == special.dtype and dataset.count == 1:
+            return self._null_in_place(native[0])
+        out = np.empty((lines, dataset.width, dataset.count), dtype=special.dtype)
+        for band, nodata in enumerate(dataset.nodatavals):
+            for start in range(0, dataset.width, TILE_SIZE):  # bounds float64 scratch to one tile
+                block = to_dns(native[band, :, start:start + TILE_SIZE], nodata, self.mapping, self.source)
+                out[:, start:start + TILE_SIZE, band] = block
+        del native
+        self._note_valid(out)
+        return out[:, :, 0] if dataset.count == 1 else out
+
+    def _null_in_place(self, band: np.ndarray) -> np.ndarray:
+        """DNs kept as read: only nodata pixels change (saves a copy of the tile row)."""
+        invalid = invalid_mask(band, self.dataset.nodatavals[0])
+        if invalid is not None:
+            band[invalid] = self.mapping.special.null
+        self._note_valid(band)
+        return band
+
+    def _note_valid(self, dns: np.ndarray) -> None:
+        # Checked only until the first valid pixel turns up: no per-row mask afterwards.
+        if not self.any_valid:
+            self.any_valid = bool((dns != self.mapping.special.null).any())
+
+
+def _source_ids(
+    keywords: Mapping[str, ParamValue], observation_id: str | None, source_dtm_id: str | None
+) -> list[str]:
+    """SOURCE_PRODUCT_ID in hidtmgen's order: the DTM, then the observation, then any others."""
+    listed = keywords.get("SOURCE_PRODUCT_ID", [])
+    sources = [str(s) for s in listed] if isinstance(listed, list) else [str(listed)]
+    first = [s for s in (source_dtm_id, observation_id) if s]
+    return first + [s for s in sources if s not in first]
+
+
+def _label_context(
+    mission: Mission,
+    product_id: str,
+    ident: Mapping[str, ParamValue],
+    sources: Sequence[str],
+    geometry: MapGeometry,
+    bands: int,
+    mapping: DnMapping,
+    jp2_name: str,
+) -> dict[str, object]:
+    special = mapping.special
+    sample_bits = 8 if special.bits == 8 else 16
+    record_bytes = geometry.samples * sample_bits // 8
+    file_records = geometry.lines * bands
+    filters = ORTHO_FILTER_NAMES[bands]
+    known = mission.filter_wavelengths_nm
+    wavelengths = tuple(known[name] for name in filters) if known else None
+    return {
+        "product_id": product_id,
+        "ident": ident,
+        "source_product_id": [Symbol(s) if _is_symbol(s) else s for s in sources] if sources else "N/A",
+        "geometry": geometry,
+        "jp2_name": jp2_name,
+        "jp2info_name": JP2INFO_NAME,
+        "img_name": f"{product_id}.IMG",
+        "record_bytes": record_bytes,
+        "file_records": file_records,
+        "required_storage_bytes": record_bytes * file_records,
+        "description": mission.ortho_description,
+        "bands": bands,
+        "sample_type": Symbol("UNSIGNED_INTEGER" if sample_bits == 8 else "MSB_UNSIGNED_INTEGER"),
+        "sample_bits": sample_bits,
+        "bit_mask": Based((1 << special.bits) - 1, 2, sample_bits),
+        "scaling_factor": float(mapping.scaling_factor),
+        "offset": float(mapping.offset),
+        "special": special,
+        "filter_name": filters[0] if bands == 1 else list(filters),
+        "center_wavelength": _wavelengths(wavelengths, bands),
+        "standard_parallels_na": mission.ortho_standard_parallels_na,
+        "stretch_namespace": mission.ortho_stretch_namespace,
+        # The linear display stretch of the valid DNs (the release: 3 and 1021 for 10-bit data).
+        "minimum_stretch": special.valid_min if bands == 1 else [special.valid_min] * bands,
+        "maximum_stretch": special.valid_max if bands == 1 else [special.valid_max] * bands,
+    }
+
+
+def _wavelengths(wavelengths: tuple[int, ...] | None, bands: int) -> object:
+    if wavelengths is None:
+        return "UNK" if bands == 1 else ["UNK"] * bands
+    quantities = [Quantity(nm, "NM") for nm in wavelengths]
+    return quantities[0] if bands == 1 else quantities
+
+
+def _is_symbol(text: str) -> bool:
+    try:
+        Symbol(text)
+    except ValueError:
+        return False
+    return True
+
+
+__all__ = ["OrthoProduct", "write_jp2_ortho", "write_ortho"]
