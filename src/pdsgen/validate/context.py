@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
 
+from .dictionary import load as load_dictionary
 from .lexer import parse_label
 from .model import Block, Label, Statement, Value
 
@@ -122,9 +123,7 @@ class FileContext:
     @property
     def dictionary(self):
         """The keyword dictionary (with any extra dictionaries the user named)."""
-        from .dictionary import load
-
-        return load(self.dictionaries)
+        return load_dictionary(self.dictionaries)
 
     # -- label look-ups ------------------------------------------------------------
     @property

@@ -18,13 +18,18 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
+from . import dict_rules as D
 from . import file_rules as F
+from . import geo_rules as G
+from . import hrsc_rules as H
 from . import image_rules as I
+from . import imars_rules as X
 from . import map_rules as M
 from . import pointer_rules as P
+from . import set_rules as T
 from . import syntax_rules as S
 from .context import FileContext
-from .model import Finding, Hit
+from .model import Hit
 
 FAMILIES = ("FILE", "SYNTAX", "DICT", "PTR", "REC", "IMG", "MAP", "GEO", "HRSC", "SET", "IMARS")
 
@@ -36,7 +41,7 @@ class Rule:
     summary: str
     check: Callable[[FileContext], Iterable[Hit]] | None  # per-file check
     needs_data: bool = False
-    set_check: Callable[[list, set[str]], Iterable[Finding]] | None = None  # across files (SET)
+    set_check: Callable[[list, set[str]], Iterable[Hit]] | None = None  # across files (SET)
     target: str = "label"  # "label": PDS3 labels (FileContext); "imars": iMars PVL (ImarsContext)
     note: str = ""  # when a finding of this rule takes another severity, and why
 
@@ -46,12 +51,6 @@ class Rule:
 
 
 def _table() -> list[Rule]:
-    from . import dict_rules as D
-    from . import geo_rules as G
-    from . import hrsc_rules as H
-    from . import imars_rules as X
-    from . import set_rules as T
-
     r = S.from_reader
     return [
         Rule("FILE-001", "error", "label bytes are printable 7-bit ASCII", F.check_ascii),
@@ -248,7 +247,7 @@ RULES: dict[str, Rule] = {}
 
 
 def rules() -> dict[str, Rule]:
-    """The rule table, built on first use (the family modules import lazily)."""
+    """The rule table, built on first use."""
     if not RULES:
         ordered = sorted(_table(), key=lambda r: (FAMILIES.index(r.family), r.id))
         RULES.update((rule.id, rule) for rule in ordered)

@@ -322,7 +322,9 @@ class _SetGroups:
             if rule.set_check is None or not summaries or not self.settings.keeps(rule_id):
                 continue
             try:
-                found = list(rule.set_check(summaries, self.referenced))
+                found = [Finding(rule.id, hit.severity or rule.severity, hit.file or summaries[0].path,
+                                 hit.message, hit.line, hit.keyword)
+                         for hit in rule.set_check(summaries, self.referenced)]
             except Exception as exc:  # never a traceback, whatever the labels hold
                 found = [Finding(rule.id, "error", summaries[0].path,
                                  f"set check could not run ({type(exc).__name__}: {exc})")]

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .context import REFERENCE_POINTERS, FileContext
-from .model import Finding, Hit
+from .model import Hit
 from .profiles import hrsc_orbit, is_hirise, is_hrsc
 from .projection import normalise
 from .quantities import kilometres as _km
@@ -114,11 +114,9 @@ def check_product_id(ctx: FileContext) -> Iterator[Hit]:
                   stmt.line, "PRODUCT_ID")
 
 
-def _finding(rule: str, summary: Summary, message: str, line: int | None, keyword: str | None) -> Finding:
-    """A finding with the severity the rule table gives this rule."""
-    from .rules import rules
-
-    return Finding(rule, rules()[rule].severity, summary.path, message, line, keyword)
+def _finding(summary: Summary, message: str, line: int | None, keyword: str | None) -> Hit:
+    """A problem of one product of the set: the runner adds rule id and severity."""
+    return Hit(message, line, keyword, file=summary.path)
 
 
 def by_directory(summaries: list[Summary]) -> dict[str, list[Summary]]:
@@ -128,7 +126,7 @@ def by_directory(summaries: list[Summary]) -> dict[str, list[Summary]]:
     return dict(sorted(groups.items()))
 
 
-def check_projections(summaries: list[Summary], referenced: set[str] | None = None) -> Iterator[Finding]:
+def check_projections(summaries: list[Summary], referenced: set[str] | None = None) -> Iterator[Hit]:
     """SET-001: map products that belong together share projection, radii and centre.
 
     Real volumes keep many unrelated products in one directory (an HRSC or LOLA DATA/
@@ -188,20 +186,20 @@ def is_delivery_set(directory: Path, group: list[Summary]) -> bool:
         "EXTRA" in n.upper() and (directory / n).is_dir() for n in names)
 
 
-def check_sources(summaries: list[Summary], referenced: set[str] | None = None) -> Iterator[Finding]:
+def check_sources(summaries: list[Summary], referenced: set[str] | None = None) -> Iterator[Hit]:
     """SET-003: SOURCE_PRODUCT_ID values naming products of the set resolve within it."""
     for directory, group in by_directory(summaries).items():
         if is_delivery_set(Path(directory), group):
             yield from _sources(group, "SET-003")
 
 
-def check_extras(summaries: list[Summary], referenced: set[str] | None = None) -> Iterator[Finding]:
+def check_extras(summaries: list[Summary], referenced: set[str] | None = None) -> Iterator[Hit]:
     """SET-004: a delivery set has README.TXT and a browse JPEG per product."""
     for directory, group in by_directory(summaries).items():
         yield from _extras(Path(directory), group, "SET-004")
 
 
-def check_describes_data(summaries: list[Summary], referenced: set[str] | None = None) -> Iterator[Finding]:
+def check_describes_data(summaries: list[Summary], referenced: set[str] | None = None) -> Iterator[Hit]:
     """SET-005: a product label describes some data. Labels named *.FMT/*.CAT, and labels
     another label of the run includes or points at (`referenced`: names from every label
     of the run), are fragments and exempt."""
@@ -210,7 +208,7 @@ def check_describes_data(summaries: list[Summary], referenced: set[str] | None =
     for s in summaries:
         name = Path(s.path).name.upper()
         if s.describes_nothing and name not in referenced and not name.endswith(FRAGMENT_SUFFIXES):
-            yield _finding("SET-005", s, "the label describes no data: no data pointer (^IMAGE, "
+            yield _finding(s, "the label describes no data: no data pointer (^IMAGE, "
                            "^TABLE ...) and no OBJECT (IMAGE, TABLE, COMPRESSED_FILE, FILE ...)",
                            s.first_line, None)
 
@@ -220,7 +218,7 @@ def _fmt(values: tuple) -> str:
     return ", ".join(f"{k} {v}" for k, v in zip(keys, values, strict=False))
 
 
-def _projections(group: list[Summary], rule: str) -> Iterator[Finding]:
+def _projections(group: list[Summary], rule: str) -> Iterator[Hit]:
     mapped = [s for s in group if s.projection is not None]
     if len(mapped) < 2:
         return
@@ -234,20 +232,20 @@ def _projections(group: list[Summary], rule: str) -> Iterator[Finding]:
         ]
         if diffs:
             what = "; ".join(f"{k} {b} vs {a}" for k, a, b in diffs)
-            yield _finding(rule, s, f"projection differs from {Path(reference.path).name}: "
+            yield _finding(s, f"projection differs from {Path(reference.path).name}: "
                            f"{what}", s.projection_line, diffs[0][0])
 
 
-def _sources(group: list[Summary], rule: str) -> Iterator[Finding]:
+def _sources(group: list[Summary], rule: str) -> Iterator[Hit]:
     ids = {s.product_id.upper() for s in group if s.product_id}
     for s in group:
         for ref in s.sources:
             if SET_PRODUCT_ID.fullmatch(ref.upper()) and ref.upper() not in ids:
-                yield _finding(rule, s, f"SOURCE_PRODUCT_ID {ref} names a product that is "
+                yield _finding(s, f"SOURCE_PRODUCT_ID {ref} names a product that is "
                                "not in this directory", s.sources_line, "SOURCE_PRODUCT_ID")
 
 
-def _extras(directory: Path, group: list[Summary], rule: str) -> Iterator[Finding]:
+def _extras(directory: Path, group: list[Summary], rule: str) -> Iterator[Hit]:
     """A directory holding map products should have README.TXT and browse JPEGs (Extras)."""
     if not is_delivery_set(directory, group):
         return
@@ -258,12 +256,12 @@ def _extras(directory: Path, group: list[Summary], rule: str) -> Iterator[Findin
         names |= _names(sub)
     upper = {n.upper() for n in names}
     if "README.TXT" not in upper:
-        yield _finding(rule, products[0], f"no README.TXT in {directory} or its "
+        yield _finding(products[0], f"no README.TXT in {directory} or its "
                        "EXTRAS directory", None, None)
     for s in products:
         prefix = s.product_id.upper() + "."  # type: ignore[union-attr]
         if not any(n.startswith(prefix) and n.endswith(".JPG") for n in upper):
-            yield _finding(rule, s, f"no browse JPEG ({s.product_id}.*.jpg) for this "
+            yield _finding(s, f"no browse JPEG ({s.product_id}.*.jpg) for this "
                            "product in its directory or EXTRAS", s.product_id_line, "PRODUCT_ID")
 
 
