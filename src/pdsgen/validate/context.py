@@ -12,6 +12,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
+from typing import Any
 
 from .dictionary import load as load_dictionary
 from .lexer import parse_label
@@ -108,6 +109,10 @@ class FileContext:
         self.labels_only = labels_only
         self.dictionaries = dictionaries
         self.strict = strict
+        # What rule families compute once per file and share, by key: "_is_hrsc" (profiles),
+        # "_dict_statements"/"_dict_defined" (DICT), "_img_stats" (IMG), "_map_offsets" (MAP),
+        # "_jp2" (GEO). Declared here so no family sets attributes of its own on the context.
+        self.cache: dict[str, Any] = {}
         self.size = path.stat().st_size
         self.head = self._read_head()
         self.label: Label = parse_label(self.head.decode("latin-1"))

@@ -23,18 +23,18 @@ _TEXT = ("CHARACTER", "ALPHANUMERIC", "IDENTIFIER", "ALPHABET")
 
 def _statements(ctx: FileContext) -> list[tuple[Statement, dict | None]]:
     """(statement, definition or None) for every non-pointer statement; computed once."""
-    cached = ctx.__dict__.get("_dict_statements")
+    cached = ctx.cache.get("_dict_statements")
     if cached is None:
         dictionary = ctx.dictionary
         cached = [(stmt, dictionary.lookup(stmt.keyword))
                   for block in ctx.root.walk() for stmt in block.statements() if not stmt.pointer]
-        ctx.__dict__["_dict_statements"] = cached
+        ctx.cache["_dict_statements"] = cached
     return cached
 
 
 def _defined(ctx: FileContext) -> list[tuple[Statement, dict, Value]]:
     """(statement, definition, scalar) for every non-placeholder scalar of a known keyword."""
-    cached = ctx.__dict__.get("_dict_defined")
+    cached = ctx.cache.get("_dict_defined")
     if cached is not None:
         return cached
     cached = []
@@ -49,7 +49,7 @@ def _defined(ctx: FileContext) -> list[tuple[Statement, dict, Value]]:
             ):
                 continue
             cached.append((stmt, entry, value))
-    ctx.__dict__["_dict_defined"] = cached
+    ctx.cache["_dict_defined"] = cached
     return cached
 
 

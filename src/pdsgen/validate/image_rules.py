@@ -201,7 +201,7 @@ _STAT_KEYS = ("VALID_MINIMUM", "VALID_MAXIMUM", "MINIMUM", "MAXIMUM", "MEAN", "S
 
 
 def _stats_for(ctx: FileContext, block: Block) -> tuple[Stats, Block] | None:
-    cache = ctx.__dict__.setdefault("_img_stats", {})
+    cache = ctx.cache.setdefault("_img_stats", {})
     if id(block) in cache:
         return cache[id(block)]
     result = None

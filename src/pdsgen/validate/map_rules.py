@@ -345,7 +345,7 @@ def _describe(f: Fit) -> str:
 
 
 def _offset_findings(ctx: FileContext) -> list[tuple[str, Hit]]:
-    cache = ctx.__dict__.setdefault("_map_offsets", None)
+    cache = ctx.cache.setdefault("_map_offsets", None)
     if cache is not None:
         return cache
     found: list[tuple[str, Hit]] = []
@@ -403,7 +403,7 @@ def _offset_findings(ctx: FileContext) -> list[tuple[str, Hit]]:
                     f"offsets disagree with the latitude/longitude bounds by more than {_NEAR_PX:g} px "
                     f"under either convention: residuals {_describe(standard)} (standard), "
                     f"{_describe(fit(geo, 1.0, 1.0))} (older)", line, "SAMPLE_PROJECTION_OFFSET")))
-    ctx.__dict__["_map_offsets"] = found
+    ctx.cache["_map_offsets"] = found
     return found
 
 

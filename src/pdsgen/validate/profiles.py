@@ -42,7 +42,7 @@ def is_hirise(ctx: FileContext) -> bool:
 
 def is_hrsc(ctx: FileContext) -> bool:
     """True when the label (or its file name) says it is an HRSC product."""
-    cached = ctx.__dict__.get("_is_hrsc")
+    cached = ctx.cache.get("_is_hrsc")
     if cached is not None:
         return cached
     root = ctx.root
@@ -52,5 +52,5 @@ def is_hrsc(ctx: FileContext) -> bool:
         group_names=frozenset({"MEX:DTM"}) if any(True for _ in root.find("MEX:DTM")) else frozenset(),
         file_name=ctx.path.name,
     )) == "hrsc"
-    ctx.__dict__["_is_hrsc"] = found
+    ctx.cache["_is_hrsc"] = found
     return found

@@ -18,6 +18,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
+from ..missions.imars import METADATA_SUFFIX as IMARS_METADATA_SUFFIX
 from . import dict_rules as D
 from . import file_rules as F
 from . import geo_rules as G
@@ -210,7 +211,8 @@ def _table() -> list[Rule]:
         Rule("IMARS-001", "error", "the iMars metadata file parses as PVL", X.check_parses, target="imars"),
         Rule("IMARS-002", "error", "ProductInfo (with Producer), Image, DataProduct, MapProjection, "
              "Algorithm and their keywords are present", X.check_structure, target="imars"),
-        Rule("IMARS-003", "error", "the file is named <ProductInfo.ProductId>_ucl.pvl", X.check_product_id,
+        Rule("IMARS-003", "error", f"the file is named <ProductInfo.ProductId>{IMARS_METADATA_SUFFIX}",
+             X.check_product_id,
              target="imars"),
         Rule("IMARS-004", "error", "DataProduct.FileName exists beside the metadata (exact case)",
              X.check_data_file, needs_data=True, target="imars"),
