@@ -38,10 +38,8 @@ HRSC_SINUSOIDAL = "+proj=sinu +lon_0=70 +R=3396000 +units=m +no_defs"
 MISSION_NUMBERS = {3396.0, 3396000.0, -32768, -1e32}
 MISSION_TEXT = ("_ucl.pvl", "ESA/DLR/FU Berlin", "University of Arizona", "MEX-M-HRSC", "MRO-M-HIRISE",
                 r"h(?P<orbit>", r"h\d{4", r"_d[at]4", "UNIVERSITY OF ARIZONA", "DLR / FREIE")
-# Known leftovers outside missions/: the IMARS-003 rule's one-line description (issue 9, the
-# validator's rule table; its text is part of `--list-rules` and must not change). Everything
-# else in validate/ and extras/ imports its mission facts from pdsgen.missions.
-KNOWN_EXCEPTIONS = {("validate/rules.py", "_ucl.pvl")}
+# No known leftovers: validate/ and extras/ import their mission facts from pdsgen.missions.
+KNOWN_EXCEPTIONS: set[tuple[str, str]] = set()
 
 
 def _module_constants(tree: ast.AST) -> list[object]:

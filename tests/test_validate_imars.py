@@ -209,6 +209,6 @@ def test_missing_object_and_group(tmp_path):
 
 def test_list_rules_names_the_imars_and_hrsc_families():
     result = CliRunner().invoke(main, ["validate", "--list-rules"])
-    ids = {line.split()[0] for line in result.output.splitlines()}
+    ids = {line.split()[0] for line in result.output.splitlines() if line.strip()}
     assert {f"IMARS-{n:03d}" for n in range(1, 12)} <= ids
     assert {f"HRSC-{n:03d}" for n in range(1, 7)} | {"MAP-011"} <= ids

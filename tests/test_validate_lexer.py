@@ -65,7 +65,7 @@ def test_values_agree_with_pvl_on_a_plain_label():
         ("PDS_VERSION_ID = PDS3\nEND_GROUP = X\nEND\n", "SYNTAX-005", 2),
         ("PDS_VERSION_ID = PDS3\nM = 3#12#\nEND\n", "SYNTAX-007", 2),
         ("PDS_VERSION_ID = PDS3\nT = 2000-13-01\nEND\n", "SYNTAX-008", 2),
-        ("PDS_VERSION_ID = PDS3\nA_KEYWORD_THAT_IS_FAR_TOO_LONG_X = 1\nEND\n", "SYNTAX-002", 2),
+        ("PDS_VERSION_ID = PDS3\nA_KEYWORD_THAT_IS_FAR_TOO_LONG_X = 1\nEND\n", "SYNTAX-015", 2),
         ("PDS_VERSION_ID = PDS3\nS = (1, 2\nEND\n", "SYNTAX-001", 2),
         ("PDS_VERSION_ID = PDS3\nS = \"open\nEND\n", "SYNTAX-001", 2),
         ("PDS_VERSION_ID = PDS3\nU = 1 <>\nEND\n", "SYNTAX-011", 2),

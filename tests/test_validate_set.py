@@ -10,13 +10,16 @@ from test_validate_support import make_dtm, resize_label_text
 from helpers import ORIGINS, elevation_array, write_raster
 
 
-def _two_products(tmp_path, second_kind):
+def _two_products(tmp_path, second_kind, related=True):
+    """Two products in one directory; when related, the second names the first as its source
+    (as an orthoimage names the DTM it was made on)."""
     out = tmp_path / "set"
     paths = []
     for i, kind in enumerate(("equirectangular", second_kind)):
         crs, transform = ORIGINS[kind]
         source = write_raster(tmp_path / f"in{i}.tif", elevation_array(20, 30, seed=i), crs, transform)
-        paths.append(write_dtm(source, out, product_id=f"PRODUCT_{i}").path)
+        sources = ["PRODUCT_0"] if related and i == 1 else ()
+        paths.append(write_dtm(source, out, product_id=f"PRODUCT_{i}", source_product_ids=sources).path)
     return out, paths
 
 
@@ -31,6 +34,13 @@ def test_products_of_one_set_must_share_the_projection(tmp_path):
     assert ("SET-001", "PRODUCT_1.IMG") in _rules(report, "error")
     message = next(f.message for f in report.findings if f.rule == "SET-001")
     assert "MAP_PROJECTION_TYPE SINUSOIDAL vs EQUIRECTANGULAR" in message
+
+
+def test_unrelated_products_of_one_directory_are_not_compared(tmp_path):
+    """Real DATA/ folders keep unrelated products together (HRSC DT4s, each sinusoidal about
+    its own longitude): only products that name each other are compared."""
+    out, paths = _two_products(tmp_path, "sinusoidal", related=False)
+    assert "SET-001" not in validate_paths([out]).rule_ids()
 
 
 def test_a_set_needs_readme_and_browse_images(tmp_path):

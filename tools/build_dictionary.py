@@ -6,7 +6,12 @@ Usage (from the repository root):
 
 Defaults: ../shared/corpus/reference/pdsdd.full and schemas/pds3_dictionary.json.
 
-Input: the Planetary Science Data Dictionary dump (`pdsdd.full`, PSDD pdscat1r77): one
+The shipped schemas/pds3_dictionary.json is built from the newest PSDD dump that could be
+verified in a public repository: pdscat1r102, generated 2017-09-25, the dump NASA's own
+PDS3 validator ships (ORIGINS below names the repository, commit and path). The earlier
+dump in ../shared (pdscat1r77, 2010) builds the same way.
+
+Input: the Planetary Science Data Dictionary dump (`pdsdd.full`, PSDD): one
 `OBJECT = ELEMENT_DEFINITION` per keyword (GENERAL_DATA_TYPE, UNIT_ID,
 STANDARD_VALUE_TYPE, MINIMUM/MAXIMUM, MINIMUM/MAXIMUM_LENGTH, STANDARD_VALUE_SET), the
 UNIT_LIST, and the object definitions. Mission namespaces (MRO:, MEX:) are not in the
@@ -45,8 +50,18 @@ UNIT_ALIASES = [
     "DEG/PIXEL", "RAD/PIXEL", "MRAD/PIXEL", "KM/S",
 ]
 
+# Where each PSDD dump this script has been run on comes from (repository, commit, path).
+ORIGINS = {
+    "pdscat1r102": "NASA-PDS/pds3-product-tools commit e59da4cae05e791065ec51487344f8b121459fed "
+                   "(2017-09-27, 'Updated for the 3.6.0 release'), src/main/java/pdsdd.full",
+    "pdscat1r77": "PDS Engineering Node dump pdscat1r77 (also in NASA-PDS/pds3-product-tools "
+                  "src/test-data/pdsdd.full)",
+}
+
+
 def build(source: Path) -> dict:
     data = read_psdd(source)
+    data["origin"] = ORIGINS.get(data.get("version") or "", str(source))
     elements = data["elements"]
     for name, change in json.loads(OVERRIDES.read_text())["elements"].items():
         entry = elements[name]

@@ -2,25 +2,81 @@
 
 from __future__ import annotations
 
+import os
 import sys
+from contextlib import contextmanager
+from pathlib import Path
+from typing import IO
 
 import click
 
 from ..errors import PdsgenError
-from ..validate import render, rules, validate_paths
-from ..validate.runner import terminal_progress
+from ..validate import config as configuration
+from ..validate import rules
+from ..validate.dictionary import version as dictionary_version
+from ..validate.report import FORMATS, Tally, write_stream
+from ..validate.runner import iter_reports, terminal_progress
+
+SEVERITY_POLICY = (
+    "Severity policy: ERROR = a reader would misread the data, or the label breaks a hard "
+    "PDS3 rule; WARNING = a deviation that genuine archives contain; INFO = notes."
+)
 
 
 def _list_rules() -> str:
-    lines = [f"{r.id:<11} {r.severity:<8} {r.summary}" for r in rules().values()]
+    lines = [SEVERITY_POLICY, f"Data dictionary: {dictionary_version()}", ""]
+    for r in rules().values():
+        lines.append(f"{r.id:<11} {r.severity:<8} {r.summary}")
+        if r.note:
+            lines.append(f"{'':<20} ({r.note})")
     return "\n".join(lines) + "\n"
+
+
+@contextmanager
+def _output(path: str | None):
+    """Standard output, or the file written under a temporary name and renamed when the
+    report is complete (a run that stops early leaves no partial report)."""
+    if not path:
+        yield sys.stdout
+        return
+    target = Path(path)
+    tmp = target.with_name(f".{target.name}.partial")
+    try:
+        fh: IO[str] = open(tmp, "w", encoding="utf-8")
+    except OSError as exc:
+        raise PdsgenError(path, f"cannot write the report: {exc.strerror}") from None
+    try:
+        with fh:
+            yield fh
+        os.replace(tmp, target)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
 
 
 @click.command(short_help="Check PDS3 labels, label sets and their data.")
 @click.argument("paths", nargs=-1, type=click.Path())
-@click.option("--format", "fmt", type=click.Choice(["text", "json", "junit"]), default="text",
-              show_default=True, help="Report format: text for people, json or junit for CI.")
-@click.option("--strict", is_flag=True, help="Fail (exit 1) on warnings too.")
+@click.option("--format", "fmt", type=click.Choice(FORMATS), default="text", show_default=True,
+              help="Report format: text for people; json, junit, sarif (code scanning) or github "
+                   "(workflow annotations) for CI.")
+@click.option("--strict", is_flag=True,
+              help="Fail (exit 1) on warnings too, and keep over-long lines an error for any label.")
+@click.option("--fail-on", type=click.Choice(["error", "warning"]), default=None,
+              help="Lowest severity that fails the run (default: the configuration's, else error).")
+@click.option("--select", multiple=True, metavar="IDS",
+              help="Only these rule ids or families (comma-separated; repeatable).")
+@click.option("--ignore", multiple=True, metavar="IDS",
+              help="Leave out these rule ids or families (comma-separated; repeatable).")
+@click.option("--severity", "severities", multiple=True, metavar="RULE=LEVEL",
+              help="Report a rule (or family) at another severity: error, warning or info; repeatable.")
+@click.option("--config", "config_path", type=click.Path(dir_okay=False),
+              help="Configuration file (default: pdsgen.toml or pyproject.toml [tool.pdsgen.validate] "
+                   "in the working directory or a parent).")
+@click.option("--no-config", is_flag=True, help="Do not read a configuration file.")
+@click.option("--baseline", "baseline_path", type=click.Path(dir_okay=False),
+              help="Report only findings not recorded in this baseline file.")
+@click.option("--write-baseline", "write_baseline_path", type=click.Path(dir_okay=False),
+              help="Record this run's findings as the baseline (the run then passes).")
 @click.option("--jobs", "-j", type=click.IntRange(min=1), default=1, show_default=True,
               help="Files checked in parallel (processes).")
 @click.option("--labels-only", is_flag=True,
@@ -30,32 +86,45 @@ def _list_rules() -> str:
 @click.option("--schemas", "schemas", multiple=True, type=click.Path(file_okay=False),
               help="Directory of PDS4 schemas (.xsd/.sch) for Information Model versions pdsgen does not "
                    "ship (1O00 is shipped); repeatable.")
-@click.option("--list-rules", "list_rules", is_flag=True, help="Print the rule table and exit.")
+@click.option("--list-rules", "list_rules", is_flag=True,
+              help="Print the severity policy and the rule table, and exit.")
 @click.option("--output", "-o", type=click.Path(dir_okay=False),
               help="Write the report to this file instead of standard output.")
-def validate(paths: tuple[str, ...], fmt: str, strict: bool, jobs: int, labels_only: bool,
+def validate(paths: tuple[str, ...], fmt: str, strict: bool, fail_on: str | None, select: tuple[str, ...],
+             ignore: tuple[str, ...], severities: tuple[str, ...], config_path: str | None, no_config: bool,
+             baseline_path: str | None, write_baseline_path: str | None, jobs: int, labels_only: bool,
              dictionaries: tuple[str, ...], schemas: tuple[str, ...], list_rules: bool, output: str | None) -> None:
     """Validate PATHS (label files, or directories searched recursively): PDS3 labels,
     and PDS4 .xml labels (XML Schema, Schematron, and the data they describe).
 
-    Exit status: 0 no errors (and no warnings with --strict), 1 problems found,
-    2 usage error.
+    Exit status: 0 no errors (and no warnings with --strict or fail-on = "warning"),
+    1 problems found, 2 usage error.
     """
     if list_rules:
         click.echo(_list_rules(), nl=False)
         return
     if not paths:
         raise PdsgenError(None, "give at least one label file or directory to validate")
+    settings = configuration.load(config_path, search=not no_config)
+    settings = configuration.override(settings, select, ignore, severities, "warning" if strict else fail_on)
+    baseline = configuration.Baseline.read(baseline_path) if baseline_path else None
     progress = terminal_progress if sys.stderr.isatty() else None
-    report = validate_paths(paths, strict=strict, jobs=jobs, labels_only=labels_only,
-                            progress=progress, dictionaries=dictionaries, schemas=schemas)
-    text = render(report, fmt)
-    if output:
-        try:
-            with open(output, "w", encoding="utf-8") as fh:
-                fh.write(text)
-        except OSError as exc:
-            raise PdsgenError(output, f"cannot write the report: {exc.strerror}") from None
-    else:
-        click.echo(text, nl=False)
-    sys.exit(report.exit_code)
+    reports = iter_reports(paths, strict=strict, jobs=jobs, labels_only=labels_only, progress=progress,
+                           dictionaries=dictionaries, settings=settings, baseline=baseline, schemas=schemas)
+    if write_baseline_path:
+        kept = [f for report in reports for f in report.findings]
+        count = configuration.write_baseline(write_baseline_path, kept)
+        click.echo(f"{count} finding(s) recorded in the baseline {write_baseline_path}")
+        return
+    tally = Tally(settings.fail_on, dictionary=dictionary_version(tuple(dictionaries)))
+    with _output(output) as out:
+        write_stream(_counting_baseline(reports, baseline, tally), fmt, out, tally)
+    sys.exit(tally.exit_code)
+
+
+def _counting_baseline(reports, baseline: configuration.Baseline | None, tally: Tally):
+    """Pass reports through, keeping the tally's count of findings the baseline suppressed."""
+    for report in reports:
+        yield report
+        if baseline is not None:
+            tally.baseline_suppressed = baseline.suppressed

@@ -63,6 +63,15 @@ SAMPLE_TYPES = {
 SAMPLE_TYPE_FOR: dict[tuple[str, str], str] = {}
 for _name, _order_kind in SAMPLE_TYPES.items():
     SAMPLE_TYPE_FOR.setdefault(_order_kind, _name)
+# Every PDS3 data type name (Standards Reference appendix C): the sample types above, which
+# can be read as numbers, and the rest, valid types a reader may not decode.
+DATA_TYPES = frozenset(SAMPLE_TYPES) | frozenset({
+    "VAX_REAL", "VAXG_REAL", "VAX_DOUBLE", "VAX_COMPLEX", "VAXG_COMPLEX", "VAX_BIT_STRING",
+    "IEEE_COMPLEX", "PC_COMPLEX", "MAC_COMPLEX", "SUN_COMPLEX", "COMPLEX", "IBM_INTEGER",
+    "IBM_UNSIGNED_INTEGER", "IBM_REAL", "IBM_COMPLEX", "MSB_BIT_STRING", "LSB_BIT_STRING", "BIT_STRING",
+    "ASCII_REAL", "ASCII_INTEGER", "ASCII_COMPLEX", "CHARACTER", "EBCDIC_CHARACTER", "BOOLEAN",
+    "DATE", "TIME", "DOUBLE", "N/A",
+})
 FLOAT_SAMPLE_TYPES = frozenset(name for name, (_, kind) in SAMPLE_TYPES.items() if kind == "f")
 
 

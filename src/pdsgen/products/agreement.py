@@ -52,7 +52,7 @@ def check_label(text: str, file_name: str, *, allow_deviations: bool) -> tuple[s
     with tempfile.TemporaryDirectory(prefix="pdsgen-check-") as tmp:
         path = Path(tmp) / file_name
         path.write_bytes(text.encode("ascii"))
-        report, _ = validate_file(path, labels_only=True)
+        report, _ = validate_file(path, labels_only=True, strict=True)  # pdsgen's own labels: strict
     deviations = [f for f in report.findings if f.severity == "error" and f.rule.startswith(DICTIONARY_FAMILY)]
     if deviations and not allow_deviations:
         first = deviations[0]

@@ -10,10 +10,11 @@ families, each family in its own module.
 
 from __future__ import annotations
 
+from .config import Baseline, Settings
 from .model import Finding
 from .report import FileReport, Report, render
 from .rules import rules
-from .runner import discover, validate_file, validate_paths
+from .runner import discover, iter_reports, validate_file, validate_paths
 
-__all__ = ["Finding", "FileReport", "Report", "render", "rules", "discover", "validate_file",
-           "validate_paths"]
+__all__ = ["Baseline", "Finding", "FileReport", "Report", "Settings", "render", "rules", "discover",
+           "iter_reports", "validate_file", "validate_paths"]

@@ -12,7 +12,9 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
+from typing import Any
 
+from .dictionary import load as load_dictionary
 from .lexer import parse_label
 from .model import Block, Label, Statement, Value
 
@@ -63,6 +65,11 @@ class Pointer:
         return self.name in REFERENCE_POINTERS or self.name.endswith("_CATALOG")
 
 
+# A file name in a pointer: "quoted", bare, or 'single-quoted' (Cassini ISS and NEAR labels
+# as ISIS writes them; GDAL and pvl read all three).
+_NAME_KINDS = ("string", "ident", "symbol")
+
+
 def parse_pointer(stmt: Statement) -> Pointer:
     """Classify a pointer value into one of the PDS3 forms (or "invalid")."""
     val = stmt.value
@@ -77,18 +84,18 @@ def parse_pointer(stmt: Statement) -> Pointer:
             return "bytes", None, v.py  # type: ignore[return-value]
         return "invalid", None, None
 
-    if val.kind in ("string", "ident") and val.items is None:
+    if val.kind in _NAME_KINDS and val.items is None:
         return Pointer(name, stmt, "file", val.text, None, None)
     if val.kind == "int":
         form, record, byte = loc(val)
         return Pointer(name, stmt, form, None, record, byte)
     if val.kind == "seq" and val.items and len(val.items) == 2:
         first, second = val.items
-        if first.kind in ("string", "ident") and first.items is None:
+        if first.kind in _NAME_KINDS and first.items is None:
             form, record, byte = loc(second)
             if form != "invalid":
                 return Pointer(name, stmt, "file+" + form, first.text, record, byte)
-    if val.kind == "seq" and val.items and all(v.kind in ("string", "ident") for v in val.items):
+    if val.kind == "seq" and val.items and all(v.kind in _NAME_KINDS for v in val.items):
         return Pointer(name, stmt, "files", None, None, None)
     return Pointer(name, stmt, "invalid", None, None, None)
 
@@ -96,10 +103,16 @@ def parse_pointer(stmt: Statement) -> Pointer:
 class FileContext:
     """One label file being validated, with lazy helpers the rule families share."""
 
-    def __init__(self, path: Path, labels_only: bool = False, dictionaries: tuple[str, ...] = ()) -> None:
+    def __init__(self, path: Path, labels_only: bool = False, dictionaries: tuple[str, ...] = (),
+                 strict: bool = False) -> None:
         self.path = path
         self.labels_only = labels_only
         self.dictionaries = dictionaries
+        self.strict = strict
+        # What rule families compute once per file and share, by key: "_is_hrsc" (profiles),
+        # "_dict_statements"/"_dict_defined" (DICT), "_img_stats" (IMG), "_map_offsets" (MAP),
+        # "_jp2" (GEO). Declared here so no family sets attributes of its own on the context.
+        self.cache: dict[str, Any] = {}
         self.size = path.stat().st_size
         self.head = self._read_head()
         self.label: Label = parse_label(self.head.decode("latin-1"))
@@ -115,9 +128,7 @@ class FileContext:
     @property
     def dictionary(self):
         """The keyword dictionary (with any extra dictionaries the user named)."""
-        from .dictionary import load
-
-        return load(self.dictionaries)
+        return load_dictionary(self.dictionaries)
 
     # -- label look-ups ------------------------------------------------------------
     @property
@@ -137,6 +148,26 @@ class FileContext:
     def attached(self) -> bool:
         """True when the file carries data after its label (an attached label)."""
         return any(p.attached and p.form != "invalid" for p in self.data_pointers())
+
+    @cached_property
+    def written_by_pdsgen(self) -> bool:
+        """pdsgen states itself in SOFTWARE_NAME ("pdsgen 0.4.0") of every label it writes."""
+        return (self.root.text("SOFTWARE_NAME") or "").strip().lower().startswith("pdsgen ")
+
+    @cached_property
+    def data_absent(self) -> bool:
+        """True for an attached label whose file ends with the label: a label-only copy.
+
+        Its pointers describe data that are not there, so nothing about the data can be
+        checked (and nothing must be computed from the label's own bytes instead)."""
+        if not self.attached or not self.label.end_found:
+            return False
+        starts = [self.pointer_offset(p) for p in self.data_pointers() if p.attached]
+        first = min((s for s in starts if s is not None), default=None)
+        if first is None or first >= self.size:
+            return True
+        rest = self.head[self.label.label_end:]
+        return len(self.head) >= self.size and not rest.strip(b" \r\n\x00\x1a")
 
     @property
     def record_bytes(self) -> int | None:
@@ -191,7 +222,8 @@ class FileContext:
         return exact or other
 
 
-_END_LINE = re.compile(rb"(?im)^[ \t]*END[ \t]*;?[ \t]*(?:/\*.*)?\r?$")
+# END on a line of its own, or followed directly by binary data (no line end)
+_END_LINE = re.compile(rb"(?im)^[ \t]*END[ \t]*;?[ \t]*(?:/\*.*)?(?:\r?$|(?=[^\x20-\x7e\r\n]))")
 
 
 def _has_end(data: bytes) -> bool:

@@ -9,12 +9,11 @@ from __future__ import annotations
 import re
 from collections.abc import Iterator
 
-from ..missions.hrsc import NOT_APPLICABLE
+from ..label.grammar import DATA_TYPES
 from .context import FileContext
-from .dictionary import PLACEHOLDERS
+from .dictionary import NUMERIC_PLACEHOLDERS, PLACEHOLDERS
 from .lexer import date_problem
 from .model import Hit, Statement, Value
-from .profiles import is_hrsc
 
 _LETTERS = re.compile(r"[A-Za-z ]+")
 _ALNUM = re.compile(r"[A-Za-z0-9 ]+")
@@ -24,18 +23,18 @@ _TEXT = ("CHARACTER", "ALPHANUMERIC", "IDENTIFIER", "ALPHABET")
 
 def _statements(ctx: FileContext) -> list[tuple[Statement, dict | None]]:
     """(statement, definition or None) for every non-pointer statement; computed once."""
-    cached = ctx.__dict__.get("_dict_statements")
+    cached = ctx.cache.get("_dict_statements")
     if cached is None:
         dictionary = ctx.dictionary
         cached = [(stmt, dictionary.lookup(stmt.keyword))
                   for block in ctx.root.walk() for stmt in block.statements() if not stmt.pointer]
-        ctx.__dict__["_dict_statements"] = cached
+        ctx.cache["_dict_statements"] = cached
     return cached
 
 
 def _defined(ctx: FileContext) -> list[tuple[Statement, dict, Value]]:
     """(statement, definition, scalar) for every non-placeholder scalar of a known keyword."""
-    cached = ctx.__dict__.get("_dict_defined")
+    cached = ctx.cache.get("_dict_defined")
     if cached is not None:
         return cached
     cached = []
@@ -50,7 +49,7 @@ def _defined(ctx: FileContext) -> list[tuple[Statement, dict, Value]]:
             ):
                 continue
             cached.append((stmt, entry, value))
-    ctx.__dict__["_dict_defined"] = cached
+    ctx.cache["_dict_defined"] = cached
     return cached
 
 
@@ -93,7 +92,7 @@ def _type_problem(kind: str, value: Value) -> str | None:
     if kind in ("DATE", "TIME"):
         if value.kind == "date" or (value.kind == "int" and len(value.raw) == 4):  # a year
             return None
-        if value.kind == "string" and not date_problem(value.py.strip()):  # type: ignore[union-attr]
+        if value.kind in ("string", "symbol") and not date_problem(str(value.py).strip()):
             return None
         return f"{value.raw!r} is not a date/time"
     return None
@@ -116,37 +115,71 @@ def check_number_for_text(ctx: FileContext) -> Iterator[Hit]:
                       f'(write "{value.raw}")', value.line, stmt.keyword)
 
 
-# HRSC labels write -1e+32 where a number does not apply (RIGHT_ASCENSION of a
-# surface image, the radii of a DA4's MEX:DTM group): the archive's own convention.
-HRSC_NOT_APPLICABLE = NOT_APPLICABLE
+def _placeholder(ctx: FileContext, value: Value) -> bool:
+    """A mission's numeric "not applicable": -2147483648, -9.99e+31, -1e+32 (HRSC writes
+    -1e+32 for RIGHT_ASCENSION of a surface image and a DA4's MEX:DTM radii)."""
+    return value.is_number and value.py in NUMERIC_PLACEHOLDERS
 
 
-def _hrsc_placeholder(ctx: FileContext, value: Value) -> bool:
-    return value.is_number and value.py == HRSC_NOT_APPLICABLE and is_hrsc(ctx)
+# Units the range check converts between: unit -> (quantity, factor, offset) to the base unit
+_CONVERSIONS = {
+    "K": ("temperature", 1.0, 0.0), "KELVIN": ("temperature", 1.0, 0.0),
+    "DEGC": ("temperature", 1.0, 273.15), "C": ("temperature", 1.0, 273.15),
+    "KM": ("length", 1000.0, 0.0), "M": ("length", 1.0, 0.0), "METERS": ("length", 1.0, 0.0),
+    "METRES": ("length", 1.0, 0.0), "CM": ("length", 0.01, 0.0), "MM": ("length", 0.001, 0.0),
+    "DEG": ("angle", 1.0, 0.0), "DEGREES": ("angle", 1.0, 0.0), "RAD": ("angle", 180.0 / 3.141592653589793, 0.0),
+    "S": ("time", 1.0, 0.0), "SEC": ("time", 1.0, 0.0), "MS": ("time", 0.001, 0.0),
+    "MSEC": ("time", 0.001, 0.0), "MICROSECONDS": ("time", 1e-6, 0.0), "US": ("time", 1e-6, 0.0),
+}
 
 
-def _out_of_range(entry: dict, value: Value) -> bool:
+def in_dictionary_unit(entry: dict, value: Value) -> float | None:
+    """The value in the dictionary's unit; None when its unit cannot be converted to it
+    (then no range applies: -89.2 <DEGC> is compared with a range in K after conversion)."""
+    number = float(value.py)  # type: ignore[arg-type]
+    given = (value.unit or "").strip().upper()
+    wanted = str(entry.get("unit", "")).strip().upper()
+    if not given or given == wanted:
+        return number
+    source, target = _CONVERSIONS.get(given), _CONVERSIONS.get(wanted)
+    if source is None or target is None or source[0] != target[0]:
+        return None
+    base = number * source[1] + source[2]
+    return (base - target[2]) / target[1]
+
+
+def _out_of_range(entry: dict, number: float | None) -> bool:
     lo, hi = entry.get("min"), entry.get("max")
-    number = value.py
-    return (lo is not None and number < lo) or (hi is not None and number > hi)  # type: ignore[operator]
+    return number is not None and ((lo is not None and number < lo) or (hi is not None and number > hi))
 
 
 def check_range(ctx: FileContext) -> Iterator[Hit]:
     for stmt, entry, value in _defined(ctx):
-        if not value.is_number or entry["type"] not in _NUMERIC or _hrsc_placeholder(ctx, value):
+        if not value.is_number or entry["type"] not in _NUMERIC or _placeholder(ctx, value):
             continue
         lo, hi = entry.get("min"), entry.get("max")
-        if _out_of_range(entry, value):
-            yield Hit(f"{stmt.keyword} = {value.raw} is outside {lo if lo is not None else '-inf'}.."
-                      f"{hi if hi is not None else 'inf'}", value.line, stmt.keyword)
+        number = in_dictionary_unit(entry, value)
+        if _out_of_range(entry, number):
+            unit = f" <{entry['unit']}>" if value.unit and entry.get("unit") else ""
+            shown = f" ({number:g}{unit})" if unit else ""
+            yield Hit(f"{stmt.keyword} = {value.raw}{shown} is outside {lo if lo is not None else '-inf'}.."
+                      f"{hi if hi is not None else 'inf'}{unit}", value.line, stmt.keyword,
+                      severity=_deviation_level(ctx))
+
+
+def _deviation_level(ctx: FileContext) -> str | None:
+    """Ranges and lengths: warnings in labels others wrote (genuine archives break them, e.g.
+    long DATA_SET_NAMEs), errors in labels pdsgen writes and under --strict (the writers
+    refuse them before publishing, see products/agreement.py)."""
+    return "error" if ctx.strict or ctx.written_by_pdsgen else None
 
 
 def check_hrsc_not_applicable(ctx: FileContext) -> Iterator[Hit]:
-    """Where HRSC's numeric "not applicable" falls outside a keyword's range, say so as
-    information instead of a range error."""
+    """Where a numeric "not applicable" value falls outside a keyword's range, say so as
+    information instead of a range finding."""
     for stmt, entry, value in _defined(ctx):
-        if entry["type"] in _NUMERIC and _hrsc_placeholder(ctx, value) and _out_of_range(entry, value):
-            yield Hit(f"{stmt.keyword} = {value.raw}: HRSC's numeric 'not applicable' value "
+        if entry["type"] in _NUMERIC and _placeholder(ctx, value) and _out_of_range(entry, float(value.py)):
+            yield Hit(f"{stmt.keyword} = {value.raw}: a numeric 'not applicable' value "
                       "(outside the dictionary range by design)", value.line, stmt.keyword)
 
 
@@ -160,12 +193,56 @@ def _standard(entry: dict, value: Value) -> bool:
     return _norm(value) in upper
 
 
-def check_static_values(ctx: FileContext) -> Iterator[Hit]:
+# Keywords naming a mission, host, instrument or target: their STATIC lists grow as missions
+# register, so a value newer than the shipped dictionary is no defect of the label.
+IDENTITY_KEYWORDS = frozenset({
+    "MISSION_NAME", "MISSION_ID", "MISSION_PHASE_NAME", "INSTRUMENT_HOST_NAME", "INSTRUMENT_HOST_ID",
+    "INSTRUMENT_NAME", "INSTRUMENT_ID", "SPACECRAFT_NAME", "SPACECRAFT_ID", "TARGET_NAME", "DATA_SET_ID",
+    "DATA_SET_NAME", "PRODUCER_INSTITUTION_NAME", "PRODUCER_ID", "VOLUME_SET_ID", "TELEMETRY_FORMAT_ID",
+})
+
+
+def _is_data_type(entry: dict, value: Value) -> bool:
+    """A PDS3 data type given to a keyword whose standard values are data types
+    (CORE_ITEM_TYPE = SUN_INTEGER): the dictionary and the IMG rules accept the same set."""
+    return "MSB_INTEGER" in entry.get("values", ()) and _norm(value) in DATA_TYPES
+
+
+def check_identity_values(ctx: FileContext) -> Iterator[Hit]:
+    version = ctx.dictionary.version
     for stmt, entry, value in _defined(ctx):
+        if (entry.get("values_type") == "STATIC" and stmt.keyword.upper() in IDENTITY_KEYWORDS
+                and not _standard(entry, value)):
+            yield Hit(f"{stmt.keyword} = {_shown(value)} is not registered in the data dictionary "
+                      f"{version} (values registered since are not known here)", value.line, stmt.keyword)
+
+
+# Keywords whose value tells a reader how to read the data: a non-standard value there is
+# misread (an error); elsewhere a non-standard value describes, and is a warning.
+LAYOUT_KEYWORDS = frozenset({
+    "RECORD_TYPE", "INTERCHANGE_FORMAT", "SAMPLE_TYPE", "CORE_ITEM_TYPE", "DATA_TYPE", "ITEM_TYPE",
+    "BAND_STORAGE_TYPE", "AXIS_ORDER_TYPE", "ENCODING_TYPE", "BIT_DATA_TYPE", "SUFFIX_ITEM_TYPE",
+    "MAP_PROJECTION_TYPE", "COORDINATE_SYSTEM_TYPE", "POSITIVE_LONGITUDE_DIRECTION", "DATA_FORMAT",
+    "TABLE_STORAGE_TYPE", "CORE_NULL", "SAMPLE_DISPLAY_DIRECTION", "LINE_DISPLAY_DIRECTION",
+})
+
+
+def check_static_values(ctx: FileContext) -> Iterator[Hit]:
+    """An error where the keyword says how to read the data; a warning for descriptive
+    keywords, and for a standard value written with spaces for underscores (NOT POSSIBLE)."""
+    for stmt, entry, value in _defined(ctx):
+        if stmt.keyword.upper() in IDENTITY_KEYWORDS or _is_data_type(entry, value):
+            continue
         if entry.get("values_type") == "STATIC" and not _standard(entry, value):
             shown = ", ".join(entry["values"][:8]) + (" ..." if len(entry["values"]) > 8 else "")
+            spelled = "_".join(_norm(value).split())
+            if spelled in entry["_upper"]:
+                yield Hit(f"{stmt.keyword} = {_shown(value)} is the standard value {spelled} written with "
+                          "spaces", value.line, stmt.keyword, severity="warning")
+                continue
+            level = None if stmt.keyword.upper() in LAYOUT_KEYWORDS else "warning"
             yield Hit(f"{stmt.keyword} = {_shown(value)} is not one of its standard values ({shown})",
-                      value.line, stmt.keyword)
+                      value.line, stmt.keyword, severity=level)
 
 
 def check_suggested_values(ctx: FileContext) -> Iterator[Hit]:
@@ -192,9 +269,11 @@ def check_length(ctx: FileContext) -> Iterator[Hit]:
             length = len(" ".join(str(value.py).split()))
         lo, hi = entry.get("min_length"), entry.get("max_length")
         if lo is not None and length < lo:
-            yield Hit(f"{stmt.keyword} has {length} characters, at least {lo}", value.line, stmt.keyword)
+            yield Hit(f"{stmt.keyword} has {length} characters, at least {lo}", value.line, stmt.keyword,
+                      severity=_deviation_level(ctx))
         elif hi is not None and length > hi:
-            yield Hit(f"{stmt.keyword} has {length} characters, at most {hi}", value.line, stmt.keyword)
+            yield Hit(f"{stmt.keyword} has {length} characters, at most {hi}", value.line, stmt.keyword,
+                      severity=_deviation_level(ctx))
 
 
 def check_units(ctx: FileContext) -> Iterator[Hit]:
@@ -229,6 +308,8 @@ def check_unit_dimension(ctx: FileContext) -> Iterator[Hit]:
     for stmt, entry, value in _defined(ctx):
         expected = _DIMENSION_OF.get(str(entry.get("unit", "")).upper())
         given = _DIMENSION_OF.get((value.unit or "").upper().replace(" ", ""))
+        if expected == "pixel scale" and given == "length":
+            continue  # a pixel scale in <KM> (NEAR MSI): per pixel is understood
         if expected and given and expected != given:
             yield Hit(f"{stmt.keyword} is a {expected} (dictionary unit {entry['unit']}) but is given in "
                       f"<{value.unit}>, a {given}", value.line, stmt.keyword)

@@ -9,15 +9,20 @@ from __future__ import annotations
 import json
 import os
 from dataclasses import dataclass
+from datetime import datetime
 from functools import cache
 from pathlib import Path
 
 from ..errors import PdsgenError
 from ..label.grammar import PLACEHOLDERS as GRAMMAR_PLACEHOLDERS
+from ..missions.hrsc import NOT_APPLICABLE as HRSC_NOT_APPLICABLE
 from ..resources import schemas_dir
 from .psdd import read_psdd
 
 PLACEHOLDERS = GRAMMAR_PLACEHOLDERS
+# Numbers missions write where a value does not apply or is not known: the 32-bit integer
+# minimum, -9.99e+31 (VICAR/MIPL), HRSC's -1e+32 (DLR). Like "N/A" they skip range checks.
+NUMERIC_PLACEHOLDERS = frozenset({-2147483648, -9.99e31, HRSC_NOT_APPLICABLE})
 
 
 @dataclass(frozen=True)
@@ -25,6 +30,7 @@ class Dictionary:
     elements: dict[str, dict]
     namespaces: dict[str, dict[str, dict]]
     units: frozenset[str]  # upper-cased ids, names and aliases
+    version: str = ""  # "pdscat1r102 (generated 2017-09-25)", and any extra dictionaries
 
     def lookup(self, keyword: str) -> dict | None:
         """Definition of a keyword (NAMESPACE:NAME looks in the mission namespace)."""
@@ -67,8 +73,28 @@ def load(extra: tuple[str, ...] = ()) -> Dictionary:
     units = {u.upper() for u in data["units"]}
     units |= {n.upper() for n in data["unit_names"]}
     units |= {a.upper() for a in data["unit_aliases"]}
+    names = [_version_text(data)]
     for path in extra:
         more = read_extra(path)
         elements.update(more["elements"])
         units |= {u.upper() for u in more["units"]} | {n.upper() for n in more["unit_names"]}
-    return Dictionary(elements, data["namespaces"], frozenset(units))
+        names.append(f"{Path(path).name} ({more.get('version') or 'unknown version'})")
+    return Dictionary(elements, data["namespaces"], frozenset(units), " + ".join(names))
+
+
+def _version_text(data: dict) -> str:
+    """"pdscat1r102 (generated 2017-09-25)" from the dump's header fields."""
+    version = data.get("version") or data.get("source", "unknown")
+    generated = data.get("generated")
+    if generated:
+        try:
+            generated = datetime.strptime(generated, "%a %b %d %H:%M:%S %Y").date().isoformat()
+        except ValueError:
+            pass
+        return f"{version} (generated {generated})"
+    return version
+
+
+def version(extra: tuple[str, ...] = ()) -> str:
+    """The data dictionary a run checks against, for reports and `--version`."""
+    return load(extra).version

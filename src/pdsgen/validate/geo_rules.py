@@ -50,8 +50,8 @@ def _jp2(ctx: FileContext) -> tuple[Block, Path | None, Jp2Info | None, str | No
     """(COMPRESSED_FILE block, path, header, problem) computed once per file."""
     if ctx.labels_only:
         return None
-    if "_jp2" in ctx.__dict__:
-        return ctx.__dict__["_jp2"]
+    if "_jp2" in ctx.cache:
+        return ctx.cache["_jp2"]
     found = _compressed(ctx)
     result = None
     if found is not None:
@@ -65,7 +65,7 @@ def _jp2(ctx: FileContext) -> tuple[Block, Path | None, Jp2Info | None, str | No
                 result = (block, path, read_jp2(path), None)
             except Jp2Error as exc:
                 result = (block, path, None, f"{path.name} is not a readable JPEG 2000 file ({exc})")
-    ctx.__dict__["_jp2"] = result
+    ctx.cache["_jp2"] = result
     return result
 
 

@@ -14,7 +14,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from ..label.grammar import SAMPLE_TYPES, SPECIAL_CONSTANTS
+from ..label.grammar import DATA_TYPES, SAMPLE_TYPES, SPECIAL_CONSTANTS
 from .context import FileContext
 from .datastats import Layout, Stats, image_stats
 from .model import Block, Hit, Value
@@ -62,7 +62,7 @@ def layout(block: Block, offset: int) -> Layout | None:
         return None
     if lines < 0 or samples < 0 or bands < 1:  # type: ignore[operator]
         return None
-    storage = (block.text("BAND_STORAGE_TYPE") or "BAND_SEQUENTIAL").upper()
+    storage = "_".join((block.text("BAND_STORAGE_TYPE") or "BAND_SEQUENTIAL").upper().split())
     if storage == "SAMPLE_INTERLEAVED":
         return Layout(offset, dtype, lines, samples * bands, prefix, suffix)  # type: ignore[arg-type,operator]
     if storage == "LINE_INTERLEAVED":
@@ -101,7 +101,7 @@ def check_sample_type(ctx: FileContext) -> Iterator[Hit]:
         if st is None or bits is None:
             continue
         if st.value.text.upper() not in _TYPES:
-            if st.value.text.upper() not in ("VAX_REAL", "VAXG_REAL", "IEEE_COMPLEX", "PC_COMPLEX"):
+            if st.value.text.upper() not in DATA_TYPES:
                 yield Hit(f"SAMPLE_TYPE {st.value.text} is not a PDS3 sample type", st.line, "SAMPLE_TYPE")
             continue
         if sample_dtype(block) is None:
@@ -185,7 +185,13 @@ def check_valid_range_order(ctx: FileContext) -> Iterator[Hit]:
 def check_band_storage(ctx: FileContext) -> Iterator[Hit]:
     for block in _images(ctx):
         stmt = block.get("BAND_STORAGE_TYPE")
-        if stmt is not None and stmt.value.text.upper() not in _STORAGE:
+        if stmt is None or stmt.value.text.upper() in _STORAGE:
+            continue
+        spelled = "_".join(stmt.value.text.upper().split())
+        if spelled in _STORAGE:  # Kaguya's "BAND SEQUENTIAL": readers take it, the meaning is plain
+            yield Hit(f"BAND_STORAGE_TYPE {stmt.value.raw} is {spelled} written with spaces",
+                      stmt.line, "BAND_STORAGE_TYPE", severity="warning")
+        else:
             yield Hit(f"BAND_STORAGE_TYPE {stmt.value.text} is not one of {', '.join(_STORAGE)}",
                       stmt.line, "BAND_STORAGE_TYPE")
 
@@ -195,12 +201,12 @@ _STAT_KEYS = ("VALID_MINIMUM", "VALID_MAXIMUM", "MINIMUM", "MAXIMUM", "MEAN", "S
 
 
 def _stats_for(ctx: FileContext, block: Block) -> tuple[Stats, Block] | None:
-    cache = ctx.__dict__.setdefault("_img_stats", {})
+    cache = ctx.cache.setdefault("_img_stats", {})
     if id(block) in cache:
         return cache[id(block)]
     result = None
     ptr = next((p for p in ctx.data_pointers() if ctx.object_for(p) is block), None)
-    if ptr is not None and not ctx.labels_only:
+    if ptr is not None and not ctx.labels_only and not ctx.data_absent and not _inside_label(ctx, ptr):
         path, offset = ctx.target_path(ptr), ctx.pointer_offset(ptr)
         lay = layout(block, offset) if offset is not None else None
         if path is not None and lay is not None and lay.lines * lay.samples > 0:
@@ -217,6 +223,13 @@ def _stats_for(ctx: FileContext, block: Block) -> tuple[Stats, Block] | None:
             result = (image_stats(path, lay, specials, moments), block)
     cache[id(block)] = result
     return result
+
+
+def _inside_label(ctx: FileContext, ptr) -> bool:
+    """An attached object said to start inside the label text (PTR-004): its "samples"
+    would be the label's own bytes, so no statistics are computed from them."""
+    offset = ctx.pointer_offset(ptr)
+    return ptr.attached and offset is not None and offset < ctx.label.label_end
 
 
 def _close(a: float, b: float, rel: float) -> bool:

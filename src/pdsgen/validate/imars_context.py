@@ -58,6 +58,7 @@ class ImarsContext:
     def __init__(self, path: Path, labels_only: bool = False) -> None:
         self.path = path
         self.labels_only = labels_only
+        self.cache: dict[str, Any] = {}  # what IMARS rules share per file: "_footprint"
         self.text = path.read_bytes().decode("latin-1")
         self.parse_error: Exception | None = None
         self.module: Any = None

@@ -290,7 +290,7 @@ def footprint_name(ctx: ImarsContext) -> str | None:
 
 def _footprint(ctx: ImarsContext) -> tuple[dict | None, str | None]:
     """(parsed collection, problem) of the scene footprint."""
-    cache = ctx.__dict__.get("_footprint")
+    cache = ctx.cache.get("_footprint")
     if cache is not None:
         return cache
     name = footprint_name(ctx)
@@ -315,7 +315,7 @@ def _footprint(ctx: ImarsContext) -> tuple[dict | None, str | None]:
                                     f"list (type {kind!r})")
                 else:
                     result = data, None
-    ctx.__dict__["_footprint"] = result
+    ctx.cache["_footprint"] = result
     return result
 
 

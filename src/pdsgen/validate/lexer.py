@@ -34,6 +34,7 @@ _DATE = re.compile(
 )
 _TIME = re.compile(r"(?P<h>\d{2})(?::(?P<m>\d{2})(?::(?P<s>\d{2})(?:\.(?P<f>\d*))?)?)?(?P<z>Z)?")
 _SFDU = re.compile(r"CCSD3ZF\d{13}NJPL3IF0PDS[0-9A-Z]\d{8}")
+_NOT_TEXT = re.compile(r"[^\x20-\x7e\t]")
 _DAYS = (31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31)
 _BASE_DIGITS = {2: "01", 8: "01234567", 16: "0123456789ABCDEFabcdef"}
 MAX_KEYWORD_LENGTH = 30
@@ -155,11 +156,12 @@ def _count_lines(text: str, start: int, end: int) -> int:
     return chunk.count("\n") + chunk.count("\r") - chunk.count("\r\n")
 
 
+_EOL = re.compile(r"[\r\n]")
+
+
 def _line_end(text: str, pos: int) -> int:
-    for i in range(pos, len(text)):
-        if text[i] in "\r\n":
-            return i
-    return len(text)
+    m = _EOL.search(text, pos)
+    return m.start() if m else len(text)
 
 
 def split_lines(text: str, limit: int) -> list[Line]:
@@ -188,6 +190,7 @@ class _Parser:
         self.first_line: int | None = None
         self.sfdu: str | None = None
         self.lowercase: list[tuple[str, int]] = []
+        self.segments = 0  # nested SFDU segments open (see _another_segment)
 
     def issue(self, rule: str, line: int | None, message: str, keyword: str | None = None) -> None:
         self.issues.append(Issue(rule, line, message, keyword))
@@ -210,12 +213,23 @@ class _Parser:
                 self.lowercase.append((tok.text, tok.line))
             if upper == "END":
                 self._end(tok)
-                break
+                if not self._another_segment():
+                    break
+                continue
             if upper in ("END_OBJECT", "END_GROUP"):
                 self._close(tok, upper[4:])
                 continue
             self._statement(tok, upper)
         self._finish()
+
+    def _another_segment(self) -> bool:
+        """True when END closes a nested segment of an SFDU label (Viking EDRs open one with
+        `CCSD... = SFDU_LABEL` inside an object and close it with END), so the label goes on."""
+        if self.segments == 0:
+            return False
+        self.segments -= 1
+        self.end_found = False
+        return True
 
     def _sfdu(self) -> None:
         tok = self.scan.peek()
@@ -235,9 +249,15 @@ class _Parser:
         if rest.kind == "punct" and rest.text == ";" and rest.line == tok.line:
             self.scan.next()
         end = _line_end(self.text, tok.start)
-        m = _NEWLINE.match(self.text, end)
-        self.label_end = m.end() if m else end
-        tail = self.text[tok.start + len(tok.text) : end].strip(" ;\x00")
+        after = tok.start + len(tok.text)
+        binary = _NOT_TEXT.search(self.text, after, end)
+        if binary is not None:  # END followed directly by the data: the label ends at END
+            self.label_end = after
+            end = binary.start()
+        else:
+            m = _NEWLINE.match(self.text, end)
+            self.label_end = m.end() if m else end
+        tail = self.text[after:end].strip(" ;\x00")
         if tail and not tail.startswith("/*"):
             self.issue("SYNTAX-001", tok.line, f"unexpected text {tail[:20]!r} after END")
 
@@ -289,6 +309,9 @@ class _Parser:
         self._end_of_statement(self.scan.line)
         pointer = tok.text.startswith("^")
         keyword = tok.text[1:] if pointer else tok.text
+        if _SFDU.fullmatch(keyword.upper()) and value.text.upper() == "SFDU_LABEL":
+            self.segments += 1  # a nested SFDU segment (Viking EDRs): closed by its own END
+            return
         if upper in ("OBJECT", "GROUP"):
             if value.kind not in ("ident", "string") or not value.text.strip():
                 self.issue("SYNTAX-001", line, f"{upper} needs a name, found {value.raw[:20]!r}")
@@ -314,21 +337,23 @@ class _Parser:
         self.scan.skip_line()
 
     def _check_keyword(self, word: str, line: int) -> None:
+        if _SFDU.fullmatch(word.upper()):
+            return  # a nested SFDU marker: see _statement
         m = _KEYWORD.fullmatch(word)
         if not m:
             self.issue("SYNTAX-002", line, f"{word!r} is not a valid keyword name", word)
             return
         namespace, name = m.group(1), m.group(2)
-        if len(name) > MAX_KEYWORD_LENGTH:
+        if len(name) > MAX_KEYWORD_LENGTH and not word.startswith("^"):  # the limit is for keywords
             self.issue(
-                "SYNTAX-002",
+                "SYNTAX-015",
                 line,
                 f"keyword {name} has {len(name)} characters (at most {MAX_KEYWORD_LENGTH})",
                 word,
             )
         if namespace and len(namespace) > MAX_KEYWORD_LENGTH:
             self.issue(
-                "SYNTAX-002",
+                "SYNTAX-015",
                 line,
                 f"namespace {namespace} has {len(namespace)} characters (at most {MAX_KEYWORD_LENGTH})",
                 word,
@@ -355,23 +380,35 @@ class _Parser:
         if tok.kind == "string":
             content = tok.text[1:-1]
             if not content.strip() and not nested:
-                self.issue("SYNTAX-009", tok.line, f'{keyword} has no value (empty "")', keyword)
+                self.issue("SYNTAX-013", tok.line, f'{keyword} = "": an empty text value', keyword)
             return Value("string", tok.text, content, tok.line)
         if tok.kind == "symbol":
             return Value("symbol", tok.text, tok.text[1:-1], tok.line)
         if tok.kind == "word":
             value = self._scalar(tok, keyword)
-            unit = self.scan.peek()
-            if unit.kind == "unit" and unit.line == tok.line:
-                self.scan.next()
-                value.unit = unit.text[1:-1].strip()
-                if not value.unit:
-                    self.issue("SYNTAX-011", tok.line, f"empty unit '<>' after {keyword}", keyword)
+            self._unit(value, tok.line, keyword)
             return value
         self.issue("SYNTAX-001", tok.line, f"unexpected {tok.text[:20]!r} where a value belongs", keyword)
         if not nested:
             self.scan.skip_line()
         return None
+
+    def _unit(self, value: Value, line: int, keyword: str) -> None:
+        """A `<unit>` after the value. pvl reads one that starts the next line (JAXA and MER
+        labels wrap long sequences so), and so does this reader, with a warning."""
+        unit = self.scan.peek()
+        if unit.kind != "unit":
+            return
+        self.scan.next()
+        value.unit = unit.text[1:-1].strip()
+        if not value.unit:
+            self.issue("SYNTAX-011", unit.line, f"empty unit '<>' after {keyword}", keyword)
+        elif unit.line != line:
+            self.issue("SYNTAX-014", unit.line, f"{keyword}: unit <{value.unit}> starts the line after "
+                       "its value (readers such as pvl attach it to the value)", keyword)
+        if value.items is not None:
+            for item in value.scalars():
+                item.unit = item.unit or value.unit
 
     def _starts_statement(self, tok: _Token) -> bool:
         """True when a word on a later line is the next statement (so the value is missing)."""
@@ -389,7 +426,8 @@ class _Parser:
             nxt = self.scan.peek()
             if nxt.kind == "punct" and nxt.text == close and not items:
                 self.scan.next()
-                self.issue("SYNTAX-009", open_tok.line, f"{keyword} is an empty {open_tok.text}{close}", keyword)
+                if close == ")":  # an empty set {} is valid ODL; an empty sequence is not
+                    self.issue("SYNTAX-013", open_tok.line, f"{keyword} = (): an empty sequence", keyword)
                 break
             if nxt.kind == "eof" or (nxt.kind == "word" and self._starts_statement(nxt)):
                 self.issue(
@@ -429,12 +467,7 @@ class _Parser:
         kind = "seq" if close == ")" else "set"
         raw = self.text[open_tok.start : self.scan.pos]
         value = Value(kind, raw, [item.py for item in items], open_tok.line, None, items)
-        unit = self.scan.peek()
-        if unit.kind == "unit" and unit.line == self.scan.line:
-            self.scan.next()
-            value.unit = unit.text[1:-1].strip()
-            for item in value.scalars():
-                item.unit = item.unit or value.unit
+        self._unit(value, self.scan.line, keyword)
         return value
 
     def _scalar(self, tok: _Token, keyword: str) -> Value:

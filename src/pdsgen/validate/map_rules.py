@@ -116,13 +116,26 @@ def check_required(ctx: FileContext) -> Iterator[Hit]:
             yield Hit(f"IMAGE_MAP_PROJECTION lacks {', '.join(missing)}", block.line, missing[0])
 
 
+# Map projections the PDS3 standard describes that GDAL's PDS reader does not georeference
+# (a label using one is valid; GDAL reads its pixels without a CRS)
+PDS3_ONLY_PROJECTIONS = frozenset({
+    "POINT_PERSPECTIVE", "PERSPECTIVE", "ORTHOGRAPHIC", "OBLIQUE_CYLINDRICAL", "GNOMONIC", "AITOFF",
+    "ALBERS", "BONNE", "HAMMER", "MOLLWEIDE", "STEREOGRAPHIC", "VAN_DER_GRINTEN", "WERNER",
+    "CYLINDRICAL_PERSPECTIVE", "BRIESEMEISTER", "HENDU",
+})
+
+
 def check_projection_name(ctx: FileContext) -> Iterator[Hit]:
+    """An error for a name no reader knows; a warning for a PDS3 projection GDAL does not
+    georeference (Galileo NIMS cubes in POINT_PERSPECTIVE)."""
     for block in _maps(ctx):
         stmt = block.get("MAP_PROJECTION_TYPE")
-        if stmt is not None and normalise(stmt.value.text) not in GDAL_PROJECTIONS:
+        name = normalise(stmt.value.text) if stmt is not None else ""
+        if stmt is not None and name not in GDAL_PROJECTIONS:
+            level = "warning" if name in PDS3_ONLY_PROJECTIONS else None
             yield Hit(f"MAP_PROJECTION_TYPE {stmt.value.raw} is not a projection GDAL's PDS reader "
                       "knows (e.g. EQUIRECTANGULAR, SINUSOIDAL, POLAR STEREOGRAPHIC)", stmt.line,
-                      "MAP_PROJECTION_TYPE")
+                      "MAP_PROJECTION_TYPE", severity=level)
 
 
 def check_radii(ctx: FileContext) -> Iterator[Hit]:
@@ -158,6 +171,8 @@ def check_last_pixel(ctx: FileContext) -> Iterator[Hit]:
 def check_resolution(ctx: FileContext) -> Iterator[Hit]:
     for block in _maps(ctx):
         name = normalise(block.text("MAP_PROJECTION_TYPE") or "")
+        if name not in SUPPORTED:  # scale and resolution relate by other formulas there
+            continue
         res_stmt = block.get("MAP_RESOLUTION")
         res, scale = _num(block, "MAP_RESOLUTION"), _scale_m(block)
         key = projection_radius_key(name)
@@ -330,7 +345,7 @@ def _describe(f: Fit) -> str:
 
 
 def _offset_findings(ctx: FileContext) -> list[tuple[str, Hit]]:
-    cache = ctx.__dict__.setdefault("_map_offsets", None)
+    cache = ctx.cache.setdefault("_map_offsets", None)
     if cache is not None:
         return cache
     found: list[tuple[str, Hit]] = []
@@ -388,7 +403,7 @@ def _offset_findings(ctx: FileContext) -> list[tuple[str, Hit]]:
                     f"offsets disagree with the latitude/longitude bounds by more than {_NEAR_PX:g} px "
                     f"under either convention: residuals {_describe(standard)} (standard), "
                     f"{_describe(fit(geo, 1.0, 1.0))} (older)", line, "SAMPLE_PROJECTION_OFFSET")))
-    ctx.__dict__["_map_offsets"] = found
+    ctx.cache["_map_offsets"] = found
     return found
 
 

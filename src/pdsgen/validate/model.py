@@ -190,3 +190,4 @@ class Hit:
     line: int | None = None
     keyword: str | None = None
     file: str | None = None  # set when the problem is in another file than the label
+    severity: str | None = None  # when the rule's severity depends on the case (see the rule's note)

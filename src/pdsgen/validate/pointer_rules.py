@@ -9,11 +9,13 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterator
+from pathlib import Path
 
 from .context import FileContext, Pointer
 from .file_rules import padding_bytes
 from .image_rules import object_bytes
-from .model import Hit
+from .lexer import parse_label
+from .model import Hit, Label
 
 
 def _kw(ptr: Pointer) -> str:
@@ -110,6 +112,17 @@ def check_start_possible(ctx: FileContext) -> Iterator[Hit]:
     if 0 < blanks < len(chunk):
         yield Hit(f"{_kw(ptr)} data begins with {blanks} blank byte(s) (data may start at byte "
                   f"{offset + blanks + 1}, pointer says {offset + 1})", ptr.statement.line, _kw(ptr))
+
+
+def check_data_present(ctx: FileContext) -> Iterator[Hit]:
+    """Said once for a label-only copy of an attached label: the data are absent, so nothing
+    is checked (or computed) from them, and no error is reported about them."""
+    if ctx.data_absent and not ctx.labels_only:
+        lowest = _lowest_attached(ctx)
+        where = f"; {_kw(lowest[0])} starts at byte {lowest[1] + 1}" if lowest else ""
+        yield Hit(f"the file ends with its label ({ctx.size} bytes{where}): a label-only copy, "
+                  "the data it describes are absent; data checks skipped",
+                  lowest[0].statement.line if lowest else None, _kw(lowest[0]) if lowest else None)
 
 
 def check_record_bytes_present(ctx: FileContext) -> Iterator[Hit]:
@@ -285,11 +298,8 @@ _INCLUDES = ("STRUCTURE",)
 _MAX_INCLUDE_DEPTH = 20
 
 
-def _include_targets(path, text: str) -> list[tuple[str, int]]:
-    """(file name, line) of the ^STRUCTURE includes in one label file's text."""
-    from .lexer import parse_label
-
-    label = parse_label(text)
+def _include_targets(label: Label) -> list[tuple[str, int]]:
+    """(file name, line) of the ^STRUCTURE includes in one parsed label."""
     found = []
     for block in label.root.walk():
         for stmt in block.statements():
@@ -300,8 +310,6 @@ def _include_targets(path, text: str) -> list[tuple[str, int]]:
 
 def check_include_loops(ctx: FileContext) -> Iterator[Hit]:
     """^STRUCTURE includes must not lead back to a file already being included."""
-    from pathlib import Path
-
     def resolve(directory: Path, name: str) -> Path | None:
         exact = directory / name
         if exact.is_file():
@@ -317,7 +325,7 @@ def check_include_loops(ctx: FileContext) -> Iterator[Hit]:
     def walk(path: Path, text: str, chain: list[Path]) -> Iterator[list[Path]]:
         if len(chain) > _MAX_INCLUDE_DEPTH:
             return
-        for name, _ in _include_targets(path, text):
+        for name, _ in _include_targets(parse_label(text)):
             target = resolve(path.parent, name)
             if target is None:
                 continue
@@ -331,7 +339,7 @@ def check_include_loops(ctx: FileContext) -> Iterator[Hit]:
             yield from walk(target, sub, chain + [target])
 
     start = ctx.path.resolve()
-    for name, line in _include_targets(start, ctx.label.text):
+    for name, line in _include_targets(ctx.label):
         first = resolve(start.parent, name)
         if first is None:
             continue

@@ -56,8 +56,11 @@ def read_psdd(path: Path) -> dict:
         for m in _OBJECT.finditer(text)
     } - {""})
     header = re.search(r"Online Database: (\S+)", text)
+    generated = re.search(r"Generated: ([^*\r\n]+?)\s*\*/", text)
     return {
         "source": f"{Path(path).name} ({header.group(1) if header else 'unknown database'})",
+        "version": header.group(1) if header else None,
+        "generated": generated.group(1) if generated else None,
         "units": sorted({u for u, _ in units}),
         "unit_names": sorted({n for _, n in units}),
         "objects": objects,

@@ -1,16 +1,33 @@
-"""A validation run's result and its three renderings: text for people, JSON and JUnit XML for CI.
+"""A validation run's result and its renderings: text for people; JSON, JUnit XML, SARIF and
+GitHub workflow commands for CI.
 
-Exit status: 0 when no file has an error (and, with strict, no warning), 1 otherwise.
+Every format is written as a stream: a file's findings go out as soon as the file is
+checked, and only the counts are kept, so a run over 100,000 labels holds no more than
+one directory's reports at a time. Label text can hold any byte; every format escapes
+what its syntax cannot carry (XML 1.0 forbids most control characters; workflow commands
+end at a line break), so no label can break or crash a report.
+
+Exit status: 0 when no file has a finding at or above the fail-on level (error, or
+warning with --strict / fail-on = "warning"), 1 otherwise.
 """
 
 from __future__ import annotations
 
+import io
 import json
+import os
+import re
+import tempfile
+from collections.abc import Iterable
 from dataclasses import dataclass, field
+from typing import IO, Any
 
 from lxml import etree
 
 from .model import Finding
+
+FORMATS = ("text", "json", "junit", "sarif", "github")
+FAIL_LEVELS = ("error", "warning")
 
 
 @dataclass
@@ -22,10 +39,79 @@ class FileReport:
         return sum(1 for f in self.findings if f.severity == severity)
 
 
+def fails(report: FileReport, fail_on: str) -> bool:
+    """True when the file has a finding at or above the fail-on level."""
+    levels = ("error",) if fail_on == "error" else ("error", "warning")
+    return any(f.severity in levels for f in report.findings)
+
+
+@dataclass
+class Tally:
+    """The counts a summary needs, accumulated file by file."""
+
+    fail_on: str = "error"
+    files: int = 0
+    files_failed: int = 0
+    errors: int = 0
+    warnings: int = 0
+    info: int = 0
+    baseline_suppressed: int = 0
+    dictionary: str = ""
+
+    @property
+    def strict(self) -> bool:
+        return self.fail_on == "warning"
+
+    def add(self, report: FileReport) -> None:
+        self.files += 1
+        self.files_failed += fails(report, self.fail_on)
+        self.errors += report.count("error")
+        self.warnings += report.count("warning")
+        self.info += report.count("info")
+
+    @property
+    def exit_code(self) -> int:
+        return 1 if self.files_failed else 0
+
+    def summary(self) -> dict:
+        out: dict[str, Any] = {
+            "files": self.files,
+            "files_failed": self.files_failed,
+            "errors": self.errors,
+            "warnings": self.warnings,
+            "info": self.info,
+            "strict": self.strict,
+            "fail_on": self.fail_on,
+            "exit_code": self.exit_code,
+        }
+        if self.baseline_suppressed:
+            out["baseline_suppressed"] = self.baseline_suppressed
+        if self.dictionary:
+            out["dictionary"] = self.dictionary
+        return out
+
+    def summary_line(self) -> str:
+        """One line for people: counts and the verdict (what the demo prints)."""
+        verdict = "FAILED" if self.exit_code else "OK"
+        known = f", {self.baseline_suppressed} known (baseline)" if self.baseline_suppressed else ""
+        return (f"{self.files} file(s) checked: {self.errors} error(s), {self.warnings} warning(s), "
+                f"{self.info} info{known}{' (strict)' if self.strict else ''} - {verdict}")
+
+
 @dataclass
 class Report:
+    """A whole run held in memory (the Python API); the CLI streams instead."""
+
     files: list[FileReport]
     strict: bool = False
+    fail_on: str | None = None
+    baseline_suppressed: int = 0
+    dictionary: str = ""
+
+    def __post_init__(self) -> None:
+        if self.fail_on is None:
+            self.fail_on = "warning" if self.strict else "error"
+        self.strict = self.fail_on == "warning"
 
     @property
     def findings(self) -> list[Finding]:
@@ -35,29 +121,24 @@ class Report:
         return sum(r.count(severity) for r in self.files)
 
     def failed(self, report: FileReport) -> bool:
-        return report.count("error") > 0 or (self.strict and report.count("warning") > 0)
+        return fails(report, self.fail_on or "error")
+
+    def tally(self) -> Tally:
+        tally = Tally(self.fail_on or "error", baseline_suppressed=self.baseline_suppressed,
+                      dictionary=self.dictionary)
+        for r in self.files:
+            tally.add(r)
+        return tally
 
     @property
     def exit_code(self) -> int:
-        return 1 if any(self.failed(r) for r in self.files) else 0
+        return self.tally().exit_code
 
     def summary(self) -> dict:
-        return {
-            "files": len(self.files),
-            "files_failed": sum(1 for r in self.files if self.failed(r)),
-            "errors": self.count("error"),
-            "warnings": self.count("warning"),
-            "info": self.count("info"),
-            "strict": self.strict,
-            "exit_code": self.exit_code,
-        }
+        return self.tally().summary()
 
     def summary_line(self) -> str:
-        """One line for people: counts and the verdict (what the demo prints)."""
-        s = self.summary()
-        verdict = "FAILED" if s["exit_code"] else "OK"
-        return (f"{s['files']} file(s) checked: {s['errors']} error(s), {s['warnings']} warning(s), "
-                f"{s['info']} info{' (strict)' if self.strict else ''} - {verdict}")
+        return self.tally().summary_line()
 
     def rule_ids(self, severity: str | None = None) -> set[str]:
         return {f.rule for f in self.findings if severity is None or f.severity == severity}
@@ -67,55 +148,231 @@ def _where(f: Finding) -> str:
     return f"{f.file}:{f.line}" if f.line else f.file
 
 
-def render_text(report: Report, show_info: bool = True) -> str:
-    lines = []
-    for file_report in report.files:
-        for f in file_report.findings:
-            if f.severity == "info" and not show_info:
-                continue
-            keyword = f" {f.keyword}:" if f.keyword else ""
-            lines.append(f"{_where(f)}: {f.severity} [{f.rule}]{keyword} {f.message}")
-    lines.append(report.summary_line())
-    return "\n".join(lines) + "\n"
+def finding_line(f: Finding) -> str:
+    keyword = f" {f.keyword}:" if f.keyword else ""
+    return f"{_where(f)}: {f.severity} [{f.rule}]{keyword} {f.message}"
 
 
-def render_json(report: Report) -> str:
-    files = [
-        {
-            "path": r.path,
-            "passed": not report.failed(r),
-            "errors": r.count("error"),
-            "warnings": r.count("warning"),
-            "info": r.count("info"),
-            "findings": [f.as_dict() for f in r.findings],
+# -- escaping ---------------------------------------------------------------------------
+_XML_FORBIDDEN = re.compile("[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
+_TERMINAL_CONTROL = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f]")
+
+
+def _escape_code(m: re.Match[str]) -> str:
+    return f"\\x{ord(m.group()):02x}"
+
+
+def xml_safe(text: str) -> str:
+    """Text XML 1.0 can carry: forbidden characters written as \\xNN."""
+    return _XML_FORBIDDEN.sub(_escape_code, text)
+
+
+def terminal_safe(text: str) -> str:
+    """Text a terminal shows as written: control characters written as \\xNN."""
+    return _TERMINAL_CONTROL.sub(_escape_code, text)
+
+
+def _gh_data(text: str) -> str:
+    return terminal_safe(text.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A"))
+
+
+def _gh_property(text: str) -> str:
+    return _gh_data(text).replace(":", "%3A").replace(",", "%2C")
+
+
+# -- streaming writers -------------------------------------------------------------------
+class Writer:
+    """Writes one format: start(), then file() per checked file, then finish(tally)."""
+
+    def __init__(self, out: IO[str], show_info: bool = True) -> None:
+        self.out = out
+        self.show_info = show_info
+
+    def start(self) -> None:
+        pass
+
+    def file(self, report: FileReport, failed: bool) -> None:
+        raise NotImplementedError
+
+    def finish(self, tally: Tally) -> None:
+        pass
+
+
+class TextWriter(Writer):
+    def file(self, report: FileReport, failed: bool) -> None:
+        for f in report.findings:
+            if f.severity != "info" or self.show_info:
+                self.out.write(terminal_safe(finding_line(f)) + "\n")
+
+    def finish(self, tally: Tally) -> None:
+        self.out.write(tally.summary_line() + "\n")
+
+
+class JsonWriter(Writer):
+    """{"files": [one object per file], "summary": {...}}, written object by object."""
+
+    def start(self) -> None:
+        self.out.write('{\n  "files": [')
+        self.first = True
+
+    def file(self, report: FileReport, failed: bool) -> None:
+        entry = {
+            "path": report.path,
+            "passed": not failed,
+            "errors": report.count("error"),
+            "warnings": report.count("warning"),
+            "info": report.count("info"),
+            "findings": [f.as_dict() for f in report.findings],
         }
-        for r in report.files
-    ]
-    return json.dumps({"files": files, "summary": report.summary()}, indent=2) + "\n"
+        text = json.dumps(entry, indent=2).replace("\n", "\n    ")
+        self.out.write(("\n    " if self.first else ",\n    ") + text)
+        self.first = False
+
+    def finish(self, tally: Tally) -> None:
+        summary = json.dumps(tally.summary(), indent=2).replace("\n", "\n  ")
+        self.out.write(("\n  " if not self.first else "") + f'],\n  "summary": {summary}\n}}\n')
 
 
-def render_junit(report: Report) -> str:
-    """One testsuite, one testcase per file; errors (and warnings when strict) are failures."""
-    s = report.summary()
-    suites = etree.Element("testsuites", name="pdsgen validate", tests=str(s["files"]),
-                           failures=str(s["files_failed"]), errors="0")
-    suite = etree.SubElement(suites, "testsuite", name="pdsgen validate", tests=str(s["files"]),
-                             failures=str(s["files_failed"]), errors="0", skipped="0")
-    for r in report.files:
-        case = etree.SubElement(suite, "testcase", classname="pdsgen.validate", name=r.path)
-        failing = [f for f in r.findings if f.severity == "error" or (report.strict and f.severity == "warning")]
+class JunitWriter(Writer):
+    """One testsuite, one testcase per file; failing findings are the failure, the rest
+    system-out. Totals belong at the top, so test cases are spooled to a temporary file."""
+
+    def start(self) -> None:
+        self.spool = tempfile.TemporaryFile("w+", encoding="utf-8")
+
+    def file(self, report: FileReport, failed: bool) -> None:
+        case = etree.Element("testcase", classname="pdsgen.validate", name=xml_safe(report.path))
+        failing = [f for f in report.findings if failed and f.severity in ("error", "warning")
+                   and (f.severity == "error" or self.fail_on_warning)]
         if failing:
             failure = etree.SubElement(
                 case, "failure", type=failing[0].rule,
-                message=f"{len(failing)} problem(s), first [{failing[0].rule}] {failing[0].message}"[:500],
+                message=xml_safe(f"{len(failing)} problem(s), first [{failing[0].rule}] {failing[0].message}"[:500]),
             )
-            failure.text = "\n".join(f"{_where(f)}: {f.severity} [{f.rule}] {f.message}" for f in failing)
-        others = [f for f in r.findings if f not in failing]
+            failure.text = xml_safe("\n".join(finding_line(f) for f in failing))
+        others = [f for f in report.findings if f not in failing]
         if others:
             out = etree.SubElement(case, "system-out")
-            out.text = "\n".join(f"{_where(f)}: {f.severity} [{f.rule}] {f.message}" for f in others)
-    return etree.tostring(suites, pretty_print=True, xml_declaration=True, encoding="UTF-8").decode()
+            out.text = xml_safe("\n".join(finding_line(f) for f in others))
+        self.spool.write("    " + etree.tostring(case, encoding="unicode").rstrip() + "\n")
+
+    fail_on_warning = False
+
+    def finish(self, tally: Tally) -> None:
+        attrs = f'tests="{tally.files}" failures="{tally.files_failed}" errors="0"'
+        self.out.write("<?xml version='1.0' encoding='UTF-8'?>\n")
+        self.out.write(f'<testsuites name="pdsgen validate" {attrs}>\n')
+        self.out.write(f'  <testsuite name="pdsgen validate" {attrs} skipped="0">\n')
+        self.spool.seek(0)
+        for chunk in iter(lambda: self.spool.read(1 << 16), ""):
+            self.out.write(chunk)
+        self.spool.close()
+        self.out.write("  </testsuite>\n</testsuites>\n")
+
+
+_SARIF_LEVEL = {"error": "error", "warning": "warning", "info": "note"}
+
+
+class SarifWriter(Writer):
+    """SARIF 2.1.0 (GitHub code scanning): one run, the rule table as the driver's rules,
+    one result per finding with the file (relative to the working directory) and line."""
+
+    def start(self) -> None:
+        from .. import __version__
+        from .rules import rules
+
+        driver = {
+            "name": "pdsgen validate",
+            "version": __version__,
+            "rules": [
+                {"id": r.id, "name": r.id.replace("-", ""),
+                 "shortDescription": {"text": r.summary},
+                 "defaultConfiguration": {"level": _SARIF_LEVEL[r.severity]}}
+                for r in rules().values()
+            ],
+        }
+        head = {"$schema": "https://json.schemastore.org/sarif-2.1.0.json", "version": "2.1.0"}
+        text = json.dumps(head, indent=2)[:-2]
+        self.out.write(text + ',\n  "runs": [\n    {\n      "tool": {"driver": '
+                       + json.dumps(driver) + '},\n      "results": [')
+        self.first = True
+
+    def file(self, report: FileReport, failed: bool) -> None:
+        for f in report.findings:
+            location: dict[str, Any] = {"artifactLocation": {"uri": _uri(f.file)}}
+            if f.line:
+                location["region"] = {"startLine": f.line}
+            result = {
+                "ruleId": f.rule,
+                "level": _SARIF_LEVEL.get(f.severity, "note"),
+                "message": {"text": (f"{f.keyword}: " if f.keyword else "") + f.message},
+                "locations": [{"physicalLocation": location}],
+            }
+            self.out.write(("\n        " if self.first else ",\n        ") + json.dumps(result))
+            self.first = False
+
+    def finish(self, tally: Tally) -> None:
+        self.out.write("\n      ],\n      \"properties\": " + json.dumps(tally.summary())
+                       + "\n    }\n  ]\n}\n")
+
+
+def _uri(path: str) -> str:
+    """A file as a SARIF artifact URI: relative to the working directory, forward slashes."""
+    try:
+        rel = os.path.relpath(path)
+    except ValueError:
+        rel = path
+    return rel.replace(os.sep, "/") if not rel.startswith("..") else os.path.abspath(path).replace(os.sep, "/")
+
+
+_GH_COMMAND = {"error": "error", "warning": "warning", "info": "notice"}
+
+
+class GithubWriter(Writer):
+    """GitHub Actions workflow commands: one annotation per finding, with file and line."""
+
+    def file(self, report: FileReport, failed: bool) -> None:
+        for f in report.findings:
+            if f.severity == "info" and not self.show_info:
+                continue
+            props = f"file={_gh_property(f.file)}" + (f",line={f.line}" if f.line else "")
+            props += f",title={_gh_property(f.rule + (' ' + f.keyword if f.keyword else ''))}"
+            self.out.write(f"::{_GH_COMMAND.get(f.severity, 'notice')} {props}::{_gh_data(f.message)}\n")
+
+    def finish(self, tally: Tally) -> None:
+        self.out.write(tally.summary_line() + "\n")
+
+
+WRITERS: dict[str, type[Writer]] = {
+    "text": TextWriter, "json": JsonWriter, "junit": JunitWriter, "sarif": SarifWriter, "github": GithubWriter,
+}
+
+
+def write_stream(reports: Iterable[FileReport], fmt: str, out: IO[str], tally: Tally,
+                 show_info: bool = True) -> Tally:
+    """Render file reports as they come; returns the tally (for the exit code)."""
+    writer = WRITERS[fmt](out, show_info)
+    if isinstance(writer, JunitWriter):
+        writer.fail_on_warning = tally.fail_on == "warning"
+    writer.start()
+    for report in reports:
+        tally.add(report)
+        writer.file(report, fails(report, tally.fail_on))
+    writer.finish(tally)
+    return tally
 
 
 def render(report: Report, fmt: str) -> str:
-    return {"text": render_text, "json": render_json, "junit": render_junit}[fmt](report)
+    """The whole report in one format, as a string."""
+    buffer = io.StringIO()
+    tally = Tally(report.fail_on or "error", baseline_suppressed=report.baseline_suppressed,
+                  dictionary=report.dictionary)
+    write_stream(report.files, fmt, buffer, tally)
+    return buffer.getvalue()
+
+
+def render_text(report: Report, show_info: bool = True) -> str:
+    buffer = io.StringIO()
+    write_stream(report.files, "text", buffer, Tally(report.fail_on or "error",
+                 baseline_suppressed=report.baseline_suppressed), show_info)
+    return buffer.getvalue()

@@ -18,14 +18,20 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
+from ..missions.imars import METADATA_SUFFIX as IMARS_METADATA_SUFFIX
 from ..pds4.rules import RULES as PDS4_RULES
+from . import dict_rules as D
 from . import file_rules as F
+from . import geo_rules as G
+from . import hrsc_rules as H
 from . import image_rules as I
+from . import imars_rules as X
 from . import map_rules as M
 from . import pointer_rules as P
+from . import set_rules as T
 from . import syntax_rules as S
 from .context import FileContext
-from .model import Finding, Hit
+from .model import Hit
 
 FAMILIES = ("FILE", "SYNTAX", "DICT", "PTR", "REC", "IMG", "MAP", "GEO", "HRSC", "SET", "IMARS", "PDS4")
 
@@ -37,8 +43,9 @@ class Rule:
     summary: str
     check: Callable[[FileContext], Iterable[Hit]] | None  # per-file check
     needs_data: bool = False
-    set_check: Callable[[list], Iterable[Finding]] | None = None  # per-directory check (SET)
+    set_check: Callable[[list, set[str]], Iterable[Hit]] | None = None  # across files (SET)
     target: str = "label"  # "label": PDS3 labels (FileContext); "imars": iMars PVL (ImarsContext)
+    note: str = ""  # when a finding of this rule takes another severity, and why
 
     @property
     def family(self) -> str:
@@ -46,12 +53,6 @@ class Rule:
 
 
 def _table() -> list[Rule]:
-    from . import dict_rules as D
-    from . import geo_rules as G
-    from . import hrsc_rules as H
-    from . import imars_rules as X
-    from . import set_rules as T
-
     r = S.from_reader
     return [
         Rule("FILE-001", "error", "label bytes are printable 7-bit ASCII", F.check_ascii),
@@ -59,20 +60,27 @@ def _table() -> list[Rule]:
              F.check_line_ends_error),
         Rule("FILE-003", "warning", "a detached label uses LF-only line ends", F.check_line_ends_warning),
         Rule("FILE-004", "error", "a label line has at most 78 characters (80 bytes with CR LF)",
-             F.check_line_length),
+             F.check_line_length, note="warning for labels pdsgen did not write, unless --strict: "
+             "NASA's PDS3 tools rate it so, and released HiRISE DTM labels have 91-character lines"),
         Rule("FILE-005", "error", "a label padded to its records pads every line to RECORD_BYTES",
              F.check_padded_lines),
         Rule("FILE-006", "error", "PDS_VERSION_ID is the first statement (after a valid SFDU)",
-             F.check_first_statement),
+             F.check_first_statement, note="warning for SFDU-wrapped PDS version 2 labels (Voyager, "
+             "Galileo, Magellan volumes), which have no PDS_VERSION_ID"),
         Rule("FILE-007", "error", "an END statement closes the label", F.check_end),
         Rule("FILE-008", "warning", "the label is padded with spaces (not NUL)", F.check_padding),
         Rule("FILE-009", "warning", "label lines contain no tab characters", F.check_tabs),
         Rule("FILE-010", "error", "PDS_VERSION_ID = PDS3", F.check_version),
         Rule("FILE-011", "error", "the file is not empty", F.check_empty),
+        # FILE-013 is reported by the runner for a file named on the command line
+        Rule("FILE-013", "error", "a file named for validation is a PDS3 label (not a JP2, TIFF, bare image)",
+             None),
         Rule("SYNTAX-001", "error", "statements parse: KEYWORD = value, quotes and brackets closed",
              r("SYNTAX-001")),
-        Rule("SYNTAX-002", "error", "keyword names are letters/digits/_ of at most 30 characters",
+        Rule("SYNTAX-002", "error", "keyword names are identifiers: a letter, then letters, digits and _",
              r("SYNTAX-002")),
+        Rule("SYNTAX-015", "warning", "keyword names have at most 30 characters (pointer names may be "
+             "longer: ^DATA_SET_MAP_PROJECTION_CATALOG)", r("SYNTAX-015")),
         Rule("SYNTAX-003", "warning", "keywords are upper case", r("SYNTAX-003")),
         Rule("SYNTAX-004", "error", "a keyword appears once within its object", S.check_duplicates),
         Rule("SYNTAX-005", "error", "OBJECT/END_OBJECT and GROUP/END_GROUP balance and match",
@@ -87,25 +95,32 @@ def _table() -> list[Rule]:
              S.check_unquoted),
         Rule("SYNTAX-011", "error", "units are not empty", r("SYNTAX-011")),
         Rule("SYNTAX-012", "warning", "no ';' statement terminators (PVL, not PDS3)", r("SYNTAX-012")),
+        Rule("SYNTAX-013", "warning", "values are not empty (\"\" or ()); an empty set {} is valid ODL",
+             r("SYNTAX-013")),
+        Rule("SYNTAX-014", "warning", "a <unit> follows its value on the same line (pvl reads it either way)",
+             r("SYNTAX-014")),
         Rule("DICT-001", "warning", "keywords are defined in the data dictionary or a mission namespace",
              D.check_unknown),
         Rule("DICT-002", "error", "values have the dictionary type of their keyword", D.check_type),
-        Rule("DICT-003", "error", "numeric values lie within the dictionary range", D.check_range),
+        Rule("DICT-003", "warning", "numeric values lie within the dictionary range (in its unit)",
+             D.check_range, note="error in labels pdsgen writes and under --strict: its writers refuse them"),
         Rule("DICT-004", "error", "values of closed (STATIC) value sets are standard values",
              D.check_static_values),
+        Rule("DICT-013", "warning", "mission identity values (MISSION_NAME, INSTRUMENT_HOST_ID ...) are "
+             "registered in the shipped dictionary version", D.check_identity_values),
         Rule("DICT-005", "warning", "values of SUGGESTED value sets are among the suggestions",
              D.check_suggested_values),
         Rule("DICT-010", "info", "values of DYNAMIC value sets not yet in the dictionary",
              D.check_dynamic_values),
         Rule("DICT-009", "info", "text keywords given unquoted numbers (readers accept them)",
              D.check_number_for_text),
-        Rule("DICT-006", "error", "value lengths lie within the dictionary minimum/maximum length",
-             D.check_length),
+        Rule("DICT-006", "warning", "value lengths lie within the dictionary minimum/maximum length",
+             D.check_length, note="error in labels pdsgen writes and under --strict: its writers refuse them"),
         Rule("DICT-007", "warning", "units are known PDS units", D.check_units),
         Rule("DICT-011", "error", "units measure what the dictionary's unit measures (KM, DEG ...)",
              D.check_unit_dimension),
-        Rule("DICT-012", "info", "HRSC's numeric 'not applicable' value -1e+32 (exempt from DICT-003)",
-             D.check_hrsc_not_applicable),
+        Rule("DICT-012", "info", "numeric 'not applicable' values (-2147483648, -9.99e+31, -1e+32) are "
+             "exempt from DICT-003", D.check_hrsc_not_applicable),
         Rule("DICT-008", "info", "placeholder values (NULL) are reported", D.check_placeholder),
         Rule("PTR-001", "error", "pointers have a PDS3 form: n, n <BYTES>, \"F\", (\"F\", n)",
              P.check_pointer_form),
@@ -121,6 +136,8 @@ def _table() -> list[Rule]:
              P.check_start_possible, needs_data=True),
         Rule("PTR-007", "error", "^STRUCTURE includes do not loop back", P.check_include_loops,
              needs_data=True),
+        Rule("PTR-008", "warning", "an attached label's file holds its data (not a label-only copy; "
+             "data checks are skipped for one)", P.check_data_present),
         Rule("REC-001", "error", "RECORD_TYPE = FIXED_LENGTH comes with RECORD_BYTES",
              P.check_record_bytes_present),
         Rule("REC-002", "error", "RECORD_BYTES x FILE_RECORDS equals the file size", P.check_file_size,
@@ -143,7 +160,8 @@ def _table() -> list[Rule]:
         Rule("IMG-004", "error", "special constants are representable in the sample type",
              I.check_constants),
         Rule("IMG-005", "error", "VALID_MINIMUM <= VALID_MAXIMUM", I.check_valid_range_order),
-        Rule("IMG-006", "error", "BAND_STORAGE_TYPE is a PDS3 storage type", I.check_band_storage),
+        Rule("IMG-006", "error", "BAND_STORAGE_TYPE is a PDS3 storage type", I.check_band_storage,
+             note="warning for a standard type spelled with spaces (BAND SEQUENTIAL)"),
         Rule("IMG-007", "error", "VALID_MINIMUM/MAXIMUM and MINIMUM/MAXIMUM match the data",
              I.check_extremes, needs_data=True),
         Rule("IMG-008", "warning", "MEAN and STANDARD_DEVIATION match the data", I.check_moments,
@@ -159,7 +177,8 @@ def _table() -> list[Rule]:
              M.check_convention_old),
         Rule("MAP-006", "error", "axis radii are positive and A >= B >= C", M.check_radii),
         Rule("MAP-007", "error", "MAP_PROJECTION_TYPE is a projection GDAL knows",
-             M.check_projection_name),
+             M.check_projection_name, note="warning for a PDS3 projection GDAL does not georeference "
+             "(POINT_PERSPECTIVE, ORTHOGRAPHIC ...)"),
         Rule("MAP-008", "error", "LINE/SAMPLE_LAST_PIXEL match the image size", M.check_last_pixel),
         Rule("MAP-009", "info", "bounds not checked (projection without formulas here)",
              M.check_not_checked),
@@ -193,7 +212,8 @@ def _table() -> list[Rule]:
         Rule("IMARS-001", "error", "the iMars metadata file parses as PVL", X.check_parses, target="imars"),
         Rule("IMARS-002", "error", "ProductInfo (with Producer), Image, DataProduct, MapProjection, "
              "Algorithm and their keywords are present", X.check_structure, target="imars"),
-        Rule("IMARS-003", "error", "the file is named <ProductInfo.ProductId>_ucl.pvl", X.check_product_id,
+        Rule("IMARS-003", "error", f"the file is named <ProductInfo.ProductId>{IMARS_METADATA_SUFFIX}",
+             X.check_product_id,
              target="imars"),
         Rule("IMARS-004", "error", "DataProduct.FileName exists beside the metadata (exact case)",
              X.check_data_file, needs_data=True, target="imars"),
@@ -213,9 +233,10 @@ def _table() -> list[Rule]:
              X.check_footprint_feature, needs_data=True, target="imars"),
         # FILE-012 is reported by the runner itself when a file cannot be opened
         Rule("FILE-012", "error", "the file can be read", None),
-        Rule("SET-001", "error", "products in one directory share projection parameters", None,
-             set_check=T.check_projections),
-        Rule("SET-002", "error", "PRODUCT_ID matches the file name", T.check_product_id),
+        Rule("SET-001", "error", "related products (an ortho and its DTM, one stereo pair, one HRSC orbit) "
+             "share projection parameters", None, set_check=T.check_projections),
+        Rule("SET-002", "error", "PRODUCT_ID matches the file name (HiRISE, HRSC and pdsgen products)",
+             T.check_product_id),
         Rule("SET-003", "error", "SOURCE_PRODUCT_ID references to products of the set resolve", None,
              set_check=T.check_sources),
         Rule("SET-004", "warning", "a delivery set has README.TXT and browse JPEGs (Extras)", None,
@@ -231,7 +252,7 @@ RULES: dict[str, Rule] = {}
 
 
 def rules() -> dict[str, Rule]:
-    """The rule table, built on first use (the family modules import lazily)."""
+    """The rule table, built on first use."""
     if not RULES:
         ordered = sorted(_table(), key=lambda r: (FAMILIES.index(r.family), r.id))
         RULES.update((rule.id, rule) for rule in ordered)

@@ -9,17 +9,22 @@ finding naming the rule, instead of a traceback.
 
 from __future__ import annotations
 
+import itertools
+import multiprocessing
 import os
+import re
 import stat
 import sys
-from collections.abc import Callable, Iterable
-from concurrent.futures import ProcessPoolExecutor
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import PdsgenError
 from ..pds4 import validate as pds4
+from .config import Baseline, Settings
 from .context import FileContext
 from .dictionary import load as load_dictionary
+from .dictionary import version as dictionary_version
 from .imars_context import ImarsContext, is_imars_metadata
 from .model import Finding
 from .report import FileReport, Report
@@ -67,38 +72,82 @@ def discover(paths: Iterable[str | os.PathLike[str]]) -> list[Path]:
     """Files to validate: files as given, label files found recursively in directories.
 
     Inside directories only regular files are considered (a FIFO is skipped, not opened)."""
-    found: list[Path] = []
+    return list(_discover_lazily(list(paths)))
+
+
+def _discover_lazily(paths: list[str | os.PathLike[str]]) -> Iterator[Path]:
+    """discover(), one file at a time; every named path is checked before the first is given."""
+    for raw in paths:
+        reason = _unusable_path_reason(Path(raw))
+        if reason is not None:
+            raise PdsgenError(raw, reason)
+    return _walk(paths)
+
+
+def _walk(paths: list[str | os.PathLike[str]]) -> Iterator[Path]:
+    seen: set[Path] = set()  # a file named twice (itself and in its directory) once
     for raw in paths:
         path = Path(raw)
-        reason = _unusable_path_reason(path)
-        if reason is not None:
-            raise PdsgenError(path, reason)
-        if path.is_file():
-            found.append(path)
-            continue
-        for dirpath, dirnames, filenames in os.walk(path):
-            dirnames.sort()
-            for name in sorted(filenames):
-                candidate = Path(dirpath) / name
-                if candidate.is_file() and is_label_file(candidate):
-                    found.append(candidate)
-    return list(dict.fromkeys(found))  # a file named twice (itself and in its directory) once
+        candidates = [path] if path.is_file() else _label_files(path)
+        for candidate in candidates:
+            if candidate not in seen:
+                seen.add(candidate)
+                yield candidate
+
+
+def _label_files(directory: Path) -> Iterator[Path]:
+    for dirpath, dirnames, filenames in os.walk(directory):
+        dirnames.sort()
+        for name in sorted(filenames):
+            candidate = Path(dirpath) / name
+            if candidate.is_file() and is_label_file(candidate):
+                yield candidate
+
+
+def not_a_label(path: Path) -> str | None:
+    """Why a file named on the command line is not a PDS3 label (None when it may be one).
+
+    Label names (.lbl, iMars metadata) and files that start like a label are read as
+    labels; a file whose first bytes are binary (a JP2, a GeoTIFF, a bare .IMG) is not,
+    and gets one finding instead of thousands about its bytes."""
+    if is_label_file(path):
+        return None
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(_SNIFF_BYTES)
+    except OSError:
+        return None  # FILE-012 reports it
+    if not head or not _BINARY.search(head):
+        return None
+    kind = next((name for magic, name in _MAGIC if head.startswith(magic)), "binary data")
+    return f"not a PDS3 label: the file starts with {kind}, not PDS_VERSION_ID (give its label instead)"
+
+
+_SNIFF_BYTES = 1024
+_BINARY = re.compile(rb"[^\x20-\x7e\t\r\n\x0c]")
+_MAGIC = ((b"\x00\x00\x00\x0cjP  ", "a JPEG 2000 signature"), (b"\xff\x4f\xff\x51", "a JPEG 2000 codestream"),
+          (b"II*\x00", "a TIFF header"), (b"MM\x00*", "a TIFF header"), (b"II+\x00", "a BigTIFF header"),
+          (b"\xff\xd8\xff", "a JPEG header"), (b"\x89PNG", "a PNG header"))
 
 
 def validate_file(path: Path, labels_only: bool = False, dictionaries: tuple[str, ...] = (),
-                  schemas: tuple[str, ...] = ()) -> tuple[FileReport, Summary | None]:
+                  strict: bool = False, schemas: tuple[str, ...] = ()) -> tuple[FileReport, Summary | None]:
     """All per-file rules on one file: PDS3 label rules, or IMARS rules for iMars metadata."""
     if pds4.is_pds4_label(path):  # PDS4 hook: pdsgen.pds4 checks it and returns Findings
         return FileReport(str(path), pds4.validate_label(path, schemas, labels_only)), None
     imars = is_imars_metadata(path)
+    reason = None if imars else not_a_label(path)
+    if reason is not None:
+        return FileReport(str(path), [Finding("FILE-013", _severity("FILE-013"), str(path), reason)]), None
     try:
         ctx = ImarsContext(path, labels_only) if imars else FileContext(
-            path, labels_only=labels_only, dictionaries=dictionaries)
+            path, labels_only=labels_only, dictionaries=dictionaries, strict=strict)
     except OSError as exc:
         finding = Finding("FILE-012", "error", str(path), f"cannot read the file: {exc.strerror or exc}")
         return FileReport(str(path), [finding]), None
     try:
-        findings = _run_rules(ctx, path, "imars" if imars else "label", labels_only)
+        skip_data = labels_only or (isinstance(ctx, FileContext) and ctx.data_absent)
+        findings = _run_rules(ctx, path, "imars" if imars else "label", skip_data)
     finally:
         if isinstance(ctx, ImarsContext):
             ctx.close()
@@ -112,6 +161,10 @@ def validate_file(path: Path, labels_only: bool = False, dictionaries: tuple[str
     return FileReport(str(path), findings), summary
 
 
+def _severity(rule_id: str) -> str:
+    return rules()[rule_id].severity
+
+
 def _run_rules(ctx: FileContext | ImarsContext, path: Path, target: str, labels_only: bool) -> list[Finding]:
     findings: list[Finding] = []
     for rule in rules().values():
@@ -119,16 +172,185 @@ def _run_rules(ctx: FileContext | ImarsContext, path: Path, target: str, labels_
             continue
         try:
             for hit in rule.check(ctx):  # type: ignore[arg-type]
-                findings.append(Finding(rule.id, rule.severity, hit.file or str(path), hit.message,
-                                        hit.line, hit.keyword))
+                findings.append(Finding(rule.id, hit.severity or rule.severity, hit.file or str(path),
+                                        hit.message, hit.line, hit.keyword))
         except Exception as exc:  # a check must never turn odd input into a traceback
             findings.append(Finding(rule.id, "error", str(path),
                                     f"check could not run on this file ({type(exc).__name__}: {exc})"))
     return findings
 
 
-def _one(args: tuple[str, bool, tuple[str, ...], tuple[str, ...]]) -> tuple[FileReport, Summary | None]:
-    return validate_file(Path(args[0]), args[1], args[2], args[3])
+@dataclass(frozen=True)
+class _Job:
+    """What a worker needs to check files (picklable, sent once per process)."""
+
+    labels_only: bool = False
+    dictionaries: tuple[str, ...] = ()
+    strict: bool = False
+    settings: Settings = Settings()
+    schemas: tuple[str, ...] = ()  # PDS4 schema directories (--schemas)
+
+
+_JOB = _Job()
+
+
+def _init_worker(job: _Job) -> None:
+    global _JOB
+    _JOB = job
+
+
+def _one(path: str) -> tuple[FileReport, Summary | None]:
+    """One file, in a worker: its findings as the configuration reports them."""
+    report, summary = validate_file(Path(path), _JOB.labels_only, _JOB.dictionaries, _JOB.strict, _JOB.schemas)
+    report.findings = _JOB.settings.filter(report.findings)
+    return report, summary
+
+
+def _check_dictionaries(extra: tuple[str, ...]) -> None:
+    for d in extra:
+        reason = _unusable_path_reason(Path(d), missing="no such dictionary file")
+        if reason is None and Path(d).is_dir():
+            reason = "a directory, not a dictionary file"
+        if reason is not None:
+            raise PdsgenError(d, reason)
+    if extra:
+        load_dictionary(extra)  # refuses a file that is not a PSDD dictionary; cached for this process
+
+
+def iter_reports(
+    paths: Iterable[str | os.PathLike[str]],
+    strict: bool = False,
+    jobs: int = 1,
+    labels_only: bool = False,
+    progress: Callable[[int, int], None] | None = None,
+    dictionaries: Iterable[str | os.PathLike[str]] = (),
+    settings: Settings | None = None,
+    baseline: Baseline | None = None,
+    schemas: Iterable[str | os.PathLike[str]] = (),
+) -> Iterator[FileReport]:
+    """File reports one by one, as files are checked: the streaming core of validate_paths.
+
+    Files are found lazily and checked in order (in `jobs` processes when > 1). The SET
+    rules compare files of one directory, so a directory's reports are held until its last
+    file is checked; reports of labels that describe no data wait for the end of the run
+    (another label may include them). Memory is bounded by one directory, not the run.
+    Usage errors (a missing path, no label at all, a bad dictionary) are raised before the
+    first report, so nothing is written for a run that cannot start.
+    """
+    settings = settings or Settings()
+    extra = tuple(str(d) for d in dictionaries)
+    _check_dictionaries(extra)
+    schema_dirs = pds4.check_schema_dirs(schemas)
+    paths = list(paths)
+    found = _discover_lazily(paths)
+    first = next(found, None)
+    if first is None:  # a CI job pointed at the wrong directory must not pass
+        raise PdsgenError(None, "no PDS3 labels found under " + ", ".join(os.fspath(p) for p in paths))
+    files = itertools.chain([first], found)
+    job = _Job(labels_only, extra, strict, settings, schema_dirs)
+    return _with_run_notes(_stream(files, job, jobs, progress, baseline))
+
+
+def _with_run_notes(reports: Iterator[FileReport]) -> Iterator[FileReport]:
+    """PDS4 hook: the run's one note when Schematron could not run, on its first PDS4 report."""
+    noted = False
+    for report in reports:
+        if not noted and pds4.is_pds4_label(Path(report.path)):
+            pds4.add_run_notes([report])
+            noted = True
+        yield report
+
+
+def _stream(files: Iterator[Path], job: _Job, jobs: int, progress: Callable[[int, int], None] | None,
+            baseline: Baseline | None) -> Iterator[FileReport]:
+    groups = _SetGroups(job.settings)
+    names = (str(p) for p in files)
+    if jobs > 1:
+        with multiprocessing.get_context("fork" if sys.platform == "linux" else "spawn").Pool(
+                jobs, _init_worker, (job,)) as pool:
+            yield from _collect(pool.imap(_one, names, chunksize=8), groups, progress, baseline)
+    else:
+        _init_worker(job)
+        yield from _collect(map(_one, names), groups, progress, baseline)
+
+
+def _collect(results: Iterator[tuple[FileReport, Summary | None]], groups: _SetGroups,
+             progress: Callable[[int, int], None] | None, baseline: Baseline | None) -> Iterator[FileReport]:
+    done = 0
+    for report, summary in results:
+        done += 1
+        if progress:
+            progress(done, 0)
+        for ready in groups.add(report, summary):
+            yield _after_baseline(ready, baseline)
+    for ready in groups.finish():
+        yield _after_baseline(ready, baseline)
+
+
+def _after_baseline(report: FileReport, baseline: Baseline | None) -> FileReport:
+    if baseline is not None:
+        report.findings = [f for f in report.findings if not baseline.known(f)]
+    return report
+
+
+class _SetGroups:
+    """Holds one directory's reports until its set checks have run (see iter_reports)."""
+
+    def __init__(self, settings: Settings) -> None:
+        self.settings = settings
+        self.directory: str | None = None
+        self.group: list[tuple[FileReport, Summary | None]] = []
+        self.waiting: list[tuple[FileReport, Summary]] = []  # labels describing no data (SET-005)
+        self.referenced: set[str] = set()
+
+    def add(self, report: FileReport, summary: Summary | None) -> list[FileReport]:
+        directory = os.path.dirname(report.path)
+        ready = self._flush() if directory != self.directory else []
+        self.directory = directory
+        self.group.append((report, summary))
+        if summary is not None:
+            self.referenced.update(summary.referenced)
+        return ready
+
+    def _flush(self) -> list[FileReport]:
+        group, self.group = self.group, []
+        summaries = [s for _, s in group if s is not None]
+        by_path = {r.path: r for r, _ in group}
+        self._run(DIRECTORY_SET_RULES, summaries, by_path)
+        ready = []
+        for report, summary in group:
+            if summary is not None and summary.describes_nothing:
+                self.waiting.append((report, summary))
+            else:
+                ready.append(report)
+        return ready
+
+    def finish(self) -> list[FileReport]:
+        ready = self._flush()
+        waiting, self.waiting = self.waiting, []
+        by_path = {r.path: r for r, _ in waiting}
+        self._run(RUN_SET_RULES, [s for _, s in waiting], by_path)
+        return ready + [r for r, _ in waiting]
+
+    def _run(self, rule_ids: tuple[str, ...], summaries: list[Summary], by_path: dict[str, FileReport]) -> None:
+        for rule_id in rule_ids:
+            rule = rules()[rule_id]
+            if rule.set_check is None or not summaries or not self.settings.keeps(rule_id):
+                continue
+            try:
+                found = [Finding(rule.id, hit.severity or rule.severity, hit.file or summaries[0].path,
+                                 hit.message, hit.line, hit.keyword)
+                         for hit in rule.set_check(summaries, self.referenced)]
+            except Exception as exc:  # never a traceback, whatever the labels hold
+                found = [Finding(rule.id, "error", summaries[0].path,
+                                 f"set check could not run ({type(exc).__name__}: {exc})")]
+            for finding in self.settings.filter(found):
+                by_path[finding.file].findings.append(finding)
+
+
+# SET rules that compare the files of one directory, and those that need the whole run
+DIRECTORY_SET_RULES = ("SET-001", "SET-003", "SET-004")
+RUN_SET_RULES = ("SET-005",)
 
 
 def validate_paths(
@@ -138,65 +360,39 @@ def validate_paths(
     labels_only: bool = False,
     progress: Callable[[int, int], None] | None = None,
     dictionaries: Iterable[str | os.PathLike[str]] = (),
+    settings: Settings | None = None,
+    baseline: Baseline | None = None,
     schemas: Iterable[str | os.PathLike[str]] = (),
 ) -> Report:
     """Validate label files and directories of them; the API behind `pdsgen validate`.
 
     Raises PdsgenError when the paths hold no label at all (an empty or wrong directory):
     checking nothing is a usage error, not a pass.
-    strict makes warnings fail the run too. labels_only skips every rule that opens the
-    data files (data existence, file sizes, statistics, JP2), for label-only checks.
-    dictionaries are extra data dictionaries (PSDD `.full` format) merged over the built-in one.
+    strict makes warnings fail the run too (and keeps over-long lines an error for labels
+    of any origin). labels_only skips every rule that opens the data files (data existence,
+    file sizes, statistics, JP2), for label-only checks. dictionaries are extra data
+    dictionaries (PSDD `.full` format) merged over the built-in one. settings select rules
+    and set severities (see config.py); baseline drops findings already known.
     schemas are directories of PDS4 schemas (.xsd/.sch) added to the shipped ones.
     """
-    extra = tuple(str(d) for d in dictionaries)
-    for d in extra:
-        reason = _unusable_path_reason(Path(d), missing="no such dictionary file")
-        if reason is None and Path(d).is_dir():
-            reason = "a directory, not a dictionary file"
-        if reason is not None:
-            raise PdsgenError(d, reason)
-    if extra:
-        load_dictionary(extra)  # refuses a file that is not a PSDD dictionary; cached for this process
-    schema_dirs = pds4.check_schema_dirs(schemas)
-    paths = list(paths)
-    files = discover(paths)
-    if not files:  # a CI job pointed at the wrong directory must not pass
-        raise PdsgenError(None, "no PDS3 labels found under " + ", ".join(os.fspath(p) for p in paths))
-    results: list[tuple[FileReport, Summary | None]] = []
-    work = [(str(p), labels_only, extra, schema_dirs) for p in files]
-    if jobs > 1 and len(files) > 1:
-        with ProcessPoolExecutor(max_workers=jobs) as pool:
-            for i, result in enumerate(pool.map(_one, work, chunksize=max(1, len(work) // (jobs * 8)))):
-                results.append(result)
-                if progress:
-                    progress(i + 1, len(files))
-    else:
-        for i, item in enumerate(work):
-            results.append(_one(item))
-            if progress:
-                progress(i + 1, len(files))
-    reports = [r for r, _ in results]
-    pds4.add_run_notes(reports)  # PDS4 hook: one note when Schematron could not run
-    summaries = [s for _, s in results if s is not None]
-    by_path = {r.path: r for r in reports}
-    for rule in rules().values():
-        if rule.set_check is None:
-            continue
-        try:
-            for finding in rule.set_check(summaries):
-                by_path[finding.file].findings.append(finding)
-        except Exception as exc:  # never a traceback, whatever the labels hold
-            if reports:
-                reports[0].findings.append(Finding(rule.id, "error", reports[0].path,
-                                                   f"set check could not run ({type(exc).__name__}: {exc})"))
-    return Report(reports, strict=strict)
+    settings = settings or Settings()
+    reports = list(iter_reports(paths, strict, jobs, labels_only, progress, dictionaries, settings, baseline,
+                                schemas))
+    fail_on = "warning" if strict else settings.fail_on
+    return Report(reports, fail_on=fail_on, baseline_suppressed=baseline.suppressed if baseline else 0,
+                  dictionary=dictionary_version())
 
 
 def terminal_progress(done: int, total: int) -> None:
-    """A one-line progress bar on stderr (used only when stderr is a terminal)."""
+    """A one-line progress bar on stderr (used only when stderr is a terminal). total 0 means
+    not known (files are found while they are checked): then a counter, every 50 files."""
+    if not total:
+        if done % 50 == 0:
+            sys.stderr.write(f"\r{done} files checked")
+            sys.stderr.flush()
+        return
     width = 30
-    filled = width * done // total if total else width
+    filled = width * done // total
     sys.stderr.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total} files")
     if done == total:
         sys.stderr.write("\n")

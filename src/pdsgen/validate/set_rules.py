@@ -16,7 +16,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .context import REFERENCE_POINTERS, FileContext
-from .model import Finding, Hit
+from .model import Hit
+from .profiles import hrsc_orbit, is_hirise, is_hrsc
 from .projection import normalise
 from .quantities import kilometres as _km
 from .quantities import number as _num
@@ -95,9 +96,15 @@ def summarise(ctx: FileContext) -> Summary:
     return summary
 
 
+def names_follow_product_id(ctx: FileContext) -> bool:
+    """PDS3 does not tie PRODUCT_ID to the file name (Cassini ISS `1_N1472853667.118`, Dawn
+    FC `0038582`); HiRISE, HRSC and pdsgen's own products do name files after it."""
+    return ctx.written_by_pdsgen or is_hrsc(ctx) or is_hirise(ctx)
+
+
 def check_product_id(ctx: FileContext) -> Iterator[Hit]:
     stmt = ctx.root.get("PRODUCT_ID")
-    if stmt is None or stmt.value.items is not None:
+    if stmt is None or stmt.value.items is not None or not names_follow_product_id(ctx):
         return
     pid = stmt.value.text.strip().upper()
     name = ctx.path.name.upper()
@@ -107,11 +114,9 @@ def check_product_id(ctx: FileContext) -> Iterator[Hit]:
                   stmt.line, "PRODUCT_ID")
 
 
-def _finding(rule: str, summary: Summary, message: str, line: int | None, keyword: str | None) -> Finding:
-    """A finding with the severity the rule table gives this rule."""
-    from .rules import rules
-
-    return Finding(rule, rules()[rule].severity, summary.path, message, line, keyword)
+def _finding(summary: Summary, message: str, line: int | None, keyword: str | None) -> Hit:
+    """A problem of one product of the set: the runner adds rule id and severity."""
+    return Hit(message, line, keyword, file=summary.path)
 
 
 def by_directory(summaries: list[Summary]) -> dict[str, list[Summary]]:
@@ -121,10 +126,53 @@ def by_directory(summaries: list[Summary]) -> dict[str, list[Summary]]:
     return dict(sorted(groups.items()))
 
 
-def check_projections(summaries: list[Summary]) -> Iterator[Finding]:
-    """SET-001: map products of one directory share projection, radii and centre."""
+def check_projections(summaries: list[Summary], referenced: set[str] | None = None) -> Iterator[Hit]:
+    """SET-001: map products that belong together share projection, radii and centre.
+
+    Real volumes keep many unrelated products in one directory (an HRSC or LOLA DATA/
+    folder: each DT4 sinusoidal about its own longitude), so only related products are
+    compared: one that names another in SOURCE_PRODUCT_ID (an orthoimage and the DTM it
+    was made on), products made from the same source images (one stereo pair), and HRSC
+    products of one orbit and sequence."""
     for group in by_directory(summaries).values():
-        yield from _projections(group, "SET-001")
+        for related in related_products(group):
+            yield from _projections(related, "SET-001")
+
+
+def _link_keys(s: Summary) -> set[str]:
+    """Keys two related products share: their own id, their sources, their HRSC orbit."""
+    keys = {f"id:{ref.upper()}" for ref in s.sources if ref.upper() not in ("N/A", "UNK", "NULL")}
+    if s.product_id:
+        keys.add(f"id:{s.product_id.upper()}")
+    orbit = hrsc_orbit(s.product_id or "") or hrsc_orbit(Path(s.path).name)
+    if orbit:
+        keys.add(f"hrsc:{orbit}")
+    return keys
+
+
+def related_products(group: list[Summary]) -> list[list[Summary]]:
+    """Map products of one directory joined into sets of related products (see check_projections);
+    a product related to nothing else is left out."""
+    mapped = [s for s in group if s.projection is not None]
+    owner: dict[str, int] = {}
+    parent = list(range(len(mapped)))
+
+    def root(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    for i, s in enumerate(mapped):
+        own = {f"id:{s.product_id.upper()}"} if s.product_id else set()
+        for key in _link_keys(s):
+            if key in owner and (key not in own or owner[key] != i):
+                parent[root(i)] = root(owner[key])
+            owner.setdefault(key, i)
+    sets: dict[int, list[Summary]] = {}
+    for i, s in enumerate(mapped):
+        sets.setdefault(root(i), []).append(s)
+    return [members for members in sets.values() if len(members) > 1]
 
 
 def is_delivery_set(directory: Path, group: list[Summary]) -> bool:
@@ -138,27 +186,29 @@ def is_delivery_set(directory: Path, group: list[Summary]) -> bool:
         "EXTRA" in n.upper() and (directory / n).is_dir() for n in names)
 
 
-def check_sources(summaries: list[Summary]) -> Iterator[Finding]:
+def check_sources(summaries: list[Summary], referenced: set[str] | None = None) -> Iterator[Hit]:
     """SET-003: SOURCE_PRODUCT_ID values naming products of the set resolve within it."""
     for directory, group in by_directory(summaries).items():
         if is_delivery_set(Path(directory), group):
             yield from _sources(group, "SET-003")
 
 
-def check_extras(summaries: list[Summary]) -> Iterator[Finding]:
+def check_extras(summaries: list[Summary], referenced: set[str] | None = None) -> Iterator[Hit]:
     """SET-004: a delivery set has README.TXT and a browse JPEG per product."""
     for directory, group in by_directory(summaries).items():
         yield from _extras(Path(directory), group, "SET-004")
 
 
-def check_describes_data(summaries: list[Summary]) -> Iterator[Finding]:
+def check_describes_data(summaries: list[Summary], referenced: set[str] | None = None) -> Iterator[Hit]:
     """SET-005: a product label describes some data. Labels named *.FMT/*.CAT, and labels
-    another label of the run includes or points at, are fragments and exempt."""
-    referenced = {name for s in summaries for name in s.referenced}
+    another label of the run includes or points at (`referenced`: names from every label
+    of the run), are fragments and exempt."""
+    if referenced is None:
+        referenced = {name for s in summaries for name in s.referenced}
     for s in summaries:
         name = Path(s.path).name.upper()
         if s.describes_nothing and name not in referenced and not name.endswith(FRAGMENT_SUFFIXES):
-            yield _finding("SET-005", s, "the label describes no data: no data pointer (^IMAGE, "
+            yield _finding(s, "the label describes no data: no data pointer (^IMAGE, "
                            "^TABLE ...) and no OBJECT (IMAGE, TABLE, COMPRESSED_FILE, FILE ...)",
                            s.first_line, None)
 
@@ -168,7 +218,7 @@ def _fmt(values: tuple) -> str:
     return ", ".join(f"{k} {v}" for k, v in zip(keys, values, strict=False))
 
 
-def _projections(group: list[Summary], rule: str) -> Iterator[Finding]:
+def _projections(group: list[Summary], rule: str) -> Iterator[Hit]:
     mapped = [s for s in group if s.projection is not None]
     if len(mapped) < 2:
         return
@@ -182,20 +232,20 @@ def _projections(group: list[Summary], rule: str) -> Iterator[Finding]:
         ]
         if diffs:
             what = "; ".join(f"{k} {b} vs {a}" for k, a, b in diffs)
-            yield _finding(rule, s, f"projection differs from {Path(reference.path).name}: "
+            yield _finding(s, f"projection differs from {Path(reference.path).name}: "
                            f"{what}", s.projection_line, diffs[0][0])
 
 
-def _sources(group: list[Summary], rule: str) -> Iterator[Finding]:
+def _sources(group: list[Summary], rule: str) -> Iterator[Hit]:
     ids = {s.product_id.upper() for s in group if s.product_id}
     for s in group:
         for ref in s.sources:
             if SET_PRODUCT_ID.fullmatch(ref.upper()) and ref.upper() not in ids:
-                yield _finding(rule, s, f"SOURCE_PRODUCT_ID {ref} names a product that is "
+                yield _finding(s, f"SOURCE_PRODUCT_ID {ref} names a product that is "
                                "not in this directory", s.sources_line, "SOURCE_PRODUCT_ID")
 
 
-def _extras(directory: Path, group: list[Summary], rule: str) -> Iterator[Finding]:
+def _extras(directory: Path, group: list[Summary], rule: str) -> Iterator[Hit]:
     """A directory holding map products should have README.TXT and browse JPEGs (Extras)."""
     if not is_delivery_set(directory, group):
         return
@@ -206,12 +256,12 @@ def _extras(directory: Path, group: list[Summary], rule: str) -> Iterator[Findin
         names |= _names(sub)
     upper = {n.upper() for n in names}
     if "README.TXT" not in upper:
-        yield _finding(rule, products[0], f"no README.TXT in {directory} or its "
+        yield _finding(products[0], f"no README.TXT in {directory} or its "
                        "EXTRAS directory", None, None)
     for s in products:
         prefix = s.product_id.upper() + "."  # type: ignore[union-attr]
         if not any(n.startswith(prefix) and n.endswith(".JPG") for n in upper):
-            yield _finding(rule, s, f"no browse JPEG ({s.product_id}.*.jpg) for this "
+            yield _finding(s, f"no browse JPEG ({s.product_id}.*.jpg) for this "
                            "product in its directory or EXTRAS", s.product_id_line, "PRODUCT_ID")
 
 
