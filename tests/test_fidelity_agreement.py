@@ -122,3 +122,21 @@ def test_hrsc_labels_are_checked_too(tmp_path):
     kept = write_hrsc_dtm(source, tmp_path / "out", product_id="h0010_0023", params=params,
                           allow_dictionary_deviations=True)
     assert len(kept.warnings) == 1 and "PRODUCER_FULL_NAME" in kept.warnings[0]
+
+
+def test_a_refused_ortho_label_stops_the_encoding_and_leaves_nothing(tmp_path):
+    """The JP2 writer checks its label while the first tiles are encoded: a refusal still
+    leaves no JP2, no label and no JP2INFO.TXT, and is the same one-line ParamsError."""
+    source = tmp_path / "wide.tif"
+    data = np.random.default_rng(9).integers(1, 250, (1, 1100, 1030)).astype("uint8")
+    with rasterio.open(source, "w", driver="GTiff", width=1030, height=1100, count=1, dtype="uint8",
+                       crs=EQC, transform=Affine(1.0, 0, 6123456.0, 0, -1.0, 563211.0)) as out:
+        out.write(data)
+    outdir = tmp_path / "out"
+    with pytest.raises(ParamsError, match=r"^PRODUCER_FULL_NAME .*60.*--allow-dictionary-deviations"):
+        write_ortho(source, outdir, product_id="W", params={"PRODUCER_FULL_NAME": LONG_NAME})
+    assert not outdir.exists() or not list(outdir.iterdir())
+    product = write_ortho(source, outdir, product_id="W")  # the same input, accepted label
+    assert {p.name for p in outdir.iterdir()} == {"W.JP2", "W.LBL", "JP2INFO.TXT"}
+    with rasterio.open(product.jp2_path) as decoded:
+        assert (decoded.read() == data).all()

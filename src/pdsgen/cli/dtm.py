@@ -9,8 +9,6 @@ import click
 
 from ..pds4.model import LABEL_DIALECTS
 from ..products.dtm import DtmProduct, write_dtm
-from ..products.hrsc import HrscDtmProduct
-from ..products.imars import ImarsProduct
 from ..profiles import profile_names
 from ._output import Outcome, output_options, product_summary
 from ._profile_options import label_fidelity_options, profile_options, refuse_unused_options
@@ -91,13 +89,18 @@ def library_options(params: Mapping[str, Any]) -> dict[str, object]:
 
 def _summary(product: object) -> str:
     """The one line `pdsgen dtm` prints, in the form of the product the profile made."""
+    if isinstance(product, DtmProduct):
+        pds4 = f"  {product.pds4_label_path.name}" if product.pds4_label_path else ""
+        return (f"{product.path}{pds4}  {product.geometry.lines} x {product.geometry.samples}  "
+                f"valid {product.valid_minimum} .. {product.valid_maximum} m")
+    # Only HRSC/iMars results reach here: their modules are imported when they are used,
+    # so a HiRISE or generic conversion does not pay for them at start-up.
+    from ..products.hrsc import HrscDtmProduct
+    from ..products.imars import ImarsProduct
+
     if isinstance(product, ImarsProduct):
         return f"{product.tiff_path}  {product.pvl_path.name}  {product.footprint_path.name}"
-    if isinstance(product, HrscDtmProduct):
-        return (f"{product.path}  {product.geometry.lines} x {product.geometry.samples}  "
-                f"DN {product.valid_minimum} .. {product.valid_maximum} "
-                f"(x {product.encoding.scaling_factor:g} + {product.encoding.offset:g} m)")
-    assert isinstance(product, DtmProduct)
-    pds4 = f"  {product.pds4_label_path.name}" if product.pds4_label_path else ""
-    return (f"{product.path}{pds4}  {product.geometry.lines} x {product.geometry.samples}  "
-            f"valid {product.valid_minimum} .. {product.valid_maximum} m")
+    assert isinstance(product, HrscDtmProduct)
+    return (f"{product.path}  {product.geometry.lines} x {product.geometry.samples}  "
+            f"DN {product.valid_minimum} .. {product.valid_maximum} "
+            f"(x {product.encoding.scaling_factor:g} + {product.encoding.offset:g} m)")

@@ -8,8 +8,6 @@ from typing import Any
 import click
 
 from ..pds4.model import LABEL_DIALECTS
-from ..products.hrsc import HrscImageProduct
-from ..products.imars import ImarsProduct
 from ..products.ortho import OrthoProduct, write_ortho
 from ..profiles import profile_names
 from ._output import Outcome, output_options, product_summary
@@ -86,11 +84,16 @@ def library_options(params: Mapping[str, Any]) -> dict[str, object]:
 
 def _summary(product: object) -> str:
     """The one line `pdsgen ortho` prints, in the form of the product the profile made."""
+    if isinstance(product, OrthoProduct):
+        pds4 = f"  {product.pds4_label_path.name}" if product.pds4_label_path else ""
+        return (f"{product.jp2_path}{pds4}  {product.geometry.lines} x {product.geometry.samples} x "
+                f"{product.bands}  {product.bits}-bit DN * {product.scaling_factor:.6g} + {product.offset:.6g}")
+    # Only HRSC/iMars results reach here: their modules (and the validator and pvl they
+    # import) are loaded when used, so a JP2 conversion starts encoding sooner.
+    from ..products.hrsc import HrscImageProduct
+    from ..products.imars import ImarsProduct
+
     if isinstance(product, HrscImageProduct):
         return f"{product.path}  DN {product.valid_minimum} .. {product.valid_maximum}"
-    if isinstance(product, ImarsProduct):
-        return f"{product.tiff_path}  {product.pvl_path.name}  {product.footprint_path.name}"
-    assert isinstance(product, OrthoProduct)
-    pds4 = f"  {product.pds4_label_path.name}" if product.pds4_label_path else ""
-    return (f"{product.jp2_path}{pds4}  {product.geometry.lines} x {product.geometry.samples} x {product.bands}  "
-            f"{product.bits}-bit DN * {product.scaling_factor:.6g} + {product.offset:.6g}")
+    assert isinstance(product, ImarsProduct)
+    return f"{product.tiff_path}  {product.pvl_path.name}  {product.footprint_path.name}"

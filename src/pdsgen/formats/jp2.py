@@ -387,8 +387,10 @@ def encode_jp2(
 
     One thread reads and converts the next row of tiles while `threads` encoders
     work through the tiles queued so far; tile-parts are written in tile order as
-    they complete. At most three rows of tiles are held (being encoded, queued,
-    being read).
+    they complete. A row's tiles are queued when no more than one tile per encoder
+    is left of the rows before (reading a row takes a few per cent of the time its
+    tiles take to encode, so it is ready by then): encoders never wait, and at most
+    two rows of tiles are held (being encoded, being read), plus those last tiles.
     """
     tile_rows, tile_cols = settings.tile_shape
     grid_rows, grid_cols = settings.tile_grid(lines, samples)
@@ -402,8 +404,9 @@ def encode_jp2(
         return read_tile_row(first, min(tile_rows, lines - first))
 
     pending: deque[tuple[int, Future[bytes]]] = deque()
+    workers = encoder_threads(threads)
     with ThreadPoolExecutor(1, "pdsgen-read") as reader, \
-            ThreadPoolExecutor(encoder_threads(threads), "pdsgen-jp2") as encoders:
+            ThreadPoolExecutor(workers, "pdsgen-jp2") as encoders:
         next_row = reader.submit(read_row, 0)
         try:
             for row in range(grid_rows):
@@ -414,7 +417,7 @@ def encode_jp2(
                     index = row * grid_cols + col
                     pending.append((index, encoders.submit(encoder.encode, index, tile)))
                 del data
-                while len(pending) > grid_cols:  # keep the next row queued behind this one
+                while len(pending) > workers:  # queue the next row while every encoder is still busy
                     index, future = pending.popleft()
                     writer.add(index, future.result())
             while pending:

@@ -11,17 +11,22 @@ import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from functools import cache
-from typing import Any
-
-import jinja2
+from typing import TYPE_CHECKING, Any
 
 from ..resources import templates_dir
 from .layout import layout_label
 from .values import Quantity, format_value
 
+if TYPE_CHECKING:
+    import jinja2
+
 
 @cache
 def template_environment() -> jinja2.Environment:
+    """The one template environment; jinja2 is imported on first use, so commands that
+    start long work (JP2 encoding) can render their label in the background."""
+    import jinja2
+
     env = jinja2.Environment(
         loader=jinja2.FileSystemLoader(str(templates_dir())),
         undefined=jinja2.StrictUndefined,

@@ -11,9 +11,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cache
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import jinja2
 from affine import Affine
 from rasterio.crs import CRS
 
@@ -22,6 +21,9 @@ from ..label.render import template_environment
 from ..label.values import format_real
 from ..resources import templates_dir
 from .model import CURRENT_IM, InformationModel
+
+if TYPE_CHECKING:
+    import jinja2
 
 # PDS3 projection type -> (cart:map_projection_name, element holding its parameters).
 PROJECTION_NAMES = {
@@ -45,6 +47,8 @@ def format_number(value: Any) -> str:
 @cache
 def _environment() -> jinja2.Environment:
     """The PDS3 template environment's settings, over `templates/pds4/`, escaping XML."""
+    import jinja2  # on first use, as in label.render
+
     env = template_environment().overlay(loader=jinja2.FileSystemLoader(str(templates_dir() / "pds4")),
                                          autoescape=True)
     env.filters = {**env.filters, "num": format_number}

@@ -12,6 +12,7 @@ from __future__ import annotations
 import logging
 import os
 from collections.abc import Callable, Mapping, Sequence
+from concurrent.futures import Future, ThreadPoolExecutor
 from contextlib import ExitStack
 from dataclasses import dataclass
 from pathlib import Path
@@ -42,9 +43,7 @@ from ..geo.geometry import MapGeometry, describe_geometry
 from ..label.render import render_label
 from ..label.values import Based, Quantity, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
-from ..pds4.content import digest_file
 from ..pds4.model import check_label_dialect
-from ..pds4.products import ArrayRowTap, ProductDescription, ortho_label_text
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords, source_id_values
@@ -161,33 +160,44 @@ def write_jp2_ortho(
         outdir = prepare_output_dir(outdir)
         jp2_final, label_final = outdir / f"{product_id}.JP2", outdir / f"{product_id}.LBL"
         img_final, xml_final = outdir / f"{product_id}.img", outdir / f"{product_id}.xml"
-        text = render_label("ortho.lbl.j2", _label_context(
-            chosen, product_id, ident, sources, geometry, dataset.count, mapping, jp2_final.name,
-        ))
-        warnings = check_label(text, label_final.name, allow_deviations=allow)
+        context = _label_context(chosen, product_id, ident, sources, geometry, dataset.count, mapping,
+                                 jp2_final.name)
         boxes = [geojp2_box(dataset.crs, dataset.transform)]
         if gmljp2:
             boxes.append(gmljp2_box(dataset.crs, dataset.transform, dataset.height, dataset.width))
         info_final = outdir / JP2INFO_NAME
         finals = [jp2_final] + ([label_final] if label != "pds4" else []) + (
             [img_final, xml_final] if label != "pds3" else [])
-        with StagedOutputs(finals, overwrite, shared=[info_final]) as staged, ExitStack() as files:
+        with StagedOutputs(finals, overwrite, shared=[info_final]) as staged, ExitStack() as files, \
+                ThreadPoolExecutor(1, "pdsgen-label-check") as checker:
+            # The label is rendered and checked (the validator's first use loads it: a fifth of
+            # a second) while the first tiles are encoded; a refusal stops the encoding at the
+            # next row of tiles.
+            label_check = checker.submit(_render_and_check, context, label_final.name, allow)
             reader = _TileRowReader(dataset, mapping, str(input_path))
             rows: Callable[[int, int], np.ndarray] = reader
+            tap = None
             if label != "pds3":  # the same DNs also go, uncompressed, into the PDS4 primary array
-                rows = ArrayRowTap(reader, files.enter_context(open(staged.path(img_final), "wb")), mapping.special)
+                from ..pds4.products import ArrayRowTap  # PDS4 code loads only when asked for
+
+                array_file = files.enter_context(open(staged.path(img_final), "wb"))
+                rows = tap = ArrayRowTap(reader, array_file, mapping.special)
             settings = write_jp2(
                 staged.path(jp2_final), dataset.height, dataset.width, dataset.count,
-                mapping.special.bits, rows, boxes, threads=threads,
+                mapping.special.bits, _until_refused(rows, label_check), boxes, threads=threads,
             )
+            text, warnings = label_check.result()
             if not reader.any_valid:
                 raise PdsgenError(input_path, "has no valid pixels (all nodata)")
             files.close()
             if label != "pds4":
                 staged.path(label_final).write_bytes(text.encode("ascii"))
-            if isinstance(rows, ArrayRowTap):
+            if tap is not None:
+                from ..pds4.content import digest_file
+                from ..pds4.products import ProductDescription, ortho_label_text
+
                 description = ProductDescription(product_id, chosen, version, ident, geometry, dataset)
-                pds4_text = ortho_label_text(description, img_final.name, rows, jp2_final.name,
+                pds4_text = ortho_label_text(description, img_final.name, tap, jp2_final.name,
                                              digest_file(staged.path(jp2_final)), mapping.scaling_factor,
                                              mapping.offset)
                 staged.path(xml_final).write_text(pds4_text, encoding="utf-8")
@@ -285,6 +295,25 @@ class _TileRowReader:
         # Checked only until the first valid pixel turns up: no per-row mask afterwards.
         if not self.any_valid:
             self.any_valid = bool((dns != self.mapping.special.null).any())
+
+
+def _render_and_check(context: Mapping[str, object], file_name: str, allow: bool) -> tuple[str, tuple[str, ...]]:
+    """The PDS3 label's text and the dictionary deviations kept in it (see check_label)."""
+    text = render_label("ortho.lbl.j2", context)
+    return text, check_label(text, file_name, allow_deviations=allow)
+
+
+def _until_refused(
+    rows: Callable[[int, int], np.ndarray], label_check: Future[tuple[str, tuple[str, ...]]]
+) -> Callable[[int, int], np.ndarray]:
+    """`rows`, raising the label check's refusal as soon as it is known."""
+
+    def read(first_line: int, lines: int) -> np.ndarray:
+        if label_check.done():
+            label_check.result()  # raises ParamsError when the label was refused
+        return rows(first_line, lines)
+
+    return read
 
 
 def _source_ids(
