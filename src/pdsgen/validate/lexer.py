@@ -236,13 +236,16 @@ def _line_end(text: str, pos: int) -> int:
     return m.start() if m else len(text)
 
 
+_ENDINGS = {"\r\n": "CRLF", "\n": "LF", "\r": "CR"}
+
+
 def split_lines(text: str, limit: int) -> list[Line]:
     """Physical lines of text[:limit] with their byte offsets and terminator kind."""
     lines: list[Line] = []
+    append = lines.append
     pos, number = 0, 1
     for m in _NEWLINE.finditer(text, 0, limit):
-        ending = {"\r\n": "CRLF", "\n": "LF", "\r": "CR"}[m.group()]
-        lines.append(Line(number, pos, m.start(), ending))
+        append(Line(number, pos, m.start(), _ENDINGS[m.group()]))
         pos, number = m.end(), number + 1
     if pos < limit:
         lines.append(Line(number, pos, limit, ""))
@@ -307,9 +310,17 @@ class _Parser:
         and findings in the same order. False (nothing read) for what it must not take."""
         word = m.group("keyword")
         upper = word.upper()
-        if upper in ("END", "END_OBJECT", "END_GROUP"):
-            return False
         unit, scalar, items = m.group("unit"), m.group("word"), m.group("items")
+        if upper in ("END_OBJECT", "END_GROUP"):
+            name = scalar or m.group("string")
+            if name is None or unit is not None:
+                return False  # what _close reports
+            self.scan.take(m, line)
+            self._keyword_seen(word, line)
+            self._closed(word, upper[4:], name.strip('"'), line)
+            return True
+        if upper == "END":
+            return False
         if unit is not None and scalar is None and items is None:
             return False  # a unit after a quoted value: the token path's finding
         if items is not None and (items[0] == "(") != (items[-1] == ")"):
@@ -403,27 +414,31 @@ class _Parser:
             if name is None:
                 self.issue("SYNTAX-001", tok.line, f"END_{kind} = needs an object name")
         self._end_of_statement(tok.line)
+        self._closed(tok.text, kind, name, tok.line)
+
+    def _closed(self, word: str, kind: str, name: str | None, line: int) -> None:
+        """END_OBJECT/END_GROUP (`word`, naming `name` or not) read on `line`: close the block."""
         top = self.stack[-1]
         if top.kind == "ROOT":
-            self.issue("SYNTAX-005", tok.line, f"END_{kind} without a matching {kind}", tok.text)
+            self.issue("SYNTAX-005", line, f"END_{kind} without a matching {kind}", word)
             return
         if top.kind != kind:
             self.issue(
                 "SYNTAX-005",
-                tok.line,
+                line,
                 f"END_{kind} closes {top.kind} {top.name} opened at line {top.line}",
-                tok.text,
+                word,
             )
         elif name is not None and name.upper() != top.name.upper():
             self.issue(
                 "SYNTAX-005",
-                tok.line,
+                line,
                 f"END_{kind} = {name} closes {kind} {top.name} opened at line {top.line}",
-                tok.text,
+                word,
             )
         elif name is None:
-            self.issue("SYNTAX-006", tok.line, f"END_{kind} does not repeat the name {top.name}")
-        top.end_line = tok.line
+            self.issue("SYNTAX-006", line, f"END_{kind} does not repeat the name {top.name}")
+        top.end_line = line
         self.stack.pop()
 
     def _statement(self, tok: _Token, upper: str) -> None:
