@@ -12,6 +12,7 @@ one bad statement never hides the rest of the label.
 from __future__ import annotations
 
 import re
+from itertools import accumulate, repeat
 
 from ..label.grammar import IDENTIFIER_RE
 from .model import Block, Issue, Label, Line, Statement, Value
@@ -22,8 +23,8 @@ _WORD = re.compile(r"(?:[^\s=(){},;\"'<>/]|/(?!\*))+")
 _UNIT = re.compile(r"<[^<>\r\n]*>")
 _SYMBOL = re.compile(r"'[^'\r\n]*'")
 
-_INT = re.compile(r"[+-]?\d+")
-_REAL = re.compile(r"[+-]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][+-]?\d+)?")
+# an integer (group 1) or a real
+_NUMBER = re.compile(r"[+-]?(?:(\d+)|(?:\d+\.\d*|\.\d+|\d+)(?:[eE][+-]?\d+)?)")
 _BASED = re.compile(r"([+-]?)(\d+)#([^#]*)#")
 _KEYWORD = re.compile(r"\^?(?:([A-Za-z][A-Za-z0-9_]*):)?([A-Za-z][A-Za-z0-9_]*)")
 _IDENT = IDENTIFIER_RE
@@ -89,7 +90,9 @@ _ITEM = r"(?:\"[^\"]*\"|'[^'\r\n]*'|" + _WORD_ONCE + ")"
 # (a comment cannot contain `*/`), so a failing match costs one pass, never backtracking
 # that grows with the text.
 _SIMPLE = re.compile(
-    r"(?P<keyword>\^?(?:[A-Za-z][A-Za-z0-9_]*:)?[A-Za-z][A-Za-z0-9_]*)(?!\x00)"  # the whole word
+    _BLANKS  # only blanks before it: line ends and comments are skipped first (simple_statement)
+    + r"(?P<keyword>\^?(?:(?P<namespace>[A-Za-z][A-Za-z0-9_]*):)?(?P<name>[A-Za-z][A-Za-z0-9_]*))"
+    r"(?!\x00)"  # the whole word
     + _BLANKS + "=" + _BLANKS
     + r"(?:(?P<string>\"[^\"]*\")"
     r"|(?P<symbol>'[^'\r\n]*')"
@@ -147,12 +150,16 @@ class _Scanner:
         """The match of a simple statement (see _SIMPLE) starting at the next token, with
         the line its keyword is on; nothing is read until `take` is called."""
         text, pos = self.text, self.pos
-        m = _SKIP.match(text, pos)
-        start = m.end() if m else pos
-        m = _SIMPLE.match(text, start)
+        m = _SIMPLE.match(text, pos)  # a statement at the start of the line the last one ended
+        if m is not None:
+            return m, self.line
+        skip = _SKIP.match(text, pos)
+        if skip is None:
+            return None
+        m = _SIMPLE.match(text, skip.end())
         if m is None:
             return None
-        return m, self.line + _count_lines(text, pos, start) if start > pos else self.line
+        return m, self.line + _count_lines(text, pos, skip.end())
 
     def take(self, m: re.Match[str], line: int) -> None:
         """Read past a simple statement matched on `line` and its line end."""
@@ -241,6 +248,22 @@ _ENDINGS = {"\r\n": "CRLF", "\n": "LF", "\r": "CR"}
 
 def split_lines(text: str, limit: int) -> list[Line]:
     """Physical lines of text[:limit] with their byte offsets and terminator kind."""
+    body = text[:limit]
+    newline = "\n" if "\r" not in body else "\r\n" if body.count("\r") == body.count("\r\n") == body.count("\n") else ""
+    if not newline:  # mixed line ends: one at a time
+        return _split_mixed_lines(text, limit)
+    parts = body.split(newline)  # the last part follows the last line end
+    step = len(newline)
+    starts = list(accumulate((len(part) + step for part in parts), initial=0))
+    ends = [start + len(part) for start, part in zip(starts[:-1], parts, strict=True)]
+    count = len(parts) - 1
+    lines = list(map(Line, range(1, count + 1), starts, ends, repeat(_ENDINGS[newline], count)))
+    if parts[-1]:
+        lines.append(Line(count + 1, starts[count], limit, ""))
+    return lines
+
+
+def _split_mixed_lines(text: str, limit: int) -> list[Line]:
     lines: list[Line] = []
     append = lines.append
     pos, number = 0, 1
@@ -248,7 +271,7 @@ def split_lines(text: str, limit: int) -> list[Line]:
         append(Line(number, pos, m.start(), _ENDINGS[m.group()]))
         pos, number = m.end(), number + 1
     if pos < limit:
-        lines.append(Line(number, pos, limit, ""))
+        append(Line(number, pos, limit, ""))
     return lines
 
 
@@ -308,9 +331,8 @@ class _Parser:
     def _simple(self, m: re.Match[str], line: int) -> bool:
         """A statement _SIMPLE matched, read as the token path reads it: the same checks
         and findings in the same order. False (nothing read) for what it must not take."""
-        word = m.group("keyword")
+        word, scalar, items, unit = m.group("keyword", "word", "items", "unit")
         upper = word.upper()
-        unit, scalar, items = m.group("unit"), m.group("word"), m.group("items")
         if upper in ("END_OBJECT", "END_GROUP"):
             name = scalar or m.group("string")
             if name is None or unit is not None:
@@ -327,7 +349,8 @@ class _Parser:
             return False  # `(...}`: the token path's finding
         self.scan.take(m, line)
         self._keyword_seen(word, line)
-        self._check_keyword(word, line)
+        if not _SFDU.fullmatch(upper):  # as _check_keyword, the name already taken apart
+            self._check_lengths(word, m.group("namespace"), m.group("name"), line)
         if scalar is not None:
             value = self._scalar(scalar, line, word)
         elif items is not None:
@@ -494,7 +517,9 @@ class _Parser:
         if not m:
             self.issue("SYNTAX-002", line, f"{word!r} is not a valid keyword name", word)
             return
-        namespace, name = m.group(1), m.group(2)
+        self._check_lengths(word, m.group(1), m.group(2), line)
+
+    def _check_lengths(self, word: str, namespace: str | None, name: str, line: int) -> None:
         if len(name) > MAX_KEYWORD_LENGTH and not word.startswith("^"):  # the limit is for keywords
             self.issue(
                 "SYNTAX-015",
@@ -628,9 +653,10 @@ class _Parser:
         return value
 
     def _scalar(self, text: str, line: int, keyword: str) -> Value:
-        if _INT.fullmatch(text):
-            return Value("int", text, int(text), line)
-        if _REAL.fullmatch(text):
+        number = _NUMBER.fullmatch(text)
+        if number:
+            if number.group(1):
+                return Value("int", text, int(text), line)
             return Value("real", text, float(text), line)
         if "#" in text:
             return self._based(text, line, keyword)

@@ -20,6 +20,7 @@ import re
 import tempfile
 from collections.abc import Iterable
 from dataclasses import dataclass, field
+from json.encoder import encode_basestring_ascii
 from typing import IO, Any
 
 from lxml import etree
@@ -236,7 +237,17 @@ class JsonWriter(Writer):
         self.out.write(("\n  " if not self.first else "") + f'],\n  "summary": {summary}\n}}\n')
 
 
-_encode = json.JSONEncoder().encode  # what json.dumps(value) gives, by the C encoder
+def _encode(value: Any) -> str:
+    """json.dumps(value) for the scalars a report holds, strings by json's C function."""
+    if isinstance(value, str):
+        return encode_basestring_ascii(value)
+    if value is None:
+        return "null"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if type(value) is int:
+        return repr(value)
+    return json.dumps(value)
 
 
 def _indented(flat: dict[str, Any], pad: str) -> str:
