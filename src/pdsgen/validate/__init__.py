@@ -12,8 +12,8 @@ from __future__ import annotations
 
 from .config import Baseline, Settings
 from .model import Finding
+from .registry import rules
 from .report import FileReport, Report, render
-from .rules import rules
 from .runner import discover, iter_reports, validate_file, validate_paths
 
 __all__ = ["Baseline", "Finding", "FileReport", "Report", "Settings", "render", "rules", "discover",

@@ -96,7 +96,7 @@ def _path_matches(path: str, pattern: str) -> bool:
 
 
 def known_names() -> set[str]:
-    from .rules import FAMILIES, rules
+    from .registry import FAMILIES, rules
 
     return set(rules()) | set(FAMILIES)
 

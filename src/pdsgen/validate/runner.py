@@ -25,11 +25,11 @@ from .config import Baseline, Settings
 from .context import FileContext
 from .dictionary import load as load_dictionary
 from .dictionary import version as dictionary_version
+from .families.set_rules import Summary, summarise
 from .imars_context import ImarsContext, is_imars_metadata
 from .model import Finding
+from .registry import rules
 from .report import FileReport, Report
-from .rules import rules
-from .set_rules import Summary, summarise
 
 LABEL_SUFFIXES = (".lbl",)
 _SNIFF = (b"PDS_VERSION_ID", b"CCSD3")

@@ -11,9 +11,9 @@ from __future__ import annotations
 import re
 from collections.abc import Iterator
 
-from ..label.grammar import MAX_LINE_CHARS
-from .context import FileContext
-from .model import Hit
+from ...label.grammar import MAX_LINE_CHARS
+from ..context import FileContext
+from ..model import Hit
 
 MAX_CONTENT = MAX_LINE_CHARS
 _MAX_REPORTED = 10

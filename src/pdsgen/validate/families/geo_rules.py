@@ -13,8 +13,8 @@ import math
 from collections.abc import Iterator
 from pathlib import Path
 
-from .context import FileContext
-from .geojp2 import (
+from ..context import FileContext
+from ..geojp2 import (
     CT_NAMES,
     GEOG_SEMI_MAJOR,
     PROJ_CENTER_LAT,
@@ -27,12 +27,12 @@ from .geojp2 import (
     Jp2Info,
     read_jp2,
 )
+from ..model import Block, Hit
+from ..projection import normalise, projection_radius_key
+from ..quantities import kilometres as _km
+from ..quantities import metres_per_pixel as _scale_m
+from ..quantities import number as _num
 from .image_rules import is_image
-from .model import Block, Hit
-from .projection import normalise, projection_radius_key
-from .quantities import kilometres as _km
-from .quantities import metres_per_pixel as _scale_m
-from .quantities import number as _num
 
 GEOTRANSFORM_TOLERANCE_PX = 1e-3
 

@@ -14,10 +14,10 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from ..label.grammar import DATA_TYPES, SAMPLE_TYPES, SPECIAL_CONSTANTS
-from .context import FileContext
-from .datastats import Layout, Stats, image_stats
-from .model import Block, Hit, Value
+from ...label.grammar import DATA_TYPES, SAMPLE_TYPES, SPECIAL_CONSTANTS
+from ..context import FileContext
+from ..datastats import Layout, Stats, image_stats
+from ..model import Block, Hit, Value
 
 _TYPES = SAMPLE_TYPES
 _EXCLUDED = SPECIAL_CONSTANTS  # values left out of the statistics

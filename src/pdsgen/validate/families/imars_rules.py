@@ -16,11 +16,11 @@ from typing import Any
 
 import numpy as np
 
-from ..missions.hrsc import parse_name as parse_hrsc_name
-from ..missions.imars import footprint_name as imars_footprint_name
-from ..missions.imars import metadata_name
-from .imars_context import ImarsContext
-from .model import Hit
+from ...missions.hrsc import parse_name as parse_hrsc_name
+from ...missions.imars import footprint_name as imars_footprint_name
+from ...missions.imars import metadata_name
+from ..imars_context import ImarsContext
+from ..model import Hit
 
 REQUIRED_OBJECTS = ("ProductInfo", "Image", "DataProduct", "MapProjection", "Algorithm")
 REQUIRED_KEYWORDS = {

@@ -16,14 +16,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .context import FileContext
+from ..context import FileContext
+from ..model import Block, Hit, Statement
+from ..profiles import is_hrsc
+from ..projection import GDAL_PROJECTIONS, SUPPORTED, Sphere, boundary, normalise, projection_radius_key
+from ..quantities import kilometres as _km
+from ..quantities import metres_per_pixel as _scale_m
+from ..quantities import number as _num
 from .image_rules import is_image
-from .model import Block, Hit, Statement
-from .profiles import is_hrsc
-from .projection import GDAL_PROJECTIONS, SUPPORTED, Sphere, boundary, normalise, projection_radius_key
-from .quantities import kilometres as _km
-from .quantities import metres_per_pixel as _scale_m
-from .quantities import number as _num
 
 _REQUIRED = (
     "MAP_PROJECTION_TYPE",

@@ -15,12 +15,12 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .context import REFERENCE_POINTERS, FileContext
-from .model import Hit
-from .profiles import hrsc_orbit, is_hirise, is_hrsc
-from .projection import normalise
-from .quantities import kilometres as _km
-from .quantities import number as _num
+from ..context import REFERENCE_POINTERS, FileContext
+from ..model import Hit
+from ..profiles import hrsc_orbit, is_hirise, is_hrsc
+from ..projection import normalise
+from ..quantities import kilometres as _km
+from ..quantities import number as _num
 
 # Product ids of a HiRISE-style DTM set (pds3-products.md section 3): a reference of this
 # form in SOURCE_PRODUCT_ID names a product that must be in the same set.

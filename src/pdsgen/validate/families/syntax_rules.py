@@ -8,9 +8,9 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 
-from ..label.grammar import IDENTIFIER_RE
-from .context import FileContext
-from .model import Hit
+from ...label.grammar import IDENTIFIER_RE
+from ..context import FileContext
+from ..model import Hit
 
 _IDENT = IDENTIFIER_RE
 

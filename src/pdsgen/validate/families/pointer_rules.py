@@ -11,11 +11,11 @@ import os
 from collections.abc import Iterator
 from pathlib import Path
 
-from .context import FileContext, Pointer
+from ..context import FileContext, Pointer
+from ..lexer import parse_label
+from ..model import Hit, Label
 from .file_rules import padding_bytes
 from .image_rules import object_bytes
-from .lexer import parse_label
-from .model import Hit, Label
 
 
 def _kw(ptr: Pointer) -> str:

@@ -20,17 +20,17 @@ from dataclasses import dataclass
 
 from ..missions.imars import METADATA_SUFFIX as IMARS_METADATA_SUFFIX
 from ..pds4.rules import RULES as PDS4_RULES
-from . import dict_rules as D
-from . import file_rules as F
-from . import geo_rules as G
-from . import hrsc_rules as H
-from . import image_rules as I
-from . import imars_rules as X
-from . import map_rules as M
-from . import pointer_rules as P
-from . import set_rules as T
-from . import syntax_rules as S
 from .context import FileContext
+from .families import dict_rules as D
+from .families import file_rules as F
+from .families import geo_rules as G
+from .families import hrsc_rules as H
+from .families import image_rules as I
+from .families import imars_rules as X
+from .families import map_rules as M
+from .families import pointer_rules as P
+from .families import set_rules as T
+from .families import syntax_rules as S
 from .model import Hit
 
 FAMILIES = ("FILE", "SYNTAX", "DICT", "PTR", "REC", "IMG", "MAP", "GEO", "HRSC", "SET", "IMARS", "PDS4")

@@ -9,11 +9,11 @@ from __future__ import annotations
 import re
 from collections.abc import Iterator
 
-from ..label.grammar import DATA_TYPES
-from .context import FileContext
-from .dictionary import NUMERIC_PLACEHOLDERS, PLACEHOLDERS
-from .lexer import date_problem
-from .model import Hit, Statement, Value
+from ...label.grammar import DATA_TYPES
+from ..context import FileContext
+from ..dictionary import NUMERIC_PLACEHOLDERS, PLACEHOLDERS
+from ..lexer import date_problem
+from ..model import Hit, Statement, Value
 
 _LETTERS = re.compile(r"[A-Za-z ]+")
 _ALNUM = re.compile(r"[A-Za-z0-9 ]+")

@@ -18,15 +18,15 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 
-from ..label.grammar import PLACEHOLDERS
-from ..missions.hrsc import AREOID_DESC, NOT_APPLICABLE, POLAR_LIMIT_DEG, SPHERE_DESC, SPHERE_KM
-from .context import FileContext
+from ...label.grammar import PLACEHOLDERS
+from ...missions.hrsc import AREOID_DESC, NOT_APPLICABLE, POLAR_LIMIT_DEG, SPHERE_DESC, SPHERE_KM
+from ..context import FileContext
+from ..model import Block, Hit, Statement
+from ..profiles import hrsc_kind, is_hrsc
+from ..projection import normalise
+from ..quantities import kilometres as _km
 from .image_rules import is_image
 from .map_rules import geometry
-from .model import Block, Hit, Statement
-from .profiles import hrsc_kind, is_hrsc
-from .projection import normalise
-from .quantities import kilometres as _km
 
 HRSC_SPHERE_KM = SPHERE_KM
 NOT_SET = NOT_APPLICABLE  # HRSC's "not applicable" number
