@@ -32,6 +32,7 @@ from ..projection import normalise, projection_radius_key
 from ..quantities import kilometres as _km
 from ..quantities import metres_per_pixel as _scale_m
 from ..quantities import number as _num
+from ..registry import Rule, register
 from .image_rules import is_image
 
 GEOTRANSFORM_TOLERANCE_PX = 1e-3
@@ -222,3 +223,19 @@ def check_std_parallel_key(ctx: FileContext) -> Iterator[Hit]:
         elif PROJ_STD_PARALLEL1 not in keys:
             yield Hit(f"GeoJP2 of {found[1].name} has no ProjStdParallel1GeoKey (3078) for the "  # type: ignore[union-attr]
                       f"standard parallel {lat!r}", block.line, "CENTER_LATITUDE")
+
+
+register(
+    Rule("GEO-001", "error", "the JP2 file opens and is a JPEG 2000 file", check_readable,
+         needs_data=True),
+    Rule("GEO-002", "error", "JP2 size, bands and precision agree with the label", check_header,
+         needs_data=True),
+    Rule("GEO-003", "warning", "the JP2 carries a GeoJP2 or GMLJP2 box", check_has_georef,
+         needs_data=True),
+    Rule("GEO-004", "error", "GeoJP2/GMLJP2 geotransform agrees with the label within 1e-3 px",
+         check_geotransform, needs_data=True),
+    Rule("GEO-005", "error", "GeoJP2 projection parameters agree with the label",
+         check_projection, needs_data=True),
+    Rule("GEO-006", "error", "equirectangular standard parallel in key 3078, not 3089",
+         check_std_parallel_key, needs_data=True),
+)

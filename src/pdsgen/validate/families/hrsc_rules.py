@@ -25,6 +25,7 @@ from ..model import Block, Hit, Statement
 from ..profiles import hrsc_kind, is_hrsc
 from ..projection import normalise
 from ..quantities import kilometres as _km
+from ..registry import Rule, register
 from .image_rules import is_image
 from .map_rules import geometry
 
@@ -191,3 +192,18 @@ def check_projection_by_latitude(ctx: FileContext) -> Iterator[Hit]:
                       f"convention there is {expected.replace('_', ' ')} (sinusoidal within "
                       f"+-{POLAR_LIMIT_DEG:g} deg, polar stereographic poleward)", stmt.line,
                       "MAP_PROJECTION_TYPE")
+
+
+register(
+    Rule("HRSC-001", "error", "MEX:DTM_MISSING_DN equals the IMAGE's MISSING_CONSTANT",
+         check_missing_dn),
+    Rule("HRSC-002", "error", "MEX:DTM_SCALING_FACTOR/OFFSET equal the IMAGE's SCALING_FACTOR/OFFSET",
+         check_scaling),
+    Rule("HRSC-003", "error", "MEX:DTM_DESC agrees with the MEX:DTM radii (3396.0 sphere, -1e+32 areoid)",
+         check_desc_radii),
+    Rule("HRSC-004", "error", "MEX:DTM_DESC agrees with the file name (_dt4 sphere, _da4 areoid)",
+         check_desc_file_name),
+    Rule("HRSC-005", "error", "the map reference body is the 3396.0 km sphere", check_reference_body),
+    Rule("HRSC-006", "warning", "sinusoidal within +-85 deg centre latitude, polar stereographic poleward",
+         check_projection_by_latitude),
+)

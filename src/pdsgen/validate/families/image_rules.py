@@ -18,6 +18,7 @@ from ...label.grammar import DATA_TYPES, SAMPLE_TYPES, SPECIAL_CONSTANTS
 from ..context import FileContext
 from ..datastats import Layout, Stats, image_stats
 from ..model import Block, Hit, Value
+from ..registry import Rule, register
 
 _TYPES = SAMPLE_TYPES
 _EXCLUDED = SPECIAL_CONSTANTS  # values left out of the statistics
@@ -295,3 +296,20 @@ def check_moments(ctx: FileContext) -> Iterator[Hit]:
                 continue
             if not _matches(float(stmt.value.py), data, block, 1e-3):  # type: ignore[arg-type]
                 yield Hit(f"{key} = {stmt.value.raw} but the data give {data:.6g}", stmt.line, key)
+
+
+register(
+    Rule("IMG-001", "error", "IMAGE objects have LINES, LINE_SAMPLES, SAMPLE_TYPE, SAMPLE_BITS",
+         check_required),
+    Rule("IMG-002", "error", "SAMPLE_TYPE is known and fits SAMPLE_BITS", check_sample_type),
+    Rule("IMG-003", "error", "SAMPLE_BIT_MASK has no bits beyond SAMPLE_BITS", check_bit_mask),
+    Rule("IMG-004", "error", "special constants are representable in the sample type",
+         check_constants),
+    Rule("IMG-005", "error", "VALID_MINIMUM <= VALID_MAXIMUM", check_valid_range_order),
+    Rule("IMG-006", "error", "BAND_STORAGE_TYPE is a PDS3 storage type", check_band_storage,
+         note="warning for a standard type spelled with spaces (BAND SEQUENTIAL)"),
+    Rule("IMG-007", "error", "VALID_MINIMUM/MAXIMUM and MINIMUM/MAXIMUM match the data",
+         check_extremes, needs_data=True),
+    Rule("IMG-008", "warning", "MEAN and STANDARD_DEVIATION match the data", check_moments,
+         needs_data=True),
+)
