@@ -179,7 +179,7 @@ def check_hrsc_not_applicable(ctx: FileContext) -> Iterator[Hit]:
     """Where a numeric "not applicable" value falls outside a keyword's range, say so as
     information instead of a range finding."""
     for stmt, entry, value in _defined(ctx):
-        if entry["type"] in _NUMERIC and _placeholder(ctx, value) and _out_of_range(entry, float(value.py)):
+        if entry["type"] in _NUMERIC and _placeholder(ctx, value) and _out_of_range(entry, float(value.number)):
             yield Hit(f"{stmt.keyword} = {value.raw}: a numeric 'not applicable' value "
                       "(outside the dictionary range by design)", value.line, stmt.keyword)
 

@@ -167,8 +167,8 @@ def check_tabs(ctx: FileContext) -> Iterator[Hit]:
 
 def padding_bytes(ctx: FileContext) -> tuple[int, bytes] | None:
     """(data start, bytes between the END line and the first attached object) if attached."""
-    starts = [ctx.pointer_offset(p) for p in ctx.data_pointers() if p.attached]
-    starts = [s for s in starts if s is not None]
+    offsets = (ctx.pointer_offset(p) for p in ctx.data_pointers() if p.attached)
+    starts = [s for s in offsets if s is not None]
     if not starts:
         return None
     start = min(starts)

@@ -54,7 +54,7 @@ def _jp2(ctx: FileContext) -> tuple[Block, Path | None, Jp2Info | None, str | No
     if "_jp2" in ctx.cache:
         return ctx.cache["_jp2"]
     found = _compressed(ctx)
-    result = None
+    result: tuple[Block, Path | None, Jp2Info | None, str | None] | None = None
     if found is not None:
         block, name = found
         exact, other = ctx.resolve(name)
@@ -93,8 +93,8 @@ def check_header(ctx: FileContext) -> Iterator[Hit]:
     info, name = found[2], found[1].name  # type: ignore[union-attr]
     bits = image.number("SAMPLE_BITS")
     mask = image.value("SAMPLE_BIT_MASK")
-    if mask is not None and mask.is_number and int(mask.py) > 0:  # type: ignore[arg-type]
-        bits = int(mask.py).bit_length()  # type: ignore[arg-type]
+    if mask is not None and mask.is_number and int(mask.number) > 0:
+        bits = int(mask.number).bit_length()
     signed = "UNSIGNED" not in (image.text("SAMPLE_TYPE") or "UNSIGNED")
     for key, label_value, jp2_value in (
         ("LINES", image.number("LINES"), info.height),
@@ -156,10 +156,11 @@ def check_geotransform(ctx: FileContext) -> Iterator[Hit]:
             )
 
 
-def _center_longitude(keys: dict) -> float | None:
+def _center_longitude(keys: dict[int, object]) -> float | None:
     for key in (PROJ_CENTER_LONG, PROJ_NAT_ORIGIN_LONG, PROJ_STRAIGHT_VERT_POLE_LONG):
-        if key in keys:
-            return float(keys[key])  # type: ignore[arg-type]
+        value = keys.get(key)
+        if isinstance(value, (int, float)):
+            return float(value)
     return None
 
 
@@ -175,7 +176,8 @@ def check_projection(ctx: FileContext) -> Iterator[Hit]:
             continue
         problems = []
         ct = keys.get(PROJ_COORD_TRANS)
-        ct_name = CT_NAMES.get(ct, f"coordinate transformation {ct}")  # type: ignore[arg-type]
+        ct_name = CT_NAMES.get(ct, "") if isinstance(ct, int) else ""
+        ct_name = ct_name or f"coordinate transformation {ct}"
         label_name = "EQUIRECTANGULAR" if name in ("SIMPLE_CYLINDRICAL", "EQUIDISTANT") else name
         if ct is not None and ct_name != label_name and not (
             label_name == "POLAR_STEREOGRAPHIC" and ct_name == "STEREOGRAPHIC"

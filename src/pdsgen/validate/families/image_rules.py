@@ -115,7 +115,7 @@ def check_bit_mask(ctx: FileContext) -> Iterator[Hit]:
         mask, bits = block.get("SAMPLE_BIT_MASK"), block.number("SAMPLE_BITS")
         if mask is None or not isinstance(bits, int) or not mask.value.is_number:
             continue
-        value = int(mask.value.py)  # type: ignore[arg-type]
+        value = int(mask.value.number)
         if value < 0 or value >= 1 << bits:
             yield Hit(f"SAMPLE_BIT_MASK {mask.value.raw} has bits beyond SAMPLE_BITS = {bits}",
                       mask.line, "SAMPLE_BIT_MASK")
@@ -133,26 +133,26 @@ def constant_value(val: Value, dtype: np.dtype) -> tuple[float | None, str | Non
     bits = dtype.itemsize * 8
     if dtype.kind == "f":
         if val.kind == "based":
-            pattern = int(val.py)  # type: ignore[arg-type]
+            pattern = int(val.number)
             if pattern < 0 or pattern >= 1 << bits:
                 return None, f"bit pattern {val.raw} does not fit {bits}-bit samples"
             fmt = ">I" if bits == 32 else ">Q"
             return struct.unpack(">f" if bits == 32 else ">d", struct.pack(fmt, pattern))[0], None
-        number = float(val.py)  # type: ignore[arg-type]
+        number = float(val.number)
         if bits == 32 and math.isfinite(number) and abs(number) > float(np.finfo(np.float32).max):
             return None, f"{val.raw} is beyond the float32 range"
         return number, None
     info = np.iinfo(dtype)
-    number = val.py
+    number = val.number
     if val.kind == "real":
-        if not float(number).is_integer():  # type: ignore[arg-type]
+        if not float(number).is_integer():
             return None, f"{val.raw} is not an integer, samples are {dtype.kind}int{bits}"
-        number = int(number)  # type: ignore[arg-type]
-    if val.kind == "based" and dtype.kind == "i" and int(number) >= 1 << (bits - 1):  # type: ignore[arg-type]
-        number = int(number) - (1 << bits) if int(number) < 1 << bits else number  # type: ignore[arg-type]
-    if not info.min <= int(number) <= info.max:  # type: ignore[arg-type]
+        number = int(number)
+    if val.kind == "based" and dtype.kind == "i" and int(number) >= 1 << (bits - 1):
+        number = int(number) - (1 << bits) if int(number) < 1 << bits else number
+    if not info.min <= int(number) <= info.max:
         return None, f"{val.raw} is outside {info.min}..{info.max} of the sample type"
-    return float(number), None  # type: ignore[arg-type]
+    return float(number), None
 
 
 def check_constants(ctx: FileContext) -> Iterator[Hit]:
@@ -167,7 +167,7 @@ def check_constants(ctx: FileContext) -> Iterator[Hit]:
                 continue
             value, problem = constant_value(stmt.value, dtype)
             if (problem is None and value is not None and dtype.kind == "u" and mask is not None
-                    and mask.is_number and int(value) & ~int(mask.py) != 0):  # type: ignore[arg-type]
+                    and mask.is_number and int(value) & ~int(mask.number) != 0):
                 problem = f"{stmt.value.raw} has bits outside SAMPLE_BIT_MASK {mask.raw}"
             if problem:
                 yield Hit(f"{key}: {problem} ({block.text('SAMPLE_TYPE')}, "

@@ -62,8 +62,8 @@ def check_target_case(ctx: FileContext) -> Iterator[Hit]:
 
 
 def _lowest_attached(ctx: FileContext) -> tuple[Pointer, int] | None:
-    found = [(p, ctx.pointer_offset(p)) for p in ctx.data_pointers() if p.attached]
-    found = [(p, o) for p, o in found if o is not None]
+    offsets = ((p, ctx.pointer_offset(p)) for p in ctx.data_pointers() if p.attached)
+    found = [(p, o) for p, o in offsets if o is not None]
     return min(found, key=lambda po: po[1]) if found else None
 
 
@@ -183,12 +183,12 @@ def check_label_records(ctx: FileContext) -> Iterator[Hit]:
     unit = (val.unit or "").upper()
     rb = ctx.record_bytes
     if unit == "BYTES":
-        label_space = val.py
+        label_space = int(val.number)
     elif rb is None:
         return
     else:
-        label_space = val.py * rb  # type: ignore[operator]
-    if label_space < ctx.label.label_end:  # type: ignore[operator]
+        label_space = int(val.number) * rb
+    if label_space < ctx.label.label_end:
         yield Hit(f"LABEL_RECORDS gives {label_space} bytes but the label text takes "
                   f"{ctx.label.label_end}", stmt.line, "LABEL_RECORDS")
     lowest = _lowest_attached(ctx)
@@ -263,7 +263,7 @@ def check_uncompressed_records(ctx: FileContext) -> Iterator[Hit]:
         if isinstance(rb, int) and isinstance(fr, int) and need is not None and rb * fr != need:
             stmt = block.get("FILE_RECORDS")
             yield Hit(f"{block.name}: RECORD_BYTES x FILE_RECORDS = {rb} x {fr} = {rb * fr} bytes, but "
-                      f"its {image.name} holds {need} bytes (LINES x LINE_SAMPLES x BANDS x "  # type: ignore[union-attr]
+                      f"its {image.name} holds {need} bytes (LINES x LINE_SAMPLES x BANDS x "
                       "sample bytes)", stmt.line if stmt else block.line, "FILE_RECORDS")
 
 
