@@ -171,7 +171,7 @@ def _run_rules(ctx: FileContext | ImarsContext, path: Path, target: str, labels_
         if rule.check is None or rule.target != target or (labels_only and rule.needs_data):
             continue
         try:
-            for hit in rule.check(ctx):  # type: ignore[arg-type]
+            for hit in rule.check(ctx):
                 findings.append(Finding(rule.id, hit.severity or rule.severity, hit.file or str(path),
                                         hit.message, hit.line, hit.keyword))
         except Exception as exc:  # a check must never turn odd input into a traceback
