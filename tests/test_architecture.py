@@ -219,3 +219,58 @@ def test_adding_a_mission(tmp_path, inputs):
 def test_one_mission_detection_for_extras_and_validator(facts, expected):
     """Extras and the validator both ask `detect_mission`, so they cannot disagree again."""
     assert detect_mission(facts) == expected
+
+
+# -- the validator: rule families are modules in validate/families/, tied by one registry ---------
+
+VALIDATE = SRC / "validate"
+
+
+def test_every_rule_family_is_one_module_in_validate_families_registering_its_rules():
+    from pdsgen.validate import rules
+
+    assert sorted(p.name for p in VALIDATE.glob("*_rules.py")) == []  # no family outside families/
+    assert not (VALIDATE / "rules.py").exists()  # nothing shadowed by the public rules() function
+    family_modules = sorted(p for p in (VALIDATE / "families").glob("*.py") if p.name != "__init__.py")
+    for path in family_modules:
+        tree = ast.parse(path.read_text())
+        registrations = [node for node in ast.walk(tree) if isinstance(node, ast.Call)
+                         and isinstance(node.func, ast.Name) and node.func.id == "register"]
+        assert len(registrations) == 1, f"{path.name} registers its rules in one register() call"
+    owners = {rule.check.__module__ for rule in rules().values() if rule.check is not None}
+    owners |= {rule.set_check.__module__ for rule in rules().values() if rule.set_check is not None}
+    assert owners <= {f"pdsgen.validate.families.{path.stem}" for path in family_modules}
+
+
+def test_a_rule_family_registered_at_run_time_is_listed_configured_and_run(tmp_path):
+    from click.testing import CliRunner
+
+    from pdsgen.cli import main
+    from pdsgen.validate import rules, validate_paths
+    from pdsgen.validate.model import Hit
+    from pdsgen.validate.registry import Rule, families, register, unregister
+
+    def check_product_id_is_toy(ctx):
+        product_id = ctx.root.text("PRODUCT_ID")
+        if product_id and not product_id.startswith("TOY"):
+            yield Hit(f"PRODUCT_ID {product_id} does not start with TOY", keyword="PRODUCT_ID")
+
+    label = tmp_path / "A.LBL"
+    label.write_bytes(b'PDS_VERSION_ID = PDS3\r\nPRODUCT_ID = "A"\r\nEND\r\n')
+    register(Rule("TOY-001", "warning", "PRODUCT_IDs start with TOY", check_product_id_is_toy))
+    try:
+        assert families()[-1] == "TOY" and list(rules())[-1] == "TOY-001"
+        listed = CliRunner().invoke(main, ["validate", "--list-rules"])
+        assert "TOY-001" in listed.output and "PRODUCT_IDs start with TOY" in listed.output
+        found = [f for f in validate_paths([label]).findings if f.rule == "TOY-001"]
+        assert [(f.severity, f.keyword) for f in found] == [("warning", "PRODUCT_ID")]
+        ignored = CliRunner().invoke(main, ["validate", "--ignore", "TOY", "--format", "json", str(label)])
+        assert "TOY-001" not in ignored.output
+        with pytest.raises(ValueError, match="already registered"):
+            register(Rule("TOY-001", "error", "again", check_product_id_is_toy))
+    finally:
+        unregister("TOY")
+    assert "TOY-001" not in rules() and "TOY" not in families()
+    assert not [f for f in validate_paths([label]).findings if f.rule == "TOY-001"]
+    with pytest.raises(ValueError, match="built-in"):
+        unregister("MAP")

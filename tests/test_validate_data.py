@@ -79,7 +79,7 @@ def _image_block(storage: str, prefix: int = 0, suffix: int = 0):
 @pytest.mark.parametrize(("storage", "stored_lines", "line_bytes"), [
     ("BAND_SEQUENTIAL", 15, 14), ("LINE_INTERLEAVED", 15, 14), ("SAMPLE_INTERLEAVED", 5, 42)])
 def test_bytes_per_image_for_each_band_storage(storage, stored_lines, line_bytes):
-    from pdsgen.validate.image_rules import layout, object_bytes
+    from pdsgen.validate.families.image_rules import layout, object_bytes
 
     block = _image_block(storage)
     assert object_bytes(block) == 5 * 7 * 3 * 2

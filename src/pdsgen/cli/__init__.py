@@ -13,19 +13,22 @@ import sys
 import warnings
 
 import click
+from click.shell_completion import CompletionItem
 
 from .. import __version__
 from ..errors import PdsgenError
 from ..label.data_dictionary import shipped_version as shipped_dictionary_version
 
-# command name -> module (under pdsgen.cli) defining a click command of that name
+# command name (also its module under pdsgen.cli) -> the one-line help `pdsgen --help`
+# and shell completion show. Kept here, and used by each command's decorator, so that
+# listing or completing commands imports none of them (a Tab press stays instant).
 COMMANDS = {
-    "dtm": "dtm",
-    "ortho": "ortho",
-    "demo": "demo",
-    "extras": "extras",
-    "validate": "validate",
-    "batch": "batch",
+    "batch": "Make many products from a TOML manifest, on Dask.",
+    "demo": "Make every product from a built-in synthetic Mars scene.",
+    "dtm": "Make a PDS3 DTM (.IMG with attached label).",
+    "extras": "Make preview JPEGs, orthoimage quick-look JP2s and README.TXT.",
+    "ortho": "Make a PDS3 orthoimage (.JP2 + detached .LBL).",
+    "validate": "Check PDS3 labels, label sets and their data.",
 }
 
 
@@ -38,8 +41,19 @@ class _Group(click.Group):
     def get_command(self, ctx: click.Context, name: str) -> click.Command | None:
         if name not in COMMANDS:
             return None
-        module = importlib.import_module(f"{__name__}.{COMMANDS[name]}")
+        module = importlib.import_module(f"{__name__}.{name}")
         return getattr(module, name.replace("-", "_"))
+
+    def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+        """The command list from COMMANDS, without importing every command module."""
+        with formatter.section("Commands"):
+            formatter.write_dl([(name, COMMANDS[name]) for name in self.list_commands(ctx)])
+
+    def shell_complete(self, ctx: click.Context, incomplete: str) -> list[CompletionItem]:
+        """Command names (with their help) from COMMANDS, then the group's own options."""
+        names = [CompletionItem(name, help=COMMANDS[name])
+                 for name in self.list_commands(ctx) if name.startswith(incomplete)]
+        return names + click.Command.shell_complete(self, ctx, incomplete)
 
     def main(self, *args, **kwargs):
         """Usage errors as one line (click's default is a usage block of several lines)."""

@@ -9,9 +9,10 @@ import click
 
 from ..batch import ManifestError, Settings, load_manifest, plan, run
 from ..batch.cluster import local_workers
+from . import COMMANDS
 
 
-@click.command(short_help="Make many products from a TOML manifest, on Dask.")
+@click.command(short_help=COMMANDS["batch"])
 @click.argument("manifest", required=False, type=click.Path(dir_okay=False))
 @click.option("-o", "--outdir", type=click.Path(file_okay=False),
               help="Batch output directory [default: the manifest's [batch] outdir].")

@@ -5,10 +5,11 @@ from __future__ import annotations
 import click
 
 from ..demo import run_demo
+from . import COMMANDS
 from ._output import Outcome, files_summary, output_options
 
 
-@click.command(short_help="Make every product from a built-in synthetic Mars scene.")
+@click.command(short_help=COMMANDS["demo"])
 @output_options
 @click.argument("outdir", type=click.Path(file_okay=False), default="out/demo")
 def demo(outdir: str) -> Outcome:

@@ -10,6 +10,7 @@ import click
 from ..pds4.model import LABEL_DIALECTS
 from ..products.dtm import DtmProduct, write_dtm
 from ..profiles import profile_names
+from . import COMMANDS
 from ._output import Outcome, output_options, product_summary
 from ._profile_options import label_fidelity_options, profile_options, refuse_unused_options
 
@@ -23,7 +24,7 @@ USED_BY_PROFILE = {
 }
 
 
-@click.command(short_help="Make a PDS3 DTM (.IMG with attached label).")
+@click.command(short_help=COMMANDS["dtm"])
 @output_options
 @click.argument("input_path", metavar="INPUT", type=click.Path(dir_okay=False))
 @click.option("-o", "--outdir", required=True, type=click.Path(file_okay=False), help="Output directory.")

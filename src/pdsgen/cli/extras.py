@@ -8,10 +8,11 @@ import click
 
 from ..extras import KINDS, make_extras
 from ..profiles import profile_names
+from . import COMMANDS
 from ._output import Outcome, files_summary, output_options
 
 
-@click.command(short_help="Make preview JPEGs, orthoimage quick-look JP2s and README.TXT.")
+@click.command(short_help=COMMANDS["extras"])
 @output_options
 @click.argument("products", metavar="PRODUCT...", nargs=-1, required=True,
                 type=click.Path(dir_okay=False))

@@ -10,6 +10,7 @@ import click
 from ..pds4.model import LABEL_DIALECTS
 from ..products.ortho import OrthoProduct, write_ortho
 from ..profiles import profile_names
+from . import COMMANDS
 from ._output import Outcome, output_options, product_summary
 from ._profile_options import label_fidelity_options, profile_options, refuse_unused_options
 
@@ -22,7 +23,7 @@ USED_BY_PROFILE = {
 }
 
 
-@click.command(short_help="Make a PDS3 orthoimage (.JP2 + detached .LBL).")
+@click.command(short_help=COMMANDS["ortho"])
 @output_options
 @click.argument("input_path", metavar="INPUT", type=click.Path(dir_okay=False))
 @click.option("-o", "--outdir", required=True, type=click.Path(file_okay=False), help="Output directory.")

@@ -16,6 +16,7 @@ from ..validate import rules
 from ..validate.dictionary import version as dictionary_version
 from ..validate.report import FORMATS, Tally, write_stream
 from ..validate.runner import iter_reports, terminal_progress
+from . import COMMANDS
 
 SEVERITY_POLICY = (
     "Severity policy: ERROR = a reader would misread the data, or the label breaks a hard "
@@ -54,7 +55,7 @@ def _output(path: str | None):
         raise
 
 
-@click.command(short_help="Check PDS3 labels, label sets and their data.")
+@click.command(short_help=COMMANDS["validate"])
 @click.argument("paths", nargs=-1, type=click.Path())
 @click.option("--format", "fmt", type=click.Choice(FORMATS), default="text", show_default=True,
               help="Report format: text for people; json, junit, sarif (code scanning) or github "

@@ -67,13 +67,13 @@ HRSC_SPHERE_M = hrsc_mission.SPHERE_M
 HRSC_CREDIT = hrsc_mission.CREDIT
 
 
-@dataclass(frozen=True)
-class HrscDtmProduct:
+@dataclass(frozen=True, kw_only=True)
+class HrscProduct:
+    """What both HRSC level-4 products have: one file (VICAR header + PDS3 label + data)."""
+
     product_id: str
     path: Path
     geometry: MapGeometry
-    kind: str
-    encoding: Int16Encoding
     valid_minimum: int
     valid_maximum: int
     label_text: str
@@ -83,6 +83,12 @@ class HrscDtmProduct:
     def files(self) -> tuple[Path, ...]:
         """Every file this product wrote."""
         return (self.path,)
+
+
+@dataclass(frozen=True, kw_only=True)
+class HrscDtmProduct(HrscProduct):
+    kind: str
+    encoding: Int16Encoding
 
 
 def hrsc_target_crs(dataset: DatasetReader) -> CRS:
@@ -224,8 +230,9 @@ def write_hrsc_dtm(
             _write_vicar_description(staged, final)
             warnings = check_label(pds_label_part(text), final.name,
                                    allow_deviations=allows_deviations(allow_dictionary_deviations, keywords))
-    return HrscDtmProduct(final_id, final, geometry, kind, encoding, _as_int(stats.minimum),
-                          _as_int(stats.maximum), pds_label_part(text), warnings)
+    return HrscDtmProduct(product_id=final_id, path=final, geometry=geometry, kind=kind, encoding=encoding,
+                          valid_minimum=_as_int(stats.minimum), valid_maximum=_as_int(stats.maximum),
+                          label_text=pds_label_part(text), warnings=warnings)
 
 
 @contextmanager
@@ -273,22 +280,10 @@ def hrsc_identification(
     }
 
 
-@dataclass(frozen=True)
-class HrscImageProduct:
-    product_id: str
-    path: Path
-    geometry: MapGeometry
+@dataclass(frozen=True, kw_only=True)
+class HrscImageProduct(HrscProduct):
     scaling_factor: float
     offset: float
-    valid_minimum: int
-    valid_maximum: int
-    label_text: str
-    warnings: tuple[str, ...] = ()  # dictionary deviations kept (--allow-dictionary-deviations)
-
-    @property
-    def files(self) -> tuple[Path, ...]:
-        """Every file this product wrote."""
-        return (self.path,)
 
 
 def write_hrsc_nd4(
@@ -355,8 +350,10 @@ def write_hrsc_nd4(
             _write_vicar_description(staged, final)
             warnings = check_label(pds_label_part(text), final.name,
                                    allow_deviations=allows_deviations(allow_dictionary_deviations, keywords))
-    return HrscImageProduct(context["product_id"], final, geometry, mapping.scaling_factor, mapping.offset,
-                            _as_int(stats.minimum), _as_int(stats.maximum), pds_label_part(text), warnings)
+    return HrscImageProduct(product_id=context["product_id"], path=final, geometry=geometry,
+                            scaling_factor=mapping.scaling_factor, offset=mapping.offset,
+                            valid_minimum=_as_int(stats.minimum), valid_maximum=_as_int(stats.maximum),
+                            label_text=pds_label_part(text), warnings=warnings)
 
 
 def _vicar_description(product: Path) -> list[Path]:

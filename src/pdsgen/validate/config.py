@@ -96,9 +96,9 @@ def _path_matches(path: str, pattern: str) -> bool:
 
 
 def known_names() -> set[str]:
-    from .rules import FAMILIES, rules
+    from .registry import families, rules
 
-    return set(rules()) | set(FAMILIES)
+    return set(rules()) | set(families())
 
 
 def _check_names(names: Iterable[str], where: str) -> frozenset[str]:

@@ -79,9 +79,9 @@ def parse_pointer(stmt: Statement) -> Pointer:
         if v.kind != "int":
             return "invalid", None, None
         if v.unit is None:
-            return "record", v.py, None  # type: ignore[return-value]
+            return "record", int(v.number), None
         if v.unit.upper() == "BYTES":
-            return "bytes", None, v.py  # type: ignore[return-value]
+            return "bytes", None, int(v.number)
         return "invalid", None, None
 
     if val.kind in _NAME_KINDS and val.items is None:

@@ -44,6 +44,13 @@ class Value:
         return self.kind in ("int", "real", "based")
 
     @property
+    def number(self) -> int | float:
+        """The value of an int, real or based value (checks test `is_number` first)."""
+        if self.is_number and isinstance(self.py, (int, float)):
+            return self.py
+        raise ValueError(f"{self.raw} is not a number")
+
+    @property
     def text(self) -> str:
         """The value as a string (quotes removed), for comparisons of names."""
         return self.py if isinstance(self.py, str) else self.raw
@@ -128,7 +135,7 @@ class Block:
         val = self.value(key)
         if val is None or not val.is_number:
             return None
-        return val.py  # type: ignore[return-value]
+        return val.number
 
     def text(self, key: str) -> str | None:
         val = self.value(key)

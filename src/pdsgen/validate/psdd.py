@@ -20,7 +20,7 @@ _UNIT_LIST = re.compile(r"^OBJECT = UNIT_LIST\s*$(.*?)^END_OBJECT = UNIT_LIST", 
 
 
 def _number(value: Value | None) -> float | int | None:
-    return value.py if value is not None and value.is_number else None  # type: ignore[return-value]
+    return value.number if value is not None and value.is_number else None
 
 
 def element(text: str) -> tuple[str, dict] | None:

@@ -12,7 +12,7 @@ def number(block: Block, key: str) -> float | None:
     val = block.value(key)
     if val is None or not val.is_number:
         return None
-    return float(val.py)  # type: ignore[arg-type]
+    return float(val.number)
 
 
 def kilometres(block: Block, key: str) -> float | None:

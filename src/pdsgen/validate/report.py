@@ -303,7 +303,7 @@ class SarifWriter(Writer):
 
     def start(self) -> None:
         from .. import __version__
-        from .rules import rules
+        from .registry import rules
 
         driver = {
             "name": "pdsgen validate",

@@ -25,11 +25,11 @@ from .config import Baseline, Settings
 from .context import FileContext
 from .dictionary import load as load_dictionary
 from .dictionary import version as dictionary_version
+from .families.set_rules import Summary, summarise
 from .imars_context import ImarsContext, is_imars_metadata
 from .model import Finding
+from .registry import rules
 from .report import FileReport, Report
-from .rules import rules
-from .set_rules import Summary, summarise
 
 LABEL_SUFFIXES = (".lbl",)
 _SNIFF = (b"PDS_VERSION_ID", b"CCSD3")
@@ -171,7 +171,7 @@ def _run_rules(ctx: FileContext | ImarsContext, path: Path, target: str, labels_
         if rule.check is None or rule.target != target or (labels_only and rule.needs_data):
             continue
         try:
-            for hit in rule.check(ctx):  # type: ignore[arg-type]
+            for hit in rule.check(ctx):
                 findings.append(Finding(rule.id, hit.severity or rule.severity, hit.file or str(path),
                                         hit.message, hit.line, hit.keyword))
         except Exception as exc:  # a check must never turn odd input into a traceback

@@ -15,12 +15,13 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .context import REFERENCE_POINTERS, FileContext
-from .model import Hit
-from .profiles import hrsc_orbit, is_hirise, is_hrsc
-from .projection import normalise
-from .quantities import kilometres as _km
-from .quantities import number as _num
+from ..context import REFERENCE_POINTERS, FileContext
+from ..model import Hit
+from ..profiles import hrsc_orbit, is_hirise, is_hrsc
+from ..projection import normalise
+from ..quantities import kilometres as _km
+from ..quantities import number as _num
+from ..registry import Rule, register
 
 # Product ids of a HiRISE-style DTM set (pds3-products.md section 3): a reference of this
 # form in SOURCE_PRODUCT_ID names a product that must be in the same set.
@@ -270,3 +271,17 @@ def _names(directory: Path) -> set[str]:
         return set(os.listdir(directory))
     except OSError:
         return set()
+
+
+register(
+    Rule("SET-001", "error", "related products (an ortho and its DTM, one stereo pair, one HRSC orbit) "
+         "share projection parameters", None, set_check=check_projections),
+    Rule("SET-002", "error", "PRODUCT_ID matches the file name (HiRISE, HRSC and pdsgen products)",
+         check_product_id),
+    Rule("SET-003", "error", "SOURCE_PRODUCT_ID references to products of the set resolve", None,
+         set_check=check_sources),
+    Rule("SET-004", "warning", "a delivery set has README.TXT and browse JPEGs (Extras)", None,
+         set_check=check_extras),
+    Rule("SET-005", "warning", "a product label describes data: a data pointer or an OBJECT "
+         "(*.FMT/*.CAT and labels others include are exempt)", None, set_check=check_describes_data),
+)

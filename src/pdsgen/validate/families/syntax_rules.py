@@ -8,9 +8,10 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 
-from ..label.grammar import IDENTIFIER_RE
-from .context import FileContext
-from .model import Hit
+from ...label.grammar import IDENTIFIER_RE
+from ..context import FileContext
+from ..model import Hit
+from ..registry import Rule, register
 
 _IDENT = IDENTIFIER_RE
 
@@ -54,3 +55,31 @@ def check_unquoted(ctx: FileContext) -> Iterator[Hit]:
                     yield Hit(f"{stmt.key} = {value.raw}: unquoted value is not an identifier; "
                               f'write "{value.raw}"', stmt.line, stmt.key)
                     break
+
+
+register(
+    Rule("SYNTAX-001", "error", "statements parse: KEYWORD = value, quotes and brackets closed",
+         from_reader("SYNTAX-001")),
+    Rule("SYNTAX-002", "error", "keyword names are identifiers: a letter, then letters, digits and _",
+         from_reader("SYNTAX-002")),
+    Rule("SYNTAX-015", "warning", "keyword names have at most 30 characters (pointer names may be "
+         "longer: ^DATA_SET_MAP_PROJECTION_CATALOG)", from_reader("SYNTAX-015")),
+    Rule("SYNTAX-003", "warning", "keywords are upper case", from_reader("SYNTAX-003")),
+    Rule("SYNTAX-004", "error", "a keyword appears once within its object", check_duplicates),
+    Rule("SYNTAX-005", "error", "OBJECT/END_OBJECT and GROUP/END_GROUP balance and match",
+         from_reader("SYNTAX-005")),
+    Rule("SYNTAX-006", "info", "END_OBJECT/END_GROUP repeat the object name", from_reader("SYNTAX-006")),
+    Rule("SYNTAX-007", "error", "based integers are 2#..#, 8#..# or 16#..# with valid digits",
+         from_reader("SYNTAX-007")),
+    Rule("SYNTAX-008", "error", "dates and times are valid CCYY-MM-DDThh:mm:ss.sss / CCYY-DDD",
+         from_reader("SYNTAX-008")),
+    Rule("SYNTAX-009", "error", "every keyword has a value", from_reader("SYNTAX-009")),
+    Rule("SYNTAX-010", "warning", "unquoted values are identifiers (else quote them)",
+         check_unquoted),
+    Rule("SYNTAX-011", "error", "units are not empty", from_reader("SYNTAX-011")),
+    Rule("SYNTAX-012", "warning", "no ';' statement terminators (PVL, not PDS3)", from_reader("SYNTAX-012")),
+    Rule("SYNTAX-013", "warning", "values are not empty (\"\" or ()); an empty set {} is valid ODL",
+         from_reader("SYNTAX-013")),
+    Rule("SYNTAX-014", "warning", "a <unit> follows its value on the same line (pvl reads it either way)",
+         from_reader("SYNTAX-014")),
+)

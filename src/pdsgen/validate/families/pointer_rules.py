@@ -11,11 +11,12 @@ import os
 from collections.abc import Iterator
 from pathlib import Path
 
-from .context import FileContext, Pointer
+from ..context import FileContext, Pointer
+from ..lexer import parse_label
+from ..model import Hit, Label
+from ..registry import Rule, register
 from .file_rules import padding_bytes
 from .image_rules import object_bytes
-from .lexer import parse_label
-from .model import Hit, Label
 
 
 def _kw(ptr: Pointer) -> str:
@@ -61,8 +62,8 @@ def check_target_case(ctx: FileContext) -> Iterator[Hit]:
 
 
 def _lowest_attached(ctx: FileContext) -> tuple[Pointer, int] | None:
-    found = [(p, ctx.pointer_offset(p)) for p in ctx.data_pointers() if p.attached]
-    found = [(p, o) for p, o in found if o is not None]
+    offsets = ((p, ctx.pointer_offset(p)) for p in ctx.data_pointers() if p.attached)
+    found = [(p, o) for p, o in offsets if o is not None]
     return min(found, key=lambda po: po[1]) if found else None
 
 
@@ -182,12 +183,12 @@ def check_label_records(ctx: FileContext) -> Iterator[Hit]:
     unit = (val.unit or "").upper()
     rb = ctx.record_bytes
     if unit == "BYTES":
-        label_space = val.py
+        label_space = int(val.number)
     elif rb is None:
         return
     else:
-        label_space = val.py * rb  # type: ignore[operator]
-    if label_space < ctx.label.label_end:  # type: ignore[operator]
+        label_space = int(val.number) * rb
+    if label_space < ctx.label.label_end:
         yield Hit(f"LABEL_RECORDS gives {label_space} bytes but the label text takes "
                   f"{ctx.label.label_end}", stmt.line, "LABEL_RECORDS")
     lowest = _lowest_attached(ctx)
@@ -262,7 +263,7 @@ def check_uncompressed_records(ctx: FileContext) -> Iterator[Hit]:
         if isinstance(rb, int) and isinstance(fr, int) and need is not None and rb * fr != need:
             stmt = block.get("FILE_RECORDS")
             yield Hit(f"{block.name}: RECORD_BYTES x FILE_RECORDS = {rb} x {fr} = {rb * fr} bytes, but "
-                      f"its {image.name} holds {need} bytes (LINES x LINE_SAMPLES x BANDS x "  # type: ignore[union-attr]
+                      f"its {image.name} holds {need} bytes (LINES x LINE_SAMPLES x BANDS x "
                       "sample bytes)", stmt.line if stmt else block.line, "FILE_RECORDS")
 
 
@@ -355,3 +356,38 @@ def check_include_loops(ctx: FileContext) -> Iterator[Hit]:
                 continue
             reported.add(text)
             yield Hit(f"^STRUCTURE include loop: {text}", line, "^STRUCTURE")
+
+
+register(
+    Rule("PTR-001", "error", "pointers have a PDS3 form: n, n <BYTES>, \"F\", (\"F\", n)",
+         check_pointer_form),
+    Rule("PTR-002", "error", "files named by data pointers exist", check_target_exists,
+         needs_data=True),
+    Rule("PTR-003", "error", "files named by pointers match in case", check_target_case,
+         needs_data=True),
+    Rule("PTR-004", "error", "attached data do not start inside the label text",
+         check_start_inside_label),
+    Rule("PTR-005", "error", "no data between the label's END and the pointed start byte",
+         check_start_blank_gap),
+    Rule("PTR-006", "info", "attached data begin with blanks (start may be later)",
+         check_start_possible, needs_data=True),
+    Rule("PTR-007", "error", "^STRUCTURE includes do not loop back", check_include_loops,
+         needs_data=True),
+    Rule("PTR-008", "warning", "an attached label's file holds its data (not a label-only copy; "
+         "data checks are skipped for one)", check_data_present),
+    Rule("REC-001", "error", "RECORD_TYPE = FIXED_LENGTH comes with RECORD_BYTES",
+         check_record_bytes_present),
+    Rule("REC-002", "error", "RECORD_BYTES x FILE_RECORDS equals the file size", check_file_size,
+         needs_data=True),
+    Rule("REC-003", "error", "LABEL_RECORDS hold the label and end where attached data start",
+         check_label_records),
+    Rule("REC-004", "error", "REQUIRED_STORAGE_BYTES = RECORD_BYTES x FILE_RECORDS of the image",
+         check_required_storage),
+    Rule("REC-005", "error", "objects fit in RECORD_BYTES x FILE_RECORDS", check_object_fits_records),
+    Rule("REC-006", "error", "the data file holds every byte of each object (not truncated)",
+         check_object_in_file, needs_data=True),
+    Rule("REC-007", "error", "an UNCOMPRESSED_FILE's records hold exactly its IMAGE",
+         check_uncompressed_records),
+    Rule("REC-008", "error", "FILE_RECORDS no larger than the described objects need",
+         check_records_accounted),
+)

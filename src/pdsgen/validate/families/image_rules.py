@@ -14,10 +14,11 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from ..label.grammar import DATA_TYPES, SAMPLE_TYPES, SPECIAL_CONSTANTS
-from .context import FileContext
-from .datastats import Layout, Stats, image_stats
-from .model import Block, Hit, Value
+from ...label.grammar import DATA_TYPES, SAMPLE_TYPES, SPECIAL_CONSTANTS
+from ..context import FileContext
+from ..datastats import Layout, Stats, image_stats
+from ..model import Block, Hit, Value
+from ..registry import Rule, register
 
 _TYPES = SAMPLE_TYPES
 _EXCLUDED = SPECIAL_CONSTANTS  # values left out of the statistics
@@ -114,7 +115,7 @@ def check_bit_mask(ctx: FileContext) -> Iterator[Hit]:
         mask, bits = block.get("SAMPLE_BIT_MASK"), block.number("SAMPLE_BITS")
         if mask is None or not isinstance(bits, int) or not mask.value.is_number:
             continue
-        value = int(mask.value.py)  # type: ignore[arg-type]
+        value = int(mask.value.number)
         if value < 0 or value >= 1 << bits:
             yield Hit(f"SAMPLE_BIT_MASK {mask.value.raw} has bits beyond SAMPLE_BITS = {bits}",
                       mask.line, "SAMPLE_BIT_MASK")
@@ -132,26 +133,26 @@ def constant_value(val: Value, dtype: np.dtype) -> tuple[float | None, str | Non
     bits = dtype.itemsize * 8
     if dtype.kind == "f":
         if val.kind == "based":
-            pattern = int(val.py)  # type: ignore[arg-type]
+            pattern = int(val.number)
             if pattern < 0 or pattern >= 1 << bits:
                 return None, f"bit pattern {val.raw} does not fit {bits}-bit samples"
             fmt = ">I" if bits == 32 else ">Q"
             return struct.unpack(">f" if bits == 32 else ">d", struct.pack(fmt, pattern))[0], None
-        number = float(val.py)  # type: ignore[arg-type]
+        number = float(val.number)
         if bits == 32 and math.isfinite(number) and abs(number) > float(np.finfo(np.float32).max):
             return None, f"{val.raw} is beyond the float32 range"
         return number, None
     info = np.iinfo(dtype)
-    number = val.py
+    number = val.number
     if val.kind == "real":
-        if not float(number).is_integer():  # type: ignore[arg-type]
+        if not float(number).is_integer():
             return None, f"{val.raw} is not an integer, samples are {dtype.kind}int{bits}"
-        number = int(number)  # type: ignore[arg-type]
-    if val.kind == "based" and dtype.kind == "i" and int(number) >= 1 << (bits - 1):  # type: ignore[arg-type]
-        number = int(number) - (1 << bits) if int(number) < 1 << bits else number  # type: ignore[arg-type]
-    if not info.min <= int(number) <= info.max:  # type: ignore[arg-type]
+        number = int(number)
+    if val.kind == "based" and dtype.kind == "i" and int(number) >= 1 << (bits - 1):
+        number = int(number) - (1 << bits) if int(number) < 1 << bits else number
+    if not info.min <= int(number) <= info.max:
         return None, f"{val.raw} is outside {info.min}..{info.max} of the sample type"
-    return float(number), None  # type: ignore[arg-type]
+    return float(number), None
 
 
 def check_constants(ctx: FileContext) -> Iterator[Hit]:
@@ -166,7 +167,7 @@ def check_constants(ctx: FileContext) -> Iterator[Hit]:
                 continue
             value, problem = constant_value(stmt.value, dtype)
             if (problem is None and value is not None and dtype.kind == "u" and mask is not None
-                    and mask.is_number and int(value) & ~int(mask.py) != 0):  # type: ignore[arg-type]
+                    and mask.is_number and int(value) & ~int(mask.number) != 0):
                 problem = f"{stmt.value.raw} has bits outside SAMPLE_BIT_MASK {mask.raw}"
             if problem:
                 yield Hit(f"{key}: {problem} ({block.text('SAMPLE_TYPE')}, "
@@ -295,3 +296,20 @@ def check_moments(ctx: FileContext) -> Iterator[Hit]:
                 continue
             if not _matches(float(stmt.value.py), data, block, 1e-3):  # type: ignore[arg-type]
                 yield Hit(f"{key} = {stmt.value.raw} but the data give {data:.6g}", stmt.line, key)
+
+
+register(
+    Rule("IMG-001", "error", "IMAGE objects have LINES, LINE_SAMPLES, SAMPLE_TYPE, SAMPLE_BITS",
+         check_required),
+    Rule("IMG-002", "error", "SAMPLE_TYPE is known and fits SAMPLE_BITS", check_sample_type),
+    Rule("IMG-003", "error", "SAMPLE_BIT_MASK has no bits beyond SAMPLE_BITS", check_bit_mask),
+    Rule("IMG-004", "error", "special constants are representable in the sample type",
+         check_constants),
+    Rule("IMG-005", "error", "VALID_MINIMUM <= VALID_MAXIMUM", check_valid_range_order),
+    Rule("IMG-006", "error", "BAND_STORAGE_TYPE is a PDS3 storage type", check_band_storage,
+         note="warning for a standard type spelled with spaces (BAND SEQUENTIAL)"),
+    Rule("IMG-007", "error", "VALID_MINIMUM/MAXIMUM and MINIMUM/MAXIMUM match the data",
+         check_extremes, needs_data=True),
+    Rule("IMG-008", "warning", "MEAN and STANDARD_DEVIATION match the data", check_moments,
+         needs_data=True),
+)

@@ -18,15 +18,16 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 
-from ..label.grammar import PLACEHOLDERS
-from ..missions.hrsc import AREOID_DESC, NOT_APPLICABLE, POLAR_LIMIT_DEG, SPHERE_DESC, SPHERE_KM
-from .context import FileContext
+from ...label.grammar import PLACEHOLDERS
+from ...missions.hrsc import AREOID_DESC, NOT_APPLICABLE, POLAR_LIMIT_DEG, SPHERE_DESC, SPHERE_KM
+from ..context import FileContext
+from ..model import Block, Hit, Statement
+from ..profiles import hrsc_kind, is_hrsc
+from ..projection import normalise
+from ..quantities import kilometres as _km
+from ..registry import Rule, register
 from .image_rules import is_image
 from .map_rules import geometry
-from .model import Block, Hit, Statement
-from .profiles import hrsc_kind, is_hrsc
-from .projection import normalise
-from .quantities import kilometres as _km
 
 HRSC_SPHERE_KM = SPHERE_KM
 NOT_SET = NOT_APPLICABLE  # HRSC's "not applicable" number
@@ -63,7 +64,7 @@ def _same(a: float, b: float) -> bool:
 def _num(stmt: Statement | None) -> float | None:
     if stmt is None or not stmt.value.is_number:
         return None
-    return float(stmt.value.py)  # type: ignore[arg-type]
+    return float(stmt.value.number)
 
 
 def check_missing_dn(ctx: FileContext) -> Iterator[Hit]:
@@ -73,10 +74,10 @@ def check_missing_dn(ctx: FileContext) -> Iterator[Hit]:
         return
     ours, theirs = group.get("MEX:DTM_MISSING_DN"), image.get("MISSING_CONSTANT")
     a, b = _num(ours), _num(theirs)
-    if a is not None and b is not None and not _same(a, b):
-        yield Hit(f"MEX:DTM_MISSING_DN = {ours.value.raw} but the IMAGE's MISSING_CONSTANT = "  # type: ignore[union-attr]
-                  f"{theirs.value.raw} (line {theirs.line}); expected MEX:DTM_MISSING_DN = "  # type: ignore[union-attr]
-                  f"{theirs.value.raw}", ours.line, "MEX:DTM_MISSING_DN")  # type: ignore[union-attr]
+    if ours is not None and theirs is not None and a is not None and b is not None and not _same(a, b):
+        yield Hit(f"MEX:DTM_MISSING_DN = {ours.value.raw} but the IMAGE's MISSING_CONSTANT = "
+                  f"{theirs.value.raw} (line {theirs.line}); expected MEX:DTM_MISSING_DN = "
+                  f"{theirs.value.raw}", ours.line, "MEX:DTM_MISSING_DN")
 
 
 def check_scaling(ctx: FileContext) -> Iterator[Hit]:
@@ -87,10 +88,10 @@ def check_scaling(ctx: FileContext) -> Iterator[Hit]:
     for key in ("SCALING_FACTOR", "OFFSET"):
         ours, theirs = group.get(f"MEX:DTM_{key}"), image.get(key)
         a, b = _num(ours), _num(theirs)
-        if a is not None and b is not None and not _same(a, b):
-            yield Hit(f"MEX:DTM_{key} = {ours.value.raw} but the IMAGE's {key} = {theirs.value.raw} "  # type: ignore[union-attr]
-                      f"(line {theirs.line}): heights read through the group and through the IMAGE "  # type: ignore[union-attr]
-                      f"differ; expected MEX:DTM_{key} = {theirs.value.raw}", ours.line,  # type: ignore[union-attr]
+        if ours is not None and theirs is not None and a is not None and b is not None and not _same(a, b):
+            yield Hit(f"MEX:DTM_{key} = {ours.value.raw} but the IMAGE's {key} = {theirs.value.raw} "
+                      f"(line {theirs.line}): heights read through the group and through the IMAGE "
+                      f"differ; expected MEX:DTM_{key} = {theirs.value.raw}", ours.line,
                       f"MEX:DTM_{key}")
 
 
@@ -104,6 +105,8 @@ def check_desc_radii(ctx: FileContext) -> Iterator[Hit]:
     if group is None or not _describes_dtm(group):
         return
     desc, stmt = _desc(group)
+    if stmt is None:
+        return
     if desc == SPHERE_DESC:
         expected, wanted = HRSC_SPHERE_KM, "3396.0 <KM> (the sphere the heights are above)"
     elif desc == AREOID_DESC:
@@ -113,7 +116,7 @@ def check_desc_radii(ctx: FileContext) -> Iterator[Hit]:
     wrong = [(k, r) for k, r in _radii(group) if r is not None and not _same(r, expected)]
     if wrong:
         found = ", ".join(f"MEX:DTM_{k}_AXIS_RADIUS = {r:g}" for k, r in wrong)
-        yield Hit(f"MEX:DTM_DESC = \"{desc}\" but {found}; expected {wanted}", stmt.line,  # type: ignore[union-attr]
+        yield Hit(f"MEX:DTM_DESC = \"{desc}\" but {found}; expected {wanted}", stmt.line,
                   "MEX:DTM_DESC")
 
 
@@ -124,15 +127,15 @@ def check_desc_file_name(ctx: FileContext) -> Iterator[Hit]:
     if group is None or kind is None:
         return
     desc, stmt = _desc(group)
-    if desc is None:
+    if desc is None or stmt is None:
         return
     expected = _DESC_BY_KIND.get(kind)
     if expected is not None and desc != expected:
         yield Hit(f"MEX:DTM_DESC = \"{desc}\" but the file name {ctx.path.name} says {kind.upper()} "
-                  f"(expected \"{expected}\")", stmt.line, "MEX:DTM_DESC")  # type: ignore[union-attr]
+                  f"(expected \"{expected}\")", stmt.line, "MEX:DTM_DESC")
     elif expected is None and desc not in _PLACEHOLDERS:
         yield Hit(f"MEX:DTM_DESC = \"{desc}\" describes heights but the file name {ctx.path.name} says "
-                  f"{kind.upper()}, not a DTM (DT4 or DA4); expected \"N/A\"", stmt.line,  # type: ignore[union-attr]
+                  f"{kind.upper()}, not a DTM (DT4 or DA4); expected \"N/A\"", stmt.line,
                   "MEX:DTM_DESC")
 
 
@@ -191,3 +194,18 @@ def check_projection_by_latitude(ctx: FileContext) -> Iterator[Hit]:
                       f"convention there is {expected.replace('_', ' ')} (sinusoidal within "
                       f"+-{POLAR_LIMIT_DEG:g} deg, polar stereographic poleward)", stmt.line,
                       "MAP_PROJECTION_TYPE")
+
+
+register(
+    Rule("HRSC-001", "error", "MEX:DTM_MISSING_DN equals the IMAGE's MISSING_CONSTANT",
+         check_missing_dn),
+    Rule("HRSC-002", "error", "MEX:DTM_SCALING_FACTOR/OFFSET equal the IMAGE's SCALING_FACTOR/OFFSET",
+         check_scaling),
+    Rule("HRSC-003", "error", "MEX:DTM_DESC agrees with the MEX:DTM radii (3396.0 sphere, -1e+32 areoid)",
+         check_desc_radii),
+    Rule("HRSC-004", "error", "MEX:DTM_DESC agrees with the file name (_dt4 sphere, _da4 areoid)",
+         check_desc_file_name),
+    Rule("HRSC-005", "error", "the map reference body is the 3396.0 km sphere", check_reference_body),
+    Rule("HRSC-006", "warning", "sinusoidal within +-85 deg centre latitude, polar stereographic poleward",
+         check_projection_by_latitude),
+)

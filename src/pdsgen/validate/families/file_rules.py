@@ -11,9 +11,10 @@ from __future__ import annotations
 import re
 from collections.abc import Iterator
 
-from ..label.grammar import MAX_LINE_CHARS
-from .context import FileContext
-from .model import Hit
+from ...label.grammar import MAX_LINE_CHARS
+from ..context import FileContext
+from ..model import Hit
+from ..registry import Rule, register
 
 MAX_CONTENT = MAX_LINE_CHARS
 _MAX_REPORTED = 10
@@ -166,8 +167,8 @@ def check_tabs(ctx: FileContext) -> Iterator[Hit]:
 
 def padding_bytes(ctx: FileContext) -> tuple[int, bytes] | None:
     """(data start, bytes between the END line and the first attached object) if attached."""
-    starts = [ctx.pointer_offset(p) for p in ctx.data_pointers() if p.attached]
-    starts = [s for s in starts if s is not None]
+    offsets = (ctx.pointer_offset(p) for p in ctx.data_pointers() if p.attached)
+    starts = [s for s in offsets if s is not None]
     if not starts:
         return None
     start = min(starts)
@@ -191,3 +192,29 @@ def check_padding(ctx: FileContext) -> Iterator[Hit]:
     stripped = pad.strip(b" \r\n")
     if stripped and not stripped.strip(b"\x00"):
         yield Hit("label is padded with NUL bytes, expected spaces", len(ctx.label.lines))
+
+
+register(
+    Rule("FILE-001", "error", "label bytes are printable 7-bit ASCII", check_ascii),
+    Rule("FILE-002", "error", "lines end in CR LF (mixed ends, or LF in a file with attached data)",
+         check_line_ends_error),
+    Rule("FILE-003", "warning", "a detached label uses LF-only line ends", check_line_ends_warning),
+    Rule("FILE-004", "error", "a label line has at most 78 characters (80 bytes with CR LF)",
+         check_line_length, note="warning for labels pdsgen did not write, unless --strict: "
+         "NASA's PDS3 tools rate it so, and released HiRISE DTM labels have 91-character lines"),
+    Rule("FILE-005", "error", "a label padded to its records pads every line to RECORD_BYTES",
+         check_padded_lines),
+    Rule("FILE-006", "error", "PDS_VERSION_ID is the first statement (after a valid SFDU)",
+         check_first_statement, note="warning for SFDU-wrapped PDS version 2 labels (Voyager, "
+         "Galileo, Magellan volumes), which have no PDS_VERSION_ID"),
+    Rule("FILE-007", "error", "an END statement closes the label", check_end),
+    Rule("FILE-008", "warning", "the label is padded with spaces (not NUL)", check_padding),
+    Rule("FILE-009", "warning", "label lines contain no tab characters", check_tabs),
+    Rule("FILE-010", "error", "PDS_VERSION_ID = PDS3", check_version),
+    Rule("FILE-011", "error", "the file is not empty", check_empty),
+    # FILE-013 is reported by the runner for a file named on the command line
+    Rule("FILE-013", "error", "a file named for validation is a PDS3 label (not a JP2, TIFF, bare image)",
+         None),
+    # FILE-012 is reported by the runner itself when a file cannot be opened
+    Rule("FILE-012", "error", "the file can be read", None),
+)

@@ -13,8 +13,8 @@ import math
 from collections.abc import Iterator
 from pathlib import Path
 
-from .context import FileContext
-from .geojp2 import (
+from ..context import FileContext
+from ..geojp2 import (
     CT_NAMES,
     GEOG_SEMI_MAJOR,
     PROJ_CENTER_LAT,
@@ -27,12 +27,13 @@ from .geojp2 import (
     Jp2Info,
     read_jp2,
 )
+from ..model import Block, Hit
+from ..projection import normalise, projection_radius_key
+from ..quantities import kilometres as _km
+from ..quantities import metres_per_pixel as _scale_m
+from ..quantities import number as _num
+from ..registry import Rule, register
 from .image_rules import is_image
-from .model import Block, Hit
-from .projection import normalise, projection_radius_key
-from .quantities import kilometres as _km
-from .quantities import metres_per_pixel as _scale_m
-from .quantities import number as _num
 
 GEOTRANSFORM_TOLERANCE_PX = 1e-3
 
@@ -53,7 +54,7 @@ def _jp2(ctx: FileContext) -> tuple[Block, Path | None, Jp2Info | None, str | No
     if "_jp2" in ctx.cache:
         return ctx.cache["_jp2"]
     found = _compressed(ctx)
-    result = None
+    result: tuple[Block, Path | None, Jp2Info | None, str | None] | None = None
     if found is not None:
         block, name = found
         exact, other = ctx.resolve(name)
@@ -92,8 +93,8 @@ def check_header(ctx: FileContext) -> Iterator[Hit]:
     info, name = found[2], found[1].name  # type: ignore[union-attr]
     bits = image.number("SAMPLE_BITS")
     mask = image.value("SAMPLE_BIT_MASK")
-    if mask is not None and mask.is_number and int(mask.py) > 0:  # type: ignore[arg-type]
-        bits = int(mask.py).bit_length()  # type: ignore[arg-type]
+    if mask is not None and mask.is_number and int(mask.number) > 0:
+        bits = int(mask.number).bit_length()
     signed = "UNSIGNED" not in (image.text("SAMPLE_TYPE") or "UNSIGNED")
     for key, label_value, jp2_value in (
         ("LINES", image.number("LINES"), info.height),
@@ -155,10 +156,11 @@ def check_geotransform(ctx: FileContext) -> Iterator[Hit]:
             )
 
 
-def _center_longitude(keys: dict) -> float | None:
+def _center_longitude(keys: dict[int, object]) -> float | None:
     for key in (PROJ_CENTER_LONG, PROJ_NAT_ORIGIN_LONG, PROJ_STRAIGHT_VERT_POLE_LONG):
-        if key in keys:
-            return float(keys[key])  # type: ignore[arg-type]
+        value = keys.get(key)
+        if isinstance(value, (int, float)):
+            return float(value)
     return None
 
 
@@ -174,7 +176,8 @@ def check_projection(ctx: FileContext) -> Iterator[Hit]:
             continue
         problems = []
         ct = keys.get(PROJ_COORD_TRANS)
-        ct_name = CT_NAMES.get(ct, f"coordinate transformation {ct}")  # type: ignore[arg-type]
+        ct_name = CT_NAMES.get(ct, "") if isinstance(ct, int) else ""
+        ct_name = ct_name or f"coordinate transformation {ct}"
         label_name = "EQUIRECTANGULAR" if name in ("SIMPLE_CYLINDRICAL", "EQUIDISTANT") else name
         if ct is not None and ct_name != label_name and not (
             label_name == "POLAR_STEREOGRAPHIC" and ct_name == "STEREOGRAPHIC"
@@ -222,3 +225,19 @@ def check_std_parallel_key(ctx: FileContext) -> Iterator[Hit]:
         elif PROJ_STD_PARALLEL1 not in keys:
             yield Hit(f"GeoJP2 of {found[1].name} has no ProjStdParallel1GeoKey (3078) for the "  # type: ignore[union-attr]
                       f"standard parallel {lat!r}", block.line, "CENTER_LATITUDE")
+
+
+register(
+    Rule("GEO-001", "error", "the JP2 file opens and is a JPEG 2000 file", check_readable,
+         needs_data=True),
+    Rule("GEO-002", "error", "JP2 size, bands and precision agree with the label", check_header,
+         needs_data=True),
+    Rule("GEO-003", "warning", "the JP2 carries a GeoJP2 or GMLJP2 box", check_has_georef,
+         needs_data=True),
+    Rule("GEO-004", "error", "GeoJP2/GMLJP2 geotransform agrees with the label within 1e-3 px",
+         check_geotransform, needs_data=True),
+    Rule("GEO-005", "error", "GeoJP2 projection parameters agree with the label",
+         check_projection, needs_data=True),
+    Rule("GEO-006", "error", "equirectangular standard parallel in key 3078, not 3089",
+         check_std_parallel_key, needs_data=True),
+)

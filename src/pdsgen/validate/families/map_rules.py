@@ -16,14 +16,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .context import FileContext
+from ..context import FileContext
+from ..model import Block, Hit, Statement
+from ..profiles import is_hrsc
+from ..projection import GDAL_PROJECTIONS, SUPPORTED, Sphere, boundary, normalise, projection_radius_key
+from ..quantities import kilometres as _km
+from ..quantities import metres_per_pixel as _scale_m
+from ..quantities import number as _num
+from ..registry import Rule, register
 from .image_rules import is_image
-from .model import Block, Hit, Statement
-from .profiles import is_hrsc
-from .projection import GDAL_PROJECTIONS, SUPPORTED, Sphere, boundary, normalise, projection_radius_key
-from .quantities import kilometres as _km
-from .quantities import metres_per_pixel as _scale_m
-from .quantities import number as _num
 
 _REQUIRED = (
     "MAP_PROJECTION_TYPE",
@@ -423,3 +424,27 @@ check_convention_old = _offset_rule("MAP-005")
 check_not_checked = _offset_rule("MAP-009")
 check_bounds_imprecise = _offset_rule("MAP-010")
 check_convention_hrsc = _offset_rule("MAP-011")
+
+
+register(
+    Rule("MAP-001", "error", "IMAGE_MAP_PROJECTION has the keywords a reader needs",
+         check_required),
+    Rule("MAP-002", "error", "MAP_RESOLUTION = pi R / 180 / MAP_SCALE for the projection's radius",
+         check_resolution),
+    Rule("MAP-003", "error", "offsets agree with the latitude/longitude bounds (residual in px)",
+         check_offsets),
+    Rule("MAP-004", "info", "offset convention detected: standard", check_convention_standard),
+    Rule("MAP-005", "warning", "offset convention detected: older one-pixel-apart",
+         check_convention_old),
+    Rule("MAP-006", "error", "axis radii are positive and A >= B >= C", check_radii),
+    Rule("MAP-007", "error", "MAP_PROJECTION_TYPE is a projection GDAL knows",
+         check_projection_name, note="warning for a PDS3 projection GDAL does not georeference "
+         "(POINT_PERSPECTIVE, ORTHOGRAPHIC ...)"),
+    Rule("MAP-008", "error", "LINE/SAMPLE_LAST_PIXEL match the image size", check_last_pixel),
+    Rule("MAP-009", "info", "bounds not checked (projection without formulas here)",
+         check_not_checked),
+    Rule("MAP-010", "warning", "bounds within 1 px of the edges but not exact (imprecise bounds)",
+         check_bounds_imprecise),
+    Rule("MAP-011", "info", "offset convention detected: older one-pixel-apart, HRSC's own (DSMAP.CAT)",
+         check_convention_hrsc),
+)

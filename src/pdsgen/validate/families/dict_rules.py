@@ -9,11 +9,12 @@ from __future__ import annotations
 import re
 from collections.abc import Iterator
 
-from ..label.grammar import DATA_TYPES
-from .context import FileContext
-from .dictionary import NUMERIC_PLACEHOLDERS, PLACEHOLDERS
-from .lexer import date_problem
-from .model import Hit, Statement, Value
+from ...label.grammar import DATA_TYPES
+from ..context import FileContext
+from ..dictionary import NUMERIC_PLACEHOLDERS, PLACEHOLDERS
+from ..lexer import date_problem
+from ..model import Hit, Statement, Value
+from ..registry import Rule, register
 
 _LETTERS = re.compile(r"[A-Za-z ]+")
 _ALNUM = re.compile(r"[A-Za-z0-9 ]+")
@@ -178,7 +179,7 @@ def check_hrsc_not_applicable(ctx: FileContext) -> Iterator[Hit]:
     """Where a numeric "not applicable" value falls outside a keyword's range, say so as
     information instead of a range finding."""
     for stmt, entry, value in _defined(ctx):
-        if entry["type"] in _NUMERIC and _placeholder(ctx, value) and _out_of_range(entry, float(value.py)):
+        if entry["type"] in _NUMERIC and _placeholder(ctx, value) and _out_of_range(entry, float(value.number)):
             yield Hit(f"{stmt.keyword} = {value.raw}: a numeric 'not applicable' value "
                       "(outside the dictionary range by design)", value.line, stmt.keyword)
 
@@ -320,3 +321,30 @@ def check_placeholder(ctx: FileContext) -> Iterator[Hit]:
         for stmt in block.statements():
             if any(v.kind in ("string", "ident") and _norm(v) == "NULL" for v in stmt.value.scalars()):
                 yield Hit(f"{stmt.key} = NULL: a value still to be supplied", stmt.line, stmt.key)
+
+
+register(
+    Rule("DICT-001", "warning", "keywords are defined in the data dictionary or a mission namespace",
+         check_unknown),
+    Rule("DICT-002", "error", "values have the dictionary type of their keyword", check_type),
+    Rule("DICT-003", "warning", "numeric values lie within the dictionary range (in its unit)",
+         check_range, note="error in labels pdsgen writes and under --strict: its writers refuse them"),
+    Rule("DICT-004", "error", "values of closed (STATIC) value sets are standard values",
+         check_static_values),
+    Rule("DICT-013", "warning", "mission identity values (MISSION_NAME, INSTRUMENT_HOST_ID ...) are "
+         "registered in the shipped dictionary version", check_identity_values),
+    Rule("DICT-005", "warning", "values of SUGGESTED value sets are among the suggestions",
+         check_suggested_values),
+    Rule("DICT-010", "info", "values of DYNAMIC value sets not yet in the dictionary",
+         check_dynamic_values),
+    Rule("DICT-009", "info", "text keywords given unquoted numbers (readers accept them)",
+         check_number_for_text),
+    Rule("DICT-006", "warning", "value lengths lie within the dictionary minimum/maximum length",
+         check_length, note="error in labels pdsgen writes and under --strict: its writers refuse them"),
+    Rule("DICT-007", "warning", "units are known PDS units", check_units),
+    Rule("DICT-011", "error", "units measure what the dictionary's unit measures (KM, DEG ...)",
+         check_unit_dimension),
+    Rule("DICT-012", "info", "numeric 'not applicable' values (-2147483648, -9.99e+31, -1e+32) are "
+         "exempt from DICT-003", check_hrsc_not_applicable),
+    Rule("DICT-008", "info", "placeholder values (NULL) are reported", check_placeholder),
+)

@@ -16,11 +16,13 @@ from typing import Any
 
 import numpy as np
 
-from ..missions.hrsc import parse_name as parse_hrsc_name
-from ..missions.imars import footprint_name as imars_footprint_name
-from ..missions.imars import metadata_name
-from .imars_context import ImarsContext
-from .model import Hit
+from ...missions.hrsc import parse_name as parse_hrsc_name
+from ...missions.imars import METADATA_SUFFIX as IMARS_METADATA_SUFFIX
+from ...missions.imars import footprint_name as imars_footprint_name
+from ...missions.imars import metadata_name
+from ..imars_context import ImarsContext
+from ..model import Hit
+from ..registry import Rule, register
 
 REQUIRED_OBJECTS = ("ProductInfo", "Image", "DataProduct", "MapProjection", "Algorithm")
 REQUIRED_KEYWORDS = {
@@ -338,3 +340,29 @@ def check_footprint_feature(ctx: ImarsContext) -> Iterator[Hit]:
     if pid not in ids:
         yield Hit(f"footprint {footprint_name(ctx)} has no feature with id {pid} (ids found: "
                   f"{', '.join(map(str, ids)) or 'none'})", ctx.line("ProductInfo", "ProductId"), "ProductId")
+
+
+register(
+    Rule("IMARS-001", "error", "the iMars metadata file parses as PVL", check_parses, target="imars"),
+    Rule("IMARS-002", "error", "ProductInfo (with Producer), Image, DataProduct, MapProjection, "
+         "Algorithm and their keywords are present", check_structure, target="imars"),
+    Rule("IMARS-003", "error", f"the file is named <ProductInfo.ProductId>{IMARS_METADATA_SUFFIX}",
+         check_product_id,
+         target="imars"),
+    Rule("IMARS-004", "error", "DataProduct.FileName exists beside the metadata (exact case)",
+         check_data_file, needs_data=True, target="imars"),
+    Rule("IMARS-005", "error", "GDAL opens the data file as a GeoTIFF", check_opens, needs_data=True,
+         target="imars"),
+    Rule("IMARS-006", "error", "Image size, bands, sample type, NoData, scaling and offset = the GeoTIFF's",
+         check_image, needs_data=True, target="imars"),
+    Rule("IMARS-007", "error", "PixelResolution, UpperLeftCornerX/Y = the GeoTIFF geotransform (1e-3 px)",
+         check_geotransform, needs_data=True, target="imars"),
+    Rule("IMARS-008", "error", "MapProjection Proj4 = the GeoTIFF's CRS", check_crs, needs_data=True,
+         target="imars"),
+    Rule("IMARS-009", "error", "ValidMinimum/ValidMaximum = the data's valid range", check_valid_range,
+         needs_data=True, target="imars"),
+    Rule("IMARS-010", "error", "the footprint <hOOOO_NNNN>.geojson exists and is a FeatureCollection",
+         check_footprint, needs_data=True, target="imars"),
+    Rule("IMARS-011", "error", "the footprint has a feature whose id is ProductInfo.ProductId",
+         check_footprint_feature, needs_data=True, target="imars"),
+)

@@ -1,0 +1,93 @@
+"""The rule registry: stable id -> family, severity, summary, check function.
+
+Ids never change meaning once published (CI configurations refer to them). Each
+family is one module under `families/` that declares its rules with `register()`
+when it is imported; `families/__init__.py` imports the built-in ones, so a new
+family is one module plus one line there (or, from outside pdsgen, one `register()`
+call). `rules()` is the table every part of the validator reads, and what
+`pdsgen validate --list-rules` prints.
+
+Rules run on what their `target` names: "label" rules take a FileContext (PDS3
+labels), "imars" rules an ImarsContext (iMars `*_ucl.pvl` metadata, PVL rather
+than PDS3); "pds4" rules are listed here but checked by pdsgen.pds4. Rules with a
+`set_check` compare files with each other (the SET family); rules with neither
+check are reported by the runner itself (FILE-012, FILE-013).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Generic, TypeVar
+
+from .model import Hit
+
+if TYPE_CHECKING:
+    from .families.set_rules import Summary
+
+# The built-in families in --list-rules order; families registered later follow them.
+FAMILIES = ("FILE", "SYNTAX", "DICT", "PTR", "REC", "IMG", "MAP", "GEO", "HRSC", "SET", "IMARS", "PDS4")
+TARGETS = ("label", "imars", "pds4")
+
+ContextT = TypeVar("ContextT")  # FileContext for "label" rules, ImarsContext for "imars" rules
+
+
+@dataclass(frozen=True)
+class Rule(Generic[ContextT]):
+    id: str
+    severity: str
+    summary: str
+    check: Callable[[ContextT], Iterable[Hit]] | None  # per-file check
+    needs_data: bool = False
+    set_check: Callable[[list[Summary], set[str]], Iterable[Hit]] | None = None  # across files (SET)
+    target: str = "label"  # what `check` takes: see the module docstring
+    note: str = ""  # when a finding of this rule takes another severity, and why
+
+    @property
+    def family(self) -> str:
+        return self.id.split("-")[0]
+
+
+_REGISTERED: dict[str, Rule[Any]] = {}
+_FAMILY_ORDER: list[str] = list(FAMILIES)
+_TABLE: dict[str, Rule[Any]] = {}  # _REGISTERED in --list-rules order, rebuilt after a change
+
+
+def register(*new: Rule[Any]) -> None:
+    """Add rules to the table. An id is registered once: ids never change meaning."""
+    for rule in new:
+        if rule.id in _REGISTERED:
+            raise ValueError(f"rule {rule.id} is already registered")
+        if rule.severity not in ("error", "warning", "info"):
+            raise ValueError(f"rule {rule.id}: severity {rule.severity!r} is not error, warning or info")
+        if rule.target not in TARGETS:
+            raise ValueError(f"rule {rule.id}: target {rule.target!r} is not one of {', '.join(TARGETS)}")
+    for rule in new:
+        _REGISTERED[rule.id] = rule
+        if rule.family not in _FAMILY_ORDER:
+            _FAMILY_ORDER.append(rule.family)
+    _TABLE.clear()
+
+
+def unregister(family: str) -> None:
+    """Remove a family registered from outside pdsgen (built-in families stay)."""
+    if family in FAMILIES:
+        raise ValueError(f"{family} is a built-in rule family")
+    for rule_id in [i for i, rule in _REGISTERED.items() if rule.family == family]:
+        del _REGISTERED[rule_id]
+    if family in _FAMILY_ORDER:
+        _FAMILY_ORDER.remove(family)
+    _TABLE.clear()
+
+
+def families() -> tuple[str, ...]:
+    """Family names in --list-rules order (the built-in ones, then registered ones)."""
+    return tuple(_FAMILY_ORDER)
+
+
+def rules() -> dict[str, Rule[Any]]:
+    """The rule table: every registered rule by id, in family order, then id order."""
+    if not _TABLE:
+        ordered = sorted(_REGISTERED.values(), key=lambda r: (_FAMILY_ORDER.index(r.family), r.id))
+        _TABLE.update((rule.id, rule) for rule in ordered)
+    return _TABLE
