@@ -74,7 +74,7 @@ _TOKEN = re.compile(
     r"|())",  # 7 end of text
     re.S,
 )
-_KINDS = (None, "string", "punct", "symbol", "unit", "word", None, "eof")
+_KINDS = ("", "string", "punct", "symbol", "unit", "word", "", "eof")  # by _TOKEN group
 _BLANKS = r"[ \t\f\v\x00]*"
 _SPACE = r"[ \t\f\v\x00\r\n]*"
 _WORD_CHAR = r"[^\s=(){},;\"'<>/]"
@@ -174,6 +174,8 @@ class _Scanner:
         """The next token, by the one-pattern path when it applies."""
         text, pos, line = self.text, self.pos, self.line
         m = _TOKEN.match(text, pos)
+        if m is None or m.lastindex is None:  # never: some alternative matches anywhere
+            return self._scan_by_character(pos, line)
         group = m.lastindex
         start = m.start(group)
         if start > pos:  # blanks, line ends or comments before the token
@@ -186,8 +188,8 @@ class _Scanner:
             return self._scan_by_character(start, line)
         end = m.end()
         if group == 1:  # a string may span lines
-            return _Token("string", m.group(1), line, line + _count_lines(text, start, end), start, end)
-        return _Token(_KINDS[group], m.group(group), line, line, start, end)
+            return _Token("string", m[1], line, line + _count_lines(text, start, end), start, end)
+        return _Token(_KINDS[group], m[group], line, line, start, end)
 
     def _scan_by_character(self, pos: int, line: int) -> _Token:
         """What _TOKEN does not take: unclosed quotes and comments, stray characters."""
