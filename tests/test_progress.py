@@ -63,6 +63,13 @@ def test_a_bar_on_a_terminal_and_nothing_when_piped(large, tmp_path, command, un
     assert piped.returncode == 0 and piped.stderr == ""
 
 
+def test_extras_of_several_products_count_them_on_a_terminal(large, tmp_path):
+    code, shown = _stderr_on_a_terminal(["extras", str(large["dtm"]), str(large["ortho"]), "-o",
+                                         str(tmp_path / "extras")])
+    assert code == 0, shown
+    assert "2/2 products" in shown or "1/2 products" in shown
+
+
 @pytest.mark.parametrize("flag", ["--quiet", "--json"])
 def test_no_bar_with_quiet_or_json(large, tmp_path, flag):
     code, shown = _stderr_on_a_terminal(["ortho", str(large["ortho"]), "-o", str(tmp_path / "out"), flag])

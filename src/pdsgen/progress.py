@@ -38,9 +38,9 @@ def wanted(quiet: bool = False, as_json: bool = False, stream: TextIO | None = N
     return not quiet and not as_json and stream.isatty()
 
 
-def is_large(pixels: int) -> bool:
-    """Work worth a bar: a raster of at least LARGE_WORK_PIXELS."""
-    return pixels >= LARGE_WORK_PIXELS
+def is_large(pixels: int, items: int = 1) -> bool:
+    """Work worth a bar: rasters of LARGE_WORK_PIXELS or more, or several products at once."""
+    return pixels >= LARGE_WORK_PIXELS or items > 1
 
 
 @contextmanager
