@@ -127,10 +127,11 @@ def validate(paths: tuple[str, ...], fmt: str, strict: bool, fail_on: str | None
     settings = configuration.load(config_path, search=not no_config)
     settings = configuration.override(settings, select, ignore, severities, "warning" if strict else fail_on)
     baseline = configuration.Baseline.read(baseline_path) if baseline_path else None
-    _tell_choices(settings, baseline_path, tuple(dictionaries), jobs, labels_only)
     progress = terminal_progress if progress_wanted(quiet) else None
     reports = iter_reports(paths, strict=strict, jobs=jobs, labels_only=labels_only, progress=progress,
                            dictionaries=dictionaries, settings=settings, baseline=baseline, schemas=schemas)
+    if verbose:  # after iter_reports has checked the paths given with --dictionary
+        _tell_choices(settings, baseline_path, tuple(dictionaries), jobs, labels_only)
     if write_baseline_path:
         kept = [f for report in reports for f in report.findings]
         count = configuration.write_baseline(write_baseline_path, kept)
