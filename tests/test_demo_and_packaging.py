@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import shlex
 import subprocess
 import sys
 import zipfile
@@ -39,6 +40,28 @@ def test_demo_writes_inputs_and_a_dtm_gdal_reads(tmp_path):
     assert summary["checks"]["exit_code"] == 0 and summary["checks"]["validate"].endswith("OK")
     label = pvl.load(str(dtm))
     assert np.float32(label["IMAGE"]["VALID_MINIMUM"]) == source[valid].min()
+
+
+def test_demo_summary_names_paths_that_exist_and_a_validate_command_that_runs(tmp_path):
+    """As a user reads it: each path in the summary exists, sizes are lines x samples, and
+    the CHECK line's command runs as printed (from the same directory; quoted for the shell)."""
+    outdir = Path("a demo") / "out"  # relative, nested, with a space
+    run = subprocess.run([sys.executable, "-m", "pdsgen", "demo", str(outdir)], capture_output=True, text=True,
+                         cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    lines = {line.split()[0]: line for line in run.stdout.splitlines()}
+    dtm_path = lines["DTM"].split(maxsplit=1)[1].split(": ")[0]
+    jp2_path = lines["ORTHO"].split(maxsplit=1)[1].split(" + ")[0]
+    extras_dir = lines["EXTRAS"].split(" in ", 1)[1].split("/ (")[0]
+    for path in (dtm_path, jp2_path, extras_dir):
+        assert (tmp_path / path).exists(), path
+    with rasterio.open(tmp_path / dtm_path) as dtm:
+        assert f": {dtm.height} x {dtm.width} posts (lines x samples)" in lines["DTM"]
+    command = shlex.split(lines["CHECK"].split(maxsplit=1)[1].rsplit(": ", 2)[0])
+    assert command[:3] == ["pdsgen", "validate", "--strict"]
+    check = subprocess.run([sys.executable, "-m", "pdsgen", *command[1:]], capture_output=True, text=True,
+                           cwd=tmp_path)
+    assert check.returncode == 0 and "2 file(s) checked" in check.stdout, check.stdout + check.stderr
 
 
 def test_cli_help_version_and_every_listed_command_has_help():

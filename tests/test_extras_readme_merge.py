@@ -151,3 +151,36 @@ def test_record_of_earlier_versions_is_removed_and_unlabelled_products_get_no_cr
     text = (out / "README.TXT").read_text()
     assert re.search(r"^Image credit:\s+none$", text, flags=re.MULTILINE)  # nobody named
     assert "University of Arizona" not in text
+
+
+def test_a_call_taken_back_keeps_what_another_run_added_meanwhile(two_products, tmp_path: Path):
+    """Run A fails after publishing (here: its report callback raises) while run B has added
+    its product in between: A's previews go, B's entry and previews stay in README.TXT."""
+    dtm, ortho = two_products
+    out = tmp_path / "out"
+
+    def another_run_then_fail(line: str) -> None:
+        make_extras([ortho], out, credit="Team B")  # a concurrent run, finished in between
+        raise KeyboardInterrupt  # A is stopped before it returns
+
+    with pytest.raises(KeyboardInterrupt):
+        make_extras([dtm], out, credit="Team A", report=another_run_then_fail)
+    assert product_ids(out / "README.TXT") == ["second_ortho"]
+    assert not list(out.glob("first_dtm.*")) and list(out.glob("second_ortho.*"))
+    assert "Team B" in (out / "README.TXT").read_text() and "Team A" not in (out / "README.TXT").read_text()
+    assert hidden_files(out) == []
+
+
+def test_a_replacement_taken_back_restores_the_entry_it_replaced(two_products, tmp_path: Path):
+    dtm, _ = two_products
+    out = tmp_path / "out"
+    make_extras([dtm], out, credit="Team A")
+    before = (out / "README.TXT").read_bytes()
+
+    def fail(line: str) -> None:
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        make_extras([dtm], out, credit="Team C", overwrite=True, report=fail)
+    assert (out / "README.TXT").read_bytes() == before  # the earlier entry and previews are back
+    assert hidden_files(out) == []

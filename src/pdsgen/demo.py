@@ -7,6 +7,7 @@ inputs it uses under OUTDIR/input/ so a user can rerun any single step by hand.
 from __future__ import annotations
 
 import os
+import shlex
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -51,7 +52,7 @@ def run_demo(outdir: str | os.PathLike[str], overwrite: bool = True) -> DemoResu
     )
     result.products.append(dtm.path)
     result.lines.append(
-        f"DTM    {dtm.path.name}: {dtm.geometry.samples} x {dtm.geometry.lines} posts at "
+        f"DTM    {dtm.path}: {dtm.geometry.lines} x {dtm.geometry.samples} posts (lines x samples) at "
         f"{dtm.geometry.map_scale:g} m, {dtm.geometry.projection_type.lower()}, "
         f"elevations {dtm.valid_minimum:.1f} .. {dtm.valid_maximum:.1f} m"
     )
@@ -62,17 +63,19 @@ def run_demo(outdir: str | os.PathLike[str], overwrite: bool = True) -> DemoResu
     )
     result.products += [ortho.jp2_path, ortho.label_path]
     result.lines.append(
-        f"ORTHO  {ortho.jp2_path.name} + {ortho.label_path.name}: {ortho.bits}-bit lossless JPEG 2000, "
+        f"ORTHO  {ortho.jp2_path} + {ortho.label_path.name}: {ortho.bits}-bit lossless JPEG 2000, "
         f"I/F = DN * {ortho.scaling_factor:.6g} + {ortho.offset:.6g}"
     )
 
     extras = make_extras([dtm.path, ortho.label_path], outdir / "extras", overwrite=overwrite)
     result.products += extras
     result.lines.append(
-        f"EXTRAS {sum(p.suffix == '.jpg' for p in extras)} preview JPEGs and README.TXT in {outdir.name}/extras/ "
+        f"EXTRAS {sum(p.suffix == '.jpg' for p in extras)} preview JPEGs and README.TXT in {outdir / 'extras'}/ "
         f"(greyscale, shaded relief, colour over relief; orthoimage browse)"
     )
 
     result.validation = validate_paths([outdir], strict=True)
-    result.lines.append(f"CHECK  pdsgen validate --strict {outdir.name}: {result.validation.summary_line()}")
+    # the command as a user can paste it: the same check the demo just ran
+    result.lines.append(f"CHECK  pdsgen validate --strict {shlex.quote(str(outdir))}: "
+                        f"{result.validation.summary_line()}")
     return result

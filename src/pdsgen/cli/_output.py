@@ -21,6 +21,7 @@ from typing import Any
 import click
 
 from ..products.result import ProductResult
+from ..progress import terminal_bar, wanted
 
 # click parameter names of these options: every profile uses them.
 OUTPUT_OPTIONS = frozenset({"quiet", "verbose", "as_json"})
@@ -49,8 +50,9 @@ def output_options(command: Callable[..., Outcome]) -> Callable[..., None]:
         if quiet and verbose:
             raise click.UsageError("--quiet and --verbose exclude each other")
         if verbose:
-            _log_to_stderr()
-        outcome = command(*args, **kwargs)
+            log_to_stderr()
+        with terminal_bar(wanted(quiet, as_json)):  # large DTM/JP2 writes draw a bar on a terminal
+            outcome = command(*args, **kwargs)
         for warning in outcome.warnings:
             click.echo(f"warning: {warning}", err=True)
         if as_json:
@@ -99,7 +101,8 @@ class _ElapsedFormatter(logging.Formatter):
         return f"[{time.monotonic() - self.start:6.2f} s] {record.getMessage()}"
 
 
-def _log_to_stderr() -> None:
+def log_to_stderr() -> None:
+    """--verbose: the library's log records ('pdsgen' logger) on stderr, with elapsed seconds."""
     handler = logging.StreamHandler()  # stderr
     handler.setFormatter(_ElapsedFormatter())
     logger = logging.getLogger("pdsgen")

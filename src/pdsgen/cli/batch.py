@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import logging
+import os
 import sys
 from importlib.resources import files
 
@@ -9,7 +11,11 @@ import click
 
 from ..batch import ManifestError, Settings, load_manifest, plan, run
 from ..batch.cluster import local_workers
+from ..progress import wanted as progress_wanted
 from . import COMMANDS
+from ._output import log_to_stderr
+
+log = logging.getLogger("pdsgen.batch")
 
 
 @click.command(short_help=COMMANDS["batch"])
@@ -28,7 +34,12 @@ from . import COMMANDS
 @click.option("--log-dir", type=click.Path(file_okay=False),
               help="One log per job and summary.json [default: OUTDIR/.pdsgen-batch/logs].")
 @click.option("--example", is_flag=True, help="Print a commented example manifest and exit.")
-def batch(manifest, outdir, scheduler, workers, threads_per_job, dry_run, retries, log_dir, example) -> None:
+@click.option("-q", "--quiet", is_flag=True,
+              help="Print only failed and blocked jobs (and errors); no progress, no summary line.")
+@click.option("-v", "--verbose", is_flag=True,
+              help="Print the plan first and one line per finished job, with timings, even on a terminal.")
+def batch(manifest, outdir, scheduler, workers, threads_per_job, dry_run, retries, log_dir, example, quiet,
+          verbose) -> None:
     """Run the jobs of MANIFEST (TOML: [[dtm]], [[ortho]], [[extras]], [[validate]] tables
     whose keys are those commands' options) on Dask, each job in its own process.
     Finished jobs are skipped on a re-run. Exit status: 0 all jobs succeeded,
@@ -40,6 +51,10 @@ def batch(manifest, outdir, scheduler, workers, threads_per_job, dry_run, retrie
         raise click.UsageError("give a MANIFEST (see pdsgen batch --example)")
     if scheduler and workers:
         raise click.UsageError("--workers sizes the local cluster; a --scheduler's cluster has its own workers")
+    if quiet and verbose:
+        raise click.UsageError("--quiet and --verbose exclude each other")
+    if verbose:
+        log_to_stderr()
     overrides = {k: v for k, v in (("threads", threads_per_job), ("retries", retries)) if v is not None}
     try:
         checked = load_manifest(manifest, outdir, overrides)
@@ -52,11 +67,25 @@ def batch(manifest, outdir, scheduler, workers, threads_per_job, dry_run, retrie
     if dry_run:
         plan(checked, settings, sys.stdout)
         return
-    summary = run(checked, settings)
+    if verbose:
+        log.info("%d job(s) on %s", len(checked.jobs), scheduler or f"a local cluster of {settings.workers} worker(s)")
+        plan(checked, settings, sys.stderr)
+    summary = _run(checked, settings, quiet, verbose)
     counts = summary.data["counts"]
-    click.echo(f"{len(summary.data['jobs'])} jobs in {summary.data['seconds']:.1f} s: {counts['done']} done, "
-               f"{counts['skipped']} already done, {counts['failed']} failed, {counts['blocked']} blocked; "
-               f"summary {summary.path}", err=True)
+    if not quiet:
+        click.echo(f"{len(summary.data['jobs'])} jobs in {summary.data['seconds']:.1f} s: {counts['done']} done, "
+                   f"{counts['skipped']} already done, {counts['failed']} failed, {counts['blocked']} blocked; "
+                   f"summary {summary.path}", err=True)
     for job in summary.failed:
         click.echo(f"pdsgen: {job['status']}: {job['kind']} {job['id']}: {job['error']}", err=True)
     sys.exit(summary.exit_code)
+
+
+def _run(checked, settings: Settings, quiet: bool, verbose: bool):
+    """Run with the progress the output mode asks for: none (--quiet; failures are printed
+    after the run), one line per job (--verbose, or not a terminal), else a bar."""
+    if quiet:
+        with open(os.devnull, "w") as nowhere:
+            return run(checked, settings, progress_stream=nowhere, bar=False)
+    return run(checked, settings, bar=False if verbose else progress_wanted())
+

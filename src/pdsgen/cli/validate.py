@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import logging
 import os
 import sys
+import time
 from contextlib import contextmanager
 from pathlib import Path
 from typing import IO
@@ -11,12 +13,16 @@ from typing import IO
 import click
 
 from ..errors import PdsgenError
+from ..progress import wanted as progress_wanted
 from ..validate import config as configuration
 from ..validate import rules
 from ..validate.dictionary import version as dictionary_version
-from ..validate.report import FORMATS, Tally, write_stream
+from ..validate.report import FORMATS, Tally, fails, finding_line, terminal_safe, write_stream
 from ..validate.runner import iter_reports, terminal_progress
 from . import COMMANDS
+from ._output import log_to_stderr
+
+log = logging.getLogger("pdsgen.validate")
 
 SEVERITY_POLICY = (
     "Severity policy: ERROR = a reader would misread the data, or the label breaks a hard "
@@ -91,10 +97,17 @@ def _output(path: str | None):
               help="Print the severity policy and the rule table, and exit.")
 @click.option("--output", "-o", type=click.Path(dir_okay=False),
               help="Write the report to this file instead of standard output.")
+@click.option("-q", "--quiet", is_flag=True,
+              help="Text report: only the findings that fail the run, no summary line, no progress "
+                   "(--format other than text, and --output, still get the whole report).")
+@click.option("-v", "--verbose", is_flag=True,
+              help="Tell on stderr which configuration, dictionary, rules and baseline are used, "
+                   "and how long the run took.")
 def validate(paths: tuple[str, ...], fmt: str, strict: bool, fail_on: str | None, select: tuple[str, ...],
              ignore: tuple[str, ...], severities: tuple[str, ...], config_path: str | None, no_config: bool,
              baseline_path: str | None, write_baseline_path: str | None, jobs: int, labels_only: bool,
-             dictionaries: tuple[str, ...], schemas: tuple[str, ...], list_rules: bool, output: str | None) -> None:
+             dictionaries: tuple[str, ...], schemas: tuple[str, ...], list_rules: bool, output: str | None,
+             quiet: bool, verbose: bool) -> None:
     """Validate PATHS (label files, or directories searched recursively): PDS3 labels,
     and PDS4 .xml labels (XML Schema, Schematron, and the data they describe).
 
@@ -106,21 +119,58 @@ def validate(paths: tuple[str, ...], fmt: str, strict: bool, fail_on: str | None
         return
     if not paths:
         raise PdsgenError(None, "give at least one label file or directory to validate")
+    if quiet and verbose:
+        raise click.UsageError("--quiet and --verbose exclude each other")
+    if verbose:
+        log_to_stderr()
+    started = time.monotonic()
     settings = configuration.load(config_path, search=not no_config)
     settings = configuration.override(settings, select, ignore, severities, "warning" if strict else fail_on)
     baseline = configuration.Baseline.read(baseline_path) if baseline_path else None
-    progress = terminal_progress if sys.stderr.isatty() else None
+    progress = terminal_progress if progress_wanted(quiet) else None
     reports = iter_reports(paths, strict=strict, jobs=jobs, labels_only=labels_only, progress=progress,
                            dictionaries=dictionaries, settings=settings, baseline=baseline, schemas=schemas)
+    if verbose:  # after iter_reports has checked the paths given with --dictionary
+        _tell_choices(settings, baseline_path, tuple(dictionaries), jobs, labels_only)
     if write_baseline_path:
         kept = [f for report in reports for f in report.findings]
         count = configuration.write_baseline(write_baseline_path, kept)
-        click.echo(f"{count} finding(s) recorded in the baseline {write_baseline_path}")
+        if not quiet:
+            click.echo(f"{count} finding(s) recorded in the baseline {write_baseline_path}")
         return
     tally = Tally(settings.fail_on, dictionary=dictionary_version(tuple(dictionaries)))
-    with _output(output) as out:
-        write_stream(_counting_baseline(reports, baseline, tally), fmt, out, tally)
+    if quiet and fmt == "text" and not output:
+        _failing_findings(_counting_baseline(reports, baseline, tally), tally)
+    else:
+        with _output(output) as out:
+            write_stream(_counting_baseline(reports, baseline, tally), fmt, out, tally)
+    elapsed = time.monotonic() - started
+    log.info("checked %d file(s) in %.2f s (%.0f files/s): %d error(s), %d warning(s)", tally.files, elapsed,
+             tally.files / elapsed if elapsed > 0 else 0.0, tally.errors, tally.warnings)
     sys.exit(tally.exit_code)
+
+
+def _tell_choices(settings: configuration.Settings, baseline_path: str | None, dictionaries: tuple[str, ...],
+                  jobs: int, labels_only: bool) -> None:
+    """--verbose: what the run reads and which rules it applies."""
+    log.info("configuration: %s", settings.source or "none (defaults)")
+    log.info("data dictionary: %s", dictionary_version(dictionaries))
+    kept = [rule_id for rule_id in rules() if settings.keeps(rule_id)]
+    log.info("rules: %d of %d; a run fails on %s", len(kept), len(rules()),
+             "warnings too" if settings.fail_on == "warning" else "errors")
+    log.info("baseline: %s", baseline_path or "none")
+    log.info("%d process(es); %s", jobs, "labels only" if labels_only else "labels and their data")
+
+
+def _failing_findings(reports, tally: Tally) -> None:
+    """--quiet text report: one line per finding that fails the run, nothing else."""
+    levels = ("error",) if tally.fail_on == "error" else ("error", "warning")
+    for report in reports:
+        tally.add(report)
+        if fails(report, tally.fail_on):
+            for finding in report.findings:
+                if finding.severity in levels:
+                    click.echo(terminal_safe(finding_line(finding)))
 
 
 def _counting_baseline(reports, baseline: configuration.Baseline | None, tally: Tally):

@@ -23,6 +23,7 @@ from PIL import Image
 from ..errors import PdsgenError
 from ..formats.staging import StagedOutputs, prepare_output_dir, publishes_together
 from ..products.params import ParamValue, resolve_params
+from ..progress import advance, is_large
 from .credit import product_credit
 from .product_source import DTM, KINDS, ProductSource, open_product, quiet_gdal
 from .qlook import write_qlook
@@ -75,12 +76,15 @@ def make_extras(
         outdir = prepare_output_dir(outdir)
         written: list[Path] = []
         entries = []
-        for src, credit_line in zip(sources, credits, strict=True):
+        shown = is_large(sum(src.width * src.height for src in sources), len(sources))
+        for done, (src, credit_line) in enumerate(zip(sources, credits, strict=True), start=1):
             previews = render_product(src, credit=credit_line, browse_width=browse_width,
                                       thumb_width=thumb_width, azimuth=azimuth,
                                       altitude=altitude, exaggeration=exaggeration)
             written += _write_product_extras(previews, outdir, overwrite)
             entries.append(product_entry(previews, credit_line, azimuth, altitude))
+            if shown:  # a release's worth of products: how far through them
+                advance(done, len(sources), "products")
         readme = publish_readme(outdir, entries, directory_keywords(keywords))
     if report is not None:  # after success only: a failed run says one thing, its error
         for src in sources:

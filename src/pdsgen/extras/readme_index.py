@@ -23,7 +23,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from ..errors import PdsgenError
-from ..formats.staging import StagedOutputs
+from ..formats.staging import StagedOutputs, on_rollback
 from .readme_txt import (
     DIRECTORY_FIELDS,
     ENTRY_FIELDS,
@@ -96,18 +96,43 @@ def publish_readme(outdir: Path, new: Sequence[Entry], keywords: Mapping[str, st
     """Merge NEW into OUTDIR's README.TXT under the directory lock; return its path."""
     readme = outdir / README_NAME
     with directory_lock(outdir):
-        previous, recorded = read_readme(outdir)
-        entries, files = [], []
-        for entry in merge_entries(previous, new):
-            found = entry_files(entry, outdir)
-            if found is not None:
-                entries.append(entry)
-                files.append(found)
-        with StagedOutputs([readme], overwrite=True) as staged:
-            staged.path(readme).write_bytes(render_readme(entries, files,
-                                                         {**recorded, **keywords}))
-        (outdir / OLD_RECORD_NAME).unlink(missing_ok=True)
+        previous, _ = read_readme(outdir)
+        _write_readme(outdir, merge_entries(previous, new), keywords)
+    ours = {entry["product_id"] for entry in new}
+    replaced = [entry for entry in previous if entry["product_id"] in ours]
+    # Taken back with this call's previews, README.TXT is not restored to the file it
+    # replaced: another run may have added its products since. This call's entries give
+    # way to those they replaced instead, and the others stay.
+    on_rollback(lambda: _take_back(outdir, ours, replaced))
     return readme
+
+
+def _take_back(outdir: Path, ours: set[str], replaced: Sequence[Entry]) -> None:
+    with directory_lock(outdir):
+        current, _ = read_readme(outdir)
+        earlier = {entry["product_id"]: entry for entry in replaced}
+        entries = [earlier.get(entry["product_id"], entry) for entry in current
+                   if entry["product_id"] not in ours or entry["product_id"] in earlier]
+        _write_readme(outdir, entries, {})
+
+
+def _write_readme(outdir: Path, candidates: Sequence[Entry], keywords: Mapping[str, str]) -> None:
+    """README.TXT of the candidate entries whose files are all present (the caller holds
+    the directory lock); with none left it is removed, as it would describe nothing."""
+    readme = outdir / README_NAME
+    _, recorded = read_readme(outdir)
+    entries, files = [], []
+    for entry in candidates:
+        found = entry_files(entry, outdir)
+        if found is not None:
+            entries.append(entry)
+            files.append(found)
+    if not entries:
+        readme.unlink(missing_ok=True)
+        return
+    with StagedOutputs([readme], overwrite=True, restore_on_rollback=False) as staged:
+        staged.path(readme).write_bytes(render_readme(entries, files, {**recorded, **keywords}))
+    (outdir / OLD_RECORD_NAME).unlink(missing_ok=True)
 
 
 def _sections(lines: list[str]) -> dict[str, list[str]]:

@@ -24,6 +24,7 @@ from ..errors import PdsgenError
 from ..label.grammar import ISIS_NULL_BITS
 from ..label.render import RecordLayout, pad_label, settle_attached_label
 from ..label.values import shortest_float32
+from ..progress import advance, is_large
 from .nodata import invalid_mask
 from .raster import row_strips
 
@@ -64,6 +65,7 @@ def physical_strips(
     nodata = dataset.nodata
     native_type = np.dtype(dataset.dtypes[0])
     is_wide_float = native_type.kind == "f" and native_type.itemsize > 4
+    large = is_large(dataset.width * dataset.height)
     for window in row_strips(dataset):
         native = dataset.read(1, window=window)
         with np.errstate(over="ignore"):
@@ -77,6 +79,8 @@ def physical_strips(
             if lost.any():
                 invalid = lost if invalid is None else (invalid | lost)
         yield values, invalid, window
+        if large:
+            advance(window.row_off + window.height, dataset.height, "lines")
 
 
 def _refuse_float32_overflow(dataset, native: np.ndarray, values: np.ndarray, invalid) -> None:

@@ -37,6 +37,7 @@ from typing import BinaryIO
 import numpy as np
 
 from ..errors import PdsgenError
+from ..progress import advance, is_large
 
 TILE_SIZE = 512  # an OpenJPEG tile encoder needs ~17 bytes per tile pixel; 512 keeps memory low
 CODE_BLOCK = (64, 64)
@@ -398,6 +399,12 @@ def encode_jp2(
         raise ValueError(f"{lines} x {samples} needs {grid_rows * grid_cols} tiles; JPEG 2000 allows {MAX_TILES}")
     encoder = _TileEncoder(settings, bands, precision, scratch)
     writer = _CodeStreamWriter(handle, settings, lines, samples, grid_rows * grid_cols)
+    large = is_large(lines * samples)
+
+    def add(index: int, codestream: bytes) -> None:
+        writer.add(index, codestream)
+        if large:
+            advance(index + 1, grid_rows * grid_cols, "tiles")
 
     def read_row(row: int) -> np.ndarray:
         first = row * tile_rows
@@ -419,10 +426,10 @@ def encode_jp2(
                 del data
                 while len(pending) > workers:  # queue the next row while every encoder is still busy
                     index, future = pending.popleft()
-                    writer.add(index, future.result())
+                    add(index, future.result())
             while pending:
                 index, future = pending.popleft()
-                writer.add(index, future.result())
+                add(index, future.result())
         except BaseException:
             for _, future in pending:
                 future.cancel()

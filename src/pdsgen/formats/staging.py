@@ -17,6 +17,7 @@ import threading
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
+from dataclasses import dataclass, field
 from pathlib import Path
 from types import TracebackType
 from typing import ParamSpec, TypeVar
@@ -57,12 +58,19 @@ class StagedOutputs:
         final_paths: Iterable[str | os.PathLike[str]],
         overwrite: bool,
         shared: Iterable[str | os.PathLike[str]] = (),
+        restore_on_rollback: bool = True,
     ) -> None:
         """`shared` paths are files several products update (a scene's footprint):
-        they are replaced without --overwrite, but still only when everything succeeds."""
+        they are replaced without --overwrite, but still only when everything succeeds.
+
+        `restore_on_rollback=False`: inside `published_together`, a rollback leaves these
+        files as they are rather than putting back what they replaced - for a file other
+        runs may have updated since (a directory's README.TXT), which the writer repairs
+        itself with `on_rollback`."""
         self.shared = [Path(p) for p in shared]
         self.final_paths = [Path(p) for p in final_paths] + self.shared
         self.overwrite = overwrite
+        self.restore_on_rollback = restore_on_rollback
         self._temps: dict[Path, Path] = {}
 
     def __enter__(self) -> StagedOutputs:
@@ -97,7 +105,8 @@ class StagedOutputs:
                 raise OutputError(where, f"cannot write the product: {_WRITE_ERRNOS[exc.errno]}") from None
             return
         with _interruption_deferred():
-            self._publish(_GROUP.get())
+            group = _GROUP.get()
+            self._publish(group.undo if group is not None and self.restore_on_rollback else None)
 
     def _publish(self, undo: list[tuple[Path, Path | None]] | None = None) -> None:
         """Rename the temporaries into place; inside `published_together`, record in
@@ -152,7 +161,23 @@ def _make_temp(final: Path) -> Path:
     return Path(tmp)
 
 
-_GROUP: ContextVar[list[tuple[Path, Path | None]] | None] = ContextVar("pdsgen_staged_group", default=None)
+@dataclass
+class _Group:
+    """What a rollback of `published_together` does: put back each published file (final
+    name, backup of what it replaced), then run the writers' own repairs."""
+
+    undo: list[tuple[Path, Path | None]] = field(default_factory=list)
+    repairs: list[Callable[[], None]] = field(default_factory=list)
+
+
+_GROUP: ContextVar[_Group | None] = ContextVar("pdsgen_staged_group", default=None)
+
+
+def on_rollback(repair: Callable[[], None]) -> None:
+    """Inside `published_together`: run `repair` if the set is taken back (after its files are)."""
+    group = _GROUP.get()
+    if group is not None:
+        group.repairs.append(repair)
 
 
 @contextmanager
@@ -165,20 +190,22 @@ def published_together() -> Iterator[None]:
     restores the files they replaced: a half set would block the re-run (files
     exist, no --overwrite).
     """
-    undo: list[tuple[Path, Path | None]] = []
-    token = _GROUP.set(undo)
+    group = _Group()
+    token = _GROUP.set(group)
     try:
         yield
     except BaseException:
         with _interruption_deferred():
-            for final, backup in reversed(undo):
+            for final, backup in reversed(group.undo):
                 final.unlink(missing_ok=True)
                 if backup is not None:
                     os.replace(backup, final)
+            for repair in reversed(group.repairs):
+                repair()
         raise
     finally:
         _GROUP.reset(token)
-    for _, backup in undo:
+    for _, backup in group.undo:
         if backup is not None:
             backup.unlink(missing_ok=True)
 

@@ -1,0 +1,86 @@
+"""Progress on long work: a bar under a terminal, nothing when piped, --quiet or --json
+(real `pdsgen dtm` / `pdsgen ortho` processes; the terminal is a pseudo-terminal)."""
+
+from __future__ import annotations
+
+import os
+import pty
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from affine import Affine
+
+from pdsgen import progress
+
+from helpers import CRS_EQUIRECTANGULAR, elevation_array, write_raster
+
+SIDE = 2048  # 4.2 million pixels: large work (progress.LARGE_WORK_PIXELS)
+TRANSFORM = Affine(1.0, 0, 6099776.0, 0, -1.0, -563110.0)
+
+
+@pytest.fixture(scope="module")
+def large(tmp_path_factory) -> dict[str, Path]:
+    folder = tmp_path_factory.mktemp("large")
+    assert progress.is_large(SIDE * SIDE)
+    dtm, ortho = folder / "dtm.tif", folder / "ortho.tif"
+    write_raster(dtm, elevation_array(SIDE, SIDE)[None], CRS_EQUIRECTANGULAR, TRANSFORM)
+    image = np.random.default_rng(3).integers(1, 255, (1, SIDE, SIDE)).astype("uint8")
+    write_raster(ortho, image, CRS_EQUIRECTANGULAR, TRANSFORM)
+    return {"dtm": dtm, "ortho": ortho}
+
+
+def _stderr_on_a_terminal(args: list[str]) -> tuple[int, str]:
+    """Run pdsgen with stderr on a pseudo-terminal (stdout piped); what the terminal showed."""
+    main, secondary = pty.openpty()
+    process = subprocess.Popen([sys.executable, "-m", "pdsgen", *args], stdout=subprocess.PIPE,
+                               stderr=secondary)
+    os.close(secondary)
+    shown = bytearray()
+    while True:
+        try:
+            chunk = os.read(main, 4096)
+        except OSError:  # the process closed the terminal
+            break
+        if not chunk:
+            break
+        shown += chunk
+    os.close(main)
+    process.communicate()
+    return process.returncode, shown.decode("ascii", "replace")
+
+
+@pytest.mark.parametrize("command, unit", [("dtm", "lines"), ("ortho", "tiles")])
+def test_a_bar_on_a_terminal_and_nothing_when_piped(large, tmp_path, command, unit):
+    code, shown = _stderr_on_a_terminal([command, str(large[command]), "-o", str(tmp_path / "tty")])
+    assert code == 0, shown
+    assert "100%" in shown and f" {unit}" in shown and "[#" in shown
+    assert shown.endswith("\r\033[K")  # the bar is cleared; the result line follows on stdout
+    piped = subprocess.run([sys.executable, "-m", "pdsgen", command, str(large[command]), "-o",
+                            str(tmp_path / "piped")], capture_output=True, text=True)
+    assert piped.returncode == 0 and piped.stderr == ""
+
+
+def test_extras_of_several_products_count_them_on_a_terminal(large, tmp_path):
+    code, shown = _stderr_on_a_terminal(["extras", str(large["dtm"]), str(large["ortho"]), "-o",
+                                         str(tmp_path / "extras")])
+    assert code == 0, shown
+    assert "2/2 products" in shown or "1/2 products" in shown
+
+
+@pytest.mark.parametrize("flag", ["--quiet", "--json"])
+def test_no_bar_with_quiet_or_json(large, tmp_path, flag):
+    code, shown = _stderr_on_a_terminal(["ortho", str(large["ortho"]), "-o", str(tmp_path / "out"), flag])
+    assert code == 0 and shown == ""
+
+
+def test_the_library_reports_only_to_an_installed_reporter(large, tmp_path):
+    from pdsgen import write_ortho
+
+    seen: list[tuple[int, int, str]] = []
+    write_ortho(large["ortho"], tmp_path / "silent")  # no reporter: nothing to call, nothing printed
+    with progress.reporting(lambda done, total, unit: seen.append((done, total, unit))):
+        write_ortho(large["ortho"], tmp_path / "reported")
+    assert seen[-1] == (16, 16, "tiles") and [d for d, _, _ in seen] == list(range(1, 17))
