@@ -17,6 +17,7 @@ from click.shell_completion import CompletionItem
 
 from .. import __version__
 from ..errors import PdsgenError
+from ..label.data_dictionary import shipped_version as shipped_dictionary_version
 
 # command name (also its module under pdsgen.cli) -> the one-line help `pdsgen --help`
 # and shell completion show. Kept here, and used by each command's decorator, so that
@@ -92,7 +93,17 @@ class _Group(click.Group):
             sys.exit(130)
 
 
+def _print_version(ctx: click.Context, param: click.Parameter, value: bool) -> None:
+    """pdsgen's version and the data dictionary the validator checks against (read from
+    the shipped dictionary when asked, so other commands do not pay for it)."""
+    if not value or ctx.resilient_parsing:
+        return
+    click.echo(f"pdsgen, version {__version__}\nPDS3 data dictionary (PSDD): {shipped_dictionary_version()}")
+    ctx.exit()
+
+
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
-@click.version_option(__version__, prog_name="pdsgen")
+@click.option("--version", is_flag=True, expose_value=False, is_eager=True, callback=_print_version,
+              help="Show the version (and the data dictionary's) and exit.")
 def main() -> None:
     """Make PDS3 archive products from planetary DTMs and orthoimages, and check them."""

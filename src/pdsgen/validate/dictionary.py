@@ -9,14 +9,13 @@ from __future__ import annotations
 import json
 import os
 from dataclasses import dataclass
-from datetime import datetime
 from functools import cache
 from pathlib import Path
 
 from ..errors import PdsgenError
+from ..label.data_dictionary import dictionary_path, version_text
 from ..label.grammar import PLACEHOLDERS as GRAMMAR_PLACEHOLDERS
 from ..missions.hrsc import NOT_APPLICABLE as HRSC_NOT_APPLICABLE
-from ..resources import schemas_dir
 from .psdd import read_psdd
 
 PLACEHOLDERS = GRAMMAR_PLACEHOLDERS
@@ -68,31 +67,18 @@ def read_extra(path: str | os.PathLike[str]) -> dict:
 def load(extra: tuple[str, ...] = ()) -> Dictionary:
     """The project dictionary, with the elements and units of `extra` PSDD-format files
     (later files win) merged over it. Raises PdsgenError for an extra file that is not one."""
-    data = json.loads((schemas_dir() / "pds3_dictionary.json").read_text())
+    data = json.loads(dictionary_path().read_text())
     elements = dict(data["elements"])
     units = {u.upper() for u in data["units"]}
     units |= {n.upper() for n in data["unit_names"]}
     units |= {a.upper() for a in data["unit_aliases"]}
-    names = [_version_text(data)]
+    names = [version_text(data)]
     for path in extra:
         more = read_extra(path)
         elements.update(more["elements"])
         units |= {u.upper() for u in more["units"]} | {n.upper() for n in more["unit_names"]}
         names.append(f"{Path(path).name} ({more.get('version') or 'unknown version'})")
     return Dictionary(elements, data["namespaces"], frozenset(units), " + ".join(names))
-
-
-def _version_text(data: dict) -> str:
-    """"pdscat1r102 (generated 2017-09-25)" from the dump's header fields."""
-    version = data.get("version") or data.get("source", "unknown")
-    generated = data.get("generated")
-    if generated:
-        try:
-            generated = datetime.strptime(generated, "%a %b %d %H:%M:%S %Y").date().isoformat()
-        except ValueError:
-            pass
-        return f"{version} (generated {generated})"
-    return version
 
 
 def version(extra: tuple[str, ...] = ()) -> str:

@@ -12,6 +12,7 @@ one bad statement never hides the rest of the label.
 from __future__ import annotations
 
 import re
+from itertools import accumulate, repeat
 
 from ..label.grammar import IDENTIFIER_RE
 from .model import Block, Issue, Label, Line, Statement, Value
@@ -22,8 +23,8 @@ _WORD = re.compile(r"(?:[^\s=(){},;\"'<>/]|/(?!\*))+")
 _UNIT = re.compile(r"<[^<>\r\n]*>")
 _SYMBOL = re.compile(r"'[^'\r\n]*'")
 
-_INT = re.compile(r"[+-]?\d+")
-_REAL = re.compile(r"[+-]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][+-]?\d+)?")
+# an integer (group 1) or a real
+_NUMBER = re.compile(r"[+-]?(?:(\d+)|(?:\d+\.\d*|\.\d+|\d+)(?:[eE][+-]?\d+)?)")
 _BASED = re.compile(r"([+-]?)(\d+)#([^#]*)#")
 _KEYWORD = re.compile(r"\^?(?:([A-Za-z][A-Za-z0-9_]*):)?([A-Za-z][A-Za-z0-9_]*)")
 _IDENT = IDENTIFIER_RE
@@ -41,23 +42,74 @@ MAX_KEYWORD_LENGTH = 30
 
 
 class _Token:
-    __slots__ = ("kind", "text", "line", "end_line", "start")
+    __slots__ = ("kind", "text", "line", "end_line", "start", "end", "issues")
 
-    def __init__(self, kind: str, text: str, line: int, end_line: int, start: int) -> None:
+    def __init__(self, kind: str, text: str, line: int, end_line: int, start: int, end: int,
+                 issues: list[Issue] | None = None) -> None:
         self.kind = kind  # word, string, symbol, unit, punct, eof, bad
         self.text = text
         self.line = line
-        self.end_line = end_line
+        self.end_line = end_line  # the line (and `end` the offset) where reading goes on after it
         self.start = start
+        self.end = end
+        self.issues = issues  # what scanning it found, reported each time the parser reads it
 
 
 _SKIP = re.compile(r"(?:[ \t\f\v\x00]+|\r\n|\n|\r|/\*.*?\*/)+", re.S)
+
+# One pattern reads the blanks, line ends and comments before a token and the token itself,
+# so a token costs one regex call. The alternatives after the skip part cover every
+# character (1-5 the tokens, 6 any other character, 7 the end of the text), so a match
+# never backtracks into the skip part: it skips exactly what _SKIP skips. Group 6 (an
+# unclosed quote, comment, symbol or unit, a character no token takes) goes to the
+# character-by-character path, which reports it.
+_TOKEN = re.compile(
+    r"(?:[ \t\f\v\x00\r\n]+|/\*.*?\*/)*"
+    r"(?:(\"[^\"]*\")"  # 1 string
+    r"|([=(){},;])"  # 2 punct
+    r"|('[^'\r\n]*')"  # 3 symbol
+    r"|(<[^<>\r\n]*>)"  # 4 unit
+    r"|((?:[^\s=(){},;\"'<>/]+|/(?!\*))+)"  # 5 word (as _WORD)
+    r"|(.)"  # 6 anything else: the careful path
+    r"|())",  # 7 end of text
+    re.S,
+)
+_KINDS = ("", "string", "punct", "symbol", "unit", "word", "", "eof")  # by _TOKEN group
+_BLANKS = r"[ \t\f\v\x00]*"
+_SPACE = r"[ \t\f\v\x00\r\n]*"
+_WORD_CHAR = r"[^\s=(){},;\"'<>/]"
+# A word as _WORD reads it, written `A*(/A*)*` so it matches a text one way only, and not
+# starting with NUL: NUL is a blank between tokens but part of a word (as _TOKEN reads it).
+_WORD_ONCE = r"(?=[^\s=(){},;\"'<>/\x00]|/(?!\*))" + _WORD_CHAR + r"*(?:/(?!\*)" + _WORD_CHAR + "*)*"
+_ITEM = r"(?:\"[^\"]*\"|'[^'\r\n]*'|" + _WORD_ONCE + ")"
+# A statement as most labels write nearly all of theirs: `KEYWORD = value [<unit>]` alone on
+# its line(s), maybe with closed comments after it, and no `<unit>` or comment starting the
+# next line; the value a word, a quoted text or symbol, or a sequence/set of those (no
+# comments, units or nesting inside). The parser takes such a statement in one match (see
+# _Parser._simple); anything else goes token by token. No part can match a text in two ways
+# (a comment cannot contain `*/`), so a failing match costs one pass, never backtracking
+# that grows with the text.
+_SIMPLE = re.compile(
+    _BLANKS  # only blanks before it: line ends and comments are skipped first (simple_statement)
+    + r"(?P<keyword>\^?(?:(?P<namespace>[A-Za-z][A-Za-z0-9_]*):)?(?P<name>[A-Za-z][A-Za-z0-9_]*))"
+    r"(?!\x00)"  # the whole word
+    + _BLANKS + "=" + _BLANKS
+    + r"(?:(?P<string>\"[^\"]*\")"
+    r"|(?P<symbol>'[^'\r\n]*')"
+    r"|(?P<word>" + _WORD_ONCE + ")"
+    r"|(?P<items>[({](?:" + _SPACE + _ITEM + _SPACE + ",)*" + _SPACE + _ITEM + _SPACE + "[)}]))"
+    + _BLANKS + r"(?:(?P<unit><[^<>\r\n]*>)"
+    + _BLANKS + r")?(?:/\*(?:[^*\r\n]|\*(?!/))*\*/" + _BLANKS + r")*"
+    r"(?P<eol>\r\n|\n|\r|\Z)(?![ \t\f\v\x00\r\n]*[</])"
+)
+_ITEMS = re.compile(_SPACE + "(" + _ITEM + ")" + _SPACE + "[,)}]")
 
 
 class _Scanner:
     """Produces significant tokens on demand; whitespace, newlines and comments are skipped.
 
-    The last peeked token is remembered, so the parser's look-ahead costs one scan.
+    `pos`/`line` say where reading goes on after the last token read. The last peeked
+    token is remembered, so the parser's look-ahead costs one scan.
     """
 
     def __init__(self, text: str, issues: list[Issue]) -> None:
@@ -65,8 +117,8 @@ class _Scanner:
         self.pos = 0
         self.line = 1
         self.issues = issues
-        # (pos, token, pos after, line after, issues found scanning it)
-        self._ahead: tuple[int, _Token, int, int, list[Issue]] | None = None
+        self._ahead: _Token | None = None  # the token peeked at _ahead_from
+        self._ahead_from = -1
 
     def mark(self) -> tuple[int, int]:
         return self.pos, self.line
@@ -74,81 +126,110 @@ class _Scanner:
     def reset(self, mark: tuple[int, int]) -> None:
         self.pos, self.line = mark
 
-    def _skip(self) -> None:
-        text = self.text
-        m = _SKIP.match(text, self.pos)
-        if m:
-            end = m.end()
-            if "\n" in text[self.pos : end] or "\r" in text[self.pos : end]:
-                self.line += _count_lines(text, self.pos, end)
-            self.pos = end
-        if text.startswith("/*", self.pos):  # a comment that never closes
-            self.issues.append(Issue("SYNTAX-001", self.line, "comment '/*' is never closed"))
-            self.line += _count_lines(text, self.pos, len(text))
-            self.pos = len(text)
-
     def next(self) -> _Token:
-        ahead = self._ahead
-        if ahead is not None and ahead[0] == self.pos:
-            self.pos, self.line = ahead[2], ahead[3]
-            self.issues.extend(ahead[4])
-            self._ahead = None
-            return ahead[1]
-        return self._scan()
-
-    def _scan(self) -> _Token:
-        self._skip()
-        text, pos, line = self.text, self.pos, self.line
-        if pos >= len(text):
-            return _Token("eof", "", line, line, pos)
-        ch = text[pos]
-        if ch == '"':
-            end = text.find('"', pos + 1)
-            if end < 0:
-                self.issues.append(Issue("SYNTAX-001", line, 'quoted text is never closed (missing ")'))
-                end_line_pos = _line_end(text, pos)
-                self.pos = end_line_pos
-                return _Token("bad", text[pos:end_line_pos], line, line, pos)
-            self.pos = end + 1
-            self.line += _count_lines(text, pos, end)
-            return _Token("string", text[pos : end + 1], line, self.line, pos)
-        if ch in "=(){},;":
-            self.pos = pos + 1
-            return _Token("punct", ch, line, line, pos)
-        if ch == "'":
-            m = _SYMBOL.match(text, pos)
-            if m:
-                self.pos = m.end()
-                return _Token("symbol", m.group(), line, line, pos)
-        if ch == "<":
-            m = _UNIT.match(text, pos)
-            if m:
-                self.pos = m.end()
-                return _Token("unit", m.group(), line, line, pos)
-        m = _WORD.match(text, pos)
-        if m:
-            self.pos = m.end()
-            return _Token("word", m.group(), line, line, pos)
-        self.pos = pos + 1
-        return _Token("bad", ch, line, line, pos)
+        tok = self._ahead
+        if tok is None or self._ahead_from != self.pos:
+            tok = self._scan()
+        self._ahead = None
+        self.pos, self.line = tok.end, tok.end_line
+        if tok.issues:
+            self.issues.extend(tok.issues)
+        return tok
 
     def peek(self) -> _Token:
-        ahead = self._ahead
-        if ahead is not None and ahead[0] == self.pos:
-            return ahead[1]
-        start, line = self.pos, self.line
-        issues = len(self.issues)
-        tok = self._scan()
-        produced = self.issues[issues:]
-        del self.issues[issues:]  # reported when the token is really read
-        self._ahead = (start, tok, self.pos, self.line, produced)
-        self.pos, self.line = start, line
-        return tok
+        if self._ahead is None or self._ahead_from != self.pos:
+            self._ahead, self._ahead_from = self._scan(), self.pos
+        return self._ahead
 
     def skip_line(self) -> None:
         """Drop the rest of the current line (error recovery)."""
         self.pos = _line_end(self.text, self.pos)
         self._ahead = None
+
+    def simple_statement(self) -> tuple[re.Match[str], int] | None:
+        """The match of a simple statement (see _SIMPLE) starting at the next token, with
+        the line its keyword is on; nothing is read until `take` is called."""
+        text, pos = self.text, self.pos
+        m = _SIMPLE.match(text, pos)  # a statement at the start of the line the last one ended
+        if m is not None:
+            return m, self.line
+        skip = _SKIP.match(text, pos)
+        if skip is None:
+            return None
+        m = _SIMPLE.match(text, skip.end())
+        if m is None:
+            return None
+        return m, self.line + _count_lines(text, pos, skip.end())
+
+    def take(self, m: re.Match[str], line: int) -> None:
+        """Read past a simple statement matched on `line` and its line end."""
+        value = m.group("string") or m.group("items")
+        if value is not None and ("\n" in value or "\r" in value):  # they may span lines
+            line += _count_lines(value, 0, len(value))
+        if m.group("eol"):
+            line += 1
+        self.pos, self.line = m.end(), line
+
+    def _scan(self) -> _Token:
+        """The next token, by the one-pattern path when it applies."""
+        text, pos, line = self.text, self.pos, self.line
+        m = _TOKEN.match(text, pos)
+        if m is None or m.lastindex is None:  # never: some alternative matches anywhere
+            return self._scan_by_character(pos, line)
+        group = m.lastindex
+        start = m.start(group)
+        if start > pos:  # blanks, line ends or comments before the token
+            newlines = text.count("\n", pos, start)
+            returns = text.count("\r", pos, start)
+            if returns:
+                newlines += returns - text.count("\r\n", pos, start)
+            line += newlines
+        if group == 6:
+            return self._scan_by_character(start, line)
+        end = m.end()
+        if group == 1:  # a string may span lines
+            return _Token("string", m[1], line, line + _count_lines(text, start, end), start, end)
+        return _Token(_KINDS[group], m[group], line, line, start, end)
+
+    def _scan_by_character(self, pos: int, line: int) -> _Token:
+        """What _TOKEN does not take: unclosed quotes and comments, stray characters."""
+        text = self.text
+        issues: list[Issue] = []
+        m = _SKIP.match(text, pos)
+        if m:
+            end = m.end()
+            line += _count_lines(text, pos, end)
+            pos = end
+        if text.startswith("/*", pos):  # a comment that never closes
+            issues.append(Issue("SYNTAX-001", line, "comment '/*' is never closed"))
+            line += _count_lines(text, pos, len(text))
+            pos = len(text)
+        if pos >= len(text):
+            return _Token("eof", "", line, line, pos, pos, issues)
+        ch = text[pos]
+        if ch == '"':
+            end = text.find('"', pos + 1)
+            if end < 0:
+                issues.append(Issue("SYNTAX-001", line, 'quoted text is never closed (missing ")'))
+                end = _line_end(text, pos)
+                return _Token("bad", text[pos:end], line, line, pos, end, issues)
+            end_line = line + _count_lines(text, pos, end)
+            return _Token("string", text[pos : end + 1], line, end_line, pos, end + 1, issues)
+        if ch in "=(){},;":
+            return _Token("punct", ch, line, line, pos, pos + 1, issues)
+        m = None
+        if ch == "'":
+            m = _SYMBOL.match(text, pos)
+            kind = "symbol"
+        elif ch == "<":
+            m = _UNIT.match(text, pos)
+            kind = "unit"
+        if m is None:
+            m = _WORD.match(text, pos)
+            kind = "word"
+        if m:
+            return _Token(kind, m.group(), line, line, pos, m.end(), issues)
+        return _Token("bad", ch, line, line, pos, pos + 1, issues)
 
 
 def _count_lines(text: str, start: int, end: int) -> int:
@@ -164,16 +245,35 @@ def _line_end(text: str, pos: int) -> int:
     return m.start() if m else len(text)
 
 
+_ENDINGS = {"\r\n": "CRLF", "\n": "LF", "\r": "CR"}
+
+
 def split_lines(text: str, limit: int) -> list[Line]:
     """Physical lines of text[:limit] with their byte offsets and terminator kind."""
+    body = text[:limit]
+    newline = "\n" if "\r" not in body else "\r\n" if body.count("\r") == body.count("\r\n") == body.count("\n") else ""
+    if not newline:  # mixed line ends: one at a time
+        return _split_mixed_lines(text, limit)
+    parts = body.split(newline)  # the last part follows the last line end
+    step = len(newline)
+    starts = list(accumulate((len(part) + step for part in parts), initial=0))
+    ends = [start + len(part) for start, part in zip(starts[:-1], parts, strict=True)]
+    count = len(parts) - 1
+    lines = list(map(Line, range(1, count + 1), starts, ends, repeat(_ENDINGS[newline], count)))
+    if parts[-1]:
+        lines.append(Line(count + 1, starts[count], limit, ""))
+    return lines
+
+
+def _split_mixed_lines(text: str, limit: int) -> list[Line]:
     lines: list[Line] = []
+    append = lines.append
     pos, number = 0, 1
     for m in _NEWLINE.finditer(text, 0, limit):
-        ending = {"\r\n": "CRLF", "\n": "LF", "\r": "CR"}[m.group()]
-        lines.append(Line(number, pos, m.start(), ending))
+        append(Line(number, pos, m.start(), _ENDINGS[m.group()]))
         pos, number = m.end(), number + 1
     if pos < limit:
-        lines.append(Line(number, pos, limit, ""))
+        append(Line(number, pos, limit, ""))
     return lines
 
 
@@ -199,6 +299,9 @@ class _Parser:
     def parse(self) -> None:
         self._sfdu()
         while True:
+            simple = self.scan.simple_statement()
+            if simple is not None and self._simple(*simple):
+                continue
             tok = self.scan.next()
             if tok.kind == "eof":
                 break
@@ -206,11 +309,7 @@ class _Parser:
                 self.issue("SYNTAX-001", tok.line, f"expected a keyword, found {tok.text[:20]!r}")
                 self.scan.skip_line()
                 continue
-            if self.first_keyword is None:
-                self.first_keyword, self.first_line = tok.text.upper(), tok.line
-            upper = tok.text.upper()
-            if tok.text != upper:
-                self.lowercase.append((tok.text, tok.line))
+            upper = self._keyword_seen(tok.text, tok.line)
             if upper == "END":
                 self._end(tok)
                 if not self._another_segment():
@@ -221,6 +320,75 @@ class _Parser:
                 continue
             self._statement(tok, upper)
         self._finish()
+
+    def _keyword_seen(self, word: str, line: int) -> str:
+        """Note the first keyword and keywords not in upper case; the upper-case form."""
+        upper = word.upper()
+        if self.first_keyword is None:
+            self.first_keyword, self.first_line = upper, line
+        if word != upper:
+            self.lowercase.append((word, line))
+        return upper
+
+    def _simple(self, m: re.Match[str], line: int) -> bool:
+        """A statement _SIMPLE matched, read as the token path reads it: the same checks
+        and findings in the same order. False (nothing read) for what it must not take."""
+        word, scalar, items, unit = m.group("keyword", "word", "items", "unit")
+        upper = word.upper()
+        if upper in ("END_OBJECT", "END_GROUP"):
+            name = scalar or m.group("string")
+            if name is None or unit is not None:
+                return False  # what _close reports
+            self.scan.take(m, line)
+            self._keyword_seen(word, line)
+            self._closed(word, upper[4:], name.strip('"'), line)
+            return True
+        if upper == "END":
+            return False
+        if unit is not None and scalar is None and items is None:
+            return False  # a unit after a quoted value: the token path's finding
+        if items is not None and (items[0] == "(") != (items[-1] == ")"):
+            return False  # `(...}`: the token path's finding
+        self.scan.take(m, line)
+        self._keyword_seen(word, line)
+        if not _SFDU.fullmatch(upper):  # as _check_keyword, the name already taken apart
+            self._check_lengths(word, m.group("namespace"), m.group("name"), line)
+        if scalar is not None:
+            value = self._scalar(scalar, line, word)
+        elif items is not None:
+            value = self._items(items, line, word)
+        elif m.group("string") is not None:
+            value = self._string(m.group("string"), line, word, False)
+        else:
+            value = Value("symbol", m.group("symbol"), m.group("symbol")[1:-1], line)
+        if unit is not None:  # on the line the value ends on
+            unit_line = line + _count_lines(items, 0, len(items)) if items else line
+            self._set_unit(value, unit, unit_line, unit_line, word)
+        self._add(word, upper, line, value)
+        return True
+
+    def _items(self, text: str, line: int, keyword: str) -> Value:
+        """A sequence or set _SIMPLE matched (`text` from its bracket to its closing one,
+        opened on `line`): its members read as _value reads them."""
+        members: list[Value] = []
+        pos, item_line = 1, line
+        for m in _ITEMS.finditer(text, 1):
+            start = m.start(1)
+            if "\n" in text[pos:start] or "\r" in text[pos:start]:
+                item_line += _count_lines(text, pos, start)
+            item = m.group(1)
+            if item[0] == '"':
+                members.append(self._string(item, item_line, keyword, True))
+                if "\n" in item or "\r" in item:
+                    item_line += _count_lines(item, 0, len(item))
+            elif item[0] == "'":
+                members.append(Value("symbol", item, item[1:-1], item_line))
+            else:
+                members.append(self._scalar(item, item_line, keyword))
+            pos = m.end(1)
+        kind = "seq" if text[0] == "(" else "set"
+        return Value(kind, text, [member.py for member in members], line, None, members)
+
 
     def _another_segment(self) -> bool:
         """True when END closes a nested segment of an SFDU label (Viking EDRs open one with
@@ -271,27 +439,31 @@ class _Parser:
             if name is None:
                 self.issue("SYNTAX-001", tok.line, f"END_{kind} = needs an object name")
         self._end_of_statement(tok.line)
+        self._closed(tok.text, kind, name, tok.line)
+
+    def _closed(self, word: str, kind: str, name: str | None, line: int) -> None:
+        """END_OBJECT/END_GROUP (`word`, naming `name` or not) read on `line`: close the block."""
         top = self.stack[-1]
         if top.kind == "ROOT":
-            self.issue("SYNTAX-005", tok.line, f"END_{kind} without a matching {kind}", tok.text)
+            self.issue("SYNTAX-005", line, f"END_{kind} without a matching {kind}", word)
             return
         if top.kind != kind:
             self.issue(
                 "SYNTAX-005",
-                tok.line,
+                line,
                 f"END_{kind} closes {top.kind} {top.name} opened at line {top.line}",
-                tok.text,
+                word,
             )
         elif name is not None and name.upper() != top.name.upper():
             self.issue(
                 "SYNTAX-005",
-                tok.line,
+                line,
                 f"END_{kind} = {name} closes {kind} {top.name} opened at line {top.line}",
-                tok.text,
+                word,
             )
         elif name is None:
-            self.issue("SYNTAX-006", tok.line, f"END_{kind} does not repeat the name {top.name}")
-        top.end_line = tok.line
+            self.issue("SYNTAX-006", line, f"END_{kind} does not repeat the name {top.name}")
+        top.end_line = line
         self.stack.pop()
 
     def _statement(self, tok: _Token, upper: str) -> None:
@@ -307,8 +479,12 @@ class _Parser:
         if value is None:
             return
         self._end_of_statement(self.scan.line)
-        pointer = tok.text.startswith("^")
-        keyword = tok.text[1:] if pointer else tok.text
+        self._add(tok.text, upper, line, value)
+
+    def _add(self, word: str, upper: str, line: int, value: Value) -> None:
+        """A statement read: into the current block, or opening an OBJECT/GROUP."""
+        pointer = word.startswith("^")
+        keyword = word[1:] if pointer else word
         if _SFDU.fullmatch(keyword.upper()) and value.text.upper() == "SFDU_LABEL":
             self.segments += 1  # a nested SFDU segment (Viking EDRs): closed by its own END
             return
@@ -343,7 +519,9 @@ class _Parser:
         if not m:
             self.issue("SYNTAX-002", line, f"{word!r} is not a valid keyword name", word)
             return
-        namespace, name = m.group(1), m.group(2)
+        self._check_lengths(word, m.group(1), m.group(2), line)
+
+    def _check_lengths(self, word: str, namespace: str | None, name: str, line: int) -> None:
         if len(name) > MAX_KEYWORD_LENGTH and not word.startswith("^"):  # the limit is for keywords
             self.issue(
                 "SYNTAX-015",
@@ -378,20 +556,23 @@ class _Parser:
         if tok.kind == "punct" and tok.text in "({":
             return self._collection(tok, keyword)
         if tok.kind == "string":
-            content = tok.text[1:-1]
-            if not content.strip() and not nested:
-                self.issue("SYNTAX-013", tok.line, f'{keyword} = "": an empty text value', keyword)
-            return Value("string", tok.text, content, tok.line)
+            return self._string(tok.text, tok.line, keyword, nested)
         if tok.kind == "symbol":
             return Value("symbol", tok.text, tok.text[1:-1], tok.line)
         if tok.kind == "word":
-            value = self._scalar(tok, keyword)
+            value = self._scalar(tok.text, tok.line, keyword)
             self._unit(value, tok.line, keyword)
             return value
         self.issue("SYNTAX-001", tok.line, f"unexpected {tok.text[:20]!r} where a value belongs", keyword)
         if not nested:
             self.scan.skip_line()
         return None
+
+    def _string(self, text: str, line: int, keyword: str, nested: bool) -> Value:
+        content = text[1:-1]
+        if not content.strip() and not nested:
+            self.issue("SYNTAX-013", line, f'{keyword} = "": an empty text value', keyword)
+        return Value("string", text, content, line)
 
     def _unit(self, value: Value, line: int, keyword: str) -> None:
         """A `<unit>` after the value. pvl reads one that starts the next line (JAXA and MER
@@ -400,11 +581,14 @@ class _Parser:
         if unit.kind != "unit":
             return
         self.scan.next()
-        value.unit = unit.text[1:-1].strip()
+        self._set_unit(value, unit.text, unit.line, line, keyword)
+
+    def _set_unit(self, value: Value, text: str, unit_line: int, line: int, keyword: str) -> None:
+        value.unit = text[1:-1].strip()
         if not value.unit:
-            self.issue("SYNTAX-011", unit.line, f"empty unit '<>' after {keyword}", keyword)
-        elif unit.line != line:
-            self.issue("SYNTAX-014", unit.line, f"{keyword}: unit <{value.unit}> starts the line after "
+            self.issue("SYNTAX-011", unit_line, f"empty unit '<>' after {keyword}", keyword)
+        elif unit_line != line:
+            self.issue("SYNTAX-014", unit_line, f"{keyword}: unit <{value.unit}> starts the line after "
                        "its value (readers such as pvl attach it to the value)", keyword)
         if value.items is not None:
             for item in value.scalars():
@@ -470,11 +654,11 @@ class _Parser:
         self._unit(value, self.scan.line, keyword)
         return value
 
-    def _scalar(self, tok: _Token, keyword: str) -> Value:
-        text, line = tok.text, tok.line
-        if _INT.fullmatch(text):
-            return Value("int", text, int(text), line)
-        if _REAL.fullmatch(text):
+    def _scalar(self, text: str, line: int, keyword: str) -> Value:
+        number = _NUMBER.fullmatch(text)
+        if number:
+            if number.group(1):
+                return Value("int", text, int(text), line)
             return Value("real", text, float(text), line)
         if "#" in text:
             return self._based(text, line, keyword)

@@ -32,10 +32,12 @@ class Value:
     def scalars(self) -> Iterator[Value]:
         """Every scalar member, flattening nested sequences and sets."""
         if self.items is None:
-            yield self
-        else:
-            for item in self.items:
-                yield from item.scalars()
+            return iter((self,))  # most values: no generator to start
+        return self._members()
+
+    def _members(self) -> Iterator[Value]:
+        for item in self.items or ():
+            yield from item.scalars()
 
     @property
     def is_number(self) -> bool:
@@ -78,24 +80,34 @@ class Block:
     line: int
     end_line: int | None = None
     items: list[Statement | Block] = field(default_factory=list)
+    # Look-up tables built on first use: rules read the tree only once the label is read, and
+    # every rule family walks it again (a label's blocks are walked ~400 times per file).
     _index: dict[str, Statement] | None = field(default=None, repr=False, compare=False)
+    _statements: list[Statement] | None = field(default=None, repr=False, compare=False)
+    _children: list[Block] | None = field(default=None, repr=False, compare=False)
+    _tree: list[Block] | None = field(default=None, repr=False, compare=False)
 
     def statements(self) -> Iterator[Statement]:
-        for item in self.items:
-            if isinstance(item, Statement):
-                yield item
+        if self._statements is None:
+            self._statements = [item for item in self.items if isinstance(item, Statement)]
+        return iter(self._statements)
 
     def blocks(self, name: str | None = None) -> Iterator[Block]:
         """Direct child blocks, optionally only those whose name is `name`."""
-        for item in self.items:
-            if isinstance(item, Block) and (name is None or item.name.upper() == name):
-                yield item
+        if self._children is None:
+            self._children = [item for item in self.items if isinstance(item, Block)]
+        if name is None:
+            return iter(self._children)
+        return (child for child in self._children if child.name.upper() == name)
 
     def walk(self) -> Iterator[Block]:
         """This block and every block nested in it, depth first."""
-        yield self
-        for child in self.blocks():
-            yield from child.walk()
+        if self._tree is None:
+            tree = [self]
+            for child in self.blocks():
+                tree.extend(child.walk())
+            self._tree = tree
+        return iter(self._tree)
 
     def find(self, name: str) -> Iterator[Block]:
         """Every block at any depth named `name` (upper case)."""

@@ -20,6 +20,7 @@ import re
 import tempfile
 from collections.abc import Iterable
 from dataclasses import dataclass, field
+from json.encoder import encode_basestring_ascii
 from typing import IO, Any
 
 from lxml import etree
@@ -222,15 +223,38 @@ class JsonWriter(Writer):
             "errors": report.count("error"),
             "warnings": report.count("warning"),
             "info": report.count("info"),
-            "findings": [f.as_dict() for f in report.findings],
         }
-        text = json.dumps(entry, indent=2).replace("\n", "\n    ")
+        findings = ",\n    ".join(_indented(f.as_dict(), "    ") for f in report.findings)
+        # json.dumps(entry + findings, indent=2), values through json's C encoder (its
+        # indenting encoder is pure Python, and a report holds thousands of findings)
+        text = _indented(entry, "")[:-2] + ',\n  "findings": ' + (f"[\n    {findings}\n  ]" if findings else "[]")
+        text = (text + "\n}").replace("\n", "\n    ")
         self.out.write(("\n    " if self.first else ",\n    ") + text)
         self.first = False
 
     def finish(self, tally: Tally) -> None:
         summary = json.dumps(tally.summary(), indent=2).replace("\n", "\n  ")
         self.out.write(("\n  " if not self.first else "") + f'],\n  "summary": {summary}\n}}\n')
+
+
+def _encode(value: Any) -> str:
+    """json.dumps(value) for the scalars a report holds, strings by json's C function."""
+    if isinstance(value, str):
+        return encode_basestring_ascii(value)
+    if value is None:
+        return "null"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if type(value) is int:
+        return repr(value)
+    return json.dumps(value)
+
+
+def _indented(flat: dict[str, Any], pad: str) -> str:
+    """json.dumps(flat, indent=2) of a non-empty dict of scalars, its lines after the first
+    indented by `pad`."""
+    inner = ",\n".join(f"{pad}  {_encode(key)}: {_encode(value)}" for key, value in flat.items())
+    return f"{{\n{inner}\n{pad}}}"
 
 
 class JunitWriter(Writer):
