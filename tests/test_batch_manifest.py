@@ -179,3 +179,24 @@ def test_readme_manifest_is_a_valid_manifest(tmp_path):
     manifest = load_manifest(write(tmp_path, block))
     assert [j.kind for j in manifest.jobs] == ["dtm", "ortho", "extras", "validate"]
     assert manifest.jobs[0].params["institution"] == "U"  # from [defaults.dtm]
+
+
+def test_a_marker_temporary_of_a_killed_batch_is_removed_and_a_live_ones_kept(tmp_path):
+    """A batch killed between writing a job marker and renaming it leaves `.ID.json.PID.part`
+    beside the markers; the next run removes it when that process is gone."""
+    import os
+    import subprocess
+    import sys
+
+    from pdsgen.batch.resume import marker_path, remove_interrupted_leftovers
+
+    marker = marker_path(tmp_path, "s0_dtm")
+    marker.parent.mkdir(parents=True)
+    gone = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True,
+                          text=True, check=True)
+    stale = marker.parent / f".{marker.name}.{gone.stdout.strip()}.part"
+    live = marker.parent / f".{marker.name}.{os.getpid()}.part"
+    stale.write_text("{")
+    live.write_text("{")
+    assert remove_interrupted_leftovers([marker]) == [stale]
+    assert not stale.exists() and live.exists()

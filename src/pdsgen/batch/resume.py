@@ -101,6 +101,28 @@ def may_replace(marker: Mapping[str, Any] | None) -> bool:
     return marker.get("state") in ("done", "started") or bool(marker.get("owner"))
 
 
+def _stale_marker_temporaries(marker: Path) -> list[Path]:
+    """A marker's own temporaries (write_marker) whose writer process is gone: a batch
+    killed between writing a marker and renaming it leaves one behind."""
+    removed = []
+    for leftover in marker.parent.glob(f".{marker.name}.*.part"):
+        pid = leftover.name[len(marker.name) + 2:-len(".part")]
+        if pid.isdigit() and not _process_alive(int(pid)):
+            leftover.unlink(missing_ok=True)
+            removed.append(leftover)
+    return removed
+
+
+def _process_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # alive, another user's
+        return True
+    return True
+
+
 def remove_interrupted_leftovers(markers: Iterable[Path]) -> list[Path]:
     """Delete the temporary files (`.NAME.*.part`, see staging.py) that jobs killed part way left.
 
@@ -108,7 +130,9 @@ def remove_interrupted_leftovers(markers: Iterable[Path]) -> list[Path]:
     "started", so no temporary file of a running job can be among them.
     """
     removed = []
+    markers = list(markers)
     for marker in markers:
+        removed += _stale_marker_temporaries(marker)
         data = read_marker(marker)
         if not data or data.get("state") != "started" or not isinstance(data.get("outdir"), str):
             continue
