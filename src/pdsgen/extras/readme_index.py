@@ -96,8 +96,8 @@ def publish_readme(outdir: Path, new: Sequence[Entry], keywords: Mapping[str, st
     """Merge NEW into OUTDIR's README.TXT under the directory lock; return its path."""
     readme = outdir / README_NAME
     with directory_lock(outdir):
-        previous, _ = read_readme(outdir)
-        _write_readme(outdir, merge_entries(previous, new), keywords)
+        previous, recorded = read_readme(outdir)
+        _write_readme(outdir, merge_entries(previous, new), {**recorded, **keywords})
     ours = {entry["product_id"] for entry in new}
     replaced = [entry for entry in previous if entry["product_id"] in ours]
     # Taken back with this call's previews, README.TXT is not restored to the file it
@@ -109,18 +109,18 @@ def publish_readme(outdir: Path, new: Sequence[Entry], keywords: Mapping[str, st
 
 def _take_back(outdir: Path, ours: set[str], replaced: Sequence[Entry]) -> None:
     with directory_lock(outdir):
-        current, _ = read_readme(outdir)
+        current, recorded = read_readme(outdir)
         earlier = {entry["product_id"]: entry for entry in replaced}
         entries = [earlier.get(entry["product_id"], entry) for entry in current
                    if entry["product_id"] not in ours or entry["product_id"] in earlier]
-        _write_readme(outdir, entries, {})
+        _write_readme(outdir, entries, recorded)
 
 
 def _write_readme(outdir: Path, candidates: Sequence[Entry], keywords: Mapping[str, str]) -> None:
-    """README.TXT of the candidate entries whose files are all present (the caller holds
-    the directory lock); with none left it is removed, as it would describe nothing."""
+    """README.TXT of the candidate entries whose files are all present, with the directory
+    `keywords` (the caller holds the directory lock and has read the README once); with no
+    entry left it is removed, as it would describe nothing."""
     readme = outdir / README_NAME
-    _, recorded = read_readme(outdir)
     entries, files = [], []
     for entry in candidates:
         found = entry_files(entry, outdir)
@@ -131,7 +131,7 @@ def _write_readme(outdir: Path, candidates: Sequence[Entry], keywords: Mapping[s
         readme.unlink(missing_ok=True)
         return
     with StagedOutputs([readme], overwrite=True, restore_on_rollback=False) as staged:
-        staged.path(readme).write_bytes(render_readme(entries, files, {**recorded, **keywords}))
+        staged.path(readme).write_bytes(render_readme(entries, files, keywords))
     (outdir / OLD_RECORD_NAME).unlink(missing_ok=True)
 
 
