@@ -17,7 +17,7 @@ from ..progress import wanted as progress_wanted
 from ..validate import config as configuration
 from ..validate import rules
 from ..validate.dictionary import version as dictionary_version
-from ..validate.report import FORMATS, Tally, fails, finding_line, terminal_safe, write_stream
+from ..validate.report import FORMATS, Tally, failing_severities, fails, finding_line, terminal_safe, write_stream
 from ..validate.runner import iter_reports, terminal_progress
 from . import COMMANDS
 from ._output import log_to_stderr
@@ -164,7 +164,7 @@ def _tell_choices(settings: configuration.Settings, baseline_path: str | None, d
 
 def _failing_findings(reports, tally: Tally) -> None:
     """--quiet text report: one line per finding that fails the run, nothing else."""
-    levels = ("error",) if tally.fail_on == "error" else ("error", "warning")
+    levels = failing_severities(tally.fail_on)
     for report in reports:
         tally.add(report)
         if fails(report, tally.fail_on):

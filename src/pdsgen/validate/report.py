@@ -18,6 +18,7 @@ import json
 import os
 import re
 import tempfile
+from abc import ABC, abstractmethod
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from json.encoder import encode_basestring_ascii
@@ -40,9 +41,14 @@ class FileReport:
         return sum(1 for f in self.findings if f.severity == severity)
 
 
+def failing_severities(fail_on: str) -> tuple[str, ...]:
+    """The severities that fail a run whose fail-on level is `fail_on`."""
+    return ("error",) if fail_on == "error" else ("error", "warning")
+
+
 def fails(report: FileReport, fail_on: str) -> bool:
     """True when the file has a finding at or above the fail-on level."""
-    levels = ("error",) if fail_on == "error" else ("error", "warning")
+    levels = failing_severities(fail_on)
     return any(f.severity in levels for f in report.findings)
 
 
@@ -182,21 +188,22 @@ def _gh_property(text: str) -> str:
 
 
 # -- streaming writers -------------------------------------------------------------------
-class Writer:
+class Writer(ABC):
     """Writes one format: start(), then file() per checked file, then finish(tally)."""
 
     def __init__(self, out: IO[str], show_info: bool = True) -> None:
         self.out = out
         self.show_info = show_info
 
-    def start(self) -> None:
-        pass
+    def start(self) -> None:  # noqa: B027 - optional hook: formats without a header keep it
+        """Write what comes before the first file (nothing, unless the format has a header)."""
 
+    @abstractmethod
     def file(self, report: FileReport, failed: bool) -> None:
-        raise NotImplementedError
+        """Write one checked file's findings (`failed`: it fails the run)."""
 
-    def finish(self, tally: Tally) -> None:
-        pass
+    def finish(self, tally: Tally) -> None:  # noqa: B027 - optional hook: formats without a footer keep it
+        """Write what comes after the last file (nothing, unless the format has a footer)."""
 
 
 class TextWriter(Writer):
