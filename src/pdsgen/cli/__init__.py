@@ -9,8 +9,15 @@ can fix (`PdsgenError`) become one line on stderr and exit code 2.
 from __future__ import annotations
 
 import importlib
+import os
 import sys
 import warnings
+
+# numpy's OpenBLAS starts a thread per core on import, which spins after each call;
+# pdsgen does no linear algebra, and on a busy encoder those threads only take CPU
+# from it (0.1 s per orthoimage measured). Set before any command imports numpy;
+# a value the user exported wins.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import click
 from click.shell_completion import CompletionItem

@@ -24,24 +24,13 @@ from . import schematron
 from .cart_checks import check_cartography, check_encoded_jp2
 from .catalog import SchemaCatalog, schema_references
 from .data_checks import check_data, check_special_constants
+from .detect import is_pds4_label
 from .label_tree import SEVERITY, P, Report
 from .xsd import SchemaImportError, build_schema, xsd_errors
 
 # Checks of the label against its data (skipped by --labels-only), and of the label alone.
 CONTENT_CHECKS = (check_data, check_special_constants, check_cartography, check_encoded_jp2)
 LABEL_ONLY_CHECKS = (check_special_constants, check_cartography)
-
-
-def is_pds4_label(path: Path) -> bool:
-    """An .xml file whose root element is a PDS4 Product_* (read from its first few KB)."""
-    if path.suffix.lower() != ".xml":
-        return False
-    try:
-        with open(path, "rb") as handle:
-            head = handle.read(8192)
-    except OSError:
-        return False
-    return b"http://pds.nasa.gov/pds4/pds/v1" in head and b"<Product_" in head
 
 
 def check_schema_dirs(directories: Iterable[str | os.PathLike[str]]) -> tuple[str, ...]:

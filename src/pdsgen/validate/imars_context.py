@@ -16,8 +16,6 @@ from functools import cached_property
 from pathlib import Path
 from typing import Any
 
-import pvl
-
 from ..missions.imars import is_metadata_name
 from .context import directory_listing, resolve_beside
 
@@ -62,6 +60,8 @@ class ImarsContext:
         self.text = path.read_bytes().decode("latin-1")
         self.parse_error: Exception | None = None
         self.module: Any = None
+        import pvl  # loaded only when an iMars file is checked: PDS3 label runs need no PVL reader
+
         try:
             self.module = pvl.loads(self.text)
         except Exception as exc:  # pvl raises LexerError/ParseError (ValueError), or worse

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import PdsgenError
-from ..pds4 import validate as pds4
+from ..pds4.detect import is_pds4_label
 from .config import Baseline, Settings
 from .context import FileContext
 from .dictionary import load as load_dictionary
@@ -38,7 +38,7 @@ _SNIFF = (b"PDS_VERSION_ID", b"CCSD3")
 def is_label_file(path: Path) -> bool:
     """Detached labels by name, iMars metadata files (`*_ucl.pvl`); other files only if
     they start with a PDS3 label."""
-    if path.suffix.lower() in LABEL_SUFFIXES or is_imars_metadata(path) or pds4.is_pds4_label(path):
+    if path.suffix.lower() in LABEL_SUFFIXES or is_imars_metadata(path) or is_pds4_label(path):
         return True
     try:
         with open(path, "rb") as fh:
@@ -133,7 +133,9 @@ _MAGIC = ((b"\x00\x00\x00\x0cjP  ", "a JPEG 2000 signature"), (b"\xff\x4f\xff\x5
 def validate_file(path: Path, labels_only: bool = False, dictionaries: tuple[str, ...] = (),
                   strict: bool = False, schemas: tuple[str, ...] = ()) -> tuple[FileReport, Summary | None]:
     """All per-file rules on one file: PDS3 label rules, or IMARS rules for iMars metadata."""
-    if pds4.is_pds4_label(path):  # PDS4 hook: pdsgen.pds4 checks it and returns Findings
+    if is_pds4_label(path):  # PDS4 hook: pdsgen.pds4 checks it and returns Findings
+        from ..pds4 import validate as pds4  # loaded (lxml, Schematron) only when a PDS4 label turns up
+
         return FileReport(str(path), pds4.validate_label(path, schemas, labels_only)), None
     imars = is_imars_metadata(path)
     reason = None if imars else not_a_label(path)
@@ -240,7 +242,7 @@ def iter_reports(
     settings = settings or Settings()
     extra = tuple(str(d) for d in dictionaries)
     _check_dictionaries(extra)
-    schema_dirs = pds4.check_schema_dirs(schemas)
+    schema_dirs = _checked_schema_dirs(schemas)
     paths = list(paths)
     found = _discover_lazily(paths)
     first = next(found, None)
@@ -251,11 +253,23 @@ def iter_reports(
     return _with_run_notes(_stream(files, job, jobs, progress, baseline))
 
 
+def _checked_schema_dirs(schemas: Iterable[str | os.PathLike[str]]) -> tuple[str, ...]:
+    """`--schemas` directories, refused now (a usage error) if one is not a directory."""
+    schemas = tuple(schemas)
+    if not schemas:
+        return ()
+    from ..pds4 import validate as pds4
+
+    return pds4.check_schema_dirs(schemas)
+
+
 def _with_run_notes(reports: Iterator[FileReport]) -> Iterator[FileReport]:
     """PDS4 hook: the run's one note when Schematron could not run, on its first PDS4 report."""
     noted = False
     for report in reports:
-        if not noted and pds4.is_pds4_label(Path(report.path)):
+        if not noted and is_pds4_label(Path(report.path)):
+            from ..pds4 import validate as pds4
+
             pds4.add_run_notes([report])
             noted = True
         yield report
