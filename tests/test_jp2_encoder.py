@@ -158,3 +158,28 @@ def test_lossy_settings_cut_each_tile_to_the_compression_ratio(tmp_path):
     assert np.abs(decoded.astype(float) - data).mean() < 12  # lossy, the same picture
     cod = next(s for s in glymur.Jp2k(str(path)).get_codestream().segment if s.marker_id == "COD")
     assert cod.xform == 0  # 9/7 irreversible wavelet
+
+
+def test_at_most_two_rows_of_tiles_are_held(tmp_path):
+    """The next row is read once half of the current row's tiles are coded: memory is two rows of tiles.
+
+    A row's tiles are views of it, so a row lives until its last tile is encoded;
+    when a row is read, no row before the one being encoded may still be alive.
+    """
+    import weakref
+
+    data = _data((32 * 6, 32 * 8), 1, 8)
+    rows: list[weakref.ref] = []
+    alive_when_read = []
+
+    def read(first, lines):
+        alive_when_read.append(sum(row() is not None for row in rows))
+        row = data[first:first + lines].copy()
+        rows.append(weakref.ref(row))
+        return row
+
+    settings = dataclasses.replace(choose_settings(*data.shape), tile_shape=(32, 32))
+    path = tmp_path / "rows.jp2"
+    write_jp2(path, *data.shape, 1, 8, read, settings=settings, threads=2)
+    assert len(alive_when_read) == 6 and max(alive_when_read) == 1
+    assert np.array_equal(_gdal(path)[0], data)

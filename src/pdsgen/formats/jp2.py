@@ -388,10 +388,11 @@ def encode_jp2(
 
     One thread reads and converts the next row of tiles while `threads` encoders
     work through the tiles queued so far; tile-parts are written in tile order as
-    they complete. A row's tiles are queued when no more than one tile per encoder
-    is left of the rows before (reading a row takes a few per cent of the time its
-    tiles take to encode, so it is ready by then): encoders never wait, and at most
-    two rows of tiles are held (being encoded, being read), plus those last tiles.
+    they complete. The next row is read once half of the current row's tiles are
+    encoded, and its tiles are queued when no more than one tile per encoder is
+    left: reading a row takes a few per cent of the time its tiles take to encode,
+    so encoders never wait, and at most two rows of tiles are held (a row's tiles
+    are views of it, so it lives until its last tile is encoded).
     """
     tile_rows, tile_cols = settings.tile_shape
     grid_rows, grid_cols = settings.tile_grid(lines, samples)
@@ -415,15 +416,19 @@ def encode_jp2(
     with ThreadPoolExecutor(1, "pdsgen-read") as reader, \
             ThreadPoolExecutor(workers, "pdsgen-jp2") as encoders:
         next_row = reader.submit(read_row, 0)
+        read_ahead = max(workers, grid_cols // 2)  # tiles left when the next row is read
         try:
             for row in range(grid_rows):
                 data = next_row.result()
-                if row + 1 < grid_rows:
-                    next_row = reader.submit(read_row, row + 1)
                 for col, tile in enumerate(_tiles_of(data, bands, tile_cols)):
                     index = row * grid_cols + col
                     pending.append((index, encoders.submit(encoder.encode, index, tile)))
                 del data
+                while len(pending) > read_ahead:
+                    index, future = pending.popleft()
+                    add(index, future.result())
+                if row + 1 < grid_rows:
+                    next_row = reader.submit(read_row, row + 1)
                 while len(pending) > workers:  # queue the next row while every encoder is still busy
                     index, future = pending.popleft()
                     add(index, future.result())
