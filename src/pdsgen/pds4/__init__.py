@@ -5,7 +5,8 @@ Writing (`--label pds4|both`): `products` (DTM and orthoimage labels and the dat
 target), `content` (MD5, size and statistics taken while writing), for the Information
 Model in `model.CURRENT_IM` (1O00 = 1.24.0.0), from `templates/pds4/`.
 
-Validating (`pdsgen validate`): `validate` (entry points and the schema checks), `catalog`
+Validating (`pdsgen validate`): `detect` (is a file a PDS4 label: cheap, asked of every
+file), `validate` (entry points and the schema checks), `catalog`
 (schema URLs -> local files: shipped `schemas/pds4/` and `--schemas DIR`), `xsd` (lxml),
 `schematron` (Saxon, optional), `data_checks` and `cart_checks` (the label against its
 data), `rules` (the PDS4 rule ids), `label_tree` (what the checks share).
