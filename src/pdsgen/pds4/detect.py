@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..formats.sniff import file_head
+
 _HEAD_BYTES = 8192
 _PDS4_NAMESPACE = b"http://pds.nasa.gov/pds4/pds/v1"
 
@@ -17,9 +19,5 @@ def is_pds4_label(path: Path) -> bool:
     """An .xml file whose root element is a PDS4 Product_* (read from its first few KB)."""
     if path.suffix.lower() != ".xml":
         return False
-    try:
-        with open(path, "rb") as handle:
-            head = handle.read(_HEAD_BYTES)
-    except OSError:
-        return False
+    head = file_head(path, _HEAD_BYTES) or b""
     return _PDS4_NAMESPACE in head and b"<Product_" in head

@@ -16,6 +16,7 @@ from functools import cached_property
 from pathlib import Path
 from typing import Any
 
+from ..formats.sniff import file_head
 from ..missions.imars import is_metadata_name
 from .context import directory_listing, resolve_beside
 
@@ -32,11 +33,7 @@ def is_imars_metadata(path: Path) -> bool:
         return False
     if is_metadata_name(path.name):
         return True
-    try:
-        with open(path, "rb") as fh:
-            head = fh.read(_SNIFF_BYTES)
-    except OSError:
-        return False
+    head = file_head(path, _SNIFF_BYTES) or b""
     return {m.group(1).lower() for m in _OBJECT.finditer(head)} == {b"productinfo", b"image"}
 
 

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import PdsgenError
+from ..formats.sniff import file_head
 from ..pds4.detect import is_pds4_label
 from .config import Baseline, Settings
 from .context import FileContext
@@ -40,12 +41,8 @@ def is_label_file(path: Path) -> bool:
     they start with a PDS3 label."""
     if path.suffix.lower() in LABEL_SUFFIXES or is_imars_metadata(path) or is_pds4_label(path):
         return True
-    try:
-        with open(path, "rb") as fh:
-            head = fh.read(64).lstrip()
-    except OSError:
-        return False
-    return head.upper().startswith(_SNIFF)
+    head = file_head(path, 64) or b""
+    return head.lstrip().upper().startswith(_SNIFF)
 
 
 _SPECIAL_KINDS = ((stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
@@ -112,11 +109,7 @@ def not_a_label(path: Path) -> str | None:
     and gets one finding instead of thousands about its bytes."""
     if is_label_file(path):
         return None
-    try:
-        with open(path, "rb") as fh:
-            head = fh.read(_SNIFF_BYTES)
-    except OSError:
-        return None  # FILE-012 reports it
+    head = file_head(path, _SNIFF_BYTES)  # None: unreadable, which FILE-012 reports
     if not head or not _BINARY.search(head):
         return None
     kind = next((name for magic, name in _MAGIC if head.startswith(magic)), "binary data")
