@@ -84,3 +84,31 @@ def test_the_library_reports_only_to_an_installed_reporter(large, tmp_path):
     with progress.reporting(lambda done, total, unit: seen.append((done, total, unit))):
         write_ortho(large["ortho"], tmp_path / "reported")
     assert seen[-1] == (16, 16, "tiles") and [d for d, _, _ in seen] == list(range(1, 17))
+
+
+def test_a_bar_of_unknown_total_is_a_count_and_every_bar_is_one_drawing():
+    """Validation finds files while it checks them: the line is a count until the end."""
+    import io
+
+    shown = io.StringIO()
+    bar = progress.TerminalBar(shown)
+    bar(1, 0, "files checked")
+    bar(2, 0, "files checked")  # within a tenth of a second: not redrawn
+    assert shown.getvalue() == "\r\033[K1 files checked" and bar.visible
+    bar.close()
+    assert shown.getvalue().endswith("\r\033[K") and not bar.visible
+    assert progress.bar_text(3, 4) == "[" + "#" * 22 + "." * 8 + "]" and progress.bar_text(9, 4).count("#") == 30
+
+
+def test_validate_counts_files_on_a_terminal_and_clears_the_count(tmp_path):
+    from pdsgen import write_dtm
+
+    for name in ("A", "B"):
+        source = write_raster(tmp_path / f"{name}.tif", elevation_array(64, 48)[None], CRS_EQUIRECTANGULAR,
+                              TRANSFORM)
+        write_dtm(source, tmp_path / "set", product_id=f"DTM_{name}")
+    code, shown = _stderr_on_a_terminal(["validate", str(tmp_path / "set")])
+    assert code == 0, shown
+    assert "1 file(s) checked" in shown and shown.endswith("\r\033[K")
+    quiet_code, quiet = _stderr_on_a_terminal(["validate", "--quiet", str(tmp_path / "set")])
+    assert quiet_code == 0 and quiet == ""

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from pdsgen.dtm import write_dtm
 from pdsgen.validate import validate_paths
-from pdsgen.validate.runner import terminal_progress
 from test_validate_support import make_dtm, resize_label_text
 
 from helpers import ORIGINS, elevation_array, write_raster
@@ -74,13 +73,6 @@ def test_product_id_matches_file_name(tmp_path):
     path.rename(renamed)
     errors = {f.rule for f in validate_paths([renamed]).findings if f.severity == "error"}
     assert errors == {"SET-002"}
-
-
-def test_progress_bar_line(capsys):
-    for done in (1, 2, 4):
-        terminal_progress(done, 4)
-    err = capsys.readouterr().err
-    assert err.count("\r") == 3 and err.endswith("4/4 files\n") and "#" * 30 in err
 
 
 def test_demo_delivery_set_is_clean_and_complete(tmp_path):

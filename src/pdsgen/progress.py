@@ -60,8 +60,18 @@ def advance(done: int, total: int, unit: str) -> None:
         reporter(done, total, unit)
 
 
+def bar_text(done: int, total: int) -> str:
+    """`[#####.....]`: the share of `total` that is `done`, the one bar every command draws."""
+    filled = BAR_WIDTH * min(done, total) // max(1, total)
+    return f"[{'#' * filled}{'.' * (BAR_WIDTH - filled)}]"
+
+
 class TerminalBar:
-    """One line on stderr, redrawn at most ten times a second, cleared when the work ends."""
+    """One line on stderr, redrawn at most ten times a second, cleared when the work ends.
+
+    A total of 0 means it is not known yet (files found while they are checked): the
+    line is then a count.
+    """
 
     def __init__(self, stream: TextIO | None = None) -> None:
         self.stream = stream if stream is not None else sys.stderr
@@ -70,15 +80,17 @@ class TerminalBar:
 
     def __call__(self, done: int, total: int, unit: str) -> None:
         now = time.monotonic()
-        if done < total and now - self.drawn_at < REDRAW_SECONDS:
+        finished = 0 < total <= done
+        if not finished and now - self.drawn_at < REDRAW_SECONDS:
             return
         self.drawn_at = now
-        filled = BAR_WIDTH * done // max(1, total)
-        self.stream.write(f"\r\033[K[{'#' * filled}{'.' * (BAR_WIDTH - filled)}] "
-                          f"{100 * done // max(1, total):3d}%  {done}/{total} {unit}")
-        self.visible = done < total
-        if not self.visible:
-            self.stream.write("\r\033[K")  # finished: leave the line to the result
+        if total > 0:
+            self.stream.write(f"\r\033[K{bar_text(done, total)} {100 * done // total:3d}%  {done}/{total} {unit}")
+        else:
+            self.stream.write(f"\r\033[K{done} {unit}")
+        self.visible = not finished
+        if finished:
+            self.stream.write("\r\033[K")  # leave the line to the result
         self.stream.flush()
 
     def close(self) -> None:

@@ -11,7 +11,7 @@ import sys
 import time
 from typing import Any, TextIO
 
-BAR_WIDTH = 24
+from ..progress import bar_text
 
 
 class Progress:
@@ -58,11 +58,10 @@ class Progress:
         if not self.bar:
             return
         finished = self._finished_count()
-        filled = BAR_WIDTH * finished // max(1, self.total)
         elapsed = time.monotonic() - self.start
         rate = (self.counts["done"] / elapsed * 60) if elapsed > 0 else 0.0
         self.stream.write(
-            f"\r\033[K[{'#' * filled}{'.' * (BAR_WIDTH - filled)}] {finished}/{self.total}  "
+            f"\r\033[K{bar_text(finished, self.total)} {finished}/{self.total}  "
             f"done {self.counts['done'] + self.counts['skipped']}  failed {self.counts['failed']}  "
             f"running {self.running}  {rate:.1f} jobs/min")
         self.stream.flush()

@@ -6,6 +6,7 @@ import logging
 import os
 import sys
 import time
+from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import IO
@@ -13,12 +14,22 @@ from typing import IO
 import click
 
 from ..errors import PdsgenError
+from ..progress import TerminalBar
 from ..progress import wanted as progress_wanted
 from ..validate import config as configuration
 from ..validate import rules
 from ..validate.dictionary import version as dictionary_version
-from ..validate.report import FORMATS, Tally, failing_severities, fails, finding_line, terminal_safe, write_stream
-from ..validate.runner import iter_reports, terminal_progress
+from ..validate.report import (
+    FORMATS,
+    FileReport,
+    Tally,
+    failing_severities,
+    fails,
+    finding_line,
+    terminal_safe,
+    write_stream,
+)
+from ..validate.runner import iter_reports
 from . import COMMANDS
 from ._output import log_to_stderr
 
@@ -37,6 +48,26 @@ def _list_rules() -> str:
         if r.note:
             lines.append(f"{'':<20} ({r.note})")
     return "\n".join(lines) + "\n"
+
+
+@contextmanager
+def _files_progress(quiet: bool) -> Iterator[TerminalBar | None]:
+    """The count of files checked, on stderr when it is a terminal (see pdsgen.progress.wanted);
+    cleared when the run ends, however it ends."""
+    bar = TerminalBar() if progress_wanted(quiet) else None
+    try:
+        yield bar
+    finally:
+        if bar is not None:
+            bar.close()
+
+
+def _giving_way(reports: Iterable[FileReport], bar: TerminalBar) -> Iterator[FileReport]:
+    """Reports whose lines start on a clean line: the count is cleared before each is written
+    (it is drawn again, at most ten times a second, by the next file)."""
+    for report in reports:
+        bar.close()
+        yield report
 
 
 @contextmanager
@@ -127,27 +158,30 @@ def validate(paths: tuple[str, ...], fmt: str, strict: bool, fail_on: str | None
     settings = configuration.load(config_path, search=not no_config)
     settings = configuration.override(settings, select, ignore, severities, "warning" if strict else fail_on)
     baseline = configuration.Baseline.read(baseline_path) if baseline_path else None
-    progress = terminal_progress if progress_wanted(quiet) else None
-    reports = iter_reports(paths, strict=strict, jobs=jobs, labels_only=labels_only, progress=progress,
-                           dictionaries=dictionaries, settings=settings, baseline=baseline, schemas=schemas)
-    if verbose:  # after iter_reports has checked the paths given with --dictionary
-        _tell_choices(settings, baseline_path, tuple(dictionaries), jobs, labels_only)
-    if write_baseline_path:
-        kept = [f for report in reports for f in report.findings]
-        count = configuration.write_baseline(write_baseline_path, kept)
-        if not quiet:
-            click.echo(f"{count} finding(s) recorded in the baseline {write_baseline_path}")
-        return
-    tally = Tally(settings.fail_on, dictionary=dictionary_version(tuple(dictionaries)))
-    if quiet and fmt == "text" and not output:
-        _failing_findings(_counting_baseline(reports, baseline, tally), tally)
-    else:
-        with _output(output) as out:
-            write_stream(_counting_baseline(reports, baseline, tally), fmt, out, tally)
-    elapsed = time.monotonic() - started
-    log.info("checked %d file(s) in %.2f s (%.0f files/s): %d error(s), %d warning(s)", tally.files, elapsed,
-             tally.files / elapsed if elapsed > 0 else 0.0, tally.errors, tally.warnings)
-    sys.exit(tally.exit_code)
+    with _files_progress(quiet) as bar:
+        progress = None if bar is None else (lambda done, total: bar(done, total, "file(s) checked"))
+        reports = iter_reports(paths, strict=strict, jobs=jobs, labels_only=labels_only, progress=progress,
+                               dictionaries=dictionaries, settings=settings, baseline=baseline, schemas=schemas)
+        if bar is not None:
+            reports = _giving_way(reports, bar)
+        if verbose:  # after iter_reports has checked the paths given with --dictionary
+            _tell_choices(settings, baseline_path, tuple(dictionaries), jobs, labels_only)
+        if write_baseline_path:
+            kept = [f for report in reports for f in report.findings]
+            count = configuration.write_baseline(write_baseline_path, kept)
+            if not quiet:
+                click.echo(f"{count} finding(s) recorded in the baseline {write_baseline_path}")
+            return
+        tally = Tally(settings.fail_on, dictionary=dictionary_version(tuple(dictionaries)))
+        if quiet and fmt == "text" and not output:
+            _failing_findings(_counting_baseline(reports, baseline, tally), tally)
+        else:
+            with _output(output) as out:
+                write_stream(_counting_baseline(reports, baseline, tally), fmt, out, tally)
+        elapsed = time.monotonic() - started
+        log.info("checked %d file(s) in %.2f s (%.0f files/s): %d error(s), %d warning(s)", tally.files, elapsed,
+                 tally.files / elapsed if elapsed > 0 else 0.0, tally.errors, tally.warnings)
+        sys.exit(tally.exit_code)
 
 
 def _tell_choices(settings: configuration.Settings, baseline_path: str | None, dictionaries: tuple[str, ...],

@@ -388,19 +388,3 @@ def validate_paths(
     fail_on = "warning" if strict else settings.fail_on
     return Report(reports, fail_on=fail_on, baseline_suppressed=baseline.suppressed if baseline else 0,
                   dictionary=dictionary_version())
-
-
-def terminal_progress(done: int, total: int) -> None:
-    """A one-line progress bar on stderr (used only when stderr is a terminal). total 0 means
-    not known (files are found while they are checked): then a counter, every 50 files."""
-    if not total:
-        if done % 50 == 0:
-            sys.stderr.write(f"\r{done} files checked")
-            sys.stderr.flush()
-        return
-    width = 30
-    filled = width * done // total
-    sys.stderr.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total} files")
-    if done == total:
-        sys.stderr.write("\n")
-    sys.stderr.flush()
