@@ -194,3 +194,68 @@ def test_pds4_products_are_byte_for_byte_reproducible(dtms, tmp_path):
     assert again.pds4_label_path.read_bytes() == first.path.read_bytes()
     assert again.path.read_bytes() == first.path.with_suffix(".img").read_bytes()
 
+
+
+HRSC_SINUSOIDAL = "+proj=sinu +lon_0=70 +R=3396000 +units=m +no_defs"
+
+
+def _headers(label_path):
+    tree = etree.parse(str(label_path))
+    ns = {"pds": "http://pds.nasa.gov/pds4/pds/v1"}
+    return [(h.findtext("pds:parsing_standard_id", namespaces=ns), int(h.findtext("pds:offset", namespaces=ns)),
+             int(h.findtext("pds:object_length", namespaces=ns))) for h in tree.iterfind(".//pds:Header", ns)]
+
+
+def test_hrsc_dtm_label_both_describes_the_headed_int16_image(tmp_path):
+    """The HRSC .img is PDS3 label, VICAR label, then MSB int16 DNs: two Headers and the scaled array."""
+    from affine import Affine
+
+    data = elevation_array(30, 40, seed=12)
+    source = write_raster(tmp_path / "h.tif", data, HRSC_SINUSOIDAL, Affine(50, 0, 100000, 0, -50, 300000))
+    product = write_dtm(source, tmp_path / "out", profile="hrsc", product_id="h1234_0000", precision=0.5,
+                        label="both")
+    assert product.pds4_label_path.name == "h1234_0000_dt4.xml" and product.pds4_label_path in product.files
+    assert validate_pds4(product.pds4_label_path) == []
+    text = product.pds4_label_path.read_text()
+    assert "urn:esa:psa:mex_hrsc:data_dtm:h1234_0000_dt4" in text and "<data_type>SignedMSB2</data_type>" in text
+    (pds3, zero, pds3_length), (vicar, vicar_offset, vicar_length) = _headers(product.pds4_label_path)
+    raw = product.path.read_bytes()
+    assert (pds3, zero, vicar, vicar_offset) == ("PDS3", 0, "VICAR2", pds3_length)
+    assert raw[:14] == b"PDS_VERSION_ID" and raw[vicar_offset:vicar_offset + 7] == b"LBLSIZE"
+    assert f'<offset unit="byte">{vicar_offset + vicar_length}</offset>' in text
+    with rasterio.open(product.pds4_label_path) as pds4_view, rasterio.open(product.path) as pds3_view:
+        assert pds4_view.driver == "PDS4" and pds4_view.scales == (0.5,) and pds4_view.nodata == -32768
+        assert np.array_equal(pds4_view.read(1), pds3_view.read(1))
+        heights = pds4_view.read(1) * 0.5 + pds4_view.offsets[0]
+        assert np.abs(heights - data).max() <= 0.25 + 1e-3
+        assert pds4_view.transform.almost_equals(pds3_view.transform)
+    import pds4_tools  # an independent PDS4 reader: the scaled heights through both Headers
+
+    structures = pds4_tools.read(str(product.pds4_label_path), quiet=True)
+    assert [s.id for s in structures] == ["pds3_label", "vicar_label", "image"]
+    assert np.abs(np.asarray(structures["image"].data) - data).max() <= 0.25 + 1e-3
+    report = validate_paths([tmp_path / "out"], strict=True)
+    problems = [f for f in report.findings if f.severity == "error"]
+    assert problems == [], [f.message for f in problems]
+
+
+def test_hrsc_nd4_label_both_and_pds4_alone_refused(tmp_path):
+    from affine import Affine
+
+    data = np.random.default_rng(13).integers(1, 256, (20, 30)).astype("uint8")
+    data[0, :3] = 0
+    source = write_raster(tmp_path / "n.tif", data, HRSC_SINUSOIDAL, Affine(12.5, 0, 100000, 0, -12.5, 300000))
+    product = write_ortho(source, tmp_path / "out", profile="hrsc", product_id="h1234_0000", label="both")
+    assert product.pds4_label_path.name == "h1234_0000_nd4.xml"
+    assert validate_pds4(product.pds4_label_path) == []
+    assert [kind for kind, _, _ in _headers(product.pds4_label_path)] == ["PDS3", "VICAR2"]
+    with rasterio.open(product.pds4_label_path) as pds4_view:
+        assert pds4_view.nodata == 0 and np.array_equal(pds4_view.read(1), data)
+    shown = run_cli("ortho", source, "-o", tmp_path / "cli", "--profile", "hrsc", "--product-id", "h1234_0000",
+                    "--label", "both")
+    assert shown.returncode == 0, shown.stderr
+    assert "h1234_0000_nd4.xml" in shown.stdout and (tmp_path / "cli" / "h1234_0000_nd4.xml").is_file()
+    refused = run_cli("dtm", source, "-o", tmp_path / "again", "--profile", "hrsc", "--product-id", "h1234_0000",
+                      "--label", "pds4")
+    assert refused.returncode == 2 and "--label both" in refused.stderr
+    assert not (tmp_path / "again").exists() or not any((tmp_path / "again").iterdir())

@@ -42,3 +42,22 @@ def test_hrsc_and_imars_examples_run_as_written(tmp_path):
         assert result.returncode == 0, f"{example}\n{result.stderr}"
     written = {p.name for p in (tmp_path / "out").iterdir()}
     assert {"h1234_0000_dt4.img", "h1234_0000_da4.img", "h1234_0000_nd4.img", "h1234_0000_da4_ucl.tif"} <= written
+
+
+def test_pds4_examples_run_as_written(tmp_path):
+    from helpers import ORIGINS
+
+    crs, transform = ORIGINS["equirectangular"]
+    write_raster(tmp_path / "my_dtm.tif", elevation_array(40, 30, seed=3), crs, transform)
+    write_raster(tmp_path / "ortho_red.tif", np.random.default_rng(5).integers(1, 255, (40, 30)).astype("uint8"),
+                 crs, transform)
+    write_raster(tmp_path / "hrsc_dtm.tif", elevation_array(40, 30, seed=8), SINUSOIDAL, GRID)
+    examples = _examples("PDS4 products")
+    assert len(examples) >= 4
+    for example in examples:
+        args = shlex.split(example.split("#", 1)[0])[1:]
+        result = subprocess.run([sys.executable, "-m", "pdsgen", *args, "--overwrite"], cwd=tmp_path,
+                                capture_output=True, text=True, timeout=300)
+        assert result.returncode == 0, f"{example}\n{result.stderr}"
+    written = {p.name for p in (tmp_path / "delivery").iterdir()}
+    assert {"MY_DTM.img", "MY_DTM.IMG", "MY_DTM.xml", "h1234_0000_dt4.img", "h1234_0000_dt4.xml"} <= written

@@ -19,7 +19,7 @@ USED_BY_PROFILE = {
     "generic": _COMMON | {"allow_deviations", "byte_order", "label"},
     "hirise": _COMMON | {"allow_deviations", "byte_order", "institution", "label"},
     "hrsc": _COMMON | {"allow_deviations", "source_labels", "offset_convention", "byte_order", "kind",
-                       "vertical_datum", "areoid", "precision", "reproject"},
+                       "vertical_datum", "areoid", "precision", "reproject", "label"},
     "imars": _COMMON | {"kind", "vertical_datum", "areoid", "precision"},
 }
 
@@ -102,6 +102,7 @@ def _summary(product: object) -> str:
     if isinstance(product, ImarsProduct):
         return f"{product.tiff_path}  {product.pvl_path.name}  {product.footprint_path.name}"
     assert isinstance(product, HrscDtmProduct)
-    return (f"{product.path}  {product.geometry.lines} x {product.geometry.samples}  "
+    pds4 = f"  {product.pds4_label_path.name}" if product.pds4_label_path else ""
+    return (f"{product.path}{pds4}  {product.geometry.lines} x {product.geometry.samples}  "
             f"DN {product.valid_minimum} .. {product.valid_maximum} "
             f"(x {product.encoding.scaling_factor:g} + {product.encoding.offset:g} m)")

@@ -18,7 +18,8 @@ _COMMON = {"input_path", "outdir", "product_id", "value_range", "params_file", "
 USED_BY_PROFILE = {
     "generic": _COMMON | {"allow_deviations", "bits", "observation_id", "source_dtm_id", "sequence", "gmljp2", "label"},
     "hirise": _COMMON | {"allow_deviations", "bits", "observation_id", "source_dtm_id", "sequence", "gmljp2", "label"},
-    "hrsc": _COMMON | {"allow_deviations", "source_labels", "offset_convention", "bits", "source_ids", "reproject"},
+    "hrsc": _COMMON | {"allow_deviations", "source_labels", "offset_convention", "bits", "source_ids", "reproject",
+                       "label"},
     "imars": _COMMON | {"bits", "source_ids"},
 }
 
@@ -95,6 +96,7 @@ def _summary(product: object) -> str:
     from ..products.imars import ImarsProduct
 
     if isinstance(product, HrscImageProduct):
-        return f"{product.path}  DN {product.valid_minimum} .. {product.valid_maximum}"
+        pds4 = f"  {product.pds4_label_path.name}" if product.pds4_label_path else ""
+        return f"{product.path}{pds4}  DN {product.valid_minimum} .. {product.valid_maximum}"
     assert isinstance(product, ImarsProduct)
     return f"{product.tiff_path}  {product.pvl_path.name}  {product.footprint_path.name}"

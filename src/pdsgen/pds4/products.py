@@ -12,7 +12,7 @@ goes in a File_Area_Observational_Supplemental as an Encoded_Image.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO, cast
@@ -79,6 +79,33 @@ class StoredArray:
         return NUMPY_TYPES[self.data_type]
 
 
+@dataclass(frozen=True)
+class FileHeader:
+    """A header before the array in the same file: an attached PDS3 label, a VICAR label.
+
+    The label lists them as Header objects in file order; the array starts after them.
+    """
+
+    local_identifier: str
+    length: int  # bytes
+    parsing_standard_id: str  # a value the PDS4 dictionary allows: "PDS3", "VICAR2" ...
+    description: str
+
+
+def pds3_label_header(length: int) -> FileHeader:
+    return FileHeader("pds3_label", length, "PDS3", "The attached PDS3 label of the same product.")
+
+
+def header_entries(headers: Sequence[FileHeader]) -> tuple[list[dict[str, object]], int]:
+    """The Header objects with their offsets, and the offset of the array after them."""
+    entries, offset = [], 0
+    for header in headers:
+        entries.append({"local_identifier": header.local_identifier, "offset": offset, "length": header.length,
+                        "parsing_standard_id": header.parsing_standard_id, "description": header.description})
+        offset += header.length
+    return entries, offset
+
+
 def float32_dtm(big_endian: bool) -> StoredArray:
     """The standard DTM: float32 elevations, the ISIS NULL as missing_constant."""
     return StoredArray(DATA_TYPES[("f4", big_endian)], (("missing_constant", float(MISSING_CONSTANT)),),
@@ -101,14 +128,15 @@ def write_pds4_dtm(product: ProductDescription, data_path: Path, label_path: Pat
 
 
 def image_label_text(product: ProductDescription, data_name: str, stored: StoredArray, statistics: ArrayStatistics,
-                     content: FileContent, header_bytes: int = 0) -> str:
+                     content: FileContent, headers: Sequence[FileHeader] = ()) -> str:
     """The PDS4 label of a one-band image (a DTM, or HRSC's ND4) stored in `data_name`,
-    after `header_bytes` of attached PDS3 label when there is one."""
+    after the `headers` the file holds before it (an attached PDS3 label, a VICAR label)."""
+    entries, array_offset = header_entries(headers)
     array = {
         "element": "Array_2D_Image",
         "bands": None,
         "local_identifier": ARRAY_ID,
-        "offset": header_bytes,
+        "offset": array_offset,
         "description": stored.description,
         "data_type": stored.data_type,
         "unit": stored.unit,
@@ -123,22 +151,24 @@ def image_label_text(product: ProductDescription, data_name: str, stored: Stored
         **_common(product, stored.collection, stored.kind),
         "data_file": _file_entry(data_name, content),
         "array": array,
-        "pds3_header": header_bytes,
+        "headers": entries,
     })
 
 
 def write_image_pds4_label(product: ProductDescription, label_path: Path, data_path: Path, data_name: str,
-                           stored: StoredArray, header_bytes: int = 0) -> Pds4Label:
-    """Describe an already written image file (PDS3 `.IMG` with attached label, or raw) in a PDS4 label.
+                           stored: StoredArray, headers: Sequence[FileHeader] = ()) -> Pds4Label:
+    """Describe an already written image file (PDS3 `.IMG` with attached label, HRSC's
+    PDS3 + VICAR headed `.img`, or raw) in a PDS4 label.
 
     Reads the file once for its MD5 and statistics: it was written before this label.
     """
     itemsize = np.dtype(stored.numpy_type).itemsize
+    _, array_offset = header_entries(headers)
     with open(data_path, "rb") as handle:
-        tap = ContentTap(None, stored.numpy_type, special=tuple(v for _, v in stored.special), start=header_bytes)
+        tap = ContentTap(None, stored.numpy_type, special=tuple(v for _, v in stored.special), start=array_offset)
         while block := handle.read(_READ_CHUNK - _READ_CHUNK % itemsize):
             tap.write(block)
-    text = image_label_text(product, data_name, stored, tap.statistics(), tap.content(), header_bytes)
+    text = image_label_text(product, data_name, stored, tap.statistics(), tap.content(), headers)
     label_path.write_text(text, encoding="utf-8")
     return Pds4Label(label_path, text, tap.statistics(), tap.content())
 

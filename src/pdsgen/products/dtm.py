@@ -31,7 +31,13 @@ from ..label.render import RecordLayout, render_label, settle_attached_label
 from ..label.values import Based, Fixed, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
 from ..pds4.model import check_label_dialect
-from ..pds4.products import ProductDescription, float32_dtm, write_image_pds4_label, write_pds4_dtm
+from ..pds4.products import (
+    ProductDescription,
+    float32_dtm,
+    pds3_label_header,
+    write_image_pds4_label,
+    write_pds4_dtm,
+)
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords, source_id_values
@@ -177,7 +183,7 @@ def write_pds3_dtm(
                 warnings = check_label(text, final.name, allow_deviations=allow)
                 if label == "both":
                     write_image_pds4_label(description, staged.path(xml_final), staged.path(final), final.name,
-                                           float32_dtm(big_endian), records.label_bytes)
+                                           float32_dtm(big_endian), [pds3_label_header(records.label_bytes)])
     return DtmProduct(
         product_id=product_id,
         path=final,

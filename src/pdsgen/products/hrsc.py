@@ -27,7 +27,7 @@ from rasterio.warp import calculate_default_transform
 from rasterio.warp import transform as warp_transform
 
 from .. import __version__
-from ..errors import PdsgenError
+from ..errors import ParamsError, PdsgenError
 from ..formats.img import BandStatistics, scan_band, stream_band, write_attached_product
 from ..formats.raster import open_raster, require_single_band
 from ..formats.scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
@@ -40,6 +40,8 @@ from ..label.values import Based, Symbol
 from ..missions import hrsc as hrsc_mission
 from ..missions.hrsc import DTM_KINDS, MISSING_DN, NOT_APPLICABLE, POLAR_LIMIT_DEG
 from ..missions.hrsc import base_name as hrsc_base_name
+from ..pds4.model import DATA_TYPES, check_label_dialect
+from ..pds4.products import FileHeader, ProductDescription, StoredArray, pds3_label_header, write_image_pds4_label
 from .agreement import allows_deviations, check_label
 from .heights import (
     Int16Encoding,
@@ -78,11 +80,12 @@ class HrscProduct:
     valid_maximum: int
     label_text: str
     warnings: tuple[str, ...] = ()  # dictionary deviations kept (--allow-dictionary-deviations)
+    pds4_label_path: Path | None = None  # label "both": the PDS4 label of the same .img
 
     @property
     def files(self) -> tuple[Path, ...]:
         """Every file this product wrote."""
-        return (self.path,)
+        return (self.path,) + ((self.pds4_label_path,) if self.pds4_label_path else ())
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -161,6 +164,7 @@ def write_hrsc_dtm(
     source_labels: Sequence[str | os.PathLike[str]] = (),
     offset_convention: str = "standard",
     allow_dictionary_deviations: bool | None = None,
+    label: str = "pds3",
 ) -> HrscDtmProduct:
     """Write `OUTDIR/hOOOO_NNNN_<kind>.img` from a single-band height raster.
 
@@ -169,7 +173,10 @@ def write_hrsc_dtm(
     (PDS3, GDAL reads the grid exactly) or "dlr" (DLR's pipeline, one pixel apart).
     With `reproject_input`, heights above the input's own reference surface are
     converted to the 3396.0 km sphere (radius = R_in + h, h' = radius - 3396.0 km).
+    label "both" adds `hOOOO_NNNN_<kind>.xml`, a PDS4 label of the same .img (see
+    `_pds4_beside`).
     """
+    _check_hrsc_label(label)
     byte_order = byte_order or "msb"
     check_offset_convention(offset_convention)
     if kind not in DTM_KINDS:
@@ -223,16 +230,27 @@ def write_hrsc_dtm(
             return stream_band(grid, handle, big_endian, moments.counting(encoding.encode), adjust)
 
         final = prepare_output_dir(outdir) / file_name
-        with StagedOutputs([final, *_vicar_description(final)], overwrite) as staged:
-            _, text, stats = write_attached_product(
+        xml_final = final.with_suffix(".xml") if label == "both" else None
+        with StagedOutputs([final, *_vicar_description(final), *([xml_final] if xml_final else [])],
+                           overwrite) as staged:
+            records, text, stats = write_attached_product(
                 staged.path(final), render, grid.width * 2, grid.height, write_data
             )
             _write_vicar_description(staged, final)
             warnings = check_label(pds_label_part(text), final.name,
                                    allow_deviations=allows_deviations(allow_dictionary_deviations, keywords))
+            if xml_final is not None:
+                stored = StoredArray(
+                    DATA_TYPES[("i2", big_endian)], (("missing_constant", float(MISSING_DN)),),
+                    f"{description.capitalize()} in metres = DN * scaling_factor + value_offset; "
+                    "DNs equal to missing_constant hold no data.",
+                    scaling=(encoding.scaling_factor, encoding.offset))
+                _pds4_beside(staged, final, xml_final, ProductDescription(
+                    final_id, hrsc_mission.MISSION, version, context["ident"], geometry, grid
+                ), stored, records.label_bytes, len(header))
     return HrscDtmProduct(product_id=final_id, path=final, geometry=geometry, kind=kind, encoding=encoding,
                           valid_minimum=_as_int(stats.minimum), valid_maximum=_as_int(stats.maximum),
-                          label_text=pds_label_part(text), warnings=warnings)
+                          label_text=pds_label_part(text), warnings=warnings, pds4_label_path=xml_final)
 
 
 @contextmanager
@@ -300,13 +318,16 @@ def write_hrsc_nd4(
     source_labels: Sequence[str | os.PathLike[str]] = (),
     offset_convention: str = "standard",
     allow_dictionary_deviations: bool | None = None,
+    label: str = "pds3",
 ) -> HrscImageProduct:
     """Write the nadir orthoimage `OUTDIR/hOOOO_NNNN_nd4.img`: 8-bit DNs, 0 = no data.
 
     Byte input keeps its DNs (0 is HRSC's no-data DN already); anything else is
     mapped linearly from its valid range (or `value_range`) onto DNs 1..254,
-    with SCALING_FACTOR and OFFSET giving the input values back.
+    with SCALING_FACTOR and OFFSET giving the input values back. label "both" adds
+    `hOOOO_NNNN_nd4.xml`, a PDS4 label of the same .img (see `_pds4_beside`).
     """
+    _check_hrsc_label(label)
     check_offset_convention(offset_convention)
     keywords = resolve_params(params)
     input_path = Path(input_path)
@@ -345,15 +366,46 @@ def write_hrsc_nd4(
             return stats
 
         final = prepare_output_dir(outdir) / context["file_name"]
-        with StagedOutputs([final, *_vicar_description(final)], overwrite) as staged:
-            _, text, stats = write_attached_product(staged.path(final), render, grid.width, grid.height, write_data)
+        xml_final = final.with_suffix(".xml") if label == "both" else None
+        with StagedOutputs([final, *_vicar_description(final), *([xml_final] if xml_final else [])],
+                           overwrite) as staged:
+            records, text, stats = write_attached_product(
+                staged.path(final), render, grid.width, grid.height, write_data)
             _write_vicar_description(staged, final)
             warnings = check_label(pds_label_part(text), final.name,
                                    allow_deviations=allows_deviations(allow_dictionary_deviations, keywords))
+            if xml_final is not None:
+                identity = mapping.scaling_factor == 1.0 and mapping.offset == 0.0
+                stored = StoredArray(
+                    DATA_TYPES[("u1", True)], (("missing_constant", float(special.null)),),
+                    "Nadir orthoimage DNs" + ("" if identity else "; value = DN * scaling_factor + value_offset")
+                    + f"; DN {special.null} marks missing data.",
+                    unit=None, scaling=None if identity else (mapping.scaling_factor, mapping.offset),
+                    collection="data_ortho", kind="nadir orthoimage")
+                _pds4_beside(staged, final, xml_final, ProductDescription(
+                    context["product_id"], hrsc_mission.MISSION, version, context["ident"], geometry, grid
+                ), stored, records.label_bytes, len(header))
     return HrscImageProduct(product_id=context["product_id"], path=final, geometry=geometry,
                             scaling_factor=mapping.scaling_factor, offset=mapping.offset,
                             valid_minimum=_as_int(stats.minimum), valid_maximum=_as_int(stats.maximum),
-                            label_text=pds_label_part(text), warnings=warnings)
+                            label_text=pds_label_part(text), warnings=warnings, pds4_label_path=xml_final)
+
+
+def _check_hrsc_label(label: str) -> None:
+    """HRSC products are DLR's PDS3 .img; a PDS4 label can describe that file, not replace it."""
+    if check_label_dialect(label) == "pds4":
+        raise ParamsError(None, "HRSC products keep their PDS3 .img; use --label both to add a PDS4 label of it")
+
+
+def _pds4_beside(staged: StagedOutputs, final: Path, xml_final: Path, product: ProductDescription,
+                 stored: StoredArray, headers_bytes: int, vicar_bytes: int) -> None:
+    """The PDS4 label of a written HRSC .img: its attached PDS3 label and the VICAR label
+    after it are two Headers (in file order), the DNs with their scaling the array."""
+    vicar = FileHeader("vicar_label", vicar_bytes, "VICAR2",
+                       f"The VICAR label of the same product, as DLR writes it "
+                       f"({VICAR_DESCRIPTION_NAME} describes it).")
+    write_image_pds4_label(product, staged.path(xml_final), staged.path(final), final.name, stored,
+                           [pds3_label_header(headers_bytes - vicar_bytes), vicar])
 
 
 def _vicar_description(product: Path) -> list[Path]:
