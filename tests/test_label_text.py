@@ -102,3 +102,31 @@ def test_attached_label_records_settle_on_a_consistent_count():
     assert f"LABEL_RECORDS = {layout.label_records}" in text
     padded = pad_label(text, layout)
     assert len(padded) == layout.label_records * 12
+
+
+@pytest.mark.parametrize("grows", [False, True])
+def test_an_attached_label_that_outgrows_its_reservation_moves_the_data_after_it(tmp_path, grows):
+    """The label is sized before the data pass with the widest statistic; should the final
+    label still need more records, the data written after the reservation moves down intact."""
+    from pdsgen.formats.img import RESERVATION_STATISTIC, BandStatistics, write_attached_product
+
+    record_bytes, data_records = 16, 40
+    data = bytes(range(256)) * (record_bytes * data_records // 256) + bytes(record_bytes * data_records % 256)
+
+    def render(layout: RecordLayout, stats: BandStatistics) -> str:
+        final = stats.minimum != RESERVATION_STATISTIC
+        body = (f"RECORD_BYTES = {layout.record_bytes}\nLABEL_RECORDS = {layout.label_records}\n"
+                f"FILE_RECORDS = {layout.file_records}\n")
+        return layout_label(body + ("X = 1\n" * 9 if final and grows else "") + "END\n")
+
+    def write_data(handle) -> BandStatistics:
+        handle.write(data)
+        return BandStatistics(1, 0.0, 1.0)
+
+    path = tmp_path / "product.img"
+    path.write_bytes(b"")
+    layout, text, _ = write_attached_product(path, render, record_bytes, data_records, write_data)
+    written = path.read_bytes()
+    assert len(written) == layout.file_records * record_bytes
+    assert written[:len(text)] == text.encode("ascii") and written[layout.label_bytes:] == data
+    assert f"LABEL_RECORDS = {layout.label_records}" in text

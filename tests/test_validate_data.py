@@ -87,3 +87,36 @@ def test_bytes_per_image_for_each_band_storage(storage, stored_lines, line_bytes
     assert (lay.lines, lay.line_bytes) == (stored_lines, line_bytes)
     with_prefix = _image_block(storage, prefix=4, suffix=2)
     assert object_bytes(with_prefix) == stored_lines * (line_bytes + 6)
+
+
+def _valid_range_stated_as(path, minimum: str):
+    """The label's VALID_MINIMUM rewritten as `minimum` (padding keeps the data in place)."""
+    from test_validate_support import resize_label_text
+
+    head = path.read_bytes()[:4000]
+    start = head.index(b"VALID_MINIMUM    = ")
+    old = head[start: head.index(b"\r\n", start)]
+    resize_label_text(path, old, b"VALID_MINIMUM    = " + minimum.encode())
+    return [f for f in validate_paths([path]).findings if f.rule == "IMG-007"]
+
+
+def test_valid_range_stated_to_fewer_decimals(tmp_path):
+    """A value is stated to the decimals it is written with: a bound rounded outwards
+    passes, one rounded to the nearest that cuts the lowest samples off is a warning
+    (hidtmgen's REAL,2 does this), more than that is an error."""
+    from decimal import ROUND_CEILING, ROUND_FLOOR, Decimal
+
+    path = make_dtm(tmp_path)
+    low = min(v for v in np.fromfile(path, dtype="<f4")[-40 * 50:] if v > -1e30)
+    exact = Decimal(repr(float(np.float32(low))))
+    outwards = exact.quantize(Decimal("0.01"), rounding=ROUND_FLOOR)
+    assert _valid_range_stated_as(path, str(outwards)) == []
+    # the first number of decimals at which rounding to the nearest goes up, inside the data
+    step = next(Decimal(10) ** -k for k in range(1, 8)
+                if exact.quantize(Decimal(10) ** -k, rounding=ROUND_CEILING) - exact <= Decimal(10) ** -k / 2)
+    (warning,) = _valid_range_stated_as(path, str(exact.quantize(step, rounding=ROUND_CEILING)))
+    assert warning.severity == "warning" and f"rounded to the nearest {float(step):g}" in warning.message
+    (error,) = _valid_range_stated_as(path, str(outwards - Decimal("0.02")))
+    assert error.severity == "error" and "the data give" in error.message
+    (whole,) = _valid_range_stated_as(path, str(int(outwards.to_integral_value(ROUND_FLOOR))))
+    assert whole.severity == "error"  # no decimals written: stated exactly

@@ -32,8 +32,9 @@ from .raster import row_strips
 # values; NULL (16#FF7FFFFB#) is the one PDS DTMs use as MISSING_CONSTANT.
 MISSING_CONSTANT = np.frombuffer(bytes.fromhex("FF7FFFFB"), dtype=">f4")[0].astype(np.float32)
 MISSING_BITS = ISIS_NULL_BITS
-# A value no real label statistic can be wider than when written.
-_WIDEST_STATISTIC = -1.2345678901234567e-300
+# A value no real label statistic can be wider than when written (shortest round-trip
+# form); writers that round statistics (Fixed) keep it as it is (see products/dtm.valid_bound).
+RESERVATION_STATISTIC = -1.2345678901234567e-300
 _COPY_CHUNK = 8 * 1024 * 1024
 
 
@@ -199,20 +200,35 @@ def write_attached_product(
     write_data: Callable[[BinaryIO], BandStatistics],
 ) -> tuple[RecordLayout, str, BandStatistics]:
     """Label + data in one file, the data written in one pass after reserved records."""
-    widest = BandStatistics(1, _WIDEST_STATISTIC, _WIDEST_STATISTIC)
+    widest = BandStatistics(1, RESERVATION_STATISTIC, RESERVATION_STATISTIC)
     reserved, _ = settle_attached_label(lambda r: render(r, widest), record_bytes, data_records)
     with open(path, "r+b") as handle:
         handle.seek(reserved.label_bytes)
         stats = write_data(handle)
         layout, text = settle_attached_label(lambda r: render(r, stats), record_bytes, data_records)
-        if layout.label_records > reserved.label_records:
-            raise RuntimeError("final label outgrew its reserved records")
+        if layout.label_records > reserved.label_records:  # a value wider than the reservation's
+            _move_up(handle, reserved.label_bytes, layout.label_bytes, data_records * record_bytes)
         if layout.label_records < reserved.label_records:
             _move_down(handle, reserved.label_bytes, layout.label_bytes, data_records * record_bytes)
         handle.seek(0)
         handle.write(pad_label(text, layout))
         handle.truncate(layout.file_bytes)
     return layout, text, stats
+
+
+def _move_up(handle: BinaryIO, source: int, target: int, length: int) -> None:
+    """Move `length` bytes from `source` to a later offset, chunk by chunk from the end
+    (so no chunk overwrites bytes not yet moved). Costs a copy of the data: only a label
+    that outgrew its reservation needs it."""
+    done = 0
+    while done < length:
+        size = min(_COPY_CHUNK, length - done)
+        start = length - done - size
+        handle.seek(source + start)
+        chunk = handle.read(size)
+        handle.seek(target + start)
+        handle.write(chunk)
+        done += size
 
 
 def _move_down(handle: BinaryIO, source: int, target: int, length: int) -> None:

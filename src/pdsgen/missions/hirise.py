@@ -52,11 +52,10 @@ DTM_NOTE = (
     "DN * SCALING_FACTOR + OFFSET. Pixels equal to MISSING_CONSTANT hold no data."
 )
 # The release (and hidtmgen's REAL,2 format) gives VALID_MINIMUM/MAXIMUM to two decimals.
-# Not used yet: the validator's IMG-007 compares them with the data to 1e-6 and would
-# reject the rounded values, and a product must pass the validator. Set this to
-# RELEASE_VALID_RANGE_DECIMALS once IMG-007 accepts values stated to the label's precision.
+# pdsgen rounds them outwards, so they still bound every valid sample (hidtmgen rounds to
+# the nearest, which the validator's IMG-007 reports as a warning when it cuts a sample off).
 RELEASE_VALID_RANGE_DECIMALS = 2
-VALID_RANGE_DECIMALS: int | None = None
+VALID_RANGE_DECIMALS: int | None = RELEASE_VALID_RANGE_DECIMALS
 # Orthoimages of HiRISE DTMs are released in the DTM data set, beside the DTM.
 ORTHO_DESCRIPTION = "HiRISE orthorectified image, projected onto the DTM named in SOURCE_PRODUCT_ID"
 

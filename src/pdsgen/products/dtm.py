@@ -19,6 +19,7 @@ from ..errors import PdsgenError
 from ..formats.img import (
     MISSING_BITS,
     MISSING_CONSTANT,
+    RESERVATION_STATISTIC,
     BandStatistics,
     stream_float32_band,
     write_attached_product,
@@ -205,7 +206,7 @@ def valid_bound(value: float, decimals: int | None, direction: Callable[[float],
     bound is rounded outwards (`math.floor` for the minimum, `math.ceil` for the
     maximum) so that it still bounds every valid value.
     """
-    if decimals is None:
+    if decimals is None or value == RESERVATION_STATISTIC:  # the label-size reservation: widest as it is
         return value
     scale = 10.0**decimals
     return Fixed(direction(round(value * scale, 6)) / scale, decimals)

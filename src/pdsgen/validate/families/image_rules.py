@@ -9,6 +9,7 @@ compared with values recomputed by streaming the data (see datastats).
 from __future__ import annotations
 
 import math
+import re
 import struct
 from collections.abc import Iterator
 
@@ -247,6 +248,31 @@ def _matches(label_value: float, data_value: float, block: Block, rel: float) ->
     return False
 
 
+_PLAIN_DECIMAL = re.compile(r"^[+-]?\d*\.(\d+)$")
+_BOUNDS = {"VALID_MINIMUM": -1, "VALID_MAXIMUM": +1}  # which side of the data a bound must lie on
+
+
+def _last_place(raw: str) -> float | None:
+    """One unit in the last decimal place of a value written without an exponent ("-4553.91"
+    -> 0.01), or None: a label states a value only to the decimals it writes."""
+    found = _PLAIN_DECIMAL.match(raw.strip())
+    return 10.0 ** -len(found.group(1)) if found else None
+
+
+def _stated_to_precision(key: str, label_value: float, data: float, step: float) -> str | None:
+    """How a value stated to `step` relates to the data value: "exact" (the data rounded to
+    the nearest step, or a bound rounded outwards by less than a step), "inside" (a bound
+    rounded to the nearest step that falls inside the data's range), or None (no match)."""
+    slack = step * 1e-6
+    side = _BOUNDS.get(key)
+    difference = label_value - data
+    if side is not None and 0 <= difference * side < step + slack:
+        return "exact"  # outwards: still bounds every valid sample
+    if abs(difference) <= step / 2 + slack:
+        return "inside" if side is not None and difference * side < 0 else "exact"
+    return None
+
+
 def _data_blocks(ctx: FileContext) -> Iterator[Block]:
     if ctx.labels_only:
         return
@@ -280,8 +306,26 @@ def check_extremes(ctx: FileContext) -> Iterator[Hit]:
             elif not _matches(label_value, data, block, 1e-6):
                 shown = str(np.float32(data)) if dtype is not None and dtype.itemsize == 4 and \
                     dtype.kind == "f" else repr(data)
-                yield Hit(f"{key} = {stmt.value.raw} but the data give {shown} "
-                          f"({stats.count} valid samples)", stmt.line, key)
+                precision = _precision_match(key, stmt.value.raw, label_value, data, block)
+                if precision == "inside":
+                    yield Hit(f"{key} = {stmt.value.raw} is the data's {shown} rounded to the nearest "
+                              f"{_last_place(stmt.value.raw):g}, on the inside: the extreme valid samples fall "
+                              "outside the stated range", stmt.line, key, severity="warning")
+                elif precision is None:
+                    yield Hit(f"{key} = {stmt.value.raw} but the data give {shown} "
+                              f"({stats.count} valid samples)", stmt.line, key)
+
+
+def _precision_match(key: str, raw: str, label_value: float, data: float, block: Block) -> str | None:
+    """`_stated_to_precision` against the stored value, then the physical one."""
+    step = _last_place(raw)
+    if step is None:
+        return None
+    found = _stated_to_precision(key, label_value, data, step)
+    scale, off = block.number("SCALING_FACTOR"), block.number("OFFSET")
+    if found != "exact" and scale is not None and off is not None:
+        found = _stated_to_precision(key, label_value, data * scale + off, step) or found
+    return found
 
 
 def check_moments(ctx: FileContext) -> Iterator[Hit]:
@@ -309,7 +353,9 @@ register(
     Rule("IMG-006", "error", "BAND_STORAGE_TYPE is a PDS3 storage type", check_band_storage,
          note="warning for a standard type spelled with spaces (BAND SEQUENTIAL)"),
     Rule("IMG-007", "error", "VALID_MINIMUM/MAXIMUM and MINIMUM/MAXIMUM match the data",
-         check_extremes, needs_data=True),
+         check_extremes, needs_data=True,
+         note="to the last decimal written, bounds rounded outwards too; warning for a bound rounded inside "
+              "the data"),
     Rule("IMG-008", "warning", "MEAN and STANDARD_DEVIATION match the data", check_moments,
          needs_data=True),
 )
