@@ -182,8 +182,14 @@ def test_generic_ortho_has_no_mro_keywords(tmp_path):
 
 def test_release_format_of_valid_range_rounds_outwards():
     """Two decimals (the release's VALID_MINIMUM/MAXIMUM format) still bound the data."""
-    low = valid_bound(-4049.4746, 2, np.floor)
-    high = valid_bound(-2965.6045, 2, np.ceil)
+    low = valid_bound(-4049.4746, 2, "minimum")
+    high = valid_bound(-2965.6045, 2, "maximum")
     assert isinstance(low, Fixed) and isinstance(high, Fixed)
     assert (format_value(low), format_value(high)) == ("-4049.48", "-2965.60")
-    assert valid_bound(12.5, None, np.floor) == 12.5
+    assert valid_bound(12.5, None, "minimum") == 12.5
+    # the sample's float32 decimal is what is rounded: float32 1.26 is 1.2599999904632568
+    assert [format_value(valid_bound(float(np.float32(1.26)), 2, side)) for side in ("minimum", "maximum")] \
+        == ["1.26", "1.26"]
+    assert format_value(valid_bound(-1e-9, 2, "minimum")) == "-0.01"  # float32 -1e-09 floors below zero
+    assert format_value(valid_bound(1e-9, 2, "minimum")) == "0.00"
+    assert valid_bound(-3.4e38, 2, "minimum").value == -3.4e38  # any float32 fits the decimal context

@@ -105,10 +105,14 @@ def test_attached_label_records_settle_on_a_consistent_count():
 
 
 @pytest.mark.parametrize("grows", [False, True])
-def test_an_attached_label_that_outgrows_its_reservation_moves_the_data_after_it(tmp_path, grows):
+def test_an_attached_label_that_outgrows_its_reservation_moves_the_data_after_it(tmp_path, monkeypatch, grows):
     """The label is sized before the data pass with the widest statistic; should the final
-    label still need more records, the data written after the reservation moves down intact."""
+    label still need more records, the data written after the reservation moves down intact
+    (copied in chunks far smaller than the move, so a front-to-back copy would corrupt it)."""
+    from pdsgen.formats import img
     from pdsgen.formats.img import RESERVATION_STATISTIC, BandStatistics, write_attached_product
+
+    monkeypatch.setattr(img, "_COPY_CHUNK", 7)
 
     record_bytes, data_records = 16, 40
     data = bytes(range(256)) * (record_bytes * data_records // 256) + bytes(record_bytes * data_records % 256)

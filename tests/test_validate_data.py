@@ -120,3 +120,21 @@ def test_valid_range_stated_to_fewer_decimals(tmp_path):
     assert error.severity == "error" and "the data give" in error.message
     (whole,) = _valid_range_stated_as(path, str(int(outwards.to_integral_value(ROUND_FLOOR))))
     assert whole.severity == "error"  # no decimals written: stated exactly
+
+
+@pytest.mark.parametrize("key, label, data, expected", [
+    ("VALID_MINIMUM", 1.25, 1.25, "exact"),      # on the grid: stated exactly
+    ("VALID_MINIMUM", 1.24, 1.25, None),         # a whole step out is not the data rounded outwards
+    ("VALID_MINIMUM", 1.25, 1.2599, "exact"),    # rounded outwards
+    ("VALID_MINIMUM", 1.26, 1.2599, "inside"),   # rounded to the nearest, above the minimum
+    ("VALID_MAXIMUM", 1.26, 1.2501, "exact"),
+    ("VALID_MAXIMUM", 1.25, 1.2501, "inside"),
+    ("VALID_MAXIMUM", 1.27, 1.2501, None),
+    ("VALID_MINIMUM", 0.0, -1e-9, "exact"),      # floating-point noise is not "inside"
+    ("MINIMUM", 1.26, 1.2599, "exact"),          # statistics, not bounds: the nearest is right
+    ("MINIMUM", 1.25, 1.2599, None),
+])
+def test_a_value_stated_to_two_decimals(key, label, data, expected):
+    from pdsgen.validate.families.image_rules import _stated_to_precision
+
+    assert _stated_to_precision(key, label, data, 0.01) == expected

@@ -391,8 +391,9 @@ def encode_jp2(
     they complete. The next row is read once half of the current row's tiles are
     encoded, and its tiles are queued when no more than one tile per encoder is
     left: reading a row takes a few per cent of the time its tiles take to encode,
-    so encoders never wait, and at most two rows of tiles are held (a row's tiles
-    are views of it, so it lives until its last tile is encoded).
+    so encoders never wait. A row's tiles are views of it, so it lives until its last
+    tile is encoded: at most two rows are held, and for images narrower than two tiles
+    per encoder, the rows of the (at most `threads`) tiles still queued besides.
     """
     tile_rows, tile_cols = settings.tile_shape
     grid_rows, grid_cols = settings.tile_grid(lines, samples)

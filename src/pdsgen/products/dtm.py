@@ -6,10 +6,10 @@ keywords (profile + params) -> render the label -> stream the image.
 
 from __future__ import annotations
 
-import math
 import os
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from decimal import ROUND_CEILING, ROUND_FLOOR, Decimal, localcontext
 from pathlib import Path
 from typing import Any
 
@@ -148,8 +148,8 @@ def write_pds3_dtm(
                 {
                     **context,
                     "records": records,
-                    "valid_minimum": valid_bound(stats.minimum, chosen.valid_range_decimals, math.floor),
-                    "valid_maximum": valid_bound(stats.maximum, chosen.valid_range_decimals, math.ceil),
+                    "valid_minimum": valid_bound(stats.minimum, chosen.valid_range_decimals, "minimum"),
+                    "valid_maximum": valid_bound(stats.maximum, chosen.valid_range_decimals, "maximum"),
                 },
             )
 
@@ -198,18 +198,22 @@ def write_pds3_dtm(
     )
 
 
-def valid_bound(value: float, decimals: int | None, direction: Callable[[float], float]) -> float | Fixed:
-    """VALID_MINIMUM/MAXIMUM as the mission writes them.
+def valid_bound(value: float, decimals: int | None, bound: str) -> float | Fixed:
+    """VALID_MINIMUM/MAXIMUM (`bound` "minimum" or "maximum") as the mission writes them.
 
     Exact (shortest round-trip text) unless the mission states a number of
     decimals (HiRISE: two, as the release and hidtmgen write them); then the
-    bound is rounded outwards (`math.floor` for the minimum, `math.ceil` for the
-    maximum) so that it still bounds every valid value.
+    sample's float32 decimal (1.26, not 1.2599999904632568) is rounded outwards,
+    down for the minimum and up for the maximum, so that it still bounds every
+    valid value.
     """
     if decimals is None or value == RESERVATION_STATISTIC:  # the label-size reservation: widest as it is
         return value
-    scale = 10.0**decimals
-    return Fixed(direction(round(value * scale, 6)) / scale, decimals)
+    rounding = {"minimum": ROUND_FLOOR, "maximum": ROUND_CEILING}[bound]
+    with localcontext() as context:
+        context.prec = 80  # room for any float32 (39 integer digits) and the decimals
+        stated = Decimal(str(np.float32(value))).quantize(Decimal(1).scaleb(-decimals), rounding=rounding)
+    return Fixed(float(stated) + 0.0, decimals)  # + 0.0: a zero is written "0.00", not "-0.00"
 
 
 __all__ = ["DtmProduct", "write_dtm", "write_pds3_dtm", "MISSING_CONSTANT"]

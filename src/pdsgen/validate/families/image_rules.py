@@ -263,13 +263,13 @@ def _stated_to_precision(key: str, label_value: float, data: float, step: float)
     """How a value stated to `step` relates to the data value: "exact" (the data rounded to
     the nearest step, or a bound rounded outwards by less than a step), "inside" (a bound
     rounded to the nearest step that falls inside the data's range), or None (no match)."""
-    slack = step * 1e-6
+    slack = step * 1e-6  # decimal text against binary floating point
     side = _BOUNDS.get(key)
     difference = label_value - data
-    if side is not None and 0 <= difference * side < step + slack:
-        return "exact"  # outwards: still bounds every valid sample
+    if side is not None and -slack <= difference * side < step:
+        return "exact"  # outwards by less than a step: still bounds every valid sample
     if abs(difference) <= step / 2 + slack:
-        return "inside" if side is not None and difference * side < 0 else "exact"
+        return "exact" if side is None else "inside"
     return None
 
 
