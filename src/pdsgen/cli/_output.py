@@ -37,6 +37,11 @@ class Outcome:
     exit_code: int = 0
 
 
+def pds4_name(path: Path | None) -> str:
+    """The PDS4 label a product also wrote, as its summary line names it (empty if none)."""
+    return f"  {path.name}" if path else ""
+
+
 def output_options(command: Callable[..., Outcome]) -> Callable[..., None]:
     """Add --quiet / --verbose / --json to a command returning an `Outcome`."""
 

@@ -11,7 +11,7 @@ from ..pds4.model import LABEL_DIALECTS
 from ..products.dtm import DtmProduct, write_dtm
 from ..profiles import profile_names
 from . import COMMANDS
-from ._output import Outcome, output_options, product_summary
+from ._output import Outcome, output_options, pds4_name, product_summary
 from ._profile_options import label_fidelity_options, profile_options, refuse_unused_options
 
 _COMMON = {"input_path", "outdir", "product_id", "source_ids", "product_version", "params_file", "overwrite"}
@@ -91,7 +91,7 @@ def library_options(params: Mapping[str, Any]) -> dict[str, object]:
 def _summary(product: object) -> str:
     """The one line `pdsgen dtm` prints, in the form of the product the profile made."""
     if isinstance(product, DtmProduct):
-        pds4 = f"  {product.pds4_label_path.name}" if product.pds4_label_path else ""
+        pds4 = pds4_name(product.pds4_label_path)
         return (f"{product.path}{pds4}  {product.geometry.lines} x {product.geometry.samples}  "
                 f"valid {product.valid_minimum} .. {product.valid_maximum} m")
     # Only HRSC/iMars results reach here: their modules are imported when they are used,
@@ -102,7 +102,7 @@ def _summary(product: object) -> str:
     if isinstance(product, ImarsProduct):
         return f"{product.tiff_path}  {product.pvl_path.name}  {product.footprint_path.name}"
     assert isinstance(product, HrscDtmProduct)
-    pds4 = f"  {product.pds4_label_path.name}" if product.pds4_label_path else ""
+    pds4 = pds4_name(product.pds4_label_path)
     return (f"{product.path}{pds4}  {product.geometry.lines} x {product.geometry.samples}  "
             f"DN {product.valid_minimum} .. {product.valid_maximum} "
             f"(x {product.encoding.scaling_factor:g} + {product.encoding.offset:g} m)")

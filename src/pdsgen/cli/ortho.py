@@ -11,7 +11,7 @@ from ..pds4.model import LABEL_DIALECTS
 from ..products.ortho import OrthoProduct, write_ortho
 from ..profiles import profile_names
 from . import COMMANDS
-from ._output import Outcome, output_options, product_summary
+from ._output import Outcome, output_options, pds4_name, product_summary
 from ._profile_options import label_fidelity_options, profile_options, refuse_unused_options
 
 _COMMON = {"input_path", "outdir", "product_id", "value_range", "params_file", "product_version", "overwrite"}
@@ -87,7 +87,7 @@ def library_options(params: Mapping[str, Any]) -> dict[str, object]:
 def _summary(product: object) -> str:
     """The one line `pdsgen ortho` prints, in the form of the product the profile made."""
     if isinstance(product, OrthoProduct):
-        pds4 = f"  {product.pds4_label_path.name}" if product.pds4_label_path else ""
+        pds4 = pds4_name(product.pds4_label_path)
         return (f"{product.jp2_path}{pds4}  {product.geometry.lines} x {product.geometry.samples} x "
                 f"{product.bands}  {product.bits}-bit DN * {product.scaling_factor:.6g} + {product.offset:.6g}")
     # Only HRSC/iMars results reach here: their modules (and the validator and pvl they
@@ -96,7 +96,7 @@ def _summary(product: object) -> str:
     from ..products.imars import ImarsProduct
 
     if isinstance(product, HrscImageProduct):
-        pds4 = f"  {product.pds4_label_path.name}" if product.pds4_label_path else ""
+        pds4 = pds4_name(product.pds4_label_path)
         return f"{product.path}{pds4}  DN {product.valid_minimum} .. {product.valid_maximum}"
     assert isinstance(product, ImarsProduct)
     return f"{product.tiff_path}  {product.pvl_path.name}  {product.footprint_path.name}"

@@ -206,38 +206,24 @@ def write_attached_product(
         handle.seek(reserved.label_bytes)
         stats = write_data(handle)
         layout, text = settle_attached_label(lambda r: render(r, stats), record_bytes, data_records)
-        if layout.label_records > reserved.label_records:  # a value wider than the reservation's
-            _move_up(handle, reserved.label_bytes, layout.label_bytes, data_records * record_bytes)
-        if layout.label_records < reserved.label_records:
-            _move_down(handle, reserved.label_bytes, layout.label_bytes, data_records * record_bytes)
+        if layout.label_records != reserved.label_records:  # shorter, or (rarely) wider than reserved
+            _move_data(handle, reserved.label_bytes, layout.label_bytes, data_records * record_bytes)
         handle.seek(0)
         handle.write(pad_label(text, layout))
         handle.truncate(layout.file_bytes)
     return layout, text, stats
 
 
-def _move_up(handle: BinaryIO, source: int, target: int, length: int) -> None:
-    """Move `length` bytes from `source` to a later offset, chunk by chunk from the end
-    (so no chunk overwrites bytes not yet moved). Costs a copy of the data: only a label
-    that outgrew its reservation needs it."""
+def _move_data(handle: BinaryIO, source: int, target: int, length: int) -> None:
+    """Move `length` bytes from `source` to `target` in place, chunk by chunk: from the
+    front when moving to an earlier offset, from the end when moving to a later one, so no
+    chunk overwrites bytes not yet moved."""
     done = 0
     while done < length:
         size = min(_COPY_CHUNK, length - done)
-        start = length - done - size
+        start = done if target < source else length - done - size
         handle.seek(source + start)
         chunk = handle.read(size)
         handle.seek(target + start)
-        handle.write(chunk)
-        done += size
-
-
-def _move_down(handle: BinaryIO, source: int, target: int, length: int) -> None:
-    """Move `length` bytes from `source` to an earlier offset, chunk by chunk."""
-    done = 0
-    while done < length:
-        size = min(_COPY_CHUNK, length - done)
-        handle.seek(source + done)
-        chunk = handle.read(size)
-        handle.seek(target + done)
         handle.write(chunk)
         done += size

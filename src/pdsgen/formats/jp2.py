@@ -413,6 +413,13 @@ def encode_jp2(
         return read_tile_row(first, min(tile_rows, lines - first))
 
     pending: deque[tuple[int, Future[bytes]]] = deque()
+
+    def write_until(left: int) -> None:
+        """Write finished tile-parts, in tile order, until `left` tiles are still queued."""
+        while len(pending) > left:
+            index, future = pending.popleft()
+            add(index, future.result())
+
     workers = encoder_threads(threads)
     with ThreadPoolExecutor(1, "pdsgen-read") as reader, \
             ThreadPoolExecutor(workers, "pdsgen-jp2") as encoders:
@@ -425,17 +432,11 @@ def encode_jp2(
                     index = row * grid_cols + col
                     pending.append((index, encoders.submit(encoder.encode, index, tile)))
                 del data
-                while len(pending) > read_ahead:
-                    index, future = pending.popleft()
-                    add(index, future.result())
+                write_until(read_ahead)
                 if row + 1 < grid_rows:
                     next_row = reader.submit(read_row, row + 1)
-                while len(pending) > workers:  # queue the next row while every encoder is still busy
-                    index, future = pending.popleft()
-                    add(index, future.result())
-            while pending:
-                index, future = pending.popleft()
-                add(index, future.result())
+                write_until(workers)  # queue the next row while every encoder is still busy
+            write_until(0)
         except BaseException:
             for _, future in pending:
                 future.cancel()

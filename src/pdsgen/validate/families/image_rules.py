@@ -238,14 +238,18 @@ def _close(a: float, b: float, rel: float) -> bool:
     return abs(a - b) <= rel * max(abs(a), abs(b), 1e-30)
 
 
-def _matches(label_value: float, data_value: float, block: Block, rel: float) -> bool:
-    """Equal as stored, or equal after SCALING_FACTOR/OFFSET (physical value)."""
-    if _close(label_value, data_value, rel):
-        return True
+def _as_stored_and_physical(data_value: float, block: Block) -> tuple[float, ...]:
+    """The data value as stored, and after SCALING_FACTOR/OFFSET when the object has both:
+    a label may state either."""
     scale, off = block.number("SCALING_FACTOR"), block.number("OFFSET")
     if scale is not None and off is not None:
-        return _close(label_value, data_value * scale + off, rel)
-    return False
+        return data_value, data_value * scale + off
+    return (data_value,)
+
+
+def _matches(label_value: float, data_value: float, block: Block, rel: float) -> bool:
+    """Equal as stored, or equal after SCALING_FACTOR/OFFSET (physical value)."""
+    return any(_close(label_value, value, rel) for value in _as_stored_and_physical(data_value, block))
 
 
 _PLAIN_DECIMAL = re.compile(r"^[+-]?\d*\.(\d+)$")
@@ -306,26 +310,22 @@ def check_extremes(ctx: FileContext) -> Iterator[Hit]:
             elif not _matches(label_value, data, block, 1e-6):
                 shown = str(np.float32(data)) if dtype is not None and dtype.itemsize == 4 and \
                     dtype.kind == "f" else repr(data)
-                precision = _precision_match(key, stmt.value.raw, label_value, data, block)
+                step = _last_place(stmt.value.raw)
+                precision = None if step is None else _precision_match(key, label_value, data, block, step)
                 if precision == "inside":
                     yield Hit(f"{key} = {stmt.value.raw} is the data's {shown} rounded to the nearest "
-                              f"{_last_place(stmt.value.raw):g}, on the inside: the extreme valid samples fall "
+                              f"{step:g}, on the inside: the extreme valid samples fall "
                               "outside the stated range", stmt.line, key, severity="warning")
                 elif precision is None:
                     yield Hit(f"{key} = {stmt.value.raw} but the data give {shown} "
                               f"({stats.count} valid samples)", stmt.line, key)
 
 
-def _precision_match(key: str, raw: str, label_value: float, data: float, block: Block) -> str | None:
-    """`_stated_to_precision` against the stored value, then the physical one."""
-    step = _last_place(raw)
-    if step is None:
-        return None
-    found = _stated_to_precision(key, label_value, data, step)
-    scale, off = block.number("SCALING_FACTOR"), block.number("OFFSET")
-    if found != "exact" and scale is not None and off is not None:
-        found = _stated_to_precision(key, label_value, data * scale + off, step) or found
-    return found
+def _precision_match(key: str, label_value: float, data: float, block: Block, step: float) -> str | None:
+    """`_stated_to_precision` against the stored and the physical value: "exact" if either
+    is, else "inside" if either is, else None."""
+    found = {_stated_to_precision(key, label_value, value, step) for value in _as_stored_and_physical(data, block)}
+    return next((verdict for verdict in ("exact", "inside") if verdict in found), None)
 
 
 def check_moments(ctx: FileContext) -> Iterator[Hit]:
