@@ -12,7 +12,7 @@ Sections (all by default; --corpus-only is --only corpus):
   (directory walk, every rule, a JSON report written to /dev/null); baseline `pvl.load` of
   the same labels. Target (issue 9): >= 300 labels/s.
 - labels: label-only validation of --labels attached-label DTMs pdsgen wrote (and of copies
-  of ../shared/corpus/real when present) against pvl.load and a plain read. Target (issue
+  of tests/data/corpus/real) against pvl.load and a plain read. Target (issue
   5): >= 200 labels/s.
 - data: data checks on one --size x --size float32 DTM against a plain read of the file and
   `gdalinfo -stats`. Target (issue 5): >= half the plain-read throughput.
@@ -184,7 +184,7 @@ def make_labels(workdir: Path, count: int) -> list[Path]:
 
 def copy_real_labels(workdir: Path, count: int) -> list[Path]:
     """Copies of the corpus's real mission labels (1-28 KB, many keywords), if present."""
-    real = sorted((REPO.parent / "shared" / "corpus" / "real").glob("*"))
+    real = sorted((REPO / "tests" / "data" / "corpus" / "real").glob("*"))
     if not real:
         return []
     out = workdir / "real"
@@ -310,7 +310,7 @@ def bench_labels(workdir: Path, count: int, repeat: int) -> None:
     if real:
         ours_real = best(lambda: run_child("pdsgen-labels", real, workdir), repeat)
         pvl_real = run_child("pvl", real, workdir)
-        print(f"  on {n} copies of ../shared/corpus/real mission labels: pdsgen {ours_real.rate:.0f} labels/s, "
+        print(f"  on {n} copies of tests/data/corpus/real mission labels: pdsgen {ours_real.rate:.0f} labels/s, "
               f"pvl.load {pvl_real.rate:.0f} labels/s ({pvl_real.seconds / ours_real.seconds:.1f}x)")
 
 

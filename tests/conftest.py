@@ -1,7 +1,8 @@
 """Shared test fixtures.
 
-The real-archive corpus lives in `../shared/corpus` beside the repository; tests
-that use it skip cleanly when it is absent (a fresh clone elsewhere still passes).
+The real-archive corpus the tests read (mission labels, small products, known-bad labels,
+PDS4 map labels) is carried in `tests/data/corpus`, with the repository, commit and path of
+every file in its SOURCES.md, so a plain clone runs the whole suite.
 """
 
 from __future__ import annotations
@@ -11,13 +12,12 @@ from pathlib import Path
 import pytest
 
 REPO_ROOT = Path(__file__).resolve().parents[1]
-SHARED_DIR = REPO_ROOT.parent / "shared"
-CORPUS_DIR = SHARED_DIR / "corpus"
+DATA_DIR = REPO_ROOT / "tests" / "data"
+CORPUS_DIR = DATA_DIR / "corpus"
+PDS4_EXAMPLES_DIR = CORPUS_DIR / "pds4_examples"
 
 
 @pytest.fixture(scope="session")
 def corpus_dir() -> Path:
-    """The shared real-archive corpus, or skip the test when it is not available."""
-    if not CORPUS_DIR.is_dir():
-        pytest.skip("../shared/corpus is not present")
+    """The real-archive corpus copied into the repository."""
     return CORPUS_DIR

@@ -12,10 +12,10 @@ the structure of these references (no label text is copied):
   isis/src/mro/apps/hidtmgen/hidtmgen.cpp (SOURCE_PRODUCT_ID = DTM id, observation id)
   and isis/tests/FunctionalTestsHidtmgen.cpp (FIRST/SECOND_STANDARD_PARALLEL "N/A"),
   placed by isis/appdata/templates/labels/pdsExportAllMapping.pft (after C_AXIS_RADIUS).
-- The released HiRISE RDR JP2 label ../shared/corpus/real/ESP_013951_1955_RED.LBL
+- The released HiRISE RDR JP2 label tests/data/corpus/real/ESP_013951_1955_RED.LBL
   (IMAGE keywords: CENTER_FILTER_WAVELENGTH, MRO:MINIMUM_STRETCH, MRO:MAXIMUM_STRETCH,
   FILTER_NAME) and the released DTM label
-  ../shared/corpus/real/DTEEC_008669_1705_009025_1705_A01__gdal_pds_3177.lbl.
+  tests/data/corpus/real/DTEEC_008669_1705_009025_1705_A01__gdal_pds_3177.lbl.
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 the offset convention, and heights converted between reference surfaces.
 
 Keyword grouping, order and units are written from the structure of genuine DLR labels
-in ../shared/corpus/real (H0010_0023_SR2.lbl: a level-2 SRC label, DLR formatting;
+in tests/data/corpus/real (H0010_0023_SR2.lbl: a level-2 SRC label, DLR formatting;
 H6541_0000_IR4_cropped.img.lbl: a level-4 label, IMAGE_MAP_PROJECTION in alphabetical
 order with <km>, <km/pixel>, <pixel/degree>, N/A parallels and reference point,
 COORDINATE_SYSTEM_TYPE). Those files are read in place, never copied.

@@ -1,4 +1,4 @@
-"""Real PDS4 map labels (../shared/pds4/examples, older IM versions) through the validator.
+"""Real PDS4 map labels (tests/data/corpus/pds4_examples, older IM versions) through the validator.
 
 With their own schemas (tests/data/pds4_schemas/*.tar.xz, see SOURCES.md there) the schema
 and Schematron checks find nothing; the content checks report only what is really wrong
@@ -13,12 +13,12 @@ from pathlib import Path
 
 import pytest
 
-from conftest import SHARED_DIR
+from conftest import PDS4_EXAMPLES_DIR
 from pdsgen.pds4 import schematron
 from pdsgen.pds4.catalog import SchemaCatalog
 from pdsgen.pds4.validate import validate_pds4
 
-EXAMPLES = SHARED_DIR / "pds4" / "examples"
+EXAMPLES = PDS4_EXAMPLES_DIR
 ARCHIVES = Path(__file__).parent / "data" / "pds4_schemas"
 
 # Findings that are true of these labels (checked by hand against the label text):
@@ -38,8 +38,6 @@ KNOWN = {
 
 @pytest.fixture(scope="module")
 def examples() -> Path:
-    if not EXAMPLES.is_dir():
-        pytest.skip("../shared/pds4/examples is not present")
     return EXAMPLES
 
 

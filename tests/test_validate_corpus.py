@@ -1,4 +1,4 @@
-"""The validator on archive labels it did not write: ../shared/corpus (skipped when absent).
+"""The validator on archive labels it did not write: tests/data/corpus (copies of public files; SOURCES.md there).
 
 real/ holds genuine mission labels cut at END (no data), so it is checked label-only.
 Every error that remains there from the FILE/SYNTAX/PTR/REC/MAP families is listed
