@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import re
 from fnmatch import fnmatch
-from pathlib import Path
 
 from conftest import CORPUS_DIR, REPO_ROOT
 
