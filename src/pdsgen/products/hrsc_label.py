@@ -147,9 +147,9 @@ class DnMoments:
         return {
             "minimum": int(stats.minimum),
             "maximum": int(stats.maximum),
-            # The PDS3 dictionary gives MEAN the range 0..inf and the validator holds labels
-            # pdsgen writes to it: a negative mean (heights below the datum) is left out.
-            "mean": _significant(mean, self._DIGITS) if mean >= 0 else None,
+            # Written whatever its sign, as DLR does: heights below the datum are normal on
+            # Mars and the dictionary gives MEAN no lower bound.
+            "mean": _significant(mean, self._DIGITS),
             "standard_deviation": _significant(math.sqrt(variance), self._DIGITS),
         }
 
