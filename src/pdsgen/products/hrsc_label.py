@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputError, ParamsError
+from ..errors import InputError, ParamsError, param
 from ..formats.img import BandStatistics
 from ..geo.geometry import MapGeometry
 from ..label.values import Quantity, Symbol
@@ -26,7 +26,7 @@ Encode = Callable[[np.ndarray, "np.ndarray | None"], np.ndarray]
 
 def check_offset_convention(convention: str) -> None:
     if convention not in hrsc_mission.OFFSET_CONVENTIONS:
-        raise ParamsError(None, f"--offset-convention must be one of "
+        raise ParamsError(None, f"{param('offset_convention')} must be one of "
                                 f"{', '.join(hrsc_mission.OFFSET_CONVENTIONS)}, not {convention!r}")
 
 
