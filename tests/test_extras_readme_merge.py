@@ -62,7 +62,7 @@ def test_product_given_again_replaces_its_entry(two_products, tmp_path: Path):
     before = (out / "README.TXT").read_text()
     assert ("first_dtm.br.jpg Heights as grey levels (dark low, light high), browse "
             "(40 x 30 pixels)") in " ".join(before.split())
-    with pytest.raises(PdsgenError, match="use --overwrite"):  # the JPEGs still need it
+    with pytest.raises(PdsgenError, match="use `overwrite=True`"):  # the JPEGs still need it
         make_extras([dtm], out, browse_width=60)
     assert (out / "README.TXT").read_text() == before
     make_extras([dtm], out, browse_width=60, overwrite=True, azimuth=200.0)

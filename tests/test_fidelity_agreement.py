@@ -80,7 +80,7 @@ def test_random_params_give_clean_products_or_a_refusal(tmp_path, inputs, seed):
 
 
 def test_74_character_producer_name_is_refused_naming_the_keyword(tmp_path, inputs):
-    with pytest.raises(ParamsError, match=r"^PRODUCER_FULL_NAME .*60.*--allow-dictionary-deviations"):
+    with pytest.raises(ParamsError, match=r"^PRODUCER_FULL_NAME .*60.*`allow_dictionary_deviations=True`"):
         write_dtm(inputs["dtm"], tmp_path / "out", product_id="X", params={"PRODUCER_FULL_NAME": LONG_NAME})
     assert not (tmp_path / "out").exists() or not list((tmp_path / "out").iterdir())
 
@@ -133,7 +133,7 @@ def test_a_refused_ortho_label_stops_the_encoding_and_leaves_nothing(tmp_path):
                        crs=EQC, transform=Affine(1.0, 0, 6123456.0, 0, -1.0, 563211.0)) as out:
         out.write(data)
     outdir = tmp_path / "out"
-    with pytest.raises(ParamsError, match=r"^PRODUCER_FULL_NAME .*60.*--allow-dictionary-deviations"):
+    with pytest.raises(ParamsError, match=r"^PRODUCER_FULL_NAME .*60.*`allow_dictionary_deviations=True`"):
         write_ortho(source, outdir, product_id="W", params={"PRODUCER_FULL_NAME": LONG_NAME})
     assert not outdir.exists() or not list(outdir.iterdir())
     product = write_ortho(source, outdir, product_id="W")  # the same input, accepted label

@@ -97,7 +97,7 @@ def test_da4_differs_from_dt4_by_the_areoid(tmp_path):
 def test_datum_conversion_needs_an_areoid(tmp_path):
     crs, transform = GRIDS["sinusoidal"]
     source = write_raster(tmp_path / "in.tif", elevation_array(10, 10), crs, transform)
-    with pytest.raises(PdsgenError, match="--areoid"):
+    with pytest.raises(PdsgenError, match="`areoid`"):
         write_hrsc_dtm(source, tmp_path / "out", kind="da4", product_id="h0001_0000")
 
 

@@ -218,7 +218,7 @@ def test_bad_options_are_refused(tmp_path):
     source = _write(tmp_path, _texture((50, 60), 0, 1).astype(np.float32))
     with pytest.raises(PdsgenError, match="MIN < MAX"):
         write_ortho(source, tmp_path / "out", value_range=(1.0, 0.0))
-    with pytest.raises(PdsgenError, match="observation-id"):
+    with pytest.raises(PdsgenError, match="`observation_id`"):
         write_ortho(source, tmp_path / "out", profile="hirise")
     with pytest.raises(PdsgenError, match="bits"):
         write_ortho(source, tmp_path / "out", bits=12)
@@ -229,7 +229,7 @@ def test_existing_product_is_kept_without_overwrite(tmp_path):
     source = _write(tmp_path, _texture((50, 60), 1, 200).astype(np.uint8))
     first = write_ortho(source, tmp_path / "out")
     before = first.jp2_path.read_bytes()
-    with pytest.raises(PdsgenError, match="--overwrite"):
+    with pytest.raises(PdsgenError, match="`overwrite=True`"):
         write_ortho(source, tmp_path / "out")
     assert first.jp2_path.read_bytes() == before
     assert sorted(os.listdir(tmp_path / "out")) == ["IN.JP2", "IN.LBL", "JP2INFO.TXT"]

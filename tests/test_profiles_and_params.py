@@ -62,7 +62,7 @@ def test_hirise_dtm_product_id_from_sources():
 
 def test_hirise_product_id_refuses_what_it_cannot_name():
     geometry = describe_geometry(EQC, Affine(1.0, 0, 6e6, 0, -1.0, -5e5), 10, 10)
-    with pytest.raises(PdsgenError, match="two --source-product-id"):
+    with pytest.raises(PdsgenError, match="two `source_product_ids`"):
         hirise_dtm_product_id(geometry, ["PSP_008669_1705"], "A", "1.0")
     with pytest.raises(PdsgenError, match="institution"):
         hirise_dtm_product_id(geometry, ["PSP_008669_1705", "PSP_009025_1705"], "ab", "1.0")

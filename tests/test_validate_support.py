@@ -49,7 +49,9 @@ def replace_in_label(path: Path, old: bytes, new: bytes) -> None:
 
 def resize_label_text(path: Path, old: bytes, new: bytes) -> None:
     """Replace label text with text of another length, taking or giving the difference
-    from the space padding after END, so the data stay where the pointer says."""
+    from the space padding after END, so the data stay where the pointer says. A label
+    that fills its records exactly gives the room from its alignment blanks instead
+    ("KEY  = value" read as "KEY = value")."""
     data = path.read_bytes()
     end = label_end(data)
     assert data[:end].count(old) == 1, old
@@ -57,6 +59,12 @@ def resize_label_text(path: Path, old: bytes, new: bytes) -> None:
     rest = data[end:]
     delta = len(head) - end
     blanks = len(rest) - len(rest.lstrip(b" "))
+    if delta > blanks:
+        at = head.index(new) + len(new)
+        before, after = head[:at], head[at:]
+        assert after.count(b"  = ") >= delta - blanks, "not enough padding after END"
+        head = before + after.replace(b"  = ", b" = ", delta - blanks)
+        delta = len(head) - end
     assert delta <= blanks, "not enough padding after END"
     rest = rest[delta:] if delta >= 0 else b" " * -delta + rest
     path.write_bytes(head + rest)

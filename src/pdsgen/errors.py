@@ -23,6 +23,18 @@ class PdsgenError(Exception):
         return f"{self.path}: {self.problem}"
 
 
+def param(name: str, value: object = None) -> str:
+    """A library parameter as a message names it, in Python's words: `product_id`, or
+    with the value to give, `kind='dtm'` / `overwrite=True`.
+
+    Messages are read by Python callers and by command-line users alike; the command
+    line turns each such reference into its own option (--product-id, --kind dtm,
+    --overwrite) with the one table in pdsgen.cli._messages, so neither interface
+    speaks the other's words.
+    """
+    return f"`{name}`" if value is None else f"`{name}={value!r}`"
+
+
 class InputError(PdsgenError, ValueError):
     """An input file cannot be used (missing, unreadable, wrong content)."""
 
@@ -38,4 +50,4 @@ class ParamsError(PdsgenError, ValueError):
     """An option or parameter value is unusable (unknown keyword, bad version, unused option)."""
 
 
-__all__ = ["InputError", "OutputError", "ParamsError", "PdsgenError"]
+__all__ = ["InputError", "OutputError", "ParamsError", "PdsgenError", "param"]

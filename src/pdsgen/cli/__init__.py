@@ -92,7 +92,9 @@ class _Group(click.Group):
         try:
             return super().invoke(ctx)
         except PdsgenError as exc:
-            click.echo(f"pdsgen: error: {exc}", err=True)
+            from ._messages import in_cli_words
+
+            click.echo(f"pdsgen: error: {in_cli_words(str(exc))}", err=True)
             sys.exit(2)
         except KeyboardInterrupt:
             # the writers' staging has already removed its temporary files on the way out

@@ -9,6 +9,7 @@ import click
 from ..extras import KINDS, make_extras
 from ..profiles import profile_names
 from . import COMMANDS
+from ._messages import in_cli_words
 from ._output import Outcome, files_summary, output_options
 
 
@@ -54,6 +55,6 @@ def extras(products, outdir, credit, params_file, browse_width, thumb_width, azi
                           browse_width=browse_width, thumb_width=thumb_width, azimuth=azimuth,
                           altitude=altitude, exaggeration=exaggeration, kind=kind,
                           profile=profile, overwrite=overwrite,
-                          report=lambda line: click.echo(f"pdsgen: {line}", err=True))
+                          report=lambda line: click.echo(f"pdsgen: {in_cli_words(line)}", err=True))
     summary = {"command": "extras", "files": files_summary(written)}
     return Outcome([str(path) for path in written], summary)

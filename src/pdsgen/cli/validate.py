@@ -124,6 +124,9 @@ def _output(path: str | None):
 @click.option("--schemas", "schemas", multiple=True, type=click.Path(file_okay=False),
               help="Directory of PDS4 schemas (.xsd/.sch) for Information Model versions pdsgen does not "
                    "ship (1O00 is shipped); repeatable.")
+@click.option("--skip-non-labels", is_flag=True,
+              help="Pass over named files that are not labels (an ordinary .xml, a bare .img), as a "
+                   "directory search does; with none left, check nothing and pass (pre-commit hooks).")
 @click.option("--list-rules", "list_rules", is_flag=True,
               help="Print the severity policy and the rule table, and exit.")
 @click.option("--output", "-o", type=click.Path(dir_okay=False),
@@ -137,8 +140,8 @@ def _output(path: str | None):
 def validate(paths: tuple[str, ...], fmt: str, strict: bool, fail_on: str | None, select: tuple[str, ...],
              ignore: tuple[str, ...], severities: tuple[str, ...], config_path: str | None, no_config: bool,
              baseline_path: str | None, write_baseline_path: str | None, jobs: int, labels_only: bool,
-             dictionaries: tuple[str, ...], schemas: tuple[str, ...], list_rules: bool, output: str | None,
-             quiet: bool, verbose: bool) -> None:
+             dictionaries: tuple[str, ...], schemas: tuple[str, ...], skip_non_labels: bool, list_rules: bool,
+             output: str | None, quiet: bool, verbose: bool) -> None:
     """Validate PATHS (label files, or directories searched recursively): PDS3 labels,
     and PDS4 .xml labels (XML Schema, Schematron, and the data they describe).
 
@@ -161,7 +164,8 @@ def validate(paths: tuple[str, ...], fmt: str, strict: bool, fail_on: str | None
     with _files_progress(quiet) as bar:
         progress = None if bar is None else (lambda done, total: bar(done, total, "file(s) checked"))
         reports = iter_reports(paths, strict=strict, jobs=jobs, labels_only=labels_only, progress=progress,
-                               dictionaries=dictionaries, settings=settings, baseline=baseline, schemas=schemas)
+                               dictionaries=dictionaries, settings=settings, baseline=baseline, schemas=schemas,
+                               skip_non_labels=skip_non_labels)
         if bar is not None:
             reports = _giving_way(reports, bar)
         if verbose:  # after iter_reports has checked the paths given with --dictionary

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..errors import PdsgenError
+from ..errors import PdsgenError, param
 from ..missions.hrsc import is_dtm_name as is_hrsc_dtm_name
 
 DTM = "dtm"
@@ -118,4 +118,4 @@ def _from_values(dtype: str, found: tuple[float, float] | None, path: Path) -> K
     if low < HEIGHT_BELOW:
         return KindDecision(DTM, f"{span} reach below zero, as heights do")
     raise PdsgenError(path, f"cannot tell whether it is a DTM or an orthoimage ({span}, no "
-                            "label or metadata saying which); give --kind dtm or --kind ortho")
+                            f"label or metadata saying which); give {param('kind', DTM)} or {param('kind', ORTHO)}")

@@ -30,7 +30,7 @@ from rasterio.enums import Resampling
 from rasterio.errors import NotGeoreferencedWarning, RasterioError
 from rasterio.transform import Affine
 
-from ..errors import PdsgenError
+from ..errors import PdsgenError, param
 from ..label.grammar import FLOAT_SAMPLE_TYPES
 from ..missions import LabelFacts, detect_mission
 from .heights import HeightReference, height_reference, mission_datum, radius_offset_m
@@ -189,7 +189,7 @@ def open_product(path: str | os.PathLike[str], kind: str | None = None) -> Produ
     src.gdal_nodata = info["nodata"]
     src.scale, src.offset = _scaling(image, info)
     src.unit = str(image.get("UNIT", "") or "") or src.unit  # the label's, else GDAL's
-    decision = (KindDecision(kind, "--kind says so") if kind else
+    decision = (KindDecision(kind, f"{param('kind')} says so") if kind else
                 decide_kind(label, image, info, path, lambda: _value_range(src)))
     src.kind, src.kind_reason = decision.kind, decision.reason
     _check_band_count(src)
@@ -239,7 +239,7 @@ def _check_band_count(src: ProductSource) -> None:
     if src.band_count in allowed:
         return
     what = "a DTM needs exactly 1" if src.kind == DTM else "an orthoimage needs 1 or 3"
-    hint = "; use --kind ortho for a colour image" if src.kind == DTM and src.band_count == 3 else ""
+    hint = f"; use {param('kind', ORTHO)} for a colour image" if src.kind == DTM and src.band_count == 3 else ""
     raise PdsgenError(src.path, f"has {src.band_count} bands; {what}{hint}")
 
 

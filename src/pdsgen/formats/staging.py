@@ -22,7 +22,7 @@ from pathlib import Path
 from types import TracebackType
 from typing import ParamSpec, TypeVar
 
-from ..errors import OutputError, PdsgenError
+from ..errors import OutputError, PdsgenError, param
 
 log = logging.getLogger(__name__)  # what was written: shown by `pdsgen ... --verbose`
 
@@ -78,7 +78,7 @@ class StagedOutputs:
             if final.is_dir():
                 raise PdsgenError(final, "output path is a directory")
             if final.exists() and not self.overwrite and final not in self.shared:
-                raise PdsgenError(final, "output exists; use --overwrite to replace it")
+                raise PdsgenError(final, f"output exists; use {param('overwrite', True)} to replace it")
         try:
             for final in self.final_paths:
                 with _interruption_deferred():

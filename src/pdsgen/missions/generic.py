@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import re
 
-from ..errors import PdsgenError
+from ..errors import PdsgenError, param
 from .base import Mission, ProductIdRequest
 
 # A PDS product ID pdsgen accepts: 1-40 letters, digits, '_', '-' or '.'.
@@ -32,7 +32,7 @@ def generic_product_id(stem: str) -> str:
     """A PDS-safe product ID from a file name: upper case, [A-Z0-9_] only."""
     cleaned = re.sub(r"[^A-Z0-9_]+", "_", stem.upper()).strip("_")
     if not cleaned:
-        raise PdsgenError(None, f"cannot derive a product ID from {stem!r}; give --product-id")
+        raise PdsgenError(None, f"cannot derive a product ID from {stem!r}; give {param('product_id')}")
     return cleaned[:40]
 
 

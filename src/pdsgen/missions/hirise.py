@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import re
 
-from ..errors import PdsgenError
+from ..errors import PdsgenError, param
 from ..geo.geometry import EQUIRECTANGULAR, POLAR_STEREOGRAPHIC
 from .base import ContextReference, LabelFacts, Mission, Pds4Facts, ProductIdRequest
 
@@ -68,7 +68,7 @@ def scale_letter(map_scale: float) -> str:
     raise PdsgenError(
         None,
         f"map scale {map_scale:g} m is not within 10 % of a HiRISE scale "
-        "(0.25, 0.5, 1, 2 ... 128 m); give --product-id",
+        f"(0.25, 0.5, 1, 2 ... 128 m); give {param('product_id')}",
     )
 
 
@@ -104,20 +104,20 @@ def dtm_product_id(request: ProductIdRequest) -> str:
     if len(sources) != 2:
         raise PdsgenError(
             None,
-            f"the hirise profile builds the DTM product ID from two --source-product-id "
-            f"values (got {len(sources)}); or give --product-id",
+            f"the hirise profile builds the DTM product ID from two {param('source_product_ids')} "
+            f"(got {len(sources)}); or give {param('product_id')}",
         )
     if institution is None or not re.fullmatch(r"[A-Z]", institution):
         raise PdsgenError(
             None,
-            "the hirise profile needs --institution as one upper-case letter "
-            "to build the product ID; or give --product-id",
+            f"the hirise profile needs {param('institution')} as one upper-case letter "
+            f"to build the product ID; or give {param('product_id')}",
         )
     if geometry.projection_type not in PROJECTION_LETTERS:
         raise PdsgenError(
             None,
             f"HiRISE DTM names have no letter for {geometry.projection_type} products; "
-            "give --product-id",
+            f"give {param('product_id')}",
         )
     first, second = (observation_code(s) for s in sources)
     return (
@@ -132,7 +132,8 @@ def ortho_id(observation_id: str, bands: int, map_scale: float, sequence: int) -
     observation = observation_id.strip().upper()
     if not ORTHO_OBSERVATION_RE.match(observation):
         raise PdsgenError(
-            None, f"{observation_id!r} is not a HiRISE observation ID like ESP_042252_1930; give --observation-id"
+            None, f"{observation_id!r} is not a HiRISE observation ID like ESP_042252_1930; "
+                  f"give {param('observation_id')}"
         )
     if bands not in ORTHO_COLOR_CODES:
         raise PdsgenError(None, f"HiRISE orthoimages have 1 (RED) or 3 (IRB) bands, not {bands}")
@@ -146,7 +147,8 @@ def ortho_product_id(request: ProductIdRequest) -> str:
         (s for s in request.sources if ORTHO_OBSERVATION_RE.match(s.strip().upper())), None
     )
     if not observation:
-        raise PdsgenError(None, "the hirise profile needs --observation-id (e.g. ESP_042252_1930) or --product-id")
+        raise PdsgenError(None, f"the hirise profile needs {param('observation_id')} "
+                                f"(e.g. ESP_042252_1930) or {param('product_id')}")
     return ortho_id(observation, request.bands, request.geometry.map_scale, request.sequence)
 
 

@@ -15,7 +15,7 @@ import re
 from collections.abc import Sequence
 from pathlib import Path
 
-from ..errors import PdsgenError
+from ..errors import PdsgenError, param
 from .base import ContextReference, LabelFacts, Mission, Pds4Facts
 
 INSTRUMENT_ID = "HRSC"
@@ -109,15 +109,15 @@ def parse_name(name: str) -> re.Match[str] | None:
 
 
 def base_name(product_id: str | None, source_ids: Sequence[str]) -> tuple[str, int]:
-    """`h6541_0000` and orbit 6541, from --product-id or the first source product."""
+    """`h6541_0000` and orbit 6541, from the product ID or the first source product."""
     for candidate in ([product_id] if product_id else []) + list(source_ids):
         match = parse_name(candidate)
         if match:
             return f"h{match.group('orbit')}_{match.group('sequence')}", int(match.group("orbit"))
     raise PdsgenError(
         None,
-        "HRSC names need the orbit and sequence: give --product-id h1234_0000 "
-        "or an HRSC --source-product-id such as H1234_0000_ND3",
+        f"HRSC names need the orbit and sequence: give {param('product_id', 'h1234_0000')} "
+        f"or an HRSC {param('source_product_ids')} entry such as H1234_0000_ND3",
     )
 
 

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from lxml import etree
 
-from ..errors import PdsgenError
+from ..errors import PdsgenError, param
 from ..resources import schemas_dir
 from .model import SCHEMATRON_NS, XSI_NS
 
@@ -41,7 +41,7 @@ class SchemaCatalog:
         for directory in extra_dirs:
             path = Path(directory)
             if not path.is_dir():
-                raise PdsgenError(path, "schema directory not found (--schemas needs a directory)")
+                raise PdsgenError(path, f"schema directory not found ({param('schemas')} needs a directory)")
             catalog.add_dir(path)
         return catalog
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..errors import ParamsError
+from ..errors import ParamsError, param
 
 PDS_NS = "http://pds.nasa.gov/pds4/pds/v1"
 CART_NS = "http://pds.nasa.gov/pds4/cart/v1"
@@ -67,7 +67,7 @@ LABEL_DIALECTS = ("pds3", "pds4", "both")
 
 def check_label_dialect(label: str) -> str:
     if label not in LABEL_DIALECTS:
-        raise ParamsError(None, f"--label must be one of {', '.join(LABEL_DIALECTS)}, not {label!r}")
+        raise ParamsError(None, f"{param('label')} must be one of {', '.join(LABEL_DIALECTS)}, not {label!r}")
     return label
 
 # PDS4 array data types of the samples pdsgen writes, by (numpy kind+size, big endian).

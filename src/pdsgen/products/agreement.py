@@ -19,7 +19,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..errors import ParamsError
+from ..errors import ParamsError, param
 from .params import ParamValue
 
 if TYPE_CHECKING:
@@ -58,7 +58,7 @@ def check_label(text: str, file_name: str, *, allow_deviations: bool) -> tuple[s
         first = deviations[0]
         more = f" (and {len(deviations) - 1} more)" if len(deviations) > 1 else ""
         raise ParamsError(None, f"{_named(first)} (PDS3 data dictionary, {first.rule}){more}; "
-                                "fix the value or pass --allow-dictionary-deviations to keep it")
+                                f"fix the value or pass {param('allow_dictionary_deviations', True)} to keep it")
     return tuple(f"{file_name}: {_named(f)} (PDS3 data dictionary, {f.rule}); kept as allowed"
                  for f in deviations)
 

@@ -18,7 +18,7 @@ from rasterio.warp import reproject, transform_bounds
 from rasterio.windows import Window, from_bounds
 from rasterio.windows import transform as window_transform
 
-from ..errors import PdsgenError
+from ..errors import PdsgenError, param
 from ..formats.img import Adjust, BandStatistics
 from ..formats.raster import open_raster, require_single_band
 from ..missions.hrsc import DN_LIMIT, MISSING_DN, SPHERE_M
@@ -43,12 +43,13 @@ def check_datum_conversion(
 ) -> None:
     """A product above one datum from heights above another needs the areoid between them."""
     if vertical_datum not in ("sphere", "areoid"):
-        raise PdsgenError(None, "--vertical-datum must be sphere or areoid")
+        raise PdsgenError(None, f"{param('vertical_datum')} must be sphere or areoid")
     if output_datum != vertical_datum and areoid is None:
         raise PdsgenError(
             None,
             f"{kind.upper()} holds heights above the {output_datum} but the input is above the "
-            f"{vertical_datum}: give --areoid FILE to convert, or --vertical-datum {output_datum}",
+            f"{vertical_datum}: give an areoid raster as {param('areoid')} to convert, "
+            f"or {param('vertical_datum', output_datum)}",
         )
     if output_datum == vertical_datum and areoid is not None:
         raise PdsgenError(
@@ -60,12 +61,12 @@ def choose_encoding(stats: BandStatistics, precision: float, source: str) -> Int
     """Offset 0 when the heights fit, else the range's centre; refuse when they cannot fit,
     or when the precision is so coarse that the heights would collapse to a few values."""
     if not (math.isfinite(precision) and precision > 0):
-        raise PdsgenError(None, f"--precision must be a positive number of metres, got {precision:g}")
+        raise PdsgenError(None, f"{param('precision')} must be a positive number of metres, got {precision:g}")
     low, high = stats.minimum, stats.maximum
     if high > low and (high - low) / precision < 16:
         raise PdsgenError(
             source,
-            f"--precision {precision:g} m is too coarse for heights {low:g} .. {high:g} m "
+            f"{param('precision')} {precision:g} m is too coarse for heights {low:g} .. {high:g} m "
             "(fewer than 16 distinct levels)",
         )
     for offset in (0.0, round((low + high) / 2.0 / precision) * precision):
@@ -75,7 +76,7 @@ def choose_encoding(stats: BandStatistics, precision: float, source: str) -> Int
     raise PdsgenError(
         source,
         f"heights {low:g} .. {high:g} m do not fit 16-bit samples at {precision:g} m precision "
-        f"(needs at least {needed:.3g} m); use a coarser --precision",
+        f"(needs at least {needed:.3g} m); use a coarser {param('precision')}",
     )
 
 
@@ -87,7 +88,7 @@ def areoid_adjustment(areoid_path: str | os.PathLike[str] | None, grid: DatasetR
     each strip with bilinear interpolation.
     """
     if areoid_path is None:
-        raise PdsgenError(None, "converting between the sphere and the areoid needs --areoid")
+        raise PdsgenError(None, f"converting between the sphere and the areoid needs {param('areoid')}")
     with open_raster(areoid_path) as areoid:
         require_single_band(areoid, "an areoid grid")
         if areoid.crs is None:

@@ -27,7 +27,7 @@ from rasterio.warp import calculate_default_transform
 from rasterio.warp import transform as warp_transform
 
 from .. import __version__
-from ..errors import ParamsError, PdsgenError
+from ..errors import ParamsError, PdsgenError, param
 from ..formats.img import BandStatistics, scan_band, stream_band, write_attached_product
 from ..formats.raster import open_raster, require_single_band
 from ..formats.scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
@@ -112,13 +112,13 @@ def check_hrsc_geometry(geometry: MapGeometry, centre_latitude: float, source: s
         raise PdsgenError(
             source,
             f"HRSC products at centre latitude {centre_latitude:.1f} are {expected.lower()}, "
-            f"the input is {geometry.projection_type.lower()}; rerun with --reproject",
+            f"the input is {geometry.projection_type.lower()}; rerun with {param('reproject_input', True)}",
         )
     if not (geometry.is_sphere and math.isclose(geometry.a_axis_km, hrsc_mission.SPHERE_KM, abs_tol=1e-9)):
         raise PdsgenError(
             source,
             f"HRSC products use the 3396.0 km sphere, the input uses {geometry.a_axis_km:g} x "
-            f"{geometry.c_axis_km:g} km; rerun with --reproject",
+            f"{geometry.c_axis_km:g} km; rerun with {param('reproject_input', True)}",
         )
 
 
@@ -394,7 +394,8 @@ def write_hrsc_nd4(
 def _check_hrsc_label(label: str) -> None:
     """HRSC products are DLR's PDS3 .img; a PDS4 label can describe that file, not replace it."""
     if check_label_dialect(label) == "pds4":
-        raise ParamsError(None, "HRSC products keep their PDS3 .img; use --label both to add a PDS4 label of it")
+        raise ParamsError(None, f"HRSC products keep their PDS3 .img; use {param('label', 'both')} "
+                                "to add a PDS4 label of it")
 
 
 def _pds4_beside(staged: StagedOutputs, final: Path, xml_final: Path, product: ProductDescription,

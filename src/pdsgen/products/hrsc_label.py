@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputError, ParamsError
+from ..errors import InputError, ParamsError, param
 from ..formats.img import BandStatistics
 from ..geo.geometry import MapGeometry
 from ..label.values import Quantity, Symbol
@@ -26,7 +26,7 @@ Encode = Callable[[np.ndarray, "np.ndarray | None"], np.ndarray]
 
 def check_offset_convention(convention: str) -> None:
     if convention not in hrsc_mission.OFFSET_CONVENTIONS:
-        raise ParamsError(None, f"--offset-convention must be one of "
+        raise ParamsError(None, f"{param('offset_convention')} must be one of "
                                 f"{', '.join(hrsc_mission.OFFSET_CONVENTIONS)}, not {convention!r}")
 
 
@@ -147,9 +147,9 @@ class DnMoments:
         return {
             "minimum": int(stats.minimum),
             "maximum": int(stats.maximum),
-            # The PDS3 dictionary gives MEAN the range 0..inf and the validator holds labels
-            # pdsgen writes to it: a negative mean (heights below the datum) is left out.
-            "mean": _significant(mean, self._DIGITS) if mean >= 0 else None,
+            # Written whatever its sign, as DLR does: heights below the datum are normal on
+            # Mars and the dictionary gives MEAN no lower bound.
+            "mean": _significant(mean, self._DIGITS),
             "standard_deviation": _significant(math.sqrt(variance), self._DIGITS),
         }
 

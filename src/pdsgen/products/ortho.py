@@ -22,7 +22,7 @@ import numpy as np
 from rasterio.io import DatasetReader
 from rasterio.windows import Window
 
-from ..errors import ParamsError, PdsgenError
+from ..errors import ParamsError, PdsgenError, param
 from ..formats.geojp2 import geojp2_box, gmljp2_box
 from ..formats.jp2 import JP2INFO_NAME, TILE_SIZE, describe_jp2, jp2info_text, require_openjpeg, write_jp2
 from ..formats.raster import open_raster, row_strips
@@ -102,7 +102,8 @@ def write_ortho(
     options.pop("threads", None)  # a limit on cores, not a product option: these writers use one
     bits = options.pop("bits", None)
     if bits not in (None, 8):
-        raise ParamsError(None, f"--profile {profile} orthoimages are 8-bit; --bits {bits} does not apply")
+        raise ParamsError(None, f"{param('profile', profile)} orthoimages are 8-bit; "
+                                f"{param('bits', bits)} does not apply")
     return call_mission_writer(own, profile, input_path, outdir, options)
 
 
@@ -135,7 +136,7 @@ def write_jp2_ortho(
     """
     check_label_dialect(label)
     if bits is not None and bits not in BIT_DEPTHS:
-        raise PdsgenError(None, f"--bits must be one of {', '.join(map(str, BIT_DEPTHS))}, not {bits}")
+        raise PdsgenError(None, f"{param('bits')} must be one of {', '.join(map(str, BIT_DEPTHS))}, not {bits}")
     chosen = mission
     if chosen.ortho_keywords is None:
         raise PdsgenError(None, f"the {chosen.name} profile writes orthoimages in its own form, not as JP2 + LBL")
@@ -246,7 +247,7 @@ def _choose_mapping(
     if value_range is not None:
         low, high = (float(v) for v in value_range)
         if not high > low:
-            raise PdsgenError(None, f"--range MIN MAX needs MIN < MAX, got {low:g} {high:g}")
+            raise PdsgenError(None, f"{param('value_range')} needs MIN < MAX, got {low:g} {high:g}")
         return linear_mapping(special, low, high)
     dtype = np.dtype(dataset.dtypes[0])
     if dtype_fits(dtype, bits):
@@ -322,9 +323,9 @@ def _source_ids(
     """SOURCE_PRODUCT_ID in hidtmgen's order: the DTM, then the observation, then any others."""
     sources = source_ids((), keywords)
     if observation_id is not None:
-        check_source_id(observation_id, "--observation-id")
+        check_source_id(observation_id, "observation_id")
     if source_dtm_id is not None:
-        check_source_id(source_dtm_id, "--source-dtm-id")
+        check_source_id(source_dtm_id, "source_dtm_id")
     first = [s for s in (source_dtm_id, observation_id) if s]
     return first + [s for s in sources if s not in first]
 

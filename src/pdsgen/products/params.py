@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from .._compat import tomllib
-from ..errors import PdsgenError
+from ..errors import PdsgenError, param
 from ..resources import schemas_dir
 
 ParamValue = str | list[str] | dict[str, str | int | float]
@@ -43,14 +43,14 @@ def check_version(version: str) -> str:
     return text
 
 
-def check_source_id(value: object, option: str = "--source-product-id") -> str:
+def check_source_id(value: object, option: str = "source_product_ids") -> str:
     """A source product ID given by the caller: ASCII letters, digits, '_', '.', '-' only.
 
     Refused rather than quoted, so a space, quote, newline or non-ASCII character
-    from a shell mistake never reaches a label.
+    from a shell mistake never reaches a label. `option`: the parameter it was given as.
     """
     if not isinstance(value, str) or not _IDENTIFIER_RE.fullmatch(value):
-        raise PdsgenError(None, f"{option} {value!r} is not a product ID "
+        raise PdsgenError(None, f"{param(option)} {value!r} is not a product ID "
                                 "(ASCII letters, digits, '_', '.' and '-' only)")
     return value
 

@@ -72,20 +72,25 @@ def discover(paths: Iterable[str | os.PathLike[str]]) -> list[Path]:
     return list(_discover_lazily(list(paths)))
 
 
-def _discover_lazily(paths: list[str | os.PathLike[str]]) -> Iterator[Path]:
+def _discover_lazily(paths: list[str | os.PathLike[str]], skip_non_labels: bool = False) -> Iterator[Path]:
     """discover(), one file at a time; every named path is checked before the first is given."""
     for raw in paths:
         reason = _unusable_path_reason(Path(raw))
         if reason is not None:
             raise PdsgenError(raw, reason)
-    return _walk(paths)
+    return _walk(paths, skip_non_labels)
 
 
-def _walk(paths: list[str | os.PathLike[str]]) -> Iterator[Path]:
+def _walk(paths: list[str | os.PathLike[str]], skip_non_labels: bool = False) -> Iterator[Path]:
+    """Named files (with skip_non_labels, only those a directory search would take as
+    labels), then the labels found in named directories."""
     seen: set[Path] = set()  # a file named twice (itself and in its directory) once
     for raw in paths:
         path = Path(raw)
-        candidates = [path] if path.is_file() else _label_files(path)
+        if path.is_file():
+            candidates: Iterable[Path] = [path] if not skip_non_labels or is_label_file(path) else []
+        else:
+            candidates = _label_files(path)
         for candidate in candidates:
             if candidate not in seen:
                 seen.add(candidate)
@@ -222,6 +227,7 @@ def iter_reports(
     settings: Settings | None = None,
     baseline: Baseline | None = None,
     schemas: Iterable[str | os.PathLike[str]] = (),
+    skip_non_labels: bool = False,
 ) -> Iterator[FileReport]:
     """File reports one by one, as files are checked: the streaming core of validate_paths.
 
@@ -231,14 +237,21 @@ def iter_reports(
     (another label may include them). Memory is bounded by one directory, not the run.
     Usage errors (a missing path, no label at all, a bad dictionary) are raised before the
     first report, so nothing is written for a run that cannot start.
+
+    skip_non_labels: files named that are not labels (an ordinary .xml, a bare .img whose
+    label is detached) are passed over as a directory search passes them over, and a run
+    given only such files checks nothing and passes; for hooks (pre-commit) that hand over
+    every changed file of some suffixes. A named directory without labels is still an error.
     """
     settings = settings or Settings()
     extra = tuple(str(d) for d in dictionaries)
     _check_dictionaries(extra)
     schema_dirs = _checked_schema_dirs(schemas)
     paths = list(paths)
-    found = _discover_lazily(paths)
+    found = _discover_lazily(paths, skip_non_labels)
     first = next(found, None)
+    if first is None and skip_non_labels and all(Path(p).is_file() for p in paths):
+        return iter(())  # files named, none a label: nothing to check (a directory must hold labels)
     if first is None:  # a CI job pointed at the wrong directory must not pass
         raise PdsgenError(None, "no PDS3 labels found under " + ", ".join(os.fspath(p) for p in paths))
     files = itertools.chain([first], found)
@@ -370,6 +383,7 @@ def validate_paths(
     settings: Settings | None = None,
     baseline: Baseline | None = None,
     schemas: Iterable[str | os.PathLike[str]] = (),
+    skip_non_labels: bool = False,
 ) -> Report:
     """Validate label files and directories of them; the API behind `pdsgen validate`.
 
@@ -381,10 +395,11 @@ def validate_paths(
     dictionaries (PSDD `.full` format) merged over the built-in one. settings select rules
     and set severities (see config.py); baseline drops findings already known.
     schemas are directories of PDS4 schemas (.xsd/.sch) added to the shipped ones.
+    skip_non_labels passes over named files that are not labels (see iter_reports).
     """
     settings = settings or Settings()
     reports = list(iter_reports(paths, strict, jobs, labels_only, progress, dictionaries, settings, baseline,
-                                schemas))
+                                schemas, skip_non_labels))
     fail_on = "warning" if strict else settings.fail_on
     return Report(reports, fail_on=fail_on, baseline_suppressed=baseline.suppressed if baseline else 0,
                   dictionary=dictionary_version())
