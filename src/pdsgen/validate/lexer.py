@@ -309,6 +309,7 @@ class _Parser:
                 self.issue("SYNTAX-001", tok.line, f"expected a keyword, found {tok.text[:20]!r}")
                 self.scan.skip_line()
                 continue
+            tok = self._unglued_end(tok)
             upper = self._keyword_seen(tok.text, tok.line)
             if upper == "END":
                 self._end(tok)
@@ -320,6 +321,21 @@ class _Parser:
                 continue
             self._statement(tok, upper)
         self._finish()
+
+    def _unglued_end(self, tok: _Token) -> _Token:
+        """END itself when the scanner glued END and the binary data right after it into
+        one word (`END\\xf8...`, `EndQ\\x0b...`: ISIS and several pipelines write no line
+        end after END). It is END when binary bytes follow its three letters on the same
+        line before any '=': no statement looks so. Reading goes on after END."""
+        word = tok.text
+        if len(word) <= 3 or word[:3].upper() != "END" or word[3] == "_":
+            return tok
+        after = tok.start + 3
+        binary = _NOT_TEXT.search(self.text, after, _line_end(self.text, after))
+        if binary is None or "=" in self.text[after : binary.start()]:
+            return tok
+        self.scan.reset((after, tok.line))
+        return _Token("word", word[:3], tok.line, tok.line, tok.start, after)
 
     def _keyword_seen(self, word: str, line: int) -> str:
         """Note the first keyword and keywords not in upper case; the upper-case form."""
@@ -419,9 +435,12 @@ class _Parser:
         end = _line_end(self.text, tok.start)
         after = tok.start + len(tok.text)
         binary = _NOT_TEXT.search(self.text, after, end)
-        if binary is not None:  # END followed directly by the data: the label ends at END
+        if binary is not None:  # END followed by the data on its line: the label ends at END
             self.label_end = after
-            end = binary.start()
+            # data right after END (see _unglued_end) are data, even where they start with a
+            # letter; after blanks, a ';' or a comment, text before the first binary byte is
+            # text the label has after END
+            end = binary.start() if self.text[after] in " \t;/\x00" else after
         else:
             m = _NEWLINE.match(self.text, end)
             self.label_end = m.end() if m else end
