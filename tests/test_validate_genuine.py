@@ -83,5 +83,7 @@ def test_mission_conventions_are_not_errors():
     assert voyager.severity == "warning"
     viking = by_file["ale/f004a47_pds3.lbl"]  # nested SFDU segments, each closed by END
     assert not {"SYNTAX-005", "PTR-005"} & set(viking)
+    magellan = by_file["arael/shgj180u_README.txt"]  # CCSD Z-class + marker-delimited K-class SFDU
+    assert "FILE-006" not in magellan
     kaguya_mi = by_file["isis3/vis_cropped.img"]
     assert kaguya_mi["IMG-006"].severity == "warning"  # BAND SEQUENTIAL

@@ -34,7 +34,14 @@ _DATE = re.compile(
     r"(?:T(?P<time>.*))?"
 )
 _TIME = re.compile(r"(?P<h>\d{2})(?::(?P<m>\d{2})(?::(?P<s>\d{2})(?:\.(?P<f>\d*))?)?)?(?P<z>Z)?")
-_SFDU = re.compile(r"CCSD3ZF\d{13}NJPL3IF0PDS[0-9A-Z]\d{8}")
+# A CCSDS SFDU label (CCSDS 620.0-B-2; PDS Standards Reference chapter 16) is 20 characters:
+# control authority (4), version (1), class (1), delimitation (1; a spare '0' in version 1),
+# a spare '0', the description data unit id (4), and the length - or, for an SFDU delimited
+# by a marker, the marker (8). PDS wraps a label in a CCSD Z-class SFDU followed by the
+# label's own (NJPL3IF0PDS2..., or NJPL3KS0PDSX##mark## delimited by a marker).
+_SFDU_LABEL = re.compile(r"([A-Z0-9]{4})([1-3])([A-Z0-9])([A-Z0-9])0([A-Z0-9]{4})(\S{8})")
+_SFDU_DELIMITATIONS = {"A": "length in ASCII", "B": "binary length", "C": "marker", "S": "marker",
+                       "E": "end of file", "F": "end of file"}
 _NOT_TEXT = re.compile(r"[^\x20-\x7e\t]")
 _DAYS = (31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31)
 _BASE_DIGITS = {2: "01", 8: "01234567", 16: "0123456789ABCDEFabcdef"}
@@ -367,7 +374,7 @@ class _Parser:
             return False  # `(...}`: the token path's finding
         self.scan.take(m, line)
         self._keyword_seen(word, line)
-        if not _SFDU.fullmatch(upper):  # as _check_keyword, the name already taken apart
+        if not is_sfdu(upper):  # as _check_keyword, the name already taken apart
             self._check_lengths(word, m.group("namespace"), m.group("name"), line)
         if scalar is not None:
             value = self._scalar(scalar, line, word)
@@ -420,8 +427,10 @@ class _Parser:
         if tok.kind == "word" and tok.text.upper().startswith("CCSD"):
             self.scan.next()
             self.sfdu = tok.text
-            if not _SFDU.fullmatch(tok.text):
-                self.issue("FILE-006", tok.line, f"malformed SFDU label {tok.text!r} before PDS_VERSION_ID")
+            problem = sfdu_problem(tok.text)
+            if problem:
+                self.issue("FILE-006", tok.line, f"malformed SFDU label {tok.text[:60]!r} before "
+                           f"PDS_VERSION_ID: {problem}")
             nxt = self.scan.peek()
             if nxt.kind == "punct" and nxt.text == "=" and nxt.line == tok.line:
                 self.scan.next()
@@ -504,7 +513,7 @@ class _Parser:
         """A statement read: into the current block, or opening an OBJECT/GROUP."""
         pointer = word.startswith("^")
         keyword = word[1:] if pointer else word
-        if _SFDU.fullmatch(keyword.upper()) and value.text.upper() == "SFDU_LABEL":
+        if value.text.upper() == "SFDU_LABEL" and is_sfdu(keyword):
             self.segments += 1  # a nested SFDU segment (Viking EDRs): closed by its own END
             return
         if upper in ("OBJECT", "GROUP"):
@@ -532,7 +541,7 @@ class _Parser:
         self.scan.skip_line()
 
     def _check_keyword(self, word: str, line: int) -> None:
-        if _SFDU.fullmatch(word.upper()):
+        if is_sfdu(word):
             return  # a nested SFDU marker: see _statement
         m = _KEYWORD.fullmatch(word)
         if not m:
@@ -678,6 +687,10 @@ class _Parser:
         if number:
             if number.group(1):
                 return Value("int", text, int(text), line)
+            if "." not in text:  # 1e+30: ODL real numbers have a decimal point
+                mantissa, e, exponent = text.partition("e" if "e" in text else "E")
+                self.issue("SYNTAX-016", line, f"{keyword} = {text}: a real number without a decimal "
+                           f"point is not ODL (write {mantissa}.0{e}{exponent})", keyword)
             return Value("real", text, float(text), line)
         if "#" in text:
             return self._based(text, line, keyword)
@@ -724,6 +737,36 @@ class _Parser:
                 f"{len(self.lowercase)} keyword(s) not in upper case, first {word!r}",
                 word,
             )
+
+
+def is_sfdu(word: str) -> bool:
+    """True for a PDS SFDU wrapper (see sfdu_problem)."""
+    return len(word) >= 40 and word[:4].upper() == "CCSD" and sfdu_problem(word) is None
+
+
+def sfdu_problem(word: str) -> str | None:
+    """Why `word` is not the SFDU labels that wrap a PDS label (a CCSD Z-class label, then
+    the labels it holds, 20 characters each), or None."""
+    text = word.upper()
+    if len(text) < 40 or len(text) % 20:
+        return f"{len(text)} characters; SFDU labels are 20 each, a CCSD Z-class one and the label's own"
+    for start in range(0, len(text), 20):
+        part = word[start : start + 20]
+        m = _SFDU_LABEL.fullmatch(text, start, start + 20)
+        if m is None:
+            return f"{part!r} is not an SFDU label (authority, version 1-3, class, delimitation, '0', id, length)"
+        _, version, _, delimitation, _, length = m.groups()
+        if version == "2" or delimitation == "B":
+            return f"{part!r} has a binary length, which a text label cannot hold"
+        if version == "1" and delimitation != "0":
+            return f"{part!r}: a version-1 SFDU label has '0' where version 3 states the delimitation"
+        if version == "3" and delimitation not in _SFDU_DELIMITATIONS:
+            return f"{part!r}: delimitation {delimitation} is none of " + ", ".join(sorted(_SFDU_DELIMITATIONS))
+        if (version == "1" or delimitation == "A") and not length.isdigit():
+            return f"{part!r}: its length {part[12:]!r} is not 8 ASCII digits"
+    if not text.startswith("CCSD") or text[5] != "Z":
+        return "the first SFDU label is not the CCSD Z-class label that wraps the others"
+    return None
 
 
 def date_problem(text: str) -> str | None:
