@@ -741,18 +741,17 @@ class _Parser:
 
 def is_sfdu(word: str) -> bool:
     """True for a PDS SFDU wrapper (see sfdu_problem)."""
-    return len(word) >= 40 and word[:4].upper() == "CCSD" and sfdu_problem(word) is None
+    return len(word) >= 40 and word.startswith("CCSD") and sfdu_problem(word) is None
 
 
 def sfdu_problem(word: str) -> str | None:
     """Why `word` is not the SFDU labels that wrap a PDS label (a CCSD Z-class label, then
     the labels it holds, 20 characters each), or None."""
-    text = word.upper()
-    if len(text) < 40 or len(text) % 20:
-        return f"{len(text)} characters; SFDU labels are 20 each, a CCSD Z-class one and the label's own"
-    for start in range(0, len(text), 20):
+    if len(word) < 40 or len(word) % 20:  # (restricted ASCII: upper-case letters and digits)
+        return f"{len(word)} characters; SFDU labels are 20 each, a CCSD Z-class one and the label's own"
+    for start in range(0, len(word), 20):
         part = word[start : start + 20]
-        m = _SFDU_LABEL.fullmatch(text, start, start + 20)
+        m = _SFDU_LABEL.fullmatch(word, start, start + 20)
         if m is None:
             return f"{part!r} is not an SFDU label (authority, version 1-3, class, delimitation, '0', id, length)"
         _, version, _, delimitation, _, length = m.groups()
@@ -762,9 +761,9 @@ def sfdu_problem(word: str) -> str | None:
             return f"{part!r}: a version-1 SFDU label has '0' where version 3 states the delimitation"
         if version == "3" and delimitation not in _SFDU_DELIMITATIONS:
             return f"{part!r}: delimitation {delimitation} is none of " + ", ".join(sorted(_SFDU_DELIMITATIONS))
-        if (version == "1" or delimitation == "A") and not length.isdigit():
+        if delimitation not in "CS" and not (length.isascii() and length.isdigit()):
             return f"{part!r}: its length {part[12:]!r} is not 8 ASCII digits"
-    if not text.startswith("CCSD") or text[5] != "Z":
+    if not word.startswith("CCSD") or word[5] != "Z":
         return "the first SFDU label is not the CCSD Z-class label that wraps the others"
     return None
 

@@ -400,6 +400,6 @@ register(
     Rule("REC-007", "error", "an UNCOMPRESSED_FILE's records hold exactly its IMAGE",
          check_uncompressed_records),
     Rule("REC-008", "error", "FILE_RECORDS no larger than the described objects need",
-         check_records_accounted, note="warning where the file really has the undescribed records at "
-         "its end (RECORD_BYTES x FILE_RECORDS = its size): an end-of-file record no reader misreads"),
+         check_records_accounted, note="warning where the file really has the undescribed records "
+         "at its end, RECORD_BYTES x FILE_RECORDS being its size: no reader misreads them"),
 )
