@@ -398,8 +398,8 @@ def best_fit(geo: Geometry) -> tuple[Fit, Fit]:
 def _radius_fit(ctx: FileContext, block: Block) -> tuple[Geometry, Fit, Fit, str] | None:
     """(geometry, fit as written, best shifted fit, which radius) on the first radius
     convention (see radius_conventions) under which the offsets and bounds agree as written,
-    else the first under which a shifted fit agrees, else the projection's own radius. The
-    last item names the radius when it is not the projection's own ("" when it is)."""
+    else the first under which a shifted fit agrees, else the one the bounds come nearest
+    to. The last item names the radius when it is not the projection's own ("" when it is)."""
     name = normalise(block.text("MAP_PROJECTION_TYPE") or "")
     tried: list[tuple[Geometry, Fit, Fit, str]] = []
     for n, radius in enumerate(radius_conventions(block, name) or [None]):
@@ -411,7 +411,7 @@ def _radius_fit(ctx: FileContext, block: Block) -> tuple[Geometry, Fit, Fit, str
         tried.append((geo, standard, best, on))
         if standard.consistent:
             return tried[-1]
-    return next((t for t in tried if t[2].consistent), tried[0])
+    return next((t for t in tried if t[2].consistent), None) or min(tried, key=lambda t: t[1].worst)
 
 
 def _describe(f: Fit) -> str:
@@ -468,16 +468,16 @@ def _offset_findings(ctx: FileContext) -> list[tuple[str, Hit]]:
                 name = "standard" if near.shift_sample == 0 else "older one-pixel-apart"
                 rule = "MAP-004" if near.shift_sample == 0 else old_rule
                 found.append((rule, Hit(f"offsets follow the {name} convention"
-                                        f"{old_whose if rule == old_rule else ''} (residuals "
+                                        f"{old_whose if rule == old_rule else ''}{on} (residuals "
                                         f"{_describe(near)})", line, "SAMPLE_PROJECTION_OFFSET")))
                 found.append(("MAP-010", Hit(
                     f"latitude/longitude bounds are up to {near.worst:.3f} px off the raster edges "
-                    f"the offsets define ({name} convention; residuals {_describe(near)})", line,
+                    f"the offsets define ({name} convention{on}; residuals {_describe(near)})", line,
                     "SAMPLE_PROJECTION_OFFSET")))
             else:
                 found.append(("MAP-003", Hit(
                     f"offsets disagree with the latitude/longitude bounds by more than {_NEAR_PX:g} px "
-                    f"under either convention: residuals {_describe(standard)} (standard), "
+                    f"under either convention{on}: residuals {_describe(standard)} (standard), "
                     f"{_describe(fit(geo, 1.0, 1.0))} (older)", line, "SAMPLE_PROJECTION_OFFSET")))
     ctx.cache["_map_offsets"] = found
     return found
