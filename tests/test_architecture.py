@@ -37,7 +37,8 @@ HRSC_SINUSOIDAL = "+proj=sinu +lon_0=70 +R=3396000 +units=m +no_defs"
 # Mission facts that may appear only in pdsgen/missions/: numbers and text fragments.
 MISSION_NUMBERS = {3396.0, 3396000.0, -32768, -1e32}
 MISSION_TEXT = ("_ucl.pvl", "ESA/DLR/FU Berlin", "University of Arizona", "MEX-M-HRSC", "MRO-M-HIRISE",
-                r"h(?P<orbit>", r"h\d{4", r"_d[at]4", "UNIVERSITY OF ARIZONA", "DLR / FREIE")
+                r"h(?P<orbit>", r"h\d{4", r"_d[at]4", "UNIVERSITY OF ARIZONA", "DLR / FREIE",
+                "PSP|ESP", "DT[EP]")
 # No known leftovers: validate/ and extras/ import their mission facts from pdsgen.missions.
 KNOWN_EXCEPTIONS: set[tuple[str, str]] = set()
 

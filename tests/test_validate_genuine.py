@@ -1,4 +1,4 @@
-"""The validator on 155 genuine PDS3 labels of 20+ missions (tests/data/genuine_pds3).
+"""The validator on the genuine PDS3 labels of 20+ missions in tests/data/genuine_pds3.
 
 Every ERROR it reports there is listed and judged in FINDINGS.md (a genuine defect of the
 label, or an artefact of the copy); a new error - a false one, or a real one no longer
@@ -83,5 +83,11 @@ def test_mission_conventions_are_not_errors():
     assert voyager.severity == "warning"
     viking = by_file["ale/f004a47_pds3.lbl"]  # nested SFDU segments, each closed by END
     assert not {"SYNTAX-005", "PTR-005"} & set(viking)
+    magellan = by_file["arael/shgj180u_README.txt"]  # CCSD Z-class + marker-delimited K-class SFDU
+    assert "FILE-006" not in magellan
+    ctx = by_file["mwaldstein_pds3/P01_001330_1221_XN_57S223W.LBL"]  # HiROC CTX map, Mars ellipsoid
+    assert "MAP-003" not in ctx and ctx["MAP-002"].severity == "warning"
+    assert "local radius at CENTER_LATITUDE -55" in ctx["MAP-002"].message
+    assert "local radius at CENTER_LATITUDE -55" in ctx["MAP-005"].message  # offsets fit on it too
     kaguya_mi = by_file["isis3/vis_cropped.img"]
     assert kaguya_mi["IMG-006"].severity == "warning"  # BAND SEQUENTIAL

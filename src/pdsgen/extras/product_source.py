@@ -48,7 +48,9 @@ __all__ = ["DTM", "ORTHO", "KINDS", "ProductSource", "open_product", "quiet_gdal
 GDAL_ENV = {"GDAL_CACHEMAX": 16, "GDAL_PAM_ENABLED": "NO", "GDAL_NUM_THREADS": "1"}
 
 _LABEL_SCAN_BYTES = 4 * 1024 * 1024
-_END_LINE = re.compile(rb"^[ \t]*END[ \t]*\r?$", re.MULTILINE)
+# END (any case: ODL is case-insensitive) alone on its line, or followed directly by the
+# binary data with no line end (ISIS and several pipelines write it so)
+_END_LINE = re.compile(rb"(?im)^[ \t]*END[ \t]*(?:\r?$|(?=[^\x20-\x7e\r\n]))")
 _FLOAT_TYPES = FLOAT_SAMPLE_TYPES
 # GDAL metadata items that describe a raster's content (searched for height words).
 _DESCRIPTIVE_TAGS = ("DESCRIPTION", "TIFFTAG_IMAGEDESCRIPTION", "PRODUCT_ID", "PRODUCT_TYPE")

@@ -24,6 +24,15 @@ HEIGHT_DATUM = "the Mars 2000 areoid"  # every HiRISE DTM's heights (DTM_NOTE sa
 SCALE_LETTERS = {letter: 0.25 * 2**i for i, letter in enumerate("ABCDEFGHIJ")}
 OBSERVATION_RE = re.compile(r"^(?:[A-Z]{3}_)?(?P<orbit>\d{6})_(?P<lat>\d{4})(?:_\w+)?$")
 ORTHO_OBSERVATION_RE = re.compile(r"^[A-Z]{3}_\d{6}_\d{4}$")
+# Mission phases that start an observation ID (PSP_008669_1705): aerobraking, transition,
+# primary and extended science, instrument checkout, calibration.
+OBSERVATION_PHASES = ("AEB", "TRA", "PSP", "ESP", "INS", "CAL")
+# What a HiRISE PRODUCT_ID starts with: an observation ID (RDRs, orthoimages) or a DTM's
+# DT + datum/projection/scale letters + its two source observations (DTEEC_008669_1705_009025_1705).
+PRODUCT_ID_RE = re.compile(
+    rf"^(?:(?:{'|'.join(OBSERVATION_PHASES)})_\d{{6}}_\d{{4}}|DT[EP][A-Z]{{2}}_\d{{6}}_\d{{4}}_\d{{6}}_\d{{4}})",
+    re.IGNORECASE,
+)
 PROJECTION_LETTERS = {EQUIRECTANGULAR: "E", POLAR_STEREOGRAPHIC: "P"}
 
 # HiRISE filters: band names as HiRISE labels write them, centre wavelengths in nm.

@@ -34,7 +34,14 @@ _DATE = re.compile(
     r"(?:T(?P<time>.*))?"
 )
 _TIME = re.compile(r"(?P<h>\d{2})(?::(?P<m>\d{2})(?::(?P<s>\d{2})(?:\.(?P<f>\d*))?)?)?(?P<z>Z)?")
-_SFDU = re.compile(r"CCSD3ZF\d{13}NJPL3IF0PDS[0-9A-Z]\d{8}")
+# A CCSDS SFDU label (CCSDS 620.0-B-2; PDS Standards Reference chapter 16) is 20 characters:
+# control authority (4), version (1), class (1), delimitation (1; a spare '0' in version 1),
+# a spare '0', the description data unit id (4), and the length - or, for an SFDU delimited
+# by a marker, the marker (8). PDS wraps a label in a CCSD Z-class SFDU followed by the
+# label's own (NJPL3IF0PDS2..., or NJPL3KS0PDSX##mark## delimited by a marker).
+_SFDU_LABEL = re.compile(r"([A-Z0-9]{4})([1-3])([A-Z0-9])([A-Z0-9])0([A-Z0-9]{4})(\S{8})")
+_SFDU_DELIMITATIONS = {"A": "length in ASCII", "B": "binary length", "C": "marker", "S": "marker",
+                       "E": "end of file", "F": "end of file"}
 _NOT_TEXT = re.compile(r"[^\x20-\x7e\t]")
 _DAYS = (31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31)
 _BASE_DIGITS = {2: "01", 8: "01234567", 16: "0123456789ABCDEFabcdef"}
@@ -309,6 +316,7 @@ class _Parser:
                 self.issue("SYNTAX-001", tok.line, f"expected a keyword, found {tok.text[:20]!r}")
                 self.scan.skip_line()
                 continue
+            tok = self._unglued_end(tok)
             upper = self._keyword_seen(tok.text, tok.line)
             if upper == "END":
                 self._end(tok)
@@ -320,6 +328,21 @@ class _Parser:
                 continue
             self._statement(tok, upper)
         self._finish()
+
+    def _unglued_end(self, tok: _Token) -> _Token:
+        """END itself when the scanner glued END and the binary data right after it into
+        one word (`END\\xf8...`, `EndQ\\x0b...`: ISIS and several pipelines write no line
+        end after END). It is END when binary bytes follow its three letters on the same
+        line before any '=': no statement looks so. Reading goes on after END."""
+        word = tok.text
+        if len(word) <= 3 or word[:3].upper() != "END" or word[3] == "_":
+            return tok
+        after = tok.start + 3
+        binary = _NOT_TEXT.search(self.text, after, _line_end(self.text, after))
+        if binary is None or "=" in self.text[after : binary.start()]:
+            return tok
+        self.scan.reset((after, tok.line))
+        return _Token("word", word[:3], tok.line, tok.line, tok.start, after)
 
     def _keyword_seen(self, word: str, line: int) -> str:
         """Note the first keyword and keywords not in upper case; the upper-case form."""
@@ -351,7 +374,7 @@ class _Parser:
             return False  # `(...}`: the token path's finding
         self.scan.take(m, line)
         self._keyword_seen(word, line)
-        if not _SFDU.fullmatch(upper):  # as _check_keyword, the name already taken apart
+        if not is_sfdu(upper):  # as _check_keyword, the name already taken apart
             self._check_lengths(word, m.group("namespace"), m.group("name"), line)
         if scalar is not None:
             value = self._scalar(scalar, line, word)
@@ -404,8 +427,10 @@ class _Parser:
         if tok.kind == "word" and tok.text.upper().startswith("CCSD"):
             self.scan.next()
             self.sfdu = tok.text
-            if not _SFDU.fullmatch(tok.text):
-                self.issue("FILE-006", tok.line, f"malformed SFDU label {tok.text!r} before PDS_VERSION_ID")
+            problem = sfdu_problem(tok.text)
+            if problem:
+                self.issue("FILE-006", tok.line, f"malformed SFDU label {tok.text[:60]!r} before "
+                           f"PDS_VERSION_ID: {problem}")
             nxt = self.scan.peek()
             if nxt.kind == "punct" and nxt.text == "=" and nxt.line == tok.line:
                 self.scan.next()
@@ -419,9 +444,12 @@ class _Parser:
         end = _line_end(self.text, tok.start)
         after = tok.start + len(tok.text)
         binary = _NOT_TEXT.search(self.text, after, end)
-        if binary is not None:  # END followed directly by the data: the label ends at END
+        if binary is not None:  # END followed by the data on its line: the label ends at END
             self.label_end = after
-            end = binary.start()
+            # data right after END (see _unglued_end) are data, even where they start with a
+            # letter; after blanks, a ';' or a comment, text before the first binary byte is
+            # text the label has after END
+            end = binary.start() if self.text[after] in " \t;/\x00" else after
         else:
             m = _NEWLINE.match(self.text, end)
             self.label_end = m.end() if m else end
@@ -485,7 +513,7 @@ class _Parser:
         """A statement read: into the current block, or opening an OBJECT/GROUP."""
         pointer = word.startswith("^")
         keyword = word[1:] if pointer else word
-        if _SFDU.fullmatch(keyword.upper()) and value.text.upper() == "SFDU_LABEL":
+        if value.text.upper() == "SFDU_LABEL" and is_sfdu(keyword):
             self.segments += 1  # a nested SFDU segment (Viking EDRs): closed by its own END
             return
         if upper in ("OBJECT", "GROUP"):
@@ -513,7 +541,7 @@ class _Parser:
         self.scan.skip_line()
 
     def _check_keyword(self, word: str, line: int) -> None:
-        if _SFDU.fullmatch(word.upper()):
+        if is_sfdu(word):
             return  # a nested SFDU marker: see _statement
         m = _KEYWORD.fullmatch(word)
         if not m:
@@ -659,6 +687,10 @@ class _Parser:
         if number:
             if number.group(1):
                 return Value("int", text, int(text), line)
+            if "." not in text:  # 1e+30: ODL real numbers have a decimal point
+                mantissa, e, exponent = text.partition("e" if "e" in text else "E")
+                self.issue("SYNTAX-016", line, f"{keyword} = {text}: a real number without a decimal "
+                           f"point is not ODL (write {mantissa}.0{e}{exponent})", keyword)
             return Value("real", text, float(text), line)
         if "#" in text:
             return self._based(text, line, keyword)
@@ -705,6 +737,35 @@ class _Parser:
                 f"{len(self.lowercase)} keyword(s) not in upper case, first {word!r}",
                 word,
             )
+
+
+def is_sfdu(word: str) -> bool:
+    """True for a PDS SFDU wrapper (see sfdu_problem)."""
+    return len(word) >= 40 and word.startswith("CCSD") and sfdu_problem(word) is None
+
+
+def sfdu_problem(word: str) -> str | None:
+    """Why `word` is not the SFDU labels that wrap a PDS label (a CCSD Z-class label, then
+    the labels it holds, 20 characters each), or None."""
+    if len(word) < 40 or len(word) % 20:  # (restricted ASCII: upper-case letters and digits)
+        return f"{len(word)} characters; SFDU labels are 20 each, a CCSD Z-class one and the label's own"
+    for start in range(0, len(word), 20):
+        part = word[start : start + 20]
+        m = _SFDU_LABEL.fullmatch(word, start, start + 20)
+        if m is None:
+            return f"{part!r} is not an SFDU label (authority, version 1-3, class, delimitation, '0', id, length)"
+        _, version, _, delimitation, _, length = m.groups()
+        if version == "2" or delimitation == "B":
+            return f"{part!r} has a binary length, which a text label cannot hold"
+        if version == "1" and delimitation != "0":
+            return f"{part!r}: a version-1 SFDU label has '0' where version 3 states the delimitation"
+        if version == "3" and delimitation not in _SFDU_DELIMITATIONS:
+            return f"{part!r}: delimitation {delimitation} is none of " + ", ".join(sorted(_SFDU_DELIMITATIONS))
+        if delimitation not in "CS" and not (length.isascii() and length.isdigit()):
+            return f"{part!r}: its length {part[12:]!r} is not 8 ASCII digits"
+    if not word.startswith("CCSD") or word[5] != "Z":
+        return "the first SFDU label is not the CCSD Z-class label that wraps the others"
+    return None
 
 
 def date_problem(text: str) -> str | None:

@@ -9,9 +9,7 @@ sphere, sinusoidal/polar stereographic by latitude.
 
 from __future__ import annotations
 
-import re
-
-from ..missions import LabelFacts, detect_mission
+from ..missions import LabelFacts, detect_mission, hirise
 from ..missions.hrsc import NAME_RE as HRSC_NAME
 from ..missions.hrsc import name_kind as hrsc_kind
 from .context import FileContext
@@ -25,19 +23,14 @@ def hrsc_orbit(name: str) -> str | None:
     return f"h{int(match.group('orbit')):04d}_{match.group('sequence')}" if match else None
 
 
-# HiRISE observation and product ids (pds3-products.md section 3): PSP_/ESP_ observations,
-# DTEEC/DTEPC... DTMs; the RDR, DTM and ortho files are named after PRODUCT_ID.
-HIRISE_ID = re.compile(r"^(?:(?:PSP|ESP|AEB|TRA|INS|CAL)_\d{6}_\d{4}|DT[EP][A-Z]{2}_\d{6}_\d{4}_\d{6}_\d{4})",
-                       re.IGNORECASE)
-
-
 def is_hirise(ctx: FileContext) -> bool:
-    """True for a HiRISE product (by instrument, data set or product id)."""
+    """True for a HiRISE product: the instrument or data set says so (the mission's own
+    detection), or the PRODUCT_ID is a HiRISE observation or DTM id (missions/hirise.py)."""
     root = ctx.root
-    instrument = (root.text("INSTRUMENT_ID") or "").strip().upper()
-    data_set = (root.text("DATA_SET_ID") or "").strip().upper()
+    facts = LabelFacts(instrument_id=(root.text("INSTRUMENT_ID") or "").strip(),
+                       data_set_id=(root.text("DATA_SET_ID") or "").strip())
     product = (root.text("PRODUCT_ID") or "").strip()
-    return instrument == "HIRISE" or "-HIRISE-" in data_set or bool(HIRISE_ID.match(product))
+    return hirise.is_hirise(facts) or bool(hirise.PRODUCT_ID_RE.match(product))
 
 
 def is_hrsc(ctx: FileContext) -> bool:

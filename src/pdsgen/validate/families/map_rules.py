@@ -93,11 +93,12 @@ def _image_size(ctx: FileContext, block: Block) -> tuple[int, int] | None:
     return None
 
 
-def _effective_scale(block: Block, name: str) -> float | None:
-    """Metres per pixel from MAP_SCALE, or from MAP_RESOLUTION when that is printed more
-    precisely and agrees (so rounded MAP_SCALE values do not pose as offset errors)."""
+def _effective_scale(block: Block, radius: float | None) -> float | None:
+    """Metres per pixel from MAP_SCALE, or from MAP_RESOLUTION (pixels per degree on a
+    sphere of `radius` km) when that is printed more precisely and agrees (so rounded
+    MAP_SCALE values do not pose as offset errors)."""
     scale = _scale_m(block)
-    res, radius = _num(block, "MAP_RESOLUTION"), _km(block, projection_radius_key(name))
+    res = _num(block, "MAP_RESOLUTION")
     if scale is None or res is None or radius is None or res <= 0:
         return scale
     derived = math.pi * radius * 1000.0 / 180.0 / res
@@ -169,7 +170,52 @@ def check_last_pixel(ctx: FileContext) -> Iterator[Hit]:
             break
 
 
+@dataclass(frozen=True)
+class Radius:
+    """A radius a label's map arithmetic may use, and how to name it in a finding."""
+
+    km: float
+    what: str
+
+
+def _local_radius(a: float, c: float, latitude: float) -> float:
+    """The ellipsoid's radius at a planetocentric latitude (degrees)."""
+    phi = math.radians(latitude)
+    return a * c / math.hypot(c * math.cos(phi), a * math.sin(phi))
+
+
+def radius_conventions(block: Block, name: str) -> list[Radius]:
+    """The radii MAP_RESOLUTION and the offsets may be computed on, the projection's own
+    first (the one GDAL's PDS reader takes: A_AXIS_RADIUS, or C for polar stereographic),
+    then the equatorial, the local radius of the ellipsoid at CENTER_LATITUDE (ISIS's
+    convention for equirectangular maps of an ellipsoid: the radii keep the ellipsoid, the
+    map arithmetic uses that sphere) and the mean radius. A sphere has one radius."""
+    key = projection_radius_key(name)
+    a, b, c = (_km(block, k) for k in ("A_AXIS_RADIUS", "B_AXIS_RADIUS", "C_AXIS_RADIUS"))
+    found: list[Radius] = []
+
+    def add(km: float | None, what: str) -> None:
+        if km is not None and km > 0 and all(abs(km - r.km) > 1e-9 * km for r in found):
+            found.append(Radius(km, what))
+
+    add(_km(block, key), f"{key} ({'polar' if key.startswith('C') else 'equatorial'})")
+    add(a, "A_AXIS_RADIUS (equatorial)")
+    lat = _num(block, "CENTER_LATITUDE")
+    if a is not None and c is not None and a > 0 and c > 0 and lat is not None and abs(lat) <= 90:
+        add(_local_radius(a, c, lat), f"the local radius at CENTER_LATITUDE {lat:g}")
+        kind = (block.text("PROJECTION_LATITUDE_TYPE") or block.text("COORDINATE_SYSTEM_NAME") or "").upper()
+        if "GRAPHIC" in kind and abs(lat) < 90:  # a planetographic centre latitude, as planetocentric
+            centric = math.degrees(math.atan((c / a) ** 2 * math.tan(math.radians(lat))))
+            add(_local_radius(a, c, centric), f"the local radius at planetographic CENTER_LATITUDE {lat:g}")
+        add((a + (b if b is not None else a) + c) / 3.0, "the mean radius (A + B + C) / 3")
+    return found
+
+
 def check_resolution(ctx: FileContext) -> Iterator[Hit]:
+    """MAP_RESOLUTION against MAP_SCALE on the radius the label's arithmetic uses: the
+    projection's own radius says nothing; another convention that fits is named in a
+    warning (genuine archives use ISIS's local radius; GDAL's PDS driver does not); an
+    error only when none fits."""
     for block in _maps(ctx):
         name = normalise(block.text("MAP_PROJECTION_TYPE") or "")
         if name not in SUPPORTED:  # scale and resolution relate by other formulas there
@@ -177,23 +223,30 @@ def check_resolution(ctx: FileContext) -> Iterator[Hit]:
         res_stmt = block.get("MAP_RESOLUTION")
         res, scale = _num(block, "MAP_RESOLUTION"), _scale_m(block)
         key = projection_radius_key(name)
-        radius = _km(block, key)
-        if res is None or scale is None or radius is None or res <= 0 or scale <= 0 or radius <= 0:
+        conventions = radius_conventions(block, name)
+        if res is None or scale is None or not conventions or res <= 0 or scale <= 0:
             continue
         implied = res * scale * 180.0 / math.pi / 1000.0
         tol = 1e-6 + _rel_precision(res_stmt) + _rel_precision(block.get("MAP_SCALE"))
-        candidates = [radius]
-        if name == "POLAR_STEREOGRAPHIC":
-            other = _km(block, "A_AXIS_RADIUS")
-            candidates += [other] if other else []
-        if any(abs(implied - r) <= tol * r for r in candidates):
+        fits = [r for r in conventions if abs(implied - r.km) <= tol * r.km]
+        line = res_stmt.line if res_stmt else block.line
+        if fits and fits[0] == conventions[0]:
             continue
+        if fits:
+            yield Hit(f"MAP_RESOLUTION = {res_stmt.value.raw} <PIX/DEG> with MAP_SCALE = {scale!r} m/pixel "  # type: ignore[union-attr]
+                      f"uses {fits[0].what} = {fits[0].km:.6f} km, not {conventions[0].what} = "
+                      f"{conventions[0].km} km: readers that take {key} (GDAL's PDS driver) put the "
+                      "map's latitudes and longitudes on that sphere instead", line, "MAP_RESOLUTION",
+                      severity="warning")
+            continue
+        radius = conventions[0].km
         expected = math.pi * radius * 1000.0 / 180.0 / scale
+        tried = ", ".join(f"{r.what} {r.km:.6f} km" for r in conventions[1:])
         yield Hit(
             f"MAP_RESOLUTION = {res_stmt.value.raw} <PIX/DEG> with MAP_SCALE = {scale!r} m/pixel "  # type: ignore[union-attr]
             f"implies a radius of {implied:.6f} km, but {key} = {radius} km; expected "
-            f"MAP_RESOLUTION = {expected!r}",
-            res_stmt.line if res_stmt else block.line,
+            f"MAP_RESOLUTION = {expected!r}" + (f" (no other radius fits either: {tried})" if tried else ""),
+            line,
             "MAP_RESOLUTION",
         )
 
@@ -230,15 +283,18 @@ class Fit:
 _BOUND_KEYS = ("MINIMUM_LATITUDE", "MAXIMUM_LATITUDE", "WESTERNMOST_LONGITUDE", "EASTERNMOST_LONGITUDE")
 
 
-def geometry(ctx: FileContext, block: Block) -> Geometry | None:
+def geometry(ctx: FileContext, block: Block, radius: float | None = None) -> Geometry | None:
+    """The raster the offsets define, on a sphere of `radius` km (the projection's own
+    radius when not given: see radius_conventions)."""
     name = normalise(block.text("MAP_PROJECTION_TYPE") or "")
     if name not in SUPPORTED or (_num(block, "MAP_PROJECTION_ROTATION") or 0.0) != 0.0:
         return None
-    radius = _km(block, projection_radius_key(name))
+    if radius is None:
+        radius = _km(block, projection_radius_key(name))
     values = {k: _num(block, k) for k in ("CENTER_LATITUDE", "CENTER_LONGITUDE",
                                           "SAMPLE_PROJECTION_OFFSET", "LINE_PROJECTION_OFFSET")}
     bounds = {k: _num(block, k) for k in _BOUND_KEYS}
-    scale, size = _effective_scale(block, name), _image_size(ctx, block)
+    scale, size = _effective_scale(block, radius), _image_size(ctx, block)
     if radius is None or scale is None or size is None or None in values.values() or None in bounds.values():
         return None
     west = (block.text("POSITIVE_LONGITUDE_DIRECTION") or "EAST").upper() == "WEST"
@@ -339,6 +395,25 @@ def best_fit(geo: Geometry) -> tuple[Fit, Fit]:
     return standard, best
 
 
+def _radius_fit(ctx: FileContext, block: Block) -> tuple[Geometry, Fit, Fit, str] | None:
+    """(geometry, fit as written, best shifted fit, which radius) on the first radius
+    convention (see radius_conventions) under which the offsets and bounds agree as written,
+    else the first under which a shifted fit agrees, else the one the bounds come nearest
+    to. The last item names the radius when it is not the projection's own ("" when it is)."""
+    name = normalise(block.text("MAP_PROJECTION_TYPE") or "")
+    tried: list[tuple[Geometry, Fit, Fit, str]] = []
+    for n, radius in enumerate(radius_conventions(block, name) or [None]):
+        geo = geometry(ctx, block, radius.km if radius is not None else None)
+        if geo is None:
+            return None
+        standard, best = best_fit(geo)
+        on = f" on {radius.what} ({radius.km:.6f} km)" if radius is not None and n else ""
+        tried.append((geo, standard, best, on))
+        if standard.consistent:
+            return tried[-1]
+    return next((t for t in tried if t[2].consistent), None) or min(tried, key=lambda t: t[1].worst)
+
+
 def _describe(f: Fit) -> str:
     short = {"MINIMUM_LATITUDE": "S", "MAXIMUM_LATITUDE": "N", "WESTERNMOST_LONGITUDE": "W",
              "EASTERNMOST_LONGITUDE": "E"}
@@ -355,23 +430,23 @@ def _offset_findings(ctx: FileContext) -> list[tuple[str, Hit]]:
     old_rule = "MAP-011" if hrsc else "MAP-005"
     old_whose = ", the HRSC archive's own (DSMAP.CAT)" if hrsc else ""
     for block in _maps(ctx):
-        geo = geometry(ctx, block)
-        if geo is None:
+        fitted = _radius_fit(ctx, block)
+        if fitted is None:
             name = block.text("MAP_PROJECTION_TYPE")
             if name is not None:
                 found.append(("MAP-009", Hit(f"bounds versus offsets not checked for {name} "
                                              "(no formulas here, rotated, or keywords missing)",
                                              block.line)))
             continue
-        standard, best = best_fit(geo)
+        geo, standard, best, on = fitted
         stmt = block.get("SAMPLE_PROJECTION_OFFSET")
         line = stmt.line if stmt else block.line
         if standard.consistent:
-            found.append(("MAP-004", Hit(f"offsets follow the standard PDS3 convention "
+            found.append(("MAP-004", Hit(f"offsets follow the standard PDS3 convention{on} "
                                          f"(residuals {_describe(standard)})", line)))
         elif best.consistent and abs(best.shift_sample) == 1 and best.shift_sample == best.shift_line:
             found.append((old_rule, Hit(
-                f"offsets follow the older one-pixel-apart convention{old_whose}: SAMPLE/LINE_PROJECTION_OFFSET "
+                f"offsets follow the older one-pixel-apart convention{old_whose}{on}: SAMPLE/LINE_PROJECTION_OFFSET "
                 f"are {best.shift_sample:+.0f} px from the standard values {geo.spo - best.shift_sample!r}"
                 f" / {geo.lpo - best.shift_line!r}; GDAL reads this 1 px off", line,
                 "SAMPLE_PROJECTION_OFFSET")))
@@ -383,7 +458,7 @@ def _offset_findings(ctx: FileContext) -> list[tuple[str, Hit]]:
                 line = stmt.line if stmt else block.line
             found.append(("MAP-003", Hit(
                 f"offsets disagree with the latitude/longitude bounds by {best.shift_sample:+g} px "
-                f"(samples) and {best.shift_line:+g} px (lines), {what}: expected "
+                f"(samples) and {best.shift_line:+g} px (lines), {what}{on}: expected "
                 f"SAMPLE_PROJECTION_OFFSET = {geo.spo - best.shift_sample!r}, LINE_PROJECTION_OFFSET = "
                 f"{geo.lpo - best.shift_line!r} (residuals {_describe(standard)})", line,
                 "LINE_PROJECTION_OFFSET" if best.shift_sample == 0 else "SAMPLE_PROJECTION_OFFSET")))
@@ -393,16 +468,16 @@ def _offset_findings(ctx: FileContext) -> list[tuple[str, Hit]]:
                 name = "standard" if near.shift_sample == 0 else "older one-pixel-apart"
                 rule = "MAP-004" if near.shift_sample == 0 else old_rule
                 found.append((rule, Hit(f"offsets follow the {name} convention"
-                                        f"{old_whose if rule == old_rule else ''} (residuals "
+                                        f"{old_whose if rule == old_rule else ''}{on} (residuals "
                                         f"{_describe(near)})", line, "SAMPLE_PROJECTION_OFFSET")))
                 found.append(("MAP-010", Hit(
                     f"latitude/longitude bounds are up to {near.worst:.3f} px off the raster edges "
-                    f"the offsets define ({name} convention; residuals {_describe(near)})", line,
+                    f"the offsets define ({name} convention{on}; residuals {_describe(near)})", line,
                     "SAMPLE_PROJECTION_OFFSET")))
             else:
                 found.append(("MAP-003", Hit(
                     f"offsets disagree with the latitude/longitude bounds by more than {_NEAR_PX:g} px "
-                    f"under either convention: residuals {_describe(standard)} (standard), "
+                    f"under either convention{on}: residuals {_describe(standard)} (standard), "
                     f"{_describe(fit(geo, 1.0, 1.0))} (older)", line, "SAMPLE_PROJECTION_OFFSET")))
     ctx.cache["_map_offsets"] = found
     return found
@@ -430,7 +505,8 @@ register(
     Rule("MAP-001", "error", "IMAGE_MAP_PROJECTION has the keywords a reader needs",
          check_required),
     Rule("MAP-002", "error", "MAP_RESOLUTION = pi R / 180 / MAP_SCALE for the projection's radius",
-         check_resolution),
+         check_resolution, note="warning naming the radius when MAP_RESOLUTION fits another "
+         "convention: the equatorial, the local radius at CENTER_LATITUDE (ISIS) or the mean radius"),
     Rule("MAP-003", "error", "offsets agree with the latitude/longitude bounds (residual in px)",
          check_offsets),
     Rule("MAP-004", "info", "offset convention detected: standard", check_convention_standard),

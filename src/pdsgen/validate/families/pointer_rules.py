@@ -268,10 +268,14 @@ def check_uncompressed_records(ctx: FileContext) -> Iterator[Hit]:
 
 
 def check_records_accounted(ctx: FileContext) -> Iterator[Hit]:
-    """FILE_RECORDS no larger than the objects need (label arithmetic only).
+    """FILE_RECORDS no larger than the objects need (label arithmetic, and the file's size).
 
-    Checked only when every data object's size is known from its keywords; a file that
-    declares records no object occupies has had a keyword (often LINES) edited.
+    Checked only when every data object's size is known from its keywords. Records at the
+    end that no object describes, in a file that really has them (RECORD_BYTES x
+    FILE_RECORDS = its size), mislead no reader: genuine archives have such an end-of-file
+    record, so that is a warning. Where the file does not have them (or cannot be found),
+    the label's arithmetic is broken - a keyword (often LINES) was edited - and the data
+    cannot be where the label says: an error.
     """
     records = _fixed_records(ctx)
     if records is None:
@@ -288,11 +292,18 @@ def check_records_accounted(ctx: FileContext) -> Iterator[Hit]:
     if not ends or len({p.file_name for p in ctx.data_pointers()}) != 1:
         return
     needed = -(-max(ends) // rb)
-    if fr > needed:
-        stmt = ctx.root.get("FILE_RECORDS")
-        yield Hit(f"FILE_RECORDS = {fr} but the objects end in record {needed}: {fr - needed} records of "
-                  f"{rb} bytes hold no described object (an edited LINES?)", stmt.line if stmt else None,
-                  "FILE_RECORDS")
+    if fr <= needed:
+        return
+    stmt = ctx.root.get("FILE_RECORDS")
+    line = stmt.line if stmt else None
+    gap = f"FILE_RECORDS = {fr} but the objects end in record {needed}: {fr - needed} records of {rb} bytes"
+    target = _record_file(ctx)
+    if target is not None and target[0] == rb * fr and not ctx.data_absent:
+        yield Hit(f"{gap} at the end of {target[1]} hold no described object; the file has them "
+                  f"({target[0]} bytes), so no reader is misled", line, "FILE_RECORDS", severity="warning")
+        return
+    where = f" and {target[1]} has {target[0]} bytes, not {rb * fr}" if target is not None else ""
+    yield Hit(f"{gap} hold no described object{where} (an edited LINES?)", line, "FILE_RECORDS")
 
 
 _INCLUDES = ("STRUCTURE",)
@@ -389,5 +400,6 @@ register(
     Rule("REC-007", "error", "an UNCOMPRESSED_FILE's records hold exactly its IMAGE",
          check_uncompressed_records),
     Rule("REC-008", "error", "FILE_RECORDS no larger than the described objects need",
-         check_records_accounted),
+         check_records_accounted, note="warning where the file really has the undescribed records "
+         "at its end, RECORD_BYTES x FILE_RECORDS being its size: no reader misreads them"),
 )

@@ -80,6 +80,8 @@ register(
     Rule("SYNTAX-012", "warning", "no ';' statement terminators (PVL, not PDS3)", from_reader("SYNTAX-012")),
     Rule("SYNTAX-013", "warning", "values are not empty (\"\" or ()); an empty set {} is valid ODL",
          from_reader("SYNTAX-013")),
+    Rule("SYNTAX-016", "warning", "real numbers have a decimal point (1.0E+30, not 1E+30)",
+         from_reader("SYNTAX-016")),
     Rule("SYNTAX-014", "warning", "a <unit> follows its value on the same line (pvl reads it either way)",
          from_reader("SYNTAX-014")),
 )
