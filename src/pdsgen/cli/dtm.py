@@ -21,6 +21,7 @@ USED_BY_PROFILE = {
     "hrsc": _COMMON | {"allow_deviations", "source_labels", "offset_convention", "byte_order", "kind",
                        "vertical_datum", "areoid", "precision", "reproject", "label"},
     "imars": _COMMON | {"kind", "vertical_datum", "areoid", "precision"},
+    "hrsc-ax": (_COMMON - {"source_ids"}) | {"allow_deviations", "source_labels", "byte_order", "label"},
 }
 
 
