@@ -80,7 +80,7 @@ ORTHO_FILTER_NAMES = {1: ("RED",), 3: ("NEAR-INFRARED", "RED", "BLUE-GREEN")}
 
 
 def write_ortho(
-    input_path: str | os.PathLike[str],
+    input_path: str | os.PathLike[str] | Sequence[str | os.PathLike[str]],
     outdir: str | os.PathLike[str],
     *,
     profile: str = "generic",
@@ -98,6 +98,8 @@ def write_ortho(
     mission = get_mission(profile)
     own = mission.writer("ortho")
     if own is None:
+        if not isinstance(input_path, (str, os.PathLike)):
+            raise PdsgenError(None, f"the {profile} profile takes one input file")
         return call_mission_writer(write_jp2_ortho, profile, input_path, outdir, {**options, "mission": mission})
     options.pop("threads", None)  # a limit on cores, not a product option: these writers use one
     bits = options.pop("bits", None)
