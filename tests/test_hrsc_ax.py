@@ -164,3 +164,33 @@ def test_tile_names_make_legal_pds_identifiers():
     assert hrsc_ax.tile_product_id("430-8765_5.0x5.0km", "CIR") == "HRSCAX_430_8765_5_0X5_0KM_CIR"
     with pytest.raises(PdsgenError, match="not an HRSC-AX tile name"):
         hrsc_ax.tile_product_id("svalbard", "DEM")
+
+
+@pytest.mark.parametrize("dialect", ["pds4", "both"])
+def test_pds4_transverse_mercator_with_scale_factor_read_by_gdal_and_pds4_tools(tmp_path, dialect):
+    from pdsgen.pds4 import schematron
+    from pdsgen.pds4.validate import validate_pds4
+
+    pds4_tools = pytest.importorskip("pds4_tools")
+    product = write_dtm(_dem(tmp_path), tmp_path / "out", profile="hrsc-ax", label=dialect)
+    xml = product.pds4_label_path
+    text = xml.read_text()
+    assert "<cart:map_projection_name>Transverse Mercator</cart:map_projection_name>" in text
+    assert "<cart:scale_factor_at_central_meridian>0.9996</cart:scale_factor_at_central_meridian>" in text
+    assert "<cart:latitude_type>Planetographic</cart:latitude_type>" in text
+    if schematron.available():
+        assert validate_pds4(xml) == []
+    expected = (OFFSET + _stored().astype(np.float64) * SCALING).astype(np.float32)
+    missing = _stored() == MISSING
+    with rasterio.open(xml) as ds:
+        assert ds.driver == "PDS4"
+        np.testing.assert_array_equal(ds.read(1)[~missing], expected[~missing])
+        pixels, lon, lat = grid_corner_positions(EAST, NORTH, PIXEL, LINES, SAMPLES)
+        xs, ys = zip(*(ds.transform @ (s + 0.5, r + 0.5) for r, s in pixels), strict=True)
+        glon, glat = warp_transform(ds.crs, CRS.from_proj4(GEODETIC), list(xs), list(ys))
+    ex, ey = _ground_m(lon, lat)
+    gx, gy = _ground_m(glon, glat)
+    assert np.hypot(gx - ex, gy - ey).max() < 0.01
+    structures = pds4_tools.read(str(xml), quiet=True, lazy_load=True)
+    array = np.asarray(structures[len(structures.structures) - 1].data)
+    np.testing.assert_array_equal(array[~missing], expected[~missing])

@@ -34,7 +34,7 @@ A_AXIS_KM = 6378.14
 B_AXIS_KM = 6378.14
 C_AXIS_KM = 6356.75
 GEOID_NOTE = "sea level lies at about +36.5 m above this ellipsoid"
-HEIGHT_DATUM = f"the {A_AXIS_KM} x {C_AXIS_KM} km ellipsoid"
+HEIGHT_DATUM = f"the {A_AXIS_KM} x {C_AXIS_KM} km ellipsoid (sea level at about +36.5 m)"
 
 # VICAR MAP offsets are DLR's (one pixel beyond the PDS3 standard convention).
 VICAR_OFFSET_SHIFT = OFFSET_CONVENTIONS["dlr"]
