@@ -194,3 +194,34 @@ def test_pds4_transverse_mercator_with_scale_factor_read_by_gdal_and_pds4_tools(
     structures = pds4_tools.read(str(xml), quiet=True, lazy_load=True)
     array = np.asarray(structures[len(structures.structures) - 1].data)
     np.testing.assert_array_equal(array[~missing], expected[~missing])
+
+
+def test_readme_examples_run_as_written(tmp_path):
+    import re
+    import shlex
+    import subprocess
+    import sys
+
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    body = readme.split("## HRSC-AX airborne tiles\n", 1)[1].split("\n## ", 1)[0]
+    examples = [line for block in re.findall(r"```sh\n(.*?)```", body, re.S) for line in block.splitlines()
+                if line.startswith("pdsgen ")]
+    assert len(examples) == 5
+    stem = "430-8765_5.0x5.0km"
+    write_vicar(tmp_path / f"{stem}.dsm", _stored(), {"MAP": map_group(EAST, NORTH, PIXEL),
+                                                       "DIGITAL_TERRAIN_MODEL": dtm_group(OFFSET, SCALING, -500, 2000)})
+    for seed, extension in enumerate(("pan", "re", "gr", "bl", "cir_re", "cir_gr", "cir_bl")):
+        data = np.random.default_rng(seed).integers(1, 256, (LINES, SAMPLES)).astype(np.uint8)
+        write_vicar(tmp_path / f"{stem}.{extension}", data, {"MAP": map_group(EAST, NORTH, PIXEL)})
+    (tmp_path / "dem_label.xml").write_text("<Label><ACQUISITION_DATE>2008-07-17</ACQUISITION_DATE></Label>")
+    for example in examples:
+        result = subprocess.run([sys.executable, "-m", "pdsgen", *shlex.split(example)[1:]], cwd=tmp_path,
+                                capture_output=True, text=True, timeout=300)
+        assert result.returncode == 0, f"{example}\n{result.stderr}"
+    written = {p.name for p in (tmp_path / "out").iterdir()}
+    assert {f"HRSCAX_430_8765_5_0X5_0KM_{k}.JP2" for k in ("PAN", "RGB", "CIR")} <= written
+    assert "HRSCAX_430_8765_5_0X5_0KM_DEM.IMG" in written
+    assert {p.name for p in (tmp_path / "both").iterdir()} == {"HRSCAX_430_8765_5_0X5_0KM_DEM.IMG",
+                                                              "HRSCAX_430_8765_5_0X5_0KM_DEM.xml"}
+    report = validate_paths([tmp_path / "out", tmp_path / "both"])
+    assert not [f for f in report.findings if f.severity == "error"]
