@@ -225,3 +225,19 @@ def test_readme_examples_run_as_written(tmp_path):
                                                               "HRSCAX_430_8765_5_0X5_0KM_DEM.xml"}
     report = validate_paths([tmp_path / "out", tmp_path / "both"])
     assert not [f for f in report.findings if f.severity == "error"]
+
+
+def test_half_dem_and_all_missing_named_by_the_users_file(tmp_path):
+    name = tile_name(430, 8765, LINES, PIXEL)
+    stored = (np.arange(LINES * SAMPLES) % 3000 - 1000).astype(np.int16).reshape(LINES, SAMPLES)
+    path = write_vicar(tmp_path / f"{name}.dsm", stored, {
+        "MAP": map_group(EAST, NORTH, PIXEL), "DIGITAL_TERRAIN_MODEL": dtm_group(36.5, 0.1, -100, 300)},
+        big_endian=True)
+    product = write_dtm(path, tmp_path / "out", profile="hrsc-ax")
+    with rasterio.open(product.path) as ds:
+        np.testing.assert_array_equal(ds.read(1), (36.5 + stored.astype(np.float64) * 0.1).astype(np.float32))
+    empty = write_vicar(tmp_path / "empty" / f"{name}.dsm" if (tmp_path / "empty").mkdir() is None else None,
+                        np.full((4, 5), MISSING, np.float32), {"MAP": map_group(EAST, NORTH, PIXEL)})
+    result = run_cli("dtm", empty, "-o", tmp_path / "out2", "--profile", "hrsc-ax")
+    assert result.returncode == 2
+    assert result.stderr.strip() == f"pdsgen: error: {empty}: has no valid pixels (all nodata)"

@@ -278,11 +278,21 @@ def vrt_text(tile: Tile) -> str:
 
 @contextmanager
 def tile_vrt(tile: Tile, name: str) -> Iterator[Path]:
-    """The tile's VRT as a file `name`.vrt in a private temporary directory, removed afterwards."""
+    """The tile's VRT as a file `name`.vrt in a private temporary directory, removed afterwards.
+
+    A problem the standard writers report about the VRT (no valid pixels, unreadable data) is
+    the user's files' problem: it is reported naming them, never the temporary file.
+    """
     with tempfile.TemporaryDirectory(prefix="pdsgen-hrsc-ax-") as tmp:
         path = Path(tmp) / f"{name}.vrt"
         path.write_text(vrt_text(tile), encoding="utf-8")
-        yield path
+        try:
+            yield path
+        except PdsgenError as exc:
+            if exc.path is None or Path(exc.path) != path:
+                raise
+            names = tile.paths[0] if len(tile.paths) == 1 else ", ".join(str(p) for p in tile.paths)
+            raise type(exc)(names, exc.problem) from None
 
 
 # -- what the labels say -----------------------------------------------------------------
