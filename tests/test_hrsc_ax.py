@@ -236,8 +236,9 @@ def test_half_dem_and_all_missing_named_by_the_users_file(tmp_path):
     product = write_dtm(path, tmp_path / "out", profile="hrsc-ax")
     with rasterio.open(product.path) as ds:
         np.testing.assert_array_equal(ds.read(1), (36.5 + stored.astype(np.float64) * 0.1).astype(np.float32))
-    empty = write_vicar(tmp_path / "empty" / f"{name}.dsm" if (tmp_path / "empty").mkdir() is None else None,
-                        np.full((4, 5), MISSING, np.float32), {"MAP": map_group(EAST, NORTH, PIXEL)})
+    (tmp_path / "empty").mkdir()
+    empty = write_vicar(tmp_path / "empty" / f"{name}.dsm", np.full((4, 5), MISSING, np.float32),
+                        {"MAP": map_group(EAST, NORTH, PIXEL)})
     result = run_cli("dtm", empty, "-o", tmp_path / "out2", "--profile", "hrsc-ax")
     assert result.returncode == 2
     assert result.stderr.strip() == f"pdsgen: error: {empty}: has no valid pixels (all nodata)"
