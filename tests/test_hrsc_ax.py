@@ -242,3 +242,17 @@ def test_half_dem_and_all_missing_named_by_the_users_file(tmp_path):
     result = run_cli("dtm", empty, "-o", tmp_path / "out2", "--profile", "hrsc-ax")
     assert result.returncode == 2
     assert result.stderr.strip() == f"pdsgen: error: {empty}: has no valid pixels (all nodata)"
+
+
+def test_vicar_items_strings_lists_and_refusals(tmp_path):
+    from pdsgen.errors import InputError
+    from pdsgen.formats.vicar import parse_items
+
+    items = parse_items("LBLSIZE=100  FORMAT='BYTE'  NOTE='it''s'  R=(1.5,-2,3E2)  W=(  'A', 'B')  X=7 ")
+    assert items == [("LBLSIZE", 100), ("FORMAT", "BYTE"), ("NOTE", "it's"), ("R", (1.5, -2, 300.0)),
+                     ("W", ("A", "B")), ("X", 7)]
+    path = _dem(tmp_path)
+    vax = path.read_bytes().replace(b"REALFMT='RIEEE'", b"REALFMT='VAX'  ")
+    path.write_bytes(vax)
+    with pytest.raises(InputError, match="REALFMT VAX reals are not read"):
+        read_vicar_label(path)

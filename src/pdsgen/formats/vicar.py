@@ -108,10 +108,15 @@ class VicarLabel:
         if kind == "u1":
             return np.dtype(kind)
         if kind.startswith("f"):
-            big = str(self.system.get("REALFMT", "VAX")).upper() in ("IEEE",)
+            big = self.real_format == "IEEE"  # RIEEE: little-endian (VAX reals are refused on reading)
         else:
             big = str(self.system.get("INTFMT", "HIGH")).upper() == "HIGH"
         return np.dtype((">" if big else "<") + kind)
+
+    @property
+    def real_format(self) -> str:
+        """REALFMT: IEEE (big-endian), RIEEE (little-endian) or VAX (VICAR's default when absent)."""
+        return str(self.system.get("REALFMT", "VAX")).upper()
 
     @property
     def record_bytes(self) -> int:
@@ -177,6 +182,8 @@ def _check_layout(label: VicarLabel) -> None:
     if label.format not in _NUMPY_KINDS:
         raise InputError(path, f"VICAR FORMAT {label.format} is not one pdsgen reads "
                                f"({', '.join(_NUMPY_KINDS)})")
+    if label.format in ("REAL", "DOUB") and label.real_format not in ("IEEE", "RIEEE"):
+        raise InputError(path, f"VICAR REALFMT {label.real_format} reals are not read (IEEE or RIEEE are)")
     organisation = str(system.get("ORG", "BSQ")).upper()
     if organisation != "BSQ" and label.bands > 1:
         raise InputError(path, f"VICAR ORG {organisation} is not read; pdsgen reads band-sequential (BSQ) images")
