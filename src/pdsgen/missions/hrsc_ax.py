@@ -80,9 +80,11 @@ TILE_RE = re.compile(
     r"^(?P<east>\d+)-(?P<north>\d+)_(?P<width>\d+(?:\.\d+)?)x(?P<height>\d+(?:\.\d+)?)km"
     r"(?:\.(?P<channel>[a-z_]+))?$", re.IGNORECASE)
 
+# No archive has registered an HRSC-AX data set: its ID and name are the producer's to give
+# (--params DATA_SET_ID / DATA_SET_NAME), UNK until then.
 KEYWORDS = {
-    "DATA_SET_ID": "DLR-E-HRSCAX-5-DTM-ORTHO-V1.0",
-    "DATA_SET_NAME": "HRSC-AX AIRBORNE DIGITAL SURFACE MODELS AND ORTHOIMAGES V1.0",
+    "DATA_SET_ID": "UNK",
+    "DATA_SET_NAME": "UNK",
     "PRODUCER_INSTITUTION_NAME": "DEUTSCHES ZENTRUM FUER LUFT- UND RAUMFAHRT",
     "PRODUCER_ID": "DLR",
     "PRODUCER_FULL_NAME": "UNK",

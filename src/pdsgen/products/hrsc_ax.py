@@ -317,7 +317,8 @@ def dtm_note(tile: Tile) -> str:
 def ortho_description(tile: Tile) -> str:
     """The orthoimage's DESCRIPTION: which band is which channel and wavelength, the survey."""
     if tile.kind == "PAN":
-        what = "HRSC-AX panchromatic nadir orthoimage (675 nm), 8-bit DNs, DN 0 = no data."
+        what = (f"HRSC-AX panchromatic nadir orthoimage ({hrsc_ax.CHANNELS['pan'].wavelength_nm} nm), "
+                "8-bit DNs, DN 0 = no data.")
     else:
         bands = ", ".join(f"band {i} {c.band_name} {c.wavelength_nm} nm (.{c.extension})"
                           for i, c in enumerate(tile.channels, start=1))
