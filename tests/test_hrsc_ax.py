@@ -3,6 +3,7 @@ PDS3 DEM, read back by GDAL (its PDS driver) and pvl."""
 
 from __future__ import annotations
 
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -256,3 +257,24 @@ def test_vicar_items_strings_lists_and_refusals(tmp_path):
     path.write_bytes(vax)
     with pytest.raises(InputError, match="REALFMT VAX reals are not read"):
         read_vicar_label(path)
+
+
+@pytest.mark.skipif(shutil.which("gdalinfo") is None, reason="GDAL's command-line tools not installed")
+def test_installed_gdal_command_line_places_the_dem_too(tmp_path):
+    """The system's GDAL (Debian bookworm: 3.6, the release the issue names) reads the PDS3 label
+    to the same ground positions, within 1 cm, as the GDAL rasterio carries."""
+    import json
+    import subprocess
+
+    product = write_dtm(_dem(tmp_path), tmp_path / "out", profile="hrsc-ax")
+    info = json.loads(subprocess.run(["gdalinfo", "-json", str(product.path)], capture_output=True, text=True,
+                                     check=True, timeout=60).stdout)
+    crs = CRS.from_wkt(info["coordinateSystem"]["wkt"])
+    c, a, _, f, _, e = info["geoTransform"]
+    pixels, lon, lat = grid_corner_positions(EAST, NORTH, PIXEL, LINES, SAMPLES)
+    xs = [c + (s + 0.5) * a for _, s in pixels]
+    ys = [f + (r + 0.5) * e for r, _ in pixels]
+    glon, glat = warp_transform(crs, CRS.from_proj4(GEODETIC), xs, ys)
+    ex, ey = _ground_m(lon, lat)
+    gx, gy = _ground_m(glon, glat)
+    assert np.hypot(gx - ex, gy - ey).max() < 0.01
