@@ -106,3 +106,19 @@ def test_other_profiles_take_one_input(tmp_path):
     paths = _tile(tmp_path, ("re", "gr"))
     result = run_cli("ortho", *paths, "-o", tmp_path / "out")
     assert result.returncode == 2 and "takes one INPUT; 2 were given" in result.stderr
+
+
+def test_threads_cap_reaches_the_encoder(tmp_path, monkeypatch):
+    """A batch's share of cores (threads=N) reaches the JPEG 2000 encoder for HRSC-AX too."""
+    import pdsgen.products.ortho as ortho
+
+    seen = []
+    real = ortho.write_jp2
+
+    def spy(*args, threads=None, **kwargs):
+        seen.append(threads)
+        return real(*args, threads=threads, **kwargs)
+
+    monkeypatch.setattr(ortho, "write_jp2", spy)
+    write_ortho(_tile(tmp_path, ("pan",))[0], tmp_path / "out", profile="hrsc-ax", threads=1)
+    assert seen == [1]

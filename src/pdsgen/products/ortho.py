@@ -9,6 +9,7 @@ together, so either both appear or neither does.
 
 from __future__ import annotations
 
+import inspect
 import logging
 import os
 from collections.abc import Callable, Mapping, Sequence
@@ -101,7 +102,8 @@ def write_ortho(
         if not isinstance(input_path, (str, os.PathLike)):
             raise PdsgenError(None, f"the {profile} profile takes one input file")
         return call_mission_writer(write_jp2_ortho, profile, input_path, outdir, {**options, "mission": mission})
-    options.pop("threads", None)  # a limit on cores, not a product option: these writers use one
+    if "threads" not in inspect.signature(own).parameters:
+        options.pop("threads", None)  # a limit on cores, not a product option: these writers use one
     bits = options.pop("bits", None)
     if bits not in (None, 8):
         raise ParamsError(None, f"--profile {profile} orthoimages are 8-bit; --bits {bits} does not apply")
