@@ -115,4 +115,4 @@ def test_shell_completion_script_and_completions():
         return [line.split(",", 1)[1] for line in run.stdout.splitlines()]
 
     assert complete("pdsgen d") == ["demo", "dtm"]
-    assert complete("pdsgen dtm in.tif --profile ") == ["generic", "hirise", "hrsc", "imars"]
+    assert complete("pdsgen dtm in.tif --profile ") == ["generic", "hirise", "hrsc", "hrsc-ax", "imars"]

@@ -30,11 +30,11 @@ def run_dtm(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
 
 
 def run_ortho(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
-    from ..cli.ortho import library_options
+    from ..cli.ortho import library_options, ortho_inputs
     from ..products.ortho import write_ortho
 
     options = {**library_options(p), "overwrite": overwrite, "threads": threads}
-    return _product(write_ortho(p["input_path"], p["outdir"], profile=p["profile"], **options))
+    return _product(write_ortho(ortho_inputs(p), p["outdir"], profile=p["profile"], **options))
 
 
 def _product(product: ProductResult) -> Outputs:

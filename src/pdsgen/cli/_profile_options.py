@@ -40,7 +40,8 @@ def label_fidelity_options(command):
     options = [
         click.option("--source-label", "source_labels", multiple=True, type=click.Path(dir_okay=False),
                      help="hrsc: level-2/3 label whose identification, time and orbit keywords the "
-                          "product carries; repeat for each source."),
+                          "product carries; hrsc-ax: XML image label of the tile's MAP/DTM keywords "
+                          "and survey date; repeat for each source."),
         click.option("--offset-convention", type=click.Choice(["standard", "dlr"]), default="standard",
                      show_default=True, help="hrsc: PDS3 standard projection offsets (GDAL reads them "
                                              "exactly) or DLR's own, one pixel apart."),

@@ -21,6 +21,7 @@ USED_BY_PROFILE = {
     "hrsc": _COMMON | {"allow_deviations", "source_labels", "offset_convention", "byte_order", "kind",
                        "vertical_datum", "areoid", "precision", "reproject", "label"},
     "imars": _COMMON | {"kind", "vertical_datum", "areoid", "precision"},
+    "hrsc-ax": (_COMMON - {"source_ids"}) | {"allow_deviations", "source_labels", "byte_order", "label"},
 }
 
 
@@ -65,7 +66,9 @@ def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, p
     <PRODUCT_ID>.IMG (float32), or with --label pds4 a PDS4 one (<PRODUCT_ID>.img + .xml);
     for --profile hrsc hOOOO_NNNN_dt4.img / _da4.img
     (16-bit integers with MEX:DTM scaling); for --profile imars the iMars form:
-    hOOOO_NNNN_da4_ucl.tif (int16 GeoTIFF), its .pvl metadata and hOOOO_NNNN.geojson."""
+    hOOOO_NNNN_da4_ucl.tif (int16 GeoTIFF), its .pvl metadata and hOOOO_NNNN.geojson;
+    for --profile hrsc-ax the HRSC-AX tile's VICAR .dsm as HRSCAX_<tile>_DEM.IMG (float32
+    ellipsoid heights, transverse Mercator)."""
     refuse_unused_options(ctx, profile, USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"]))
     product = write_dtm(input_path, outdir, profile=profile, **library_options(ctx.params))
     return Outcome([_summary(product)], product_summary("dtm", product), getattr(product, "warnings", ()))

@@ -7,6 +7,7 @@ from typing import Any
 
 import click
 
+from ..errors import PdsgenError
 from ..pds4.model import LABEL_DIALECTS
 from ..products.ortho import OrthoProduct, write_ortho
 from ..profiles import profile_names
@@ -21,12 +22,16 @@ USED_BY_PROFILE = {
     "hrsc": _COMMON | {"allow_deviations", "source_labels", "offset_convention", "bits", "source_ids", "reproject",
                        "label"},
     "imars": _COMMON | {"bits", "source_ids"},
+    "hrsc-ax": _COMMON | {"allow_deviations", "source_labels", "gmljp2", "label"},
 }
+# Profiles whose products may be composed of several single-band input files.
+SEVERAL_INPUTS = {"hrsc-ax"}
 
 
 @click.command(short_help=COMMANDS["ortho"])
 @output_options
 @click.argument("input_path", metavar="INPUT", type=click.Path(dir_okay=False))
+@click.argument("more_inputs", metavar="[INPUT]...", nargs=-1, type=click.Path(dir_okay=False))
 @click.option("-o", "--outdir", required=True, type=click.Path(file_okay=False), help="Output directory.")
 @click.option("--profile", type=click.Choice(profile_names()),
               default="generic", show_default=True, help="Mission profile: names and keywords.")
@@ -53,17 +58,30 @@ USED_BY_PROFILE = {
                    "hrsc: pds3 or both (the nd4 .img + a PDS4 .xml describing it).")
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 @click.pass_context
-def ortho(ctx, input_path, outdir, profile, product_id, bits, value_range, observation_id, source_dtm_id,
+def ortho(ctx, input_path, more_inputs, outdir, profile, product_id, bits, value_range, observation_id, source_dtm_id,
           sequence, params_file, product_version, gmljp2, source_ids, reproject, source_labels,
           offset_convention, allow_deviations, label, overwrite) -> Outcome:
     """Convert the 1-band (RED) or 3-band (IRB) orthoimage INPUT (any GDAL format,
     projected CRS as for DTMs) into OUTDIR/<PRODUCT_ID>.JP2 and .LBL (--label pds4: .JP2,
     .img and .xml); for --profile
     hrsc the 8-bit nadir image hOOOO_NNNN_nd4.img (attached label, DN 0 = no data);
-    for --profile imars hOOOO_NNNN_nd4_ucl.tif with its .pvl and footprint."""
+    for --profile imars hOOOO_NNNN_nd4_ucl.tif with its .pvl and footprint; for --profile
+    hrsc-ax TILE.pan, or the channel files of one colour product in band order
+    (TILE.re TILE.gr TILE.bl, TILE.cir_re TILE.cir_gr TILE.cir_bl)."""
     refuse_unused_options(ctx, profile, USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"]))
-    product = write_ortho(input_path, outdir, profile=profile, **library_options(ctx.params))
+    product = write_ortho(ortho_inputs(ctx.params), outdir, profile=profile, **library_options(ctx.params))
     return Outcome([_summary(product)], product_summary("ortho", product), getattr(product, "warnings", ()))
+
+
+def ortho_inputs(params: Mapping[str, Any]) -> str | tuple[str, ...]:
+    """The input of write_ortho: one file, or (profiles that compose bands) the files in band order."""
+    more = tuple(params.get("more_inputs") or ())
+    if not more:
+        return str(params["input_path"])
+    if params["profile"] not in SEVERAL_INPUTS:
+        raise PdsgenError(None, f"--profile {params['profile']} takes one INPUT; "
+                                f"{len(more) + 1} were given")
+    return (str(params["input_path"]), *more)
 
 
 def library_options(params: Mapping[str, Any]) -> dict[str, object]:

@@ -3,8 +3,17 @@
 Input: the CRS and affine geotransform GDAL reports. Output: the projection type,
 radii, centre, scale, resolution, projection offsets (PDS3 standard convention,
 which GDAL reads back to the identical geotransform) and the latitude/longitude
-bounds of the raster's outer edges. Only the three projections the archive
-products use are supported; anything else is refused rather than approximated.
+bounds of the raster's outer edges. The three projections planetary archive
+products use are supported, and Transverse Mercator on an ellipsoid (HRSC-AX airborne
+tiles on Earth); anything else is refused rather than approximated.
+
+Transverse Mercator is described with geodetic (PLANETOGRAPHIC) latitudes, the
+latitudes of the ellipsoid the projection is computed on. GDAL's PDS reader builds
+it with a scale factor of 1 and no false easting/northing (it reads no keyword for
+either), so the label folds them into what GDAL does read: the offsets count from
+the natural origin (false easting/northing subtracted), and MAP_SCALE is the grid
+spacing divided by the scale factor - the ground distance on the central meridian of
+one pixel. Every pixel then lands where the grid puts it.
 """
 
 from __future__ import annotations
@@ -24,6 +33,9 @@ from .conventions import map_resolution, projection_offsets
 EQUIRECTANGULAR = "EQUIRECTANGULAR"
 POLAR_STEREOGRAPHIC = "POLAR STEREOGRAPHIC"
 SINUSOIDAL = "SINUSOIDAL"
+TRANSVERSE_MERCATOR = "TRANSVERSE MERCATOR"
+PLANETOCENTRIC = "PLANETOCENTRIC"
+PLANETOGRAPHIC = "PLANETOGRAPHIC"
 
 _SPHEROID_RE = re.compile(r'SPHEROID\["(?P<name>[^"]*)",\s*(?P<a>[-\d.eE+]+),\s*(?P<rf>[-\d.eE+]+)')
 _BODY_NAMES = (
@@ -63,6 +75,10 @@ class MapGeometry:
     lines: int
     samples: int
     target_name: str | None  # body named by the CRS, when it names one
+    latitude_type: str = PLANETOCENTRIC  # of the latitude keywords (TM: PLANETOGRAPHIC, geodetic)
+    scale_factor: float = 1.0  # TM: on the central meridian (folded into map_scale, see the module)
+    false_easting: float = 0.0  # metres, of the CRS's grid (the offsets count without it)
+    false_northing: float = 0.0
 
     @property
     def is_sphere(self) -> bool:
@@ -78,6 +94,11 @@ class _Projection:
     center_longitude: float
     false_easting: float
     false_northing: float
+    scale_factor: float = 1.0
+
+    @property
+    def latitude_type(self) -> str:
+        return PLANETOGRAPHIC if self.kind == TRANSVERSE_MERCATOR else PLANETOCENTRIC
 
 
 def describe_geometry(
@@ -87,10 +108,13 @@ def describe_geometry(
     if crs is None or not crs.to_wkt():
         raise PdsgenError(source, "raster has no coordinate reference system (map projection)")
     projection = _parse_projection(crs, source)
-    scale = _square_pixel_size(transform, source)
-    # Projection coordinates relative to the natural origin (no false easting).
-    ulx = transform.c - projection.false_easting
-    uly = transform.f - projection.false_northing
+    grid_scale = _square_pixel_size(transform, source)
+    # Projection coordinates relative to the natural origin (no false easting), in the
+    # projection's units before its scale factor (see the module docstring).
+    k = projection.scale_factor
+    ulx = (transform.c - projection.false_easting) / k
+    uly = (transform.f - projection.false_northing) / k
+    scale = grid_scale / k
     radius = projection.b if projection.kind == POLAR_STEREOGRAPHIC else projection.a
     sample_offset, line_offset = projection_offsets(ulx, uly, scale)
     lat_min, lat_max, lon_west, lon_east = _bounds(crs, transform, width, height, projection, source)
@@ -109,10 +133,14 @@ def describe_geometry(
         maximum_latitude=lat_max,
         westernmost_longitude=lon_west,
         easternmost_longitude=lon_east,
-        north_azimuth=_north_azimuth(projection, transform, width, height),
+        north_azimuth=_north_azimuth(projection, transform, width, height, crs),
         lines=height,
         samples=width,
         target_name=_target_name(crs, projection.a),
+        latitude_type=projection.latitude_type,
+        scale_factor=k,
+        false_easting=projection.false_easting,
+        false_northing=projection.false_northing,
     )
 
 
@@ -143,13 +171,21 @@ def _parse_projection(crs: CRS, source: str) -> _Projection:
                 "reproject to true scale at the pole (k=1)",
             )
         return _Projection(POLAR_STEREOGRAPHIC, a, b, math.copysign(90.0, lat0), lon0, x0, y0)
+    if name in ("tmerc", "utm", "etmerc"):
+        k = float(params.get("k", params.get("k_0", 1.0)))
+        lat0 = float(params.get("lat_0", 0.0))
+        if name == "utm":
+            zone = int(params["zone"])
+            lon0, k, x0 = zone * 6.0 - 183.0, 0.9996, 500000.0
+            y0 = 10000000.0 if params.get("south") else 0.0
+        return _Projection(TRANSVERSE_MERCATOR, a, b, lat0, lon0, x0, y0, k)
     if name == "ups":
         raise PdsgenError(source, "UPS is not supported; use a polar stereographic CRS with k=1")
     label = crs.to_wkt().split('PROJECTION["')[1].split('"')[0] if "PROJECTION[" in crs.to_wkt() else name
     raise PdsgenError(
         source,
         f"unsupported map projection {label!r}: pdsgen writes equirectangular, "
-        "polar stereographic and sinusoidal products",
+        "polar stereographic, sinusoidal and transverse Mercator products",
     )
 
 
@@ -209,7 +245,9 @@ def _bounds(crs: CRS, transform: Affine, width: int, height: int, projection: _P
     xs, ys = _edge_points(transform, width, height)
     lons, lats = warp_transform(crs, _geographic_crs(projection), xs, ys)
     lons = np.asarray(lons, dtype=float)
-    lats = _planetocentric(np.asarray(lats, dtype=float), projection)
+    lats = np.asarray(lats, dtype=float)
+    if projection.latitude_type == PLANETOCENTRIC:
+        lats = _planetocentric(lats, projection)
     if not (np.all(np.isfinite(lats)) and np.all(np.isfinite(lons)) and np.all(np.abs(lats) <= 90.0 + 1e-9)):
         raise PdsgenError(
             source, "raster extends beyond the body (its edges do not map to latitudes within -90..90); "
@@ -246,13 +284,17 @@ def _contains_pole(transform: Affine, width: int, height: int, projection: _Proj
     return 0.0 <= col <= width and 0.0 <= row <= height
 
 
-def _north_azimuth(projection: _Projection, transform: Affine, width: int, height: int) -> float:
+def _north_azimuth(projection: _Projection, transform: Affine, width: int, height: int, crs: CRS) -> float:
     """Clockwise angle from the image's +sample axis to north, at the image centre.
 
     North is straight up (270 degrees) in cylindrical and sinusoidal products;
     in polar stereographic products it points along the meridian, toward the
-    pole in the north and away from it in the south.
+    pole in the north and away from it in the south; in Transverse Mercator it
+    leans by the grid convergence away from the central meridian (from the
+    projection itself: a step north of the centre, projected).
     """
+    if projection.kind == TRANSVERSE_MERCATOR:
+        return _projected_north(crs, projection, transform, width, height)
     if projection.kind != POLAR_STEREOGRAPHIC:
         return 270.0
     x, y = transform @ (width / 2.0, height / 2.0)
@@ -263,6 +305,15 @@ def _north_azimuth(projection: _Projection, transform: Affine, width: int, heigh
     north_x, north_y = sign * dx, sign * dy  # map coordinates, y up
     angle = math.degrees(math.atan2(-north_y, north_x))  # image y runs down
     return angle % 360.0
+
+
+def _projected_north(crs: CRS, projection: _Projection, transform: Affine, width: int, height: int) -> float:
+    x, y = transform @ (width / 2.0, height / 2.0)
+    geographic = _geographic_crs(projection)
+    (lon,), (lat,) = warp_transform(crs, geographic, [x], [y])
+    xs, ys = warp_transform(geographic, crs, [lon, lon], [lat, lat + 1e-4])
+    angle = math.degrees(math.atan2(-(ys[1] - ys[0]), xs[1] - xs[0]))  # image y runs down
+    return round(angle % 360.0, 6)
 
 
 def _target_name(crs: CRS, semi_major_m: float) -> str | None:

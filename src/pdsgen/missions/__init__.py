@@ -1,13 +1,13 @@
 """Missions: every fact about a mission in one module, and the registry of profiles.
 
-`generic`, `hirise`, `hrsc` and `imars` are registered here; `register_mission`
+`generic`, `hirise`, `hrsc`, `imars` and `hrsc-ax` are registered here; `register_mission`
 adds another (see README "Adding a mission"). Writers, Extras and the validator
 import mission facts from these modules and nowhere else.
 """
 
 from __future__ import annotations
 
-from . import generic, hirise, hrsc, imars
+from . import generic, hirise, hrsc, hrsc_ax, imars
 from .base import (
     ContextReference,
     LabelFacts,
@@ -21,7 +21,7 @@ from .base import (
     unregister_mission,
 )
 
-for _module in (generic, hirise, hrsc, imars):
+for _module in (generic, hirise, hrsc, imars, hrsc_ax):
     register_mission(_module.MISSION)
 
 __all__ = [

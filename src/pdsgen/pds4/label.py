@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 from affine import Affine
 from rasterio.crs import CRS
 
-from ..geo.geometry import EQUIRECTANGULAR, POLAR_STEREOGRAPHIC, SINUSOIDAL, MapGeometry
+from ..geo.geometry import EQUIRECTANGULAR, POLAR_STEREOGRAPHIC, SINUSOIDAL, TRANSVERSE_MERCATOR, MapGeometry
 from ..label.render import template_environment
 from ..label.values import format_real
 from ..resources import templates_dir
@@ -30,6 +30,7 @@ PROJECTION_NAMES = {
     EQUIRECTANGULAR: ("Equirectangular", "Equirectangular"),
     POLAR_STEREOGRAPHIC: ("Polar Stereographic", "Polar_Stereographic"),
     SINUSOIDAL: ("Sinusoidal", "Sinusoidal"),
+    TRANSVERSE_MERCATOR: ("Transverse Mercator", "Transverse_Mercator"),
 }
 # The reverse, for reading labels back: cart:map_projection_name -> PDS3 projection type.
 PDS3_PROJECTION = {name: pds3 for pds3, (name, _) in PROJECTION_NAMES.items()}
@@ -79,20 +80,24 @@ class Cartography:
     east: float
     north: float
     south: float
+    latitude_type: str = "Planetocentric"
 
 
 def cartography(geometry: MapGeometry, crs: CRS, transform: Affine, target_name: str) -> Cartography:
     """cart: values of a north-up raster whose geometry `describe_geometry` accepted."""
     name, element = PROJECTION_NAMES[geometry.projection_type]
     params = crs.to_dict()
+    # cart: states a Transverse Mercator grid as it is (its scale factor is a cart: field), so
+    # its resolution is the grid spacing; PDS3 labels fold the scale factor into MAP_SCALE.
+    k = geometry.scale_factor
     return Cartography(
         projection_name=name,
         projection_element=element,
         projection_parameters=_projection_parameters(geometry, params),
-        resolution=geometry.map_scale,
-        pixel_scale=geometry.map_resolution,
-        upper_left_x=transform.c - float(params.get("x_0", 0.0)),
-        upper_left_y=transform.f - float(params.get("y_0", 0.0)),
+        resolution=geometry.map_scale * k,
+        pixel_scale=geometry.map_resolution / k,
+        upper_left_x=transform.c - geometry.false_easting,
+        upper_left_y=transform.f - geometry.false_northing,
         a_axis=geometry.a_axis_km * 1000.0,
         b_axis=geometry.b_axis_km * 1000.0,
         c_axis=geometry.c_axis_km * 1000.0,
@@ -101,6 +106,7 @@ def cartography(geometry: MapGeometry, crs: CRS, transform: Affine, target_name:
         east=geometry.easternmost_longitude,
         north=geometry.maximum_latitude,
         south=geometry.minimum_latitude,
+        latitude_type=geometry.latitude_type.capitalize(),
     )
 
 
@@ -115,4 +121,8 @@ def _projection_parameters(geometry: MapGeometry, params: Mapping[str, Any]) -> 
         return (("longitude_of_central_meridian", lon0),
                 ("latitude_of_projection_origin", geometry.center_latitude),
                 ("scale_factor_at_projection_origin", 1.0))
+    if geometry.projection_type == TRANSVERSE_MERCATOR:
+        return (("scale_factor_at_central_meridian", geometry.scale_factor),
+                ("longitude_of_central_meridian", lon0),
+                ("latitude_of_projection_origin", geometry.center_latitude))
     return (("longitude_of_central_meridian", lon0),)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import inspect
 import os
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 from ..errors import ParamsError
@@ -13,7 +13,7 @@ from ..errors import ParamsError
 def call_mission_writer(
     writer: Callable[..., Any],
     profile: str,
-    input_path: str | os.PathLike[str],
+    input_path: str | os.PathLike[str] | Sequence[str | os.PathLike[str]],
     outdir: str | os.PathLike[str],
     options: Mapping[str, Any],
 ) -> Any:

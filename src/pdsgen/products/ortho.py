@@ -9,6 +9,7 @@ together, so either both appear or neither does.
 
 from __future__ import annotations
 
+import inspect
 import logging
 import os
 from collections.abc import Callable, Mapping, Sequence
@@ -80,7 +81,7 @@ ORTHO_FILTER_NAMES = {1: ("RED",), 3: ("NEAR-INFRARED", "RED", "BLUE-GREEN")}
 
 
 def write_ortho(
-    input_path: str | os.PathLike[str],
+    input_path: str | os.PathLike[str] | Sequence[str | os.PathLike[str]],
     outdir: str | os.PathLike[str],
     *,
     profile: str = "generic",
@@ -98,8 +99,11 @@ def write_ortho(
     mission = get_mission(profile)
     own = mission.writer("ortho")
     if own is None:
+        if not isinstance(input_path, (str, os.PathLike)):
+            raise PdsgenError(None, f"the {profile} profile takes one input file")
         return call_mission_writer(write_jp2_ortho, profile, input_path, outdir, {**options, "mission": mission})
-    options.pop("threads", None)  # a limit on cores, not a product option: these writers use one
+    if "threads" not in inspect.signature(own).parameters:
+        options.pop("threads", None)  # a limit on cores, not a product option: these writers use one
     bits = options.pop("bits", None)
     if bits not in (None, 8):
         raise ParamsError(None, f"{param('profile', profile)} orthoimages are 8-bit; "
@@ -125,6 +129,7 @@ def write_jp2_ortho(
     label: str = "pds3",
     allow_dictionary_deviations: bool | None = None,
     threads: int | None = None,
+    filter_names: Sequence[str] | None = None,
 ) -> OrthoProduct:
     """Convert a 1-band (RED) or 3-band (IRB) orthoimage into `<PRODUCT_ID>.JP2` + `.LBL`.
 
@@ -133,6 +138,8 @@ def write_jp2_ortho(
     label "pds4" writes the PDS4 form instead of the .LBL: the uncompressed DNs as the
     primary array `<PRODUCT_ID>.img`, the JP2 as a supplemental Encoded_Image, and
     `<PRODUCT_ID>.xml`; "both" writes the .LBL and the PDS4 form.
+    `filter_names`: the bands' FILTER_NAMEs in band order, for missions whose bands are not
+    HiRISE's (default: RED, or NEAR-INFRARED, RED, BLUE-GREEN).
     """
     check_label_dialect(label)
     if bits is not None and bits not in BIT_DEPTHS:
@@ -162,7 +169,7 @@ def write_jp2_ortho(
         jp2_final, label_final = outdir / f"{product_id}.JP2", outdir / f"{product_id}.LBL"
         img_final, xml_final = outdir / f"{product_id}.img", outdir / f"{product_id}.xml"
         context = _label_context(chosen, product_id, ident, sources, geometry, dataset.count, mapping,
-                                 jp2_final.name)
+                                 jp2_final.name, filter_names)
         boxes = [geojp2_box(dataset.crs, dataset.transform)]
         if gmljp2:
             boxes.append(gmljp2_box(dataset.crs, dataset.transform, dataset.height, dataset.width))
@@ -339,12 +346,13 @@ def _label_context(
     bands: int,
     mapping: DnMapping,
     jp2_name: str,
+    filter_names: Sequence[str] | None = None,
 ) -> dict[str, object]:
     special = mapping.special
     sample_bits = 8 if special.bits == 8 else 16
     record_bytes = geometry.samples * sample_bits // 8
     file_records = geometry.lines * bands
-    filters = ORTHO_FILTER_NAMES[bands]
+    filters = tuple(filter_names) if filter_names else ORTHO_FILTER_NAMES[bands]
     known = mission.filter_wavelengths_nm
     wavelengths = tuple(known[name] for name in filters) if known else None
     return {

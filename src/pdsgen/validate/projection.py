@@ -1,7 +1,9 @@
-"""Sphere map projections of PDS3 labels, forward and inverse, written out from their formulas.
+"""Map projections of PDS3 labels, forward and inverse, written out from their formulas.
 
 Longitudes are east-positive degrees, x/y in metres. Only what the MAP rules need:
-equirectangular (and simple cylindrical), sinusoidal, polar stereographic.
+equirectangular (and simple cylindrical), sinusoidal, polar stereographic on a sphere,
+and Transverse Mercator on an ellipsoid (Snyder 1987, USGS Professional Paper 1395,
+equations 8-9 to 8-25; geodetic latitudes; scale factor 1, as a PDS3 label states it).
 """
 
 from __future__ import annotations
@@ -33,7 +35,7 @@ GDAL_PROJECTIONS = frozenset(
     }
 )
 CYLINDRICAL = frozenset({"EQUIRECTANGULAR", "SIMPLE_CYLINDRICAL", "EQUIDISTANT"})
-SUPPORTED = CYLINDRICAL | {"SINUSOIDAL", "POLAR_STEREOGRAPHIC"}
+SUPPORTED = CYLINDRICAL | {"SINUSOIDAL", "POLAR_STEREOGRAPHIC", "TRANSVERSE_MERCATOR"}
 
 
 def normalise(name: str) -> str:
@@ -95,6 +97,76 @@ class Sphere:
 
     def contains_pole(self, x0: float, x1: float, y0: float, y1: float) -> bool:
         return self.name == "POLAR_STEREOGRAPHIC" and x0 <= 0 <= x1 and y0 <= 0 <= y1
+
+
+class TransverseMercator(Sphere):
+    """Transverse Mercator on the ellipsoid of semi-axes a (equatorial) and c (polar), metres.
+
+    PDS3 labels have no scale-factor keyword: a grid's scale factor is folded into MAP_SCALE,
+    so the projection here is the one with scale factor 1 on the central meridian.
+    """
+
+    def __init__(self, a: float, c: float, center_lat: float, center_lon: float) -> None:
+        super().__init__("TRANSVERSE_MERCATOR", a, center_lat, center_lon)
+        self.a = a
+        self.e2 = 1.0 - (c / a) ** 2
+        self.ep2 = self.e2 / (1.0 - self.e2)
+        self.m0 = float(self._meridian_arc(np.asarray(self.lat1)))
+
+    def _meridian_arc(self, lat):
+        """M, the distance along the meridian from the equator to latitude `lat` (radians)."""
+        e2 = self.e2
+        e4, e6 = e2 * e2, e2 * e2 * e2
+        return self.a * ((1 - e2 / 4 - 3 * e4 / 64 - 5 * e6 / 256) * lat
+                         - (3 * e2 / 8 + 3 * e4 / 32 + 45 * e6 / 1024) * np.sin(2 * lat)
+                         + (15 * e4 / 256 + 45 * e6 / 1024) * np.sin(4 * lat)
+                         - (35 * e6 / 3072) * np.sin(6 * lat))
+
+    def forward(self, lat, lon):
+        phi = np.radians(np.asarray(lat, dtype=float))
+        dlon = np.radians(_wrap(np.asarray(lon, dtype=float) - self.lon0))
+        sin, cos, tan = np.sin(phi), np.cos(phi), np.tan(phi)
+        n = self.a / np.sqrt(1 - self.e2 * sin * sin)
+        t, c = tan * tan, self.ep2 * cos * cos
+        a = dlon * cos
+        x = n * (a + (1 - t + c) * a**3 / 6 + (5 - 18 * t + t * t + 72 * c - 58 * self.ep2) * a**5 / 120)
+        y = (self._meridian_arc(phi) - self.m0
+             + n * tan * (a**2 / 2 + (5 - t + 9 * c + 4 * c * c) * a**4 / 24
+                          + (61 - 58 * t + t * t + 600 * c - 330 * self.ep2) * a**6 / 720))
+        return x, y
+
+    def inverse(self, x, y):
+        x = np.asarray(x, dtype=float)
+        y = np.asarray(y, dtype=float)
+        e2, ep2 = self.e2, self.ep2
+        mu = (self.m0 + y) / (self.a * (1 - e2 / 4 - 3 * e2**2 / 64 - 5 * e2**3 / 256))
+        e1 = (1 - math.sqrt(1 - e2)) / (1 + math.sqrt(1 - e2))
+        phi1 = (mu + (3 * e1 / 2 - 27 * e1**3 / 32) * np.sin(2 * mu)
+                + (21 * e1**2 / 16 - 55 * e1**4 / 32) * np.sin(4 * mu)
+                + (151 * e1**3 / 96) * np.sin(6 * mu) + (1097 * e1**4 / 512) * np.sin(8 * mu))
+        sin, cos, tan = np.sin(phi1), np.cos(phi1), np.tan(phi1)
+        c1, t1 = ep2 * cos * cos, tan * tan
+        n1 = self.a / np.sqrt(1 - e2 * sin * sin)
+        r1 = self.a * (1 - e2) / (1 - e2 * sin * sin) ** 1.5
+        d = x / n1
+        lat = phi1 - (n1 * tan / r1) * (d**2 / 2 - (5 + 3 * t1 + 10 * c1 - 4 * c1 * c1 - 9 * ep2) * d**4 / 24
+                                        + (61 + 90 * t1 + 298 * c1 + 45 * t1 * t1 - 252 * ep2 - 3 * c1 * c1)
+                                        * d**6 / 720)
+        dlon = (d - (1 + 2 * t1 + c1) * d**3 / 6
+                + (5 - 2 * c1 + 28 * t1 - 3 * c1 * c1 + 8 * ep2 + 24 * t1 * t1) * d**5 / 120) / cos
+        return np.degrees(lat), self.lon0 + np.degrees(dlon)
+
+    def contains_pole(self, x0: float, x1: float, y0: float, y1: float) -> bool:
+        return False
+
+
+def projection_for(name: str, radius: float, center_lat: float, center_lon: float,
+                   polar_radius: float | None = None) -> Sphere:
+    """The projection of a label: radii in metres (`polar_radius`: C_AXIS_RADIUS, for Transverse
+    Mercator's ellipsoid; the sphere projections use `radius` alone)."""
+    if name == "TRANSVERSE_MERCATOR":
+        return TransverseMercator(radius, polar_radius or radius, center_lat, center_lon)
+    return Sphere(name, radius, center_lat, center_lon)
 
 
 def _wrap(dlon):

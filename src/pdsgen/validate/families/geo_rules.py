@@ -20,9 +20,13 @@ from ..geojp2 import (
     PROJ_CENTER_LAT,
     PROJ_CENTER_LONG,
     PROJ_COORD_TRANS,
+    PROJ_FALSE_EASTING,
+    PROJ_FALSE_NORTHING,
     PROJ_NAT_ORIGIN_LONG,
+    PROJ_SCALE_AT_NAT_ORIGIN,
     PROJ_STD_PARALLEL1,
     PROJ_STRAIGHT_VERT_POLE_LONG,
+    PROJECTION_CODE,
     Jp2Error,
     Jp2Info,
     read_jp2,
@@ -140,20 +144,43 @@ def check_geotransform(ctx: FileContext) -> Iterator[Hit]:
     map_block = _map(ctx)
     spo = map_block.get("SAMPLE_PROJECTION_OFFSET") if map_block is not None else None
     line = spo.line if spo is not None else None
+    folds = normalise(map_block.text("MAP_PROJECTION_TYPE") or "") == "TRANSVERSE_MERCATOR" \
+        if map_block is not None else False
     for ref in info.georefs:
-        dx, dy = (ref.ulx - ulx) / scale, (uly - ref.uly) / scale
-        dsx = (ref.xres - scale) * info.width / scale
-        dsy = (ref.yres - scale) * info.height / scale
+        k, east, north = _grid_terms(ref.keys) if folds else (1.0, 0.0, 0.0)
+        # A TM label carries the grid's scale factor and false origin folded into MAP_SCALE and
+        # the offsets (PDS3 has no keywords for them): compare the JP2's grid in those terms.
+        ref_ulx, ref_uly = (ref.ulx - east) / k, (ref.uly - north) / k
+        ref_xres, ref_yres = ref.xres / k, ref.yres / k
+        dx, dy = (ref_ulx - ulx) / scale, (uly - ref_uly) / scale
+        dsx = (ref_xres - scale) * info.width / scale
+        dsy = (ref_yres - scale) * info.height / scale
         worst = max(abs(dx), abs(dy), abs(dsx), abs(dsy))
         if worst > GEOTRANSFORM_TOLERANCE_PX:
             yield Hit(
                 f"{ref.source} geotransform of {found[1].name} differs from the label: upper-left "  # type: ignore[union-attr]
-                f"corner {dx:+.4f} px (x), {dy:+.4f} px (y); pixel size {ref.xres!r} x {ref.yres!r} m vs "
+                f"corner {dx:+.4f} px (x), {dy:+.4f} px (y); pixel size {ref_xres!r} x {ref_yres!r} m vs "
                 f"MAP_SCALE {scale!r} m ({dsx:+.4f} / {dsy:+.4f} px across the image); expected "
                 f"upper-left ({ulx!r}, {uly!r})",
                 line,
                 "SAMPLE_PROJECTION_OFFSET",
             )
+
+
+def _grid_terms(keys: dict[int, object]) -> tuple[float, float, float]:
+    """(scale factor, false easting, false northing) of a Transverse Mercator GeoKey set: its
+    own parameters, or those of the UTM zone its ProjectionGeoKey (3074) names (EPSG 16001-16060
+    north, 16101-16160 south: scale 0.9996, false easting 500 km, false northing 0 or 10,000 km)."""
+    code = keys.get(PROJECTION_CODE)
+    if isinstance(code, int) and (16001 <= code <= 16060 or 16101 <= code <= 16160):
+        return 0.9996, 500000.0, 0.0 if code <= 16060 else 10000000.0
+
+    def value(key: int, default: float) -> float:
+        found = keys.get(key)
+        return float(found) if isinstance(found, (int, float)) else default
+
+    return (value(PROJ_SCALE_AT_NAT_ORIGIN, 1.0), value(PROJ_FALSE_EASTING, 0.0),
+            value(PROJ_FALSE_NORTHING, 0.0))
 
 
 def _center_longitude(keys: dict[int, object]) -> float | None:

@@ -19,7 +19,15 @@ import numpy as np
 from ..context import FileContext
 from ..model import Block, Hit, Statement
 from ..profiles import is_hrsc
-from ..projection import GDAL_PROJECTIONS, SUPPORTED, Sphere, boundary, normalise, projection_radius_key
+from ..projection import (
+    GDAL_PROJECTIONS,
+    SUPPORTED,
+    Sphere,
+    boundary,
+    normalise,
+    projection_for,
+    projection_radius_key,
+)
 from ..quantities import kilometres as _km
 from ..quantities import metres_per_pixel as _scale_m
 from ..quantities import number as _num
@@ -303,7 +311,8 @@ def geometry(ctx: FileContext, block: Block, radius: float | None = None) -> Geo
     east_bounds = dict(bounds)
     east_bounds["WESTERNMOST_LONGITUDE"] = sign * bounds["WESTERNMOST_LONGITUDE"]  # type: ignore[operator]
     east_bounds["EASTERNMOST_LONGITUDE"] = sign * bounds["EASTERNMOST_LONGITUDE"]  # type: ignore[operator]
-    sphere = Sphere(name, radius * 1000.0, values["CENTER_LATITUDE"], center_lon)  # type: ignore[arg-type]
+    sphere = projection_for(name, radius * 1000.0, values["CENTER_LATITUDE"], center_lon,  # type: ignore[arg-type]
+                            1000.0 * (_km(block, "C_AXIS_RADIUS") or radius))
     slack = {k: _abs_precision(block.get(k)) for k in _BOUND_KEYS}
     return Geometry(sphere, scale, values["SAMPLE_PROJECTION_OFFSET"], values["LINE_PROJECTION_OFFSET"],  # type: ignore[arg-type]
                     size[0], size[1], east_bounds, slack)  # type: ignore[arg-type]

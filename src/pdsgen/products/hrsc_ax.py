@@ -1,0 +1,392 @@
+"""HRSC-AX airborne tiles: the DEM (.dsm) as a float32 PDS3 .IMG, the panchromatic
+(.pan), RGB (.re .gr .bl) and CIR (.cir_re .cir_gr .cir_bl) images as JP2 + .LBL.
+
+The tiles are VICAR files. pdsgen reads their MAP and DIGITAL_TERRAIN_MODEL property
+groups itself (formats/vicar.py) - GDAL's VICAR reader ignores SCALE_FACTOR, places
+the grid half a pixel off and knows few projections - and hands the standard DTM and
+orthoimage writers a GDAL virtual raster (VRT) that carries the label's grid: the
+CRS (Transverse Mercator with its scale factor on the HRSC-AX ellipsoid), the
+geotransform, the heights (DTM_OFFSET + stored * DTM_SCALING_FACTOR) and, for colour
+products, the channel files side by side as bands in the order given. GDAL reads the
+pixels through it by blocks, so memory stays flat; the writers, labels, PDS4 forms,
+label checks and Extras are the standard ones.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+import tempfile
+from collections.abc import Iterator, Mapping, Sequence
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+from xml.sax.saxutils import escape
+
+from affine import Affine
+from rasterio.crs import CRS
+
+from ..errors import InputError, PdsgenError
+from ..formats.vicar import VicarLabel, VicarValue, read_vicar_label
+from ..missions import hrsc_ax
+from .params import ParamValue
+
+_VRT_TYPES = {"BYTE": "Byte", "HALF": "Int16", "FULL": "Int32", "REAL": "Float32", "DOUB": "Float64",
+              "WORD": "Int16", "LONG": "Int32"}
+MAP_KEYS = (
+    "TARGET_NAME", "A_AXIS_RADIUS", "B_AXIS_RADIUS", "C_AXIS_RADIUS", "CENTER_LATITUDE", "CENTER_LONGITUDE",
+    "COORDINATE_SYSTEM_NAME", "LINE_PROJECTION_OFFSET", "SAMPLE_PROJECTION_OFFSET", "MAP_PROJECTION_TYPE",
+    "MAP_SCALE", "POSITIVE_LONGITUDE_DIRECTION", "SCALE_FACTOR", "FALSE_EASTING", "FALSE_NORTHING",
+)
+DTM_KEYS = ("DTM_OFFSET", "DTM_SCALING_FACTOR", "DTM_DESC", "DTM_RANGE", "DTM_MISSING_DN")
+DATE_KEYS = ("SURVEY_DATE", "ACQUISITION_DATE", "FLIGHT_DATE", "START_TIME", "IMAGE_TIME")
+_REQUIRED_MAP = ("A_AXIS_RADIUS", "C_AXIS_RADIUS", "CENTER_LATITUDE", "CENTER_LONGITUDE",
+                 "LINE_PROJECTION_OFFSET", "SAMPLE_PROJECTION_OFFSET", "MAP_PROJECTION_TYPE", "MAP_SCALE")
+
+
+@dataclass(frozen=True)
+class TileGrid:
+    """The map grid a tile's label states: CRS, geotransform (grid metres) and size."""
+
+    crs: CRS
+    transform: Affine
+    lines: int
+    samples: int
+
+
+@dataclass(frozen=True)
+class Heights:
+    """How a DEM's stored values become heights (metres above the ellipsoid)."""
+
+    offset: float
+    scaling_factor: float
+    missing_stored: float
+    cut_off: tuple[float, float] | None  # DTM_RANGE: the heights were cut to these bounds
+    description: str
+
+
+@dataclass(frozen=True)
+class Tile:
+    """One HRSC-AX product's inputs, read: channel files, their labels, grid and meaning."""
+
+    paths: tuple[Path, ...]
+    labels: tuple[VicarLabel, ...]
+    kind: str  # DEM, PAN, RGB, CIR
+    grid: TileGrid
+    heights: Heights | None
+    survey_date: str | None
+
+    @property
+    def channels(self) -> tuple[hrsc_ax.Channel, ...]:
+        return tuple(hrsc_ax.channel_of(path) for path in self.paths)
+
+    @property
+    def stem(self) -> str:
+        return hrsc_ax.tile_stem(self.paths[0])
+
+
+def read_tile(inputs: str | os.PathLike[str] | Sequence[str | os.PathLike[str]],
+              source_labels: Sequence[str | os.PathLike[str]] = ()) -> Tile:
+    """Read the channel files of one product and the XML image labels given; refuse what does not fit."""
+    paths = [Path(inputs)] if isinstance(inputs, (str, os.PathLike)) else [Path(p) for p in inputs]
+    if not paths:
+        raise PdsgenError(None, "no input file given")
+    for path in paths:
+        if not path.is_file():
+            raise InputError(path, "no such file" if not path.exists() else "is not a file")
+    kind = hrsc_ax.product_kind(paths)
+    labels = [read_vicar_label(path) for path in paths]
+    xml = read_xml_labels(source_labels)
+    _check_same_grid(labels)
+    first = labels[0]
+    map_group = {**_xml_group(xml, MAP_KEYS), **(first.group("MAP") or {})}
+    grid = tile_grid(map_group, first)
+    heights = None
+    if kind == "DEM":
+        if first.bands != 1:
+            raise InputError(first.path, f"has {first.bands} bands; an HRSC-AX DEM has one")
+        dtm_group = {**_xml_group(xml, DTM_KEYS), **(first.group("DIGITAL_TERRAIN_MODEL") or {})}
+        heights = _heights(dtm_group, first)
+    elif first.format != "BYTE":
+        raise InputError(first.path, f"is a {first.format} image; HRSC-AX images are 8-bit (BYTE)")
+    date = next((str(v) for key in DATE_KEYS for v in [xml.get(key), first.system.get(key)] if v), None)
+    return Tile(tuple(paths), tuple(labels), kind, grid, heights, date)
+
+
+def _check_same_grid(labels: Sequence[VicarLabel]) -> None:
+    """Channels of one composite share size, sample type and map grid (one line names the odd file)."""
+    first = labels[0]
+    for label in labels[1:]:
+        if (label.lines, label.samples) != (first.lines, first.samples):
+            raise InputError(label.path, f"is {label.lines} x {label.samples} pixels, {first.path.name} is "
+                                         f"{first.lines} x {first.samples}: not channels of one tile")
+        if label.format != first.format or label.bands != first.bands:
+            raise InputError(label.path, f"holds {label.bands} band(s) of {label.format}, {first.path.name} "
+                                         f"{first.bands} of {first.format}: not channels of one tile")
+        if (label.group("MAP") or {}) != (first.group("MAP") or {}):
+            raise InputError(label.path, f"has another map grid (MAP group) than {first.path.name}: "
+                                         "not channels of one tile")
+
+
+def _number(group: Mapping[str, VicarValue], key: str, path: Path, default: float | None = None) -> float:
+    value = group.get(key)
+    if value is None and default is not None:
+        return default
+    try:
+        return float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise InputError(path, f"MAP/DIGITAL_TERRAIN_MODEL keyword {key} = {value!r} is not a number") from None
+
+
+def tile_grid(group: Mapping[str, VicarValue], label: VicarLabel) -> TileGrid:
+    """CRS and geotransform from a MAP group (the label's, not GDAL's reading of it).
+
+    Transverse Mercator on the label's ellipsoid with its SCALE_FACTOR (1 without one);
+    false easting/northing from FALSE_EASTING/FALSE_NORTHING (metres) when given, else
+    those of the UTM grid when the projection is a UTM zone (the tile names count grid
+    kilometres), else none. Offsets are VICAR's (pixel (1, 1) centred at 1.0).
+    """
+    path = label.path
+    missing = [key for key in _REQUIRED_MAP if key not in group]
+    if missing:
+        raise InputError(path, f"has no MAP group keyword {missing[0]} (give the XML image label with "
+                               "--source-label)")
+    projection = str(group["MAP_PROJECTION_TYPE"]).upper().replace(" ", "_")
+    if projection not in ("TRANSVERSE_MERCATOR", "UNIVERSAL_TRANSVERSE_MERCATOR"):
+        raise InputError(path, f"MAP_PROJECTION_TYPE {projection} is not read for HRSC-AX tiles "
+                               "(TRANSVERSE_MERCATOR is)")
+    a = _number(group, "A_AXIS_RADIUS", path) * 1000.0
+    c = _number(group, "C_AXIS_RADIUS", path) * 1000.0
+    if not (a > 0 and c > 0):
+        raise InputError(path, "MAP group radii must be positive")
+    k = _number(group, "SCALE_FACTOR", path, 1.0)
+    lat0 = _number(group, "CENTER_LATITUDE", path)
+    if str(group.get("COORDINATE_SYSTEM_NAME", "PLANETOGRAPHIC")).upper() == "PLANETOCENTRIC" and a != c:
+        lat0 = math.degrees(math.atan(math.tan(math.radians(lat0)) * (a / c) ** 2))
+    lon0 = _number(group, "CENTER_LONGITUDE", path)
+    if str(group.get("POSITIVE_LONGITUDE_DIRECTION", "EAST")).upper() == "WEST":
+        lon0 = -lon0
+    lon0 = (lon0 + 180.0) % 360.0 - 180.0
+    scale = _number(group, "MAP_SCALE", path) * 1000.0  # grid metres per pixel
+    if not scale > 0:
+        raise InputError(path, "MAP_SCALE must be positive")
+    line_offset = _number(group, "LINE_PROJECTION_OFFSET", path) - hrsc_ax.VICAR_OFFSET_SHIFT
+    sample_offset = _number(group, "SAMPLE_PROJECTION_OFFSET", path) - hrsc_ax.VICAR_OFFSET_SHIFT
+    x_left = -(sample_offset + 0.5) * scale
+    y_top = (line_offset + 0.5) * scale
+    if "FALSE_EASTING" in group or "FALSE_NORTHING" in group:
+        x0 = _number(group, "FALSE_EASTING", path, 0.0)
+        y0 = _number(group, "FALSE_NORTHING", path, 0.0)
+    elif hrsc_ax.is_utm(k, lat0, lon0):
+        x0 = hrsc_ax.UTM_FALSE_EASTING
+        y0 = hrsc_ax.UTM_FALSE_NORTHING_SOUTH if y_top <= 0 else 0.0
+    else:
+        x0 = y0 = 0.0
+    crs = CRS.from_proj4(f"+proj=tmerc +lat_0={lat0!r} +lon_0={lon0!r} +k={k!r} +x_0={x0!r} +y_0={y0!r} "
+                         f"+a={a!r} +b={c!r} +units=m +no_defs")
+    transform = Affine(scale, 0.0, x0 + x_left, 0.0, -scale, y0 + y_top)
+    return TileGrid(crs, transform, label.lines, label.samples)
+
+
+def _heights(group: Mapping[str, VicarValue], label: VicarLabel) -> Heights:
+    path = label.path
+    offset = _number(group, "DTM_OFFSET", path, 0.0)
+    factor = _number(group, "DTM_SCALING_FACTOR", path, 1.0)
+    if factor == 0:
+        raise InputError(path, "DTM_SCALING_FACTOR is 0: the stored values cannot be heights")
+    missing = _number(group, "DTM_MISSING_DN", path, hrsc_ax.MISSING_STORED)
+    cut = group.get("DTM_RANGE")
+    cut_off = None
+    if isinstance(cut, tuple) and len(cut) == 2:
+        try:
+            cut_off = (float(cut[0]), float(cut[1]))
+        except ValueError:
+            raise InputError(path, f"DTM_RANGE {cut!r} is not two numbers") from None
+    elif cut is not None:
+        raise InputError(path, f"DTM_RANGE {cut!r} is not (minimum, maximum)")
+    return Heights(offset, factor, missing, cut_off, str(group.get("DTM_DESC", "")))
+
+
+def read_xml_labels(paths: Sequence[str | os.PathLike[str]]) -> dict[str, str]:
+    """Keywords of the XML image labels: every element holding text, by its upper-case name.
+
+    The first label giving a keyword wins; the VICAR label's own groups win over all of them.
+    """
+    from lxml import etree
+
+    found: dict[str, str] = {}
+    for path in paths:
+        path = Path(path)
+        try:
+            tree = etree.parse(str(path), etree.XMLParser(resolve_entities=False, no_network=True))
+        except OSError as exc:
+            raise InputError(path, f"cannot read ({exc})") from None
+        except etree.XMLSyntaxError as exc:
+            raise InputError(path, f"is not an XML image label ({exc.msg})") from None
+        for element in tree.iter():
+            if not isinstance(element.tag, str) or len(element) or not (element.text or "").strip():
+                continue
+            name = etree.QName(element).localname.upper()
+            found.setdefault(name, element.text.strip())
+    return found
+
+
+def _xml_group(xml: Mapping[str, str], keys: Sequence[str]) -> dict[str, VicarValue]:
+    group: dict[str, VicarValue] = {}
+    for key in keys:
+        if key in xml:
+            text = xml[key]
+            if key == "DTM_RANGE":
+                parts = text.strip("()").replace(",", " ").split()
+                group[key] = tuple(parts)
+            else:
+                group[key] = text
+    return group
+
+
+# -- the virtual raster the standard writers read --------------------------------------
+def vrt_text(tile: Tile) -> str:
+    """A GDAL VRT of the tile: the label's grid, heights or channels as bands in the given order."""
+    grid = tile.grid
+    t = grid.transform
+    bands = []
+    for number, (path, label) in enumerate(zip(tile.paths, tile.labels, strict=True), start=1):
+        source_type = _VRT_TYPES[label.format]
+        rect = f'xOff="0" yOff="0" xSize="{grid.samples}" ySize="{grid.lines}"'
+        props = (f'<SourceProperties RasterXSize="{grid.samples}" RasterYSize="{grid.lines}" '
+                 f'DataType="{source_type}" BlockXSize="{grid.samples}" BlockYSize="1"/>')
+        source = f"<SourceFilename relativeToVRT=\"0\">{escape(str(path.resolve()))}</SourceFilename>"
+        if tile.heights is not None:
+            h = tile.heights
+            bands.append(
+                f'<VRTRasterBand dataType="Float32" band="{number}"><NoDataValue>nan</NoDataValue>'
+                f"<ComplexSource>{source}<SourceBand>1</SourceBand>{props}<SrcRect {rect}/><DstRect {rect}/>"
+                f"<NODATA>{h.missing_stored!r}</NODATA><ScaleOffset>{h.offset!r}</ScaleOffset>"
+                f"<ScaleRatio>{h.scaling_factor!r}</ScaleRatio></ComplexSource></VRTRasterBand>")
+        else:
+            bands.append(
+                f'<VRTRasterBand dataType="{source_type}" band="{number}"><NoDataValue>0</NoDataValue>'
+                f"<SimpleSource>{source}<SourceBand>1</SourceBand>{props}<SrcRect {rect}/><DstRect {rect}/>"
+                f"</SimpleSource></VRTRasterBand>")
+    return (f'<VRTDataset rasterXSize="{grid.samples}" rasterYSize="{grid.lines}">'
+            f"<SRS>{escape(grid.crs.to_wkt())}</SRS>"
+            f"<GeoTransform>{t.c!r}, {t.a!r}, 0.0, {t.f!r}, 0.0, {t.e!r}</GeoTransform>"
+            + "".join(bands) + "</VRTDataset>")
+
+
+@contextmanager
+def tile_vrt(tile: Tile, name: str) -> Iterator[Path]:
+    """The tile's VRT as a file `name`.vrt in a private temporary directory, removed afterwards.
+
+    A problem the standard writers report about the VRT (no valid pixels, unreadable data) is
+    the user's files' problem: it is reported naming them, never the temporary file.
+    """
+    with tempfile.TemporaryDirectory(prefix="pdsgen-hrsc-ax-") as tmp:
+        path = Path(tmp) / f"{name}.vrt"
+        path.write_text(vrt_text(tile), encoding="utf-8")
+        try:
+            yield path
+        except PdsgenError as exc:
+            if exc.path is None or Path(exc.path) != path:
+                raise
+            names = tile.paths[0] if len(tile.paths) == 1 else ", ".join(str(p) for p in tile.paths)
+            raise type(exc)(names, exc.problem) from None
+
+
+# -- what the labels say -----------------------------------------------------------------
+def dtm_note(tile: Tile) -> str:
+    """The DEM's NOTE: what the numbers are, the datum, the cut-off, the survey."""
+    h = tile.heights
+    assert h is not None
+    parts = [
+        f"Pixel values are ellipsoid heights in meters above the HRSC-AX ellipsoid (A = B = "
+        f"{hrsc_ax.A_AXIS_KM} km, C = {hrsc_ax.C_AXIS_KM} km), not geoid heights: "
+        f"{hrsc_ax.GEOID_NOTE}.",
+        f"Heights = DTM_OFFSET + stored value * DTM_SCALING_FACTOR of the source "
+        f"({h.offset:g} + value * {h.scaling_factor:g}).",
+    ]
+    if h.cut_off is not None:
+        parts.append(f"Heights were cut off by the producer to DTM_RANGE {h.cut_off[0]:g} .. {h.cut_off[1]:g} m.")
+    parts.append(_survey(tile))
+    parts.append("Pixels equal to MISSING_CONSTANT hold no data.")
+    return " ".join(p for p in parts if p)
+
+
+def ortho_description(tile: Tile) -> str:
+    """The orthoimage's DESCRIPTION: which band is which channel and wavelength, the survey."""
+    if tile.kind == "PAN":
+        what = (f"HRSC-AX panchromatic nadir orthoimage ({hrsc_ax.CHANNELS['pan'].wavelength_nm} nm), "
+                "8-bit DNs, DN 0 = no data.")
+    else:
+        bands = ", ".join(f"band {i} {c.band_name} {c.wavelength_nm} nm (.{c.extension})"
+                          for i, c in enumerate(tile.channels, start=1))
+        merged = " merged with the nadir channel" if tile.kind == "CIR" else ""
+        what = f"HRSC-AX {tile.kind} colour orthoimage{merged}: {bands}; 8-bit DNs, DN 0 = no data."
+    return " ".join(p for p in (what, _survey(tile)) if p)
+
+
+def _survey(tile: Tile) -> str:
+    return f"Airborne survey (HRSC-AX, DLR) of {tile.survey_date}." if tile.survey_date else \
+        "Airborne survey by HRSC-AX (DLR)."
+
+
+# -- the writers ---------------------------------------------------------------------------
+def write_hrsc_ax_dtm(
+    input_path: str | os.PathLike[str],
+    outdir: str | os.PathLike[str],
+    *,
+    product_id: str | None = None,
+    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
+    source_labels: Sequence[str | os.PathLike[str]] = (),
+    byte_order: str | None = None,
+    version: str = "1.0",
+    overwrite: bool = False,
+    label: str = "pds3",
+    allow_dictionary_deviations: bool | None = None,
+) -> Any:
+    """The DEM of an HRSC-AX tile (`TILE.dsm`) as `<PRODUCT_ID>.IMG`: float32 ellipsoid heights."""
+    from .dtm import write_pds3_dtm
+
+    tile = read_tile(input_path, source_labels)
+    product_id = product_id or hrsc_ax.tile_product_id(tile.stem, tile.kind)
+    mission = dataclasses.replace(hrsc_ax.MISSION, dtm_note=dtm_note(tile))
+    with tile_vrt(tile, product_id) as vrt:
+        return write_pds3_dtm(vrt, outdir, mission=mission, product_id=product_id, params=params,
+                              byte_order=byte_order, version=version, overwrite=overwrite, label=label,
+                              allow_dictionary_deviations=allow_dictionary_deviations)
+
+
+def write_hrsc_ax_ortho(
+    input_path: str | os.PathLike[str] | Sequence[str | os.PathLike[str]],
+    outdir: str | os.PathLike[str],
+    *,
+    product_id: str | None = None,
+    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
+    source_labels: Sequence[str | os.PathLike[str]] = (),
+    value_range: tuple[float, float] | None = None,
+    gmljp2: bool = False,
+    version: str = "1.0",
+    overwrite: bool = False,
+    label: str = "pds3",
+    allow_dictionary_deviations: bool | None = None,
+    threads: int | None = None,
+) -> Any:
+    """The panchromatic, RGB or CIR image of an HRSC-AX tile as `<PRODUCT_ID>.JP2` + `.LBL`.
+
+    `input_path` is one `.pan` file, or the three channel files of a composite in band
+    order (`.re .gr .bl`, `.cir_re .cir_gr .cir_bl`); they must share one grid.
+    """
+    from .ortho import write_jp2_ortho
+
+    tile = read_tile(input_path, source_labels)
+    if tile.kind == "DEM":
+        raise PdsgenError(tile.paths[0], "is an HRSC-AX DEM; make it with `pdsgen dtm`")
+    product_id = product_id or hrsc_ax.tile_product_id(tile.stem, tile.kind)
+    mission = dataclasses.replace(hrsc_ax.MISSION, ortho_description=ortho_description(tile))
+    with tile_vrt(tile, product_id) as vrt:
+        return write_jp2_ortho(vrt, outdir, mission=mission, product_id=product_id, params=params,
+                               value_range=value_range, gmljp2=gmljp2, version=version, overwrite=overwrite,
+                               label=label, allow_dictionary_deviations=allow_dictionary_deviations,
+                               threads=threads, filter_names=tuple(c.band_name for c in tile.channels))
