@@ -2,10 +2,19 @@
 inventories, browse and document labels) around pdsgen's products, with an MD5 manifest.
 
 `make_delivery` is the API behind `pdsgen deliver`; `layout` holds the names and rules the
-validator's delivery checks read."""
+validator's delivery checks read (importing it loads nothing else: the builder is loaded on
+first use)."""
 
 from __future__ import annotations
 
-from .build import DIALECTS, Delivery, make_delivery
+from typing import Any
 
 __all__ = ["DIALECTS", "Delivery", "make_delivery"]
+
+
+def __getattr__(name: str) -> Any:
+    if name in __all__:
+        from . import build
+
+        return getattr(build, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

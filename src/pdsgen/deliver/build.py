@@ -411,7 +411,7 @@ def _write_bundle(tree: _Tree, previous: _Previous, bundle_lid: str,
     version = old_version if same and old_version else bundle.next_version(old_version)
     context = _head("Product_Bundle", bundle_lid, version, f"Bundle {name}")
     tree.write(layout.bundle_label_name(bundle_lid), bundle.render("bundle.xml.j2", {
-        **context, "citation": layout.PLACEHOLDER.format(what="the bundle's citation description"),
+        **context, "citation": layout.PLACEHOLDER.format(what="the citation description of the bundle"),
         "year": today[:4], "members": entries,
         "description": f"{result.products} data product(s), {result.previews} preview(s) and "
                        f"{result.documents} document(s), made by pdsgen."}))
