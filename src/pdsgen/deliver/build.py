@@ -157,6 +157,10 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
     volume_id = _volume_id(volume_id or (previous.volume_id() if pds3 else None), pds3)
     bundle_lid = _bundle_lid(bundle_lid or (_previous_bundle_lid(previous) if pds4 else None), pds4)
     found = scan(source_dir)
+    if found.imars:
+        raise InputError(found.imars[0], "an iMars product (GeoTIFF + PVL metadata) has neither a PDS3 nor a "
+                                         "PDS4 label, so no PDS volume or bundle can hold it; make the HRSC "
+                                         "products with --profile hrsc (--label both for PDS4)")
     if not found.products:
         raise InputError(source_dir, "holds no data product (no PDS3 or PDS4 product label)")
     _check_dialects(found, pds3, pds4)

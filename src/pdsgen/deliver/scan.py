@@ -18,6 +18,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..formats.sniff import file_head
+from ..missions.imars import is_metadata_name as is_imars_metadata
 from ..validate.lexer import parse_label
 from ..validate.model import Block
 from . import layout
@@ -95,6 +96,7 @@ class SourceSet:
     previews: list[Path] = field(default_factory=list)  # Extras images
     documents: list[Path] = field(default_factory=list)  # README.TXT, JP2INFO.TXT
     others: list[Path] = field(default_factory=list)  # files that belong to nothing above
+    imars: list[Path] = field(default_factory=list)  # iMars metadata (*_ucl.pvl): no PDS label
 
 
 def is_made_by_delivery(path: Path, relative: Path) -> bool:
@@ -145,6 +147,8 @@ def scan(source: Path, skip: Path | None = None) -> SourceSet:
             result.previews.append(path)
         elif path.suffix.lower() == ".xml":
             pds4.append(path)
+        elif is_imars_metadata(name):
+            result.imars.append(path)
         elif path.suffix.lower() == ".lbl" or _starts_like_pds3(path):
             pds3.append(path)
         else:
