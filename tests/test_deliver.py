@@ -328,3 +328,29 @@ def test_imars_products_refused_with_the_reason(tmp_path):
     assert refused.returncode == 2 and refused.stderr.count("\n") == 1
     assert product.pvl_path.name in refused.stderr and "neither a PDS3 nor a PDS4 label" in refused.stderr
     assert not (tmp_path / "out").exists()
+
+
+def test_readme_delivery_examples_run_as_written(tmp_path):
+    import re
+    import shlex
+    import sys
+
+    import numpy as np
+    from helpers import ORIGINS
+
+    crs, transform = ORIGINS["equirectangular"]
+    write_raster(tmp_path / "my_dtm.tif", elevation_array(40, 30, seed=3), crs, transform)
+    write_raster(tmp_path / "ortho_red.tif", np.random.default_rng(5).integers(1, 255, (40, 30)).astype("uint8"),
+                 crs, transform)
+    body = (REPO / "README.md").read_text().split("## Preparing a delivery\n", 1)[1].split("\n## ", 1)[0]
+    examples = [line for block in re.findall(r"```sh\n(.*?)```", body, re.S) for line in block.splitlines()
+                if line.startswith("pdsgen ")]
+    assert len(examples) == 5
+    for example in examples:
+        result = subprocess.run([sys.executable, "-m", "pdsgen", *shlex.split(example)[1:]], cwd=tmp_path,
+                                capture_output=True, text=True, timeout=300)
+        assert result.returncode == 0, f"{example}\n{result.stdout}{result.stderr}"
+    printed = subprocess.run([sys.executable, "-m", "pdsgen", *shlex.split(examples[3])[1:]], cwd=tmp_path,
+                             capture_output=True, text=True, timeout=300).stdout
+    assert printed.splitlines()[0] in body  # the summary as the README shows it (a re-run: same counts)
+    assert (tmp_path / "delivery" / "bundle_my_dtms.xml").is_file()

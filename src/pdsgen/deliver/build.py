@@ -22,7 +22,7 @@ from ..errors import InputError, OutputError
 from ..progress import advance
 from . import bundle, layout
 from .index import IndexWriter
-from .scan import DataProduct, SourceSet, label_value, scan
+from .scan import DataProduct, SourceSet, scan
 from .volume import VolumeFacts, aareadme_text, voldesc_text
 
 log = logging.getLogger(__name__)
@@ -156,7 +156,8 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
     pds3, pds4 = dialect in ("pds3", "both"), dialect in ("pds4", "both")
     volume_id = _volume_id(volume_id or (previous.volume_id() if pds3 else None), pds3)
     bundle_lid = _bundle_lid(bundle_lid or (_previous_bundle_lid(previous) if pds4 else None), pds4)
-    found = scan(source_dir)
+    index = _IndexRows(volume_id) if pds3 else None
+    found = scan(source_dir, on_pds3=index.add if index else None)
     if found.imars:
         raise InputError(found.imars[0], "an iMars product (GeoTIFF + PVL metadata) has neither a PDS3 nor a "
                                          "PDS4 label, so no PDS volume or bundle can hold it; make the HRSC "
@@ -169,7 +170,7 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
         shutil.rmtree(work)
     work.mkdir(parents=True)
     try:
-        result = _build(found, _Tree(work), previous, source_dir, in_place, dialect, volume_id, bundle_lid)
+        result = _build(found, _Tree(work), previous, source_dir, in_place, dialect, index, bundle_lid)
         _swap(work, target)
     except BaseException:
         shutil.rmtree(work, ignore_errors=True)
@@ -242,19 +243,15 @@ def _swap(work: Path, target: Path) -> None:
 
 
 def _build(found: SourceSet, tree: _Tree, previous: _Previous, source: Path, in_place: bool, dialect: str,
-           volume_id: str | None, bundle_lid: str | None) -> Delivery:
-    result = Delivery(tree.root, dialect, volume_id=volume_id, bundle_lid=bundle_lid)
+           index: _IndexRows | None, bundle_lid: str | None) -> Delivery:
+    result = Delivery(tree.root, dialect, volume_id=index.writer.volume_id if index else None, bundle_lid=bundle_lid)
     today = datetime.date.today().isoformat()
     total = len(found.products) + len(found.previews) + len(found.documents)
     done = 0
-    placed: dict[str, str] = {}  # product id (upper) -> the relative path of its label
     data_members: dict[str, tuple[DataProduct, list[str]]] = {}
     for product in found.products:
         relatives = [_place_product_file(tree, f, product) for f in product.files]
         data_members[product.product_id.upper()] = (product, relatives)
-        main = product.pds3_label or product.pds4_label
-        assert main is not None
-        placed[product.product_id.upper()] = f"{layout.DATA_DIR}/{main.name}"
         done += 1
         advance(done, total, "products")
     preview_paths = []
@@ -281,9 +278,8 @@ def _build(found: SourceSet, tree: _Tree, previous: _Previous, source: Path, in_
         _write_bundle(tree, previous, bundle_lid, data_members, preview_paths, document_paths, today, result)
     else:
         _carry_pds4_labels(tree, data_members)
-    if dialect in ("pds3", "both"):
-        assert volume_id is not None
-        _write_volume(tree, previous, volume_id, found, placed, today, result)
+    if index is not None:
+        _write_volume(tree, previous, index, today, result)
     result.files = _write_manifest(tree)
     return result
 
@@ -305,24 +301,30 @@ def _carry_pds4_labels(tree: _Tree, data_members: dict[str, tuple[DataProduct, l
 
 # --- PDS3 ---------------------------------------------------------------------------------------
 
-def _write_volume(tree: _Tree, previous: _Previous, volume_id: str, found: SourceSet, placed: dict[str, str],
-                  today: str, result: Delivery) -> None:
-    writer = IndexWriter(volume_id)
-    institution = None
-    for product in sorted(found.products, key=lambda p: placed[p.product_id.upper()]):
-        root = product.pds3_root
-        assert root is not None
-        values = {name: label_value(root, name) for name, _, _ in layout.INDEX_COLUMNS[2:]}
-        values["PRODUCT_ID"] = values["PRODUCT_ID"] or product.product_id
-        writer.add(placed[product.product_id.upper()], values)
-        institution = institution or label_value(root, "PRODUCER_INSTITUTION_NAME")
+class _IndexRows:
+    """The index rows, written (to the writer's scratch file) as the scan reads each label."""
+
+    def __init__(self, volume_id: str | None) -> None:
+        assert volume_id is not None
+        self.writer = IndexWriter(volume_id)
+        self.institution: str | None = None
+
+    def add(self, product: DataProduct, values: dict[str, str | None]) -> None:
+        assert product.pds3_label is not None
+        values["PRODUCT_ID"] = values.get("PRODUCT_ID") or product.product_id
+        self.writer.add(f"{layout.DATA_DIR}/{product.pds3_label.name}", values)
+        self.institution = self.institution or values.get("PRODUCER_INSTITUTION_NAME")
+
+
+def _write_volume(tree: _Tree, previous: _Previous, index: _IndexRows, today: str, result: Delivery) -> None:
+    writer = index.writer
     (tree.root / layout.INDEX_DIR).mkdir(exist_ok=True)
     for path in writer.write(tree.root / layout.INDEX_DIR):
         tree.md5[path.relative_to(tree.root).as_posix()] = md5_of(path)
     version = previous.volume_version() or 1
     if previous.exists and _volume_changed(tree, previous):
         version += 1
-    facts = VolumeFacts(volume_id, version, today, tuple(writer.data_set_ids), institution,
+    facts = VolumeFacts(writer.volume_id, version, today, tuple(writer.data_set_ids), index.institution,
                         result.products, result.previews)
     tree.write(layout.VOLDESC, voldesc_text(facts))
     tree.write(layout.AAREADME, aareadme_text(facts))

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -30,6 +30,8 @@ _FILE_NAME = re.compile(r"<file_name>\s*([^<]+?)\s*</file_name>")
 _MADE_CLASSES = {b"Product_Bundle", b"Product_Collection", b"Product_Browse", b"Product_Document"}
 _MADE_NAMES = {layout.VOLDESC, layout.AAREADME, layout.MANIFEST}
 _DOCUMENTS = {"README.TXT", "JP2INFO.TXT"}
+# The keywords a delivery takes from a PDS3 label: the index columns' and the volume's producer.
+KEPT_KEYWORDS = tuple(name for name, _, _ in layout.INDEX_COLUMNS[2:]) + ("PRODUCER_INSTITUTION_NAME",)
 
 
 def read_pds3_label(path: Path) -> Block | None:
@@ -84,7 +86,6 @@ class DataProduct:
     product_id: str
     files: list[Path] = field(default_factory=list)
     pds3_label: Path | None = None
-    pds3_root: Block | None = field(default=None, repr=False)
     pds4_label: Path | None = None
 
 
@@ -130,8 +131,15 @@ def walk(root: Path, skip: Path | None = None) -> Iterator[Path]:
                 yield path
 
 
-def scan(source: Path, skip: Path | None = None) -> SourceSet:
-    """The products, previews, documents and other files of `source` (recursively)."""
+# Told each PDS3 product as its label is read, with the label's values of KEPT_KEYWORDS.
+LabelValues = Callable[["DataProduct", dict[str, str | None]], None]
+
+
+def scan(source: Path, skip: Path | None = None, on_pds3: LabelValues | None = None) -> SourceSet:
+    """The products, previews, documents and other files of `source` (recursively).
+
+    `on_pds3` receives each PDS3 product's label values as the label is read; nothing of the
+    label is kept here, so memory does not grow with the labels' size."""
     result = SourceSet()
     pds3: list[Path] = []
     pds4: list[Path] = []
@@ -153,7 +161,7 @@ def scan(source: Path, skip: Path | None = None) -> SourceSet:
             pds3.append(path)
         else:
             candidates.append(path)
-    result.products = _group(pds3, pds4)
+    result.products = _group(pds3, pds4, on_pds3)
     owned = {f for p in result.products for f in p.files}
     result.others = [p for p in candidates if p not in owned]
     return result
@@ -164,7 +172,7 @@ def _starts_like_pds3(path: Path) -> bool:
     return head.lstrip().upper().startswith((b"PDS_VERSION_ID", b"CCSD3"))
 
 
-def _group(pds3: list[Path], pds4: list[Path]) -> list[DataProduct]:
+def _group(pds3: list[Path], pds4: list[Path], on_pds3: LabelValues | None) -> list[DataProduct]:
     products: list[DataProduct] = []
     by_file: dict[Path, DataProduct] = {}
     by_stem: dict[tuple[Path, str], DataProduct] = {}
@@ -173,7 +181,9 @@ def _group(pds3: list[Path], pds4: list[Path]) -> list[DataProduct]:
         if root is None:
             raise InputError(label, "a .LBL file that is not a PDS3 label (no PDS_VERSION_ID)")
         product_id = label_value(root, "PRODUCT_ID") or label.stem
-        product = DataProduct(product_id, [label], label, root)
+        product = DataProduct(product_id, [label], label)
+        if on_pds3 is not None:
+            on_pds3(product, {name: label_value(root, name) for name in KEPT_KEYWORDS})
         for name in pointed_files(root, label.parent):
             member = label.parent / name
             if member != label and name.upper() not in _DOCUMENTS:  # ^DESCRIPTION = "JP2INFO.TXT": a document
