@@ -336,6 +336,7 @@ def test_readme_delivery_examples_run_as_written(tmp_path):
     import sys
 
     import numpy as np
+
     from helpers import ORIGINS
 
     crs, transform = ORIGINS["equirectangular"]
@@ -354,3 +355,42 @@ def test_readme_delivery_examples_run_as_written(tmp_path):
                              capture_output=True, text=True, timeout=300).stdout
     assert printed.splitlines()[0] in body  # the summary as the README shows it (a re-run: same counts)
     assert (tmp_path / "delivery" / "bundle_my_dtms.xml").is_file()
+
+
+def test_progress_on_a_terminal_only(demo_products, tmp_path):
+    import os
+    import pty
+    import sys
+
+    args = [sys.executable, "-m", "pdsgen", "deliver", str(demo_products), "-o", str(tmp_path / "tty"),
+            "--volume-id", "DEMO_0001"]
+    main, secondary = pty.openpty()
+    process = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=secondary)
+    os.close(secondary)
+    shown = bytearray()
+    while True:
+        try:
+            chunk = os.read(main, 4096)
+        except OSError:
+            break
+        if not chunk:
+            break
+        shown += chunk
+    os.close(main)
+    process.communicate()
+    text = shown.decode("ascii", "replace")
+    assert process.returncode == 0 and "100%" in text and " products" in text and text.endswith("\r\033[K")
+    piped = subprocess.run(args[:-4] + ["-o", str(tmp_path / "piped"), "--volume-id", "DEMO_0001"],
+                           capture_output=True, text=True)
+    assert piped.returncode == 0 and piped.stderr == ""
+
+
+def test_pds4_alone_and_pds3_alone_validate_clean(demo_products, tmp_path):
+    bundle = make_delivery(demo_products, tmp_path / "pds4", dialect="pds4", bundle_lid="urn:nasa:pds:demo_dtm")
+    assert not (bundle.path / "INDEX").exists() and not (bundle.path / "VOLDESC.CAT").exists()
+    assert _errors(bundle.path) == []
+    volume = make_delivery(demo_products, tmp_path / "pds3", dialect="pds3", volume_id="DEMO_0001")
+    assert not list(volume.path.glob("bundle_*.xml")) and not (volume.path / "DOCUMENT").exists()
+    assert _errors(volume.path) == []
+    (volume.path / "INDEX" / "INDEX.LBL").unlink()
+    assert [f.rule for f in _errors(volume.path, "DLV-002")] == ["DLV-002"]

@@ -159,9 +159,10 @@ def _check_index(root: Path, found: list[_Found]) -> None:
     label_path = root / layout.INDEX_DIR / layout.INDEX_LABEL
     table_path = root / layout.INDEX_DIR / layout.INDEX_TABLE
     products = {p.relative_to(root).as_posix().upper(): p for p in _pds3_products(root)}
-    if not label_path.is_file():
-        if products:
-            found.append(_Found("DLV-002", root, f"a PDS3 volume without {layout.INDEX_DIR}/{layout.INDEX_LABEL}"))
+    if not label_path.is_file():  # a PDS4 bundle alone has no index; a PDS3 volume (VOLDESC.CAT) must
+        if products and (root / layout.VOLDESC).is_file():
+            found.append(_Found("DLV-002", root / layout.VOLDESC,
+                                f"a PDS3 volume without {layout.INDEX_DIR}/{layout.INDEX_LABEL}"))
         return
     label = _read_pds3(label_path)
     if label is None:
