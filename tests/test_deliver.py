@@ -394,3 +394,29 @@ def test_pds4_alone_and_pds3_alone_validate_clean(demo_products, tmp_path):
     assert _errors(volume.path) == []
     (volume.path / "INDEX" / "INDEX.LBL").unlink()
     assert [f.rule for f in _errors(volume.path, "DLV-002")] == ["DLV-002"]
+
+
+def test_a_replaced_product_and_its_previews_get_the_next_version(tmp_path):
+    """A DTM made again from other heights: its LIDVID and its previews' go to 2.0, the collection and
+    bundle follow; the orthoimage keeps 1.0. In place: the products move into DATA/ and stay there."""
+    crs, transform = "+proj=eqc +lat_ts=0 +lon_0=0 +R=3396190 +units=m +no_defs", Affine(1.0, 0, 0, 0, -1.0, 0)
+    source = tmp_path / "products"
+    heights = elevation_array(30, 20, seed=4)
+    write_dtm(write_raster(tmp_path / "a.tif", heights, crs, transform), source, product_id="A_DTM", label="both")
+    write_dtm(write_raster(tmp_path / "b.tif", heights, crs, transform), source, product_id="B_DTM", label="both")
+    make_extras([source / "A_DTM.IMG"], source / "extras")
+    make_delivery(source, dialect="pds4", bundle_lid="urn:nasa:pds:two")
+    assert (source / "DATA" / "A_DTM.IMG").is_file() and not (source / "A_DTM.IMG").exists()
+    write_dtm(write_raster(tmp_path / "a2.tif", heights + 5.0, crs, transform), source / "DATA", product_id="A_DTM",
+              label="both", overwrite=True)
+    again = make_delivery(source, dialect="pds4")
+    assert "urn:nasa:pds:two:data:a_dtm::2.0" in again.changed
+    assert "urn:nasa:pds:two:browse:a_dtm.br::2.0" in again.changed
+    assert not any(lidvid.startswith("urn:nasa:pds:two:data:b_dtm") for lidvid in again.changed)
+    assert again.bundle_version == "2.0"
+    inventory = (source / "DATA" / "collection_data_inventory.csv").read_text()
+    assert "urn:nasa:pds:two:data:a_dtm::2.0" in inventory and "urn:nasa:pds:two:data:b_dtm::1.0" in inventory
+    assert "::1.0" not in inventory.split("a_dtm")[1].splitlines()[0]
+    label = (source / "DATA" / "A_DTM.xml").read_text()
+    assert "<version_id>2.0</version_id>" in label and "urn:nasa:pds:two:data:a_dtm<" in label
+    assert _errors(source) == []
