@@ -177,12 +177,22 @@ def test_rerun_versions_what_changed_and_leaves_nothing_stale(demo_products, tmp
     assert _errors(out) == []
     third = make_delivery(source, out, dialect="both")  # nothing changed: nothing re-versioned
     assert third.changed == [] and third.bundle_version == "2.0"
+    for preview in (source / "extras").glob("*.QLOOK.JP2"):
+        preview.unlink()
+    for preview in (source / "extras").glob("*.jpg"):
+        preview.unlink()
+    fourth = make_delivery(source, out, dialect="both")  # the browse collection goes: a new bundle version
+    assert fourth.bundle_version == "3.0" and not (out / "EXTRAS" / "collection_browse.xml").exists()
+    assert "browse" not in (out / "bundle_demo_dtm.xml").read_text()
 
 
 def test_in_place_delivery_moves_products_into_the_layout(demo_products, tmp_path):
     source = _copy(demo_products, tmp_path)
     (source / "notes.txt").write_text("kept\n")
+    (source / ".hidden").mkdir()
+    (source / ".hidden" / "state").write_text("kept too\n")
     make_delivery(source, dialect="pds3", volume_id="DEMO_0002")
+    assert (source / ".hidden" / "state").read_text() == "kept too\n"
     assert (source / "DATA" / "DTEEC_008669_1705_009025_1705_U01.IMG").is_file()
     assert not (source / "DTEEC_008669_1705_009025_1705_U01.IMG").exists()
     assert (source / "notes.txt").read_text() == "kept\n"  # a file of no product stays, listed

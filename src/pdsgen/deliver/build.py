@@ -13,6 +13,7 @@ import datetime
 import hashlib
 import logging
 import os
+import re
 import shutil
 from collections.abc import Iterator
 from dataclasses import dataclass, field
@@ -70,6 +71,8 @@ class _Tree:
             raise InputError(source, f"two files would be delivered as {relative}")
         target.parent.mkdir(parents=True, exist_ok=True)
         try:
+            if source.is_symlink():
+                raise OSError("a symbolic link is delivered as the file it points at")
             os.link(source, target)
         except OSError:
             shutil.copy2(source, target)
@@ -412,8 +415,9 @@ def _write_bundle(tree: _Tree, previous: _Previous, bundle_lid: str,
         entries.append({"lidvid": f"{lid}::{version}", "reference_type": reference_type})
     old_bundle = previous.bundle_label()
     old_version = bundle.read_version(old_bundle) if old_bundle else None
-    old_entries = old_bundle.read_text(encoding="utf-8", errors="replace") if old_bundle else ""
-    same = old_version is not None and all(f">{e['lidvid']}<" in old_entries for e in entries)
+    old_text = old_bundle.read_text(encoding="utf-8", errors="replace") if old_bundle else ""
+    old_entries = set(re.findall(r"<lidvid_reference>\s*([^<]*?)\s*</lidvid_reference>", old_text))
+    same = old_version is not None and old_entries == {e["lidvid"] for e in entries}
     version = old_version if same and old_version else bundle.next_version(old_version)
     context = _head("Product_Bundle", bundle_lid, version, f"Bundle {name}")
     tree.write(layout.bundle_label_name(bundle_lid), bundle.render("bundle.xml.j2", {

@@ -103,7 +103,7 @@ class SourceSet:
 def is_made_by_delivery(path: Path, relative: Path) -> bool:
     """Files a delivery writes: made anew by every run, never taken as products."""
     parts = relative.parts
-    if len(parts) == 1 and (relative.name in _MADE_NAMES or relative.name.startswith("bundle_")):
+    if len(parts) == 1 and relative.name in _MADE_NAMES:
         return True
     if parts[0] == layout.INDEX_DIR and relative.name in (layout.INDEX_TABLE, layout.INDEX_LABEL):
         return True
@@ -120,14 +120,14 @@ def is_preview(name: str) -> bool:
     return lower.endswith((".jpg", ".jpeg", ".qlook.jp2"))
 
 
-def walk(root: Path, skip: Path | None = None) -> Iterator[Path]:
-    """Every regular file under root, sorted, except under `skip` and hidden work directories."""
+def walk(root: Path) -> Iterator[Path]:
+    """Every file under root (hidden ones too: a delivery made in place keeps them), sorted."""
     for dirpath, dirnames, filenames in os.walk(root):
         here = Path(dirpath)
-        dirnames[:] = sorted(d for d in dirnames if not d.startswith(".") and (skip is None or here / d != skip))
+        dirnames.sort()
         for name in sorted(filenames):
             path = here / name
-            if path.is_file() and not path.is_symlink():
+            if path.is_file():
                 yield path
 
 
@@ -135,7 +135,7 @@ def walk(root: Path, skip: Path | None = None) -> Iterator[Path]:
 LabelValues = Callable[["DataProduct", dict[str, str | None]], None]
 
 
-def scan(source: Path, skip: Path | None = None, on_pds3: LabelValues | None = None) -> SourceSet:
+def scan(source: Path, on_pds3: LabelValues | None = None) -> SourceSet:
     """The products, previews, documents and other files of `source` (recursively).
 
     `on_pds3` receives each PDS3 product's label values as the label is read; nothing of the
@@ -144,7 +144,7 @@ def scan(source: Path, skip: Path | None = None, on_pds3: LabelValues | None = N
     pds3: list[Path] = []
     pds4: list[Path] = []
     candidates: list[Path] = []
-    for path in walk(source, skip):
+    for path in walk(source):
         relative = path.relative_to(source)
         if is_made_by_delivery(path, relative):
             continue
