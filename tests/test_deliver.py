@@ -141,6 +141,10 @@ def test_pds4_bundle_schema_and_schematron_valid(demo_products, tmp_path):
         assert all(status == "P" and "::" in lidvid for status, lidvid in rows)
         inventories[name.split("/")[0]] = [lidvid for _, lidvid in rows]
     assert len(inventories["DATA"]) == 2 and len(inventories["EXTRAS"]) == 13 and len(inventories["DOCUMENT"]) == 2
+    import pds4_tools  # an independent PDS4 reader of the collection label and its inventory table
+
+    table = pds4_tools.read(str(out / "DATA" / "collection_data.xml"), quiet=True)[0]
+    assert sorted(str(v) for v in table.fields[1]) == sorted(inventories["DATA"])
     browse = etree.parse(str(out / "EXTRAS" / "DTEEC_008669_1705_009025_1705_U01.br.xml"))
     target = browse.findtext(".//pds:Internal_Reference/pds:lidvid_reference", namespaces=PDS_NS)
     assert target == "urn:nasa:pds:demo_dtm:data:dteec_008669_1705_009025_1705_u01::1.0" in inventories["DATA"]
