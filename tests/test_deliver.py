@@ -434,3 +434,10 @@ def test_a_replaced_product_and_its_previews_get_the_next_version(tmp_path):
     label = (source / "DATA" / "A_DTM.xml").read_text()
     assert "<version_id>2.0</version_id>" in label and "urn:nasa:pds:two:data:a_dtm<" in label
     assert _errors(source) == []
+
+
+def test_verbose_tells_what_was_found_and_written(demo_products, tmp_path):
+    told = run_cli("deliver", str(demo_products), "-o", str(tmp_path / "v"), "--volume-id", "DEMO_0001", "-v")
+    assert told.returncode == 0
+    assert "2 data product(s), 13 preview(s), 2 document(s)" in told.stderr
+    assert "INDEX/INDEX.TAB: 2 row(s)" in told.stderr and "MD5SUMS.TXT: MD5 of" in told.stderr

@@ -168,6 +168,8 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
     if not found.products:
         raise InputError(source_dir, "holds no data product (no PDS3 or PDS4 product label)")
     _check_dialects(found, pds3, pds4)
+    log.info("%s: %d data product(s), %d preview(s), %d document(s), %d other file(s)", source_dir,
+             len(found.products), len(found.previews), len(found.documents), len(found.others))
     work = target.parent / f".{target.name}.deliver-{os.getpid()}"
     if work.exists():
         shutil.rmtree(work)
@@ -175,6 +177,7 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
     try:
         result = _build(found, _Tree(work), previous, source_dir, in_place, dialect, index, bundle_lid)
         _swap(work, target)
+        log.info("delivery built in %s and moved to %s", work, target)
     except BaseException:
         shutil.rmtree(work, ignore_errors=True)
         raise
@@ -322,6 +325,7 @@ class _IndexRows:
 def _write_volume(tree: _Tree, previous: _Previous, index: _IndexRows, today: str, result: Delivery) -> None:
     writer = index.writer
     (tree.root / layout.INDEX_DIR).mkdir(exist_ok=True)
+    log.info("%s/%s: %d row(s)", layout.INDEX_DIR, layout.INDEX_TABLE, writer.rows)
     for path in writer.write(tree.root / layout.INDEX_DIR):
         tree.md5[path.relative_to(tree.root).as_posix()] = md5_of(path)
     version = previous.volume_version() or 1
@@ -426,6 +430,7 @@ def _write_bundle(tree: _Tree, previous: _Previous, bundle_lid: str,
         "description": f"{result.products} data product(s), {result.previews} preview(s) and "
                        f"{result.documents} document(s), made by pdsgen."}))
     result.bundle_version = version
+    log.info("bundle %s::%s: %d product(s) new or with a new version", bundle_lid, version, len(result.changed))
 
 
 def _head(product_class: str, lid: str, version: str, title: str) -> dict[str, object]:
@@ -465,6 +470,7 @@ def _write_manifest(tree: _Tree) -> int:
         relative = path.relative_to(tree.root).as_posix()
         lines.append(f"{tree.md5.get(relative) or md5_of(path)}  {relative}\n")
     (tree.root / layout.MANIFEST).write_text("".join(lines), encoding="utf-8")
+    log.info("%s: MD5 of %d file(s)", layout.MANIFEST, len(lines))
     return len(lines) + 1
 
 
