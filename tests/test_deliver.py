@@ -274,6 +274,8 @@ def test_seeded_file_changed_after_manifest(delivery):
                           capture_output=True).returncode != 0
     found = {(f.rule, Path(f.file).name) for f in _errors(delivery, "DLV-020", "DLV-021")}
     assert found == {("DLV-020", "JP2INFO.TXT"), ("DLV-021", "EXTRA_FILE.TXT")}
+    above = {(f.rule, Path(f.file).name) for f in _errors(delivery.parent, "DLV-020", "DLV-021")}
+    assert above == found  # a delivery found under the directory given
 
 
 def test_dlv_rules_configurable_and_listed(delivery):

@@ -453,6 +453,16 @@ def check_delivery(root: Path, labels_only: bool = False) -> list[Finding]:
     return [Finding(f.rule, table[f.rule].severity, str(f.file), f.message, f.line, f.keyword) for f in found]
 
 
+def _deliveries(path: Path) -> Iterator[Path]:
+    """The deliveries at or under a path given to validate (a delivery's own subdirectories are
+    not searched for others)."""
+    for dirpath, dirnames, _ in os.walk(path):
+        if is_delivery(Path(dirpath)):
+            dirnames.clear()
+            yield Path(dirpath)
+        dirnames.sort()
+
+
 class DeliveryChecks:
     """The runner's hook: DLV findings of the deliveries among the paths given, handed to each
     file's report as it streams past; files that get no report of their own (INDEX.TAB, the
@@ -461,8 +471,7 @@ class DeliveryChecks:
     def __init__(self, paths: Iterable[str | os.PathLike[str]], labels_only: bool) -> None:
         self.pending: dict[str, list[Finding]] = {}
         for raw in paths:
-            root = Path(raw)
-            if is_delivery(root):
+            for root in _deliveries(Path(raw)):
                 for finding in check_delivery(root, labels_only):
                     self.pending.setdefault(os.path.normpath(finding.file), []).append(finding)
 
