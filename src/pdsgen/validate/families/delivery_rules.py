@@ -138,9 +138,10 @@ def _field(row: bytes, column: _Column, number: int, path: Path, found: list[_Fo
 
 
 def _same(row_value: str, label_value: str | None, data_type: str, column_format: str | None) -> bool:
+    """Whether a row holds its label's value. A keyword the label does not have cannot be compared
+    (archives' indexes carry derived columns); it passes."""
     if label_value is None:
-        return row_value in (layout.NOT_APPLICABLE, layout.MISSING_NUMBER) or _number_equal(
-            row_value, layout.MISSING_NUMBER, 0)
+        return True
     if data_type == "CHARACTER":
         return row_value.strip().upper() == label_value.strip().upper()
     match = _FORMAT.fullmatch(column_format or "")
