@@ -159,7 +159,8 @@ def _number_equal(a: str, b: str, decimals: int) -> bool:
 def _check_index(root: Path, found: list[_Found]) -> None:
     label_path = root / layout.INDEX_DIR / layout.INDEX_LABEL
     table_path = root / layout.INDEX_DIR / layout.INDEX_TABLE
-    products = {p.relative_to(root).as_posix().upper(): p for p in _pds3_products(root)}
+    # one string per product (not a Path): memory stays small for 10,000 products
+    products = {name.upper(): name for name in (p.relative_to(root).as_posix() for p in _pds3_products(root))}
     if not label_path.is_file():  # a PDS4 bundle alone has no index; a PDS3 volume (VOLDESC.CAT) must
         if products and (root / layout.VOLDESC).is_file():
             found.append(_Found("DLV-002", root / layout.VOLDESC,
@@ -173,37 +174,37 @@ def _check_index(root: Path, found: list[_Found]) -> None:
     if table is None:
         return
     row_bytes, rows = table.number("ROW_BYTES"), table.number("ROWS")
+    volume_ids = {label.text("VOLUME_ID")} | {_text_value(root / layout.VOLDESC, "VOLUME_ID")}
+    seen: dict[str, int] = {}
+    count = 0
     try:
-        data = table_path.read_bytes()
+        with open(table_path, "rb") as stream:  # row by row: memory does not grow with the table
+            for count, line in enumerate(stream, 1):
+                if not line.endswith(b"\r\n"):
+                    found.append(_Found("DLV-001", table_path, f"row {count} does not end with CR LF", count))
+                    continue
+                raw = line[:-2]
+                if row_bytes is not None and len(line) != row_bytes:
+                    found.append(_Found("DLV-001", table_path, f"row {count} has {len(line)} bytes with its "
+                                                               f"CR LF, ROW_BYTES = {row_bytes}", count))
+                    continue
+                values = {c.name: _field(raw, c, count, table_path, found) for c in columns}
+                _check_row(root, table_path, count, values, columns, seen, volume_ids, found)
     except OSError as exc:
         found.append(_Found("DLV-001", table_path, f"cannot read the index table: {exc.strerror or exc}"))
         return
-    lines = data.split(b"\r\n")
-    if lines and lines[-1] == b"":
-        lines.pop()
-    else:
-        found.append(_Found("DLV-001", table_path, "the table does not end with CR LF"))
-    if rows is not None and rows != len(lines):
+    if rows is not None and rows != count:
         found.append(_Found("DLV-001", table_path, f"ROWS = {rows} in {layout.INDEX_LABEL}, but the table has "
-                                                   f"{len(lines)} rows"))
-    volume_ids = {label.text("VOLUME_ID")} | {_text_value(root / layout.VOLDESC, "VOLUME_ID")}
-    seen: dict[str, int] = {}
-    for number, raw in enumerate(lines, 1):
-        if row_bytes is not None and len(raw) + 2 != row_bytes:
-            found.append(_Found("DLV-001", table_path, f"row {number} has {len(raw) + 2} bytes with its CR LF, "
-                                                       f"ROW_BYTES = {row_bytes}", number))
-            continue
-        values = {c.name: _field(raw, c, number, table_path, found) for c in columns}
-        _check_row(root, table_path, number, values, columns, products, seen, volume_ids, found)
-    for name, path in products.items():
-        if name not in seen:
-            found.append(_Found("DLV-002", path, f"this data product is not in {layout.INDEX_DIR}/"
+                                                   f"{count} rows"))
+    for key, name in products.items():
+        if key not in seen:
+            found.append(_Found("DLV-002", root / name, f"this data product is not in {layout.INDEX_DIR}/"
                                                  f"{layout.INDEX_TABLE}"))
     _check_data_sets(root, label, table_path, found)
 
 
 def _check_row(root: Path, table_path: Path, number: int, values: dict[str, str | None], columns: list[_Column],
-               products: dict[str, Path], seen: dict[str, int], volume_ids: set[str | None],
+               seen: dict[str, int], volume_ids: set[str | None],
                found: list[_Found]) -> None:
     spec = values.get("FILE_SPECIFICATION_NAME")
     if spec is None:
