@@ -355,82 +355,120 @@ def _write_bundle(tree: _Tree, previous: _Previous, bundle_lid: str,
                   data_members: dict[str, tuple[DataProduct, list[str]]],
                   preview_paths: list[tuple[Path, str]], document_paths: list[tuple[Path, str]],
                   today: str, result: Delivery) -> None:
-    name = bundle_lid.rsplit(":", 1)[-1]
-    members: dict[str, list[str]] = {"data": [], "browse": [], "document": []}
-    old = {c: bundle.read_inventory(previous.root / d / layout.inventory_name(c))
-           for c, (_, _, d) in layout.COLLECTIONS.items()}
-    data_lidvid: dict[str, str] = {}
-    data_changed: set[str] = set()
+    writer = _BundleWriter(tree, previous, bundle_lid, today, result)
     for key, (product, relatives) in data_members.items():
-        assert product.pds4_label is not None
-        lid = f"{bundle_lid}:data:{layout.lid_part(product.product_id)}"
-        label_rel = f"{layout.DATA_DIR}/{product.pds4_label.name}"
-        text = product.pds4_label.read_text(encoding="utf-8")
-        changed = _changed(tree, previous, [r for r in relatives if r != label_rel]) or \
-            _label_changed(previous.root / label_rel, text)
-        version = _version(old["data"].get(lid), changed)
-        tree.write(label_rel, bundle.set_identification(text, lid, version))
-        data_lidvid[key] = f"{lid}::{version}"
-        if old["data"].get(lid) != version:
-            data_changed.add(key)
-            result.changed.append(data_lidvid[key])
-        members["data"].append(data_lidvid[key])
+        writer.data_product(key, product, relatives)
     for preview, relative in preview_paths:
+        writer.preview(preview, relative, data_members)
+    for document, relative in document_paths:
+        writer.document(document, relative)
+    writer.bundle_label(writer.collections())
+    log.info("bundle %s::%s: %d product(s) new or with a new version", bundle_lid, result.bundle_version,
+             len(result.changed))
+
+
+class _BundleWriter:
+    """The PDS4 labels and inventories of one run; versions follow what the previous run wrote."""
+
+    def __init__(self, tree: _Tree, previous: _Previous, bundle_lid: str, today: str, result: Delivery) -> None:
+        self.tree, self.previous, self.bundle_lid, self.today, self.result = tree, previous, bundle_lid, today, result
+        self.name = bundle_lid.rsplit(":", 1)[-1]
+        self.members: dict[str, list[str]] = {c: [] for c in layout.COLLECTIONS}
+        self.old = {c: bundle.read_inventory(previous.root / d / layout.inventory_name(c))
+                    for c, (_, _, d) in layout.COLLECTIONS.items()}
+        self.data_lidvid: dict[str, str] = {}  # product id (upper) -> its LIDVID
+        self.data_changed: set[str] = set()  # LIDs of data products new or re-versioned: their previews follow
+
+    def _member(self, collection: str, lid: str, changed: bool) -> str:
+        """The member's LIDVID (its previous version unless it changed), listed in its collection."""
+        before = self.old[collection].get(lid)
+        version = _version(before, changed)
+        lidvid = f"{lid}::{version}"
+        self.members[collection].append(lidvid)
+        if version != before:
+            self.result.changed.append(lidvid)
+            if collection == "data":
+                self.data_changed.add(lid)
+        return lidvid
+
+    def data_product(self, key: str, product: DataProduct, relatives: list[str]) -> None:
+        """The product's own PDS4 label, with the LID under the data collection and its version."""
+        assert product.pds4_label is not None
+        lid = f"{self.bundle_lid}:data:{layout.lid_part(product.product_id)}"
+        label = f"{layout.DATA_DIR}/{product.pds4_label.name}"
+        text = product.pds4_label.read_text(encoding="utf-8")
+        changed = (_changed(self.tree, self.previous, [r for r in relatives if r != label])
+                   or _label_changed(self.previous.root / label, text))
+        lidvid = self._member("data", lid, changed)
+        self.tree.write(label, bundle.set_identification(text, lid, lidvid.split("::")[1]))
+        self.data_lidvid[key] = lidvid
+
+    def preview(self, preview: Path, relative: str, data_members: dict[str, tuple[DataProduct, list[str]]]) -> None:
+        """A Product_Browse label beside an Extras image, referring to the data product it previews."""
         key = preview.name.split(".", 1)[0].upper()
-        if key not in data_lidvid:
+        if key not in self.data_lidvid:
             raise InputError(preview, "previews no data product of the delivery (its name must start with "
                                       "the PRODUCT_ID of one)")
         stem = relative.rsplit(".", 1)[0]
-        lid = f"{bundle_lid}:browse:{layout.lid_part(Path(stem).name)}"
-        changed = _changed(tree, previous, [relative]) or key in data_changed
-        version = _version(old["browse"].get(lid), changed)
-        context = _head("Product_Browse", lid, version, f"Preview {preview.name} of {data_members[key][0].product_id}")
-        tree.write(f"{stem}.xml", bundle.render("browse.xml.j2", {
-            **context, "data_lidvid": data_lidvid[key], "file": tree.facts(relative),
-            "encoding": bundle.encoding_of(preview.name)}))
-        _member(members["browse"], old["browse"], lid, version, result)
-    for document, relative in document_paths:
+        lid = f"{self.bundle_lid}:browse:{layout.lid_part(Path(stem).name)}"
+        data_lid = self.data_lidvid[key].split("::")[0]
+        changed = _changed(self.tree, self.previous, [relative]) or data_lid in self.data_changed
+        lidvid = self._member("browse", lid, changed)
+        title = f"Preview {preview.name} of {data_members[key][0].product_id}"
+        self.tree.write(f"{stem}.xml", bundle.render("browse.xml.j2", {
+            **_head("Product_Browse", lid, lidvid.split("::")[1], title), "data_lidvid": self.data_lidvid[key],
+            "file": self.tree.facts(relative), "encoding": bundle.encoding_of(preview.name)}))
+
+    def document(self, document: Path, relative: str) -> None:
+        """A Product_Document label beside README.TXT or JP2INFO.TXT."""
         stem = relative.rsplit(".", 1)[0]
-        lid = f"{bundle_lid}:document:{layout.lid_part(Path(stem).name)}"
-        version = _version(old["document"].get(lid), _changed(tree, previous, [relative]))
+        lid = f"{self.bundle_lid}:document:{layout.lid_part(Path(stem).name)}"
+        version = self._member("document", lid, _changed(self.tree, self.previous, [relative])).split("::")[1]
         title = f"{document.name}: {_document_title(document.name)}"
-        context = {**_head("Product_Document", lid, version, title), "citation": title, "year": today[:4]}
-        tree.write(f"{stem}.xml", bundle.render("document.xml.j2", {
-            **context, "date": today, "edition": f"{document.name} version {version}",
-            "file": tree.facts(relative)}))
-        _member(members["document"], old["document"], lid, version, result)
-    entries = []
-    for collection, (kind, reference_type, directory) in layout.COLLECTIONS.items():
-        lidvids = members[collection]
-        if not lidvids:
-            continue
-        lid = f"{bundle_lid}:{collection}"
-        inventory = bundle.inventory_text(lidvids)
-        before = (previous.root / directory / layout.inventory_name(collection))
-        unchanged = before.is_file() and before.read_bytes() == inventory.encode("ascii")
-        old_version = bundle.read_version(previous.root / directory / layout.collection_label_name(collection))
-        version = old_version if unchanged and old_version else bundle.next_version(old_version)
-        tree.write(f"{directory}/{layout.inventory_name(collection)}", inventory)
-        context = _head("Product_Collection", lid, version, f"{kind} collection of bundle {name}")
-        tree.write(f"{directory}/{layout.collection_label_name(collection)}", bundle.render("collection.xml.j2", {
-            **context, "citation": f"The {collection} collection of bundle {name}: {len(lidvids)} product(s).",
-            "year": today[:4], "collection_type": kind, "inventory": layout.inventory_name(collection),
-            "records": len(lidvids), "description": f"{len(lidvids)} {collection} product(s) of bundle {name}."}))
-        entries.append({"lidvid": f"{lid}::{version}", "reference_type": reference_type})
-    old_bundle = previous.bundle_label()
-    old_version = bundle.read_version(old_bundle) if old_bundle else None
-    old_text = old_bundle.read_text(encoding="utf-8", errors="replace") if old_bundle else ""
-    old_entries = set(re.findall(r"<lidvid_reference>\s*([^<]*?)\s*</lidvid_reference>", old_text))
-    same = old_version is not None and old_entries == {e["lidvid"] for e in entries}
-    version = old_version if same and old_version else bundle.next_version(old_version)
-    context = _head("Product_Bundle", bundle_lid, version, f"Bundle {name}")
-    tree.write(layout.bundle_label_name(bundle_lid), bundle.render("bundle.xml.j2", {
-        **context, "citation": layout.PLACEHOLDER.format(what="the citation description of the bundle"),
-        "year": today[:4], "members": entries,
-        "description": f"{result.products} data product(s), {result.previews} preview(s) and "
-                       f"{result.documents} document(s), made by pdsgen."}))
-    result.bundle_version = version
-    log.info("bundle %s::%s: %d product(s) new or with a new version", bundle_lid, version, len(result.changed))
+        self.tree.write(f"{stem}.xml", bundle.render("document.xml.j2", {
+            **_head("Product_Document", lid, version, title), "citation": title, "year": self.today[:4],
+            "date": self.today, "edition": f"{document.name} version {version}", "file": self.tree.facts(relative)}))
+
+    def collections(self) -> list[dict[str, str]]:
+        """Each collection that has members: its inventory and label; the bundle's entries for them."""
+        entries = []
+        for collection, (kind, reference_type, directory) in layout.COLLECTIONS.items():
+            lidvids = self.members[collection]
+            if not lidvids:
+                continue
+            inventory = bundle.inventory_text(lidvids)
+            before = self.previous.root / directory / layout.inventory_name(collection)
+            unchanged = before.is_file() and before.read_bytes() == inventory.encode("ascii")
+            old_version = bundle.read_version(self.previous.root / directory / layout.collection_label_name(collection))
+            version = old_version if unchanged and old_version else bundle.next_version(old_version)
+            self.tree.write(f"{directory}/{layout.inventory_name(collection)}", inventory)
+            lid = f"{self.bundle_lid}:{collection}"
+            count = f"{len(lidvids)} {collection} product(s) of bundle {self.name}"
+            self.tree.write(f"{directory}/{layout.collection_label_name(collection)}", bundle.render(
+                "collection.xml.j2", {
+                    **_head("Product_Collection", lid, version, f"{kind} collection of bundle {self.name}"),
+                    "citation": f"The {count}.", "year": self.today[:4], "collection_type": kind,
+                    "inventory": layout.inventory_name(collection), "records": len(lidvids),
+                    "description": f"{count}."}))
+            entries.append({"lidvid": f"{lid}::{version}", "reference_type": reference_type})
+        return entries
+
+    def bundle_label(self, entries: list[dict[str, str]]) -> None:
+        """The Product_Bundle label: a new version when its set of collection LIDVIDs changed."""
+        old_label = self.previous.bundle_label()
+        old_version = bundle.read_version(old_label) if old_label else None
+        old_text = old_label.read_text(encoding="utf-8", errors="replace") if old_label else ""
+        old_entries = set(re.findall(r"<lidvid_reference>\s*([^<]*?)\s*</lidvid_reference>", old_text))
+        same = old_version is not None and old_entries == {e["lidvid"] for e in entries}
+        version = old_version if same and old_version else bundle.next_version(old_version)
+        result = self.result
+        self.tree.write(layout.bundle_label_name(self.bundle_lid), bundle.render("bundle.xml.j2", {
+            **_head("Product_Bundle", self.bundle_lid, version, f"Bundle {self.name}"),
+            "citation": layout.PLACEHOLDER.format(what="the citation description of the bundle"),
+            "year": self.today[:4], "members": entries,
+            "description": f"{result.products} data product(s), {result.previews} preview(s) and "
+                           f"{result.documents} document(s), made by pdsgen."}))
+        result.bundle_version = version
 
 
 def _head(product_class: str, lid: str, version: str, title: str) -> dict[str, object]:
@@ -440,12 +478,6 @@ def _head(product_class: str, lid: str, version: str, title: str) -> dict[str, o
 
 def _version(before: str | None, changed: bool) -> str:
     return before if before and not changed else bundle.next_version(before)
-
-
-def _member(members: list[str], old: dict[str, str], lid: str, version: str, result: Delivery) -> None:
-    members.append(f"{lid}::{version}")
-    if old.get(lid) != version:
-        result.changed.append(members[-1])
 
 
 def _label_changed(before: Path, text: str) -> bool:
