@@ -327,6 +327,9 @@ def test_cli_deliver_and_bad_input(demo_products, tmp_path):
                       "--bundle-lid", "urn:nasa:pds:x")
     assert refused.returncode == 2 and "no PDS4 label" in refused.stderr and "Traceback" not in refused.stderr
     assert not (tmp_path / "b").exists() and list(tmp_path.glob(".b.*")) == []
+    inside = run_cli("deliver", str(out / "DATA"), "-o", str(out), "--volume-id", "DEMO_0001")
+    assert inside.returncode == 2 and "inside the delivery" in inside.stderr
+    assert (out / "EXTRAS" / "README.TXT").is_file()  # the delivery is as it was
     bad_lid = run_cli("deliver", str(demo_products), "-o", str(tmp_path / "c"), "--pds4", "--bundle-lid", "nasa:X")
     assert bad_lid.returncode == 2 and "urn:nasa:pds:NAME" in bad_lid.stderr
 

@@ -191,6 +191,9 @@ def _check_target(source: Path, target: Path) -> None:
     resolved, src = target.resolve(), source.resolve()
     if src in resolved.parents:
         raise InputError(target, f"the delivery cannot be inside the products' directory {source}")
+    if resolved in src.parents:  # the swap would remove the products' directory with the old delivery
+        raise InputError(source, f"the products' directory is inside the delivery {target}; "
+                                 "run pdsgen deliver on the delivery itself")
     if target.is_dir() and any(target.iterdir()) and not (target / layout.MANIFEST).is_file():
         raise OutputError(target, f"exists and is not a delivery (no {layout.MANIFEST}); "
                                   "give a new or empty directory")
