@@ -446,3 +446,24 @@ def test_verbose_tells_what_was_found_and_written(demo_products, tmp_path):
     assert told.returncode == 0
     assert "2 data product(s), 13 preview(s), 2 document(s)" in told.stderr
     assert "INDEX/INDEX.TAB: 2 row(s)" in told.stderr and "MD5SUMS.TXT: MD5 of" in told.stderr
+
+
+def test_seeded_volume_and_bundle_defects(delivery):
+    """VOLUME_ID disagreeing, an index label whose ROW_BYTES the rows do not have, a bundle missing a
+    collection, an inventory member under another collection's LID: each its DLV rule."""
+    voldesc = (delivery / "VOLDESC.CAT").read_bytes().decode()
+    _seed(delivery, "VOLDESC.CAT", 'VOLUME_ID            = "DEMO_0001"', 'VOLUME_ID            = "DEMO_0009"')
+    assert {f.rule for f in _errors(delivery, "DLV-005")} == {"DLV-005"}
+    (delivery / "VOLDESC.CAT").write_bytes(voldesc.encode())
+    row_bytes = len((delivery / "INDEX" / "INDEX.TAB").read_bytes().split(b"\r\n")[0]) + 2
+    _seed(delivery, "INDEX/INDEX.LBL", f"ROW_BYTES           = {row_bytes}", f"ROW_BYTES           = {row_bytes + 1}")
+    assert any("ROW_BYTES" in f.message for f in _errors(delivery, "DLV-001"))
+    bundle = etree.parse(str(delivery / "bundle_demo_dtm.xml"))
+    entry = bundle.find(".//pds:Bundle_Member_Entry", PDS_NS)
+    entry.getparent().remove(entry)
+    bundle.write(str(delivery / "bundle_demo_dtm.xml"), xml_declaration=True, encoding="UTF-8")
+    assert [f.rule for f in _errors(delivery, "DLV-015")] == ["DLV-015"]
+    with open(delivery / "DATA" / "collection_data_inventory.csv", "a", newline="") as stream:
+        stream.write("P,urn:nasa:pds:demo_dtm:browse:dteec_008669_1705_009025_1705_u01.br::1.0\r\n")
+    found = _errors(delivery, "DLV-013")
+    assert len(found) == 1 and "not under the collection's LID urn:nasa:pds:demo_dtm:data" in found[0].message
