@@ -467,3 +467,12 @@ def test_seeded_volume_and_bundle_defects(delivery):
         stream.write("P,urn:nasa:pds:demo_dtm:browse:dteec_008669_1705_009025_1705_u01.br::1.0\r\n")
     found = _errors(delivery, "DLV-013")
     assert len(found) == 1 and "not under the collection's LID urn:nasa:pds:demo_dtm:data" in found[0].message
+
+
+def test_index_table_found_through_its_label_pointer(delivery):
+    """The validator reads the table INDEX.LBL points at, not a name of its own."""
+    (delivery / "INDEX" / "INDEX.TAB").rename(delivery / "INDEX" / "PRODUCTS.TAB")
+    _seed(delivery, "INDEX/INDEX.LBL", '^INDEX_TABLE          = "INDEX.TAB"', '^INDEX_TABLE          = "PRODUCTS.TAB"')
+    assert _errors(delivery, "DLV-001", "DLV-002", "DLV-003", "DLV-004") == []
+    _seed(delivery, "INDEX/PRODUCTS.TAB", '"DEMO_0001"', '"DEMO_0002"')
+    assert [f.rule for f in _errors(delivery, "DLV-005")] == ["DLV-005"]

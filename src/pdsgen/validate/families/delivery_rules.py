@@ -110,6 +110,16 @@ def _index_columns(label: Block, found: list[_Found], path: Path) -> tuple[Block
     return table, columns
 
 
+def _table_file(label: Block, label_path: Path) -> Path | None:
+    """The file the label's table pointer (^INDEX_TABLE = "INDEX.TAB") names, beside the label."""
+    for stmt in label.statements():
+        if stmt.pointer and stmt.keyword.upper().endswith("TABLE"):
+            for value in stmt.value.scalars():
+                if value.kind in ("string", "ident"):
+                    return label_path.parent / value.text
+    return None
+
+
 def _field(row: bytes, column: _Column, number: int, path: Path, found: list[_Found]) -> str | None:
     """One field's text as the column states it, or None after a DLV-001 finding."""
     begin, end = column.start - 1, column.start - 1 + column.size
@@ -173,6 +183,7 @@ def _check_index(root: Path, found: list[_Found]) -> None:
     table, columns = _index_columns(label, found, label_path)
     if table is None:
         return
+    table_path = _table_file(label, label_path) or table_path
     row_bytes, rows = table.number("ROW_BYTES"), table.number("ROWS")
     volume_ids = {label.text("VOLUME_ID")} | {_text_value(root / layout.VOLDESC, "VOLUME_ID")}
     seen: dict[str, int] = {}
