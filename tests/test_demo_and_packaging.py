@@ -114,5 +114,5 @@ def test_shell_completion_script_and_completions():
         run = subprocess.run([sys.executable, "-m", "pdsgen"], env=env, capture_output=True, text=True, timeout=60)
         return [line.split(",", 1)[1] for line in run.stdout.splitlines()]
 
-    assert complete("pdsgen d") == ["demo", "dtm"]
+    assert complete("pdsgen d") == ["deliver", "demo", "dtm"]
     assert complete("pdsgen dtm in.tif --profile ") == ["generic", "hirise", "hrsc", "hrsc-ax", "imars"]

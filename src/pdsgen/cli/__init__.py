@@ -31,6 +31,7 @@ from ..label.data_dictionary import shipped_version as shipped_dictionary_versio
 # listing or completing commands imports none of them (a Tab press stays instant).
 COMMANDS = {
     "batch": "Make many products from a TOML manifest, on Dask.",
+    "deliver": "Make a PDS3 volume and/or PDS4 bundle around products.",
     "demo": "Make every product from a built-in synthetic Mars scene.",
     "dtm": "Make a PDS3 DTM (.IMG with attached label).",
     "extras": "Make preview JPEGs, orthoimage quick-look JP2s and README.TXT.",

@@ -26,6 +26,7 @@ from .config import Baseline, Settings
 from .context import FileContext
 from .dictionary import load as load_dictionary
 from .dictionary import version as dictionary_version
+from .families.delivery_rules import DeliveryChecks
 from .families.set_rules import Summary, summarise
 from .imars_context import ImarsContext, is_imars_metadata
 from .model import Finding
@@ -256,7 +257,23 @@ def iter_reports(
         raise PdsgenError(None, "no PDS3 labels found under " + ", ".join(os.fspath(p) for p in paths))
     files = itertools.chain([first], found)
     job = _Job(labels_only, extra, strict, settings, schema_dirs)
-    return _with_run_notes(_stream(files, job, jobs, progress, baseline))
+    deliveries = DeliveryChecks(paths, labels_only)  # a delivery directory is also checked whole
+    return _with_run_notes(_with_deliveries(_stream(files, job, jobs, progress, baseline), deliveries, settings,
+                                            baseline))
+
+
+def _with_deliveries(reports: Iterator[FileReport], deliveries: DeliveryChecks, settings: Settings,
+                     baseline: Baseline | None) -> Iterator[FileReport]:
+    """Delivery hook: each file's DLV findings beside its own; files with no report of their own
+    (an index table, the manifest) get one at the end."""
+    for report in reports:
+        report.findings.extend(_after_baseline(FileReport(report.path, settings.filter(
+            deliveries.take(report.path))), baseline).findings)
+        yield report
+    for path, findings in deliveries.rest():
+        extra = _after_baseline(FileReport(path, settings.filter(findings)), baseline)
+        if extra.findings:
+            yield extra
 
 
 def _checked_schema_dirs(schemas: Iterable[str | os.PathLike[str]]) -> tuple[str, ...]:

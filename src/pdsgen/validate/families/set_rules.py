@@ -253,6 +253,8 @@ def _extras(directory: Path, group: list[Summary], rule: str) -> Iterator[Hit]:
     products = [s for s in group if s.projection is not None and s.product_id]
     names = _names(directory)
     extras_dirs = [directory / n for n in names if "EXTRA" in n.upper() and (directory / n).is_dir()]
+    # a PDS3 volume keeps them beside DATA/, in EXTRAS/ (pdsgen deliver)
+    extras_dirs += [p for p in (directory.parent / "EXTRAS",) if directory.name.upper() == "DATA" and p.is_dir()]
     for sub in extras_dirs:
         names |= _names(sub)
     upper = {n.upper() for n in names}

@@ -1,0 +1,48 @@
+"""`pdsgen deliver`: a PDS3 volume and/or a PDS4 bundle around a directory of products."""
+
+from __future__ import annotations
+
+import click
+
+from ..deliver import make_delivery
+from . import COMMANDS
+from ._output import Outcome, output_options
+
+
+@click.command(short_help=COMMANDS["deliver"])
+@output_options
+@click.argument("directory", type=click.Path(file_okay=False))
+@click.option("--pds3", "dialect", flag_value="pds3", default=True,
+              help="A PDS3 volume: DATA/, EXTRAS/, INDEX/INDEX.TAB + INDEX.LBL, VOLDESC.CAT, AAREADME.TXT [default].")
+@click.option("--pds4", "dialect", flag_value="pds4",
+              help="A PDS4 bundle: bundle, data/browse/document collections with inventories, browse "
+                   "and document labels.")
+@click.option("--both", "dialect", flag_value="both", help="The PDS3 volume and the PDS4 bundle in one tree.")
+@click.option("-o", "--out", type=click.Path(file_okay=False),
+              help="Delivery directory [default: DIRECTORY itself, its products moved into the layout].")
+@click.option("--volume-id", help="PDS3 VOLUME_ID (up to 11 characters) [default: the previous delivery's].")
+@click.option("--bundle-lid", help="PDS4 bundle LID, urn:nasa:pds:NAME [default: the previous delivery's].")
+def deliver(directory, dialect, out, volume_id, bundle_lid) -> Outcome:
+    """Make DIRECTORY's products (with their Extras, README.TXT and JP2INFO.TXT) a delivery.
+
+    Run it again after adding or replacing products: the index, inventories, versions and
+    the MD5SUMS.TXT manifest are brought up to date, and nothing stale stays.
+    Then check the whole delivery with `pdsgen validate OUT`.
+    """
+    result = make_delivery(directory, out, dialect=dialect, volume_id=volume_id, bundle_lid=bundle_lid)
+    lines = [f"DELIVERY {result.path}: {result.products} data product(s), {result.previews} preview(s), "
+             f"{result.documents} document(s), {result.files} file(s) in {result.path / 'MD5SUMS.TXT'}"]
+    if result.volume_id:
+        lines.append(f"PDS3     volume {result.volume_id}: INDEX/INDEX.TAB + INDEX.LBL, VOLDESC.CAT, AAREADME.TXT "
+                     "(fill in their [TO BE WRITTEN: ...] text)")
+    if result.bundle_lid:
+        lines.append(f"PDS4     bundle {result.bundle_lid}::{result.bundle_version}, "
+                     f"{len(result.changed)} product(s) new or with a new version")
+    lines += [f"SKIPPED  {path} (belongs to no product)" for path in result.skipped]
+    lines.append(f"CHECK    pdsgen validate {result.path}")
+    summary = {"command": "deliver", "path": str(result.path), "dialect": result.dialect,
+               "products": result.products, "previews": result.previews, "documents": result.documents,
+               "files": result.files, "volume_id": result.volume_id, "bundle_lid": result.bundle_lid,
+               "bundle_version": result.bundle_version, "changed": result.changed,
+               "skipped": [str(p) for p in result.skipped]}
+    return Outcome(lines, summary)

@@ -1,0 +1,20 @@
+"""Deliveries: a PDS3 volume (index, volume description) and/or a PDS4 bundle (collections,
+inventories, browse and document labels) around pdsgen's products, with an MD5 manifest.
+
+`make_delivery` is the API behind `pdsgen deliver`; `layout` holds the names and rules the
+validator's delivery checks read (importing it loads nothing else: the builder is loaded on
+first use)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+__all__ = ["DIALECTS", "Delivery", "make_delivery"]
+
+
+def __getattr__(name: str) -> Any:
+    if name in __all__:
+        from . import build
+
+        return getattr(build, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -1,0 +1,518 @@
+"""`make_delivery`: a directory of products -> a PDS3 volume and/or a PDS4 bundle.
+
+The delivery is built in a work directory beside the target (products hard-linked,
+or copied across file systems; PDS4 product labels rewritten with their bundle LID)
+and swapped in by renames when complete, so an interrupted run leaves the previous
+delivery as it was, and nothing stale (a product taken away, an old index) survives a
+re-run. The MD5 manifest is written last, over every file of the finished tree.
+"""
+
+from __future__ import annotations
+
+import datetime
+import hashlib
+import logging
+import os
+import re
+import shutil
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import InputError, OutputError
+from ..progress import advance
+from . import bundle, layout
+from .index import IndexWriter
+from .scan import DataProduct, SourceSet, scan
+from .volume import VolumeFacts, aareadme_text, voldesc_text
+
+log = logging.getLogger(__name__)
+
+DIALECTS = ("pds3", "pds4", "both")
+_CHUNK = 1 << 20
+
+
+@dataclass
+class Delivery:
+    """What `make_delivery` made: where, how many of each, and what it left out."""
+
+    path: Path
+    dialect: str
+    products: int = 0
+    previews: int = 0
+    documents: int = 0
+    files: int = 0
+    changed: list[str] = field(default_factory=list)  # PDS4 LIDVIDs new or re-versioned by this run
+    skipped: list[Path] = field(default_factory=list)  # source files that belong to no product
+    volume_id: str | None = None
+    bundle_lid: str | None = None
+    bundle_version: str | None = None
+
+
+def md5_of(path: Path) -> str:
+    digest = hashlib.md5()
+    with open(path, "rb") as stream:
+        while chunk := stream.read(_CHUNK):
+            digest.update(chunk)
+    return digest.hexdigest()
+
+
+class _Tree:
+    """The work directory being filled, with the MD5 of every file placed in it."""
+
+    def __init__(self, root: Path) -> None:
+        self.root = root
+        self.md5: dict[str, str] = {}
+
+    def place(self, source: Path, relative: str) -> str:
+        """Hard-link (or copy) a source file to `relative`; returns its MD5."""
+        target = self.root / relative
+        if relative in self.md5 or target.exists():
+            raise InputError(source, f"two files would be delivered as {relative}")
+        target.parent.mkdir(parents=True, exist_ok=True)
+        try:
+            if source.is_symlink():
+                raise OSError("a symbolic link is delivered as the file it points at")
+            os.link(source, target)
+        except OSError:
+            shutil.copy2(source, target)
+        self.md5[relative] = md5_of(target)
+        return self.md5[relative]
+
+    def write(self, relative: str, data: str | bytes) -> bundle.FileFacts:
+        target = self.root / relative
+        if relative in self.md5 or target.exists():
+            raise InputError(None, f"two files would be delivered as {relative}")
+        target.parent.mkdir(parents=True, exist_ok=True)
+        raw = data.encode("utf-8") if isinstance(data, str) else data
+        target.write_bytes(raw)
+        self.md5[relative] = hashlib.md5(raw).hexdigest()
+        return bundle.FileFacts(target.name, len(raw), self.md5[relative])
+
+    def facts(self, relative: str) -> bundle.FileFacts:
+        target = self.root / relative
+        return bundle.FileFacts(target.name, target.stat().st_size, self.md5[relative])
+
+
+class _Previous:
+    """What the delivery at the target held before this run (nothing when new)."""
+
+    def __init__(self, target: Path) -> None:
+        self.root = target
+        self.md5: dict[str, str] = {}
+        manifest = target / layout.MANIFEST
+        if manifest.is_file():
+            for line in manifest.read_text(encoding="utf-8", errors="replace").splitlines():
+                digest, _, name = line.partition("  ")
+                if name:
+                    self.md5[name] = digest
+        self.exists = manifest.is_file()
+
+    def volume_id(self) -> str | None:
+        try:
+            text = (self.root / layout.VOLDESC).read_text(encoding="latin-1")
+        except OSError:
+            return None
+        for line in text.splitlines():
+            key, _, value = line.partition("=")
+            if key.strip() == "VOLUME_ID":
+                return value.strip().strip('"')
+        return None
+
+    def volume_version(self) -> int:
+        try:
+            text = (self.root / layout.VOLDESC).read_text(encoding="latin-1")
+        except OSError:
+            return 0
+        for line in text.splitlines():
+            key, _, value = line.partition("=")
+            if key.strip() == "VOLUME_VERSION_ID":
+                number = value.strip().strip('"').rsplit(" ", 1)[-1]
+                return int(number) if number.isdigit() else 0
+        return 0
+
+    def bundle_label(self) -> Path | None:
+        return next(iter(sorted(self.root.glob("bundle_*.xml"))), None) if self.exists else None
+
+
+def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | None = None,
+                  dialect: str = "pds3", volume_id: str | None = None,
+                  bundle_lid: str | None = None) -> Delivery:
+    """Make (or bring up to date) a delivery of the products in `source`.
+
+    dialect: "pds3" (volume: DATA/, EXTRAS/, INDEX/, VOLDESC.CAT, AAREADME.TXT), "pds4"
+    (bundle: Product_Bundle, data/browse/document collections with inventories, browse and
+    document labels) or "both". `out` is the delivery directory (default: `source` itself,
+    whose products are then moved into the layout). Raises InputError for what the user must
+    fix; nothing is changed then.
+    """
+    if dialect not in DIALECTS:
+        raise InputError(None, f"dialect must be one of {', '.join(DIALECTS)}, not {dialect!r}")
+    source_dir = Path(source)
+    if not source_dir.is_dir():
+        raise InputError(source_dir, "not a directory of products")
+    target = Path(out) if out is not None else source_dir
+    in_place = target.exists() and target.resolve() == source_dir.resolve()
+    if not in_place:
+        _check_target(source_dir, target)
+    previous = _Previous(target)
+    pds3, pds4 = dialect in ("pds3", "both"), dialect in ("pds4", "both")
+    volume_id = _volume_id(volume_id or (previous.volume_id() if pds3 else None), pds3)
+    bundle_lid = _bundle_lid(bundle_lid or (_previous_bundle_lid(previous) if pds4 else None), pds4)
+    index = _IndexRows(volume_id) if pds3 else None
+    found = scan(source_dir, on_pds3=index.add if index else None)
+    if found.imars:
+        raise InputError(found.imars[0], "an iMars product (GeoTIFF + PVL metadata) has neither a PDS3 nor a "
+                                         "PDS4 label, so no PDS volume or bundle can hold it; make the HRSC "
+                                         "products with --profile hrsc (--label both for PDS4)")
+    if not found.products:
+        raise InputError(source_dir, "holds no data product (no PDS3 or PDS4 product label)")
+    _check_dialects(found, pds3, pds4)
+    log.info("%s: %d data product(s), %d preview(s), %d document(s), %d other file(s)", source_dir,
+             len(found.products), len(found.previews), len(found.documents), len(found.others))
+    work = target.parent / f".{target.name}.deliver-{os.getpid()}"
+    if work.exists():
+        shutil.rmtree(work)
+    work.mkdir(parents=True)
+    try:
+        result = _build(found, _Tree(work), previous, source_dir, in_place, dialect, index, bundle_lid)
+        _swap(work, target)
+        log.info("delivery built in %s and moved to %s", work, target)
+    except BaseException:
+        shutil.rmtree(work, ignore_errors=True)
+        raise
+    result.path = target
+    return result
+
+
+def _check_target(source: Path, target: Path) -> None:
+    if target.exists() and not target.is_dir():
+        raise OutputError(target, "exists and is not a directory")
+    resolved, src = target.resolve(), source.resolve()
+    if src in resolved.parents:
+        raise InputError(target, f"the delivery cannot be inside the products' directory {source}")
+    if resolved in src.parents:  # the swap would remove the products' directory with the old delivery
+        raise InputError(source, f"the products' directory is inside the delivery {target}; "
+                                 "run pdsgen deliver on the delivery itself")
+    if target.is_dir() and any(target.iterdir()) and not (target / layout.MANIFEST).is_file():
+        raise OutputError(target, f"exists and is not a delivery (no {layout.MANIFEST}); "
+                                  "give a new or empty directory")
+
+
+def _volume_id(volume_id: str | None, needed: bool) -> str | None:
+    if not needed:
+        return volume_id
+    if not volume_id:
+        raise InputError(None, "a PDS3 volume needs --volume-id (e.g. --volume-id MROHR_1001)")
+    if not layout.VOLUME_ID_PATTERN.fullmatch(volume_id):
+        raise InputError(None, f"--volume-id {volume_id!r}: up to 11 upper-case letters, digits and "
+                               "underscores, starting with a letter")
+    return volume_id
+
+
+def _bundle_lid(lid: str | None, needed: bool) -> str | None:
+    if not needed:
+        return lid
+    if not lid:
+        raise InputError(None, "a PDS4 bundle needs --bundle-lid urn:nasa:pds:NAME")
+    if not layout.BUNDLE_LID_PATTERN.fullmatch(lid):
+        raise InputError(None, f"--bundle-lid {lid!r}: expected urn:nasa:pds:NAME, NAME in lower-case "
+                               "letters, digits, '.', '_' and '-'")
+    return lid
+
+
+def _previous_bundle_lid(previous: _Previous) -> str | None:
+    label = previous.bundle_label()
+    if label is None:
+        return None
+    text = label.read_text(encoding="utf-8", errors="replace")
+    start, end = text.find("<logical_identifier>"), text.find("</logical_identifier>")
+    return text[start + len("<logical_identifier>"):end].strip() if 0 <= start < end else None
+
+
+def _check_dialects(found: SourceSet, pds3: bool, pds4: bool) -> None:
+    for product in found.products:
+        if pds3 and product.pds3_label is None:
+            raise InputError(product.pds4_label, "has no PDS3 label, which a PDS3 volume needs "
+                                                 "(make the product with --label both)")
+        if pds4 and product.pds4_label is None:
+            raise InputError(product.pds3_label, "has no PDS4 label, which a PDS4 bundle needs "
+                                                 "(make the product with --label both)")
+
+
+def _swap(work: Path, target: Path) -> None:
+    """The finished tree takes the target's place; the previous one is removed after."""
+    if target.exists():
+        old = target.parent / f".{target.name}.old-{os.getpid()}"
+        os.rename(target, old)
+        os.rename(work, target)
+        shutil.rmtree(old)
+    else:
+        os.rename(work, target)
+
+
+def _build(found: SourceSet, tree: _Tree, previous: _Previous, source: Path, in_place: bool, dialect: str,
+           index: _IndexRows | None, bundle_lid: str | None) -> Delivery:
+    result = Delivery(tree.root, dialect, volume_id=index.writer.volume_id if index else None, bundle_lid=bundle_lid)
+    today = datetime.date.today().isoformat()
+    total = len(found.products) + len(found.previews) + len(found.documents)
+    done = 0
+    data_members: dict[str, tuple[DataProduct, list[str]]] = {}
+    for product in found.products:
+        relatives = [_place_product_file(tree, f, product) for f in product.files]
+        data_members[product.product_id.upper()] = (product, relatives)
+        done += 1
+        advance(done, total, "products")
+    preview_paths = []
+    for preview in found.previews:
+        preview_paths.append((preview, f"{layout.EXTRAS_DIR}/{preview.name}"))
+        tree.place(preview, preview_paths[-1][1])
+        done += 1
+        advance(done, total, "products")
+    document_paths = []
+    for document in found.documents:
+        directory = layout.DATA_DIR if document.name.upper() == "JP2INFO.TXT" else layout.EXTRAS_DIR
+        document_paths.append((document, f"{directory}/{document.name}"))
+        tree.place(document, document_paths[-1][1])
+        done += 1
+        advance(done, total, "products")
+    if in_place:
+        for other in found.others:
+            tree.place(other, other.relative_to(source).as_posix())
+    else:
+        result.skipped = list(found.others)
+    result.products, result.previews, result.documents = len(found.products), len(preview_paths), len(document_paths)
+    if dialect in ("pds4", "both"):
+        assert bundle_lid is not None
+        _write_bundle(tree, previous, bundle_lid, data_members, preview_paths, document_paths, today, result)
+    else:
+        _carry_pds4_labels(tree, data_members)
+    if index is not None:
+        _write_volume(tree, previous, index, today, result)
+    result.files = _write_manifest(tree)
+    return result
+
+
+def _place_product_file(tree: _Tree, path: Path, product: DataProduct) -> str:
+    relative = f"{layout.DATA_DIR}/{path.name}"
+    if path == product.pds4_label:
+        return relative  # written by _write_bundle (with its bundle LID) or _carry_pds4_labels
+    tree.place(path, relative)
+    return relative
+
+
+def _carry_pds4_labels(tree: _Tree, data_members: dict[str, tuple[DataProduct, list[str]]]) -> None:
+    """A PDS3 volume keeps a product's PDS4 label as the product made it."""
+    for product, _ in data_members.values():
+        if product.pds4_label is not None:
+            tree.place(product.pds4_label, f"{layout.DATA_DIR}/{product.pds4_label.name}")
+
+
+# --- PDS3 ---------------------------------------------------------------------------------------
+
+class _IndexRows:
+    """The index rows, written (to the writer's scratch file) as the scan reads each label."""
+
+    def __init__(self, volume_id: str | None) -> None:
+        assert volume_id is not None
+        self.writer = IndexWriter(volume_id)
+        self.institution: str | None = None
+
+    def add(self, product: DataProduct, values: dict[str, str | None]) -> None:
+        assert product.pds3_label is not None
+        values["PRODUCT_ID"] = values.get("PRODUCT_ID") or product.product_id
+        self.writer.add(f"{layout.DATA_DIR}/{product.pds3_label.name}", values)
+        self.institution = self.institution or values.get("PRODUCER_INSTITUTION_NAME")
+
+
+def _write_volume(tree: _Tree, previous: _Previous, index: _IndexRows, today: str, result: Delivery) -> None:
+    writer = index.writer
+    (tree.root / layout.INDEX_DIR).mkdir(exist_ok=True)
+    log.info("%s/%s: %d row(s)", layout.INDEX_DIR, layout.INDEX_TABLE, writer.rows)
+    for path in writer.write(tree.root / layout.INDEX_DIR):
+        tree.md5[path.relative_to(tree.root).as_posix()] = md5_of(path)
+    version = previous.volume_version() or 1
+    if previous.exists and _volume_changed(tree, previous):
+        version += 1
+    facts = VolumeFacts(writer.volume_id, version, today, tuple(writer.data_set_ids), index.institution,
+                        result.products, result.previews)
+    tree.write(layout.VOLDESC, voldesc_text(facts))
+    tree.write(layout.AAREADME, aareadme_text(facts))
+
+
+def _volume_changed(tree: _Tree, previous: _Previous) -> bool:
+    """Whether any file other than the volume's own description differs from the previous run."""
+    own = {layout.VOLDESC, layout.AAREADME, layout.MANIFEST}
+    now = {k: v for k, v in tree.md5.items() if k not in own}
+    before = {k: v for k, v in previous.md5.items() if k not in own}
+    return now != before
+
+
+# --- PDS4 ---------------------------------------------------------------------------------------
+
+def _changed(tree: _Tree, previous: _Previous, relatives: list[str]) -> bool:
+    return any(previous.md5.get(r) != tree.md5.get(r) for r in relatives)
+
+
+def _write_bundle(tree: _Tree, previous: _Previous, bundle_lid: str,
+                  data_members: dict[str, tuple[DataProduct, list[str]]],
+                  preview_paths: list[tuple[Path, str]], document_paths: list[tuple[Path, str]],
+                  today: str, result: Delivery) -> None:
+    writer = _BundleWriter(tree, previous, bundle_lid, today, result)
+    for key, (product, relatives) in data_members.items():
+        writer.data_product(key, product, relatives)
+    for preview, relative in preview_paths:
+        writer.preview(preview, relative, data_members)
+    for document, relative in document_paths:
+        writer.document(document, relative)
+    writer.bundle_label(writer.collections())
+    log.info("bundle %s::%s: %d product(s) new or with a new version", bundle_lid, result.bundle_version,
+             len(result.changed))
+
+
+class _BundleWriter:
+    """The PDS4 labels and inventories of one run; versions follow what the previous run wrote."""
+
+    def __init__(self, tree: _Tree, previous: _Previous, bundle_lid: str, today: str, result: Delivery) -> None:
+        self.tree, self.previous, self.bundle_lid, self.today, self.result = tree, previous, bundle_lid, today, result
+        self.name = bundle_lid.rsplit(":", 1)[-1]
+        self.members: dict[str, list[str]] = {c: [] for c in layout.COLLECTIONS}
+        self.old = {c: bundle.read_inventory(previous.root / d / layout.inventory_name(c))
+                    for c, (_, _, d) in layout.COLLECTIONS.items()}
+        self.data_lidvid: dict[str, str] = {}  # product id (upper) -> its LIDVID
+        self.data_changed: set[str] = set()  # LIDs of data products new or re-versioned: their previews follow
+
+    def _member(self, collection: str, lid: str, changed: bool) -> str:
+        """The member's LIDVID (its previous version unless it changed), listed in its collection."""
+        before = self.old[collection].get(lid)
+        version = _version(before, changed)
+        lidvid = f"{lid}::{version}"
+        self.members[collection].append(lidvid)
+        if version != before:
+            self.result.changed.append(lidvid)
+            if collection == "data":
+                self.data_changed.add(lid)
+        return lidvid
+
+    def data_product(self, key: str, product: DataProduct, relatives: list[str]) -> None:
+        """The product's own PDS4 label, with the LID under the data collection and its version."""
+        assert product.pds4_label is not None
+        lid = f"{self.bundle_lid}:data:{layout.lid_part(product.product_id)}"
+        label = f"{layout.DATA_DIR}/{product.pds4_label.name}"
+        text = product.pds4_label.read_text(encoding="utf-8")
+        changed = (_changed(self.tree, self.previous, [r for r in relatives if r != label])
+                   or _label_changed(self.previous.root / label, text))
+        lidvid = self._member("data", lid, changed)
+        self.tree.write(label, bundle.set_identification(text, lid, lidvid.split("::")[1]))
+        self.data_lidvid[key] = lidvid
+
+    def preview(self, preview: Path, relative: str, data_members: dict[str, tuple[DataProduct, list[str]]]) -> None:
+        """A Product_Browse label beside an Extras image, referring to the data product it previews."""
+        key = preview.name.split(".", 1)[0].upper()
+        if key not in self.data_lidvid:
+            raise InputError(preview, "previews no data product of the delivery (its name must start with "
+                                      "the PRODUCT_ID of one)")
+        stem = relative.rsplit(".", 1)[0]
+        lid = f"{self.bundle_lid}:browse:{layout.lid_part(Path(stem).name)}"
+        data_lid = self.data_lidvid[key].split("::")[0]
+        changed = _changed(self.tree, self.previous, [relative]) or data_lid in self.data_changed
+        lidvid = self._member("browse", lid, changed)
+        title = f"Preview {preview.name} of {data_members[key][0].product_id}"
+        self.tree.write(f"{stem}.xml", bundle.render("browse.xml.j2", {
+            **_head("Product_Browse", lid, lidvid.split("::")[1], title), "data_lidvid": self.data_lidvid[key],
+            "file": self.tree.facts(relative), "encoding": bundle.encoding_of(preview.name)}))
+
+    def document(self, document: Path, relative: str) -> None:
+        """A Product_Document label beside README.TXT or JP2INFO.TXT."""
+        stem = relative.rsplit(".", 1)[0]
+        lid = f"{self.bundle_lid}:document:{layout.lid_part(Path(stem).name)}"
+        version = self._member("document", lid, _changed(self.tree, self.previous, [relative])).split("::")[1]
+        title = f"{document.name}: {_document_title(document.name)}"
+        self.tree.write(f"{stem}.xml", bundle.render("document.xml.j2", {
+            **_head("Product_Document", lid, version, title), "citation": title, "year": self.today[:4],
+            "date": self.today, "edition": f"{document.name} version {version}", "file": self.tree.facts(relative)}))
+
+    def collections(self) -> list[dict[str, str]]:
+        """Each collection that has members: its inventory and label; the bundle's entries for them."""
+        entries = []
+        for collection, (kind, reference_type, directory) in layout.COLLECTIONS.items():
+            lidvids = self.members[collection]
+            if not lidvids:
+                continue
+            inventory = bundle.inventory_text(lidvids)
+            before = self.previous.root / directory / layout.inventory_name(collection)
+            unchanged = before.is_file() and before.read_bytes() == inventory.encode("ascii")
+            old_version = bundle.read_version(self.previous.root / directory / layout.collection_label_name(collection))
+            version = old_version if unchanged and old_version else bundle.next_version(old_version)
+            self.tree.write(f"{directory}/{layout.inventory_name(collection)}", inventory)
+            lid = f"{self.bundle_lid}:{collection}"
+            count = f"{len(lidvids)} {collection} product(s) of bundle {self.name}"
+            self.tree.write(f"{directory}/{layout.collection_label_name(collection)}", bundle.render(
+                "collection.xml.j2", {
+                    **_head("Product_Collection", lid, version, f"{kind} collection of bundle {self.name}"),
+                    "citation": f"The {count}.", "year": self.today[:4], "collection_type": kind,
+                    "inventory": layout.inventory_name(collection), "records": len(lidvids),
+                    "description": f"{count}."}))
+            entries.append({"lidvid": f"{lid}::{version}", "reference_type": reference_type})
+        return entries
+
+    def bundle_label(self, entries: list[dict[str, str]]) -> None:
+        """The Product_Bundle label: a new version when its set of collection LIDVIDs changed."""
+        old_label = self.previous.bundle_label()
+        old_version = bundle.read_version(old_label) if old_label else None
+        old_text = old_label.read_text(encoding="utf-8", errors="replace") if old_label else ""
+        old_entries = set(re.findall(r"<lidvid_reference>\s*([^<]*?)\s*</lidvid_reference>", old_text))
+        same = old_version is not None and old_entries == {e["lidvid"] for e in entries}
+        version = old_version if same and old_version else bundle.next_version(old_version)
+        result = self.result
+        self.tree.write(layout.bundle_label_name(self.bundle_lid), bundle.render("bundle.xml.j2", {
+            **_head("Product_Bundle", self.bundle_lid, version, f"Bundle {self.name}"),
+            "citation": layout.PLACEHOLDER.format(what="the citation description of the bundle"),
+            "year": self.today[:4], "members": entries,
+            "description": f"{result.products} data product(s), {result.previews} preview(s) and "
+                           f"{result.documents} document(s), made by pdsgen."}))
+        result.bundle_version = version
+
+
+def _head(product_class: str, lid: str, version: str, title: str) -> dict[str, object]:
+    return {"product_class": product_class, "lid": lid, "version_id": version, "title": title,
+            "citation": None, "year": None}
+
+
+def _version(before: str | None, changed: bool) -> str:
+    return before if before and not changed else bundle.next_version(before)
+
+
+def _label_changed(before: Path, text: str) -> bool:
+    try:
+        old = before.read_text(encoding="utf-8")
+    except OSError:
+        return True
+    return bundle.identification_free(old) != bundle.identification_free(text)
+
+
+def _document_title(name: str) -> str:
+    return {"README.TXT": "what the preview images show and how they were made",
+            "JP2INFO.TXT": "how the JPEG 2000 files are encoded"}.get(name.upper(), "document")
+
+
+# --- manifest -----------------------------------------------------------------------------------
+
+def _write_manifest(tree: _Tree) -> int:
+    """MD5SUMS.TXT over every file of the tree, in path order, written last."""
+    lines = []
+    for path in _files(tree.root):
+        relative = path.relative_to(tree.root).as_posix()
+        lines.append(f"{tree.md5.get(relative) or md5_of(path)}  {relative}\n")
+    (tree.root / layout.MANIFEST).write_text("".join(lines), encoding="utf-8")
+    log.info("%s: MD5 of %d file(s)", layout.MANIFEST, len(lines))
+    return len(lines) + 1
+
+
+def _files(root: Path) -> Iterator[Path]:
+    for dirpath, dirnames, filenames in os.walk(root):
+        dirnames.sort()
+        for name in sorted(filenames):
+            if Path(dirpath) == root and name == layout.MANIFEST:
+                continue
+            yield Path(dirpath) / name

@@ -1,0 +1,85 @@
+"""The facts of a delivery's layout: directory and file names, index columns, LID rules.
+
+One home for them: `pdsgen deliver` writes by these names and the validator's
+delivery rules (validate/families/delivery_rules.py) recognise and check by them,
+with their own code for everything they compute.
+"""
+
+from __future__ import annotations
+
+import re
+
+# PDS3 volume layout (PDS3 Standards Reference, chapter 19: volume organisation)
+DATA_DIR = "DATA"
+EXTRAS_DIR = "EXTRAS"
+INDEX_DIR = "INDEX"
+DOCUMENT_DIR = "DOCUMENT"
+INDEX_TABLE = "INDEX.TAB"
+INDEX_LABEL = "INDEX.LBL"
+VOLDESC = "VOLDESC.CAT"
+AAREADME = "AAREADME.TXT"
+# The checksum manifest: `md5  relative/path` lines (md5sum -c reads them), written last.
+MANIFEST = "MD5SUMS.TXT"
+
+# Text a person must write is marked so; `pdsgen validate` reports any left in.
+PLACEHOLDER = "[TO BE WRITTEN: {what}]"
+PLACEHOLDER_PATTERN = re.compile(r"\[TO BE WRITTEN: [^\]]*\]")
+
+# PDS3 VOLUME_ID: at most 11 characters, upper-case letters, digits and underscores.
+VOLUME_ID_PATTERN = re.compile(r"[A-Z][A-Z0-9_]{0,10}")
+
+
+# PDS4: one collection per kind. name -> (collection_type, bundle reference_type, directory)
+COLLECTIONS = {
+    "data": ("Data", "bundle_has_data_collection", DATA_DIR),
+    "browse": ("Browse", "bundle_has_browse_collection", EXTRAS_DIR),
+    "document": ("Document", "bundle_has_document_collection", DOCUMENT_DIR),
+}
+
+
+def collection_label_name(collection: str) -> str:
+    return f"collection_{collection}.xml"
+
+
+def inventory_name(collection: str) -> str:
+    return f"collection_{collection}_inventory.csv"
+
+
+def bundle_label_name(bundle_lid: str) -> str:
+    return f"bundle_{bundle_lid.rsplit(':', 1)[-1]}.xml"
+
+
+# A bundle LID: urn:nasa:pds:<bundle>, lower case (PDS4 Standards Reference 6D.2).
+BUNDLE_LID_PATTERN = re.compile(r"urn:nasa:pds:[a-z0-9][a-z0-9._-]*")
+# The part of a LID a product or collection adds: lower case letters, digits, '.', '_', '-'.
+LID_PART = re.compile(r"[^a-z0-9._-]")
+
+
+def lid_part(name: str) -> str:
+    """A product's name as one LID segment (lower case; other characters become '_')."""
+    return LID_PART.sub("_", name.lower())
+
+
+# PDS3 index columns: (NAME, DATA_TYPE, description). Values are taken from each product's
+# label (the first occurrence of the keyword, at any depth) except the first two.
+INDEX_COLUMNS = (
+    ("VOLUME_ID", "CHARACTER", "The volume holding the product."),
+    ("FILE_SPECIFICATION_NAME", "CHARACTER", "Path of the product's label in the volume."),
+    ("PRODUCT_ID", "CHARACTER", "The product's PRODUCT_ID."),
+    ("DATA_SET_ID", "CHARACTER", "The data set the product belongs to."),
+    ("PRODUCT_CREATION_TIME", "CHARACTER", "When the product was made (N/A: not stated)."),
+    ("TARGET_NAME", "CHARACTER", "The body the product shows."),
+    ("MAP_PROJECTION_TYPE", "CHARACTER", "The map projection of the product."),
+    ("MAP_SCALE", "ASCII_REAL", "Map scale in metres per pixel."),
+    ("MAP_RESOLUTION", "ASCII_REAL", "Map resolution in pixels per degree."),
+    ("MINIMUM_LATITUDE", "ASCII_REAL", "Southernmost latitude of the product, degrees."),
+    ("MAXIMUM_LATITUDE", "ASCII_REAL", "Northernmost latitude of the product, degrees."),
+    ("WESTERNMOST_LONGITUDE", "ASCII_REAL", "Westernmost longitude of the product, degrees."),
+    ("EASTERNMOST_LONGITUDE", "ASCII_REAL", "Easternmost longitude of the product, degrees."),
+    ("LINES", "ASCII_INTEGER", "Number of lines of the image."),
+    ("LINE_SAMPLES", "ASCII_INTEGER", "Number of samples per line of the image."),
+)
+# Written for a value the label does not hold: "N/A" in character columns, and in numeric
+# columns the MISSING_CONSTANT the column then declares.
+NOT_APPLICABLE = "N/A"
+MISSING_NUMBER = "-9999"

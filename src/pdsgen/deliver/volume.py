@@ -1,0 +1,97 @@
+"""PDS3 volume skeletons: VOLDESC.CAT and AAREADME.TXT with the facts pdsgen knows.
+
+What only a person can say (the volume's name, series and set, who to contact, what the
+data are for) is a named placeholder (layout.PLACEHOLDER); `pdsgen validate` reports any
+left in, so a volume cannot go out with them unnoticed.
+"""
+
+from __future__ import annotations
+
+import textwrap
+from dataclasses import dataclass
+
+from . import layout
+
+
+def _todo(what: str) -> str:
+    return layout.PLACEHOLDER.format(what=what)
+
+
+@dataclass(frozen=True)
+class VolumeFacts:
+    volume_id: str
+    version: int  # VOLUME_VERSION_ID's number: 1, then one more per re-delivery that changed it
+    publication_date: str  # YYYY-MM-DD
+    data_set_ids: tuple[str, ...]
+    institution: str | None
+    products: int
+    previews: int
+
+
+def _string(keyword: str, value: str, indent: str = "  ") -> list[str]:
+    """`KEYWORD = "value"`, the value wrapped under its start so lines stay within 78 characters."""
+    head = f"{indent}{keyword:<18} = "
+    width = 78 - len(head) - 2
+    parts = textwrap.wrap(value, width) or [""]
+    lines = [f'{head}"{parts[0]}']
+    lines += [" " * (len(head) + 1) + part for part in parts[1:]]
+    lines[-1] += '"'
+    return lines
+
+
+def voldesc_text(facts: VolumeFacts) -> str:
+    data_sets = [f'"{d}"' for d in facts.data_set_ids] or [f'"{layout.NOT_APPLICABLE}"']
+    data_set = data_sets[0] if len(data_sets) == 1 else "(" + ",\r\n                         ".join(data_sets) + ")"
+    lines = ["PDS_VERSION_ID         = PDS3", "RECORD_TYPE            = STREAM", "",
+             "OBJECT                 = VOLUME"]
+    lines += _string("VOLUME_SERIES_NAME", _todo("VOLUME_SERIES_NAME"))
+    lines += _string("VOLUME_SET_NAME", _todo("VOLUME_SET_NAME"))
+    lines += _string("VOLUME_SET_ID", _todo("VOLUME_SET_ID"))
+    lines += ["  VOLUMES              = 1"]
+    lines += _string("VOLUME_NAME", _todo("VOLUME_NAME"))
+    lines += [f'  VOLUME_ID            = "{facts.volume_id}"',
+              f'  VOLUME_VERSION_ID    = "VERSION {facts.version}"',
+              f"  PUBLICATION_DATE     = {facts.publication_date}",
+              f"  DATA_SET_ID          = {data_set}",
+              '  MEDIUM_TYPE          = "ELECTRONIC"']
+    lines += _string("DESCRIPTION", f"This volume holds {facts.products} data product(s) in {layout.DATA_DIR}/, "
+                                    f"{facts.previews} preview image(s) in {layout.EXTRAS_DIR}/ and the index "
+                                    f"of the data products in {layout.INDEX_DIR}/. "
+                                    + _todo("what the products are and what they are for"))
+    lines += ["", "  OBJECT               = DATA_PRODUCER"]
+    lines += _string("INSTITUTION_NAME", facts.institution or _todo("INSTITUTION_NAME"), "    ")
+    lines += _string("FACILITY_NAME", _todo("FACILITY_NAME"), "    ")
+    lines += _string("FULL_NAME", _todo("FULL_NAME of the contact"), "    ")
+    lines += _string("ADDRESS_TEXT", _todo("ADDRESS_TEXT of the contact"), "    ")
+    lines += ["  END_OBJECT           = DATA_PRODUCER", "END_OBJECT             = VOLUME", "", "END"]
+    return "\r\n".join(lines) + "\r\n"
+
+
+def aareadme_text(facts: VolumeFacts) -> str:
+    """The volume's introduction: an attached label (OBJECT = TEXT) and the text."""
+    label = ["PDS_VERSION_ID         = PDS3", "RECORD_TYPE            = STREAM", "",
+             "OBJECT                 = TEXT",
+             f"  PUBLICATION_DATE     = {facts.publication_date}",
+             f'  NOTE                 = "Introduction to volume {facts.volume_id}"',
+             "END_OBJECT             = TEXT", "", "END", ""]
+    data_sets = ", ".join(facts.data_set_ids) or layout.NOT_APPLICABLE
+    text = [
+        f"Volume {facts.volume_id}, version {facts.version}, published {facts.publication_date}",
+        "",
+        *textwrap.wrap(_todo("what this volume holds and why, in a paragraph for its readers"), 78),
+        "",
+        f"Data sets: {data_sets}",
+        "",
+        "Contents",
+        f"  {layout.AAREADME:<14}this file",
+        f"  {layout.VOLDESC:<14}the volume's description",
+        f"  {layout.DATA_DIR + '/':<14}{facts.products} data product(s), each with its PDS3 label",
+        f"  {layout.EXTRAS_DIR + '/':<14}{facts.previews} preview image(s) and README.TXT describing them",
+        f"  {layout.INDEX_DIR + '/':<14}{layout.INDEX_TABLE}, one row per data product; "
+        f"{layout.INDEX_LABEL} describes it",
+        f"  {layout.MANIFEST:<14}the MD5 checksum of every file (check with: md5sum -c {layout.MANIFEST})",
+        "",
+        "Contact",
+        *textwrap.wrap(_todo("who answers questions about this volume, and how to reach them"), 78),
+    ]
+    return "\r\n".join(label + text) + "\r\n"

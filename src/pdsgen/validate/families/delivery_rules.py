@@ -1,0 +1,517 @@
+"""DLV family: a delivery (a PDS3 volume, a PDS4 bundle, its MD5 manifest) checked as a whole.
+
+`pdsgen validate DIR` recognises a delivery by the files `pdsgen deliver` writes at its
+root (deliver/layout.py: MD5SUMS.TXT, INDEX/INDEX.LBL, bundle_*.xml). These checks
+compare files with each other - the index table with its label and with every product
+label, inventories with the labels present, references with their targets, the manifest
+with the files - so they run once per delivery (the runner hook `DeliveryChecks`), and
+their findings are reported beside each file's own.
+
+They read everything with their own code: the index through the columns INDEX.LBL
+declares (never the writer's layout), labels with the validator's lexer and lxml, CSV
+inventories with the csv module, and MD5s streamed here. Only names come from layout.
+"""
+
+from __future__ import annotations
+
+import csv
+import hashlib
+import io
+import os
+import re
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ...deliver import layout
+from ..lexer import parse_label
+from ..model import Block, Finding
+from ..registry import Rule, register
+
+PDS_NS = "{http://pds.nasa.gov/pds4/pds/v1}"
+_END = re.compile(rb"(?:^|\n)[ \t]*END[ \t]*\r?(?:\n|$)")
+_FORMAT = re.compile(r"([AFIE])(\d+)(?:\.(\d+))?", re.IGNORECASE)
+_TEXT_FILES = (layout.VOLDESC, layout.AAREADME)
+
+
+def is_delivery(directory: Path) -> bool:
+    """A directory `pdsgen deliver` made (or one laid out the same way)."""
+    return directory.is_dir() and ((directory / layout.MANIFEST).is_file()
+                                   or (directory / layout.INDEX_DIR / layout.INDEX_LABEL).is_file()
+                                   or any(directory.glob("bundle_*.xml")))
+
+
+@dataclass
+class _Found:
+    rule: str
+    file: Path
+    message: str
+    line: int | None = None
+    keyword: str | None = None
+
+
+def _read_pds3(path: Path) -> Block | None:
+    """A PDS3 label's tree, reading no further than its END line; None when it is no PDS3 label."""
+    try:
+        with open(path, "rb") as stream:
+            data = stream.read(65536)
+            if not data.lstrip().upper().startswith((b"PDS_VERSION_ID", b"CCSD3")):
+                return None
+            while not _END.search(data) and len(data) < (4 << 20):
+                more = stream.read(65536)
+                if not more:
+                    break
+                data += more
+    except OSError:
+        return None
+    return parse_label(data.decode("latin-1")).root
+
+
+def _first(root: Block, keyword: str) -> tuple[str | None, int | None]:
+    for block in root.walk():
+        stmt = block.get(keyword)
+        if stmt is not None and stmt.value.items is None:
+            return stmt.value.text, stmt.line
+    return None, None
+
+
+def _all_files(root: Path) -> Iterator[Path]:
+    for dirpath, dirnames, filenames in os.walk(root):
+        dirnames.sort()
+        for name in sorted(filenames):
+            yield Path(dirpath) / name
+
+
+# --- PDS3: the index table --------------------------------------------------------------------
+
+@dataclass
+class _Column:
+    name: str
+    data_type: str
+    start: int
+    size: int
+    format: str | None
+    line: int
+
+
+def _index_columns(label: Block, found: list[_Found], path: Path) -> tuple[Block | None, list[_Column]]:
+    table = next((b for b in label.walk() if b.kind == "OBJECT" and b.name.upper().endswith("TABLE")), None)
+    if table is None:
+        found.append(_Found("DLV-001", path, "no INDEX_TABLE object"))
+        return None, []
+    columns: list[_Column] = []
+    for block in table.blocks("COLUMN"):
+        start, size = block.number("START_BYTE"), block.number("BYTES")
+        if not isinstance(start, int) or not isinstance(size, int):
+            found.append(_Found("DLV-001", path, "a COLUMN without integer START_BYTE and BYTES", block.line))
+            continue
+        columns.append(_Column((block.text("NAME") or "").upper(), (block.text("DATA_TYPE") or "").upper(),
+                               start, size, block.text("FORMAT"), block.line))
+    return table, columns
+
+
+def _table_file(label: Block, label_path: Path) -> Path | None:
+    """The file the label's table pointer (^INDEX_TABLE = "INDEX.TAB") names, beside the label."""
+    for stmt in label.statements():
+        if stmt.pointer and stmt.keyword.upper().endswith("TABLE"):
+            for value in stmt.value.scalars():
+                if value.kind in ("string", "ident"):
+                    return label_path.parent / value.text
+    return None
+
+
+def _field(row: bytes, column: _Column, number: int, path: Path, found: list[_Found]) -> str | None:
+    """One field's text as the column states it, or None after a DLV-001 finding."""
+    begin, end = column.start - 1, column.start - 1 + column.size
+    text = row[begin:end].decode("ascii", errors="replace")
+    where = f"row {number}, column {column.name}"
+    if column.data_type == "CHARACTER":
+        if row[begin - 1:begin] != b'"' or row[end:end + 1] != b'"':
+            found.append(_Found("DLV-001", path, f"{where}: the value is not between the double quotes "
+                                                 f"START_BYTE {column.start} and BYTES {column.size} place",
+                                number))
+            return None
+        return text.strip()
+    value = text.strip()
+    try:
+        float(value) if column.data_type == "ASCII_REAL" else int(value)
+    except ValueError:
+        found.append(_Found("DLV-001", path, f"{where}: {text!r} is not {column.data_type}", number))
+        return None
+    match = _FORMAT.fullmatch(column.format or "")
+    if match and match.group(3) is not None and match.group(1).upper() == "F":
+        decimals = len(value.split(".", 1)[1]) if "." in value else 0
+        if decimals != int(match.group(3)):
+            found.append(_Found("DLV-001", path, f"{where}: {value} has {decimals} decimals, FORMAT "
+                                                 f"{column.format} states {match.group(3)}", number))
+    return value
+
+
+def _same(row_value: str, label_value: str | None, data_type: str, column_format: str | None) -> bool:
+    """Whether a row holds its label's value. A keyword the label does not have cannot be compared
+    (archives' indexes carry derived columns); it passes."""
+    if label_value is None:
+        return True
+    if data_type == "CHARACTER":
+        return row_value.strip().upper() == label_value.strip().upper()
+    match = _FORMAT.fullmatch(column_format or "")
+    decimals = int(match.group(3)) if match and match.group(3) else 0
+    return _number_equal(row_value, label_value, decimals)
+
+
+def _number_equal(a: str, b: str, decimals: int) -> bool:
+    try:
+        return abs(float(a) - float(b)) <= 0.5 * 10.0 ** -decimals + 1e-12 * max(1.0, abs(float(b)))
+    except ValueError:
+        return False
+
+
+def _check_index(root: Path, found: list[_Found]) -> None:
+    label_path = root / layout.INDEX_DIR / layout.INDEX_LABEL
+    table_path = root / layout.INDEX_DIR / layout.INDEX_TABLE
+    # one string per product (not a Path): memory stays small for 10,000 products
+    products = {name.upper(): name for name in (p.relative_to(root).as_posix() for p in _pds3_products(root))}
+    if not label_path.is_file():  # a PDS4 bundle alone has no index; a PDS3 volume (VOLDESC.CAT) must
+        if products and (root / layout.VOLDESC).is_file():
+            found.append(_Found("DLV-002", root / layout.VOLDESC,
+                                f"a PDS3 volume without {layout.INDEX_DIR}/{layout.INDEX_LABEL}"))
+        return
+    label = _read_pds3(label_path)
+    if label is None:
+        found.append(_Found("DLV-001", label_path, "not a PDS3 label"))
+        return
+    table, columns = _index_columns(label, found, label_path)
+    if table is None:
+        return
+    table_path = _table_file(label, label_path) or table_path
+    row_bytes, rows = table.number("ROW_BYTES"), table.number("ROWS")
+    volume_ids = {label.text("VOLUME_ID")} | {_text_value(root / layout.VOLDESC, "VOLUME_ID")}
+    seen: dict[str, int] = {}
+    count = 0
+    try:
+        with open(table_path, "rb") as stream:  # row by row: memory does not grow with the table
+            for count, line in enumerate(stream, 1):
+                if not line.endswith(b"\r\n"):
+                    found.append(_Found("DLV-001", table_path, f"row {count} does not end with CR LF", count))
+                    continue
+                raw = line[:-2]
+                if row_bytes is not None and len(line) != row_bytes:
+                    found.append(_Found("DLV-001", table_path, f"row {count} has {len(line)} bytes with its "
+                                                               f"CR LF, ROW_BYTES = {row_bytes}", count))
+                    continue
+                values = {c.name: _field(raw, c, count, table_path, found) for c in columns}
+                _check_row(root, table_path, count, values, columns, seen, volume_ids, found)
+    except OSError as exc:
+        found.append(_Found("DLV-001", table_path, f"cannot read the index table: {exc.strerror or exc}"))
+        return
+    if rows is not None and rows != count:
+        found.append(_Found("DLV-001", table_path, f"ROWS = {rows} in {layout.INDEX_LABEL}, but the table has "
+                                                   f"{count} rows"))
+    for key, name in products.items():
+        if key not in seen:
+            found.append(_Found("DLV-002", root / name, f"this data product is not in {layout.INDEX_DIR}/"
+                                                 f"{layout.INDEX_TABLE}"))
+    _check_data_sets(root, label, table_path, found)
+
+
+def _check_row(root: Path, table_path: Path, number: int, values: dict[str, str | None], columns: list[_Column],
+               seen: dict[str, int], volume_ids: set[str | None],
+               found: list[_Found]) -> None:
+    spec = values.get("FILE_SPECIFICATION_NAME")
+    if spec is None:
+        return
+    volume_id = values.get("VOLUME_ID")
+    if volume_id is not None and len({v for v in volume_ids if v} | {volume_id}) > 1:
+        found.append(_Found("DLV-005", table_path, f"row {number}: VOLUME_ID {volume_id} differs from the volume's "
+                                                   f"({', '.join(sorted(v for v in volume_ids if v))})", number))
+    key = spec.upper()
+    if not (root / spec).is_file():
+        found.append(_Found("DLV-003", table_path, f"row {number} names {spec}, which does not exist", number))
+        return
+    if key in seen:
+        found.append(_Found("DLV-002", table_path, f"row {number} indexes {spec} again (first in row "
+                                                   f"{seen[key]})", number))
+        return
+    seen[key] = number
+    product = _read_pds3(root / spec)
+    if product is None:
+        found.append(_Found("DLV-003", table_path, f"row {number} names {spec}, which is not a PDS3 label", number))
+        return
+    for column in columns:
+        if column.name in ("VOLUME_ID", "FILE_SPECIFICATION_NAME"):
+            continue
+        row_value = values.get(column.name)
+        if row_value is None:
+            continue
+        label_value, line = _first(product, column.name)
+        if not _same(row_value, label_value, column.data_type, column.format):
+            found.append(_Found("DLV-004", table_path, f"row {number} ({spec}): {column.name} = {row_value}, "
+                                                       f"but its label has {label_value or 'none'}"
+                                                       + (f" (line {line})" if line else ""), number, column.name))
+
+
+def _check_data_sets(root: Path, index_label: Block, table_path: Path, found: list[_Found]) -> None:
+    """DATA_SET_ID of INDEX.LBL and VOLDESC.CAT name the same data sets."""
+    index_sets = _set_of(index_label, "DATA_SET_ID")
+    voldesc = _read_pds3(root / layout.VOLDESC)
+    if voldesc is None:
+        return
+    volume = next(voldesc.find("VOLUME"), voldesc)
+    volume_sets = _set_of(volume, "DATA_SET_ID")
+    if index_sets != volume_sets:
+        found.append(_Found("DLV-005", root / layout.VOLDESC, f"DATA_SET_ID {', '.join(sorted(volume_sets))} "
+                            f"differs from {layout.INDEX_LABEL}'s {', '.join(sorted(index_sets))}"))
+
+
+def _set_of(block: Block, keyword: str) -> set[str]:
+    value = block.value(keyword)
+    return {v.text for v in value.scalars()} if value is not None else set()
+
+
+def _text_value(path: Path, keyword: str) -> str | None:
+    label = _read_pds3(path)
+    if label is None:
+        return None
+    return _first(label, keyword)[0]
+
+
+def _pds3_products(root: Path) -> Iterator[Path]:
+    """PDS3 product labels of the volume's DATA directory."""
+    data = root / layout.DATA_DIR
+    if not data.is_dir():
+        return
+    for path in _all_files(data):
+        if path.suffix.lower() in (".xml", ".txt", ".csv", ".jp2", ".jpg"):
+            continue
+        if path.suffix.lower() == ".lbl" or _read_head(path).lstrip().upper().startswith(b"PDS_VERSION_ID"):
+            yield path
+
+
+def _read_head(path: Path) -> bytes:
+    try:
+        with open(path, "rb") as stream:
+            return stream.read(32)
+    except OSError:
+        return b""
+
+
+# --- placeholders -------------------------------------------------------------------------------
+
+def _check_placeholders(root: Path, found: list[_Found]) -> None:
+    files = [root / name for name in _TEXT_FILES] + sorted(root.glob("bundle_*.xml"))
+    files += [root / directory / layout.collection_label_name(c) for c, (_, _, directory) in
+              layout.COLLECTIONS.items()]
+    for path in files:
+        try:
+            text = path.read_text(encoding="latin-1")
+        except OSError:
+            continue
+        for match in layout.PLACEHOLDER_PATTERN.finditer(text):
+            number = text.count("\n", 0, match.start()) + 1
+            found.append(_Found("DLV-006", path, "text still to be written: " + " ".join(match.group(0).split()),
+                                number))
+
+
+# --- PDS4: bundle, collections, inventories, references -----------------------------------------
+
+@dataclass
+class _Pds4Label:
+    path: Path
+    product_class: str
+    lid: str
+    version: str
+    references: list[tuple[str, int]] = field(default_factory=list)  # (lid or lidvid, line)
+    inventory: Path | None = None
+
+    @property
+    def lidvid(self) -> str:
+        return f"{self.lid}::{self.version}"
+
+
+def _read_pds4(path: Path) -> _Pds4Label | None:
+    from lxml import etree
+
+    try:
+        tree = etree.parse(str(path), etree.XMLParser(no_network=True, resolve_entities=False))
+    except (OSError, etree.XMLSyntaxError):
+        return None  # PDS4-001 reports it
+    root = tree.getroot()
+    if not isinstance(root.tag, str) or not root.tag.startswith(PDS_NS + "Product_"):
+        return None
+    area = root.find(f"{PDS_NS}Identification_Area")
+    lid = (area.findtext(f"{PDS_NS}logical_identifier") or "").strip() if area is not None else ""
+    version = (area.findtext(f"{PDS_NS}version_id") or "").strip() if area is not None else ""
+    label = _Pds4Label(path, root.tag[len(PDS_NS):], lid, version)
+    for tag in ("lidvid_reference", "lid_reference"):
+        for element in root.iter(f"{PDS_NS}{tag}"):
+            label.references.append(((element.text or "").strip(), element.sourceline or 0))
+    name = root.findtext(f"{PDS_NS}File_Area_Inventory/{PDS_NS}File/{PDS_NS}file_name")
+    if name:
+        label.inventory = path.parent / name.strip()
+    return label
+
+
+def _check_bundle(root: Path, found: list[_Found]) -> None:
+    labels = [label for label in map(_read_pds4, (p for p in _all_files(root) if p.suffix.lower() == ".xml"))
+              if label is not None]
+    bundles = [label for label in labels if label.product_class == "Product_Bundle"]
+    if not bundles:
+        return
+    by_lidvid: dict[str, _Pds4Label] = {}
+    by_lid: dict[str, list[_Pds4Label]] = {}
+    for label in labels:
+        other = by_lidvid.get(label.lidvid)
+        if other is not None:
+            found.append(_Found("DLV-012", label.path, f"LIDVID {label.lidvid} is also that of "
+                                                       f"{other.path.relative_to(root)}"))
+        by_lidvid.setdefault(label.lidvid, label)
+        by_lid.setdefault(label.lid, []).append(label)
+    bundle = bundles[0]
+    collections = [label for label in labels if label.product_class == "Product_Collection"]
+    listed = {ref for ref, _ in bundle.references}
+    for collection in collections:
+        if collection.lidvid not in listed and collection.lid not in listed:
+            found.append(_Found("DLV-015", bundle.path, f"the bundle does not list collection {collection.lidvid} "
+                                                        f"({collection.path.relative_to(root)})"))
+    owned = bundle.lid + ":"
+    for label in labels:
+        for ref, line in label.references:
+            if ref.startswith(owned) and ref not in by_lidvid and ref not in by_lid:
+                rule = "DLV-015" if label is bundle else "DLV-014"
+                found.append(_Found(rule, label.path, f"{ref} is no product of this delivery", line))
+    members: dict[str, Path] = {}
+    for collection in collections:
+        _check_inventory(root, collection, labels, by_lidvid, by_lid, members, found)
+
+
+def _check_inventory(root: Path, collection: _Pds4Label, labels: list[_Pds4Label],
+                     by_lidvid: dict[str, _Pds4Label], by_lid: dict[str, list[_Pds4Label]],
+                     members: dict[str, Path], found: list[_Found]) -> None:
+    if collection.inventory is None:
+        return
+    try:
+        text = collection.inventory.read_text(encoding="ascii", errors="replace")
+    except OSError as exc:
+        found.append(_Found("DLV-010", collection.path, f"cannot read its inventory {collection.inventory.name}: "
+                                                        f"{exc.strerror or exc}"))
+        return
+    prefix = collection.lid + ":"
+    listed: set[str] = set()
+    for number, row in enumerate(csv.reader(io.StringIO(text)), 1):
+        if len(row) < 2:
+            continue
+        entry = row[1].strip()
+        lid = entry.split("::", 1)[0]
+        if not lid.startswith(prefix):
+            found.append(_Found("DLV-013", collection.inventory, f"member {entry} is not under the collection's "
+                                                                 f"LID {collection.lid}", number))
+        if entry in members:
+            found.append(_Found("DLV-012", collection.inventory, f"{entry} is also listed in "
+                                                                 f"{members[entry].relative_to(root)}", number))
+        members.setdefault(entry, collection.inventory)
+        listed.add(entry)
+        if entry not in by_lidvid and ("::" in entry or entry not in by_lid):
+            found.append(_Found("DLV-010", collection.inventory, f"{entry} is listed, but no label in the delivery "
+                                                                 "has that LIDVID", number))
+    for label in labels:
+        if label.lid.startswith(prefix) and label.lidvid not in listed and label.lid not in listed:
+            found.append(_Found("DLV-011", label.path, f"{label.lidvid} is not in the inventory of "
+                                                       f"{collection.lid} ({collection.inventory.name})"))
+
+
+# --- the manifest -------------------------------------------------------------------------------
+
+def _check_manifest(root: Path, labels_only: bool, found: list[_Found]) -> None:
+    manifest = root / layout.MANIFEST
+    if not manifest.is_file():
+        return
+    listed: dict[str, int] = {}
+    for number, line in enumerate(manifest.read_text(encoding="utf-8", errors="replace").splitlines(), 1):
+        digest, sep, name = line.partition("  ")
+        if not sep or not re.fullmatch(r"[0-9a-f]{32}", digest):
+            found.append(_Found("DLV-020", manifest, f"not an 'md5  path' line: {line[:60]!r}", number))
+            continue
+        listed[name] = number
+        path = root / name
+        if not path.is_file():
+            found.append(_Found("DLV-020", manifest, f"{name} is listed but does not exist", number))
+        elif not labels_only and _md5(path) != digest:
+            found.append(_Found("DLV-020", path, f"MD5 differs from {layout.MANIFEST} line {number}: the file "
+                                                 "changed after the manifest was written"))
+    for path in _all_files(root):
+        name = path.relative_to(root).as_posix()
+        if name != layout.MANIFEST and name not in listed:
+            found.append(_Found("DLV-021", path, f"not listed in {layout.MANIFEST}"))
+
+
+def _md5(path: Path) -> str:
+    digest = hashlib.md5()
+    with open(path, "rb") as stream:
+        while chunk := stream.read(1 << 20):
+            digest.update(chunk)
+    return digest.hexdigest()
+
+
+# --- the runner hook ----------------------------------------------------------------------------
+
+def check_delivery(root: Path, labels_only: bool = False) -> list[Finding]:
+    """Every DLV finding for the delivery at `root` (severities as registered)."""
+    from ..registry import rules
+
+    found: list[_Found] = []
+    for check in (_check_index, _check_placeholders, _check_bundle):
+        check(root, found)
+    _check_manifest(root, labels_only, found)
+    table = rules()
+    return [Finding(f.rule, table[f.rule].severity, str(f.file), f.message, f.line, f.keyword) for f in found]
+
+
+def _deliveries(path: Path) -> Iterator[Path]:
+    """The deliveries at or under a path given to validate (a delivery's own subdirectories are
+    not searched for others)."""
+    for dirpath, dirnames, _ in os.walk(path):
+        if is_delivery(Path(dirpath)):
+            dirnames.clear()
+            yield Path(dirpath)
+        dirnames.sort()
+
+
+class DeliveryChecks:
+    """The runner's hook: DLV findings of the deliveries among the paths given, handed to each
+    file's report as it streams past; files that get no report of their own (INDEX.TAB, the
+    manifest, images) get one at the end."""
+
+    def __init__(self, paths: Iterable[str | os.PathLike[str]], labels_only: bool) -> None:
+        self.pending: dict[str, list[Finding]] = {}
+        for raw in paths:
+            for root in _deliveries(Path(raw)):
+                for finding in check_delivery(root, labels_only):
+                    self.pending.setdefault(os.path.normpath(finding.file), []).append(finding)
+
+    def take(self, path: str) -> list[Finding]:
+        return self.pending.pop(os.path.normpath(path), [])
+
+    def rest(self) -> Iterator[tuple[str, list[Finding]]]:
+        while self.pending:
+            yield self.pending.popitem()
+
+
+register(
+    Rule("DLV-001", "error", "INDEX.TAB is read as its INDEX.LBL describes (rows, row bytes, columns, formats)",
+         None),
+    Rule("DLV-002", "error", "every data product of a PDS3 volume is in INDEX.TAB exactly once", None),
+    Rule("DLV-003", "error", "every INDEX.TAB row names an existing product label", None),
+    Rule("DLV-004", "error", "INDEX.TAB row values equal those of the product's label", None),
+    Rule("DLV-005", "error", "VOLUME_ID and DATA_SET_ID agree across INDEX.TAB, INDEX.LBL and VOLDESC.CAT", None),
+    Rule("DLV-006", "warning", "no [TO BE WRITTEN: ...] placeholder left in VOLDESC.CAT, AAREADME.TXT, "
+                               "bundle or collection labels", None),
+    Rule("DLV-010", "error", "every collection inventory entry is a product of the delivery", None),
+    Rule("DLV-011", "error", "every product under a collection's LID is in its inventory", None),
+    Rule("DLV-012", "error", "LIDVIDs are unique across the delivery's labels and inventories", None),
+    Rule("DLV-013", "error", "inventory members' LIDs are under their collection's LID", None),
+    Rule("DLV-014", "error", "references to products of the bundle (Product_Browse's data product ...) resolve",
+         None),
+    Rule("DLV-015", "error", "the bundle lists every collection, and each one it lists exists", None),
+    Rule("DLV-020", "error", "every file MD5SUMS.TXT lists exists and has that MD5", None, needs_data=True),
+    Rule("DLV-021", "error", "every file of the delivery is listed in MD5SUMS.TXT", None),
+)
