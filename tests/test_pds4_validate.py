@@ -189,3 +189,14 @@ def test_parallel_workers_give_the_same_findings(product, tmp_path):
     one, two = validate_paths([tmp_path], jobs=1), validate_paths([tmp_path], jobs=2)
     assert [f.as_dict() for f in one.findings] == [f.as_dict() for f in two.findings]
     assert {f.rule for f in one.findings} - {"PDS4-007"} == {"PDS4-004", "PDS4-012"}  # 007: no Saxon here
+
+
+@needs_saxon
+def test_deprecated_element_is_a_warning_not_an_error(product, tmp_path):
+    """PDS4_PDS_1O00.sch puts role="warning" on the rule for Axis_Array/unit (deprecated),
+    not on its assert: the finding is a PDS4-006 warning, never a PDS4-005 error."""
+    label = _copy(product, tmp_path, lambda t: re.sub(r"(<Axis_Array>\s*<axis_name>Line</axis_name>\s*"
+                                                      r"<elements>\d+</elements>)", r"\1<unit>pixel</unit>", t))
+    found = validate_pds4(label)
+    assert [(f.rule, f.severity) for f in found] == [("PDS4-006", "warning")], [f.message for f in found]
+    assert "deprecated" in found[0].message

@@ -102,22 +102,34 @@ def _rule_template(rule: etree._Element, pattern: int, priority: int, renames: d
     check = etree.SubElement(template, f"{_X}if", test=f"not({pattern} = $fired)")
     for let in rule.iter(f"{_S}let"):
         etree.SubElement(check, f"{_X}variable", name=let.get("name"), select=_renamed(let.get("value"), renames))
+    inherited = rule.get("role") or _pattern_role(rule)
     for assertion in rule.iterchildren(f"{_S}assert", f"{_S}report"):
-        check.append(_assertion(assertion, context, renames))
+        check.append(_assertion(assertion, context, renames, inherited))
     handed_on = etree.SubElement(template, f"{_X}next-match")
     etree.SubElement(handed_on, f"{_X}with-param", name="fired", select=f"($fired, {pattern})", tunnel="yes")
     return template
 
 
-def _assertion(assertion: etree._Element, context: str, renames: dict[str, str]) -> etree._Element:
-    """An `assert` fires when its test is false, a `report` when it is true (default role:
-    error for asserts, warning for reports)."""
+def _pattern_role(rule: etree._Element) -> str | None:
+    """The role of the pattern holding a rule, if it states one."""
+    parent = rule.getparent()
+    while parent is not None and parent.tag != f"{_S}pattern":
+        parent = parent.getparent()
+    return parent.get("role") if parent is not None else None
+
+
+def _assertion(assertion: etree._Element, context: str, renames: dict[str, str],
+               inherited: str | None = None) -> etree._Element:
+    """An `assert` fires when its test is false, a `report` when it is true. Its role is
+    its own, else its rule's, else its pattern's (`inherited`): PDS's .sch files put
+    role="warning" on the rule (deprecated elements), not on each assert. Without any,
+    error for asserts, warning for reports."""
     test = _renamed(assertion.get("test"), renames)
     is_report = assertion.tag == f"{_S}report"
     check = etree.Element(f"{_X}if", test=test if is_report else f"not({test})")
     default_role = "warning" if is_report else "error"
     failure = etree.SubElement(check, f"{{{_REPORT_NS}}}failed",
-                               role=(assertion.get("role") or default_role).lower(), context=context)
+                               role=(assertion.get("role") or inherited or default_role).lower(), context=context)
     etree.SubElement(failure, f"{_X}attribute", name="location", select="path()")
     text = etree.SubElement(failure, f"{_X}text")
     text.text = assertion.text or ""
