@@ -15,6 +15,7 @@ from pdsgen.dtm import write_dtm
 from pdsgen.ortho import write_ortho
 from pdsgen.pds4 import schematron
 from pdsgen.pds4.catalog import SchemaCatalog, shipped_schema_dir
+from pdsgen.pds4.data_checks import constant_value
 from pdsgen.pds4.validate import validate_pds4
 from pdsgen.validate import validate_paths
 
@@ -200,3 +201,20 @@ def test_deprecated_element_is_a_warning_not_an_error(product, tmp_path):
     found = validate_pds4(label)
     assert [(f.rule, f.severity) for f in found] == [("PDS4-006", "warning")], [f.message for f in found]
     assert "deprecated" in found[0].message
+
+
+def test_hexadecimal_special_constant_is_honoured(product, tmp_path):
+    """0xFF7FFFFB is the float32 bit pattern of ISIS NULL (-3.4028226550889045E+38), the
+    value the product declares in decimal: written in hex it flags the same samples."""
+    label = _copy(product, tmp_path, lambda t: t.replace("<missing_constant>-3.4028226550889045E+38<",
+                                                         "<missing_constant>0xFF7FFFFB<"))
+    assert validate_pds4(label) == []
+    assert constant_value("0xFF7FFFFB", np.dtype(">f4")) == float(np.float32(-3.4028226550889045e38))
+    assert constant_value("0xFFFF", np.dtype("<i2")) == -1.0 and constant_value("0xFFFF", np.dtype(">u2")) == 65535
+    assert np.isnan(constant_value("0x1FFFF", np.dtype("<i2")))  # too wide for the type: never storable
+
+
+def test_hexadecimal_constant_too_wide_for_the_type_is_caught(tmp_path, product):
+    label = _copy(product, tmp_path, lambda t: t.replace("<missing_constant>-3.4028226550889045E+38<",
+                                                         "<missing_constant>0x1FF7FFFFB<"))
+    assert "PDS4-023" in _rules(label, labels_only=True)
