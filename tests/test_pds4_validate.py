@@ -4,8 +4,10 @@ is not shipped gets one clear finding; the CLI takes PDS4 labels beside PDS3 one
 
 from __future__ import annotations
 
+import json
 import re
 import shutil
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -218,3 +220,17 @@ def test_hexadecimal_constant_too_wide_for_the_type_is_caught(tmp_path, product)
     label = _copy(product, tmp_path, lambda t: t.replace("<missing_constant>-3.4028226550889045E+38<",
                                                          "<missing_constant>0x1FF7FFFFB<"))
     assert "PDS4-023" in _rules(label, labels_only=True)
+
+
+def test_lblx_labels_are_pds4_by_content(product, tmp_path):
+    """.lblx (the PDS4 label extension) and any other name: recognised by content, so a
+    directory of them validates as PDS4 (it was 'no PDS3 labels found')."""
+    for name in ("a.lblx", "b.label"):
+        _copy(product, tmp_path).rename(tmp_path / name)
+    broken = tmp_path / "c.lblx"
+    broken.write_text(product.text.replace("<md5_checksum>", "<md5_checksum>f"), encoding="utf-8")
+    result = run_cli("validate", "--format", "json", str(tmp_path))
+    assert result.returncode == 1, result.stderr
+    reports = {Path(r["path"]).name: {f["rule"] for f in r["findings"]} - {"PDS4-007"}
+               for r in json.loads(result.stdout)["files"]}
+    assert reports == {"a.lblx": set(), "b.label": set(), "c.lblx": {"PDS4-004", "PDS4-012"}}
