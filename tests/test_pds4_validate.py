@@ -141,11 +141,25 @@ def test_an_import_that_does_not_resolve_fails_loudly(product, tmp_path):
     assert "PDS4_GEOM_1O00_19A0.xsd" in found[0].message
 
 
-def test_version_not_shipped_is_one_clear_finding(product, tmp_path):
+@needs_saxon
+def test_missing_dictionaries_are_reported_once_each_and_the_rest_is_checked(product, tmp_path):
+    """IM 1.21 (1L00): its core schema is shipped, its cart and disp are not. Each missing
+    dictionary is one finding; the core XML Schema and Schematron still run (and find that
+    information_model_version 1.24.0.0 is not 1L00's)."""
     label = _copy(product, tmp_path, lambda t: t.replace("1O00", "1L00"))
     found = validate_pds4(label, labels_only=True)
-    assert [f.rule for f in found] == ["PDS4-002"]
-    assert "not shipped" in found[0].message and "--schemas" in found[0].message
+    missing = sorted(f.message.split()[1] for f in found if f.rule == "PDS4-002")
+    assert missing == ["PDS4_CART_1L00_1970", "PDS4_DISP_1L00_1510"]
+    assert all("--offline" in f.message and "--schemas" in f.message for f in found if f.rule == "PDS4-002")
+    assert {f.rule for f in found} == {"PDS4-002", "PDS4-005"}
+    assert any("1.21.0.0" in f.message for f in found if f.rule == "PDS4-005")
+
+
+def test_unknown_version_is_one_finding_per_schema_file_stem(product, tmp_path):
+    label = _copy(product, tmp_path, lambda t: t.replace("1O00", "1Z00"))
+    found = validate_pds4(label, labels_only=True)
+    assert [f.rule for f in found] == ["PDS4-002"] * 3
+    assert any("PDS4_PDS_1Z00" in f.message and "XML Schema checks skipped" in f.message for f in found)
 
 
 def test_without_saxon_one_warning_for_the_run(product, tmp_path, monkeypatch):

@@ -10,6 +10,7 @@ by the standard's own recommendation for new archives, and either may be met.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 from ..formats.sniff import file_head
@@ -26,3 +27,10 @@ def is_pds4_label(path: Path) -> bool:
     if not head.removeprefix(_BOM).lstrip().startswith(b"<"):
         return False  # binary data, PDS3 text: not XML, decided from the first byte
     return _PDS4_NAMESPACE in head and b"<Product_" in head
+
+
+def default_schema_cache() -> Path:
+    """Where downloaded PDS4 schemas are kept: ~/.cache/pdsgen/pds4-schemas (or under
+    $XDG_CACHE_HOME). Here, not in `catalog`, so the CLI can name it without lxml."""
+    root = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(root) / "pdsgen" / "pds4-schemas"

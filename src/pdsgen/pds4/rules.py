@@ -18,13 +18,15 @@ class Pds4Rule:
 
 RULES = (
     Pds4Rule("PDS4-001", "error", "a PDS4 label is well-formed XML with a Product_* root"),
-    Pds4Rule("PDS4-002", "warning", "the schemas of the label's Information Model version are available "
-                                    "(shipped or --schemas); otherwise schema checks are skipped"),
-    Pds4Rule("PDS4-003", "error", "every schema import resolves offline (none silently skipped)"),
+    Pds4Rule("PDS4-002", "warning", "each schema the label names is found (beside the label, --schemas, the "
+                                    "cache, shipped, or downloaded); otherwise its namespace is not checked"),
+    Pds4Rule("PDS4-003", "error", "every schema import resolves (none silently skipped)"),
     Pds4Rule("PDS4-004", "error", "the label is valid against its XML Schemas"),
     Pds4Rule("PDS4-005", "error", "the label passes its Schematron rules (role error)"),
     Pds4Rule("PDS4-006", "warning", "the label passes its Schematron rules (role warning)"),
     Pds4Rule("PDS4-007", "warning", "Schematron ran (needs saxonche: pip install pdsgen[pds4])"),
+    Pds4Rule("PDS4-008", "warning", "the label names its Schematron (an xml-model instruction with the "
+                                    "Schematron schematypens); otherwise no rule checks are made"),
     Pds4Rule("PDS4-010", "error", "every File named by the label exists beside it"),
     Pds4Rule("PDS4-011", "error", "file_size equals the size of the file"),
     Pds4Rule("PDS4-012", "error", "md5_checksum equals the MD5 of the file"),

@@ -16,11 +16,12 @@ from __future__ import annotations
 
 import os
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass
-from pathlib import Path
 
 from lxml import etree
 
+from .catalog import SchemaFile
 from .model import SCHEMATRON_NS
 
 _XSL = "http://www.w3.org/1999/XSL/Transform"
@@ -47,7 +48,7 @@ def available() -> bool:
     return True
 
 
-def compile_to_xslt(schematron_files: list[Path]) -> str:
+def compile_to_xslt(schematron_files: Sequence[SchemaFile]) -> str:
     """One XSLT 3.0 stylesheet that reports every failed assertion of all the files.
 
     One pass over the label: every element and attribute is matched against templates
@@ -61,7 +62,7 @@ def compile_to_xslt(schematron_files: list[Path]) -> str:
     rules = 0
     patterns = []
     for path in schematron_files:
-        root = etree.parse(str(path)).getroot()
+        root = etree.fromstring(path.read_bytes(), etree.XMLParser(no_network=True, resolve_entities=False))
         for ns in root.iter(f"{_S}ns"):
             namespaces[ns.get("prefix")] = ns.get("uri")
         patterns.extend(root.iter(f"{_S}pattern"))
@@ -147,7 +148,7 @@ def _assertion(assertion: etree._Element, context: str, renames: dict[str, str],
 class Schematron:
     """Compiled Schematron for one set of .sch files, reusable for many labels."""
 
-    def __init__(self, schematron_files: list[Path]) -> None:
+    def __init__(self, schematron_files: Sequence[SchemaFile]) -> None:
         from saxonche import PySaxonApiError
 
         self._processor = _processor()
@@ -186,7 +187,7 @@ def _processor():  # noqa: ANN202 - saxonche ships no type information
     return _PROCESSORS[pid]
 
 
-def compiled(schematron_files: list[Path]) -> Schematron:
+def compiled(schematron_files: Sequence[SchemaFile]) -> Schematron:
     """The compiled Schematron for these files, compiled once per process."""
     _processor()
     key = tuple(str(p) for p in schematron_files)
