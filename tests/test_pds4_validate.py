@@ -39,6 +39,7 @@ def product(tmp_path_factory):
 
 def _copy(product, tmp_path, edit=None, data_edit=None):
     """A copy of the product in tmp_path with its label text (and data bytes) edited."""
+    tmp_path.mkdir(parents=True, exist_ok=True)
     data = tmp_path / product.path.with_suffix(".img").name
     shutil.copy(product.path.with_suffix(".img"), data)
     text = product.text
@@ -106,9 +107,15 @@ def test_upper_left_moved_by_one_pixel_is_caught(product, tmp_path, axis):
     assert _rules(label) == {"PDS4-031"}
 
 
+def _moved_maximum(step: float):
+    return lambda t: re.sub(r"<maximum>([^<]+)<", lambda m: f"<maximum>{float(m.group(1)) + step!r}<", t)
+
+
 def test_statistics_are_checked_against_the_data(product, tmp_path):
-    label = _copy(product, tmp_path, lambda t: re.sub(r"<maximum>[^<]+<", "<maximum>1.0<", t))
-    assert _rules(label) == {"PDS4-020"}
+    """Valid samples beyond the stated maximum: an error; a maximum merely above the data
+    (a rounded or generous bound, which NASA's validator does not check): a warning."""
+    assert _rules(_copy(product, tmp_path / "below", _moved_maximum(-10.0))) == {"PDS4-020"}
+    assert _rules(_copy(product, tmp_path / "above", _moved_maximum(+10.0))) == {"PDS4-024"}
 
 
 def test_data_file_missing_and_truncated(product, tmp_path):

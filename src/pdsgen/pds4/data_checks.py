@@ -106,8 +106,8 @@ class _ArrayStatistics:
             return
         mean = self.shift + self.total / self.count
         deviation = math.sqrt(max(0.0, self.squares / self.count - (self.total / self.count) ** 2))
-        _compare(report, stats, "minimum", self.low, "PDS4-020", _float32_tolerance(self.low, self.dtype))
-        _compare(report, stats, "maximum", self.high, "PDS4-020", _float32_tolerance(self.high, self.dtype))
+        _compare_bound(report, stats, "minimum", self.low, -1.0, _float32_tolerance(self.low, self.dtype))
+        _compare_bound(report, stats, "maximum", self.high, 1.0, _float32_tolerance(self.high, self.dtype))
         spread = max(abs(self.high - self.low), 1e-12)
         _compare(report, stats, "mean", mean, "PDS4-021", 1e-6 * spread)
         _compare(report, stats, "standard_deviation", deviation, "PDS4-021", 1e-6 * spread)
@@ -198,6 +198,23 @@ def _float32_tolerance(value: float, dtype: np.dtype) -> float:
     if dtype.kind != "f":
         return 0.0
     return float(np.spacing(np.float32(abs(value)))) if math.isfinite(value) else 0.0
+
+
+def _compare_bound(report: Report, stats: etree._Element, name: str, actual: float, outwards: float,
+                   tolerance: float) -> None:
+    """A stated extreme: valid samples beyond it are an error (a reader trusting it would
+    clip or misscale data); a bound that is looser than the data, as rounded statistics
+    are, only a warning (NASA's validator does not compare them at all)."""
+    element = stats.find(f"{P}{name}")
+    stated = number(stats, f"{P}{name}")
+    if element is None or stated is None or abs(stated - actual) <= tolerance:
+        return
+    if (actual - stated) * outwards > 0:
+        report.add("PDS4-020", f"{name} = {element.text} but the valid samples reach {actual:.10g}",
+                   element.sourceline, name)
+    else:
+        report.add("PDS4-024", f"{name} = {element.text} is looser than the valid samples' {actual:.10g}",
+                   element.sourceline, name)
 
 
 def _compare(report: Report, stats: etree._Element, name: str, actual: float, rule: str, tolerance: float) -> None:

@@ -31,10 +31,26 @@ RULES = (
     Pds4Rule("PDS4-011", "error", "file_size equals the size of the file"),
     Pds4Rule("PDS4-012", "error", "md5_checksum equals the MD5 of the file"),
     Pds4Rule("PDS4-013", "error", "each array fits in its file (offset + elements x sample size)"),
-    Pds4Rule("PDS4-020", "error", "Object_Statistics minimum and maximum equal the valid samples' extremes"),
+    Pds4Rule("PDS4-020", "error", "no valid sample lies beyond Object_Statistics minimum or maximum"),
     Pds4Rule("PDS4-021", "warning", "Object_Statistics mean and standard_deviation match the valid samples"),
     Pds4Rule("PDS4-022", "error", "samples in the ISIS special-pixel range are declared Special_Constants"),
-    Pds4Rule("PDS4-023", "error", "each special constant can be stored in the array's data type"),
+    Pds4Rule("PDS4-023", "warning", "each special constant can be stored in the array's data type (one that "
+                                    "cannot flags nothing)"),
+    Pds4Rule("PDS4-024", "warning", "Object_Statistics minimum and maximum equal the valid samples' extremes "
+                                    "(not merely bound them)"),
+    Pds4Rule("PDS4-050", "error", "table fields lie inside the record, do not overlap, and binary fields have "
+                                  "their type's size"),
+    Pds4Rule("PDS4-051", "error", "table records: each ends with the record delimiter, has record_length "
+                                  "bytes, and the file holds the stated number"),
+    Pds4Rule("PDS4-052", "error", "each table value parses as its field's data_type (and fits "
+                                  "maximum_field_length)"),
+    Pds4Rule("PDS4-053", "error", "numeric table values lie within their Field_Statistics minimum and maximum"),
+    Pds4Rule("PDS4-054", "warning", "numeric table values lie within the field's valid_minimum/valid_maximum "
+                                    "or are special constants"),
+    Pds4Rule("PDS4-055", "error", "each delimited record has the number of fields the label defines"),
+    Pds4Rule("PDS4-056", "error", "inventory and bundle members: status P or S, a LIDVID or LID, none listed "
+                                  "twice"),
+    Pds4Rule("PDS4-057", "error", "the objects of a file (header, tables, arrays) do not overlap"),
     Pds4Rule("PDS4-030", "error", "cart: pixel_scale agrees with pixel_resolution and the body radius"),
     Pds4Rule("PDS4-031", "error", "cart: bounding coordinates agree with Geo_Transformation within half a pixel"),
     Pds4Rule("PDS4-032", "error", "cart: map_projection_name has the parameter block of that projection"),

@@ -12,6 +12,7 @@ with numpy and project with the validator's own closed-form sphere formulas.
 
 from __future__ import annotations
 
+import copy as copy_module
 import os
 import re
 from collections.abc import Callable, Iterable
@@ -27,11 +28,13 @@ from .data_checks import check_data, check_special_constants
 from .detect import is_pds4_label
 from .label_tree import SEVERITY, P, Report
 from .model import PDS_NS
+from .table_checks import check_members, check_object_layout, check_tables
 from .xsd import SchemaImportError, build_schema, xsd_errors
 
 # Checks of the label against its data (skipped by --labels-only), and of the label alone.
-CONTENT_CHECKS = (check_data, check_special_constants, check_cartography, check_encoded_jp2)
-LABEL_ONLY_CHECKS = (check_special_constants, check_cartography)
+CONTENT_CHECKS = (check_data, check_special_constants, check_cartography, check_encoded_jp2, check_tables,
+                  check_object_layout, check_members)
+LABEL_ONLY_CHECKS = (check_special_constants, check_cartography, check_object_layout, check_members)
 
 
 def check_schema_dirs(directories: Iterable[str | os.PathLike[str]]) -> tuple[str, ...]:
@@ -167,13 +170,25 @@ def _schema_checks(tree: etree._ElementTree, catalog: SchemaCatalog, use_schemat
             report.add("PDS4-008", f"the label names no usable Schematron ({named}): no rule checks made", line)
         if not sch_files or not schematron.available():
             return  # a missing Saxon is reported once per run (add_run_notes), not once per label
-        text = etree.tostring(tree, encoding="unicode")
+        text = etree.tostring(_collapsed(tree), encoding="unicode")
         for failure in schematron.compiled(sch_files).check(text):
             rule = "PDS4-006" if failure.role in ("warning", "warn", "info") else "PDS4-005"
             report.add(rule, failure.message, schematron.location_line(tree, failure.location),
                        failure.rule_context)
 
     return [not_found, xml_schema, rules] if use_schematron else [not_found, xml_schema]
+
+
+def _collapsed(tree: etree._ElementTree) -> etree._Element:
+    """The label as a schema-validating parser presents it to Schematron: the text of each
+    element without children whitespace-collapsed (PDS4 values are xs:token-like; Xerces,
+    under NASA's validator, hands Schematron these normalised values, so a value written
+    over two lines still equals its enumeration)."""
+    copy = copy_module.deepcopy(tree.getroot())
+    for element in copy.iter():
+        if isinstance(element.tag, str) and len(element) == 0 and element.text:
+            element.text = " ".join(element.text.split())
+    return copy
 
 
 def _by_stem(urls: list[str]) -> dict[str, list[str]]:
