@@ -51,6 +51,10 @@ RULES = (
     Pds4Rule("PDS4-056", "error", "inventory and bundle members: status P or S, a LIDVID or LID, none listed "
                                   "twice"),
     Pds4Rule("PDS4-057", "error", "the objects of a file (header, tables, arrays) do not overlap"),
+    Pds4Rule("PDS4-058", "error", "table values have the precision of their field's validation_format"),
+    Pds4Rule("PDS4-059", "warning", "table values have the precision of their field's field_format"),
+    Pds4Rule("PDS4-060", "error", "no two labels of a run describe the same data file"),
+    Pds4Rule("PDS4-061", "error", "a PDF a document product holds is identified as PDF/A (its XMP pdfaid:part)"),
     Pds4Rule("PDS4-030", "error", "cart: pixel_scale agrees with pixel_resolution and the body radius"),
     Pds4Rule("PDS4-031", "error", "cart: bounding coordinates agree with Geo_Transformation within half a pixel"),
     Pds4Rule("PDS4-032", "error", "cart: map_projection_name has the parameter block of that projection"),

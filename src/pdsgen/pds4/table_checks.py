@@ -30,9 +30,9 @@ _CR, _LF = b"\r", b"\n"
 
 # ASCII data types: what a value must look like (after stripping blanks).
 _REAL = r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?"
-_DATE_YMD = r"\d{4}(-\d{2}(-\d{2})?)?"
-_DATE_DOY = r"\d{4}(-\d{3})?"
-_TIME = r"\d{2}(:\d{2}(:\d{2}(\.\d+)?)?)?"
+_DATE_YMD = r"\d{4}(-(0[1-9]|1[0-2])(-(0[1-9]|[12]\d|3[01]))?)?"
+_DATE_DOY = r"\d{4}(-(00[1-9]|0[1-9]\d|[12]\d\d|3[0-5]\d|36[0-6]))?"
+_TIME = r"([01]\d|2[0-3])(:[0-5]\d(:([0-5]\d|60)(\.\d+)?)?)?"
 _ZONE = r"(Z|[+-]\d{2}:?\d{2})?"
 _LID = r"urn:[A-Za-z0-9-]+:[A-Za-z0-9._-]+:[A-Za-z0-9_.:-]+"
 PATTERNS: dict[str, re.Pattern[str]] = {name: re.compile(rf"(?:{pattern})\Z") for name, pattern in {
@@ -82,6 +82,7 @@ class Field:
     special: frozenset[str]
     valid_range: tuple[float | None, float | None]
     stated_range: tuple[float | None, float | None]
+    formats: tuple[tuple[str, str, int], ...] = ()  # (element name, conversion, precision) to hold to
 
 
 class _Limited:
@@ -178,9 +179,19 @@ def _field(element: etree._Element, start: int, length: int) -> Field:
                     ("valid_minimum", "valid_maximum")):
                 constants.add(constant.text.strip())
     statistics = element.find(f"{P}Field_Statistics")
+    formats = []
+    for name in ("validation_format", "field_format"):
+        match = _FORMAT.match(_text(element, name) or "")
+        if match and match["precision"] is not None and match["conversion"] in "fFeE":
+            formats.append((name, match["conversion"].lower(), int(match["precision"])))
     return Field(_text(element, "name") or "?", start, length, _text(element, "data_type") or "",
                  element, frozenset(constants), (_float(special, "valid_minimum"), _float(special, "valid_maximum")),
-                 (_float(statistics, "minimum"), _float(statistics, "maximum")))
+                 (_float(statistics, "minimum"), _float(statistics, "maximum")), tuple(formats))
+
+
+# A C-style format as PDS4 writes field_format and validation_format (%6.2f, %8.3e, %-10s).
+_FORMAT = re.compile(r"%[-+ 0#]*(?P<width>\d+)?(?:\.(?P<precision>\d+))?(?P<conversion>[a-zA-Z])\Z")
+_DECIMALS = re.compile(r"[+-]?\d*(?:\.(?P<decimals>\d*))?(?:[eE][+-]?\d+)?\Z")
 
 
 def _check_layout(out: _Limited, fields: list[Field], record_length: int) -> None:
@@ -216,6 +227,14 @@ def _check_value(out: _Limited, field: Field, raw: bytes, record: int) -> None:
         return
     if field.data_type in _NUMERIC or field.data_type in _BASES:
         _check_range(out, field, _number(text, field.data_type), record)
+    for name, _conversion, precision in field.formats:
+        match = _DECIMALS.match(text)
+        decimals = len(match["decimals"] or "") if match else None
+        if decimals is not None and decimals != precision:
+            rule = "PDS4-058" if name == "validation_format" else "PDS4-059"
+            out.add(rule, f"record {record}, field {field.name}: {text!r} has {decimals} decimals, its "
+                          f"{name} {_text(field.element, name)} {precision}", field.element, name)
+            break
 
 
 def _number(text: str, data_type: str) -> float:
@@ -507,8 +526,8 @@ _TABLES: dict[str, Callable[[_Limited, etree._Element, Path | None], None]] = {
 
 
 def check_members(report: Report, tree: etree._ElementTree) -> None:
-    """A bundle lists each collection once: no two Bundle_Member_Entry name the same LID
-    (whether by LID or by LIDVID), as NASA's validator requires (label only)."""
+    """A bundle lists each collection once: no two Bundle_Member_Entry give the same LIDVID
+    or the same LID, as NASA's validator requires (label only)."""
     seen: dict[str, int] = {}
     for entry in tree.getroot().iterchildren(f"{P}Bundle_Member_Entry"):
         reference = entry.find(f"{P}lidvid_reference")
@@ -516,9 +535,9 @@ def check_members(report: Report, tree: etree._ElementTree) -> None:
             reference = entry.find(f"{P}lid_reference")
         if reference is None or not reference.text:
             continue
-        lid = reference.text.strip().split("::")[0]
-        if lid in seen:
-            report.add("PDS4-056", f"Bundle_Member_Entry {reference.text.strip()} names {lid} again (first at "
-                                   f"line {seen[lid]})", reference.sourceline, reference.tag[len(P):])
+        member = reference.text.strip()
+        if member in seen:
+            report.add("PDS4-056", f"Bundle_Member_Entry {member} is listed again (first at line {seen[member]})",
+                       reference.sourceline, reference.tag[len(P):])
         else:
-            seen[lid] = reference.sourceline or 0
+            seen[member] = reference.sourceline or 0

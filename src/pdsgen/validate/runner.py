@@ -251,7 +251,7 @@ def iter_reports(
     files = itertools.chain([first], found)
     cache = os.fspath(schema_cache) if schema_cache is not None else None
     job = _Job(labels_only, extra, strict, settings, schema_dirs, cache, download_schemas and cache is not None)
-    return _with_run_notes(_stream(files, job, jobs, progress, baseline))
+    return _with_run_notes(_stream(files, job, jobs, progress, baseline), settings)
 
 
 def _checked_schema_dirs(schemas: Iterable[str | os.PathLike[str]]) -> tuple[str, ...]:
@@ -264,15 +264,18 @@ def _checked_schema_dirs(schemas: Iterable[str | os.PathLike[str]]) -> tuple[str
     return pds4.check_schema_dirs(schemas)
 
 
-def _with_run_notes(reports: Iterator[FileReport]) -> Iterator[FileReport]:
-    """PDS4 hook: the run's one note when Schematron could not run, on its first PDS4 report."""
-    noted = False
+def _with_run_notes(reports: Iterator[FileReport], settings: Settings) -> Iterator[FileReport]:
+    """PDS4 hook: the run's one note when Schematron could not run, on its first PDS4 report;
+    and the checks across the run's PDS4 labels (two labels describing one data file)."""
+    register = None
     for report in reports:
-        if not noted and is_pds4_label(Path(report.path)):
+        if is_pds4_label(Path(report.path)):
             from ..pds4 import validate as pds4
 
-            pds4.add_run_notes([report])
-            noted = True
+            if register is None:
+                pds4.add_run_notes([report])
+                register = pds4.DataFileRegister()
+            report.findings.extend(settings.filter(register.add(report.path)))
         yield report
 
 

@@ -1,0 +1,81 @@
+"""PDS4 checks beyond one table or array: document files, and data files shared by labels.
+
+- A PDF in a document product must be PDF/A (PDS's archiving standard). Full PDF/A
+  conformance takes a PDF/A validator (NASA's tool embeds veraPDF); what is checked
+  here is the identification every PDF/A file carries, `pdfaid:part` in its XMP metadata
+  (which PDF/A forbids compressing), so a plain PDF is caught, a broken PDF/A is not.
+- No two labels of one run may describe the same data file (NASA's validator reports it
+  for the run): `DataFileRegister` sees every PDS4 report of a run, in the parent process.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from lxml import etree
+
+from ..validate.model import Finding
+from .label_tree import SEVERITY, P, Report, file_areas
+
+_PDFA_MARK = b"pdfaid:part"
+_READ_BYTES = 1 << 20
+
+
+def check_pdf_a(report: Report, tree: etree._ElementTree) -> None:
+    """Every PDF of a Document_File (of a Product_Document) identifies itself as PDF/A."""
+    for area in tree.getroot().iter(f"{P}Document_File"):
+        name = (area.findtext(f"{P}file_name") or "").strip()
+        candidate = report.path.parent / (area.findtext(f"{P}directory_path_name") or "").strip() / name
+        path = candidate if name and candidate.is_file() else None
+        if path is None or not _is_pdf(path) or _marked_pdf_a(path):
+            continue
+        element = area.find(f"{P}file_name")
+        report.add("PDS4-061", f"{path.name} is a PDF without PDF/A identification (no pdfaid:part in its "
+                               f"XMP metadata): PDS archives documents as PDF/A",
+                   element.sourceline if element is not None else area.sourceline, "file_name")
+
+
+def _is_pdf(path: Path) -> bool:
+    with open(path, "rb") as handle:
+        return handle.read(5) == b"%PDF-"
+
+
+def _marked_pdf_a(path: Path) -> bool:
+    """Whether the file holds `pdfaid:part`, read in overlapping chunks (memory stays flat)."""
+    tail = b""
+    with open(path, "rb") as handle:
+        while block := handle.read(_READ_BYTES):
+            if _PDFA_MARK in tail + block:
+                return True
+            tail = block[-len(_PDFA_MARK):]
+    return False
+
+
+class DataFileRegister:
+    """The data files the PDS4 labels of one run describe (File_Area_Observational), and
+    which label named each first."""
+
+    def __init__(self) -> None:
+        self.first: dict[Path, str] = {}
+
+    def add(self, label: str) -> list[Finding]:
+        """PDS4-060 findings for the label's data files another label of the run named."""
+        try:
+            tree = etree.parse(label, etree.XMLParser(no_network=True, resolve_entities=False))
+        except (OSError, etree.XMLSyntaxError):
+            return []  # the label's own report says why it cannot be read
+        findings = []
+        for area in file_areas(tree):
+            if area.tag != f"{P}File_Area_Observational":
+                continue
+            element = area.find(f"{P}File/{P}file_name")
+            if element is None or not element.text:
+                continue
+            data = (Path(label).resolve().parent / element.text.strip())
+            if data in self.first and self.first[data] != label:
+                findings.append(Finding("PDS4-060", SEVERITY["PDS4-060"], label,
+                                        f"{element.text.strip()} is also described by {self.first[data]}",
+                                        element.sourceline, "file_name"))
+            else:
+                self.first.setdefault(data, label)
+        return findings
