@@ -17,7 +17,7 @@ from pdsgen.validate import validate_paths
 from helpers import run_cli
 
 CASES = Path(__file__).parent / "data" / "nasa_validate"
-CONTENT = {"PDS4-050", "PDS4-051", "PDS4-052", "PDS4-053", "PDS4-055", "PDS4-056", "PDS4-057", "PDS4-058",
+CONTENT = {"PDS4-050", "PDS4-051", "PDS4-052", "PDS4-053", "PDS4-055", "PDS4-056", "PDS4-057", "PDS4-058", "PDS4-062",
            "PDS4-060", "PDS4-061"}
 
 
@@ -112,3 +112,12 @@ def test_ascii_data_types(data_type, good, bad):
 def test_delimited_fields_split_with_quotes():
     assert _split(b'a,"b,c", d', b",") == [b"a", b"b,c", b" d"]
     assert _split(b"1|2||", b"|") == [b"1", b"2", b"", b""]
+
+
+def test_file_names_and_directory_paths():
+    """153-1: a file_name with spaces; 349-2: an absolute directory_path_name (349-1: relative)."""
+    found = _content_errors(CASES / "github153/3juno_lwr01896_ines_fits_headers.pdfa%.xml", labels_only=True)
+    assert [rule for rule, _ in found] == ["PDS4-062"] and "' '" in found[0][1]
+    found = _content_errors(CASES / "github349/invalid/datasetbad.xml", labels_only=True)
+    assert [rule for rule, _ in found] == ["PDS4-062"] and "'/tmp/01/'" in found[0][1]
+    assert _content_errors(CASES / "github349/valid/datasetgood.xml", labels_only=True) == []

@@ -4,12 +4,14 @@
   conformance takes a PDF/A validator (NASA's tool embeds veraPDF); what is checked
   here is the identification every PDF/A file carries, `pdfaid:part` in its XMP metadata
   (which PDF/A forbids compressing), so a plain PDF is caught, a broken PDF/A is not.
+- File names use the characters PDS4 allows, and directory paths are relative.
 - No two labels of one run may describe the same data file (NASA's validator reports it
   for the run): `DataFileRegister` sees every PDS4 report of a run, in the parent process.
 """
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from lxml import etree
@@ -27,11 +29,17 @@ def check_pdf_a(report: Report, tree: etree._ElementTree) -> None:
         name = (area.findtext(f"{P}file_name") or "").strip()
         candidate = report.path.parent / (area.findtext(f"{P}directory_path_name") or "").strip() / name
         path = candidate if name and candidate.is_file() else None
-        if path is None or not _is_pdf(path) or _marked_pdf_a(path):
+        standard = (area.findtext(f"{P}document_standard_id") or "").strip()
+        if path is None or not (standard.startswith("PDF") or name.lower().endswith(".pdf")):
+            continue
+        if not _is_pdf(path):
+            problem = "is not a PDF at all (it does not start with %PDF-)"
+        elif not _marked_pdf_a(path):
+            problem = "is a PDF without PDF/A identification (no pdfaid:part in its XMP metadata)"
+        else:
             continue
         element = area.find(f"{P}file_name")
-        report.add("PDS4-061", f"{path.name} is a PDF without PDF/A identification (no pdfaid:part in its "
-                               f"XMP metadata): PDS archives documents as PDF/A",
+        report.add("PDS4-061", f"{path.name} {problem}: PDS archives documents as PDF/A",
                    element.sourceline if element is not None else area.sourceline, "file_name")
 
 
@@ -52,8 +60,8 @@ def _marked_pdf_a(path: Path) -> bool:
 
 
 class DataFileRegister:
-    """The data files the PDS4 labels of one run describe (File_Area_Observational), and
-    which label named each first."""
+    """The data files the PDS4 labels of one run describe (in any file area), and which
+    label named each first."""
 
     def __init__(self) -> None:
         self.first: dict[Path, str] = {}
@@ -66,8 +74,6 @@ class DataFileRegister:
             return []  # the label's own report says why it cannot be read
         findings = []
         for area in file_areas(tree):
-            if area.tag != f"{P}File_Area_Observational":
-                continue
             element = area.find(f"{P}File/{P}file_name")
             if element is None or not element.text:
                 continue
@@ -79,3 +85,22 @@ class DataFileRegister:
             else:
                 self.first.setdefault(data, label)
         return findings
+
+
+_FILE_NAME = re.compile(r"[A-Za-z0-9._-][A-Za-z0-9._/-]*\Z")  # a relative path, as genuine labels give
+
+
+def check_file_names(report: Report, tree: etree._ElementTree) -> None:
+    """File names a label gives use only the characters PDS4 allows (letters, digits, '-',
+    '_', '.'; no spaces), and directory paths are relative to the label (label only)."""
+    for name in tree.getroot().iter(f"{P}file_name"):
+        text = (name.text or "").strip()
+        if text and not _FILE_NAME.match(text):
+            bad = "".join(sorted({c for c in text if not _FILE_NAME.match(c)})) or text[0]
+            report.add("PDS4-062", f"file_name {text!r} holds characters PDS4 does not allow in file names "
+                                   f"({bad!r})", name.sourceline, "file_name")
+    for path in tree.getroot().iter(f"{P}directory_path_name"):
+        text = (path.text or "").strip()
+        if text.startswith(("/", "\\")) or ":" in text:  # '../x/' is relative, and accepted
+            report.add("PDS4-062", f"directory_path_name {text!r} is not a path relative to the label",
+                       path.sourceline, "directory_path_name")
