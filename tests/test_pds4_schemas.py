@@ -194,3 +194,26 @@ def test_a_download_that_is_not_xml_is_refused(product, server, tmp_path):
     messages = [f.message for f in found if f.rule == "PDS4-002"]
     assert len(messages) == 1 and "not XML" in messages[0]
     assert not (tmp_path / "cache" / "PDS4_PDS_9Z00.xsd").exists()
+
+
+def test_readme_validating_pds4_examples_run_as_written(product, tmp_path):
+    """README 'Validating PDS4': each command, on a delivery of pdsgen's own PDS4 products."""
+    import os
+    import shlex
+    import subprocess
+    import sys
+
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    body = readme.split("## Validating PDS4\n", 1)[1].split("\n## ", 1)[0]
+    blocks = re.findall(r"```sh\n(.*?)```", body, re.S)
+    examples = [line.split("#")[0] for block in blocks for line in block.splitlines() if line.startswith("pdsgen ")]
+    assert len(examples) == 4
+    for directory in ("delivery", "labels"):
+        _place(product, tmp_path / directory, product.text)
+    (tmp_path / "my_ldds").mkdir()
+    env = {**os.environ, "XDG_CACHE_HOME": str(tmp_path / "home-cache")}
+    for example in examples:
+        result = subprocess.run([sys.executable, "-m", "pdsgen", *shlex.split(example)[1:]], cwd=tmp_path,
+                                capture_output=True, text=True, env=env, timeout=300)
+        assert result.returncode == 0, (example, result.stdout, result.stderr)
+        assert "1 file(s) checked: 0 error(s)" in result.stdout, example
