@@ -114,6 +114,7 @@ class SchemaCatalog:
     downloaded: list[str] = field(default_factory=list)  # URLs fetched by this catalog
     _failed: dict[str, str] = field(default_factory=dict)  # URL -> why it could not be fetched
     _sums: dict[str, str] | None = None
+    _names: dict[str, str] = field(default_factory=dict)  # URL -> file name
 
     @classmethod
     def build(cls, extra_dirs: Iterable[str | os.PathLike[str]] = (), cache_dir: str | os.PathLike[str] | None = None,
@@ -146,9 +147,12 @@ class SchemaCatalog:
     def resolve(self, url: str, base: Path | None = None) -> SchemaFile | None:
         """The schema a URL or path names, None when no source has it. A relative path is
         taken relative to `base` (the label's directory), never the working directory."""
+        if url.startswith(("http://", "https://")):  # the common case: by file name
+            name = self._names.get(url)
+            if name is None:
+                name = self._names.setdefault(url, Path(unquote(urlsplit(url).path)).name)
+            return self._by_name(name, url)
         parts = urlsplit(url)
-        if parts.scheme in ("http", "https"):
-            return self._by_name(Path(unquote(parts.path)).name, url)
         local = Path(unquote(parts.path)) if parts.scheme == "file" else Path(url)
         if not local.is_absolute() and base is not None:
             local = base / local

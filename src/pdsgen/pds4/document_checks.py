@@ -11,13 +11,14 @@
 
 from __future__ import annotations
 
+import os
 import re
 from pathlib import Path
 
 from lxml import etree
 
 from ..validate.model import Finding
-from .label_tree import SEVERITY, P, Report, file_areas
+from .label_tree import SEVERITY, P, Report
 
 _PDFA_MARK = b"pdfaid:part"
 _READ_BYTES = 1 << 20
@@ -60,33 +61,34 @@ def _marked_pdf_a(path: Path) -> bool:
 
 
 class DataFileRegister:
-    """The data files the PDS4 labels of one run describe (in any file area), and which
-    label named each first."""
+    """The data files the PDS4 labels of one run describe (every file_name of the label),
+    and which label named each first. The label's text is scanned, not parsed again: this
+    runs in the parent process for every label of the run."""
 
     def __init__(self) -> None:
-        self.first: dict[Path, str] = {}
+        self.first: dict[str, str] = {}
 
     def add(self, label: str) -> list[Finding]:
         """PDS4-060 findings for the label's data files another label of the run named."""
         try:
-            tree = etree.parse(label, etree.XMLParser(no_network=True, resolve_entities=False))
-        except (OSError, etree.XMLSyntaxError):
+            with open(label, "rb") as handle:
+                text = handle.read()
+        except OSError:
             return []  # the label's own report says why it cannot be read
+        directory = os.path.dirname(os.path.abspath(label))
         findings = []
-        for area in file_areas(tree):
-            element = area.find(f"{P}File/{P}file_name")
-            if element is None or not element.text:
-                continue
-            data = (Path(label).resolve().parent / element.text.strip())
-            if data in self.first and self.first[data] != label:
+        for match in _FILE_NAME_ELEMENT.finditer(text):
+            name = match[1].decode("utf-8", "replace").strip()
+            data = os.path.normpath(os.path.join(directory, name))
+            first = self.first.setdefault(data, label)
+            if first != label:
                 findings.append(Finding("PDS4-060", SEVERITY["PDS4-060"], label,
-                                        f"{element.text.strip()} is also described by {self.first[data]}",
-                                        element.sourceline, "file_name"))
-            else:
-                self.first.setdefault(data, label)
+                                        f"{name} is also described by {first}",
+                                        text.count(b"\n", 0, match.start()) + 1, "file_name"))
         return findings
 
 
+_FILE_NAME_ELEMENT = re.compile(rb"<(?:[A-Za-z_][\w.-]*:)?file_name>([^<]+)</")
 _FILE_NAME = re.compile(r"[A-Za-z0-9._-][A-Za-z0-9._/-]*\Z")  # a relative path, as genuine labels give
 
 

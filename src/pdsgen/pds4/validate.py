@@ -87,7 +87,7 @@ def validate_pds4(path: str | Path, catalog: SchemaCatalog | None = None, labels
     if not (root.tag.startswith(P) and root.tag[len(P):].startswith("Product_")):
         report.add("PDS4-001", f"root element {root.tag} is not a PDS4 Product_*", root.sourceline)
         return report.findings
-    for check in _schema_checks(tree, catalog, use_schematron, path.resolve().parent):
+    for check in _schema_checks(tree, catalog, use_schematron, path.absolute().parent):
         check(report)
     for content_check in CONTENT_CHECKS:
         if labels_only and content_check not in LABEL_ONLY_CHECKS:
@@ -137,10 +137,10 @@ def _schema_checks(tree: etree._ElementTree, catalog: SchemaCatalog, use_schemat
     refs = schema_references(tree)
     version = tree.findtext(f"{P}Identification_Area/{P}information_model_version") or "unknown"
     line = tree.getroot().sourceline
-    available = tuple((ns, url) for ns, url in refs.xsd if catalog.resolve(url, base) is not None)
-    missing = [url for _, url in refs.xsd if (_, url) not in available]
-    sch_files = [found for found in (catalog.resolve(u, base) for u in refs.sch) if found is not None]
-    missing += [url for url in refs.sch if catalog.resolve(url, base) is None]
+    found = {url: catalog.resolve(url, base) for url in {*(u for _, u in refs.xsd), *refs.sch}}
+    available = tuple((ns, url) for ns, url in refs.xsd if found[url] is not None)
+    missing = [url for _, url in refs.xsd if found[url] is None] + [url for url in refs.sch if found[url] is None]
+    sch_files = [file for file in (found[url] for url in refs.sch) if file is not None]
     has_core = any(ns == PDS_NS for ns, _ in available)
 
     def not_found(report: Report) -> None:
