@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import os
 import re
+from collections import OrderedDict
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -172,7 +173,8 @@ class Schematron:
 
 
 _PROCESSORS: dict[int, object] = {}
-_COMPILED: dict[tuple, Schematron] = {}
+KEPT_STYLESHEETS = 16  # compiled Schematron sets kept per process, most recently used
+_COMPILED: OrderedDict[tuple, Schematron] = OrderedDict()
 
 
 def _processor():  # noqa: ANN202 - saxonche ships no type information
@@ -191,9 +193,13 @@ def compiled(schematron_files: Sequence[SchemaFile]) -> Schematron:
     """The compiled Schematron for these files, compiled once per process."""
     _processor()
     key = tuple(str(p) for p in schematron_files)
-    if key not in _COMPILED:
-        _COMPILED[key] = Schematron(schematron_files)
-    return _COMPILED[key]
+    if key in _COMPILED:
+        _COMPILED.move_to_end(key)
+        return _COMPILED[key]
+    compiled_set = _COMPILED[key] = Schematron(schematron_files)
+    while len(_COMPILED) > KEPT_STYLESHEETS:  # a run over many IM versions must not hold them all
+        _COMPILED.popitem(last=False)
+    return compiled_set
 
 
 # One step of an XPath 3.1 `path()`: /Q{uri}local[n] for elements (URIs hold slashes), else /@attr etc.

@@ -11,6 +11,7 @@ document's base), never the working directory.
 from __future__ import annotations
 
 import os
+from collections import OrderedDict
 from functools import lru_cache
 from pathlib import Path
 
@@ -48,13 +49,20 @@ def build_schema(catalog: SchemaCatalog, locations: tuple[tuple[str, str], ...],
     from `base` (the label's directory); raises SchemaImportError naming every location
     that could not be answered."""
     key = (catalog.key(), locations, base if any("://" not in url for _, url in locations) else None)
-    if key not in _COMPILED:
-        _COMPILED[key] = _compile(catalog, locations, base)
-    return _COMPILED[key]
+    if key in _COMPILED:
+        _COMPILED.move_to_end(key)
+        return _COMPILED[key]
+    schema = _COMPILED[key] = _compile(catalog, locations, base)
+    while len(_COMPILED) > KEPT_SCHEMAS:  # a run over many IM versions must not hold them all
+        _COMPILED.popitem(last=False)
+    return schema
 
 
 # Compiled schemas of this process, by catalog and imports (the PDS core takes ~0.3 s to compile).
-_COMPILED: dict[tuple, etree.XMLSchema] = {}
+# The compiled schema sets of this process, most recently used last (the PDS core takes
+# ~0.3 s to compile, and tens of MB to hold: 16 sets are kept, not one per IM version met).
+KEPT_SCHEMAS = 16
+_COMPILED: OrderedDict[tuple, etree.XMLSchema] = OrderedDict()
 
 
 def _compile(catalog: SchemaCatalog, locations: tuple[tuple[str, str], ...], base: Path | None
@@ -85,7 +93,7 @@ def _unresolved(resolver: _CatalogResolver) -> str:
     return "schema import did not resolve: " + ", ".join(dict.fromkeys(resolver.missing))
 
 
-@lru_cache(maxsize=64)
+@lru_cache(maxsize=16)
 def _schema_text(file: SchemaFile) -> bytes:
     """A schema file as libxml2 should see it. Some published PDS schemas (e.g. PROC 1900)
     hold an empty `<xs:choice minOccurs="1">`: Xerces, which NASA's validate uses, treats it
