@@ -19,6 +19,11 @@ Sections (all by default; --corpus-only is --only corpus):
 - pds4: --pds4-labels PDS4 DTM labels pdsgen wrote, schema-only and with Schematron, against
   lxml parsing the same labels (no validation at all) and gdalinfo opening 100 of them.
   Targets (issue 15): >= 500 labels/s schema-only and >= 200 with Schematron, on 2 cores.
+- pds4-suite (with --nasa-suite CHECKOUT, a checkout of NASA-PDS/validate): every PDS4
+  label of its regression suite's test data (all IM versions, tables, bundles), validated
+  with their data, offline, in one process; against lxml parsing the same labels. NASA's
+  validator is a Java program: each run pays a JVM start and its schema loading, which
+  this machine cannot measure (no JVM here); pdsgen's figure includes its own start.
 
 Each variant runs in a fresh process that times its own loop (interpreter start-up and
 imports are not charged to it; the dictionary, rule table and PDS4 schemas are loaded once
@@ -48,7 +53,7 @@ sys.path.insert(0, str(REPO / "src"))
 sys.path.insert(0, str(REPO / "tests"))
 
 GENUINE = REPO / "tests" / "data" / "genuine_pds3"
-SECTIONS = ("corpus", "labels", "data", "pds4")
+SECTIONS = ("corpus", "labels", "data", "pds4", "pds4-suite")
 
 CHILD = r"""
 import json, resource, sys, time
@@ -62,6 +67,8 @@ if mode.startswith("pdsgen"):
     from pdsgen.validate.runner import iter_reports
     rules()  # imports of every rule family, outside the timed loop
     validate_paths([files[0]], labels_only=True)  # and the dictionary, loaded once per process
+elif mode == "pds4-suite":
+    from pdsgen.validate import validate_paths
 elif mode.startswith("pds4"):
     from pdsgen.pds4 import schematron
     from pdsgen.validate import validate_paths
@@ -83,6 +90,9 @@ elif mode == "pdsgen-data":
     report = validate_paths(files)
     assert not [f for f in report.findings if f.severity == "error"], report.findings
     assert "IMG-007" not in report.rule_ids()
+elif mode == "pds4-suite":
+    # whatever the labels hold: NASA's cases are meant to fail as often as to pass
+    count = len(validate_paths(files).files)
 elif mode.startswith("pds4"):
     # the schemas are compiled once per worker process inside the timed call: a CI run pays it
     report = validate_paths(files, labels_only=True, jobs=jobs)
@@ -359,6 +369,25 @@ def bench_pds4(workdir: Path, count: int, jobs: int, repeat: int) -> None:
         print(f"  gdalinfo, one process per label (100 labels): {gdal:.0f} labels/s")
 
 
+def bench_pds4_suite(workdir: Path, checkout: Path | None, repeat: int) -> None:
+    if checkout is None:
+        print("pds4-suite: skipped (give --nasa-suite PATH, a checkout of NASA-PDS/validate)")
+        return
+    from pdsgen.pds4.detect import is_pds4_label
+
+    resources = checkout / "src" / "test" / "resources"
+    labels = sorted(p for p in resources.rglob("*") if p.is_file() and p.suffix.lower() in (".xml", ".lblx")
+                    and is_pds4_label(p))
+    lxml = best(lambda: run_child("lxml", labels, workdir), repeat)
+    r = best(lambda: run_child("pds4-suite", labels, workdir), repeat)
+    print(f"PDS4 labels of NASA-PDS/validate's regression suite: {len(labels)} labels with their data, "
+          f"offline, one process; {load_line()}")
+    _row("", ["labels/s", "CPU labels/s", "lxml parse", "pdsgen/lxml"])
+    _row("pdsgen validate", [f"{r.rate:.0f}", f"{r.cpu_rate(1):.0f}", f"{lxml.cpu_rate(1):.0f}",
+                             f"{r.cpu_rate(1) / lxml.cpu_rate(1):.3f}x"])
+    print(f"  {r.seconds:.1f} s wall, {r.cpu:.1f} s CPU, peak RSS {r.peak_mb:.0f} MB")
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--copies", type=int, default=10000)
@@ -369,6 +398,7 @@ def main() -> int:
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--only", default=",".join(SECTIONS), help="comma-separated sections: " + ", ".join(SECTIONS))
     parser.add_argument("--corpus-only", action="store_true", help="only the genuine-corpus runs (--only corpus)")
+    parser.add_argument("--nasa-suite", type=Path, help="checkout of NASA-PDS/validate (section pds4-suite)")
     args = parser.parse_args()
     sections = ["corpus"] if args.corpus_only else [s.strip() for s in args.only.split(",") if s.strip()]
     unknown = set(sections) - set(SECTIONS)
@@ -385,8 +415,10 @@ def main() -> int:
                 bench_labels(workdir, args.labels, args.repeat)
             elif section == "data":
                 bench_data(workdir, args.size, args.repeat)
-            else:
+            elif section == "pds4":
                 bench_pds4(workdir, args.pds4_labels, args.jobs, args.repeat)
+            else:
+                bench_pds4_suite(workdir, args.nasa_suite, args.repeat)
     return 0
 
 

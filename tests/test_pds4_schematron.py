@@ -38,3 +38,30 @@ def test_first_rule_of_a_pattern_wins_patterns_are_independent_lets_are_scoped(t
         ("Q{urn:t}b[3]", "error", "b is zz, not x (of 3)"),
         ("Q{urn:t}b[3]", "error", "long b in another pattern"),
     ]
+
+
+ROLES = """<sch:schema xmlns:sch="http://purl.oclc.org/dsdl/schematron" queryBinding="xslt2">
+  <sch:ns uri="urn:t" prefix="t"/>
+  <sch:pattern>
+    <sch:rule context="t:b" role="warning">
+      <sch:assert test="false()">rule says warning</sch:assert>
+      <sch:assert test="false()" role="error">assert says error</sch:assert>
+    </sch:rule>
+  </sch:pattern>
+  <sch:pattern role="info">
+    <sch:rule context="t:b"><sch:assert test="false()">pattern says info</sch:assert></sch:rule>
+  </sch:pattern>
+  <sch:pattern>
+    <sch:rule context="t:b"><sch:assert test="false()">nothing said</sch:assert></sch:rule>
+  </sch:pattern>
+</sch:schema>"""
+
+
+def test_role_comes_from_the_assert_else_its_rule_else_its_pattern(tmp_path):
+    """PDS's .sch files mark deprecated elements with role="warning" on the sch:rule."""
+    (tmp_path / "r.sch").write_text(ROLES)
+    found = schematron.compiled([tmp_path / "r.sch"]).check('<a xmlns="urn:t"><b/></a>')
+    assert sorted((f.message, f.role) for f in found) == [
+        ("assert says error", "error"), ("nothing said", "error"),
+        ("pattern says info", "info"), ("rule says warning", "warning")]
+

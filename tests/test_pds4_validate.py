@@ -4,8 +4,10 @@ is not shipped gets one clear finding; the CLI takes PDS4 labels beside PDS3 one
 
 from __future__ import annotations
 
+import json
 import re
 import shutil
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -15,6 +17,7 @@ from pdsgen.dtm import write_dtm
 from pdsgen.ortho import write_ortho
 from pdsgen.pds4 import schematron
 from pdsgen.pds4.catalog import SchemaCatalog, shipped_schema_dir
+from pdsgen.pds4.data_checks import constant_value
 from pdsgen.pds4.validate import validate_pds4
 from pdsgen.validate import validate_paths
 
@@ -36,6 +39,7 @@ def product(tmp_path_factory):
 
 def _copy(product, tmp_path, edit=None, data_edit=None):
     """A copy of the product in tmp_path with its label text (and data bytes) edited."""
+    tmp_path.mkdir(parents=True, exist_ok=True)
     data = tmp_path / product.path.with_suffix(".img").name
     shutil.copy(product.path.with_suffix(".img"), data)
     text = product.text
@@ -103,9 +107,15 @@ def test_upper_left_moved_by_one_pixel_is_caught(product, tmp_path, axis):
     assert _rules(label) == {"PDS4-031"}
 
 
+def _moved_maximum(step: float):
+    return lambda t: re.sub(r"<maximum>([^<]+)<", lambda m: f"<maximum>{float(m.group(1)) + step!r}<", t)
+
+
 def test_statistics_are_checked_against_the_data(product, tmp_path):
-    label = _copy(product, tmp_path, lambda t: re.sub(r"<maximum>[^<]+<", "<maximum>1.0<", t))
-    assert _rules(label) == {"PDS4-020"}
+    """Valid samples beyond the stated maximum: an error; a maximum merely above the data
+    (a rounded or generous bound, which NASA's validator does not check): a warning."""
+    assert _rules(_copy(product, tmp_path / "below", _moved_maximum(-10.0))) == {"PDS4-020"}
+    assert _rules(_copy(product, tmp_path / "above", _moved_maximum(+10.0))) == {"PDS4-024"}
 
 
 def test_data_file_missing_and_truncated(product, tmp_path):
@@ -138,11 +148,25 @@ def test_an_import_that_does_not_resolve_fails_loudly(product, tmp_path):
     assert "PDS4_GEOM_1O00_19A0.xsd" in found[0].message
 
 
-def test_version_not_shipped_is_one_clear_finding(product, tmp_path):
+@needs_saxon
+def test_missing_dictionaries_are_reported_once_each_and_the_rest_is_checked(product, tmp_path):
+    """IM 1.21 (1L00): its core schema is shipped, its cart and disp are not. Each missing
+    dictionary is one finding; the core XML Schema and Schematron still run (and find that
+    information_model_version 1.24.0.0 is not 1L00's)."""
     label = _copy(product, tmp_path, lambda t: t.replace("1O00", "1L00"))
     found = validate_pds4(label, labels_only=True)
-    assert [f.rule for f in found] == ["PDS4-002"]
-    assert "not shipped" in found[0].message and "--schemas" in found[0].message
+    missing = sorted(f.message.split()[1] for f in found if f.rule == "PDS4-002")
+    assert missing == ["PDS4_CART_1L00_1970", "PDS4_DISP_1L00_1510"]
+    assert all("--offline" in f.message and "--schemas" in f.message for f in found if f.rule == "PDS4-002")
+    assert {f.rule for f in found} == {"PDS4-002", "PDS4-005"}
+    assert any("1.21.0.0" in f.message for f in found if f.rule == "PDS4-005")
+
+
+def test_unknown_version_is_one_finding_per_schema_file_stem(product, tmp_path):
+    label = _copy(product, tmp_path, lambda t: t.replace("1O00", "1Z00"))
+    found = validate_pds4(label, labels_only=True)
+    assert [f.rule for f in found] == ["PDS4-002"] * 3
+    assert any("PDS4_PDS_1Z00" in f.message and "XML Schema checks skipped" in f.message for f in found)
 
 
 def test_without_saxon_one_warning_for_the_run(product, tmp_path, monkeypatch):
@@ -189,3 +213,46 @@ def test_parallel_workers_give_the_same_findings(product, tmp_path):
     one, two = validate_paths([tmp_path], jobs=1), validate_paths([tmp_path], jobs=2)
     assert [f.as_dict() for f in one.findings] == [f.as_dict() for f in two.findings]
     assert {f.rule for f in one.findings} - {"PDS4-007"} == {"PDS4-004", "PDS4-012"}  # 007: no Saxon here
+
+
+@needs_saxon
+def test_deprecated_element_is_a_warning_not_an_error(product, tmp_path):
+    """PDS4_PDS_1O00.sch puts role="warning" on the rule for Axis_Array/unit (deprecated),
+    not on its assert: the finding is a PDS4-006 warning, never a PDS4-005 error."""
+    label = _copy(product, tmp_path, lambda t: re.sub(r"(<Axis_Array>\s*<axis_name>Line</axis_name>\s*"
+                                                      r"<elements>\d+</elements>)", r"\1<unit>pixel</unit>", t))
+    found = validate_pds4(label)
+    assert [(f.rule, f.severity) for f in found] == [("PDS4-006", "warning")], [f.message for f in found]
+    assert "deprecated" in found[0].message
+
+
+def test_hexadecimal_special_constant_is_honoured(product, tmp_path):
+    """0xFF7FFFFB is the float32 bit pattern of ISIS NULL (-3.4028226550889045E+38), the
+    value the product declares in decimal: written in hex it flags the same samples."""
+    label = _copy(product, tmp_path, lambda t: t.replace("<missing_constant>-3.4028226550889045E+38<",
+                                                         "<missing_constant>0xFF7FFFFB<"))
+    assert validate_pds4(label) == []
+    assert constant_value("0xFF7FFFFB", np.dtype(">f4")) == float(np.float32(-3.4028226550889045e38))
+    assert constant_value("0xFFFF", np.dtype("<i2")) == -1.0 and constant_value("0xFFFF", np.dtype(">u2")) == 65535
+    assert np.isnan(constant_value("0x1FFFF", np.dtype("<i2")))  # too wide for the type: never storable
+
+
+def test_hexadecimal_constant_too_wide_for_the_type_is_caught(tmp_path, product):
+    label = _copy(product, tmp_path, lambda t: t.replace("<missing_constant>-3.4028226550889045E+38<",
+                                                         "<missing_constant>0x1FF7FFFFB<"))
+    assert "PDS4-023" in _rules(label, labels_only=True)
+
+
+def test_lblx_labels_are_pds4_by_content(product, tmp_path):
+    """.lblx (the PDS4 label extension) and any other name: recognised by content, so a
+    directory of them validates as PDS4 (it was 'no PDS3 labels found')."""
+    for name in ("a.lblx", "b.label"):
+        _copy(product, tmp_path).rename(tmp_path / name)
+    broken = tmp_path / "c.lblx"
+    broken.write_text(product.text.replace("<md5_checksum>", "<md5_checksum>f"), encoding="utf-8")
+    result = run_cli("validate", "--offline", "--format", "json", str(tmp_path))
+    assert result.returncode == 1, result.stderr
+    reports = {Path(r["path"]).name: {f["rule"] for f in r["findings"]} - {"PDS4-007"}
+               for r in json.loads(result.stdout)["files"]}
+    # the three labels describe one data file: the second and third say so (PDS4-060)
+    assert reports == {"a.lblx": set(), "b.label": {"PDS4-060"}, "c.lblx": {"PDS4-004", "PDS4-012", "PDS4-060"}}

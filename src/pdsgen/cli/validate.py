@@ -14,6 +14,7 @@ from typing import IO
 import click
 
 from ..errors import PdsgenError
+from ..pds4.detect import default_schema_cache
 from ..progress import TerminalBar
 from ..progress import wanted as progress_wanted
 from ..validate import config as configuration
@@ -122,8 +123,14 @@ def _output(path: str | None):
 @click.option("--dictionary", "dictionaries", multiple=True, type=click.Path(dir_okay=False),
               help="Extra data dictionary (PSDD .full format) merged over the built-in one; repeatable.")
 @click.option("--schemas", "schemas", multiple=True, type=click.Path(file_okay=False),
-              help="Directory of PDS4 schemas (.xsd/.sch) for Information Model versions pdsgen does not "
-                   "ship (1O00 is shipped); repeatable.")
+              help="Directory of PDS4 schemas (.xsd/.sch), searched first (recursively); repeatable. pdsgen "
+                   "ships the core schema of every IM version from 1.0.0.0 to 1.24.0.0 and common "
+                   "dictionaries at 1.24.")
+@click.option("--schema-cache", type=click.Path(file_okay=False),
+              help="Directory of downloaded PDS4 schemas (default: ~/.cache/pdsgen/pds4-schemas).")
+@click.option("--offline", is_flag=True,
+              help="Never download a PDS4 schema; one not found locally is reported and its namespace "
+                   "left unchecked.")
 @click.option("--skip-non-labels", is_flag=True,
               help="Pass over named files that are not labels (an ordinary .xml, a bare .img), as a "
                    "directory search does; with none left, check nothing and pass (pre-commit hooks).")
@@ -140,10 +147,10 @@ def _output(path: str | None):
 def validate(paths: tuple[str, ...], fmt: str, strict: bool, fail_on: str | None, select: tuple[str, ...],
              ignore: tuple[str, ...], severities: tuple[str, ...], config_path: str | None, no_config: bool,
              baseline_path: str | None, write_baseline_path: str | None, jobs: int, labels_only: bool,
-             dictionaries: tuple[str, ...], schemas: tuple[str, ...], skip_non_labels: bool, list_rules: bool,
-             output: str | None, quiet: bool, verbose: bool) -> None:
+             dictionaries: tuple[str, ...], schemas: tuple[str, ...], skip_non_labels: bool, schema_cache: str | None,
+             offline: bool, list_rules: bool, output: str | None, quiet: bool, verbose: bool) -> None:
     """Validate PATHS (label files, or directories searched recursively): PDS3 labels,
-    and PDS4 .xml labels (XML Schema, Schematron, and the data they describe).
+    and PDS4 labels of any name (XML Schema, Schematron, and the data they describe).
 
     Exit status: 0 no errors (and no warnings with --strict or fail-on = "warning"),
     1 problems found, 2 usage error.
@@ -165,11 +172,15 @@ def validate(paths: tuple[str, ...], fmt: str, strict: bool, fail_on: str | None
         progress = None if bar is None else (lambda done, total: bar(done, total, "file(s) checked"))
         reports = iter_reports(paths, strict=strict, jobs=jobs, labels_only=labels_only, progress=progress,
                                dictionaries=dictionaries, settings=settings, baseline=baseline, schemas=schemas,
-                               skip_non_labels=skip_non_labels)
+                               skip_non_labels=skip_non_labels,
+                               schema_cache=schema_cache or str(default_schema_cache()),
+                               download_schemas=not offline)
         if bar is not None:
             reports = _giving_way(reports, bar)
         if verbose:  # after iter_reports has checked the paths given with --dictionary
             _tell_choices(settings, baseline_path, tuple(dictionaries), jobs, labels_only)
+            log.info("PDS4 schemas: %s; cache %s; %s", ", ".join(schemas) or "shipped",
+                     schema_cache or str(default_schema_cache()), "offline" if offline else "downloads allowed")
         if write_baseline_path:
             kept = [f for report in reports for f in report.findings]
             count = configuration.write_baseline(write_baseline_path, kept)

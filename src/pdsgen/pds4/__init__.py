@@ -7,7 +7,8 @@ Model in `model.CURRENT_IM` (1O00 = 1.24.0.0), from `templates/pds4/`.
 
 Validating (`pdsgen validate`): `detect` (is a file a PDS4 label: cheap, asked of every
 file), `validate` (entry points and the schema checks), `catalog`
-(schema URLs -> local files: shipped `schemas/pds4/` and `--schemas DIR`), `xsd` (lxml),
+(schema URLs -> schema files: beside the label, `--schemas DIR`, the download cache,
+shipped `schemas/pds4/` files and archives), `download` (into the cache), `xsd` (lxml),
 `schematron` (Saxon, optional), `data_checks` and `cart_checks` (the label against its
 data), `rules` (the PDS4 rule ids), `label_tree` (what the checks share).
 """

@@ -60,7 +60,7 @@ class _ArrayStatistics:
         self.element = element
         self.start, self.end = offset, offset + elements * dtype.itemsize
         self.dtype = dtype
-        constants = [v for v in _special_constants(element).values() if _storable(v, dtype)]
+        constants = [v for v in _special_constants(element, dtype).values() if _storable(v, dtype)]
         # as stored: a decimal constant of a float32 array flags the float32 nearest to it
         self.flagged = np.array(constants, dtype=np.float64).astype(dtype).astype(np.float64)
         self.pending = b""
@@ -106,8 +106,8 @@ class _ArrayStatistics:
             return
         mean = self.shift + self.total / self.count
         deviation = math.sqrt(max(0.0, self.squares / self.count - (self.total / self.count) ** 2))
-        _compare(report, stats, "minimum", self.low, "PDS4-020", _float32_tolerance(self.low, self.dtype))
-        _compare(report, stats, "maximum", self.high, "PDS4-020", _float32_tolerance(self.high, self.dtype))
+        _compare_bound(report, stats, "minimum", self.low, -1.0, _float32_tolerance(self.low, self.dtype))
+        _compare_bound(report, stats, "maximum", self.high, 1.0, _float32_tolerance(self.high, self.dtype))
         spread = max(abs(self.high - self.low), 1e-12)
         _compare(report, stats, "mean", mean, "PDS4-021", 1e-6 * spread)
         _compare(report, stats, "standard_deviation", deviation, "PDS4-021", 1e-6 * spread)
@@ -132,16 +132,41 @@ def _fits(report: Report, array: _ArrayStatistics, path: Path, size: int) -> boo
     return False
 
 
-def _special_constants(element: etree._Element) -> dict[str, float]:
+def _special_constants(element: etree._Element, dtype: np.dtype | None = None) -> dict[str, float]:
+    """The array's special constants (not its valid range) as numbers. A constant written
+    in hexadecimal (0xFF7FFFFB) is the bit pattern of a sample of the array's type."""
     found = {}
     special = element.find(f"{P}Special_Constants")
     for child in special if special is not None else ():
         if isinstance(child.tag, str) and not child.tag.endswith(("valid_maximum", "valid_minimum")):
-            try:
-                found[child.tag.split("}")[1]] = float(child.text or "")
-            except ValueError:
-                continue
+            value = constant_value(child.text or "", dtype)
+            if value is not None:
+                found[child.tag.split("}")[1]] = value
     return found
+
+
+def constant_value(text: str, dtype: np.dtype | None) -> float | None:
+    """A special constant's value: a decimal number, or (PDS4 allows it for any field
+    type) a hexadecimal bit pattern of the stored sample - for reals, of the IEEE 754
+    number (0xFF7FFFFB is the float32 -3.4028226e38); for signed integers, two's
+    complement (0xFFFF of a 2-byte signed sample is -1). NaN for a pattern wider than
+    the type (no sample can hold it); None when neither."""
+    text = text.strip()
+    if text[:2].lower() == "0x":
+        try:
+            bits = int(text[2:], 16)
+        except ValueError:
+            return None
+        if dtype is None:
+            return float(bits)
+        if bits >= 1 << (8 * dtype.itemsize):
+            return math.nan
+        raw = np.array([bits], dtype=f"{dtype.byteorder if dtype.byteorder in '<>' else '='}u{dtype.itemsize}")
+        return float(raw.view(dtype)[0])
+    try:
+        return float(text)
+    except ValueError:
+        return None
 
 
 def check_special_constants(report: Report, tree: etree._ElementTree) -> None:
@@ -153,10 +178,11 @@ def check_special_constants(report: Report, tree: etree._ElementTree) -> None:
         if data_type not in NUMPY_TYPES:
             continue
         dtype = np.dtype(NUMPY_TYPES[data_type])
-        for name, value in _special_constants(element).items():
+        for name, value in _special_constants(element, dtype).items():
             if not _storable(value, dtype):
                 constant = element.find(f"{P}Special_Constants/{P}{name}")
-                report.add("PDS4-023", f"{name} = {value!r} cannot be stored as {data_type}",
+                written = (constant.text or "").strip() if constant is not None else repr(value)
+                report.add("PDS4-023", f"{name} = {written} cannot be stored as {data_type}",
                            constant.sourceline if constant is not None else element.sourceline, name)
 
 
@@ -172,6 +198,23 @@ def _float32_tolerance(value: float, dtype: np.dtype) -> float:
     if dtype.kind != "f":
         return 0.0
     return float(np.spacing(np.float32(abs(value)))) if math.isfinite(value) else 0.0
+
+
+def _compare_bound(report: Report, stats: etree._Element, name: str, actual: float, outwards: float,
+                   tolerance: float) -> None:
+    """A stated extreme: valid samples beyond it are an error (a reader trusting it would
+    clip or misscale data); a bound that is looser than the data, as rounded statistics
+    are, only a warning (NASA's validator does not compare them at all)."""
+    element = stats.find(f"{P}{name}")
+    stated = number(stats, f"{P}{name}")
+    if element is None or stated is None or abs(stated - actual) <= tolerance:
+        return
+    if (actual - stated) * outwards > 0:
+        report.add("PDS4-020", f"{name} = {element.text} but the valid samples reach {actual:.10g}",
+                   element.sourceline, name)
+    else:
+        report.add("PDS4-024", f"{name} = {element.text} is looser than the valid samples' {actual:.10g}",
+                   element.sourceline, name)
 
 
 def _compare(report: Report, stats: etree._Element, name: str, actual: float, rule: str, tolerance: float) -> None:

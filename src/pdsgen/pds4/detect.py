@@ -3,21 +3,34 @@
 Kept apart from `validate` so that telling PDS4 labels from PDS3 ones (done for
 every file a validation run meets) does not load lxml and the PDS4 checks; a run
 over PDS3 labels never imports them.
+
+Decided by content, not by extension: PDS4 labels are .xml by custom but .lblx
+by the standard's own recommendation for new archives, and either may be met.
 """
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 from ..formats.sniff import file_head
 
 _HEAD_BYTES = 8192
 _PDS4_NAMESPACE = b"http://pds.nasa.gov/pds4/pds/v1"
+_BOM = b"\xef\xbb\xbf"
 
 
 def is_pds4_label(path: Path) -> bool:
-    """An .xml file whose root element is a PDS4 Product_* (read from its first few KB)."""
-    if path.suffix.lower() != ".xml":
-        return False
+    """A file that starts as XML and names a PDS4 Product_* root in the PDS namespace
+    within its first few KB, whatever its name."""
     head = file_head(path, _HEAD_BYTES) or b""
+    if not head.removeprefix(_BOM).lstrip().startswith(b"<"):
+        return False  # binary data, PDS3 text: not XML, decided from the first byte
     return _PDS4_NAMESPACE in head and b"<Product_" in head
+
+
+def default_schema_cache() -> Path:
+    """Where downloaded PDS4 schemas are kept: ~/.cache/pdsgen/pds4-schemas (or under
+    $XDG_CACHE_HOME). Here, not in `catalog`, so the CLI can name it without lxml."""
+    root = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(root) / "pdsgen" / "pds4-schemas"

@@ -16,11 +16,13 @@ from __future__ import annotations
 
 import os
 import re
+from collections import OrderedDict
+from collections.abc import Sequence
 from dataclasses import dataclass
-from pathlib import Path
 
 from lxml import etree
 
+from .catalog import SchemaFile
 from .model import SCHEMATRON_NS
 
 _XSL = "http://www.w3.org/1999/XSL/Transform"
@@ -47,7 +49,7 @@ def available() -> bool:
     return True
 
 
-def compile_to_xslt(schematron_files: list[Path]) -> str:
+def compile_to_xslt(schematron_files: Sequence[SchemaFile]) -> str:
     """One XSLT 3.0 stylesheet that reports every failed assertion of all the files.
 
     One pass over the label: every element and attribute is matched against templates
@@ -61,7 +63,7 @@ def compile_to_xslt(schematron_files: list[Path]) -> str:
     rules = 0
     patterns = []
     for path in schematron_files:
-        root = etree.parse(str(path)).getroot()
+        root = etree.fromstring(path.read_bytes(), etree.XMLParser(no_network=True, resolve_entities=False))
         for ns in root.iter(f"{_S}ns"):
             namespaces[ns.get("prefix")] = ns.get("uri")
         patterns.extend(root.iter(f"{_S}pattern"))
@@ -102,22 +104,34 @@ def _rule_template(rule: etree._Element, pattern: int, priority: int, renames: d
     check = etree.SubElement(template, f"{_X}if", test=f"not({pattern} = $fired)")
     for let in rule.iter(f"{_S}let"):
         etree.SubElement(check, f"{_X}variable", name=let.get("name"), select=_renamed(let.get("value"), renames))
+    inherited = rule.get("role") or _pattern_role(rule)
     for assertion in rule.iterchildren(f"{_S}assert", f"{_S}report"):
-        check.append(_assertion(assertion, context, renames))
+        check.append(_assertion(assertion, context, renames, inherited))
     handed_on = etree.SubElement(template, f"{_X}next-match")
     etree.SubElement(handed_on, f"{_X}with-param", name="fired", select=f"($fired, {pattern})", tunnel="yes")
     return template
 
 
-def _assertion(assertion: etree._Element, context: str, renames: dict[str, str]) -> etree._Element:
-    """An `assert` fires when its test is false, a `report` when it is true (default role:
-    error for asserts, warning for reports)."""
+def _pattern_role(rule: etree._Element) -> str | None:
+    """The role of the pattern holding a rule, if it states one."""
+    parent = rule.getparent()
+    while parent is not None and parent.tag != f"{_S}pattern":
+        parent = parent.getparent()
+    return parent.get("role") if parent is not None else None
+
+
+def _assertion(assertion: etree._Element, context: str, renames: dict[str, str],
+               inherited: str | None = None) -> etree._Element:
+    """An `assert` fires when its test is false, a `report` when it is true. Its role is
+    its own, else its rule's, else its pattern's (`inherited`): PDS's .sch files put
+    role="warning" on the rule (deprecated elements), not on each assert. Without any,
+    error for asserts, warning for reports."""
     test = _renamed(assertion.get("test"), renames)
     is_report = assertion.tag == f"{_S}report"
     check = etree.Element(f"{_X}if", test=test if is_report else f"not({test})")
     default_role = "warning" if is_report else "error"
     failure = etree.SubElement(check, f"{{{_REPORT_NS}}}failed",
-                               role=(assertion.get("role") or default_role).lower(), context=context)
+                               role=(assertion.get("role") or inherited or default_role).lower(), context=context)
     etree.SubElement(failure, f"{_X}attribute", name="location", select="path()")
     text = etree.SubElement(failure, f"{_X}text")
     text.text = assertion.text or ""
@@ -135,7 +149,7 @@ def _assertion(assertion: etree._Element, context: str, renames: dict[str, str])
 class Schematron:
     """Compiled Schematron for one set of .sch files, reusable for many labels."""
 
-    def __init__(self, schematron_files: list[Path]) -> None:
+    def __init__(self, schematron_files: Sequence[SchemaFile]) -> None:
         from saxonche import PySaxonApiError
 
         self._processor = _processor()
@@ -159,7 +173,8 @@ class Schematron:
 
 
 _PROCESSORS: dict[int, object] = {}
-_COMPILED: dict[tuple, Schematron] = {}
+KEPT_STYLESHEETS = 16  # compiled Schematron sets kept per process, most recently used
+_COMPILED: OrderedDict[tuple, Schematron] = OrderedDict()
 
 
 def _processor():  # noqa: ANN202 - saxonche ships no type information
@@ -174,13 +189,17 @@ def _processor():  # noqa: ANN202 - saxonche ships no type information
     return _PROCESSORS[pid]
 
 
-def compiled(schematron_files: list[Path]) -> Schematron:
+def compiled(schematron_files: Sequence[SchemaFile]) -> Schematron:
     """The compiled Schematron for these files, compiled once per process."""
     _processor()
     key = tuple(str(p) for p in schematron_files)
-    if key not in _COMPILED:
-        _COMPILED[key] = Schematron(schematron_files)
-    return _COMPILED[key]
+    if key in _COMPILED:
+        _COMPILED.move_to_end(key)
+        return _COMPILED[key]
+    compiled_set = _COMPILED[key] = Schematron(schematron_files)
+    while len(_COMPILED) > KEPT_STYLESHEETS:  # a run over many IM versions must not hold them all
+        _COMPILED.popitem(last=False)
+    return compiled_set
 
 
 # One step of an XPath 3.1 `path()`: /Q{uri}local[n] for elements (URIs hold slashes), else /@attr etc.

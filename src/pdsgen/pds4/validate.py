@@ -12,6 +12,7 @@ with numpy and project with the validator's own closed-form sphere formulas.
 
 from __future__ import annotations
 
+import copy as copy_module
 import os
 import re
 from collections.abc import Callable, Iterable
@@ -25,12 +26,17 @@ from .cart_checks import check_cartography, check_encoded_jp2
 from .catalog import SchemaCatalog, schema_references
 from .data_checks import check_data, check_special_constants
 from .detect import is_pds4_label
+from .document_checks import DataFileRegister, check_file_names, check_pdf_a
 from .label_tree import SEVERITY, P, Report
+from .model import PDS_NS
+from .table_checks import check_members, check_object_layout, check_tables
 from .xsd import SchemaImportError, build_schema, xsd_errors
 
 # Checks of the label against its data (skipped by --labels-only), and of the label alone.
-CONTENT_CHECKS = (check_data, check_special_constants, check_cartography, check_encoded_jp2)
-LABEL_ONLY_CHECKS = (check_special_constants, check_cartography)
+CONTENT_CHECKS = (check_data, check_special_constants, check_cartography, check_encoded_jp2, check_tables,
+                  check_object_layout, check_members, check_pdf_a, check_file_names)
+LABEL_ONLY_CHECKS = (check_special_constants, check_cartography, check_object_layout, check_members,
+                     check_file_names)
 
 
 def check_schema_dirs(directories: Iterable[str | os.PathLike[str]]) -> tuple[str, ...]:
@@ -40,14 +46,21 @@ def check_schema_dirs(directories: Iterable[str | os.PathLike[str]]) -> tuple[st
     return checked
 
 
-def validate_label(path: str | Path, schema_dirs: tuple[str, ...] = (), labels_only: bool = False) -> list[Finding]:
-    """The validator's entry point for one PDS4 label (catalog cached per set of directories)."""
-    if schema_dirs not in _CATALOGS:
-        _CATALOGS[schema_dirs] = SchemaCatalog.build(schema_dirs)
-    return validate_pds4(path, _CATALOGS[schema_dirs], labels_only)
+def validate_label(path: str | Path, schema_dirs: tuple[str, ...] = (), labels_only: bool = False,
+                   schema_cache: str | None = None, download: bool = False) -> list[Finding]:
+    """The validator's entry point for one PDS4 label (catalog cached per set of sources).
+    `schema_cache` is the download cache read (and, with `download`, written); without
+    one, neither the cache nor the network is used."""
+    key = (schema_dirs, schema_cache, download)
+    if key not in _CATALOGS:
+        _CATALOGS[key] = SchemaCatalog.build(schema_dirs, schema_cache, download)
+    return validate_pds4(path, _CATALOGS[key], labels_only)
 
 
-_CATALOGS: dict[tuple[str, ...], SchemaCatalog] = {}
+_CATALOGS: dict[tuple[tuple[str, ...], str | None, bool], SchemaCatalog] = {}
+
+
+__all__ = ["DataFileRegister", "add_run_notes", "check_schema_dirs", "validate_label", "validate_pds4"]
 
 
 def add_run_notes(reports: list) -> None:  # noqa: ANN001 - the validator's FileReport list
@@ -74,7 +87,7 @@ def validate_pds4(path: str | Path, catalog: SchemaCatalog | None = None, labels
     if not (root.tag.startswith(P) and root.tag[len(P):].startswith("Product_")):
         report.add("PDS4-001", f"root element {root.tag} is not a PDS4 Product_*", root.sourceline)
         return report.findings
-    for check in _schema_checks(tree, catalog, use_schematron):
+    for check in _schema_checks(tree, catalog, use_schematron, path.absolute().parent):
         check(report)
     for content_check in CONTENT_CHECKS:
         if labels_only and content_check not in LABEL_ONLY_CHECKS:
@@ -116,47 +129,79 @@ def _parse(report: Report) -> etree._ElementTree | None:
             return None
 
 
-def _schema_checks(tree: etree._ElementTree, catalog: SchemaCatalog, use_schematron: bool
+def _schema_checks(tree: etree._ElementTree, catalog: SchemaCatalog, use_schematron: bool, base: Path
                    ) -> list[Callable[[Report], None]]:
+    """XML Schema and Schematron checks with whatever schemas can be found: a namespace
+    whose schema is missing is reported once and left unchecked, everything else is
+    still checked (the core PDS schema missing leaves no XML Schema check to make)."""
     refs = schema_references(tree)
     version = tree.findtext(f"{P}Identification_Area/{P}information_model_version") or "unknown"
-    missing = [url for _, url in refs.xsd if catalog.resolve(url) is None]
-    missing += [url for url in refs.sch if catalog.resolve(url) is None]
+    line = tree.getroot().sourceline
+    found = {url: catalog.resolve(url, base) for url in {*(u for _, u in refs.xsd), *refs.sch}}
+    available = tuple((ns, url) for ns, url in refs.xsd if found[url] is not None)
+    missing = [url for _, url in refs.xsd if found[url] is None] + [url for url in refs.sch if found[url] is None]
+    sch_files = [file for file in (found[url] for url in refs.sch) if file is not None]
+    has_core = any(ns == PDS_NS for ns, _ in available)
 
-    def not_shipped(report: Report) -> None:
-        names = ", ".join(Path(u).name for u in dict.fromkeys(missing))
-        report.add("PDS4-002", f"IM version {version} not shipped: no local copy of {names}; schema and "
-                               f"Schematron checks skipped (supply that version's schemas with --schemas DIR)",
-                   tree.getroot().sourceline, "information_model_version")
-
-    if missing:
-        return [not_shipped]
-    if not refs.xsd:
-        return [lambda r: r.add("PDS4-004", "the label names no XML Schema (xsi:schemaLocation)",
-                                tree.getroot().sourceline)]
+    def not_found(report: Report) -> None:
+        for stem, urls in _by_stem(missing).items():
+            namespace = next((ns for ns, url in refs.xsd if url in urls), None)
+            what = ("XML Schema checks skipped" if namespace == PDS_NS else
+                    f"elements of {namespace} not checked" if namespace else "its rules not checked")
+            kinds = ", ".join(Path(u).suffix for u in urls)
+            report.add("PDS4-002", f"schema {stem} ({kinds}; IM {version}) not found: {catalog.why_missing(urls[0])}; "
+                                   f"{what} (supply it with --schemas DIR)", line, "information_model_version")
 
     def xml_schema(report: Report) -> None:
+        if not refs.xsd:
+            report.add("PDS4-004", "the label names no XML Schema (xsi:schemaLocation)", line)
+            return
+        if not has_core:
+            return
         try:
-            schema = build_schema(catalog, refs.xsd)
+            schema = build_schema(catalog, available, base)
         except SchemaImportError as exc:
             report.add("PDS4-003", exc.problem)
             return
-        for line, element, message in xsd_errors(schema, tree):
-            report.add("PDS4-004", message, line, element)
+        known = tuple(f"Element '{{{ns}}}" for ns, _ in available)
+        for error_line, element, message in xsd_errors(schema, tree):
+            if missing and "No matching global element declaration" in message and not message.startswith(known):
+                continue  # an element of a namespace whose schema is missing, which is reported once
+            report.add("PDS4-004", message, error_line, element)
 
     def rules(report: Report) -> None:
         if not refs.sch:
-            return
-        if not schematron.available():
-            return  # reported once per run (add_run_notes), not once per label
-        files = [p for p in (catalog.resolve(u) for u in refs.sch) if p is not None]
-        text = etree.tostring(tree, encoding="unicode")
-        for failure in schematron.compiled(files).check(text):
+            named = "; ".join(f"xml-model {text.strip()}" for text in refs.unusable) or "no xml-model instruction"
+            report.add("PDS4-008", f"the label names no usable Schematron ({named}): no rule checks made", line)
+        if not sch_files or not schematron.available():
+            return  # a missing Saxon is reported once per run (add_run_notes), not once per label
+        text = etree.tostring(_collapsed(tree), encoding="unicode")
+        for failure in schematron.compiled(sch_files).check(text):
             rule = "PDS4-006" if failure.role in ("warning", "warn", "info") else "PDS4-005"
             report.add(rule, failure.message, schematron.location_line(tree, failure.location),
                        failure.rule_context)
 
-    return [xml_schema, rules] if use_schematron else [xml_schema]
+    return [not_found, xml_schema, rules] if use_schematron else [not_found, xml_schema]
+
+
+def _collapsed(tree: etree._ElementTree) -> etree._Element:
+    """The label as a schema-validating parser presents it to Schematron: the text of each
+    element without children whitespace-collapsed (PDS4 values are xs:token-like; Xerces,
+    under NASA's validator, hands Schematron these normalised values, so a value written
+    over two lines still equals its enumeration)."""
+    copy = copy_module.deepcopy(tree.getroot())
+    for element in copy.iter():
+        if isinstance(element.tag, str) and len(element) == 0 and element.text:
+            element.text = " ".join(element.text.split())
+    return copy
+
+
+def _by_stem(urls: list[str]) -> dict[str, list[str]]:
+    """Schema locations grouped by file stem (PDS4_CART_1F00_1950: its .xsd and .sch together)."""
+    groups: dict[str, list[str]] = {}
+    for url in dict.fromkeys(urls):
+        groups.setdefault(Path(url).stem, []).append(url)
+    return groups
 
 
 # --- content checks -------------------------------------------------------------------------

@@ -130,12 +130,14 @@ _MAGIC = ((b"\x00\x00\x00\x0cjP  ", "a JPEG 2000 signature"), (b"\xff\x4f\xff\x5
 
 
 def validate_file(path: Path, labels_only: bool = False, dictionaries: tuple[str, ...] = (),
-                  strict: bool = False, schemas: tuple[str, ...] = ()) -> tuple[FileReport, Summary | None]:
+                  strict: bool = False, schemas: tuple[str, ...] = (), schema_cache: str | None = None,
+                  download_schemas: bool = False) -> tuple[FileReport, Summary | None]:
     """All per-file rules on one file: PDS3 label rules, or IMARS rules for iMars metadata."""
     if is_pds4_label(path):  # PDS4 hook: pdsgen.pds4 checks it and returns Findings
         from ..pds4 import validate as pds4  # loaded (lxml, Schematron) only when a PDS4 label turns up
 
-        return FileReport(str(path), pds4.validate_label(path, schemas, labels_only)), None
+        return FileReport(str(path), pds4.validate_label(path, schemas, labels_only, schema_cache,
+                                                         download_schemas)), None
     imars = is_imars_metadata(path)
     reason = None if imars else not_a_label(path)
     if reason is not None:
@@ -190,6 +192,8 @@ class _Job:
     strict: bool = False
     settings: Settings = Settings()
     schemas: tuple[str, ...] = ()  # PDS4 schema directories (--schemas)
+    schema_cache: str | None = None  # PDS4 schema download cache (read; written when downloading)
+    download_schemas: bool = False  # PDS4 schemas not found locally fetched from their URL
 
 
 _JOB = _Job()
@@ -202,7 +206,8 @@ def _init_worker(job: _Job) -> None:
 
 def _one(path: str) -> tuple[FileReport, Summary | None]:
     """One file, in a worker: its findings as the configuration reports them."""
-    report, summary = validate_file(Path(path), _JOB.labels_only, _JOB.dictionaries, _JOB.strict, _JOB.schemas)
+    report, summary = validate_file(Path(path), _JOB.labels_only, _JOB.dictionaries, _JOB.strict, _JOB.schemas,
+                                    _JOB.schema_cache, _JOB.download_schemas)
     report.findings = _JOB.settings.filter(report.findings)
     return report, summary
 
@@ -229,6 +234,8 @@ def iter_reports(
     baseline: Baseline | None = None,
     schemas: Iterable[str | os.PathLike[str]] = (),
     skip_non_labels: bool = False,
+    schema_cache: str | os.PathLike[str] | None = None,
+    download_schemas: bool = False,
 ) -> Iterator[FileReport]:
     """File reports one by one, as files are checked: the streaming core of validate_paths.
 
@@ -256,10 +263,11 @@ def iter_reports(
     if first is None:  # a CI job pointed at the wrong directory must not pass
         raise PdsgenError(None, "no PDS3 labels found under " + ", ".join(os.fspath(p) for p in paths))
     files = itertools.chain([first], found)
-    job = _Job(labels_only, extra, strict, settings, schema_dirs)
+    cache = os.fspath(schema_cache) if schema_cache is not None else None
+    job = _Job(labels_only, extra, strict, settings, schema_dirs, cache, download_schemas and cache is not None)
     deliveries = DeliveryChecks(paths, labels_only)  # a delivery directory is also checked whole
     return _with_run_notes(_with_deliveries(_stream(files, job, jobs, progress, baseline), deliveries, settings,
-                                            baseline))
+                                            baseline), settings)
 
 
 def _with_deliveries(reports: Iterator[FileReport], deliveries: DeliveryChecks, settings: Settings,
@@ -286,15 +294,18 @@ def _checked_schema_dirs(schemas: Iterable[str | os.PathLike[str]]) -> tuple[str
     return pds4.check_schema_dirs(schemas)
 
 
-def _with_run_notes(reports: Iterator[FileReport]) -> Iterator[FileReport]:
-    """PDS4 hook: the run's one note when Schematron could not run, on its first PDS4 report."""
-    noted = False
+def _with_run_notes(reports: Iterator[FileReport], settings: Settings) -> Iterator[FileReport]:
+    """PDS4 hook: the run's one note when Schematron could not run, on its first PDS4 report;
+    and the checks across the run's PDS4 labels (two labels describing one data file)."""
+    register = None
     for report in reports:
-        if not noted and is_pds4_label(Path(report.path)):
+        if is_pds4_label(Path(report.path)):
             from ..pds4 import validate as pds4
 
-            pds4.add_run_notes([report])
-            noted = True
+            if register is None:
+                pds4.add_run_notes([report])
+                register = pds4.DataFileRegister()
+            report.findings.extend(settings.filter(register.add(report.path)))
         yield report
 
 
@@ -401,6 +412,8 @@ def validate_paths(
     baseline: Baseline | None = None,
     schemas: Iterable[str | os.PathLike[str]] = (),
     skip_non_labels: bool = False,
+    schema_cache: str | os.PathLike[str] | None = None,
+    download_schemas: bool = False,
 ) -> Report:
     """Validate label files and directories of them; the API behind `pdsgen validate`.
 
@@ -411,12 +424,14 @@ def validate_paths(
     file sizes, statistics, JP2), for label-only checks. dictionaries are extra data
     dictionaries (PSDD `.full` format) merged over the built-in one. settings select rules
     and set severities (see config.py); baseline drops findings already known.
-    schemas are directories of PDS4 schemas (.xsd/.sch) added to the shipped ones.
+    schemas are directories of PDS4 schemas (.xsd/.sch) added to the shipped ones;
+    schema_cache is a directory of downloaded PDS4 schemas, which download_schemas lets
+    grow from the URLs labels name (without a cache, no download).
     skip_non_labels passes over named files that are not labels (see iter_reports).
     """
     settings = settings or Settings()
     reports = list(iter_reports(paths, strict, jobs, labels_only, progress, dictionaries, settings, baseline,
-                                schemas, skip_non_labels))
+                                schemas, skip_non_labels, schema_cache, download_schemas))
     fail_on = "warning" if strict else settings.fail_on
     return Report(reports, fail_on=fail_on, baseline_suppressed=baseline.suppressed if baseline else 0,
                   dictionary=dictionary_version())

@@ -1,0 +1,303 @@
+"""PDS4 parity: pdsgen validate against NASA's validator on NASA's own regression suite.
+
+Usage: python bench/pds4_parity.py VALIDATE_CHECKOUT [--schemas DIR ...] [--absent FILE]
+                                   [--json OUT] [--only ISSUE[-SUBTEST],...] [--no-cwd-check]
+
+VALIDATE_CHECKOUT is a checkout of NASA-PDS/validate (pinned: PINNED_COMMIT below); its
+Cucumber cases are src/test/resources/features/*.feature, one row per case: the issue, the
+test data directory under src/test/resources, validate's arguments and the expected counts
+(an omitted totalErrors means 0). Each case pdsgen can run is run in this process, offline
+(no download: schemas come from the shipped set, from --schemas DIRs such as a checkout
+of the pds.nasa.gov/pds4 mirror sbn-psi/pds4-schema-files, and from the case's own -x/-S
+files), and its error verdict (any error finding, or a usage error) compared with NASA's
+(totalErrors > 0). Printed: the confusion table, and every disagreement with the
+expected message types and pdsgen's error findings, with the reason where it is known
+(REASONS below).
+
+Not comparable, and counted apart with the reason: bundle/collection integrity runs (-R
+pds4.bundle / pds4.collection, --target-manifest, -M: the delivery checks' domain), runs
+configured by files pdsgen does not read (-c, -e patterns), cases whose data files are
+absent from the checkout (--absent lists them, one path per line relative to the checkout),
+and cases where a schema a label names was not found (PDS4-002: the verdict would be on
+a partial check). Each comparable case is run a second time from another working
+directory (unless --no-cwd-check) and must give the same findings.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import re
+import shlex
+import sys
+import tempfile
+import time
+import traceback
+from collections import Counter
+from dataclasses import dataclass, field
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO / "src"))
+
+PINNED_COMMIT = "df054fd182e4c211af3940e3b570fa020384c7c3"  # NASA-PDS/validate, 2026-08-02
+FEATURES = Path("src/test/resources/features")
+RESOURCES = Path("src/test/resources")
+
+# Flags taking one value, whose meaning pdsgen has (or that do not change the verdict).
+VALUE_FLAGS = {"-R", "--rule", "-x", "--schema", "-S", "--schematron", "-schema", "-schematron", "-C", "--catalog",
+               "--label-extension",
+               "-v", "--verbose", "-c", "--config", "-e", "--regexp", "-M", "--checksum-manifest",
+               "--target-manifest", "-r", "--report-file", "-s", "--report-style", "--alternate",
+               "--add-context-products", "--max-errors"}
+NOT_COMPARABLE_FLAGS = {
+    "-c": "a configuration file", "--config": "a configuration file", "-e": "file-name patterns (-e)",
+    "--regexp": "file-name patterns", "-M": "a checksum manifest", "--checksum-manifest": "a checksum manifest",
+    "--target-manifest": "a target manifest", "--alternate": "alternate file paths",
+}
+DELIVERY_RULES = {"pds4.bundle", "pds4.collection", "pds4.folder"}
+
+# Why pdsgen and NASA differ on a case (case id -> reason), checked by hand on each case.
+_CONTEXT = ("policy: NASA looks the label's context products (investigation, host, target LIDs) up in "
+            "PDS's registry of context products; pdsgen is offline and has no such registry")
+REASONS: dict[str, str] = {
+    "11-3": _CONTEXT, "47-2": _CONTEXT, "62-2": _CONTEXT, "137-2": _CONTEXT,
+    "209-2": "NASA accepts bit fields 20-23 overlapping 23-... here yet reports the same kind of overlap in "
+             "392-2; pdsgen reports both",
+    "71-1": "NASA's errors come from its XML catalog of this case (5 unresolvable resources); with the "
+            "same schema files resolved by name, pdsgen finds the label valid against them",
+    "71-2": "as 71-1",
+    "298-2": "not implemented: NASA's invalid_field_value for UTF8_String values of a delimited table "
+             "whose quoted fields span lines",
+    "299-2": "not implemented: NASA reads the data types of manifest rows beyond the stated record count",
+}
+
+
+@dataclass
+class Case:
+    id: str
+    feature: str
+    datasrc: Path
+    args: list[str]
+    expectation: dict[str, int]
+    targets: list[Path] = field(default_factory=list)
+    schema_files: list[Path] = field(default_factory=list)
+    schema_dirs: list[Path] = field(default_factory=list)
+    labels_only: bool = False
+    extension: str = "xml"
+    skip: str | None = None
+
+    @property
+    def nasa_error(self) -> bool:
+        return self.expectation.get("summary:totalErrors", 0) > 0
+
+    @property
+    def nasa_types(self) -> list[str]:
+        return [k.split(":")[-1] + f"={v}" for k, v in self.expectation.items() if "messageTypes" in k]
+
+
+_ROW = re.compile(r'^\|\s*(\d+)\s*\|\s*(\d+)\s*\|\s*"([^"]*)"\s*\|\s*"([^"]*)"\s*\|\s*(?:"([^"]*)")?\s*\|\s*$')
+
+
+def read_cases(checkout: Path) -> list[Case]:
+    cases = []
+    for feature in sorted((checkout / FEATURES).glob("*.feature")):
+        for line in feature.read_text(encoding="utf-8").splitlines():
+            match = _ROW.match(line.strip())
+            if not match:
+                continue
+            issue, subtest, datasrc, args, expectation = match.groups()
+            source = checkout / RESOURCES / datasrc
+            expanded = [_absolute(a.replace("{datasrc}", str(source)).replace("%20", " "), checkout)
+                        for a in args.split()]
+            expected = {}
+            for item in filter(None, (expectation or "").split(",")):
+                key, _, value = item.partition("=")
+                expected[key.strip()] = int(value)
+            cases.append(_parse(Case(f"{issue}-{subtest}", feature.stem, source, expanded, expected)))
+    return cases
+
+
+def _absolute(arg: str, checkout: Path) -> str:
+    """validate's tests run in the checkout's root: a relative path is relative to it."""
+    return str(checkout / arg) if arg.startswith("src/") else arg
+
+
+def _parse(case: Case) -> Case:
+    """Targets and options of one case; `skip` says why it is not comparable."""
+    args, i = case.args, 0
+    while i < len(args):
+        arg = args[i]
+        value = args[i + 1] if i + 1 < len(args) else ""
+        if arg in NOT_COMPARABLE_FLAGS:
+            case.skip = f"run configured by {NOT_COMPARABLE_FLAGS[arg]}"
+        if arg in ("-R", "--rule") and value in DELIVERY_RULES:
+            case.skip = f"-R {value}: bundle/collection integrity (delivery checks)"
+        if arg in ("-x", "--schema", "-S", "--schematron", "-schema", "-schematron"):
+            case.schema_files.append(Path(value))
+        if arg in ("-C", "--catalog"):
+            case.schema_dirs.append(case.datasrc)  # its catalog maps pds.nasa.gov/pds4 onto the test data
+        if arg == "--label-extension":
+            case.extension = value.lstrip(".")
+        if arg in ("--skip-content-validation", "--no-data-check"):
+            case.labels_only = True
+        if arg == "--skip-product-validation":
+            case.skip = "--skip-product-validation: only bundle/collection integrity is checked"
+        if arg in VALUE_FLAGS:
+            i += 2
+            continue
+        if arg in ("-t", "--target"):
+            i += 1
+            continue
+        if not arg.startswith("-"):
+            case.targets.append(Path(arg))
+        i += 1
+    if not case.targets and case.skip is None:
+        case.skip = "no target"
+    return case
+
+
+def label_files(case: Case) -> list[Path]:
+    """The labels NASA's validator would check: files named, and files with the label
+    extension under directories named (pdsgen would also check PDS3 labels found there)."""
+    found: list[Path] = []
+    for target in case.targets:
+        if target.is_dir():
+            found.extend(sorted(p for p in target.rglob(f"*.{case.extension}") if p.is_file()))
+        else:
+            found.append(target)
+    return found
+
+
+@dataclass
+class Outcome:
+    case: Case
+    status: str  # agree / false-error / missed-error / not-comparable / crash
+    reason: str = ""
+    errors: list[str] = field(default_factory=list)
+
+
+def run_case(case: Case, extra_schemas: list[str], absent: set[Path], cwd_check: bool,
+             scratch: Path) -> Outcome:
+    from pdsgen.errors import PdsgenError
+    from pdsgen.validate import validate_paths
+
+    if case.skip:
+        return Outcome(case, "not-comparable", case.skip)
+    if any(case.datasrc in path.parents or path.parent == case.datasrc for path in absent):
+        return Outcome(case, "not-comparable", "data files of the case are absent from the checkout")
+    labels = label_files(case)
+    schemas = list(extra_schemas) + [str(d) for d in case.schema_dirs]
+    if case.schema_files:
+        own = scratch / f"schemas-{case.id}"
+        own.mkdir(exist_ok=True)
+        for file in case.schema_files:
+            if file.is_file() and not (own / file.name).exists():
+                (own / file.name).symlink_to(file.resolve())
+        schemas.append(str(own))
+    runs = []
+    for cwd in ([scratch / "a", scratch / "b"] if cwd_check else [scratch / "a"]):
+        cwd.mkdir(exist_ok=True)
+        os.chdir(cwd)
+        try:
+            if not labels:
+                raise PdsgenError(None, "no label to check")
+            report = validate_paths(labels, labels_only=case.labels_only, schemas=schemas)
+            findings = [(f.rule, f.severity, f.file, f.line, f.message) for f in report.findings]
+        except PdsgenError as exc:
+            findings = [("USAGE", "error", "", None, str(exc))]
+        except Exception:  # noqa: BLE001 - a crash is what the harness must count, not stop on
+            return Outcome(case, "crash", traceback.format_exc(limit=3))
+        runs.append(findings)
+    if cwd_check and runs[0] != runs[1]:
+        return Outcome(case, "crash", "findings depend on the working directory")
+    findings = runs[0]
+    missing = sorted({m.split()[1] for r, _, _, _, m in findings if r == "PDS4-002"})
+    if missing:
+        return Outcome(case, "not-comparable", "schema not found: " + ", ".join(missing[:4]))
+    errors = [f"{r} {Path(file).name}:{line or ''} {m[:160]}" for r, sev, file, line, m in findings
+              if sev == "error"]
+    ours = bool(errors)
+    if ours == case.nasa_error:
+        return Outcome(case, "agree", errors=errors)
+    return Outcome(case, "false-error" if ours else "missed-error", REASONS.get(case.id, ""), errors)
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("checkout", type=Path, help="a checkout of NASA-PDS/validate")
+    parser.add_argument("--schemas", action="append", default=[], help="extra schema directory (repeatable)")
+    parser.add_argument("--absent", type=Path, help="file listing checkout paths absent from it")
+    parser.add_argument("--json", type=Path, help="write every case's outcome here")
+    parser.add_argument("--only", default="", help="comma-separated case ids (ISSUE-SUBTEST) or issues")
+    parser.add_argument("--no-cwd-check", action="store_true", help="run each case from one directory only")
+    options = parser.parse_args()
+    checkout = options.checkout.resolve()
+    if not (checkout / FEATURES).is_dir():
+        print(f"{checkout}: no {FEATURES} here; give a checkout of NASA-PDS/validate "
+              f"(pinned commit {PINNED_COMMIT})", file=sys.stderr)
+        return 2
+    absent = set()
+    if options.absent:
+        absent = {checkout / line.strip() for line in options.absent.read_text().splitlines() if line.strip()}
+    cases = read_cases(checkout)
+    if options.only:
+        wanted = set(options.only.split(","))
+        cases = [c for c in cases if c.id in wanted or c.id.split("-")[0] in wanted]
+    started = time.monotonic()
+    outcomes = []
+    with tempfile.TemporaryDirectory(prefix="pds4-parity-") as scratch:
+        for case in cases:
+            outcomes.append(run_case(case, [str(Path(s).resolve()) for s in options.schemas], absent,
+                                     not options.no_cwd_check, Path(scratch)))
+        os.chdir(REPO)
+    elapsed = time.monotonic() - started
+    report(outcomes, elapsed)
+    if options.json:
+        options.json.write_text(json.dumps([{
+            "case": o.case.id, "feature": o.case.feature, "status": o.status, "reason": o.reason,
+            "nasa_error": o.case.nasa_error, "nasa_types": o.case.nasa_types, "pdsgen_errors": o.errors,
+            "args": shlex.join(o.case.args)} for o in outcomes], indent=1))
+    return 0
+
+
+def report(outcomes: list[Outcome], elapsed: float) -> None:
+    counts = Counter(o.status for o in outcomes)
+    comparable = [o for o in outcomes if o.status in ("agree", "false-error", "missed-error")]
+    table = Counter((o.case.nasa_error, bool(o.errors)) for o in comparable)
+    agree = counts["agree"]
+    print(f"NASA-PDS/validate regression cases: {len(outcomes)} ({elapsed:.1f} s)")
+    print(f"comparable: {len(comparable)}; not comparable: {counts['not-comparable']}; crashes: {counts['crash']}")
+    print()
+    print("                     pdsgen: error   pdsgen: no error")
+    print(f"NASA: error          {table[(True, True)]:>13}   {table[(True, False)]:>16}")
+    print(f"NASA: no error       {table[(False, True)]:>13}   {table[(False, False)]:>16}")
+    print()
+    if comparable:
+        print(f"agreement on the error verdict: {agree}/{len(comparable)} = {100 * agree / len(comparable):.1f} %")
+    print()
+    print("Not comparable, by reason:")
+    for reason, n in Counter(_reason_kind(o.reason) for o in outcomes if o.status == "not-comparable"
+                             ).most_common():
+        print(f"  {n:>4}  {reason}")
+    for status in ("crash", "false-error", "missed-error"):
+        chosen = [o for o in outcomes if o.status == status]
+        if not chosen:
+            continue
+        print()
+        print(f"{status} ({len(chosen)}):")
+        for o in chosen:
+            print(f"  {o.case.id} [{o.case.feature}] NASA: {', '.join(o.case.nasa_types) or 'no messages'}")
+            if o.reason:
+                print(f"      reason: {o.reason.strip().splitlines()[-1] if status == 'crash' else o.reason}")
+            for error in o.errors[:3]:
+                print(f"      pdsgen: {error}")
+
+
+def _reason_kind(reason: str) -> str:
+    return reason.split(":")[0] if reason.startswith("schema not found") else reason
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,108 @@
+"""PDS4 checks beyond one table or array: document files, and data files shared by labels.
+
+- A PDF in a document product must be PDF/A (PDS's archiving standard). Full PDF/A
+  conformance takes a PDF/A validator (NASA's tool embeds veraPDF); what is checked
+  here is the identification every PDF/A file carries, `pdfaid:part` in its XMP metadata
+  (which PDF/A forbids compressing), so a plain PDF is caught, a broken PDF/A is not.
+- File names use the characters PDS4 allows, and directory paths are relative.
+- No two labels of one run may describe the same data file (NASA's validator reports it
+  for the run): `DataFileRegister` sees every PDS4 report of a run, in the parent process.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from pathlib import Path
+
+from lxml import etree
+
+from ..validate.model import Finding
+from .label_tree import SEVERITY, P, Report
+
+_PDFA_MARK = b"pdfaid:part"
+_READ_BYTES = 1 << 20
+
+
+def check_pdf_a(report: Report, tree: etree._ElementTree) -> None:
+    """Every PDF of a Document_File (of a Product_Document) identifies itself as PDF/A."""
+    for area in tree.getroot().iter(f"{P}Document_File"):
+        name = (area.findtext(f"{P}file_name") or "").strip()
+        candidate = report.path.parent / (area.findtext(f"{P}directory_path_name") or "").strip() / name
+        path = candidate if name and candidate.is_file() else None
+        standard = (area.findtext(f"{P}document_standard_id") or "").strip()
+        if path is None or not (standard.startswith("PDF") or name.lower().endswith(".pdf")):
+            continue
+        if not _is_pdf(path):
+            problem = "is not a PDF at all (it does not start with %PDF-)"
+        elif not _marked_pdf_a(path):
+            problem = "is a PDF without PDF/A identification (no pdfaid:part in its XMP metadata)"
+        else:
+            continue
+        element = area.find(f"{P}file_name")
+        report.add("PDS4-061", f"{path.name} {problem}: PDS archives documents as PDF/A",
+                   element.sourceline if element is not None else area.sourceline, "file_name")
+
+
+def _is_pdf(path: Path) -> bool:
+    with open(path, "rb") as handle:
+        return handle.read(5) == b"%PDF-"
+
+
+def _marked_pdf_a(path: Path) -> bool:
+    """Whether the file holds `pdfaid:part`, read in overlapping chunks (memory stays flat)."""
+    tail = b""
+    with open(path, "rb") as handle:
+        while block := handle.read(_READ_BYTES):
+            if _PDFA_MARK in tail + block:
+                return True
+            tail = block[-len(_PDFA_MARK):]
+    return False
+
+
+class DataFileRegister:
+    """The data files the PDS4 labels of one run describe (every file_name of the label),
+    and which label named each first. The label's text is scanned, not parsed again: this
+    runs in the parent process for every label of the run."""
+
+    def __init__(self) -> None:
+        self.first: dict[str, str] = {}
+
+    def add(self, label: str) -> list[Finding]:
+        """PDS4-060 findings for the label's data files another label of the run named."""
+        try:
+            with open(label, "rb") as handle:
+                text = handle.read()
+        except OSError:
+            return []  # the label's own report says why it cannot be read
+        directory = os.path.dirname(os.path.abspath(label))
+        findings = []
+        for match in _FILE_NAME_ELEMENT.finditer(text):
+            name = match[1].decode("utf-8", "replace").strip()
+            data = os.path.normpath(os.path.join(directory, name))
+            first = self.first.setdefault(data, label)
+            if first != label:
+                findings.append(Finding("PDS4-060", SEVERITY["PDS4-060"], label,
+                                        f"{name} is also described by {first}",
+                                        text.count(b"\n", 0, match.start()) + 1, "file_name"))
+        return findings
+
+
+_FILE_NAME_ELEMENT = re.compile(rb"<(?:[A-Za-z_][\w.-]*:)?file_name>([^<]+)</")
+_FILE_NAME = re.compile(r"[A-Za-z0-9._-][A-Za-z0-9._/-]*\Z")  # a relative path, as genuine labels give
+
+
+def check_file_names(report: Report, tree: etree._ElementTree) -> None:
+    """File names a label gives use only the characters PDS4 allows (letters, digits, '-',
+    '_', '.'; no spaces), and directory paths are relative to the label (label only)."""
+    for name in tree.getroot().iter(f"{P}file_name"):
+        text = (name.text or "").strip()
+        if text and not _FILE_NAME.match(text):
+            bad = "".join(sorted({c for c in text if not _FILE_NAME.match(c)})) or text[0]
+            report.add("PDS4-062", f"file_name {text!r} holds characters PDS4 does not allow in file names "
+                                   f"({bad!r})", name.sourceline, "file_name")
+    for path in tree.getroot().iter(f"{P}directory_path_name"):
+        text = (path.text or "").strip()
+        if text.startswith(("/", "\\")) or ":" in text:  # '../x/' is relative, and accepted
+            report.add("PDS4-062", f"directory_path_name {text!r} is not a path relative to the label",
+                       path.sourceline, "directory_path_name")

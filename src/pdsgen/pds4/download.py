@@ -1,0 +1,55 @@
+"""Fetching a schema a label names from its URL into pdsgen's cache.
+
+Only http(s), only when the user allows it (not `--offline`). A download must parse
+as XML (an HTML error page is not a schema); it is written under a temporary name and
+renamed when complete, and its SHA-256 is appended to the cache's SHA256SUMS with the
+URL it came from, so that a later run can tell a cached file was not altered.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import urllib.error
+import urllib.request
+from pathlib import Path
+
+from .. import __version__
+from ..errors import PdsgenError
+from .catalog import SUMS_NAME, is_xml
+
+TIMEOUT_SECONDS = 30
+MAX_BYTES = 64 * 1024 * 1024  # the largest PDS schema is a few MB
+
+
+class DownloadError(PdsgenError):
+    """A schema could not be fetched (network, HTTP status, not XML)."""
+
+
+def fetch_schema(url: str, cache_dir: Path, name: str) -> tuple[Path, str]:
+    """Download `url` into `cache_dir/name`; its path and SHA-256."""
+    request = urllib.request.Request(url, headers={"User-Agent": f"pdsgen/{__version__}"})
+    try:
+        with urllib.request.urlopen(request, timeout=TIMEOUT_SECONDS) as response:  # noqa: S310 - http(s) only
+            data = response.read(MAX_BYTES + 1)
+    except urllib.error.HTTPError as exc:
+        raise DownloadError(url, f"HTTP {exc.code}") from None
+    except (urllib.error.URLError, OSError, ValueError) as exc:
+        reason = getattr(exc, "reason", None) or exc
+        raise DownloadError(url, str(reason)) from None
+    if len(data) > MAX_BYTES:
+        raise DownloadError(url, f"larger than {MAX_BYTES} bytes")
+    if not is_xml(data):
+        raise DownloadError(url, "the response is not XML")
+    digest = hashlib.sha256(data).hexdigest()
+    try:
+        cache_dir.mkdir(parents=True, exist_ok=True)
+        target = cache_dir / name
+        part = cache_dir / f".{name}.{os.getpid()}.part"
+        part.write_bytes(data)
+        os.replace(part, target)
+        with open(cache_dir / SUMS_NAME, "a", encoding="utf-8") as sums:
+            sums.write(f"{digest}  {name}  {url}\n")
+    except OSError as exc:
+        raise DownloadError(cache_dir, f"cannot write the schema cache: {exc.strerror or exc}") from None
+    return target, digest

@@ -1,0 +1,219 @@
+"""Where PDS4 schemas come from: beside the label (never the working directory), the
+shipped files and archives, the download cache, and the label's URL (a local HTTP server
+on 127.0.0.1 stands in for pds.nasa.gov); and what is said when one cannot be found."""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import http.server
+import json
+import re
+import shutil
+import tarfile
+import threading
+from pathlib import Path
+from types import SimpleNamespace
+
+import pytest
+
+from pdsgen.dtm import write_dtm
+from pdsgen.pds4 import schematron
+from pdsgen.pds4.catalog import packed_dir, packed_index, shipped_schema_dir
+from pdsgen.pds4.validate import validate_pds4
+from pdsgen.validate import validate_paths
+
+from helpers import ORIGINS, elevation_array, run_cli, write_raster
+
+CORE_URL = "https://pds.nasa.gov/pds4/pds/v1/PDS4_PDS_1O00.xsd"
+CORE_SCH = "https://pds.nasa.gov/pds4/pds/v1/PDS4_PDS_1O00.sch"
+
+
+@pytest.fixture(scope="module")
+def product(tmp_path_factory):
+    root = tmp_path_factory.mktemp("pds4_schemas")
+    crs, transform = ORIGINS["equirectangular"]
+    source = write_raster(root / "dtm.tif", elevation_array(12, 16, seed=4), crs, transform, nodata=-9999.0)
+    written = write_dtm(source, root / "good", product_id="SCHEMAS", label="pds4")
+    return SimpleNamespace(path=written.pds4_label_path, text=written.label_text)
+
+
+def _place(product, directory: Path, text: str) -> Path:
+    directory.mkdir(parents=True, exist_ok=True)
+    shutil.copy(product.path.with_suffix(".img"), directory / product.path.with_suffix(".img").name)
+    label = directory / product.path.name
+    label.write_text(text, encoding="utf-8")
+    return label
+
+
+def test_bare_schema_name_is_resolved_beside_the_label_not_in_the_working_directory(product, tmp_path,
+                                                                                    monkeypatch):
+    """xsi:schemaLocation names the core schema by a bare file name that no catalog knows
+    (core.xsd beside the label). A working directory holding a different core.xsd (one that
+    declares nothing) must change nothing, and the schema must really be used: a
+    33-character md5 breaks its pattern."""
+    text = product.text.replace(CORE_URL, "core.xsd").replace("<md5_checksum>", "<md5_checksum>0")
+    label = _place(product, tmp_path / "label", text)
+    shutil.copy(shipped_schema_dir() / "1O00" / "PDS4_PDS_1O00.xsd", label.parent / "core.xsd")
+    decoy = tmp_path / "elsewhere"
+    decoy.mkdir()
+    (decoy / "core.xsd").write_text('<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema" '
+                                    'targetNamespace="http://pds.nasa.gov/pds4/pds/v1"/>')
+    results = []
+    for cwd in (decoy, label.parent, tmp_path):
+        monkeypatch.chdir(cwd)
+        results.append([(f.rule, f.line, f.message) for f in validate_pds4(label, use_schematron=False)
+                        if f.rule != "PDS4-012"])
+    assert results[0] == results[1] == results[2]
+    assert {rule for rule, _, _ in results[0]} == {"PDS4-004"}
+    assert "md5_checksum" in results[0][0][2]
+
+
+def test_bare_schema_name_missing_beside_the_label_is_reported_not_taken_from_the_working_directory(
+        product, tmp_path, monkeypatch):
+    label = _place(product, tmp_path / "label", product.text.replace(CORE_URL, "core.xsd"))
+    shutil.copy(shipped_schema_dir() / "1O00" / "PDS4_PDS_1O00.xsd", tmp_path / "core.xsd")
+    monkeypatch.chdir(tmp_path)
+    found = validate_pds4(label, use_schematron=False)
+    assert [f.rule for f in found] == ["PDS4-002"]
+    assert "core" in found[0].message and "beside the label" in found[0].message
+
+
+def test_label_without_a_usable_schematron_reference_is_warned(product, tmp_path):
+    text = re.sub(r"<\?xml-model [^?]*\?>\n", "", product.text)
+    assert "xml-model" not in text
+    found = validate_pds4(_place(product, tmp_path / "none", text))
+    assert [(f.rule, f.severity) for f in found] == [("PDS4-008", "warning")]
+    # an xml-model that names the Schematron file with the wrong schematypens is no better
+    wrong = product.text.replace('schematypens="http://purl.oclc.org/dsdl/schematron"',
+                                 'schematypens="http://www.w3.org/2001/XMLSchema"')
+    found = validate_pds4(_place(product, tmp_path / "wrong", wrong))
+    assert [f.rule for f in found] == ["PDS4-008"] and "XMLSchema" in found[0].message
+
+
+def test_packed_archives_hold_what_the_index_says():
+    """Every packed schema decompresses to the SHA-256 recorded with its provenance, and
+    the core schema of every IM version from 1.0.0.0 to 1.23 is among them."""
+    index = packed_index()
+    seen = {}
+    for archive in sorted(packed_dir().glob("*.tar.xz")):
+        with tarfile.open(archive, "r:xz") as tar:
+            for info in tar:
+                seen[info.name] = (archive.name, hashlib.sha256(tar.extractfile(info).read()).hexdigest())
+    assert seen == {name: (entry["archive"], entry["sha256"]) for name, entry in index.items()}
+    cores = {name[len("PDS4_PDS_"):-4] for name in index if re.fullmatch(r"PDS4_PDS_1\w{3}\.xsd", name)}
+    assert {"1000", "1100", "1900", "1A00", "1B10", "1N00"} <= cores and len(cores) == 29
+    assert all(f"PDS4_PDS_{code}.sch" in index for code in cores)
+    assert sum(p.stat().st_size for p in packed_dir().glob("*.tar.xz")) < 1_500_000
+    provenance = json.loads((packed_dir() / "index.json").read_text())
+    assert provenance["repository"] == "sbn-psi/pds4-schema-files" and len(provenance["commit"]) == 40
+
+
+@pytest.mark.skipif(not schematron.available(), reason="saxonche (pdsgen[pds4]) is not installed")
+def test_an_old_core_version_is_validated_from_the_shipped_archive(product, tmp_path):
+    """A label on IM 1.11 (1B00) with only core classes: XML Schema and Schematron of 1B00
+    run from the archive, and 1B00's own rule on information_model_version speaks."""
+    text = re.sub(r'<\?xml-model href="https://pds.nasa.gov/pds4/(cart|disp)[^?]*\?>\n', "", product.text)
+    text = text.replace("PDS4_PDS_1O00", "PDS4_PDS_1B00")
+    found = validate_pds4(_place(product, tmp_path / "old", text), labels_only=True)
+    assert "PDS4-002" not in {f.rule for f in found}
+    assert any(f.rule == "PDS4-005" and "1.11.0.0" in f.message for f in found), [f.message for f in found]
+
+
+# --- downloads ------------------------------------------------------------------------------
+
+
+class _Quiet(http.server.SimpleHTTPRequestHandler):
+    def log_message(self, *args) -> None:  # noqa: ANN002 - keep the test output clean
+        pass
+
+
+@pytest.fixture
+def server(tmp_path):
+    """A static HTTP server on 127.0.0.1 over tmp_path/www, as pds.nasa.gov/pds4/ is laid out."""
+    www = tmp_path / "www"
+    (www / "pds4" / "pds" / "v1").mkdir(parents=True)
+    httpd = http.server.ThreadingHTTPServer(("127.0.0.1", 0), functools.partial(_Quiet, directory=str(www)))
+    thread = threading.Thread(target=httpd.serve_forever, daemon=True)
+    thread.start()
+    yield SimpleNamespace(www=www, url=f"http://127.0.0.1:{httpd.server_address[1]}/pds4/pds/v1/")
+    httpd.shutdown()
+    httpd.server_close()
+
+
+def _served_label(product, server, tmp_path) -> Path:
+    """The product with its core schema named as PDS4_PDS_9Z00.xsd on the local server (a
+    copy of 1O00's under a name no shipped catalog holds)."""
+    shutil.copy(shipped_schema_dir() / "1O00" / "PDS4_PDS_1O00.xsd", server.www / "pds4/pds/v1/PDS4_PDS_9Z00.xsd")
+    text = product.text.replace(CORE_URL, server.url + "PDS4_PDS_9Z00.xsd")
+    return _place(product, tmp_path / "label", text)
+
+
+def test_schema_is_downloaded_once_cached_hashed_and_listed(product, server, tmp_path):
+    label = _served_label(product, server, tmp_path)
+    cache = tmp_path / "cache"
+    first = run_cli("validate", "--verbose", "--schema-cache", cache, label)
+    assert first.returncode == 0, first.stdout + first.stderr
+    assert f"downloaded {server.url}PDS4_PDS_9Z00.xsd" in first.stderr
+    cached = cache / "PDS4_PDS_9Z00.xsd"
+    digest = hashlib.sha256(cached.read_bytes()).hexdigest()
+    assert cached.read_bytes() == (shipped_schema_dir() / "1O00" / "PDS4_PDS_1O00.xsd").read_bytes()
+    assert (cache / "SHA256SUMS").read_text() == f"{digest}  PDS4_PDS_9Z00.xsd  {server.url}PDS4_PDS_9Z00.xsd\n"
+    (server.www / "pds4/pds/v1/PDS4_PDS_9Z00.xsd").unlink()  # the server no longer has it: the cache answers
+    again = run_cli("validate", "--verbose", "--offline", "--schema-cache", cache, label)
+    assert again.returncode == 0 and "downloaded http" not in again.stderr, again.stdout + again.stderr
+    assert sorted(cache.iterdir()) == [cache / "PDS4_PDS_9Z00.xsd", cache / "SHA256SUMS"]
+
+
+def test_offline_or_unreachable_schema_is_reported_and_the_rest_still_checked(product, server, tmp_path):
+    label = _served_label(product, server, tmp_path)
+    offline = validate_paths([label], schema_cache=tmp_path / "cache", download_schemas=False)
+    found = [(f.rule, f.message) for f in offline.findings if f.rule != "PDS4-007"]
+    assert [rule for rule, _ in found] == ["PDS4-002"] and "--offline" in found[0][1]
+    assert not (tmp_path / "cache").exists()
+    (server.www / "pds4/pds/v1/PDS4_PDS_9Z00.xsd").unlink()
+    gone = validate_paths([label], schema_cache=tmp_path / "cache", download_schemas=True)
+    found = [f.message for f in gone.findings if f.rule == "PDS4-002"]
+    assert len(found) == 1 and "HTTP 404" in found[0]
+
+
+def test_an_altered_cached_schema_is_not_used(product, server, tmp_path):
+    label = _served_label(product, server, tmp_path)
+    cache = tmp_path / "cache"
+    assert validate_paths([label], schema_cache=cache, download_schemas=True).exit_code == 0
+    (cache / "PDS4_PDS_9Z00.xsd").write_text('<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema"/>')
+    (server.www / "pds4/pds/v1/PDS4_PDS_9Z00.xsd").unlink()
+    found = validate_paths([label], schema_cache=cache, download_schemas=False).findings
+    assert [f.rule for f in found if f.rule != "PDS4-007"] == ["PDS4-002"]
+
+
+def test_a_download_that_is_not_xml_is_refused(product, server, tmp_path):
+    label = _served_label(product, server, tmp_path)
+    (server.www / "pds4/pds/v1/PDS4_PDS_9Z00.xsd").write_text("<html><body>Not found</p></html>")
+    found = validate_paths([label], schema_cache=tmp_path / "cache", download_schemas=True).findings
+    messages = [f.message for f in found if f.rule == "PDS4-002"]
+    assert len(messages) == 1 and "not XML" in messages[0]
+    assert not (tmp_path / "cache" / "PDS4_PDS_9Z00.xsd").exists()
+
+
+def test_readme_validating_pds4_examples_run_as_written(product, tmp_path):
+    """README 'Validating PDS4': each command, on a delivery of pdsgen's own PDS4 products."""
+    import os
+    import shlex
+    import subprocess
+    import sys
+
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    body = readme.split("## Validating PDS4\n", 1)[1].split("\n## ", 1)[0]
+    blocks = re.findall(r"```sh\n(.*?)```", body, re.S)
+    examples = [line.split("#")[0] for block in blocks for line in block.splitlines() if line.startswith("pdsgen ")]
+    assert len(examples) == 4
+    for directory in ("delivery", "labels"):
+        _place(product, tmp_path / directory, product.text)
+    (tmp_path / "my_ldds").mkdir()
+    env = {**os.environ, "XDG_CACHE_HOME": str(tmp_path / "home-cache")}
+    for example in examples:
+        result = subprocess.run([sys.executable, "-m", "pdsgen", *shlex.split(example)[1:]], cwd=tmp_path,
+                                capture_output=True, text=True, env=env, timeout=300)
+        assert result.returncode == 0, (example, result.stdout, result.stderr)
+        assert "1 file(s) checked: 0 error(s)" in result.stdout, example
