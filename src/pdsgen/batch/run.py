@@ -22,6 +22,7 @@ from .. import __version__
 from .cluster import RESOURCE, check_workers, open_client
 from .manifest import OUTPUT_OPTIONS, Job, Manifest, command
 from .progress import Progress
+from .resident import DEFAULT_MAX_GROWTH_MB, DEFAULT_MAX_JOBS
 from .resume import (
     STATE_DIR,
     file_stats,
@@ -44,6 +45,8 @@ class Settings:
     scheduler: str | None = None
     workers: int = 1
     log_dir: Path | None = None
+    child_jobs: int = DEFAULT_MAX_JOBS  # jobs a resident child runs before it is replaced
+    child_growth_mb: float = DEFAULT_MAX_GROWTH_MB  # RSS growth after which it is replaced
 
 
 @dataclass
@@ -76,6 +79,7 @@ def make_task(job: Job, manifest: Manifest, settings: Settings, products: Mappin
         "id": job.id, "kind": job.kind, "params": params, "inputs": inputs, "options": digest, "outdir": output,
         "lock": f"pdsgen-batch:{output}" if job.kind in SHARED_FILE_KINDS else None,
         "threads": job.threads, "timeout": job.timeout, "version": __version__,
+        "child_jobs": settings.child_jobs, "child_growth_mb": settings.child_growth_mb,
         "marker": str(marker_path(manifest.outdir, job.id)),
         "log": str(log_dir(manifest, settings) / f"{job.id}.log"),
     }
@@ -229,7 +233,8 @@ def _write_summary(manifest: Manifest, settings: Settings, outcomes: Mapping[str
         jobs.append({"id": job.id, "kind": job.kind, "status": outcome["status"],
                      "seconds": outcome["seconds"], "attempts": outcome.get("attempts", 0),
                      "outputs": outcome["outputs"], "error": outcome["error"], "log": outcome["log"],
-                     "peak_mb": outcome.get("peak_mb"), "worker": outcome.get("worker"),
+                     "peak_mb": outcome.get("peak_mb"), "child_pid": outcome.get("child_pid"),
+                     "worker": outcome.get("worker"),
                      "worker_peak_mb": outcome.get("worker_peak_mb")})
     counts = {s: sum(j["status"] == s for j in jobs) for s in ("done", "skipped", "failed", "blocked")}
     data = {"manifest": str(manifest.path.resolve()), "outdir": str(manifest.outdir),

@@ -1,0 +1,106 @@
+"""Resident job processes: a worker slot's child is reused job after job, and replaced
+when it crashes, times out, has run its share of jobs or has grown too much.
+
+The jobs are real DTM jobs run through `run_job` (what a Dask worker calls), so each
+test exercises the real child process, its pipes and its memory accounting. Faults
+are injected into the child through Python's audit hook, loaded by sitecustomize in
+every process these tests start: opening a file whose name holds `abort-on-open`
+aborts the process; `grow-on-open` makes it keep 300 MB.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+import rasterio
+
+from pdsgen.batch import Settings, load_manifest
+from pdsgen.batch.resident import POOL
+from pdsgen.batch.run import make_task
+from pdsgen.batch.worker import run_job
+
+from helpers import ORIGINS, elevation_array, write_raster
+
+HOOK = '''
+import os, sys
+_kept = []
+def _faults(event, args):
+    if event == "open" and isinstance(args[0], str):
+        if "abort-on-open" in args[0]:
+            os.abort()
+        if "grow-on-open" in args[0]:
+            _kept.append(bytearray(os.urandom(1)) * (300 * 1000 * 1000))
+sys.addaudithook(_faults)
+'''
+
+
+@pytest.fixture()
+def jobs(tmp_path, monkeypatch):
+    """A manifest of six DTM jobs (the third with the abort params, the fifth with the
+    grow params) and a function making the task of job N; fresh children for this test."""
+    hook_dir = tmp_path / "hook"
+    hook_dir.mkdir()
+    (hook_dir / "sitecustomize.py").write_text(HOOK, encoding="utf-8")
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(hook_dir), os.environ.get("PYTHONPATH", "")]))
+    crs, transform = ORIGINS["equirectangular"]
+    (tmp_path / "input").mkdir()
+    write_raster(tmp_path / "input" / "dtm.tif", elevation_array(64, 64, seed=7), crs, transform)
+    for name in ("abort-on-open.toml", "grow-on-open.toml"):
+        (tmp_path / name).write_text('producer_full_name = "A. Tester"\n', encoding="utf-8")
+    entries = []
+    for n in range(6):
+        params = {2: 'params = "abort-on-open.toml"\n', 4: 'params = "grow-on-open.toml"\n'}.get(n, "")
+        entries.append(f'[[dtm]]\nid = "j{n}"\ninput = "input/dtm.tif"\nproduct_id = "J{n}"\n{params}')
+    (tmp_path / "batch.toml").write_text("\n".join(entries), encoding="utf-8")
+    manifest = load_manifest(tmp_path / "batch.toml", tmp_path / "out")
+    POOL.close()  # children of earlier tests run without this test's hook
+
+    def task(n: int, **settings) -> dict:
+        return make_task(manifest.jobs[n], manifest, Settings(**settings), {})
+
+    yield task
+    POOL.close()
+
+
+def test_one_child_runs_job_after_job_and_a_crash_costs_only_its_job(jobs, tmp_path):
+    first, second = run_job(jobs(0)), run_job(jobs(1))
+    assert first["status"] == second["status"] == "done"
+    assert first["child_pid"] == second["child_pid"]  # the same resident process
+    crashed = run_job(jobs(2))
+    assert crashed["status"] == "failed" and crashed["retry"]
+    assert crashed["error"].startswith("crashed (killed by SIGABRT)") and crashed["child_pid"] == first["child_pid"]
+    after = run_job(jobs(3))
+    assert after["status"] == "done" and after["child_pid"] not in (first["child_pid"], None)
+    for n in (0, 1, 3):  # each product whole, read back by GDAL
+        with rasterio.open(tmp_path / "out" / f"J{n}.IMG") as dataset:
+            assert (dataset.width, dataset.height) == (64, 64)
+    assert not (tmp_path / "out" / "J2.IMG").exists()
+    assert "J0" not in Path(second["log"]).read_text()  # each job's output in its own log
+
+
+def test_a_child_that_grew_is_replaced_and_peaks_are_per_job(jobs):
+    small = run_job(jobs(0, child_growth_mb=100))
+    grown = run_job(jobs(4, child_growth_mb=100))
+    assert grown["status"] == "done" and grown["child_pid"] == small["child_pid"]
+    assert grown["peak_mb"] > small["peak_mb"] + 250  # the job's own peak holds the 300 MB it kept
+    fresh = run_job(jobs(1, child_growth_mb=100))
+    assert fresh["child_pid"] != grown["child_pid"]  # grown by 300 MB > 100 MB: replaced
+    assert fresh["peak_mb"] < grown["peak_mb"] - 250  # a new child's peak is not the old one's
+
+
+def test_a_fresh_process_per_job_when_asked(jobs):
+    pids = {run_job(jobs(n, child_jobs=1))["child_pid"] for n in (0, 1, 3)}
+    assert len(pids) == 3 and None not in pids
+
+
+def test_a_timed_out_job_loses_its_child_and_the_next_job_runs(jobs, tmp_path):
+    warm = run_job(jobs(0))
+    late = run_job({**jobs(1), "timeout": 0.01})
+    assert late["status"] == "failed" and late["error"] == "timed out after 0.01 s" and late["retry"]
+    assert late["child_pid"] == warm["child_pid"]
+    with pytest.raises(ProcessLookupError):
+        os.kill(warm["child_pid"], 0)  # killed and reaped
+    assert not (tmp_path / "out" / "J1.IMG").exists()
+    assert run_job(jobs(1))["status"] == "done"
