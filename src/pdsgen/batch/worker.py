@@ -49,7 +49,8 @@ def run_job(task: dict[str, Any]) -> dict[str, Any]:
 def _outcome(task: dict[str, Any], status: str, start: float, **fields: Any) -> dict[str, Any]:
     """The job's outcome; `peak_mb` is the job's own peak RSS in its child (`child_pid`), `worker`
     where it ran (with that worker process's own peak RSS), for sizing the MEMORY a job declares."""
-    return {"id": task["id"], "status": status, "seconds": round(time.monotonic() - start, 3),
+    elapsed = time.monotonic() - start
+    return {"id": task["id"], "status": status, "seconds": round(elapsed, 3), "started": round(time.time() - elapsed, 3),
             "log": task["log"], "outputs": [], "products": [], "error": None, "peak_mb": None, "child_pid": None,
             **_where(), **fields}
 
