@@ -244,7 +244,7 @@ def test_plain_workers_are_sized_by_memory_limit_and_threads(reference, tmp_path
     assert len(by_worker) == 2  # both workers used
     for spans in by_worker.values():
         spans.sort()
-        assert all(end <= next_start + 0.01 for (_, end), (next_start, _) in zip(spans, spans[1:]))
+        assert all(end <= next_start + 0.01 for (_, end), (next_start, _) in zip(spans, spans[1:], strict=False))
 
     big = folder / "big.toml"
     big.write_text(write_manifest(folder, 1).read_text().replace("512 MB", "2 GB"), encoding="utf-8")

@@ -19,6 +19,7 @@ import json
 import os
 import resource
 import sys
+import time
 import traceback
 from typing import Any, TextIO
 
@@ -105,9 +106,11 @@ def serve(requests: TextIO, replies: TextIO) -> int:
     for line in requests:
         task = json.loads(line)
         resettable = reset_peak()
+        began = time.perf_counter()
         result = _run_logged(task)
+        work = round(time.perf_counter() - began, 4)
         _, rss = memory_mb()
-        _reply(replies, {**result, "peak_mb": _job_peak(resettable), "rss_mb": rss})
+        _reply(replies, {**result, "work_seconds": work, "peak_mb": _job_peak(resettable), "rss_mb": rss})
     return 0
 
 

@@ -262,6 +262,7 @@ def _write_summary(manifest: Manifest, settings: Settings, outcomes: Mapping[str
         outcome = outcomes[job.id]
         jobs.append({"id": job.id, "kind": job.kind, "status": outcome["status"],
                      "started": outcome.get("started"), "seconds": outcome["seconds"],
+                     "work_seconds": outcome.get("work_seconds"),
                      "attempts": outcome.get("attempts", 0),
                      "outputs": outcome["outputs"], "error": outcome["error"], "log": outcome["log"],
                      "peak_mb": outcome.get("peak_mb"), "child_pid": outcome.get("child_pid"),

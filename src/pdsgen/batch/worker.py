@@ -43,16 +43,16 @@ def run_job(task: dict[str, Any]) -> dict[str, Any]:
                  outputs=file_stats(result["outputs"]), shared=result["shared"], products=result["products"],
                  version=task["version"])
     return _outcome(task, "done", start, outputs=result["outputs"] + result["shared"], products=result["products"],
-                    peak_mb=result.get("peak_mb"), child_pid=result.get("pid"))
+                    peak_mb=result.get("peak_mb"), child_pid=result.get("pid"), work_seconds=result.get("work_seconds"))
 
 
 def _outcome(task: dict[str, Any], status: str, start: float, **fields: Any) -> dict[str, Any]:
     """The job's outcome; `peak_mb` is the job's own peak RSS in its child (`child_pid`), `worker`
     where it ran (with that worker process's own peak RSS), for sizing the MEMORY a job declares."""
     elapsed = time.monotonic() - start
-    return {"id": task["id"], "status": status, "seconds": round(elapsed, 3), "started": round(time.time() - elapsed, 3),
-            "log": task["log"], "outputs": [], "products": [], "error": None, "peak_mb": None, "child_pid": None,
-            **_where(), **fields}
+    return {"id": task["id"], "status": status, "seconds": round(elapsed, 3),
+            "started": round(time.time() - elapsed, 3), "log": task["log"], "outputs": [], "products": [],
+            "error": None, "peak_mb": None, "child_pid": None, **_where(), **fields}
 
 
 def _where() -> dict[str, Any]:
