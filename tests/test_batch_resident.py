@@ -5,7 +5,8 @@ The jobs are real DTM jobs run through `run_job` (what a Dask worker calls), so 
 test exercises the real child process, its pipes and its memory accounting. Faults
 are injected into the child through Python's audit hook, loaded by sitecustomize in
 every process these tests start: opening a file whose name holds `abort-on-open`
-aborts the process; `grow-on-open` makes it keep 300 MB.
+aborts the process; `kill-on-open` has it killed by SIGKILL, as the kernel's OOM killer
+does; `grow-on-open` makes it keep 300 MB.
 """
 
 from __future__ import annotations
@@ -30,6 +31,8 @@ def _faults(event, args):
     if event == "open" and isinstance(args[0], str):
         if "abort-on-open" in args[0]:
             os.abort()
+        if "kill-on-open" in args[0]:
+            os.kill(os.getpid(), 9)
         if "grow-on-open" in args[0]:
             _kept.append(bytearray(os.urandom(1)) * (300 * 1000 * 1000))
 sys.addaudithook(_faults)
@@ -38,8 +41,9 @@ sys.addaudithook(_faults)
 
 @pytest.fixture()
 def jobs(tmp_path, monkeypatch):
-    """A manifest of six DTM jobs (the third with the abort params, the fifth with the
-    grow params) and a function making the task of job N; fresh children for this test."""
+    """A manifest of seven DTM jobs (the third with the abort params, the fifth with the
+    grow params, the sixth with the kill params) and a function making the task of job N;
+    fresh children for this test."""
     hook_dir = tmp_path / "hook"
     hook_dir.mkdir()
     (hook_dir / "sitecustomize.py").write_text(HOOK, encoding="utf-8")
@@ -47,11 +51,12 @@ def jobs(tmp_path, monkeypatch):
     crs, transform = ORIGINS["equirectangular"]
     (tmp_path / "input").mkdir()
     write_raster(tmp_path / "input" / "dtm.tif", elevation_array(64, 64, seed=7), crs, transform)
-    for name in ("abort-on-open.toml", "grow-on-open.toml"):
+    for name in ("abort-on-open.toml", "grow-on-open.toml", "kill-on-open.toml"):
         (tmp_path / name).write_text('producer_full_name = "A. Tester"\n', encoding="utf-8")
     entries = []
-    for n in range(6):
-        params = {2: 'params = "abort-on-open.toml"\n', 4: 'params = "grow-on-open.toml"\n'}.get(n, "")
+    for n in range(7):
+        params = {2: 'params = "abort-on-open.toml"\n', 4: 'params = "grow-on-open.toml"\n',
+                  5: 'params = "kill-on-open.toml"\n'}.get(n, "")
         entries.append(f'[[dtm]]\nid = "j{n}"\ninput = "input/dtm.tif"\nproduct_id = "J{n}"\n{params}')
     (tmp_path / "batch.toml").write_text("\n".join(entries), encoding="utf-8")
     manifest = load_manifest(tmp_path / "batch.toml", tmp_path / "out")
@@ -78,6 +83,16 @@ def test_one_child_runs_job_after_job_and_a_crash_costs_only_its_job(jobs, tmp_p
             assert (dataset.width, dataset.height) == (64, 64)
     assert not (tmp_path / "out" / "J2.IMG").exists()
     assert "J0" not in Path(second["log"]).read_text()  # each job's output in its own log
+
+
+def test_a_job_killed_like_the_oom_killer_does_fails_alone(jobs, tmp_path):
+    warm = run_job(jobs(0))
+    killed = run_job(jobs(5))
+    assert killed["status"] == "failed" and killed["retry"] and killed["child_pid"] == warm["child_pid"]
+    assert killed["error"].startswith("crashed (killed by SIGKILL)")
+    assert not (tmp_path / "out" / "J5.IMG").exists() and not list((tmp_path / "out").glob(".*.part"))
+    after = run_job(jobs(1))
+    assert after["status"] == "done" and after["child_pid"] != warm["child_pid"]
 
 
 def test_a_child_that_grew_is_replaced_and_peaks_are_per_job(jobs):
