@@ -119,3 +119,14 @@ def test_a_timed_out_job_loses_its_child_and_the_next_job_runs(jobs, tmp_path):
         os.kill(warm["child_pid"], 0)  # killed and reaped
     assert not (tmp_path / "out" / "J1.IMG").exists()
     assert run_job(jobs(1))["status"] == "done"
+
+
+def test_a_child_growth_that_is_no_size_is_one_line(tmp_path):
+    import subprocess
+    import sys
+
+    (tmp_path / "batch.toml").write_text('[[dtm]]\ninput = "dtm.tif"\n', encoding="utf-8")
+    proc = subprocess.run([Path(sys.executable).parent / "pdsgen", "batch", tmp_path / "batch.toml", "-o",
+                           tmp_path / "out", "--child-growth", "lots"], capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 2 and proc.stderr.count("\n") == 1
+    assert "'--child-growth': 'lots' is not a size" in proc.stderr and not (tmp_path / "out").exists()
