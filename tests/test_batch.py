@@ -345,3 +345,24 @@ outdir = "extras"
     readme = (tmp_path / "out" / "extras" / "README.TXT").read_text()
     assert "DTM0" in readme and "DTM1" in readme
     assert run_all() == ["skipped"] * 4
+
+
+def test_a_busy_dashboard_port_prints_nothing(tmp_path):
+    """Another Dask cluster on the machine holding port 8787 costs no warning on stderr."""
+    import socket
+
+    write_inputs(tmp_path / "input", 1)
+    (tmp_path / "batch.toml").write_text('[[dtm]]\ninput = "input/dtm0.tif"\n', encoding="utf-8")
+    holder = socket.socket()
+    try:
+        holder.bind(("", 8787))
+        holder.listen()
+    except OSError:
+        pass  # already held by another cluster: the case itself
+    try:
+        proc = subprocess.run([BIN / "pdsgen", "batch", tmp_path / "batch.toml", "-o", tmp_path / "out",
+                               "--workers", "1", "--quiet"], capture_output=True, text=True, timeout=180)
+    finally:
+        holder.close()
+    assert (proc.returncode, proc.stderr) == (0, "")
+    assert (tmp_path / "out" / "DTM0.IMG").is_file()

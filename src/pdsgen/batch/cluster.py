@@ -40,8 +40,10 @@ def open_client(scheduler: str | None, workers: int) -> Iterator[Any]:
     if scheduler is None:
         # memory_limit=0: a worker's own memory thresholds would pause or restart it while
         # its job's child does the work; job memory is managed by the MEMORY resource.
+        # The scheduler's HTTP server takes a free loopback port: left to its default it tries
+        # 8787 and warns on stderr whenever another cluster on the machine holds that port.
         memory = _total_memory() // workers
-        with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+        with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address="127.0.0.1:0",
                           resources={RESOURCE: memory}, memory_limit=0, host="127.0.0.1",
                           silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
             yield client
