@@ -255,7 +255,7 @@ def test_plain_workers_are_sized_by_memory_limit_and_threads(reference, tmp_path
 
 
 def test_killed_run_resumes_without_remaking(tmp_path):
-    sets = 3
+    sets = 5  # 20 jobs: room to kill the run part way even when a loaded machine delays the poll
     write_inputs(tmp_path / "input", sets)
     manifest = write_manifest(tmp_path, sets)
     markers = tmp_path / "out" / ".pdsgen-batch" / "jobs"

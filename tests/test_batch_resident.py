@@ -6,7 +6,7 @@ test exercises the real child process, its pipes and its memory accounting. Faul
 are injected into the child through Python's audit hook, loaded by sitecustomize in
 every process these tests start: opening a file whose name holds `abort-on-open`
 aborts the process; `kill-on-open` has it killed by SIGKILL, as the kernel's OOM killer
-does; `grow-on-open` makes it keep 300 MB.
+does; `grow-on-open` makes it keep 300 MB; `warn-on-open` issues a UserWarning.
 """
 
 from __future__ import annotations
@@ -33,6 +33,9 @@ def _faults(event, args):
             os.abort()
         if "kill-on-open" in args[0]:
             os.kill(os.getpid(), 9)
+        if "warn-on-open" in args[0]:
+            import warnings
+            warnings.warn("injected warning", UserWarning)
         if "grow-on-open" in args[0]:
             _kept.append(bytearray(os.urandom(1)) * (300 * 1000 * 1000))
 sys.addaudithook(_faults)
@@ -51,12 +54,13 @@ def jobs(tmp_path, monkeypatch):
     crs, transform = ORIGINS["equirectangular"]
     (tmp_path / "input").mkdir()
     write_raster(tmp_path / "input" / "dtm.tif", elevation_array(64, 64, seed=7), crs, transform)
-    for name in ("abort-on-open.toml", "grow-on-open.toml", "kill-on-open.toml"):
+    for name in ("abort-on-open.toml", "grow-on-open.toml", "kill-on-open.toml", "warn-on-open.toml"):
         (tmp_path / name).write_text('producer_full_name = "A. Tester"\n', encoding="utf-8")
     entries = []
-    for n in range(7):
+    for n in range(9):
         params = {2: 'params = "abort-on-open.toml"\n', 4: 'params = "grow-on-open.toml"\n',
-                  5: 'params = "kill-on-open.toml"\n'}.get(n, "")
+                  5: 'params = "kill-on-open.toml"\n', 6: 'params = "warn-on-open.toml"\n',
+                  7: 'params = "warn-on-open.toml"\n'}.get(n, "")
         entries.append(f'[[dtm]]\nid = "j{n}"\ninput = "input/dtm.tif"\nproduct_id = "J{n}"\n{params}')
     (tmp_path / "batch.toml").write_text("\n".join(entries), encoding="utf-8")
     manifest = load_manifest(tmp_path / "batch.toml", tmp_path / "out")
@@ -103,6 +107,15 @@ def test_a_child_that_grew_is_replaced_and_peaks_are_per_job(jobs):
     fresh = run_job(jobs(1, child_growth_mb=100))
     assert fresh["child_pid"] != grown["child_pid"]  # grown by 300 MB > 100 MB: replaced
     assert fresh["peak_mb"] < grown["peak_mb"] - 250  # a new child's peak is not the old one's
+
+
+def test_each_job_log_has_its_own_warnings(jobs):
+    """Python shows a warning once per place in a process; a resident child still writes it
+    into the log of every job that raises it, as a process per job did."""
+    first, second = run_job(jobs(6)), run_job(jobs(7))
+    assert first["child_pid"] == second["child_pid"] and first["status"] == second["status"] == "done"
+    for outcome in (first, second):
+        assert "UserWarning: injected warning" in Path(outcome["log"]).read_text()
 
 
 def test_a_fresh_process_per_job_when_asked(jobs):

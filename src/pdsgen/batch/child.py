@@ -21,6 +21,7 @@ import resource
 import sys
 import time
 import traceback
+import warnings
 from typing import Any, TextIO
 
 # What every kind of job imports, loaded once when the child starts instead of per job.
@@ -105,6 +106,10 @@ def serve(requests: TextIO, replies: TextIO) -> int:
     _reply(replies, {"ready": True, "pid": os.getpid(), "rss_mb": rss})
     for line in requests:
         task = json.loads(line)
+        # Changing the warning filters (here re-adding a rule that changes nothing, so the
+        # list does not grow) makes Python forget which warnings it has shown: each job's
+        # log gets its warnings as a fresh process would print them, not only the first job's.
+        warnings.filterwarnings("default", category=UserWarning, append=True)
         resettable = reset_peak()
         began = time.perf_counter()
         result = _run_logged(task)
