@@ -176,9 +176,8 @@ def _stop(procs: list[subprocess.Popen]) -> None:
             proc.wait(timeout=5)
 
 
-@pytest.fixture()
-def scheduler(tmp_path):
-    """`dask scheduler` and two `dask worker` processes on 127.0.0.1, stopped afterwards."""
+def _cluster(tmp_path: Path, worker_options: list[str]):
+    """`dask scheduler` and two `dask worker` processes (WORKER_OPTIONS) on 127.0.0.1, stopped afterwards."""
     port = _free_port()
     address = f"tcp://127.0.0.1:{port}"
     logs = tmp_path / "dask-logs.txt"
@@ -187,9 +186,8 @@ def scheduler(tmp_path):
         procs.append(subprocess.Popen([BIN / "dask", "scheduler", "--host", "127.0.0.1", "--port", str(port),
                                        "--no-dashboard"], stdout=log, stderr=log))
         for _ in range(2):
-            procs.append(subprocess.Popen([BIN / "dask", "worker", address, "--host", "127.0.0.1", "--nthreads", "1",
-                                           "--resources", "MEMORY=2e9", "--no-dashboard", "--memory-limit", "0"],
-                                          stdout=log, stderr=log))
+            procs.append(subprocess.Popen([BIN / "dask", "worker", address, "--host", "127.0.0.1", "--no-dashboard",
+                                           *worker_options], stdout=log, stderr=log))
         from distributed import Client
 
         try:
@@ -198,6 +196,19 @@ def scheduler(tmp_path):
             yield address
         finally:
             _stop(procs)
+
+
+@pytest.fixture()
+def scheduler(tmp_path):
+    """Two workers declaring MEMORY=2e9 for jobs, one thread each."""
+    yield from _cluster(tmp_path, ["--nthreads", "1", "--resources", "MEMORY=2e9", "--memory-limit", "0"])
+
+
+@pytest.fixture()
+def plain_scheduler(tmp_path):
+    """Two workers started as most clusters are: no resources; two threads and a memory_limit
+    that holds one 512 MB job at a time."""
+    yield from _cluster(tmp_path, ["--nthreads", "2", "--memory-limit", "0.9GB"])
 
 
 def test_remote_scheduler_equals_sequential(reference, tmp_path, scheduler):
@@ -216,8 +227,35 @@ def test_remote_scheduler_equals_sequential(reference, tmp_path, scheduler):
     assert proc.stderr.count("\n") == 1 and "offers MEMORY=2.00 GB" in proc.stderr
 
 
+def test_plain_workers_are_sized_by_memory_limit_and_threads(reference, tmp_path, plain_scheduler):
+    """Workers without a MEMORY resource take jobs; each worker runs only as many at once as
+    its memory_limit holds (here one, although it has two threads)."""
+    folder, expected = reference
+    manifest = write_manifest(folder, SETS)
+    proc = subprocess.run([BIN / "pdsgen", "batch", manifest, "-o", tmp_path / "plain", "--scheduler",
+                           plain_scheduler, "--verbose"], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert "workers declare no MEMORY resource: jobs placed by each worker's threads and memory_limit" in proc.stderr
+    assert tree(tmp_path / "plain") == expected
+    summary = json.loads((tmp_path / "plain" / ".pdsgen-batch" / "logs" / "summary.json").read_text())
+    by_worker: dict[str, list[tuple[float, float]]] = {}
+    for job in summary["jobs"]:
+        by_worker.setdefault(job["worker"], []).append((job["started"], job["started"] + job["seconds"]))
+    assert len(by_worker) == 2  # both workers used
+    for spans in by_worker.values():
+        spans.sort()
+        assert all(end <= next_start + 0.01 for (_, end), (next_start, _) in zip(spans, spans[1:], strict=False))
+
+    big = folder / "big.toml"
+    big.write_text(write_manifest(folder, 1).read_text().replace("512 MB", "2 GB"), encoding="utf-8")
+    refused = subprocess.run([BIN / "pdsgen", "batch", big, "-o", tmp_path / "big", "--scheduler", plain_scheduler],
+                             capture_output=True, text=True, timeout=120)
+    assert refused.returncode == 2 and refused.stderr.count("\n") == 1
+    assert "needs memory 2.00 GB but the largest Dask worker offers memory_limit=0.90 GB" in refused.stderr
+
+
 def test_killed_run_resumes_without_remaking(tmp_path):
-    sets = 3
+    sets = 5  # 20 jobs: room to kill the run part way even when a loaded machine delays the poll
     write_inputs(tmp_path / "input", sets)
     manifest = write_manifest(tmp_path, sets)
     markers = tmp_path / "out" / ".pdsgen-batch" / "jobs"
@@ -307,3 +345,24 @@ outdir = "extras"
     readme = (tmp_path / "out" / "extras" / "README.TXT").read_text()
     assert "DTM0" in readme and "DTM1" in readme
     assert run_all() == ["skipped"] * 4
+
+
+def test_a_busy_dashboard_port_prints_nothing(tmp_path):
+    """Another Dask cluster on the machine holding port 8787 costs no warning on stderr."""
+    import socket
+
+    write_inputs(tmp_path / "input", 1)
+    (tmp_path / "batch.toml").write_text('[[dtm]]\ninput = "input/dtm0.tif"\n', encoding="utf-8")
+    holder = socket.socket()
+    try:
+        holder.bind(("", 8787))
+        holder.listen()
+    except OSError:
+        pass  # already held by another cluster: the case itself
+    try:
+        proc = subprocess.run([BIN / "pdsgen", "batch", tmp_path / "batch.toml", "-o", tmp_path / "out",
+                               "--workers", "1", "--quiet"], capture_output=True, text=True, timeout=180)
+    finally:
+        holder.close()
+    assert (proc.returncode, proc.stderr) == (0, "")
+    assert (tmp_path / "out" / "DTM0.IMG").is_file()

@@ -1,4 +1,11 @@
-"""Start-up cost: listing, completing and converting load only what they use."""
+"""Start-up cost: listing, completing and converting load only what they use.
+
+Each command path has an import budget, measured with `python -X importtime` on the
+real command: the number of modules it imports (pdsgen's own and all) and modules it
+must not import. Module counts, unlike times on a shared machine, are the same on
+every run, and each module is start-up time; a change that makes a path import more
+fails here and must raise the budget on purpose.
+"""
 
 from __future__ import annotations
 
@@ -66,7 +73,7 @@ def test_an_orthoimage_is_checked_without_the_pvl_reader_or_the_pds4_validator(t
     result = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, check=True)
     loaded = ast.literal_eval(result.stdout.strip().splitlines()[-1])
     assert [p.name for p in sorted((tmp_path / "out").iterdir())] == ["IN.JP2", "IN.LBL", "JP2INFO.TXT"]
-    assert "pdsgen.validate.runner" in loaded  # the label was checked
+    assert "pdsgen.validate.families.dict_rules" in loaded  # the label was checked
     assert not {"pvl", "pdsgen.pds4.validate", "pdsgen.pds4.schematron"} & set(loaded)
 
 
@@ -78,3 +85,67 @@ def test_numpy_blas_threads_default_to_one_and_a_users_setting_wins():
     chosen = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                             env={**env, "OPENBLAS_NUM_THREADS": "4"})
     assert (unset.stdout.strip(), chosen.stdout.strip()) == ("1", "4")
+
+
+# command line -> (most pdsgen modules, most modules in all, modules it must not import).
+# Measured when set (pdsgen modules / all): --version 6/114, --help 6/121, a 64 x 64
+# DTM conversion 47/393, validate of one .IMG 48/381 (Python 3.11, numpy 2, rasterio 1.4).
+VALIDATOR_BEYOND_DICTIONARY = {"pdsgen.validate.runner", "pdsgen.validate.report", "pdsgen.validate.config",
+                               "pdsgen.validate.families.map_rules", "pdsgen.validate.families.geo_rules",
+                               "pdsgen.validate.families.image_rules", "pdsgen.validate.families.set_rules"}
+LIBRARIES = {"numpy", "rasterio", "glymur", "jinja2", "lxml.etree", "pvl", "distributed"}
+BUDGETS = {
+    "--version": (8, 135, LIBRARIES | {"pdsgen.validate"}),
+    "--help": (8, 140, LIBRARIES | {"pdsgen.validate"}),
+    "dtm {dtm} -o {out} -q": (52, 430, {"pdsgen.pds4.products", "lxml.etree", "glymur", "pvl", "distributed"}
+                              | VALIDATOR_BEYOND_DICTIONARY),
+    "validate {out}/DTM.IMG -q": (56, 430, {"jinja2", "glymur", "pdsgen.products.dtm", "distributed"}),
+}
+
+
+def _imports(args: list[str]) -> dict[str, int]:
+    """module -> its cumulative import time in microseconds, for `python -m pdsgen ARGS`."""
+    result = subprocess.run([sys.executable, "-X", "importtime", "-m", "pdsgen", *args], capture_output=True,
+                            text=True, env={k: v for k, v in os.environ.items() if k != "PYTHONPATH"})
+    assert result.returncode == 0, result.stderr[-2000:]
+    imported = {}
+    for line in result.stderr.splitlines():
+        if line.startswith("import time:") and "|" in line and not line.endswith("imported package"):
+            _, cumulative, name = (part.strip() for part in line.split("|"))
+            imported[name] = int(cumulative)
+    return imported
+
+
+def test_each_command_stays_within_its_import_budget(tmp_path):
+    import numpy as np
+
+    from helpers import ORIGINS, elevation_array, write_raster
+
+    crs, transform = ORIGINS["equirectangular"]
+    write_raster(tmp_path / "dtm.tif", elevation_array(64, 64, seed=3).astype(np.float32), crs, transform)
+    for command, (own_budget, all_budget, forbidden) in BUDGETS.items():
+        imported = _imports(command.format(dtm=tmp_path / "dtm.tif", out=tmp_path / "out").split())
+        own = [m for m in imported if m == "pdsgen" or m.startswith("pdsgen.")]
+        slowest = ", ".join(f"{m} {t / 1000:.0f} ms" for m, t in sorted(imported.items(), key=lambda i: -i[1])[:6])
+        where = f"`pdsgen {command}` (slowest imports: {slowest})"
+        assert not forbidden & set(imported), f"{where} imports {sorted(forbidden & set(imported))}"
+        assert len(own) <= own_budget, f"{where} imports {len(own)} pdsgen modules, budget {own_budget}"
+        assert len(imported) <= all_budget, f"{where} imports {len(imported)} modules, budget {all_budget}"
+    assert (tmp_path / "out" / "DTM.IMG").is_file()  # the conversion and the validation ran
+
+
+def test_the_label_check_of_a_writer_is_the_validators_dictionary_verdict(tmp_path):
+    """The writer runs the DICT rules alone; they find what `pdsgen validate --strict` finds."""
+    from pdsgen.products.agreement import dictionary_errors
+    from pdsgen.validate import validate_file
+
+    label = (tmp_path / "X.LBL")
+    label.write_text("PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = UNDEFINED\r\nPRODUCT_ID = \"X\"\r\n"
+                     f"PRODUCER_FULL_NAME = \"{'N' * 74}\"\r\nMAP_RESOLUTION = \"abc\"\r\nLINES = -3\r\n"
+                     "FOO_BAR = 1\r\nEND\r\n",
+                     encoding="ascii")
+    report, _ = validate_file(label, labels_only=True, strict=True)
+    expected = [(f.rule, f.line, f.message) for f in report.findings
+                if f.severity == "error" and f.rule.startswith("DICT-")]
+    found = [(rule, hit.line, hit.message) for rule, hit in dictionary_errors(label.read_text(), "X.LBL")]
+    assert [rule for rule, _, _ in found] == ["DICT-006", "DICT-002", "DICT-003"] and found == expected

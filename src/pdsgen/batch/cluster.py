@@ -1,10 +1,13 @@
 """The Dask cluster a batch runs on: a local one of processes, or a running scheduler.
 
-Jobs declare the memory they need as the worker resource MEMORY (bytes), so a
-worker is never given more concurrent jobs than it has memory for. Before anything
-is submitted the workers are checked - they run this pdsgen version and some worker
-has the memory each job asks for - because a job no worker can take would wait
-forever without a word.
+A worker is never given more concurrent jobs than it has memory for. Where every
+worker declares the resource MEMORY (bytes; the local cluster does), jobs ask Dask
+for their memory as that resource. Workers started plainly (`dask worker ADDRESS`,
+dask-jobqueue or an operator's defaults) declare none; then the client places each
+job on a worker itself (Sizing), within the worker's threads and its memory_limit
+(a worker's MEMORY where it declares one). Before anything is submitted the workers
+are checked - they run this pdsgen version and some worker has the memory each job
+asks for - because a job no worker can take would wait forever without a word.
 """
 
 from __future__ import annotations
@@ -12,7 +15,8 @@ from __future__ import annotations
 import contextlib
 import logging
 import os
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import dataclass, field
 from typing import Any
 
 from ..errors import PdsgenError
@@ -36,8 +40,10 @@ def open_client(scheduler: str | None, workers: int) -> Iterator[Any]:
     if scheduler is None:
         # memory_limit=0: a worker's own memory thresholds would pause or restart it while
         # its job's child does the work; job memory is managed by the MEMORY resource.
+        # The scheduler's HTTP server takes a free loopback port: left to its default it tries
+        # 8787 and warns on stderr whenever another cluster on the machine holds that port.
         memory = _total_memory() // workers
-        with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+        with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address="127.0.0.1:0",
                           resources={RESOURCE: memory}, memory_limit=0, host="127.0.0.1",
                           silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
             yield client
@@ -55,8 +61,67 @@ def open_client(scheduler: str | None, workers: int) -> Iterator[Any]:
         yield client
 
 
-def check_workers(client: Any, jobs: Sequence[Job], version: str) -> None:
-    """PdsgenError (one line) unless the workers run pdsgen VERSION and can take every job."""
+@dataclass
+class Sizing:
+    """How jobs are fitted to workers: by the MEMORY resource Dask enforces (`by_resource`),
+    or by the client placing each job on a worker with a free thread and the memory it
+    asks for (`free`: address -> [threads, bytes or None for no limit])."""
+
+    by_resource: bool
+    free: dict[str, list[Any]] = field(default_factory=dict)
+    declared: set[str] = field(default_factory=set)  # workers (placed) that also declare MEMORY
+
+    @classmethod
+    def of(cls, workers: Mapping[str, Mapping[str, Any]]) -> Sizing:
+        declared = {a for a, w in workers.items() if (w.get("resources") or {}).get(RESOURCE)}
+        if declared == set(workers):
+            return cls(True)
+        free = {a: [max(1, int(w.get("nthreads") or 1)), _offered(w)] for a, w in workers.items()}
+        return cls(False, free, declared)
+
+    def describe(self) -> str:
+        if self.by_resource:
+            return f"jobs sized by the workers' {RESOURCE} resource (each job asks for its memory)"
+        limits = ", ".join(f"{a}: {t} thread(s), {'no memory limit' if m is None else _gb(m)}"
+                           for a, (t, m) in sorted(self.free.items()))
+        return (f"workers declare no {RESOURCE} resource: jobs placed by each worker's threads and "
+                f"memory_limit ({limits})")
+
+    def largest(self) -> float:
+        """The most memory one job can have (inf where a worker sets no limit)."""
+        if self.by_resource:
+            return 0.0
+        return max((float("inf") if m is None else m for _, m in self.free.values()), default=0.0)
+
+    def take(self, memory: int) -> str | None:
+        """A worker with a free thread and MEMORY bytes free (the one with most memory free),
+        booked for the job; None while none has."""
+        fits = [(float("inf") if m is None else m, a) for a, (t, m) in self.free.items()
+                if t > 0 and (m is None or m >= memory)]
+        if not fits:
+            return None
+        address = max(fits)[1]
+        self.free[address][0] -= 1
+        if self.free[address][1] is not None:
+            self.free[address][1] -= memory
+        return address
+
+    def give_back(self, address: str, memory: int) -> None:
+        self.free[address][0] += 1
+        if self.free[address][1] is not None:
+            self.free[address][1] += memory
+
+
+def _offered(worker: Mapping[str, Any]) -> int | None:
+    """The memory a worker offers to jobs: its MEMORY resource, else its memory_limit (None: none)."""
+    declared = (worker.get("resources") or {}).get(RESOURCE)
+    limit = declared or worker.get("memory_limit") or 0
+    return int(limit) if limit else None
+
+
+def check_workers(client: Any, jobs: Sequence[Job], version: str) -> Sizing:
+    """How jobs are sized on these workers; PdsgenError (one line) unless the workers run
+    pdsgen VERSION and some worker can take every job."""
     try:
         versions = client.run(_pdsgen_version)
     except Exception as exc:  # unpickling fails on a worker without pdsgen
@@ -67,14 +132,18 @@ def check_workers(client: Any, jobs: Sequence[Job], version: str) -> None:
         raise PdsgenError(None, f"{len(wrong)} Dask worker(s) run pdsgen {other} (e.g. {addr}); "
                                 f"this client runs {version}: install the same version everywhere")
     workers = client.scheduler_info()["workers"]
-    largest = max((w.get("resources", {}).get(RESOURCE, 0) for w in workers.values()), default=0)
-    if not largest:
-        raise PdsgenError(None, f"no Dask worker declares its memory for jobs: start workers with "
-                                f"--resources {RESOURCE}=BYTES (e.g. {RESOURCE}=8e9)")
+    sizing = Sizing.of(workers)
     too_big = max(jobs, key=lambda j: j.memory)
+    if sizing.by_resource:
+        largest = max(w["resources"][RESOURCE] for w in workers.values())
+        offer = f"{RESOURCE}={_gb(largest)}"
+    else:
+        largest = sizing.largest()
+        offer = f"memory_limit={_gb(largest)} (or {RESOURCE})"
     if too_big.memory > largest:
         raise PdsgenError(None, f"job {too_big.id!r} needs memory {_gb(too_big.memory)} but the largest Dask "
-                                f"worker offers {RESOURCE}={_gb(largest)}")
+                                f"worker offers {offer}")
+    return sizing
 
 
 def _pdsgen_version() -> str:

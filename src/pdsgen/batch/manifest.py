@@ -304,7 +304,7 @@ class _Checker:
             if value is None:
                 continue
             if key == "memory" and isinstance(value, str):
-                value = _parse_size(value)
+                value = parse_size(value)
             number = isinstance(value, int | float) and not isinstance(value, bool)
             if not (number and value >= least and (not whole or value == int(value))):
                 self.problems.append(f"{where}: {key} must be {wanted}")
@@ -343,7 +343,7 @@ class _Checker:
                         "give them different outdir, or make one `after` the other")
 
 
-def _parse_size(text: str) -> int | None:
+def parse_size(text: str) -> int | None:
     """'2 GB' -> 2000000000 (Dask's own reading of sizes); None if it is no size."""
     from dask.utils import parse_bytes
 

@@ -10,6 +10,7 @@ of every job goes into one JSON summary beside the jobs' logs.
 from __future__ import annotations
 
 import json
+import logging
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -19,9 +20,10 @@ from typing import Any, TextIO
 import click
 
 from .. import __version__
-from .cluster import RESOURCE, check_workers, open_client
+from .cluster import RESOURCE, Sizing, check_workers, open_client
 from .manifest import OUTPUT_OPTIONS, Job, Manifest, command
 from .progress import Progress
+from .resident import DEFAULT_MAX_GROWTH_MB, DEFAULT_MAX_JOBS
 from .resume import (
     STATE_DIR,
     file_stats,
@@ -37,6 +39,7 @@ from .resume import (
 # (README.TXT) are ordered by `after` instead, checked in the manifest, because
 # README.TXT lists products in the order they were made.
 SHARED_FILE_KINDS = ("ortho",)
+log = logging.getLogger("pdsgen.batch")
 
 
 @dataclass
@@ -44,6 +47,8 @@ class Settings:
     scheduler: str | None = None
     workers: int = 1
     log_dir: Path | None = None
+    child_jobs: int = DEFAULT_MAX_JOBS  # jobs a resident child runs before it is replaced
+    child_growth_mb: float = DEFAULT_MAX_GROWTH_MB  # RSS growth after which it is replaced
 
 
 @dataclass
@@ -76,6 +81,7 @@ def make_task(job: Job, manifest: Manifest, settings: Settings, products: Mappin
         "id": job.id, "kind": job.kind, "params": params, "inputs": inputs, "options": digest, "outdir": output,
         "lock": f"pdsgen-batch:{output}" if job.kind in SHARED_FILE_KINDS else None,
         "threads": job.threads, "timeout": job.timeout, "version": __version__,
+        "child_jobs": settings.child_jobs, "child_growth_mb": settings.child_growth_mb,
         "marker": str(marker_path(manifest.outdir, job.id)),
         "log": str(log_dir(manifest, settings) / f"{job.id}.log"),
     }
@@ -143,11 +149,12 @@ def run(manifest: Manifest, settings: Settings, progress_stream: TextIO | None =
     started = time.time()
     progress = Progress(len(manifest.jobs), progress_stream, bar)
     with open_client(settings.scheduler, settings.workers) as client:
-        check_workers(client, manifest.jobs, __version__)
+        sizing = check_workers(client, manifest.jobs, __version__)
+        log.info("%s", sizing.describe())
         removed = remove_interrupted_leftovers(marker_path(manifest.outdir, j.id) for j in manifest.jobs)
         if removed:
             progress.note(f"removed {len(removed)} temporary file(s) left by an interrupted run")
-        outcomes = _Submitter(client, manifest, settings, progress).run_all()
+        outcomes = _Submitter(client, manifest, settings, progress, sizing).run_all()
     progress.close()
     return _write_summary(manifest, settings, outcomes, started)
 
@@ -155,10 +162,14 @@ def run(manifest: Manifest, settings: Settings, progress_stream: TextIO | None =
 class _Submitter:
     """Submits each job once the jobs it is after are done, and collects the outcomes."""
 
-    def __init__(self, client: Any, manifest: Manifest, settings: Settings, progress: Progress) -> None:
+    def __init__(self, client: Any, manifest: Manifest, settings: Settings, progress: Progress,
+                 sizing: Sizing) -> None:
         from distributed import as_completed
 
         self.client, self.manifest, self.settings, self.progress = client, manifest, settings, progress
+        self.sizing = sizing
+        self.queue: list[Job] = []  # ready jobs waiting for a worker with room (placed sizing)
+        self.placed: dict[str, str] = {}  # future key -> the worker booked for it
         self.futures = as_completed()
         self.submitted: dict[str, Job] = {}  # future key -> job
         self.attempts: dict[str, int] = {}
@@ -169,6 +180,8 @@ class _Submitter:
         self._release_ready()
         for future in self.futures:
             job = self.submitted.pop(future.key)
+            if future.key in self.placed:
+                self.sizing.give_back(self.placed.pop(future.key), job.memory)
             outcome = {**_outcome_of(future), "id": job.id}
             future.release()
             if outcome["status"] == "failed" and outcome.pop("retry", False) and self.attempts[job.id] <= job.retries:
@@ -177,16 +190,37 @@ class _Submitter:
                 continue
             outcome.pop("retry", None)
             self._finish(job, {**outcome, "attempts": self.attempts[job.id]})
+            self._dispatch()
         return self.outcomes
 
     def _submit(self, job: Job) -> None:
+        self.attempts[job.id] = self.attempts.get(job.id, 0) + 1
+        self.queue.append(job)
+        self._dispatch()
+
+    def _dispatch(self) -> None:
+        """Send the queued jobs that have room: all of them where Dask sizes jobs by the MEMORY
+        resource, else those a worker has a free thread and the memory for (Sizing.take)."""
+        for job in list(self.queue):
+            where = None if self.sizing.by_resource else self.sizing.take(job.memory)
+            if where is None and not self.sizing.by_resource:
+                continue
+            self.queue.remove(job)
+            self._send(job, where)
+
+    def _send(self, job: Job, where: str | None) -> None:
         from .worker import run_job
 
         task = make_task(job, self.manifest, self.settings, self.products)
-        self.attempts[job.id] = self.attempts.get(job.id, 0) + 1
         key = f"{job.kind}-{job.id}-{task['options'][:12]}-{self.attempts[job.id]}"
         self.submitted[key] = job
-        self.futures.add(self.client.submit(run_job, task, key=key, resources={RESOURCE: job.memory}, pure=False))
+        options: dict[str, Any] = {}
+        if where is None or where in self.sizing.declared:
+            options["resources"] = {RESOURCE: job.memory}
+        if where is not None:  # pinned while that worker lives; elsewhere if it leaves
+            options.update(workers=[where], allow_other_workers=True)
+            self.placed[key] = where
+        self.futures.add(self.client.submit(run_job, task, key=key, pure=False, **options))
         self.progress.started()
 
     def _finish(self, job: Job, outcome: dict[str, Any], was_running: bool = True) -> None:
@@ -227,9 +261,12 @@ def _write_summary(manifest: Manifest, settings: Settings, outcomes: Mapping[str
     for job in manifest.jobs:
         outcome = outcomes[job.id]
         jobs.append({"id": job.id, "kind": job.kind, "status": outcome["status"],
-                     "seconds": outcome["seconds"], "attempts": outcome.get("attempts", 0),
+                     "started": outcome.get("started"), "seconds": outcome["seconds"],
+                     "work_seconds": outcome.get("work_seconds"),
+                     "attempts": outcome.get("attempts", 0),
                      "outputs": outcome["outputs"], "error": outcome["error"], "log": outcome["log"],
-                     "peak_mb": outcome.get("peak_mb"), "worker": outcome.get("worker"),
+                     "peak_mb": outcome.get("peak_mb"), "child_pid": outcome.get("child_pid"),
+                     "worker": outcome.get("worker"),
                      "worker_peak_mb": outcome.get("worker_peak_mb")})
     counts = {s: sum(j["status"] == s for j in jobs) for s in ("done", "skipped", "failed", "blocked")}
     data = {"manifest": str(manifest.path.resolve()), "outdir": str(manifest.outdir),

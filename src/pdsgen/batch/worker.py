@@ -8,24 +8,14 @@ timed out - comes back as a small dict, so the client can report and go on.
 from __future__ import annotations
 
 import contextlib
-import ctypes
-import json
-import os
 import resource
-import signal
-import subprocess
-import sys
-import tempfile
-import threading
 import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-from .child import thread_environment
+from .resident import DEFAULT_MAX_GROWTH_MB, DEFAULT_MAX_JOBS, Recycling, run_in_child
 from .resume import file_stats, is_done, may_replace, read_marker, remove_marker, write_marker
-
-PR_SET_PDEATHSIG = 1  # linux/prctl.h
 
 
 def run_job(task: dict[str, Any]) -> dict[str, Any]:
@@ -48,20 +38,21 @@ def run_job(task: dict[str, Any]) -> dict[str, Any]:
         else:
             remove_marker(marker_file)
         return _outcome(task, "failed", start, error=result["error"], retry=result.get("retry", False),
-                        peak_mb=result["peak_mb"])
+                        peak_mb=result.get("peak_mb"), child_pid=result.get("pid"))
     write_marker(marker_file, state="done", options=task["options"], id=task["id"], inputs=inputs,
                  outputs=file_stats(result["outputs"]), shared=result["shared"], products=result["products"],
                  version=task["version"])
     return _outcome(task, "done", start, outputs=result["outputs"] + result["shared"], products=result["products"],
-                    peak_mb=result["peak_mb"])
+                    peak_mb=result.get("peak_mb"), child_pid=result.get("pid"), work_seconds=result.get("work_seconds"))
 
 
 def _outcome(task: dict[str, Any], status: str, start: float, **fields: Any) -> dict[str, Any]:
-    """The job's outcome; `peak_mb` is its child's peak RSS, `worker` where it ran (with that
-    worker process's own peak RSS), for sizing the MEMORY a job declares."""
-    return {"id": task["id"], "status": status, "seconds": round(time.monotonic() - start, 3),
-            "log": task["log"], "outputs": [], "products": [], "error": None, "peak_mb": None,
-            **_where(), **fields}
+    """The job's outcome; `peak_mb` is the job's own peak RSS in its child (`child_pid`), `worker`
+    where it ran (with that worker process's own peak RSS), for sizing the MEMORY a job declares."""
+    elapsed = time.monotonic() - start
+    return {"id": task["id"], "status": status, "seconds": round(elapsed, 3),
+            "started": round(time.time() - elapsed, 3), "log": task["log"], "outputs": [], "products": [],
+            "error": None, "peak_mb": None, "child_pid": None, **_where(), **fields}
 
 
 def _where() -> dict[str, Any]:
@@ -94,48 +85,15 @@ def _directory_lock(name: str | None) -> Iterator[None]:
 
 
 def _run_child(task: dict[str, Any]) -> dict[str, Any]:
-    """The job's body in `python -m pdsgen.batch.child`, its output appended to the job's log."""
+    """The job's body in this worker slot's resident child (resident.py), its output appended
+    to the job's log after a header line."""
     log = Path(task["log"])
     log.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(prefix="pdsgen-job-") as tmp, open(log, "ab") as log_file:
-        task_file, result_file = Path(tmp) / "task.json", Path(tmp) / "result.json"
-        task_file.write_text(json.dumps(task), encoding="utf-8")
+    with open(log, "ab") as log_file:
         log_file.write(f"== pdsgen batch: {task['kind']} {task['id']} ({time.strftime('%Y-%m-%d %H:%M:%S')})\n"
                        .encode())
-        log_file.flush()
-        env = {**os.environ, **thread_environment(task["threads"]), "PYTHONUNBUFFERED": "1"}
-        proc = subprocess.Popen([sys.executable, "-m", "pdsgen.batch.child", str(task_file), str(result_file)],
-                                stdin=subprocess.DEVNULL, stdout=log_file, stderr=subprocess.STDOUT, env=env,
-                                preexec_fn=_die_with_parent)
-        timed_out = threading.Event()
-
-        def stop() -> None:
-            timed_out.set()
-            proc.kill()
-
-        timer = threading.Timer(task["timeout"] or 0, stop)
-        if task["timeout"]:
-            timer.start()
-        _, status, usage = os.wait4(proc.pid, 0)  # the child's own peak memory comes with its status
-        timer.cancel()
-        proc.returncode = code = os.waitstatus_to_exitcode(status)
-        peak = {"peak_mb": round(usage.ru_maxrss / 1024, 1)}
-        if timed_out.is_set():
-            return {"ok": False, "error": f"timed out after {task['timeout']:g} s", "retry": True, **peak}
-        if code < 0:
-            name = signal.Signals(-code).name
-            return {"ok": False, "error": f"crashed (killed by {name}); see {log}", "retry": True, **peak}
-        try:
-            return {**json.loads(result_file.read_text(encoding="utf-8")), **peak}
-        except (OSError, ValueError):
-            return {"ok": False, "error": f"exited with status {code} without a result; see {log}",
-                    "retry": True, **peak}
-
-
-def _die_with_parent() -> None:
-    """In the child, before exec: end with the worker, never run on as an orphan.
-
-    A batch killed part way must not leave jobs finishing behind the next run's back.
-    """
-    if sys.platform.startswith("linux"):
-        ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
+    recycling = Recycling(task.get("child_jobs", DEFAULT_MAX_JOBS), task.get("child_growth_mb", DEFAULT_MAX_GROWTH_MB))
+    result = run_in_child(task, recycling)
+    if not result.get("ok") and result.get("retry") and result["error"].startswith(("crashed", "exited")):
+        result["error"] += f"; see {log}"
+    return result

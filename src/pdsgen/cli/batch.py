@@ -11,6 +11,8 @@ import click
 
 from ..batch import ManifestError, Settings, load_manifest, plan, run
 from ..batch.cluster import local_workers
+from ..batch.manifest import parse_size
+from ..batch.resident import DEFAULT_MAX_GROWTH_MB, DEFAULT_MAX_JOBS
 from ..progress import wanted as progress_wanted
 from . import COMMANDS
 from ._output import log_to_stderr
@@ -33,13 +35,18 @@ log = logging.getLogger("pdsgen.batch")
               help="Re-runs of a job that crashed or timed out [default: [batch] retries, else 0].")
 @click.option("--log-dir", type=click.Path(file_okay=False),
               help="One log per job and summary.json [default: OUTDIR/.pdsgen-batch/logs].")
+@click.option("--child-jobs", type=click.IntRange(min=1), default=DEFAULT_MAX_JOBS, show_default=True,
+              help="Jobs a worker slot's resident job process runs before it is replaced (1: a new process "
+                   "per job).")
+@click.option("--child-growth", metavar="SIZE", default=f"{DEFAULT_MAX_GROWTH_MB:g} MB", show_default=True,
+              help="Replace a resident job process once its memory has grown by SIZE over its size at start.")
 @click.option("--example", is_flag=True, help="Print a commented example manifest and exit.")
 @click.option("-q", "--quiet", is_flag=True,
               help="Print only failed and blocked jobs (and errors); no progress, no summary line.")
 @click.option("-v", "--verbose", is_flag=True,
               help="Print the plan first and one line per finished job, with timings, even on a terminal.")
-def batch(manifest, outdir, scheduler, workers, threads_per_job, dry_run, retries, log_dir, example, quiet,
-          verbose) -> None:
+def batch(manifest, outdir, scheduler, workers, threads_per_job, dry_run, retries, log_dir, child_jobs, child_growth,
+          example, quiet, verbose) -> None:
     """Run the jobs of MANIFEST (TOML: [[dtm]], [[ortho]], [[extras]], [[validate]] tables
     whose keys are those commands' options) on Dask, each job in its own process.
     Finished jobs are skipped on a re-run. Exit status: 0 all jobs succeeded,
@@ -53,6 +60,9 @@ def batch(manifest, outdir, scheduler, workers, threads_per_job, dry_run, retrie
         raise click.UsageError("--workers sizes the local cluster; a --scheduler's cluster has its own workers")
     if quiet and verbose:
         raise click.UsageError("--quiet and --verbose exclude each other")
+    growth = parse_size(child_growth)
+    if growth is None:
+        raise click.BadParameter(f"{child_growth!r} is not a size such as '512 MB'", param_hint="'--child-growth'")
     if verbose:
         log_to_stderr()
     overrides = {k: v for k, v in (("threads", threads_per_job), ("retries", retries)) if v is not None}
@@ -63,7 +73,8 @@ def batch(manifest, outdir, scheduler, workers, threads_per_job, dry_run, retrie
             click.echo(f"pdsgen: error: {line}", err=True)
         sys.exit(2)
     threads = max(j.threads for j in checked.jobs)
-    settings = Settings(scheduler=scheduler, workers=workers or local_workers(threads), log_dir=log_dir)
+    settings = Settings(scheduler=scheduler, workers=workers or local_workers(threads), log_dir=log_dir,
+                        child_jobs=child_jobs, child_growth_mb=growth / 1e6)
     if dry_run:
         plan(checked, settings, sys.stdout)
         return

@@ -23,7 +23,7 @@ from ..errors import ParamsError, param
 from .params import ParamValue
 
 if TYPE_CHECKING:
-    from ..validate import Finding
+    from ..validate.model import Hit
 
 DICTIONARY_FAMILY = "DICT-"
 ALLOW_PARAM = "ALLOW_DICTIONARY_DEVIATIONS"
@@ -42,28 +42,50 @@ def label_keywords(keywords: Mapping[str, ParamValue]) -> dict[str, ParamValue]:
 
 
 def check_label(text: str, file_name: str, *, allow_deviations: bool) -> tuple[str, ...]:
-    """Run the validator's label rules on `text` as `file_name`; refuse or return warnings.
+    """Run the validator's data-dictionary rules on `text` as `file_name`; refuse or return warnings.
 
     Returns one warning line per dictionary deviation kept (empty when the label is
     clean). Raises ParamsError naming the first offending keyword otherwise.
     """
-    from ..validate import validate_file  # the validator is loaded only when a product is written
+    deviations = dictionary_errors(text, file_name)
+    if deviations and not allow_deviations:
+        rule, first = deviations[0]
+        more = f" (and {len(deviations) - 1} more)" if len(deviations) > 1 else ""
+        raise ParamsError(None, f"{_named(first)} (PDS3 data dictionary, {rule}){more}; "
+                                f"fix the value or pass {param('allow_dictionary_deviations', True)} to keep it")
+    return tuple(f"{file_name}: {_named(hit)} (PDS3 data dictionary, {rule}); kept as allowed"
+                 for rule, hit in deviations)
 
+
+def dictionary_errors(text: str, file_name: str) -> list[tuple[str, Hit]]:
+    """(rule id, hit) of each error the validator's DICT rules find in the label `text`, in
+    label order, as `pdsgen validate --strict` reports them (pdsgen's own labels: strict).
+
+    Only the DICT family's code and the label reader are loaded (the other families
+    judge the product as a whole and are not acted on here), so writing a product does
+    not import the whole validator.
+    """
+    from ..validate.context import FileContext
+    from ..validate.families import dict_rules  # noqa: F401  (importing it registers the DICT rules)
+    from ..validate.model import Hit
+    from ..validate.registry import registered
+
+    found: list[tuple[str, Hit]] = []
     with tempfile.TemporaryDirectory(prefix="pdsgen-check-") as tmp:
         path = Path(tmp) / file_name
         path.write_bytes(text.encode("ascii"))
-        report, _ = validate_file(path, labels_only=True, strict=True)  # pdsgen's own labels: strict
-    deviations = [f for f in report.findings if f.severity == "error" and f.rule.startswith(DICTIONARY_FAMILY)]
-    if deviations and not allow_deviations:
-        first = deviations[0]
-        more = f" (and {len(deviations) - 1} more)" if len(deviations) > 1 else ""
-        raise ParamsError(None, f"{_named(first)} (PDS3 data dictionary, {first.rule}){more}; "
-                                f"fix the value or pass {param('allow_dictionary_deviations', True)} to keep it")
-    return tuple(f"{file_name}: {_named(f)} (PDS3 data dictionary, {f.rule}); kept as allowed"
-                 for f in deviations)
+        ctx = FileContext(path, labels_only=True, strict=True)
+        for rule in registered(DICTIONARY_FAMILY.rstrip("-")):
+            if rule.check is None or rule.target != "label" or rule.needs_data:
+                continue
+            try:
+                found += [(rule.id, hit) for hit in rule.check(ctx) if (hit.severity or rule.severity) == "error"]
+            except Exception as exc:  # as the validator reports a check that cannot run: an error
+                found.append((rule.id, Hit(f"check could not run on this file ({type(exc).__name__}: {exc})")))
+    return sorted(found, key=lambda found: (found[1].line or 0, found[0]))
 
 
-def _named(finding: Finding) -> str:
+def _named(hit: Hit) -> str:
     """The finding's message, led by its keyword unless the message already starts with it."""
-    keyword = finding.keyword or "label"
-    return finding.message if finding.message.startswith(keyword) else f"{keyword}: {finding.message}"
+    keyword = hit.keyword or "label"
+    return hit.message if hit.message.startswith(keyword) else f"{keyword}: {hit.message}"

@@ -32,13 +32,6 @@ from ..label.render import RecordLayout, render_label, settle_attached_label
 from ..label.values import Based, Fixed, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
 from ..pds4.model import check_label_dialect
-from ..pds4.products import (
-    ProductDescription,
-    float32_dtm,
-    pds3_label_header,
-    write_image_pds4_label,
-    write_pds4_dtm,
-)
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords, source_id_values
@@ -160,7 +153,16 @@ def write_pds3_dtm(
             return stats
 
         outdir = prepare_output_dir(outdir)
-        description = ProductDescription(product_id, chosen, version, ident, geometry, dataset)
+        if label != "pds3":  # the PDS4 writer (lxml, its templates) is loaded only for a PDS4 label
+            from ..pds4.products import (
+                ProductDescription,
+                float32_dtm,
+                pds3_label_header,
+                write_image_pds4_label,
+                write_pds4_dtm,
+            )
+
+            description = ProductDescription(product_id, chosen, version, ident, geometry, dataset)
         big_endian = byte_order == "msb"
         xml_final = outdir / f"{product_id}.xml"
         warnings: tuple[str, ...] = ()

@@ -2,8 +2,9 @@
 
 Ids never change meaning once published (CI configurations refer to them). Each
 family is one module under `families/` that declares its rules with `register()`
-when it is imported; `families/__init__.py` imports the built-in ones, so a new
-family is one module plus one line there (or, from outside pdsgen, one `register()`
+when it is imported; `families/__init__.py` names the built-in ones (its `load()`
+imports them all, which `rules()` and `families()` do before first use), so a new
+family is one module plus one name there (or, from outside pdsgen, one `register()`
 call). `rules()` is the table every part of the validator reads, and what
 `pdsgen validate --list-rules` prints.
 
@@ -16,6 +17,7 @@ check are reported by the runner itself (FILE-012, FILE-013).
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Generic, TypeVar
@@ -51,6 +53,15 @@ class Rule(Generic[ContextT]):
 _REGISTERED: dict[str, Rule[Any]] = {}
 _FAMILY_ORDER: list[str] = list(FAMILIES)
 _TABLE: dict[str, Rule[Any]] = {}  # _REGISTERED in --list-rules order, rebuilt after a change
+_BUILTIN_LOADED: list[bool] = []  # set once every built-in family has been imported
+
+
+def _load_builtin() -> None:
+    """Import the built-in families once, before the table is first read (a product writer
+    imports the one family it runs, and only that)."""
+    if not _BUILTIN_LOADED:
+        _BUILTIN_LOADED.append(True)
+        importlib.import_module(f"{__package__}.families").load()
 
 
 def register(*new: Rule[Any]) -> None:
@@ -82,11 +93,18 @@ def unregister(family: str) -> None:
 
 def families() -> tuple[str, ...]:
     """Family names in --list-rules order (the built-in ones, then registered ones)."""
+    _load_builtin()
     return tuple(_FAMILY_ORDER)
+
+
+def registered(family: str) -> list[Rule[Any]]:
+    """The rules of FAMILY registered so far, without loading the other families."""
+    return sorted((r for r in _REGISTERED.values() if r.family == family), key=lambda r: r.id)
 
 
 def rules() -> dict[str, Rule[Any]]:
     """The rule table: every registered rule by id, in family order, then id order."""
+    _load_builtin()
     if not _TABLE:
         ordered = sorted(_REGISTERED.values(), key=lambda r: (_FAMILY_ORDER.index(r.family), r.id))
         _TABLE.update((rule.id, rule) for rule in ordered)
