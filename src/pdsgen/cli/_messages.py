@@ -34,6 +34,8 @@ LIBRARY_TO_OPTION: dict[str, str] = {
     "allow_dictionary_deviations": "--allow-dictionary-deviations",
     "overwrite": "--overwrite",
     "schemas": "--schemas",
+    "volume_id": "--volume-id",
+    "bundle_lid": "--bundle-lid",
 }
 
 _REFERENCE = re.compile(r"`([a-z][a-z0-9_]*)(?:=([^`]*))?`")

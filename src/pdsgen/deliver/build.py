@@ -19,7 +19,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import InputError, OutputError
+from ..errors import InputError, OutputError, param
 from ..progress import advance
 from . import bundle, layout
 from .index import IndexWriter
@@ -164,7 +164,8 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
     if found.imars:
         raise InputError(found.imars[0], "an iMars product (GeoTIFF + PVL metadata) has neither a PDS3 nor a "
                                          "PDS4 label, so no PDS volume or bundle can hold it; make the HRSC "
-                                         "products with --profile hrsc (--label both for PDS4)")
+                                         f"products with {param('profile', 'hrsc')} "
+                                         f"({param('label', 'both')} for PDS4)")
     if not found.products:
         raise InputError(source_dir, "holds no data product (no PDS3 or PDS4 product label)")
     _check_dialects(found, pds3, pds4)
@@ -203,9 +204,9 @@ def _volume_id(volume_id: str | None, needed: bool) -> str | None:
     if not needed:
         return volume_id
     if not volume_id:
-        raise InputError(None, "a PDS3 volume needs --volume-id (e.g. --volume-id MROHR_1001)")
+        raise InputError(None, f"a PDS3 volume needs {param('volume_id')} (e.g. {param('volume_id', 'MROHR_1001')})")
     if not layout.VOLUME_ID_PATTERN.fullmatch(volume_id):
-        raise InputError(None, f"--volume-id {volume_id!r}: up to 11 upper-case letters, digits and "
+        raise InputError(None, f"{param('volume_id', volume_id)}: up to 11 upper-case letters, digits and "
                                "underscores, starting with a letter")
     return volume_id
 
@@ -214,9 +215,9 @@ def _bundle_lid(lid: str | None, needed: bool) -> str | None:
     if not needed:
         return lid
     if not lid:
-        raise InputError(None, "a PDS4 bundle needs --bundle-lid urn:nasa:pds:NAME")
+        raise InputError(None, f"a PDS4 bundle needs {param('bundle_lid')} (urn:nasa:pds:NAME)")
     if not layout.BUNDLE_LID_PATTERN.fullmatch(lid):
-        raise InputError(None, f"--bundle-lid {lid!r}: expected urn:nasa:pds:NAME, NAME in lower-case "
+        raise InputError(None, f"{param('bundle_lid', lid)}: expected urn:nasa:pds:NAME, NAME in lower-case "
                                "letters, digits, '.', '_' and '-'")
     return lid
 
@@ -234,10 +235,10 @@ def _check_dialects(found: SourceSet, pds3: bool, pds4: bool) -> None:
     for product in found.products:
         if pds3 and product.pds3_label is None:
             raise InputError(product.pds4_label, "has no PDS3 label, which a PDS3 volume needs "
-                                                 "(make the product with --label both)")
+                                                 f"(make the product with {param('label', 'both')})")
         if pds4 and product.pds4_label is None:
             raise InputError(product.pds3_label, "has no PDS4 label, which a PDS4 bundle needs "
-                                                 "(make the product with --label both)")
+                                                 f"(make the product with {param('label', 'both')})")
 
 
 def _swap(work: Path, target: Path) -> None:

@@ -19,7 +19,7 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..errors import InputError, PdsgenError
+from ..errors import InputError, PdsgenError, param
 from .base import LabelFacts, Mission, ProductIdRequest
 from .hrsc import OFFSET_CONVENTIONS
 
@@ -131,11 +131,12 @@ def tile_product_id(tile_stem: str, kind: str) -> str:
     match = TILE_RE.match(tile_stem)
     if match is None:
         raise PdsgenError(None, f"{tile_stem!r} is not an HRSC-AX tile name (EAST-NORTH_WxHkm, e.g. "
-                                "430-8765_5.0x5.0km); give --product-id")
+                                f"430-8765_5.0x5.0km); give {param('product_id')}")
     width, height = (match.group(k).replace(".", "_") for k in ("width", "height"))
     product_id = f"HRSCAX_{match.group('east')}_{match.group('north')}_{width}X{height}KM_{kind}"
     if len(product_id) > 40:
-        raise PdsgenError(None, f"the product ID {product_id} would be longer than 40 characters; give --product-id")
+        raise PdsgenError(None, f"the product ID {product_id} would be longer than 40 characters; "
+                                f"give {param('product_id')}")
     return product_id
 
 

@@ -28,7 +28,7 @@ from xml.sax.saxutils import escape
 from affine import Affine
 from rasterio.crs import CRS
 
-from ..errors import InputError, PdsgenError
+from ..errors import InputError, PdsgenError, param
 from ..formats.vicar import VicarLabel, VicarValue, read_vicar_label
 from ..missions import hrsc_ax
 from .params import ParamValue
@@ -152,7 +152,7 @@ def tile_grid(group: Mapping[str, VicarValue], label: VicarLabel) -> TileGrid:
     missing = [key for key in _REQUIRED_MAP if key not in group]
     if missing:
         raise InputError(path, f"has no MAP group keyword {missing[0]} (give the XML image label with "
-                               "--source-label)")
+                               f"{param('source_labels')})")
     projection = str(group["MAP_PROJECTION_TYPE"]).upper().replace(" ", "_")
     if projection not in ("TRANSVERSE_MERCATOR", "UNIVERSAL_TRANSVERSE_MERCATOR"):
         raise InputError(path, f"MAP_PROJECTION_TYPE {projection} is not read for HRSC-AX tiles "
