@@ -17,6 +17,7 @@ from PIL import Image
 from rasterio.transform import Affine
 
 from ..errors import PdsgenError
+from ..missions import hirise
 from .annotate import Annotation, Layout, Legend, annotate
 from .colour_ramp import RAMP_NAME, blend_with_shade, ramp_colours
 from .decimate import PreviewGrid, preview_grid, read_physical, statistics_sample
@@ -59,6 +60,18 @@ ORTHO_RENDERING = Rendering("ortho", "browse", "abrowse", "thumb", "Orthoimage")
 QLOOK_SUFFIX = "QLOOK.JP2"
 QLOOK_DESCRIPTION = ("Orthoimage quick look, full scale, lossy JPEG 2000, stretched as the "
                      "browse, georeferenced (GeoJP2)")
+
+
+NOMAP_FILE_DESCRIPTIONS = {
+    "JP2": "NOMAP full scale, stretched, lossy JPEG 2000",
+    "browse.jpg": "NOMAP browse (no scale bar, no north arrow)",
+}
+
+
+def nomap_file_names(product_id: str) -> list[tuple[str, str]]:
+    """(file name, what it is) of a HiRISE NOMAP product's Extras (`<OBS>_RGB.NOMAP`)."""
+    return [(f"{product_id}.{suffix}", NOMAP_FILE_DESCRIPTIONS[suffix])
+            for suffix in hirise.NOMAP_SUFFIXES]
 
 
 def extras_file_names(product_id: str, is_dtm: bool) -> list[tuple[str, str]]:

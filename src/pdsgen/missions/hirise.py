@@ -60,6 +60,44 @@ VALID_RANGE_DECIMALS: int | None = RELEASE_VALID_RANGE_DECIMALS
 ORTHO_DESCRIPTION = "HiRISE orthorectified image, projected onto the DTM named in SOURCE_PRODUCT_ID"
 
 
+# HiRISE RDR Extras, as the release names them: per observation six map-projected files
+# from the RDRs <OBS>_RED and <OBS>_COLOR (IR, RED, BG) and six NOMAP files, the CCD
+# images stitched in the camera's geometry, not map-projected.
+RDR_COLOURS = ("RED", "COLOR")
+RDR_EXTRAS_SUFFIXES = ("QLOOK.JP2", "browse.jpg", "abrowse.jpg")
+NOMAP_TAG = "NOMAP"
+NOMAP_INPUTS = ("RED", "IRB")          # the two NOMAP mosaics an observation has
+NOMAP_PRODUCTS = ("RED", "IRB", "RGB")  # the NOMAP Extras made from them
+NOMAP_SUFFIXES = ("JP2", "browse.jpg")
+NOMAP_BROWSE_WIDTH = 2048
+# Band order of the IRB mosaic (and of the COLOR RDR): near-infrared, red, blue-green.
+IRB_BAND_NAMES = ("NEAR-INFRARED", "RED", "BLUE-GREEN")
+# The RGB rendering: RED, BG and a synthetic blue = 2 x BG - 0.3 x RED, per pixel.
+SYNTHETIC_BLUE_BG, SYNTHETIC_BLUE_RED = 2.0, -0.3
+# DN 0 is no data in HiRISE images (CORE_NULL = 0 in every RDR label).
+CORE_NULL = 0
+OBSERVATION_IN_NAME_RE = re.compile(r"(?<![A-Z0-9])([A-Z]{3}_\d{6}_\d{4})(?![0-9])")
+
+
+def nomap_product_id(observation: str, product: str) -> str:
+    """`PSP_005000_1000` + RGB -> `PSP_005000_1000_RGB.NOMAP` (its files add .JP2, .browse.jpg)."""
+    return f"{observation}_{product}.{NOMAP_TAG}"
+
+
+def rdr_extras_names(observation: str) -> list[str]:
+    """The twelve Extras file names of one observation, map-projected then NOMAP."""
+    names = [f"{observation}_{colour}.{suffix}" for colour in RDR_COLOURS
+             for suffix in RDR_EXTRAS_SUFFIXES]
+    return names + [f"{nomap_product_id(observation, product)}.{suffix}"
+                    for product in NOMAP_PRODUCTS for suffix in NOMAP_SUFFIXES]
+
+
+def observation_in_name(name: str) -> str | None:
+    """The observation ID a file name carries (`PSP_005000_1000_RED.NOMAP.cub`), if any."""
+    match = OBSERVATION_IN_NAME_RE.search(name.upper())
+    return match.group(1) if match else None
+
+
 def scale_letter(map_scale: float) -> str:
     """The letter of the nominal HiRISE post spacing within 10 % of `map_scale`."""
     for letter, nominal in SCALE_LETTERS.items():
