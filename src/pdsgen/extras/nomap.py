@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 import rasterio
 from PIL import Image
+from rasterio.enums import Resampling
 from rasterio.errors import RasterioError
 from rasterio.transform import Affine
 from rasterio.windows import Window
@@ -41,7 +42,7 @@ from ..formats.raster import row_strips, streaming_cache_mb
 from ..formats.staging import StagedOutputs, prepare_output_dir
 from ..missions import hirise
 from ..progress import advance, is_large
-from .decimate import preview_grid, read_physical
+from .decimate import preview_grid
 from .kind import NOMAP
 from .product_source import ProductSource, quiet_gdal
 from .qlook import QLOOK_RATIO
@@ -52,6 +53,7 @@ from .stretch import ORTHO_HIGH_PERCENT, ORTHO_LOW_PERCENT, StreamingStretch, St
 # ISIS special pixels (LIS, LRS, HIS, HRS besides NULL) are floats near -3.4e38: flags.
 SPECIAL_MAGNITUDE = 1e30
 STATISTICS_STRIP_BYTES = 4 * 1024 * 1024
+BROWSE_STRIP_ROWS = 256
 
 
 @dataclass(frozen=True)
@@ -297,12 +299,26 @@ def write_nomap_jp2(src: ProductSource, channels: Sequence[Channel],
 
 def nomap_browse(src: ProductSource, channels: Sequence[Channel],
                  stretches: Sequence[Stretch | None], width: int) -> Image.Image:
-    """The browse: `width` wide (never wider than the mosaic), GDAL-averaged, same stretch."""
+    """The browse: `width` wide (never wider than the mosaic), GDAL-averaged, same stretch.
+
+    Made BROWSE_STRIP_ROWS browse rows at a time (each from the source rows it
+    covers, rounded to whole rows), so the float temporaries of a 2048 x 6144
+    browse never exist at once.
+    """
     grid = preview_grid(src, width)
     bands = sorted({b for c in channels for b in c.bands})
-    reduced = read_physical(src, grid, bands)
-    data, valid = _split(np.ma.getdata(reduced), np.ma.getmaskarray(reduced), bands)
-    image = render(data, valid, channels, stretches)
+    strips = []
+    with src.open((grid.height, grid.width)) as ds:
+        scale_y = ds.height / grid.height
+        for first in range(0, grid.height, BROWSE_STRIP_ROWS):
+            rows = min(BROWSE_STRIP_ROWS, grid.height - first)
+            top, bottom = round(first * scale_y), round((first + rows) * scale_y)
+            window = Window(0, top, ds.width, max(1, bottom - top))
+            reduced = ds.read(bands, window=window, out_shape=(len(bands), rows, grid.width),
+                              resampling=Resampling.average, masked=True)
+            data, valid = _split(np.ma.getdata(reduced), np.ma.getmaskarray(reduced), bands)
+            strips.append(render(data, valid, channels, stretches))
+    image = np.concatenate(strips, axis=0)
     return Image.fromarray(image, "L" if image.ndim == 2 else "RGB")
 
 
