@@ -160,3 +160,30 @@ def test_red_abrowse_has_title_and_a_scale_bar_matching_map_scale(rdrs, tmp_path
     assert dark.min() == pytest.approx(x0, abs=1) and dark.max() == pytest.approx(x1, abs=1)
     image_top = layout.image_box[1]
     assert (annotated[:image_top - 2] < 100).sum() > 200  # the title and subtitle lines
+
+
+def test_readme_indexes_all_twelve_merged_with_the_directory(rdrs, tmp_path: Path):
+    """Map-projected run, then the NOMAP run into the same directory, then NOMAP again."""
+    from test_extras_nomap import mosaics, write_plain_tiff
+
+    red_label, _, color_label, _ = rdrs
+    out = tmp_path / "out"
+    make_extras([red_label, color_label], out)
+    red, irb = mosaics(300, 200)
+    nomaps = [write_plain_tiff(tmp_path / f"{OBS}_RED.NOMAP.tif", red),
+              write_plain_tiff(tmp_path / f"{OBS}_IRB.NOMAP.tif", irb)]
+    make_extras(nomaps, out, kind="nomap")
+    first = (out / "README.TXT").read_bytes()
+    make_extras(nomaps, out, kind="nomap", overwrite=True)  # replaced in place, not repeated
+    readme = (out / "README.TXT").read_bytes().decode("ascii")
+    assert readme.encode("ascii") == first
+    assert readme.count("\r\nProduct ID:") == 5
+    lines = readme.split("\r\n")
+    index = lines.index("HIRISE OBSERVATIONS")
+    block = lines[index + 4:lines.index("PRODUCER AND CONTACT")]
+    assert lines[index + 3] == OBS
+    for name in hirise.rdr_extras_names(OBS):
+        (line,) = [i for i, text in enumerate(block) if text.startswith(f"  {name}  ")]
+        assert block[line + 1].startswith(f"  {OBS}_") or block[line + 1] == ""  # one line
+    assert {p.name for p in out.iterdir()} >= set(hirise.rdr_extras_names(OBS))
+    assert "synthetic blue = 2 x BG - 0.3 x RED" in readme

@@ -25,7 +25,7 @@ import jinja2
 from PIL import Image
 
 from ..label.grammar import MAX_LINE_BYTES as GRAMMAR_MAX_LINE_BYTES
-from ..missions.hirise import SYNTHETIC_BLUE_BG, SYNTHETIC_BLUE_RED
+from ..missions.hirise import SYNTHETIC_BLUE_BG, SYNTHETIC_BLUE_RED, rdr_extras_line
 from ..products.params import ParamValue
 from ..resources import templates_dir
 from .colour_ramp import RAMP_NAME
@@ -204,9 +204,30 @@ def render_readme(entries: Sequence[Mapping[str, str]], files: Sequence[list[tup
         known_artifacts=shown["KNOWN_ARTIFACTS"],
         dtm_low=f"{DTM_LOW_PERCENT:g}", dtm_high=f"{100 - DTM_HIGH_PERCENT:g}",
         ramp=RAMP_NAME, nomap=any(is_nomap_entry(e) for e in entries),
+        observations=observation_index(entries, files),
         blue_bg=f"{SYNTHETIC_BLUE_BG:g}", blue_red=f"{-SYNTHETIC_BLUE_RED:g}",
     )
     return plain_text_bytes(text)
+
+
+def observation_index(entries: Sequence[Mapping[str, str]],
+                      files: Sequence[list[tuple[str, str, str]]]) -> list[tuple[str, list[str]]]:
+    """HiRISE observations' Extras, one line per file ("name  what"), in directory order.
+
+    The release gives each observation twelve Extras over several products (RED and
+    COLOR RDRs, three NOMAP renderings); this gathers them under the observation.
+    """
+    found: dict[str, list[tuple[str, str]]] = {}
+    for entry, entry_files_ in zip(entries, files, strict=True):
+        for name, _, _ in entry_files_:
+            line = rdr_extras_line(entry["product_id"], name)
+            if line is not None:
+                found.setdefault(line[0], []).append((name, line[1]))
+    index = []
+    for observation, lines in found.items():
+        width = max(len(name) for name, _ in lines)
+        index.append((observation, [f"{name.ljust(width)}  {what}" for name, what in lines]))
+    return index
 
 
 def _distinct(entries: Sequence[Mapping[str, str]], key: str, separator: str) -> str:

@@ -79,6 +79,29 @@ CORE_NULL = 0
 OBSERVATION_IN_NAME_RE = re.compile(r"(?<![A-Z0-9])([A-Z]{3}_\d{6}_\d{4})(?![0-9])")
 
 
+# README.TXT's one-line index of an observation's Extras: what each product shows and
+# what each file is.
+RDR_EXTRAS_PRODUCT_RE = re.compile(
+    r"^(?P<observation>[A-Z]{3}_\d{6}_\d{4})_(?P<product>RED|COLOR|IRB|RGB)(?P<nomap>\.NOMAP)?$")
+RDR_EXTRAS_SHOWS = {"RED": "RED", "COLOR": "colour", "IRB": "IRB", "RGB": "RGB"}
+RDR_EXTRAS_FILES = {"QLOOK.JP2": "quick look, full scale, lossy", "browse.jpg": "browse",
+                    "abrowse.jpg": "browse, title and scale bar", "thumb.jpg": "thumbnail",
+                    "JP2": "NOMAP, full scale, lossy", "browse.jpg.NOMAP": "NOMAP browse"}
+
+
+def rdr_extras_line(product_id: str, file_name: str) -> tuple[str, str] | None:
+    """(observation, what FILE_NAME is) for a HiRISE RDR or NOMAP product's Extras file."""
+    match = RDR_EXTRAS_PRODUCT_RE.match(product_id)
+    if match is None or not file_name.startswith(product_id + "."):
+        return None
+    suffix = file_name[len(product_id) + 1:] + (".NOMAP" if match["nomap"] and
+                                                file_name.endswith(".browse.jpg") else "")
+    what = RDR_EXTRAS_FILES.get(suffix)
+    if what is None:
+        return None
+    return match["observation"], f"{RDR_EXTRAS_SHOWS[match['product']]} {what}"
+
+
 def nomap_product_id(observation: str, product: str) -> str:
     """`PSP_005000_1000` + RGB -> `PSP_005000_1000_RGB.NOMAP` (its files add .JP2, .browse.jpg)."""
     return f"{observation}_{product}.{NOMAP_TAG}"
