@@ -72,6 +72,13 @@ class StreamingStretch:
         self._per_value = False
         self._edges: tuple[float, float] = (0.0, 1.0)
 
+    @classmethod
+    def for_whole_numbers(cls, low: int, high: int) -> StreamingStretch:
+        """Integer data known to lie in [low, high] (a 16-bit type): one pass, one bin a value."""
+        stats = cls()
+        stats.low, stats.high = float(low), float(high)
+        return stats
+
     def see_range(self, values: np.ndarray) -> None:
         """Pass 1: valid values (1-D) of one block."""
         if values.size == 0:

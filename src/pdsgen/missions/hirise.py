@@ -64,6 +64,7 @@ ORTHO_DESCRIPTION = "HiRISE orthorectified image, projected onto the DTM named i
 # from the RDRs <OBS>_RED and <OBS>_COLOR (IR, RED, BG) and six NOMAP files, the CCD
 # images stitched in the camera's geometry, not map-projected.
 RDR_COLOURS = ("RED", "COLOR")
+RDR_DATA_SET_PREFIX = "MRO-M-HIRISE-3-RDR"  # the RDR data sets (V1.0, V1.1 ...)
 RDR_EXTRAS_SUFFIXES = ("QLOOK.JP2", "browse.jpg", "abrowse.jpg")
 NOMAP_TAG = "NOMAP"
 NOMAP_INPUTS = ("RED", "IRB")          # the two NOMAP mosaics an observation has
@@ -100,6 +101,11 @@ def rdr_extras_line(product_id: str, file_name: str) -> tuple[str, str] | None:
     if what is None:
         return None
     return match["observation"], f"{RDR_EXTRAS_SHOWS[match['product']]} {what}"
+
+
+def is_rdr(data_set_id: str) -> bool:
+    """A HiRISE RDR (RED or COLOR map-projected mosaic) by its DATA_SET_ID."""
+    return data_set_id.strip().upper().startswith(RDR_DATA_SET_PREFIX)
 
 
 def nomap_product_id(observation: str, product: str) -> str:
