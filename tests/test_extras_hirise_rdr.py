@@ -189,3 +189,33 @@ def test_readme_indexes_all_twelve_merged_with_the_directory(rdrs, tmp_path: Pat
         assert block[line + 1].startswith(f"  {OBS}_") or block[line + 1] == ""  # one line
     assert {p.name for p in out.iterdir()} >= set(hirise.rdr_extras_names(OBS))
     assert "synthetic blue = 2 x BG - 0.3 x RED" in readme
+
+
+def test_readme_examples_run_as_written(tmp_path: Path):
+    """The README's HiRISE RDR Extras commands, in order, on small inputs of each kind."""
+    import shlex
+    import subprocess
+    import sys
+
+    from test_extras_nomap import mosaics, write_plain_tiff
+
+    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    body = text.split("## HiRISE RDR Extras\n", 1)[1].split("\n## ", 1)[0]
+    examples = [line for block in re.findall(r"```sh\n(.*?)```", body, re.S)
+                for line in block.splitlines() if line.startswith("pdsgen ")]
+    assert len(examples) == 3
+    write_rdr(tmp_path, "RED", swath(300, 500, 1))
+    write_rdr(tmp_path, "COLOR", swath(300, 200, 3))
+    red, irb = mosaics(200, 150)
+    for name, data in (("RED", red[None]), ("IRB", irb)):  # ISIS cubes, as ISIS writes NOMAPs
+        with rasterio.open(tmp_path / f"{OBS}_{name}.NOMAP.cub", "w", driver="ISIS3",
+                           width=150, height=200, count=data.shape[0], dtype="uint16") as ds:
+            ds.write(data)
+    write_plain_tiff(tmp_path / "red_mosaic.tif", red)
+    write_plain_tiff(tmp_path / "irb_mosaic.tif", irb)
+    for example in examples:
+        result = subprocess.run([sys.executable, "-m", "pdsgen", *shlex.split(example)[1:]],
+                                cwd=tmp_path, capture_output=True, text=True, timeout=300)
+        assert result.returncode == 0, f"{example}\n{result.stderr}"
+    written = {p.name for p in (tmp_path / "extras").iterdir()}
+    assert set(hirise.rdr_extras_names(OBS)) | set(hirise.rdr_extras_names("ESP_012345_1234")[6:]) <= written
