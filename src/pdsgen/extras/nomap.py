@@ -114,14 +114,16 @@ def make_nomap_extras(paths: Sequence[str | os.PathLike[str]], outdir: str | os.
         read_readme(Path(outdir))  # an unreadable README.TXT stops the run before writing
         out = prepare_output_dir(outdir)
         made = [name for name, (role, _) in PRODUCTS.items() if role in inputs]
-        stretches = {role: input_stretches(src, _channels_of(role, made))
-                     for role, src in inputs.items()}
         width = browse_width or hirise.NOMAP_BROWSE_WIDTH
         paths_out = [out / f"{hirise.nomap_product_id(observation, name)}.{suffix}"
                      for name in made for suffix in hirise.NOMAP_SUFFIXES]
         entries = []
         shown = is_large(sum(s.width * s.height for s in inputs.values()), len(made))
+        # Entered first: files in the way (without --overwrite) stop the run before the
+        # statistics passes, not after them.
         with StagedOutputs(paths_out, overwrite) as staged:
+            stretches = {role: input_stretches(src, _channels_of(role, made))
+                         for role, src in inputs.items()}
             for done, name in enumerate(made, start=1):
                 role, channels = PRODUCTS[name]
                 src = inputs[role]
