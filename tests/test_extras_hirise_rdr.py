@@ -91,6 +91,9 @@ def test_the_six_map_projected_names(rdrs, tmp_path: Path):
     assert six == [f"{OBS}_{c}.{s}" for c in ("RED", "COLOR")
                    for s in ("QLOOK.JP2", "browse.jpg", "abrowse.jpg")]
     assert names == {*six, f"{OBS}_RED.thumb.jpg", f"{OBS}_COLOR.thumb.jpg", "README.TXT"}
+    for label in (red_label, color_label):  # named by the .JP2 instead: the same product
+        by_jp2 = open_product(label.with_suffix(".JP2"))
+        assert (by_jp2.label_path, by_jp2.product_id) == (label, label.stem)
     with Image.open(out / f"{OBS}_RED.browse.jpg") as image:
         assert image.size == (2048, round(1600 * 2048 / 4096))
     with Image.open(out / f"{OBS}_COLOR.browse.jpg") as image:
