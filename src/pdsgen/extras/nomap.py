@@ -111,6 +111,7 @@ def make_nomap_extras(paths: Sequence[str | os.PathLike[str]], outdir: str | os.
     """
     with quiet_gdal():
         observation, inputs = open_inputs(paths, product_id)
+        credits = {role: credit(src) for role, src in inputs.items()}  # a bad --credit: before writing
         read_readme(Path(outdir))  # an unreadable README.TXT stops the run before writing
         out = prepare_output_dir(outdir)
         made = [name for name, (role, _) in PRODUCTS.items() if role in inputs]
@@ -133,7 +134,7 @@ def make_nomap_extras(paths: Sequence[str | os.PathLike[str]], outdir: str | os.
                 browse = nomap_browse(src, channels, bands, width)
                 browse.save(staged.path(out / f"{pid}.browse.jpg"), format="JPEG",
                             quality=jpeg_quality)
-                entries.append(nomap_entry(pid, name, src, bands, credit(src)))
+                entries.append(nomap_entry(pid, name, src, bands, credits[role]))
                 if shown:
                     advance(done, len(made), "products")
         readme = publish_readme(out, entries, dict(keywords))
