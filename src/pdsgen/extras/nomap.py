@@ -131,9 +131,8 @@ def make_nomap_extras(paths: Sequence[str | os.PathLike[str]], outdir: str | os.
                 bands = [stretches[role][c] for c in channels]
                 pid = hirise.nomap_product_id(observation, name)
                 write_nomap_jp2(src, channels, bands, staged.path(out / f"{pid}.JP2"))
-                browse = nomap_browse(src, channels, bands, width)
-                browse.save(staged.path(out / f"{pid}.browse.jpg"), format="JPEG",
-                            quality=jpeg_quality)
+                nomap_browse(src, channels, bands, width).save(  # one browse alive at a time
+                    staged.path(out / f"{pid}.browse.jpg"), format="JPEG", quality=jpeg_quality)
                 entries.append(nomap_entry(pid, name, src, bands, credits[role]))
                 if shown:
                     advance(done, len(made), "products")
@@ -310,7 +309,8 @@ def nomap_browse(src: ProductSource, channels: Sequence[Channel],
     """
     grid = preview_grid(src, width)
     bands = sorted({b for c in channels for b in c.bands})
-    strips = []
+    shape = (grid.height, grid.width) + ((len(channels),) if len(channels) > 1 else ())
+    image = np.zeros(shape, dtype=np.uint8)  # filled in place: one copy of the browse
     with src.open((grid.height, grid.width)) as ds:
         scale_y = ds.height / grid.height
         for first in range(0, grid.height, BROWSE_STRIP_ROWS):
@@ -320,8 +320,7 @@ def nomap_browse(src: ProductSource, channels: Sequence[Channel],
             reduced = ds.read(bands, window=window, out_shape=(len(bands), rows, grid.width),
                               resampling=Resampling.average, masked=True)
             data, valid = _split(np.ma.getdata(reduced), np.ma.getmaskarray(reduced), bands)
-            strips.append(render(data, valid, channels, stretches))
-    image = np.concatenate(strips, axis=0)
+            image[first:first + rows] = render(data, valid, channels, stretches)
     return Image.fromarray(image, "L" if image.ndim == 2 else "RGB")
 
 
