@@ -285,3 +285,28 @@ def test_open_inputs_takes_roles_from_names_or_band_count(tmp_path: Path):
     assert stretch is not None
     assert (stretch.low, stretch.high) == tuple(
         float(v) for v in np.percentile(red[red > 0], [0.1, 99.99], method="lower"))
+
+
+def test_a_batch_extras_job_makes_nomap_extras_with_product_id(tmp_path: Path):
+    """`kind = "nomap"` and `product_id` in a manifest's [[extras]] reach the library."""
+    from pdsgen.batch import Settings, load_manifest
+    from pdsgen.batch.run import make_task
+    from pdsgen.batch.worker import run_job
+
+    red, irb = mosaics(120, 100)
+    write_plain_tiff(tmp_path / "in" / "red.tif", red)
+    write_plain_tiff(tmp_path / "in" / "irb.tif", irb)
+    (tmp_path / "batch.toml").write_text("""
+[[extras]]
+id = "nomap"
+inputs = ["in/red.tif", "in/irb.tif"]
+kind = "nomap"
+product_id = "ESP_012345_1234"
+outdir = "extras"
+""", encoding="utf-8")
+    manifest = load_manifest(tmp_path / "batch.toml", tmp_path / "out")
+    (job,) = manifest.jobs
+    outcome = run_job(make_task(job, manifest, Settings(), {}))
+    assert outcome["status"] == "done", outcome
+    names = {p.name for p in (tmp_path / "out" / "extras").iterdir()}
+    assert names == {n.replace(OBS, "ESP_012345_1234") for n in SIX} | {"README.TXT"}
