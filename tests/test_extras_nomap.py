@@ -310,3 +310,16 @@ outdir = "extras"
     assert outcome["status"] == "done", outcome
     names = {p.name for p in (tmp_path / "out" / "extras").iterdir()}
     assert names == {n.replace(OBS, "ESP_012345_1234") for n in SIX} | {"README.TXT"}
+
+
+def test_statistics_windows_cover_a_wide_mosaic_once_in_bounded_pieces(tmp_path: Path):
+    from pdsgen.extras import nomap
+
+    path = write_plain_tiff(tmp_path / "wide.tif", np.ones((3, 1100, 5000), np.uint16))
+    with rasterio.open(path) as ds:
+        windows = list(nomap._statistics_windows(ds))
+    covered = np.zeros((1100, 5000), np.int8)
+    for w in windows:
+        assert w.width * w.height <= nomap.WINDOW_PIXELS
+        covered[w.row_off:w.row_off + w.height, w.col_off:w.col_off + w.width] += 1
+    assert (covered == 1).all()
