@@ -18,8 +18,17 @@ browse JPEGs and the full-scale QLOOK.JP2 - and of one of half that side, beside
 (-scale, REVERSIBLE=NO, QUALITY=5); peak RSS at both sizes shows whether the
 quick look's memory grows with the raster (measured through bench/_measure.py).
 
+With --nomap WIDTHxLINES it makes the six HiRISE NOMAP Extras (`--kind nomap`: RED,
+IRB and RGB JP2s and browses, README.TXT) of a RED and an IRB NOMAP mosaic (10-bit
+DNs in uint16 GeoTIFFs without georeferencing) at that size and at half the lines,
+beside GDAL making what it can of the same: gdal_translate to lossy 8-bit JPEG 2000
+(fixed -scale, REVERSIBLE=NO, QUALITY=5) and a 2048-wide JPEG browse of each mosaic
+(no per-band percentile stretch, no synthetic-blue RGB: GDAL's tools have neither).
+Peak RSS at both sizes shows whether memory grows with the mosaic.
+
 Run: PYTHONPATH=src python bench/extras.py [--size 8000] [--memory-size 16000]
                                            [--ortho-size 12000] [--skip-dtm]
+                                           [--nomap 2000x8000]
 """
 
 from __future__ import annotations
@@ -144,6 +153,64 @@ def ortho_bench(size: int) -> None:
           f"({small.peak_mb:.0f} -> {large.peak_mb:.0f} MB; flat means ~1)")
 
 
+def make_nomap(folder: Path, width: int, lines: int) -> tuple[Path, Path]:
+    """RED and IRB NOMAP mosaics (uint16, 10-bit DNs, DN 0 at the edges), written in strips."""
+    rng = np.random.default_rng(9)
+    cols = np.arange(width, dtype=np.float32)
+    paths = (folder / "PSP_005000_1000_RED.NOMAP.tif", folder / "PSP_005000_1000_IRB.NOMAP.tif")
+    profiles = [{"driver": "GTiff", "width": width, "height": lines, "count": count,
+                 "dtype": "uint16", "tiled": True, "blockxsize": 512, "blockysize": 512}
+                for count in (1, 3)]
+    with rasterio.Env(), rasterio.open(paths[0], "w", **profiles[0]) as red_ds, \
+            rasterio.open(paths[1], "w", **profiles[1]) as irb_ds:
+        for top in range(0, lines, 512):
+            rows = np.arange(top, min(top + 512, lines), dtype=np.float32)[:, None]
+            red = (500.0 + 250.0 * np.sin(cols / 37.0) * np.cos(rows / 53.0)
+                   + rng.normal(0.0, 15.0, (rows.shape[0], width)))
+            bg = 300.0 + 45.0 * np.cos(rows / 29.0 + cols / 61.0) + 0.1 * red
+            ir = 0.6 * red + 150.0 + 30.0 * np.sin(rows / 41.0)
+            irb = np.clip(np.stack([ir, red, bg]), 3, 1021).astype(np.uint16)
+            irb[:, :, : width // 25] = 0
+            window = Window(0, top, width, rows.shape[0])
+            red_ds.write(irb[1], 1, window=window)
+            irb_ds.write(irb, window=window)
+    return paths
+
+
+def nomap_bench(width: int, lines: int) -> None:
+    """pdsgen's six NOMAP Extras vs GDAL's lossy JP2s and browses of the two mosaics."""
+    env = {**os.environ, "PYTHONPATH": f"{REPO / 'src'}{os.pathsep}" + os.environ.get(
+        "PYTHONPATH", "")}
+    rows = []
+    for height in (lines // 2, lines):
+        with tempfile.TemporaryDirectory(prefix="pdsgen-bench-") as tmp:
+            work = Path(tmp)
+            red, irb = make_nomap(work, width, height)
+            ours = measure([sys.executable, "-m", "pdsgen", "extras", "--kind", "nomap",
+                            str(red), str(irb), "-o", str(work / "extras"), "--overwrite"], env)
+            gdal = measure(["sh", "-c", " && ".join(
+                f"gdal_translate -q -of JP2OpenJPEG -ot Byte -scale 1 1023 1 255 "
+                f"-co REVERSIBLE=NO -co QUALITY=5 -co BLOCKXSIZE=1024 -co BLOCKYSIZE=1024 "
+                f"{src} {work / src.name}.jp2 && gdal_translate -q -of JPEG -ot Byte "
+                f"-scale 1 1023 1 255 -r average -outsize 2048 0 {src} {work / src.name}.jpg"
+                for src in (red, irb))], env)
+            rows.append((height, ours, gdal))
+    print(f"HiRISE NOMAP Extras (6 files + README) of a RED + IRB mosaic, {width} wide")
+    print(f"{'':30}{'wall s':>9}{'CPU s':>9}{'peak MB':>9}")
+    for height, ours, gdal in rows:
+        print(f"{width} x {height} (RED {width * height * 2 / 2**20:.0f} MB + IRB "
+              f"{width * height * 6 / 2**20:.0f} MB uint16)")
+        print(f"  {'pdsgen extras --kind nomap':28}{ours.seconds:>9.2f}{ours.cpu_seconds:>9.2f}"
+              f"{ours.peak_mb:>9.1f}")
+        print(f"  {'gdal_translate (2 JP2, 2 JPEG)':28}{gdal.seconds:>9.2f}"
+              f"{gdal.cpu_seconds:>9.2f}{gdal.peak_mb:>9.1f}")
+        print(f"  ratio pdsgen/GDAL: time {ours.seconds / gdal.seconds:.2f}, CPU time "
+              f"{ours.cpu_seconds / gdal.cpu_seconds:.2f}, memory {ours.peak_mb / gdal.peak_mb:.2f}")
+    small, large = rows[0][1], rows[1][1]
+    print(f"pdsgen peak RSS at 2x the lines: {large.peak_mb / small.peak_mb:.2f}x "
+          f"({small.peak_mb:.0f} -> {large.peak_mb:.0f} MB; flat means ~1)")
+
+
 def colour_file(path: Path) -> None:
     """Viridis control points over the DTM's range, for gdaldem color-relief."""
     stops = ["440154", "3b528b", "21918c", "5ec962", "fde725"]
@@ -192,6 +259,8 @@ def main() -> None:
     parser.add_argument("--ortho-size", type=int, default=12000,
                         help="orthoimage side for the QLOOK.JP2 run (0 to skip)")
     parser.add_argument("--skip-dtm", action="store_true", help="only the orthoimage run")
+    parser.add_argument("--nomap", metavar="WIDTHxLINES", default="",
+                        help="also the HiRISE NOMAP Extras of mosaics this size (e.g. 2000x8000)")
     args = parser.parse_args()
     for tool in ("gdaldem", "gdal_translate"):
         if shutil.which(tool) is None:
@@ -200,6 +269,9 @@ def main() -> None:
         dtm_bench(args)
     if args.ortho_size:
         ortho_bench(args.ortho_size)
+    if args.nomap:
+        width, lines = (int(v) for v in args.nomap.lower().split("x"))
+        nomap_bench(width, lines)
 
 
 def dtm_bench(args: argparse.Namespace) -> None:

@@ -53,7 +53,8 @@ def run_extras(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
     written = make_extras(p["products"], p["outdir"], credit=p["credit"], params=p["params_file"],
                           browse_width=p["browse_width"], thumb_width=p["thumb_width"], azimuth=p["azimuth"],
                           altitude=p["altitude"], exaggeration=p["exaggeration"], kind=p["kind"],
-                          profile=p["profile"], overwrite=overwrite, report=print)  # notes into the log
+                          profile=p["profile"], product_id=p["product_id"], overwrite=overwrite,
+                          report=print)  # notes into the log
     directory_files = [w for w in written if w.name == README_NAME]
     return _written([w for w in written if w not in directory_files], [], shared=directory_files)
 

@@ -6,7 +6,7 @@ import logging
 
 import click
 
-from ..extras import KINDS, make_extras
+from ..extras import KINDS, NOMAP, make_extras
 from ..profiles import profile_names
 from . import COMMANDS
 from ._messages import in_cli_words
@@ -35,14 +35,17 @@ from ._output import Outcome, files_summary, output_options
 @click.option("--exaggeration", type=float,
               help="Vertical exaggeration of the shaded relief [default: 1, raised "
                    "automatically when the relief is too faint at preview scale].")
-@click.option("--kind", type=click.Choice(KINDS),
+@click.option("--kind", type=click.Choice((*KINDS, NOMAP)),
               help="Treat every PRODUCT as this kind [default: from the label, metadata or "
-                   "values; refused when they do not say].")
+                   "values; refused when they do not say]. nomap: PRODUCTs are one HiRISE "
+                   "observation's RED and/or IRB NOMAP mosaics (not map-projected).")
+@click.option("--product-id", help="With --kind nomap: the observation ID (e.g. "
+                                   "PSP_005000_1000) when the file names carry none.")
 @click.option("--profile", type=click.Choice(profile_names()),
               help="Mission conventions (credit line) [default: from each product's label].")
 @click.option("--overwrite", is_flag=True, help="Replace existing Extras files.")
 def extras(products, outdir, credit, params_file, browse_width, thumb_width, azimuth, altitude,
-           exaggeration, kind, profile, overwrite) -> Outcome:
+           exaggeration, kind, product_id, profile, overwrite) -> Outcome:
     """Write the Extras of each PRODUCT (a PDS3 .IMG/.LBL/.JP2 or a GeoTIFF) into OUTDIR.
 
     One line per product on stderr says whether it was taken for a DTM or an
@@ -54,7 +57,7 @@ def extras(products, outdir, credit, params_file, browse_width, thumb_width, azi
     written = make_extras(products, outdir, credit=credit, params=params_file,
                           browse_width=browse_width, thumb_width=thumb_width, azimuth=azimuth,
                           altitude=altitude, exaggeration=exaggeration, kind=kind,
-                          profile=profile, overwrite=overwrite,
+                          profile=profile, product_id=product_id, overwrite=overwrite,
                           report=lambda line: click.echo(f"pdsgen: {in_cli_words(line)}", err=True))
     summary = {"command": "extras", "files": files_summary(written)}
     return Outcome([str(path) for path in written], summary)

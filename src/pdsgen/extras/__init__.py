@@ -20,11 +20,13 @@ from pathlib import Path
 
 from PIL import Image
 
-from ..errors import PdsgenError
+from ..errors import ParamsError, PdsgenError, param
 from ..formats.staging import StagedOutputs, prepare_output_dir, publishes_together
 from ..products.params import ParamValue, resolve_params
 from ..progress import advance, is_large
 from .credit import product_credit
+from .kind import NOMAP
+from .nomap import make_nomap_extras
 from .product_source import DTM, KINDS, ProductSource, open_product, quiet_gdal
 from .qlook import write_qlook
 from .readme_index import publish_readme, read_readme
@@ -33,7 +35,7 @@ from .renderings import QLOOK_SUFFIX, THUMB_WIDTH, ProductPreviews, render_produ
 
 JPEG_QUALITY = 90
 
-__all__ = ["make_extras", "KINDS"]
+__all__ = ["make_extras", "KINDS", "NOMAP"]
 
 
 @publishes_together
@@ -50,6 +52,7 @@ def make_extras(
     exaggeration: float | None = None,
     kind: str | None = None,
     profile: str | None = None,
+    product_id: str | None = None,
     overwrite: bool = False,
     report: Callable[[str], None] | None = None,
 ) -> list[Path]:
@@ -63,9 +66,18 @@ def make_extras(
     params' CREDIT, else the credit of `profile`, else the product's own (see
     `credit.product_credit`). `report`, when given, receives one line per product
     saying which kind it was taken for and why (after success).
+
+    `kind` "nomap" takes one HiRISE observation's RED and/or IRB NOMAP mosaics
+    (not map-projected) and writes the six NOMAP Extras (see `nomap`); `product_id`
+    then gives the observation ID when the file names carry none.
     """
     if not products:
         raise PdsgenError(None, "no products given")
+    if kind == NOMAP:
+        return _make_nomap(products, outdir, credit, params, browse_width, profile,
+                           product_id, overwrite, report)
+    if product_id is not None:
+        raise ParamsError(None, f"{param('product_id')} names a NOMAP observation; it needs {param('kind', 'nomap')}")
     azimuth = _check_options(browse_width, thumb_width, azimuth, altitude, exaggeration)
     keywords = resolve_params(params)
     with quiet_gdal():
@@ -91,6 +103,21 @@ def make_extras(
             what = "a DTM" if src.kind == DTM else "an orthoimage"
             report(f"{src.path}: taken as {what} ({src.kind_reason})")
     return [*written, readme]
+
+
+def _make_nomap(products: Sequence[str | os.PathLike[str]], outdir: str | os.PathLike[str],
+                credit: str | None, params: str | os.PathLike[str] | Mapping[str, ParamValue] | None,
+                browse_width: int | None, profile: str | None, product_id: str | None,
+                overwrite: bool, report: Callable[[str], None] | None) -> list[Path]:
+    """The NOMAP branch of make_extras: the same credit, params and option checks."""
+    if browse_width is not None:
+        _check_int("browse width", browse_width, 16, 65500)
+    keywords = resolve_params(params)
+    return make_nomap_extras(
+        products, outdir, product_id=product_id,
+        credit=lambda src: product_credit(src, credit, keywords, profile),
+        keywords=directory_keywords(keywords), browse_width=browse_width,
+        overwrite=overwrite, jpeg_quality=JPEG_QUALITY, report=report)
 
 
 def _write_product_extras(previews: ProductPreviews, outdir: Path, overwrite: bool

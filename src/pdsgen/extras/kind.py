@@ -32,6 +32,8 @@ from ..missions.hrsc import is_dtm_name as is_hrsc_dtm_name
 DTM = "dtm"
 ORTHO = "ortho"
 KINDS = (DTM, ORTHO)
+# HiRISE NOMAP mosaics (not map-projected): never detected, asked for with --kind nomap.
+NOMAP = "nomap"
 
 LENGTH_UNITS = {"M": 1.0, "METER": 1.0, "METERS": 1.0, "METRE": 1.0, "METRES": 1.0,
                 "KM": 1000.0, "KILOMETER": 1000.0, "KILOMETERS": 1000.0}

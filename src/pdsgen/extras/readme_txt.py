@@ -25,12 +25,13 @@ import jinja2
 from PIL import Image
 
 from ..label.grammar import MAX_LINE_BYTES as GRAMMAR_MAX_LINE_BYTES
+from ..missions.hirise import SYNTHETIC_BLUE_BG, SYNTHETIC_BLUE_RED, rdr_extras_line
 from ..products.params import ParamValue
 from ..resources import templates_dir
 from .colour_ramp import RAMP_NAME
 from .decimate import valid_range
 from .product_source import DTM, ProductSource
-from .renderings import extras_file_names
+from .renderings import extras_file_names, nomap_file_names
 from .stretch import DTM_HIGH_PERCENT, DTM_LOW_PERCENT
 
 if TYPE_CHECKING:
@@ -44,6 +45,7 @@ _HANGING = re.compile(r"^(\s*[A-Za-z][A-Za-z0-9_ ()/.-]*:\s+)\S")
 
 DTM_TYPE = "Digital terrain model (heights)"
 ORTHO_TYPE = "Orthoimage"
+NOMAP_TYPE = "HiRISE NOMAP mosaic (not map-projected)"
 DEFAULT_PROJECT_NAME = "Extras of PDS3 map products"
 DEFAULT_ARTIFACTS = "None reported by the producer."
 
@@ -56,6 +58,8 @@ ENTRY_FIELDS = (
     ("Product file", "file_name"),
     ("Source images", "sources"),
     ("Size", "size"),
+    ("Bands", "bands"),
+    ("Stretch", "stretch"),
     ("Projection", "projection"),
     ("Georeferencing", "georeferencing"),
     ("Post spacing", "spacing"),
@@ -105,6 +109,7 @@ def product_entry(previews: ProductPreviews, credit: str, azimuth: float,
     shading = (f"light from azimuth {azimuth:g} degrees, altitude {altitude:g} degrees, "
                f"vertical exaggeration {previews.exaggeration:g}x") if is_dtm else ""
     return {
+        **empty_entry(),
         "product_id": src.product_id,
         "title": src.title if src.title and src.title != src.product_id else "",
         "kind_text": DTM_TYPE if is_dtm else ORTHO_TYPE,
@@ -129,14 +134,25 @@ def product_entry(previews: ProductPreviews, credit: str, azimuth: float,
     }
 
 
+def empty_entry() -> Entry:
+    """An entry with every field empty (empty fields are left out of README.TXT)."""
+    return {key: "" for key in ENTRY_KEYS}
+
+
 def is_dtm_entry(entry: Mapping[str, str]) -> bool:
     return entry.get("kind_text") == DTM_TYPE
+
+
+def is_nomap_entry(entry: Mapping[str, str]) -> bool:
+    return entry.get("kind_text") == NOMAP_TYPE
 
 
 def entry_files(entry: Mapping[str, str], outdir: Path) -> list[tuple[str, str, str]] | None:
     """(name, what, size) of the entry's Extras files in OUTDIR; None if one is missing."""
     files = []
-    for name, what in extras_file_names(entry["product_id"], is_dtm_entry(entry)):
+    names = (nomap_file_names(entry["product_id"]) if is_nomap_entry(entry) else
+             extras_file_names(entry["product_id"], is_dtm_entry(entry)))
+    for name, what in names:
         size = _image_size(outdir / name)
         if size is None:
             return None
@@ -187,9 +203,31 @@ def render_readme(entries: Sequence[Mapping[str, str]], files: Sequence[list[tup
         credit=_distinct(entries, "credit", "; ") or "none",
         known_artifacts=shown["KNOWN_ARTIFACTS"],
         dtm_low=f"{DTM_LOW_PERCENT:g}", dtm_high=f"{100 - DTM_HIGH_PERCENT:g}",
-        ramp=RAMP_NAME,
+        ramp=RAMP_NAME, nomap=any(is_nomap_entry(e) for e in entries),
+        observations=observation_index(entries, files),
+        blue_bg=f"{SYNTHETIC_BLUE_BG:g}", blue_red=f"{-SYNTHETIC_BLUE_RED:g}",
     )
     return plain_text_bytes(text)
+
+
+def observation_index(entries: Sequence[Mapping[str, str]],
+                      files: Sequence[list[tuple[str, str, str]]]) -> list[tuple[str, list[str]]]:
+    """HiRISE observations' Extras, one line per file ("name  what"), in directory order.
+
+    The release gives each observation twelve Extras over several products (RED and
+    COLOR RDRs, three NOMAP renderings); this gathers them under the observation.
+    """
+    found: dict[str, list[tuple[str, str]]] = {}
+    for entry, entry_files_ in zip(entries, files, strict=True):
+        for name, _, _ in entry_files_:
+            line = rdr_extras_line(entry["product_id"], name)
+            if line is not None:
+                found.setdefault(line[0], []).append((name, line[1]))
+    index = []
+    for observation, lines in found.items():
+        width = max(len(name) for name, _ in lines)
+        index.append((observation, [f"{name.ljust(width)}  {what}" for name, what in lines]))
+    return index
 
 
 def _distinct(entries: Sequence[Mapping[str, str]], key: str, separator: str) -> str:

@@ -17,9 +17,11 @@ from PIL import Image
 from rasterio.transform import Affine
 
 from ..errors import PdsgenError
+from ..missions import hirise
 from .annotate import Annotation, Layout, Legend, annotate
 from .colour_ramp import RAMP_NAME, blend_with_shade, ramp_colours
 from .decimate import PreviewGrid, preview_grid, read_physical, statistics_sample
+from .full_stretch import full_resolution_stretches, streams_whole_numbers
 from .ground_scale import GroundScale, ground_scale_at
 from .hillshade import auto_exaggeration, shade_from_slopes, slopes
 from .product_source import DTM, ProductSource
@@ -59,6 +61,18 @@ ORTHO_RENDERING = Rendering("ortho", "browse", "abrowse", "thumb", "Orthoimage")
 QLOOK_SUFFIX = "QLOOK.JP2"
 QLOOK_DESCRIPTION = ("Orthoimage quick look, full scale, lossy JPEG 2000, stretched as the "
                      "browse, georeferenced (GeoJP2)")
+
+
+NOMAP_FILE_DESCRIPTIONS = {
+    "JP2": "NOMAP full scale, stretched, lossy JPEG 2000",
+    "browse.jpg": "NOMAP browse (no scale bar, no north arrow)",
+}
+
+
+def nomap_file_names(product_id: str) -> list[tuple[str, str]]:
+    """(file name, what it is) of a HiRISE NOMAP product's Extras (`<OBS>_RGB.NOMAP`)."""
+    return [(f"{product_id}.{suffix}", NOMAP_FILE_DESCRIPTIONS[suffix])
+            for suffix in hirise.NOMAP_SUFFIXES]
 
 
 def extras_file_names(product_id: str, is_dtm: bool) -> list[tuple[str, str]]:
@@ -176,10 +190,14 @@ def _render_ortho(src: ProductSource, credit: str, browse_width: int,
     data = read_physical(src, grid, bands)
     if np.ma.getmaskarray(data).all():
         raise PdsgenError(src.path, "has no valid pixels (all no-data)")
-    sample = statistics_sample(src, data, bands)
     channels = []
-    stretches = tuple(percentile_stretch(sample[i], ORTHO_LOW_PERCENT, ORTHO_HIGH_PERCENT)
-                      for i in range(len(bands)))
+    if hirise.is_rdr(str(src.label.get("DATA_SET_ID", ""))) and streams_whole_numbers(src):
+        # A HiRISE RDR: the release's 0.1 % / 0.01 % points exactly, from every pixel.
+        stretches = full_resolution_stretches(src, bands, ORTHO_LOW_PERCENT, ORTHO_HIGH_PERCENT)
+    else:
+        sample = statistics_sample(src, data, bands)
+        stretches = tuple(percentile_stretch(sample[i], ORTHO_LOW_PERCENT, ORTHO_HIGH_PERCENT)
+                          for i in range(len(bands)))
     for i, stretch in enumerate(stretches):
         if stretch is None:
             channels.append(np.zeros(data.shape[1:], np.uint8))

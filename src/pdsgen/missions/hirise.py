@@ -69,6 +69,73 @@ VALID_RANGE_DECIMALS: int | None = RELEASE_VALID_RANGE_DECIMALS
 ORTHO_DESCRIPTION = "HiRISE orthorectified image, projected onto the DTM named in SOURCE_PRODUCT_ID"
 
 
+# HiRISE RDR Extras, as the release names them: per observation six map-projected files
+# from the RDRs <OBS>_RED and <OBS>_COLOR (IR, RED, BG) and six NOMAP files, the CCD
+# images stitched in the camera's geometry, not map-projected.
+RDR_COLOURS = ("RED", "COLOR")
+RDR_DATA_SET_PREFIX = "MRO-M-HIRISE-3-RDR"  # the RDR data sets (V1.0, V1.1 ...)
+RDR_EXTRAS_SUFFIXES = ("QLOOK.JP2", "browse.jpg", "abrowse.jpg")
+NOMAP_TAG = "NOMAP"
+NOMAP_INPUTS = ("RED", "IRB")          # the two NOMAP mosaics an observation has
+NOMAP_PRODUCTS = ("RED", "IRB", "RGB")  # the NOMAP Extras made from them
+NOMAP_SUFFIXES = ("JP2", "browse.jpg")
+NOMAP_BROWSE_WIDTH = 2048
+# Band order of the IRB mosaic (and of the COLOR RDR): near-infrared, red, blue-green.
+IRB_BAND_NAMES = ("NEAR-INFRARED", "RED", "BLUE-GREEN")
+# The RGB rendering: RED, BG and a synthetic blue = 2 x BG - 0.3 x RED, per pixel.
+SYNTHETIC_BLUE_BG, SYNTHETIC_BLUE_RED = 2.0, -0.3
+# DN 0 is no data in HiRISE images (CORE_NULL = 0 in every RDR label).
+CORE_NULL = 0
+OBSERVATION_IN_NAME_RE = re.compile(r"(?<![A-Z0-9])([A-Z]{3}_\d{6}_\d{4})(?![0-9])")
+
+
+# README.TXT's one-line index of an observation's Extras: what each product shows and
+# what each file is.
+RDR_EXTRAS_PRODUCT_RE = re.compile(
+    r"^(?P<observation>[A-Z]{3}_\d{6}_\d{4})_(?P<product>RED|COLOR|IRB|RGB)(?P<nomap>\.NOMAP)?$")
+RDR_EXTRAS_SHOWS = {"RED": "RED", "COLOR": "colour", "IRB": "IRB", "RGB": "RGB"}
+RDR_EXTRAS_FILES = {"QLOOK.JP2": "quick look, full scale, lossy", "browse.jpg": "browse",
+                    "abrowse.jpg": "browse, title and scale bar", "thumb.jpg": "thumbnail",
+                    "JP2": "NOMAP, full scale, lossy", "browse.jpg.NOMAP": "NOMAP browse"}
+
+
+def rdr_extras_line(product_id: str, file_name: str) -> tuple[str, str] | None:
+    """(observation, what FILE_NAME is) for a HiRISE RDR or NOMAP product's Extras file."""
+    match = RDR_EXTRAS_PRODUCT_RE.match(product_id)
+    if match is None or not file_name.startswith(product_id + "."):
+        return None
+    suffix = file_name[len(product_id) + 1:] + (".NOMAP" if match["nomap"] and
+                                                file_name.endswith(".browse.jpg") else "")
+    what = RDR_EXTRAS_FILES.get(suffix)
+    if what is None:
+        return None
+    return match["observation"], f"{RDR_EXTRAS_SHOWS[match['product']]} {what}"
+
+
+def is_rdr(data_set_id: str) -> bool:
+    """A HiRISE RDR (RED or COLOR map-projected mosaic) by its DATA_SET_ID."""
+    return data_set_id.strip().upper().startswith(RDR_DATA_SET_PREFIX)
+
+
+def nomap_product_id(observation: str, product: str) -> str:
+    """`PSP_005000_1000` + RGB -> `PSP_005000_1000_RGB.NOMAP` (its files add .JP2, .browse.jpg)."""
+    return f"{observation}_{product}.{NOMAP_TAG}"
+
+
+def rdr_extras_names(observation: str) -> list[str]:
+    """The twelve Extras file names of one observation, map-projected then NOMAP."""
+    names = [f"{observation}_{colour}.{suffix}" for colour in RDR_COLOURS
+             for suffix in RDR_EXTRAS_SUFFIXES]
+    return names + [f"{nomap_product_id(observation, product)}.{suffix}"
+                    for product in NOMAP_PRODUCTS for suffix in NOMAP_SUFFIXES]
+
+
+def observation_in_name(name: str) -> str | None:
+    """The observation ID a file name carries (`PSP_005000_1000_RED.NOMAP.cub`), if any."""
+    match = OBSERVATION_IN_NAME_RE.search(name.upper())
+    return match.group(1) if match else None
+
+
 def scale_letter(map_scale: float) -> str:
     """The letter of the nominal HiRISE post spacing within 10 % of `map_scale`."""
     for letter, nominal in SCALE_LETTERS.items():
