@@ -258,6 +258,18 @@ def test_seeded_duplicated_lidvid(delivery):
     assert any(f.rule == "DLV-012" for f in _errors(delivery, "DLV-012"))
 
 
+def test_entry_repeated_within_one_inventory_is_reported_once(delivery):
+    """The inventory's own check (PDS4-056) reports it; the delivery check does not repeat it."""
+    inventory = delivery / "DATA" / "collection_data_inventory.csv"
+    rows = inventory.read_bytes().split(b"\r\n")
+    assert len(rows) >= 3 and rows[-1] == b""
+    inventory.write_bytes(b"\r\n".join(rows[:-2] + [rows[0], b""]))  # the last entry becomes the first again
+    report = validate_paths([delivery])
+    rules = [f.rule for f in report.findings if f.file.endswith("collection_data_inventory.csv")
+             or f.file.endswith("collection_data.xml")]
+    assert rules.count("PDS4-056") == 1 and "DLV-012" not in rules, rules
+
+
 def test_seeded_browse_pointing_at_missing_product(delivery):
     _seed(delivery, "EXTRAS/PSP_008669_1705_RED_C_01_ORTHO.browse.xml",
           "urn:nasa:pds:demo_dtm:data:psp_008669_1705_red_c_01_ortho::1.0",

@@ -405,7 +405,7 @@ def _check_inventory(root: Path, collection: _Pds4Label, labels: list[_Pds4Label
         if not lid.startswith(prefix):
             found.append(_Found("DLV-013", collection.inventory, f"member {entry} is not under the collection's "
                                                                  f"LID {collection.lid}", number))
-        if entry in members:
+        if entry in members and members[entry] != collection.inventory:  # a repeat within one: PDS4-056
             found.append(_Found("DLV-012", collection.inventory, f"{entry} is also listed in "
                                                                  f"{members[entry].relative_to(root)}", number))
         members.setdefault(entry, collection.inventory)
