@@ -7,6 +7,7 @@ the repository, two levels above this file.
 
 from __future__ import annotations
 
+import os
 from functools import cache
 from pathlib import Path
 
@@ -28,3 +29,10 @@ def templates_dir() -> Path:
 
 def schemas_dir() -> Path:
     return resource_dir("schemas")
+
+
+def user_cache_dir(name: str) -> Path:
+    """pdsgen's cache directory `name` for this user: ~/.cache/pdsgen/NAME, or under
+    $XDG_CACHE_HOME. Only a place to keep things that can be made again; not created here."""
+    root = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(root) / "pdsgen" / name

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from functools import cache
 from typing import TYPE_CHECKING, Any
 
-from ..resources import templates_dir
+from ..resources import templates_dir, user_cache_dir
 from .layout import layout_label
 from .values import Quantity, format_value
 
@@ -29,6 +29,7 @@ def template_environment() -> jinja2.Environment:
 
     env = jinja2.Environment(
         loader=jinja2.FileSystemLoader(str(templates_dir())),
+        bytecode_cache=_compiled_templates_cache(jinja2),
         undefined=jinja2.StrictUndefined,
         trim_blocks=True,
         lstrip_blocks=True,
@@ -42,6 +43,33 @@ def template_environment() -> jinja2.Environment:
         unit=Quantity,
     )
     return env
+
+
+def _compiled_templates_cache(jinja2: Any) -> Any:
+    """Compiled templates kept between runs (~/.cache/pdsgen/templates), so a small product
+    does not spend a third of its own time compiling its label template. jinja2 checks each
+    entry against the template's source and the Python version, so a stale one is never used;
+    a cache that cannot be written is skipped, never a reason for a product to fail."""
+
+    class QuietCache(jinja2.FileSystemBytecodeCache):
+        def load_bytecode(self, bucket: Any) -> None:
+            try:
+                super().load_bytecode(bucket)
+            except OSError:
+                pass
+
+        def dump_bytecode(self, bucket: Any) -> None:
+            try:
+                super().dump_bytecode(bucket)
+            except OSError:
+                pass
+
+    directory = user_cache_dir("templates")
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+    except OSError:
+        return None
+    return QuietCache(str(directory))
 
 
 def render_label(template_name: str, context: Mapping[str, Any]) -> str:

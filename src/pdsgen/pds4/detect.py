@@ -10,10 +10,10 @@ by the standard's own recommendation for new archives, and either may be met.
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 from ..formats.sniff import file_head
+from ..resources import user_cache_dir
 
 _HEAD_BYTES = 8192
 _PDS4_NAMESPACE = b"http://pds.nasa.gov/pds4/pds/v1"
@@ -32,5 +32,4 @@ def is_pds4_label(path: Path) -> bool:
 def default_schema_cache() -> Path:
     """Where downloaded PDS4 schemas are kept: ~/.cache/pdsgen/pds4-schemas (or under
     $XDG_CACHE_HOME). Here, not in `catalog`, so the CLI can name it without lxml."""
-    root = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(root) / "pdsgen" / "pds4-schemas"
+    return user_cache_dir("pds4-schemas")
