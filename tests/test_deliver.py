@@ -321,6 +321,33 @@ def test_hrsc_products_delivered_in_both_dialects(tmp_path):
     assert _errors(out) == []
 
 
+def test_two_products_with_one_product_id_are_refused_and_nothing_is_lost(demo_products, tmp_path):
+    """One PRODUCT_ID would be one index row and one LID: the second label would vanish from the
+    delivery (and, in place, from the disk)."""
+    source = tmp_path / "products"
+    name = "DTEEC_008669_1705_009025_1705_U01"
+    for copy in ("a", "b"):
+        (source / copy).mkdir(parents=True)
+        for suffix in (".IMG", ".xml"):
+            shutil.copy(demo_products / f"{name}{suffix}", source / copy / f"{name}{suffix}")
+    before = sorted(p.relative_to(source) for p in source.rglob("*"))
+    for out in ([], ["-o", str(tmp_path / "out")]):
+        refused = run_cli("deliver", str(source), *out, "--both", "--volume-id", "DEMO_0001",
+                          "--bundle-lid", "urn:nasa:pds:demo_dtm")
+        assert refused.returncode == 2 and refused.stderr.count("\n") == 1, refused.stderr
+        assert f"a/{name}" in refused.stderr and f"b/{name}" in refused.stderr and "product ID" in refused.stderr
+        assert sorted(p.relative_to(source) for p in source.rglob("*")) == before
+    assert not (tmp_path / "out").exists() and list(tmp_path.glob(".*")) == []
+
+
+def test_an_output_that_cannot_be_made_is_one_line(demo_products, tmp_path):
+    a_file = tmp_path / "file"
+    a_file.write_text("not a directory")
+    refused = run_cli("deliver", str(demo_products), "-o", str(a_file / "out"), "--pds3", "--volume-id", "DEMO_0001")
+    assert refused.returncode == 2 and refused.stderr.count("\n") == 1, refused.stderr
+    assert "Traceback" not in refused.stderr and str(a_file / "out") in refused.stderr
+
+
 def test_cli_deliver_and_bad_input(demo_products, tmp_path):
     out = tmp_path / "vol"
     done = run_cli("deliver", str(demo_products), "-o", str(out), "--pds3", "--volume-id", "DEMO_0001")

@@ -19,7 +19,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import InputError, OutputError, param
+from ..errors import InputError, OutputError, PdsgenError, param
 from ..progress import advance
 from . import bundle, layout
 from .index import IndexWriter
@@ -169,18 +169,25 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
     if not found.products:
         raise InputError(source_dir, "holds no data product (no PDS3 or PDS4 product label)")
     _check_dialects(found, pds3, pds4)
+    _check_unique_product_ids(found)
     log.info("%s: %d data product(s), %d preview(s), %d document(s), %d other file(s)", source_dir,
              len(found.products), len(found.previews), len(found.documents), len(found.others))
     work = target.parent / f".{target.name}.deliver-{os.getpid()}"
-    if work.exists():
-        shutil.rmtree(work)
-    work.mkdir(parents=True)
+    try:
+        if work.exists():
+            shutil.rmtree(work)
+        work.mkdir(parents=True)
+    except OSError as exc:
+        raise OutputError(target, f"cannot be written here ({exc.strerror or exc})") from None
     try:
         result = _build(found, _Tree(work), previous, source_dir, in_place, dialect, index, bundle_lid)
         _swap(work, target)
         log.info("delivery built in %s and moved to %s", work, target)
-    except BaseException:
+    except BaseException as exc:
         shutil.rmtree(work, ignore_errors=True)
+        if isinstance(exc, OSError) and not isinstance(exc, PdsgenError):  # disk full, permissions ...
+            raise OutputError(target, f"the delivery could not be written ({exc.strerror or exc}); "
+                                      "nothing was changed") from None
         raise
     result.path = target
     return result
@@ -231,6 +238,17 @@ def _previous_bundle_lid(previous: _Previous) -> str | None:
     return text[start + len("<logical_identifier>"):end].strip() if 0 <= start < end else None
 
 
+def _check_unique_product_ids(found: SourceSet) -> None:
+    """Two labels with one PRODUCT_ID would be one index row and one LID: refuse, naming both."""
+    seen: dict[str, DataProduct] = {}
+    for product in found.products:
+        first = seen.setdefault(product.product_id.upper(), product)
+        if first is not product:
+            raise InputError(product.pds3_label or product.pds4_label,
+                             f"has the product ID {product.product_id} of {first.pds3_label or first.pds4_label} "
+                             "too; each product of a delivery needs its own")
+
+
 def _check_dialects(found: SourceSet, pds3: bool, pds4: bool) -> None:
     for product in found.products:
         if pds3 and product.pds3_label is None:
@@ -242,11 +260,16 @@ def _check_dialects(found: SourceSet, pds3: bool, pds4: bool) -> None:
 
 
 def _swap(work: Path, target: Path) -> None:
-    """The finished tree takes the target's place; the previous one is removed after."""
+    """The finished tree takes the target's place; the previous one is removed after (and put
+    back if the new one cannot take its place)."""
     if target.exists():
         old = target.parent / f".{target.name}.old-{os.getpid()}"
         os.rename(target, old)
-        os.rename(work, target)
+        try:
+            os.rename(work, target)
+        except OSError:
+            os.rename(old, target)
+            raise
         shutil.rmtree(old)
     else:
         os.rename(work, target)
