@@ -150,6 +150,7 @@ def test_xml_image_label_gives_missing_keywords_and_the_survey_date(tmp_path):
 @pytest.mark.parametrize("damage, message", [
     (lambda p: p.write_bytes(p.read_bytes()[:-100]), "is truncated"),
     (lambda p: p.write_bytes(b"NOT A VICAR FILE" + p.read_bytes()), "is not a VICAR file"),
+    (lambda p: p.write_bytes(p.read_bytes().replace(b"NLB=0", b"NLB=X", 1)), "unusable NLB"),
 ])
 def test_bad_input_is_one_line_exit_2_nothing_written(tmp_path, damage, message):
     path = _dem(tmp_path)
@@ -252,6 +253,8 @@ def test_vicar_items_strings_lists_and_refusals(tmp_path):
     items = parse_items("LBLSIZE=100  FORMAT='BYTE'  NOTE='it''s'  R=(1.5,-2,3E2)  W=(  'A', 'B')  X=7 ")
     assert items == [("LBLSIZE", 100), ("FORMAT", "BYTE"), ("NOTE", "it's"), ("R", (1.5, -2, 300.0)),
                      ("W", ("A", "B")), ("X", 7)]
+    with pytest.raises(InputError, match="a list inside a list"):
+        parse_items("LBLSIZE=100  R=((1,2),3)")
     path = _dem(tmp_path)
     vax = path.read_bytes().replace(b"REALFMT='RIEEE'", b"REALFMT='VAX'  ")
     path.write_bytes(vax)

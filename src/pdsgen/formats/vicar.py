@@ -179,6 +179,9 @@ def _check_layout(label: VicarLabel) -> None:
     for key in ("NL", "NS", "RECSIZE"):
         if not isinstance(system.get(key), int) or int(system[key]) <= 0:  # type: ignore[arg-type]
             raise InputError(path, f"VICAR label has no usable {key}")
+    for key in ("NB", "NLB", "NBB", "EOL"):  # optional counts: when present, whole numbers
+        if key in system and (not isinstance(system[key], int) or int(system[key]) < 0):  # type: ignore[arg-type]
+            raise InputError(path, f"VICAR label has an unusable {key} ({system[key]!r})")
     if label.format not in _NUMPY_KINDS:
         raise InputError(path, f"VICAR FORMAT {label.format} is not one pdsgen reads "
                                f"({', '.join(_NUMPY_KINDS)})")
@@ -227,7 +230,8 @@ def _value(text: str, position: int, path) -> tuple[VicarValue, int]:
             if position >= len(text):
                 raise InputError(path, "VICAR label has an unclosed '(' list")
             one, position = _value(text, position, path)
-            assert not isinstance(one, tuple)
+            if isinstance(one, tuple):
+                raise InputError(path, "VICAR label has a list inside a list")
             values.append(one)
     if text.startswith("'", position):
         chars: list[str] = []
