@@ -94,6 +94,18 @@ def test_two_labels_describing_one_file_in_a_run():
     assert '"PDS4-060"' not in ignored.stdout
 
 
+def test_a_baseline_keeps_back_findings_across_labels(tmp_path):
+    """PDS4-060 is found across the run's labels, after each file's own report: a baseline that
+    records it keeps it back on the next run, as it does every other finding."""
+    pair = [CASES / "github681/ff_char.xml", CASES / "github681/ff_del.xml"]
+    baseline = tmp_path / "baseline.json"
+    written = run_cli("validate", "--offline", "--write-baseline", baseline, *pair)
+    assert written.returncode == 0 and baseline.is_file(), written.stderr
+    assert '"PDS4-060"' in baseline.read_text()
+    again = run_cli("validate", "--offline", "--baseline", baseline, "--format", "json", *pair)
+    assert '"PDS4-060"' not in again.stdout, again.stdout
+
+
 @pytest.mark.parametrize(("data_type", "good", "bad"), [
     ("ASCII_Real", ["1", "-1.5", ".5", "1.e3", "6.02E+23", "NaN"], ["1,5", "e3", "1.2.3", "0x10"]),
     ("ASCII_Integer", ["0", "-12", "+7"], ["1.0", "1e3", "twelve"]),

@@ -267,7 +267,7 @@ def iter_reports(
     job = _Job(labels_only, extra, strict, settings, schema_dirs, cache, download_schemas and cache is not None)
     deliveries = DeliveryChecks(paths, labels_only)  # a delivery directory is also checked whole
     return _with_run_notes(_with_deliveries(_stream(files, job, jobs, progress, baseline), deliveries, settings,
-                                            baseline), settings)
+                                            baseline), settings, baseline)
 
 
 def _with_deliveries(reports: Iterator[FileReport], deliveries: DeliveryChecks, settings: Settings,
@@ -275,13 +275,17 @@ def _with_deliveries(reports: Iterator[FileReport], deliveries: DeliveryChecks, 
     """Delivery hook: each file's DLV findings beside its own; files with no report of their own
     (an index table, the manifest) get one at the end."""
     for report in reports:
-        report.findings.extend(_after_baseline(FileReport(report.path, settings.filter(
-            deliveries.take(report.path))), baseline).findings)
+        report.findings.extend(_kept(report.path, deliveries.take(report.path), settings, baseline))
         yield report
     for path, findings in deliveries.rest():
-        extra = _after_baseline(FileReport(path, settings.filter(findings)), baseline)
-        if extra.findings:
-            yield extra
+        kept = _kept(path, findings, settings, baseline)
+        if kept:
+            yield FileReport(path, kept)
+
+
+def _kept(path: str, findings: list[Finding], settings: Settings, baseline: Baseline | None) -> list[Finding]:
+    """Findings made after a file's own report (across files), as configured and not in the baseline."""
+    return _after_baseline(FileReport(path, settings.filter(findings)), baseline).findings
 
 
 def _checked_schema_dirs(schemas: Iterable[str | os.PathLike[str]]) -> tuple[str, ...]:
@@ -294,7 +298,8 @@ def _checked_schema_dirs(schemas: Iterable[str | os.PathLike[str]]) -> tuple[str
     return pds4.check_schema_dirs(schemas)
 
 
-def _with_run_notes(reports: Iterator[FileReport], settings: Settings) -> Iterator[FileReport]:
+def _with_run_notes(reports: Iterator[FileReport], settings: Settings,
+                    baseline: Baseline | None) -> Iterator[FileReport]:
     """PDS4 hook: the run's one note when Schematron could not run, on its first PDS4 report;
     and the checks across the run's PDS4 labels (two labels describing one data file)."""
     register = None
@@ -305,7 +310,7 @@ def _with_run_notes(reports: Iterator[FileReport], settings: Settings) -> Iterat
             if register is None:
                 pds4.add_run_notes([report])
                 register = pds4.DataFileRegister()
-            report.findings.extend(settings.filter(register.add(report.path)))
+            report.findings.extend(_kept(report.path, register.add(report.path), settings, baseline))
         yield report
 
 
