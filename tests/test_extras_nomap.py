@@ -219,7 +219,7 @@ def test_product_id_gives_the_observation(tmp_path: Path):
 
 
 @pytest.mark.parametrize("case", ["irb_two_bands", "no_observation", "two_observations",
-                                  "product_id_without_nomap"])
+                                  "product_id_without_nomap", "relief_option_with_nomap"])
 def test_bad_inputs_one_line_exit_2_nothing_written(tmp_path: Path, case: str):
     red, irb = mosaics(120, 100)
     args = []
@@ -235,6 +235,10 @@ def test_bad_inputs_one_line_exit_2_nothing_written(tmp_path: Path, case: str):
                 write_plain_tiff(tmp_path / "ESP_011111_2222_IRB.NOMAP.tif", irb)]
         expected = "ESP_011111_2222_IRB.NOMAP.tif: is of observation ESP_011111_2222"
     extra = ["--product-id", OBS] if case == "product_id_without_nomap" else ["--kind", "nomap"]
+    if case == "relief_option_with_nomap":
+        args = [write_plain_tiff(tmp_path / f"{OBS}_RED.NOMAP.tif", red)]
+        extra += ["--thumb-width", "300"]
+        expected = "--thumb-width has no use with --kind nomap"
     if case == "product_id_without_nomap":
         args = [write_plain_tiff(tmp_path / "red.tif", red)]
         expected = "--product-id names a NOMAP observation; it needs --kind nomap"

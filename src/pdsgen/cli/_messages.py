@@ -34,6 +34,10 @@ LIBRARY_TO_OPTION: dict[str, str] = {
     "allow_dictionary_deviations": "--allow-dictionary-deviations",
     "overwrite": "--overwrite",
     "schemas": "--schemas",
+    "thumb_width": "--thumb-width",
+    "azimuth": "--azimuth",
+    "altitude": "--altitude",
+    "exaggeration": "--exaggeration",
     "volume_id": "--volume-id",
     "bundle_lid": "--bundle-lid",
 }

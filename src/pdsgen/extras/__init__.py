@@ -74,6 +74,7 @@ def make_extras(
     if not products:
         raise PdsgenError(None, "no products given")
     if kind == NOMAP:
+        _refuse_relief_options(thumb_width, azimuth, altitude, exaggeration)
         return _make_nomap(products, outdir, credit, params, browse_width, profile,
                            product_id, overwrite, report)
     if product_id is not None:
@@ -103,6 +104,16 @@ def make_extras(
             what = "a DTM" if src.kind == DTM else "an orthoimage"
             report(f"{src.path}: taken as {what} ({src.kind_reason})")
     return [*written, readme]
+
+
+def _refuse_relief_options(thumb_width: int, azimuth: float, altitude: float, exaggeration: float | None) -> None:
+    """NOMAP Extras have no thumbnail and no shaded relief: an option for them would be ignored."""
+    given = {"thumb_width": thumb_width != THUMB_WIDTH, "azimuth": azimuth != 315.0,
+             "altitude": altitude != 45.0, "exaggeration": exaggeration is not None}
+    for name, set_by_caller in given.items():
+        if set_by_caller:
+            raise ParamsError(None, f"{param(name)} has no use with {param('kind', 'nomap')} "
+                                    "(NOMAP Extras have no thumbnail or shaded relief)")
 
 
 def _make_nomap(products: Sequence[str | os.PathLike[str]], outdir: str | os.PathLike[str],
