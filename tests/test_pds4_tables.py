@@ -94,6 +94,21 @@ def test_two_labels_describing_one_file_in_a_run():
     assert '"PDS4-060"' not in ignored.stdout
 
 
+def test_documents_of_one_name_in_different_directories_are_different_files(tmp_path):
+    """Document_File's directory_path_name is part of where the file is: v1/ and v2/ hold two
+    files; two labels naming v1/ are the same file."""
+    label = (CASES / "github164/valid/document_pdfa_valid.xml").read_text()
+    for name, folder in (("a", "v1"), ("b", "v2"), ("c", "v1")):
+        (tmp_path / folder).mkdir(exist_ok=True)
+        shutil.copy(CASES / "github164/valid/test1_pdfa.pdf", tmp_path / folder / "test1_pdfa.pdf")
+        (tmp_path / f"{name}.xml").write_text(label.replace(
+            "<file_name>test1_pdfa.pdf</file_name>",
+            f"<file_name>test1_pdfa.pdf</file_name><directory_path_name>{folder}/</directory_path_name>"))
+    report = validate_paths([tmp_path / "a.xml", tmp_path / "b.xml", tmp_path / "c.xml"], labels_only=True)
+    shared = [(Path(f.file).name, f.message) for f in report.findings if f.rule == "PDS4-060"]
+    assert shared == [("c.xml", f"v1/test1_pdfa.pdf is also described by {tmp_path / 'a.xml'}")], shared
+
+
 def test_a_baseline_keeps_back_findings_across_labels(tmp_path):
     """PDS4-060 is found across the run's labels, after each file's own report: a baseline that
     records it keeps it back on the next run, as it does every other finding."""

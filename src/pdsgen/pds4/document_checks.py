@@ -77,18 +77,25 @@ class DataFileRegister:
             return []  # the label's own report says why it cannot be read
         directory = os.path.dirname(os.path.abspath(label))
         findings = []
-        for match in _FILE_NAME_ELEMENT.finditer(text):
+        for block in _FILE_ELEMENT.finditer(text):
+            match = _FILE_NAME_ELEMENT.search(block[0])
+            if match is None:
+                continue
             name = match[1].decode("utf-8", "replace").strip()
-            data = os.path.normpath(os.path.join(directory, name))
+            folder = _DIRECTORY_ELEMENT.search(block[0])  # a Document_File's directory_path_name
+            relative = os.path.join(folder[1].decode("utf-8", "replace").strip(), name) if folder else name
+            data = os.path.normpath(os.path.join(directory, relative))
             first = self.first.setdefault(data, label)
             if first != label:
                 findings.append(Finding("PDS4-060", SEVERITY["PDS4-060"], label,
-                                        f"{name} is also described by {first}",
-                                        text.count(b"\n", 0, match.start()) + 1, "file_name"))
+                                        f"{relative} is also described by {first}",
+                                        text.count(b"\n", 0, block.start() + match.start()) + 1, "file_name"))
         return findings
 
 
+_FILE_ELEMENT = re.compile(rb"<((?:[A-Za-z_][\w.-]*:)?(?:File|Document_File))>.*?</\1>", re.DOTALL)
 _FILE_NAME_ELEMENT = re.compile(rb"<(?:[A-Za-z_][\w.-]*:)?file_name>([^<]+)</")
+_DIRECTORY_ELEMENT = re.compile(rb"<(?:[A-Za-z_][\w.-]*:)?directory_path_name>([^<]+)</")
 _FILE_NAME = re.compile(r"[A-Za-z0-9._-][A-Za-z0-9._/-]*\Z")  # a relative path, as genuine labels give
 
 
