@@ -217,6 +217,10 @@ def test_remote_scheduler_equals_sequential(reference, tmp_path, scheduler):
     summary = run(manifest, Settings(scheduler=scheduler), bar=False)
     assert summary.exit_code == 0, summary.failed
     assert tree(tmp_path / "remote") == expected
+    # The workers outlive the batch; the job processes they kept for it do not.
+    record = json.loads((tmp_path / "remote" / ".pdsgen-batch" / "logs" / "summary.json").read_text())
+    children = {job["child_pid"] for job in record["jobs"] if job.get("child_pid")}
+    assert children and not [pid for pid in children if Path(f"/proc/{pid}").exists()]
 
     # Workers that cannot take a job are refused up front, in one line, never waited for.
     big = folder / "big.toml"

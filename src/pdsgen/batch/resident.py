@@ -193,6 +193,12 @@ class Pool:
 POOL = Pool()  # this worker process's children
 
 
+def close_idle_children() -> None:
+    """End this worker's idle children: run on every worker of an existing cluster when a
+    batch is over, so workers that outlive it do not keep pdsgen's processes alive."""
+    POOL.close()
+
+
 def run_in_child(task: dict[str, Any], recycling: Recycling) -> dict[str, Any]:
     """TASK run in a resident child: its result with peak_mb, or ok False with the reason
     (crashed, timed out, exited) and retry True."""

@@ -155,8 +155,19 @@ def run(manifest: Manifest, settings: Settings, progress_stream: TextIO | None =
         if removed:
             progress.note(f"removed {len(removed)} temporary file(s) left by an interrupted run")
         outcomes = _Submitter(client, manifest, settings, progress, sizing).run_all()
+        if settings.scheduler is not None:  # a local cluster's workers end with the run, and their children
+            _close_idle_children(client)
     progress.close()
     return _write_summary(manifest, settings, outcomes, started)
+
+
+def _close_idle_children(client: Any) -> None:
+    from .resident import close_idle_children
+
+    try:
+        client.run(close_idle_children)
+    except Exception as exc:  # a worker gone meanwhile: its children ended with it
+        log.info("idle job processes not closed on every worker (%s)", exc)
 
 
 class _Submitter:
