@@ -187,6 +187,24 @@ def test_an_altered_cached_schema_is_not_used(product, server, tmp_path):
     assert [f.rule for f in found if f.rule != "PDS4-007"] == ["PDS4-002"]
 
 
+def test_a_cached_schema_is_hashed_once_per_run_not_once_per_label(product, server, tmp_path, monkeypatch):
+    label = _served_label(product, server, tmp_path)
+    copies = []
+    for number in range(3):
+        copies.append(label.with_name(f"copy{number}.xml"))
+        copies[-1].write_bytes(label.read_bytes())
+    cache = tmp_path / "cache"
+    assert validate_paths([label], schema_cache=cache, download_schemas=True).exit_code == 0
+    from pdsgen.pds4 import catalog
+
+    hashed = []
+    real = catalog.hashlib.sha256
+    monkeypatch.setattr(catalog.hashlib, "sha256", lambda data=b"": hashed.append(len(data)) or real(data))
+    report = validate_paths(copies, schema_cache=cache, download_schemas=False)
+    assert len(report.files) == 3 and "PDS4-002" not in report.rule_ids()  # found in the cache, for each
+    assert len(hashed) == 1
+
+
 def test_a_download_that_is_not_xml_is_refused(product, server, tmp_path):
     label = _served_label(product, server, tmp_path)
     (server.www / "pds4/pds/v1/PDS4_PDS_9Z00.xsd").write_text("<html><body>Not found</p></html>")

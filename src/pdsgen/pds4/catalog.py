@@ -114,6 +114,7 @@ class SchemaCatalog:
     downloaded: list[str] = field(default_factory=list)  # URLs fetched by this catalog
     _failed: dict[str, str] = field(default_factory=dict)  # URL -> why it could not be fetched
     _sums: dict[str, str] | None = None
+    _intact: set[str] = field(default_factory=set)  # cached files already checked against _sums
     _names: dict[str, str] = field(default_factory=dict)  # URL -> file name
 
     @classmethod
@@ -173,10 +174,13 @@ class SchemaCatalog:
         was fetched (a truncated or edited file is fetched again, or reported missing)."""
         if self.cache_dir is None or not isinstance(found, Path) or found.parent != self.cache_dir:
             return True
+        if found.name in self._intact:  # hashed once per catalog, not once per label naming it
+            return True
         if self._sums is None:
             self._sums = read_sums(self.cache_dir)
         expected = self._sums.get(found.name)
         if expected is None or hashlib.sha256(found.read_bytes()).hexdigest() == expected:
+            self._intact.add(found.name)
             return True
         log.warning("cached schema %s does not match its recorded SHA-256; not used", found)
         del self.files[found.name]
