@@ -36,7 +36,7 @@ COMMANDS = {
     "dtm": "Make a PDS3 DTM (.IMG with attached label).",
     "extras": "Make preview JPEGs, orthoimage quick-look JP2s and README.TXT.",
     "ortho": "Make a PDS3 orthoimage (.JP2 + detached .LBL).",
-    "validate": "Check PDS3 labels, label sets and their data.",
+    "validate": "Check PDS3 and PDS4 labels, label sets, deliveries and their data.",
 }
 
 
@@ -116,4 +116,4 @@ def _print_version(ctx: click.Context, param: click.Parameter, value: bool) -> N
 @click.option("--version", is_flag=True, expose_value=False, is_eager=True, callback=_print_version,
               help="Show the version (and the data dictionary's) and exit.")
 def main() -> None:
-    """Make PDS3 archive products from planetary DTMs and orthoimages, and check them."""
+    """Make PDS3 and PDS4 archive products from planetary DTMs and orthoimages, and check them."""
