@@ -10,6 +10,7 @@ re-run. The MD5 manifest is written last, over every file of the finished tree.
 from __future__ import annotations
 
 import datetime
+import functools
 import hashlib
 import logging
 import os
@@ -21,9 +22,10 @@ from pathlib import Path
 
 from ..errors import InputError, OutputError, PdsgenError, param
 from ..progress import advance
+from ..validate.model import Block
 from . import bundle, layout
 from .index import IndexWriter
-from .scan import DataProduct, SourceSet, scan
+from .scan import DataProduct, SourceSet, label_value, read_pds3_label, scan
 from .volume import VolumeFacts, aareadme_text, voldesc_text
 
 log = logging.getLogger(__name__)
@@ -108,28 +110,19 @@ class _Previous:
                     self.md5[name] = digest
         self.exists = manifest.is_file()
 
+    @functools.cached_property
+    def _voldesc(self) -> Block | None:
+        """The previous run's VOLDESC.CAT, read once (None when there is none)."""
+        path = self.root / layout.VOLDESC
+        return read_pds3_label(path) if path.is_file() else None
+
     def volume_id(self) -> str | None:
-        try:
-            text = (self.root / layout.VOLDESC).read_text(encoding="latin-1")
-        except OSError:
-            return None
-        for line in text.splitlines():
-            key, _, value = line.partition("=")
-            if key.strip() == "VOLUME_ID":
-                return value.strip().strip('"')
-        return None
+        return label_value(self._voldesc, "VOLUME_ID") if self._voldesc is not None else None
 
     def volume_version(self) -> int:
-        try:
-            text = (self.root / layout.VOLDESC).read_text(encoding="latin-1")
-        except OSError:
-            return 0
-        for line in text.splitlines():
-            key, _, value = line.partition("=")
-            if key.strip() == "VOLUME_VERSION_ID":
-                number = value.strip().strip('"').rsplit(" ", 1)[-1]
-                return int(number) if number.isdigit() else 0
-        return 0
+        text = label_value(self._voldesc, "VOLUME_VERSION_ID") if self._voldesc is not None else None
+        number = (text or "").rsplit(" ", 1)[-1]
+        return int(number) if number.isdigit() else 0
 
     def bundle_label(self) -> Path | None:
         return next(iter(sorted(self.root.glob("bundle_*.xml"))), None) if self.exists else None
