@@ -316,12 +316,29 @@ outdir = "extras"
     assert names == {n.replace(OBS, "ESP_012345_1234") for n in SIX} | {"README.TXT"}
 
 
+def test_one_line_blocks_are_read_many_lines_at_a_time(tmp_path: Path):
+    """A raster whose blocks are single lines (a PDS .IMG, a striped TIFF) is read in strips of
+    many lines, not a read per line (the full-resolution RDR stretch did that)."""
+    from pdsgen.extras import full_stretch
+    from pdsgen.formats.raster import bounded_windows
+
+    path = tmp_path / "lines.tif"
+    with rasterio.open(path, "w", driver="GTiff", width=600, height=2000, count=3, dtype="uint16",
+                       blockysize=1) as ds:
+        ds.write(np.ones((3, 2000, 600), np.uint16))
+    with rasterio.open(path) as ds:
+        assert ds.block_shapes[0][0] == 1
+        windows = list(bounded_windows(ds, full_stretch.STRIP_BYTES, full_stretch.WINDOW_PIXELS))
+    assert len(windows) <= 4 and sum(w.width * w.height for w in windows) == 600 * 2000
+
+
 def test_statistics_windows_cover_a_wide_mosaic_once_in_bounded_pieces(tmp_path: Path):
     from pdsgen.extras import nomap
+    from pdsgen.formats.raster import bounded_windows
 
     path = write_plain_tiff(tmp_path / "wide.tif", np.ones((3, 1100, 5000), np.uint16))
     with rasterio.open(path) as ds:
-        windows = list(nomap._statistics_windows(ds))
+        windows = list(bounded_windows(ds, nomap.STATISTICS_STRIP_BYTES, nomap.WINDOW_PIXELS))
     covered = np.zeros((1100, 5000), np.int8)
     for w in windows:
         assert w.width * w.height <= nomap.WINDOW_PIXELS

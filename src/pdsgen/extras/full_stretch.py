@@ -13,11 +13,13 @@ from __future__ import annotations
 
 import numpy as np
 import rasterio
-from rasterio.windows import Window
 
-from ..formats.raster import MAX_CACHE_MB, MIN_CACHE_MB
+from ..formats.raster import bounded_windows, streaming_cache_mb
 from .product_source import ProductSource
 from .stretch import StreamingStretch, Stretch
+
+STRIP_BYTES = 4 * 1024 * 1024  # DNs read at once, whole block rows (a one-line-block .IMG: many lines)
+WINDOW_PIXELS = 1 << 20  # pixels a band read at once, at most
 
 
 def streams_whole_numbers(src: ProductSource) -> bool:
@@ -32,22 +34,18 @@ def full_resolution_stretches(src: ProductSource, bands: list[int], low_percent:
     info = np.iinfo(np.dtype(src.dtype))
     stats = [StreamingStretch.for_whole_numbers(int(info.min), int(info.max)) for _ in bands]
     special = np.array(src.special_dns, dtype=np.float64)
-    with rasterio.open(src.raster_path) as native:
-        block_rows, block_cols = native.block_shapes[0]
-    cache_mb = 2 * block_rows * src.width * np.dtype(src.dtype).itemsize * len(bands) / 2**20
-    with src.open() as ds, rasterio.Env(
-            GDAL_CACHEMAX=int(min(MAX_CACHE_MB, max(MIN_CACHE_MB, cache_mb + 1)))):
-        for top in range(0, src.height, block_rows):
-            for left in range(0, src.width, block_cols):
-                window = Window(left, top, min(block_cols, src.width - left),
-                                min(block_rows, src.height - top))
-                dn = ds.read(bands, window=window, masked=True)
-                mask = np.ma.getmaskarray(dn)
-                for i, stat in enumerate(stats):
-                    values = np.ma.getdata(dn)[i][~mask[i]]
-                    if special.size:
-                        values = values[~np.isin(values, special)]
-                    stat.count(values)
+    with rasterio.open(src.raster_path) as native:  # the file's own blocks (src.open() may be a VRT)
+        windows = list(bounded_windows(native, STRIP_BYTES, WINDOW_PIXELS))
+        cache_mb = streaming_cache_mb(native)
+    with src.open() as ds, rasterio.Env(GDAL_CACHEMAX=cache_mb):
+        for window in windows:
+            dn = ds.read(bands, window=window, masked=True)
+            mask = np.ma.getmaskarray(dn)
+            for i, stat in enumerate(stats):
+                values = np.ma.getdata(dn)[i][~mask[i]]
+                if special.size:
+                    values = values[~np.isin(values, special)]
+                stat.count(values)
     return tuple(_physical(s.stretch(low_percent, high_percent), src) for s in stats)
 
 

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -38,7 +38,7 @@ from rasterio.windows import Window
 
 from ..errors import InputError, ParamsError, param
 from ..formats.jp2 import choose_settings, write_jp2
-from ..formats.raster import row_strips, streaming_cache_mb
+from ..formats.raster import bounded_windows, streaming_cache_mb
 from ..formats.staging import StagedOutputs, prepare_output_dir
 from ..missions import hirise
 from ..progress import advance, is_large
@@ -256,7 +256,7 @@ def input_stretches(src: ProductSource, channels: Sequence[Channel]) -> dict[Cha
     stats = {c: StreamingStretch() for c in channels}
     with src.open() as ds, rasterio.Env(GDAL_CACHEMAX=streaming_cache_mb(ds)):
         for first_pass in (True, False):
-            for window in _statistics_windows(ds):
+            for window in bounded_windows(ds, STATISTICS_STRIP_BYTES, WINDOW_PIXELS):
                 data, valid = _read_bands(ds, bands, window)
                 for channel, stat in stats.items():
                     values, ok = channel.values(data, valid)
@@ -265,20 +265,6 @@ def input_stretches(src: ProductSource, channels: Sequence[Channel]) -> dict[Cha
                     else:
                         stat.count(values[ok])
     return {c: s.stretch(ORTHO_LOW_PERCENT, ORTHO_HIGH_PERCENT) for c, s in stats.items()}
-
-
-def _statistics_windows(ds: rasterio.io.DatasetReader) -> Iterator[Window]:
-    """Strips of whole block rows, cut across into windows of at most WINDOW_PIXELS.
-
-    A 20,000-sample mosaic with 512-line blocks would otherwise be read 10 million
-    pixels at a time, and its float temporaries held at once.
-    """
-    block_cols = max(1, ds.block_shapes[0][1])
-    for strip in row_strips(ds, STATISTICS_STRIP_BYTES):
-        cols = max(1, WINDOW_PIXELS // strip.height)
-        cols = max(block_cols, cols - cols % block_cols)
-        for left in range(0, ds.width, cols):
-            yield Window(left, strip.row_off, min(cols, ds.width - left), strip.height)
 
 
 def render(data: Mapping[int, np.ndarray], valid: Mapping[int, np.ndarray],

@@ -99,5 +99,17 @@ def row_strips(dataset: DatasetReader, strip_bytes: int = STRIP_BYTES) -> Iterat
         yield Window(0, row, dataset.width, min(rows, dataset.height - row))
 
 
+def bounded_windows(dataset: DatasetReader, strip_bytes: int, window_pixels: int) -> Iterator[Window]:
+    """row_strips of `strip_bytes`, each cut across into windows of at most `window_pixels`
+    that keep to the file's block columns: a wide mosaic is read in bounded pieces, every
+    pixel once, and a file of one-line blocks many lines at a time."""
+    block_cols = max(1, dataset.block_shapes[0][1])
+    for strip in row_strips(dataset, strip_bytes):
+        cols = max(1, window_pixels // strip.height)
+        cols = max(block_cols, cols - cols % block_cols)
+        for left in range(0, dataset.width, cols):
+            yield Window(left, strip.row_off, min(cols, dataset.width - left), strip.height)
+
+
 def _itemsize(dataset: DatasetReader) -> int:
     return max(np.dtype(dt).itemsize for dt in dataset.dtypes) * dataset.count
