@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+import pty
 import subprocess
 import sys
 from pathlib import Path
@@ -44,3 +46,24 @@ def run_cli(*args: str) -> subprocess.CompletedProcess:
     """Run `python -m pdsgen ARGS` in a fresh process, as a user would."""
     return subprocess.run([sys.executable, "-m", "pdsgen", *map(str, args)], capture_output=True, text=True,
                           timeout=300)
+
+
+def stderr_on_a_terminal(*args: str) -> tuple[int, str]:
+    """Run `python -m pdsgen ARGS` with stderr on a pseudo-terminal (stdout piped), as a user
+    at a terminal sees it: the exit status and what the terminal showed."""
+    main, secondary = pty.openpty()
+    process = subprocess.Popen([sys.executable, "-m", "pdsgen", *map(str, args)], stdout=subprocess.PIPE,
+                               stderr=secondary)
+    os.close(secondary)
+    shown = bytearray()
+    while True:
+        try:
+            chunk = os.read(main, 4096)
+        except OSError:  # the process closed the terminal
+            break
+        if not chunk:
+            break
+        shown += chunk
+    os.close(main)
+    process.communicate()
+    return process.returncode, shown.decode("ascii", "replace")

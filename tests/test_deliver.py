@@ -22,7 +22,7 @@ from pdsgen.products.ortho import write_ortho
 from pdsgen.synthetic import make_scene, write_geotiff
 from pdsgen.validate import validate_paths
 
-from helpers import elevation_array, run_cli, write_raster
+from helpers import elevation_array, run_cli, stderr_on_a_terminal, write_raster
 
 REPO = Path(__file__).resolve().parents[1]
 PDS_XSD = REPO / "schemas" / "pds4" / "1O00" / "PDS4_PDS_1O00.xsd"
@@ -416,28 +416,12 @@ def test_readme_delivery_examples_run_as_written(tmp_path):
 
 
 def test_progress_on_a_terminal_only(demo_products, tmp_path):
-    import os
-    import pty
     import sys
 
     args = [sys.executable, "-m", "pdsgen", "deliver", str(demo_products), "-o", str(tmp_path / "tty"),
             "--volume-id", "DEMO_0001"]
-    main, secondary = pty.openpty()
-    process = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=secondary)
-    os.close(secondary)
-    shown = bytearray()
-    while True:
-        try:
-            chunk = os.read(main, 4096)
-        except OSError:
-            break
-        if not chunk:
-            break
-        shown += chunk
-    os.close(main)
-    process.communicate()
-    text = shown.decode("ascii", "replace")
-    assert process.returncode == 0 and "100%" in text and " products" in text and text.endswith("\r\033[K")
+    returncode, text = stderr_on_a_terminal(*args[3:])
+    assert returncode == 0 and "100%" in text and " products" in text and text.endswith("\r\033[K")
     piped = subprocess.run(args[:-4] + ["-o", str(tmp_path / "piped"), "--volume-id", "DEMO_0001"],
                            capture_output=True, text=True)
     assert piped.returncode == 0 and piped.stderr == ""

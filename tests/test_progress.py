@@ -3,8 +3,6 @@
 
 from __future__ import annotations
 
-import os
-import pty
 import subprocess
 import sys
 from pathlib import Path
@@ -15,7 +13,7 @@ from affine import Affine
 
 from pdsgen import progress
 
-from helpers import CRS_EQUIRECTANGULAR, elevation_array, write_raster
+from helpers import CRS_EQUIRECTANGULAR, elevation_array, stderr_on_a_terminal, write_raster
 
 SIDE = 2048  # 4.2 million pixels: large work (progress.LARGE_WORK_PIXELS)
 TRANSFORM = Affine(1.0, 0, 6099776.0, 0, -1.0, -563110.0)
@@ -32,29 +30,9 @@ def large(tmp_path_factory) -> dict[str, Path]:
     return {"dtm": dtm, "ortho": ortho}
 
 
-def _stderr_on_a_terminal(args: list[str]) -> tuple[int, str]:
-    """Run pdsgen with stderr on a pseudo-terminal (stdout piped); what the terminal showed."""
-    main, secondary = pty.openpty()
-    process = subprocess.Popen([sys.executable, "-m", "pdsgen", *args], stdout=subprocess.PIPE,
-                               stderr=secondary)
-    os.close(secondary)
-    shown = bytearray()
-    while True:
-        try:
-            chunk = os.read(main, 4096)
-        except OSError:  # the process closed the terminal
-            break
-        if not chunk:
-            break
-        shown += chunk
-    os.close(main)
-    process.communicate()
-    return process.returncode, shown.decode("ascii", "replace")
-
-
 @pytest.mark.parametrize("command, unit", [("dtm", "lines"), ("ortho", "tiles")])
 def test_a_bar_on_a_terminal_and_nothing_when_piped(large, tmp_path, command, unit):
-    code, shown = _stderr_on_a_terminal([command, str(large[command]), "-o", str(tmp_path / "tty")])
+    code, shown = stderr_on_a_terminal(*[command, str(large[command]), "-o", str(tmp_path / "tty")])
     assert code == 0, shown
     assert "100%" in shown and f" {unit}" in shown and "[#" in shown
     assert shown.endswith("\r\033[K")  # the bar is cleared; the result line follows on stdout
@@ -64,7 +42,7 @@ def test_a_bar_on_a_terminal_and_nothing_when_piped(large, tmp_path, command, un
 
 
 def test_extras_of_several_products_count_them_on_a_terminal(large, tmp_path):
-    code, shown = _stderr_on_a_terminal(["extras", str(large["dtm"]), str(large["ortho"]), "-o",
+    code, shown = stderr_on_a_terminal(*["extras", str(large["dtm"]), str(large["ortho"]), "-o",
                                          str(tmp_path / "extras")])
     assert code == 0, shown
     assert "2/2 products" in shown or "1/2 products" in shown
@@ -72,7 +50,7 @@ def test_extras_of_several_products_count_them_on_a_terminal(large, tmp_path):
 
 @pytest.mark.parametrize("flag", ["--quiet", "--json"])
 def test_no_bar_with_quiet_or_json(large, tmp_path, flag):
-    code, shown = _stderr_on_a_terminal(["ortho", str(large["ortho"]), "-o", str(tmp_path / "out"), flag])
+    code, shown = stderr_on_a_terminal(*["ortho", str(large["ortho"]), "-o", str(tmp_path / "out"), flag])
     assert code == 0 and shown == ""
 
 
@@ -107,8 +85,8 @@ def test_validate_counts_files_on_a_terminal_and_clears_the_count(tmp_path):
         source = write_raster(tmp_path / f"{name}.tif", elevation_array(64, 48)[None], CRS_EQUIRECTANGULAR,
                               TRANSFORM)
         write_dtm(source, tmp_path / "set", product_id=f"DTM_{name}")
-    code, shown = _stderr_on_a_terminal(["validate", str(tmp_path / "set")])
+    code, shown = stderr_on_a_terminal(*["validate", str(tmp_path / "set")])
     assert code == 0, shown
     assert "1 file(s) checked" in shown and shown.endswith("\r\033[K")
-    quiet_code, quiet = _stderr_on_a_terminal(["validate", "--quiet", str(tmp_path / "set")])
+    quiet_code, quiet = stderr_on_a_terminal(*["validate", "--quiet", str(tmp_path / "set")])
     assert quiet_code == 0 and quiet == ""
