@@ -4,6 +4,6 @@ It runs under the name `pdsgen`, so its messages and shell completion
 (`_PDSGEN_COMPLETE`) are those of the installed command.
 """
 
-from .cli import main
+from .cli import run
 
-main(prog_name="pdsgen")
+run(prog_name="pdsgen")

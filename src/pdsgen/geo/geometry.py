@@ -42,6 +42,7 @@ _BODY_NAMES = (
     "MERCURY", "VENUS", "EARTH", "MOON", "MARS", "PHOBOS", "DEIMOS", "CERES", "VESTA",
     "IO", "EUROPA", "GANYMEDE", "CALLISTO", "TITAN", "ENCELADUS", "PLUTO", "CHARON",
 )
+_LETTER_RUNS = re.compile(r"[A-Z]+")
 _EARTH_HINTS = ("WGS", "GRS", "NAD", "ETRS", "CLARKE", "BESSEL", "INTERNATIONAL")
 # Mean or equatorial radii (km): a CRS with an anonymous ellipsoid is matched by size.
 _BODY_RADII_KM = {
@@ -323,8 +324,9 @@ def _target_name(crs: CRS, semi_major_m: float) -> str | None:
     names = [match.group("name").upper()] if match else []
     names.append(wkt)
     for text in names:
+        words = set(_LETTER_RUNS.findall(text))  # a body name counts only as a whole word
         for body in _BODY_NAMES:
-            if re.search(rf"(?<![A-Z]){body}(?![A-Z])", text):
+            if body in words:
                 return body
         if any(hint in text for hint in _EARTH_HINTS):
             return "EARTH"

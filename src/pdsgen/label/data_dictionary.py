@@ -8,7 +8,6 @@ imports), so asking for the version does not load the validator.
 from __future__ import annotations
 
 import json
-from datetime import datetime
 from functools import cache
 from pathlib import Path
 
@@ -25,12 +24,21 @@ def version_text(data: dict) -> str:
     version = data.get("version") or data.get("source", "unknown")
     generated = data.get("generated")
     if generated:
-        try:
-            generated = datetime.strptime(generated, "%a %b %d %H:%M:%S %Y").date().isoformat()
-        except ValueError:
-            pass
-        return f"{version} (generated {generated})"
+        return f"{version} (generated {_iso_date(generated)})"
     return version
+
+
+_MONTHS = ("JAN", "FEB", "MAR", "APR", "MAY", "JUN", "JUL", "AUG", "SEP", "OCT", "NOV", "DEC")
+
+
+def _iso_date(stamp: str) -> str:
+    """"2017-09-25" from the dump's ctime stamp "Mon Sep 25 14:04:29 2017" (any other text as
+    it is). Read by hand: datetime.strptime would import the locale machinery on every run
+    that checks a label, a tenth of a small product's own time."""
+    parts = stamp.split()
+    if len(parts) == 5 and parts[1].upper() in _MONTHS and parts[2].isdigit() and parts[4].isdigit():
+        return f"{int(parts[4]):04d}-{_MONTHS.index(parts[1].upper()) + 1:02d}-{int(parts[2]):02d}"
+    return stamp
 
 
 @cache

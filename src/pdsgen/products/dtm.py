@@ -32,6 +32,7 @@ from ..label.render import RecordLayout, render_label, settle_attached_label
 from ..label.values import Based, Fixed, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
 from ..pds4.model import check_label_dialect
+from ..progress import is_large
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords, source_id_values
@@ -174,11 +175,13 @@ def write_pds3_dtm(
             records, text = RecordLayout(dataset.width * 4, 0, dataset.height), pds4.text
         else:
             final = outdir / f"{product_id}.IMG"
-            # Refuse before the data pass what the final label would be refused for.
-            _, provisional = settle_attached_label(
-                lambda records: render(records, BandStatistics(0, 0.0, 0.0)), dataset.width * 4, dataset.height
-            )
-            check_label(provisional, final.name, allow_deviations=allow)
+            if is_large(dataset.width * dataset.height):
+                # Refuse before a long data pass what the final label would be refused for; a small
+                # product's pass costs less than rendering and checking a second label.
+                _, provisional = settle_attached_label(
+                    lambda records: render(records, BandStatistics(0, 0.0, 0.0)), dataset.width * 4, dataset.height
+                )
+                check_label(provisional, final.name, allow_deviations=allow)
             with StagedOutputs([final] + ([xml_final] if label == "both" else []), overwrite) as staged:
                 records, text, stats = write_attached_product(
                     staged.path(final), render, dataset.width * 4, dataset.height, write_data

@@ -14,7 +14,6 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
-from .._compat import tomllib
 from ..errors import PdsgenError, param
 from ..resources import schemas_dir
 
@@ -31,6 +30,8 @@ _IDENTIFIER_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.\-]*$")
 @cache
 def params_schema() -> dict[str, dict[str, Any]]:
     """The keyword table of schemas/params.toml."""
+    from .._compat import tomllib  # only where a TOML file is read: the parser is start-up time
+
     with open(schemas_dir() / "params.toml", "rb") as handle:
         return tomllib.load(handle)
 
@@ -79,6 +80,8 @@ def load_params(path: str | os.PathLike[str] | None) -> dict[str, ParamValue]:
 
 
 def _read_toml(path: Path) -> dict[str, Any]:
+    from .._compat import tomllib
+
     try:
         with open(path, "rb") as handle:
             data = tomllib.load(handle)
