@@ -499,3 +499,24 @@ def test_index_table_found_through_its_label_pointer(delivery):
     assert _errors(delivery, "DLV-001", "DLV-002", "DLV-003", "DLV-004") == []
     _seed(delivery, "INDEX/PRODUCTS.TAB", '"DEMO_0001"', '"DEMO_0002"')
     assert [f.rule for f in _errors(delivery, "DLV-005")] == ["DLV-005"]
+
+
+def test_pds4_labels_named_lblx_are_products_of_the_bundle(demo_products, tmp_path):
+    """.lblx is the PDS4 standard's own label extension: such a label makes a product of the
+    bundle like an .xml one, and the delivery checks read it."""
+    source = _copy(demo_products, tmp_path)
+    xml = source / "DTEEC_008669_1705_009025_1705_U01.xml"
+    xml.rename(xml.with_suffix(".lblx"))
+    out = tmp_path / "bundle"
+    result = make_delivery(source, out, dialect="pds4", bundle_lid="urn:nasa:pds:demo_dtm")
+    assert result.products == 2
+    lblx = out / "DATA" / "DTEEC_008669_1705_009025_1705_U01.lblx"
+    assert not list(out.rglob("DTEEC_008669_1705_009025_1705_U01.xml"))
+    lid = etree.parse(str(lblx)).findtext("pds:Identification_Area/pds:logical_identifier", namespaces=PDS_NS)
+    assert lid == "urn:nasa:pds:demo_dtm:data:dteec_008669_1705_009025_1705_u01"  # given the bundle's LID
+    with open(out / "DATA" / "collection_data_inventory.csv", newline="") as stream:
+        assert lid in [row[1].split("::")[0] for row in csv.reader(stream)]
+    assert _errors(out) == []
+    ortho_lid = "urn:nasa:pds:demo_dtm:data:psp_008669_1705_red_c_01_ortho"
+    lblx.write_text(lblx.read_text().replace(lid + "<", ortho_lid + "<"))
+    assert any(f.rule == "DLV-012" for f in _errors(out, "DLV-012"))  # the .lblx label is among those compared

@@ -19,6 +19,7 @@ from pathlib import Path
 from ..errors import InputError
 from ..formats.sniff import file_head
 from ..missions.imars import is_metadata_name as is_imars_metadata
+from ..pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
 from ..validate.lexer import parse_label
 from ..validate.model import Block
 from . import layout
@@ -153,7 +154,7 @@ def scan(source: Path, on_pds3: LabelValues | None = None) -> SourceSet:
             result.documents.append(path)
         elif is_preview(name):
             result.previews.append(path)
-        elif path.suffix.lower() == ".xml":
+        elif path.suffix.lower() in PDS4_LABEL_SUFFIXES:
             pds4.append(path)
         elif is_imars_metadata(name):
             result.imars.append(path)

@@ -15,6 +15,8 @@ from pathlib import Path
 from ..formats.sniff import file_head
 from ..resources import user_cache_dir
 
+# The names a PDS4 label file may have: .xml by custom, .lblx as the standard recommends.
+LABEL_SUFFIXES = (".xml", ".lblx")
 _HEAD_BYTES = 8192
 _PDS4_NAMESPACE = b"http://pds.nasa.gov/pds4/pds/v1"
 _BOM = b"\xef\xbb\xbf"

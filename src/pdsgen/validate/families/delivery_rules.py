@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ...deliver import layout
+from ...pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
 from ..lexer import parse_label
 from ..model import Block, Finding
 from ..registry import Rule, register
@@ -281,7 +282,7 @@ def _pds3_products(root: Path) -> Iterator[Path]:
     if not data.is_dir():
         return
     for path in _all_files(data):
-        if path.suffix.lower() in (".xml", ".txt", ".csv", ".jp2", ".jpg"):
+        if path.suffix.lower() in (*PDS4_LABEL_SUFFIXES, ".txt", ".csv", ".jp2", ".jpg"):
             continue
         if path.suffix.lower() == ".lbl" or _read_head(path).lstrip().upper().startswith(b"PDS_VERSION_ID"):
             yield path
@@ -352,8 +353,8 @@ def _read_pds4(path: Path) -> _Pds4Label | None:
 
 
 def _check_bundle(root: Path, found: list[_Found]) -> None:
-    labels = [label for label in map(_read_pds4, (p for p in _all_files(root) if p.suffix.lower() == ".xml"))
-              if label is not None]
+    named = (path for path in _all_files(root) if path.suffix.lower() in PDS4_LABEL_SUFFIXES)
+    labels = [label for label in map(_read_pds4, named) if label is not None]
     bundles = [label for label in labels if label.product_class == "Product_Bundle"]
     if not bundles:
         return
