@@ -91,3 +91,5 @@ def test_mission_conventions_are_not_errors():
     assert "local radius at CENTER_LATITUDE -55" in ctx["MAP-005"].message  # offsets fit on it too
     kaguya_mi = by_file["isis3/vis_cropped.img"]
     assert kaguya_mi["IMG-006"].severity == "warning"  # BAND SEQUENTIAL
+    probe_software = by_file["galileo_probe/nfredr.lbl"]  # ^ASCII_DOCUMENT = {"NFREDR4.H", "NFREDR41.C"}
+    assert not {"PTR-001", "PTR-008"} & set(probe_software)
