@@ -93,3 +93,4 @@ def test_mission_conventions_are_not_errors():
     assert kaguya_mi["IMG-006"].severity == "warning"  # BAND SEQUENTIAL
     probe_software = by_file["galileo_probe/nfredr.lbl"]  # ^ASCII_DOCUMENT = {"NFREDR4.H", "NFREDR41.C"}
     assert not {"PTR-001", "PTR-008"} & set(probe_software)
+    assert "PTR-001" not in by_file["deep_impact/sclk_correlation.lbl"]  # ^JPG_DOCUMENT = {two figures}
