@@ -1,4 +1,4 @@
-"""The validator on the genuine PDS3 labels of 20+ missions in tests/data/genuine_pds3.
+"""The validator on the genuine PDS3 labels of 30 missions in tests/data/genuine_pds3.
 
 Every ERROR it reports there is listed and judged in FINDINGS.md (a genuine defect of the
 label, or an artefact of the copy); a new error - a false one, or a real one no longer
@@ -38,10 +38,10 @@ def _relative(path: str) -> str:
 def test_corpus_is_genuine_labels_of_many_missions_with_provenance():
     rows = _rows("PROVENANCE.md")
     files = {p.relative_to(CORPUS).as_posix() for p in CORPUS.rglob("*") if p.is_file() and p.suffix != ".md"}
-    assert len(rows) >= 150 and {r[0] for r in rows} == files
+    assert len(rows) >= 190 and {r[0] for r in rows} == files
     assert all(re.fullmatch(r"[0-9a-f]{40}", r[3]) and "/" in r[2] and r[4] for r in rows)
     hosts = {r[1].upper().replace("_", " ") for r in rows} - {"-"}
-    assert len(hosts) >= 10, hosts
+    assert len(hosts) >= 40, hosts  # as the labels name them (several names for some missions)
     assert sum(p.stat().st_size for p in CORPUS.rglob("*")) < 3_000_000
 
 
@@ -91,3 +91,6 @@ def test_mission_conventions_are_not_errors():
     assert "local radius at CENTER_LATITUDE -55" in ctx["MAP-005"].message  # offsets fit on it too
     kaguya_mi = by_file["isis3/vis_cropped.img"]
     assert kaguya_mi["IMG-006"].severity == "warning"  # BAND SEQUENTIAL
+    probe_software = by_file["galileo_probe/nfredr.lbl"]  # ^ASCII_DOCUMENT = {"NFREDR4.H", "NFREDR41.C"}
+    assert not {"PTR-001", "PTR-008"} & set(probe_software)
+    assert "PTR-001" not in by_file["deep_impact/sclk_correlation.lbl"]  # ^JPG_DOCUMENT = {two figures}

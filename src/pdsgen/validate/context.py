@@ -51,14 +51,14 @@ class Pointer:
 
     name: str  # object name without the caret, upper case
     statement: Statement
-    form: str  # "record", "bytes", "file", "file+record", "file+bytes", "invalid"
+    form: str  # "record", "bytes", "file", "file+record", "file+bytes", "files", "invalid"
     file_name: str | None  # as written in the label; None for an attached object
     record: int | None  # 1-based record number as written
     byte: int | None  # 1-based byte number as written (<BYTES> forms)
 
     @property
     def attached(self) -> bool:
-        return self.file_name is None
+        return self.file_name is None and self.form != "files"
 
     @property
     def is_reference(self) -> bool:
@@ -95,7 +95,10 @@ def parse_pointer(stmt: Statement) -> Pointer:
             form, record, byte = loc(second)
             if form != "invalid":
                 return Pointer(name, stmt, "file+" + form, first.text, record, byte)
-    if val.kind == "seq" and val.items and all(v.kind in _NAME_KINDS for v in val.items):
+    if val.kind in ("seq", "set") and val.items and all(v.kind in _NAME_KINDS for v in val.items):
+        # several files, each holding a part (a document in a header and a source file):
+        # {"A.H", "B.C"} in the Galileo Probe archive; NASA's PDS3 label tools read a set of
+        # file names as one pointer to each
         return Pointer(name, stmt, "files", None, None, None)
     return Pointer(name, stmt, "invalid", None, None, None)
 
