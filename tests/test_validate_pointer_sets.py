@@ -40,3 +40,15 @@ def test_a_pointer_set_with_a_number_is_still_refused(tmp_path):
     path.write_text(LABEL.format(value='{"NFREDR4.H", 12}'), newline="")
     found = [f for f in validate_paths([path]).findings if f.rule == "PTR-001"]
     assert found and found[0].severity == "error"
+
+
+@pytest.mark.parametrize("value", ['{"NFREDR4.H", "NFREDR41.C"}', '("NFREDR4.H", "NFREDR41.C")'])
+def test_each_file_of_a_pointer_set_must_exist_with_its_case(tmp_path, value):
+    path = tmp_path / "NFREDR.LBL"
+    path.write_text(LABEL.format(value=value), newline="")
+    (tmp_path / "NFREDR4.H").write_text("/* reader */\r\n", newline="")
+    missing = [f for f in validate_paths([path]).findings if f.rule == "PTR-002"]
+    assert [(f.severity, "NFREDR41.C" in f.message) for f in missing] == [("error", True)]
+    (tmp_path / "nfredr41.c").write_text("/* reader */\r\n", newline="")
+    rules = {f.rule: f for f in validate_paths([path]).findings}
+    assert "PTR-002" not in rules and "nfredr41.c" in rules["PTR-003"].message

@@ -55,6 +55,12 @@ class Pointer:
     file_name: str | None  # as written in the label; None for an attached object
     record: int | None  # 1-based record number as written
     byte: int | None  # 1-based byte number as written (<BYTES> forms)
+    file_names: tuple[str, ...] = ()  # the "files" form: each file named
+
+    @property
+    def targets(self) -> tuple[str, ...]:
+        """Every file the pointer names (none for an attached object)."""
+        return (self.file_name,) if self.file_name is not None else self.file_names
 
     @property
     def attached(self) -> bool:
@@ -99,7 +105,7 @@ def parse_pointer(stmt: Statement) -> Pointer:
         # several files, each holding a part (a document in a header and a source file):
         # {"A.H", "B.C"} in the Galileo Probe archive; NASA's PDS3 label tools read a set of
         # file names as one pointer to each
-        return Pointer(name, stmt, "files", None, None, None)
+        return Pointer(name, stmt, "files", None, None, None, tuple(v.text for v in val.items))
     return Pointer(name, stmt, "invalid", None, None, None)
 
 

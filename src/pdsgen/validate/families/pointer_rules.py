@@ -37,27 +37,28 @@ def check_pointer_form(ctx: FileContext) -> Iterator[Hit]:
                       ptr.statement.line, _kw(ptr))
 
 
-def _named_targets(ctx: FileContext) -> Iterator[Pointer]:
+def _named_targets(ctx: FileContext) -> Iterator[tuple[Pointer, str]]:
+    """Each data pointer with each file it names (a set of files: every one of them)."""
     if ctx.labels_only:
         return
     for ptr in ctx.data_pointers():
-        if ptr.file_name is not None:
-            yield ptr
+        for file_name in ptr.targets:
+            yield ptr, file_name
 
 
 def check_target_exists(ctx: FileContext) -> Iterator[Hit]:
-    for ptr in _named_targets(ctx):
-        exact, other = ctx.resolve(ptr.file_name)  # type: ignore[arg-type]
+    for ptr, file_name in _named_targets(ctx):
+        exact, other = ctx.resolve(file_name)
         if exact is None and other is None:
-            yield Hit(f"{_kw(ptr)} names {ptr.file_name}, which is not in {ctx.path.parent}",
+            yield Hit(f"{_kw(ptr)} names {file_name}, which is not in {ctx.path.parent}",
                       ptr.statement.line, _kw(ptr))
 
 
 def check_target_case(ctx: FileContext) -> Iterator[Hit]:
-    for ptr in _named_targets(ctx):
-        exact, other = ctx.resolve(ptr.file_name)  # type: ignore[arg-type]
+    for ptr, file_name in _named_targets(ctx):
+        exact, other = ctx.resolve(file_name)
         if exact is None and other is not None:
-            yield Hit(f"{_kw(ptr)} names {ptr.file_name} but the file is {other.name} "
+            yield Hit(f"{_kw(ptr)} names {file_name} but the file is {other.name} "
                       "(case differs)", ptr.statement.line, _kw(ptr))
 
 
