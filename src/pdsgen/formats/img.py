@@ -43,6 +43,9 @@ WRITE_CHUNK = 1024 * 1024
 # Samples examined together by the float32 fast path: the chunk and its two masks
 # stay in the core's cache across the comparisons, reductions and the encoding.
 CHUNK_SAMPLES = 64 * 1024
+# Strip buffers the float32 fast path reads into, in turn: one being read, one being
+# worked on, the rest waiting to be written (StripWriter keeps two pending).
+READ_SLOTS = 4
 
 
 @dataclass(frozen=True)
@@ -268,7 +271,8 @@ class StripReader:
     strip); a buffer is read into again only after the writer has written it out.
     """
 
-    def __init__(self, dataset: DatasetReader, slots: int = 4) -> None:
+    def __init__(self, dataset: DatasetReader, slots: int | None = None) -> None:
+        slots = max(2, slots or READ_SLOTS)  # the strip worked on, and the one read ahead
         self._dataset = dataset
         self._windows = list(row_strips(dataset))
         rows = max(window.height for window in self._windows)
