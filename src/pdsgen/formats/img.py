@@ -45,7 +45,7 @@ WRITE_CHUNK = 1024 * 1024
 CHUNK_SAMPLES = 64 * 1024
 # Strip buffers the float32 fast path reads into, in turn: one being read, one being
 # worked on, the rest waiting to be written (StripWriter keeps two pending).
-READ_SLOTS = 4
+READ_SLOTS = 3
 
 
 @dataclass(frozen=True)
