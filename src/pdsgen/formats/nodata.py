@@ -37,18 +37,22 @@ def nodata_sample(nodata: float | None, dtype: np.dtype) -> np.generic | None:
         return np.dtype(dtype).type(nodata)
 
 
-def valid_samples(values: np.ndarray, sample: np.generic | None, out: np.ndarray, scratch: np.ndarray) -> np.ndarray:
+def valid_samples(values: np.ndarray, sample: np.generic | None, out: np.ndarray, scratch: np.ndarray, *,
+                  keep_positive_infinity: bool = False) -> np.ndarray:
     """Set `out` True where a pixel holds data (the complement of invalid_mask) and return it.
 
     `sample` is nodata_sample's result; `out` and `scratch` are boolean arrays of the
     shape of `values`, owned by the caller, so a raster streamed in pieces allocates
     nothing per piece. For floats, v > ISIS_SPECIAL_LIMIT is false for NaN, -inf and
     the special pixels, and v < inf false for NaN and +inf: two comparisons cover them all.
+    keep_positive_infinity leaves +inf marked valid, one comparison fewer, for a caller
+    that finds +inf itself (img's float32 path sees it as the maximum) and removes it.
     """
     if values.dtype.kind == "f":
         np.greater(values, ISIS_SPECIAL_LIMIT, out=out)
-        np.less(values, np.inf, out=scratch)
-        np.logical_and(out, scratch, out=out)
+        if not keep_positive_infinity:
+            np.less(values, np.inf, out=scratch)
+            np.logical_and(out, scratch, out=out)
     else:
         out.fill(True)
     if sample is not None:
