@@ -275,3 +275,32 @@ def test_a_strip_buffer_is_reused_only_once_written(tmp_path, small_strips_and_c
     with open_raster(source) as dataset:
         img.stream_float32_band(dataset, out, False)
     assert out.getvalue() == stored.astype("<f4").tobytes()
+
+
+class RecordingFile(io.BytesIO):
+    """Keeps the size of every write() call."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.calls: list[int] = []
+
+    def write(self, data) -> int:  # noqa: ANN001 - bytes-like, like a file
+        self.calls.append(memoryview(data).nbytes)
+        return super().write(data)
+
+
+@pytest.mark.parametrize("big_endian", [False, True])
+def test_strips_are_written_in_pieces_of_whole_samples(tmp_path, big_endian):
+    """A 16 MB strip reaches the file as 1 MB write() calls (large calls cost several times
+    the system time), each a whole number of samples, the bytes in order."""
+    data = elevation_array(1000, 5000, seed=12)  # two strips: 838 and 162 lines
+    data[:, 0] = -9999.0
+    source = write_raster(tmp_path / "in.tif", data, CRS_EQUIRECTANGULAR, TRANSFORM, nodata=-9999.0)
+    out = RecordingFile()
+    with open_raster(source) as dataset:
+        img.stream_float32_band(dataset, out, big_endian)
+    assert max(out.calls) == img.WRITE_CHUNK == 2**20
+    assert all(size % 4 == 0 for size in out.calls)
+    assert sum(out.calls) == data.size * 4
+    _, stored = reference(data, -9999.0)
+    assert out.getvalue() == stored.astype(">f4" if big_endian else "<f4").tobytes()
