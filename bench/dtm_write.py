@@ -4,7 +4,10 @@ Usage: python bench/dtm_write.py [--size 8000] [--repeat 2] [--memory-size 16000
 
 Both tools read the same GeoTIFF and write raw float32 image data plus a label;
 pdsgen also computes VALID_MINIMUM/MAXIMUM and maps nodata in the same pass.
-Target: time ratio <= 1.0 with lower peak memory. With --memory-size it also
+Target: time ratio <= 1.0 with lower peak memory. The two commands run alternately,
+--repeat times each (so a change in the machine's load falls on both), each run after
+its previous outputs are removed, a sync and a pause; the best of each is compared,
+and every run's wall and CPU seconds are printed. With --memory-size it also
 converts a larger raster and checks that pdsgen's peak RSS stays under 300 MB.
 
 First it prints the start-up of each command: `pdsgen --version`, `--help`, a 64 x 64
@@ -63,6 +66,22 @@ def fastest(command: list[str], repeat: int, outputs: list[str] | None = None) -
     return min(runs, key=lambda run: run.seconds)
 
 
+def alternate(ours: list[str], ours_outputs: list[str], baseline: list[str], baseline_outputs: list[str],
+              repeat: int) -> tuple[list[Run], list[Run]]:
+    """REPEAT runs of each command, alternating (pdsgen, GDAL, pdsgen, ...), so that a change
+    in the machine's load falls on both; each run as best_of treats it (its previous
+    outputs removed, a sync and a pause first), the same for both tools."""
+    ours_runs, baseline_runs = [], []
+    for _ in range(repeat):
+        ours_runs.append(best_of(ours, 1, ours_outputs))
+        baseline_runs.append(best_of(baseline, 1, baseline_outputs))
+    return ours_runs, baseline_runs
+
+
+def fastest_run(runs: list[Run]) -> Run:
+    return min(runs, key=lambda run: run.seconds)
+
+
 def startup(work: Path, repeat: int) -> None:
     """Start-up of each command, and a 64 x 64 DTM end to end beside gdal_translate."""
     compileall.compile_dir(str(Path(pdsgen.__file__).parent), quiet=1)
@@ -102,17 +121,21 @@ def main() -> None:
         if args.startup_repeat:
             startup(work, args.startup_repeat)
         source = make_input(work / "dtm.tif", args.size)
-        ours = best_of([sys.executable, "-m", "pdsgen", "dtm", str(source), "-o", str(work / "ours"),
-                        "--product-id", "BENCH"], args.repeat, [str(work / "ours")])
-        baseline = best_of(["gdal_translate", "-q", "-of", "PDS4", "-co", "IMAGE_FORMAT=RAW",
-                            str(source), str(work / "gdal.xml")], args.repeat,
-                           [str(work / "gdal.xml"), str(work / "gdal.img")])
+        ours_runs, gdal_runs = alternate(
+            [sys.executable, "-m", "pdsgen", "dtm", str(source), "-o", str(work / "ours"), "--product-id", "BENCH"],
+            [str(work / "ours")],
+            ["gdal_translate", "-q", "-of", "PDS4", "-co", "IMAGE_FORMAT=RAW", str(source), str(work / "gdal.xml")],
+            [str(work / "gdal.xml"), str(work / "gdal.img")],
+            args.repeat)
+        ours, baseline = fastest_run(ours_runs), fastest_run(gdal_runs)
         print_side_by_side(f"DTM write, {args.size} x {args.size} float32 "
-                           f"({args.size * args.size * 4 / 2**20:.0f} MiB)", ours, baseline,
-                           "gdal_translate -of PDS4")
+                           f"({args.size * args.size * 4 / 2**20:.0f} MiB), best of {args.repeat} alternating runs",
+                           ours, baseline, "gdal_translate -of PDS4")
         print(f"  CPU s: pdsgen {ours.cpu_seconds:.2f}, gdal_translate {baseline.cpu_seconds:.2f}, "
               f"ratio {ours.cpu_seconds / baseline.cpu_seconds:.2f} (load average {os.getloadavg()[0]:.1f}: "
               "on a shared machine the CPU ratio is the steadier figure)")
+        print("  every run, wall/CPU s: pdsgen " + ", ".join(f"{r.seconds:.2f}/{r.cpu_seconds:.2f}" for r in ours_runs)
+              + "; gdal_translate " + ", ".join(f"{r.seconds:.2f}/{r.cpu_seconds:.2f}" for r in gdal_runs))
         if args.memory_size:
             (work / "dtm.tif").unlink()
             shutil.rmtree(work / "ours", ignore_errors=True)

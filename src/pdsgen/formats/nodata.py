@@ -19,16 +19,46 @@ def invalid_mask(values: np.ndarray, nodata: float | None) -> np.ndarray | None:
 
     Returns None when every pixel is valid, so the common case costs no mask.
     """
-    invalid = None
-    if values.dtype.kind == "f":
-        invalid = ~np.isfinite(values)
-        invalid |= values <= ISIS_SPECIAL_LIMIT
-    if nodata is not None and not math.isnan(nodata) and _representable(nodata, values.dtype):
-        hit = values == np.asarray(nodata).astype(values.dtype)
-        invalid = hit if invalid is None else (invalid | hit)
-    if invalid is not None and not invalid.any():
+    sample = nodata_sample(nodata, values.dtype)
+    if values.dtype.kind != "f" and sample is None:
         return None
-    return invalid
+    valid = valid_samples(values, sample, np.empty(values.shape, bool), np.empty(values.shape, bool))
+    if valid.all():
+        return None
+    return np.logical_not(valid, out=valid)
+
+
+def nodata_sample(nodata: float | None, dtype: np.dtype) -> np.generic | None:
+    """The nodata value as a sample of `dtype`, or None when no sample can be equal to it:
+    no nodata, a NaN nodata (NaN is missing anyway), an integer type that cannot hold it."""
+    if nodata is None or math.isnan(nodata) or not _representable(nodata, dtype):
+        return None
+    with np.errstate(over="ignore"):  # a float nodata beyond float32 becomes infinite: missing anyway
+        return np.dtype(dtype).type(nodata)
+
+
+def valid_samples(values: np.ndarray, sample: np.generic | None, out: np.ndarray, scratch: np.ndarray, *,
+                  keep_positive_infinity: bool = False) -> np.ndarray:
+    """Set `out` True where a pixel holds data (the complement of invalid_mask) and return it.
+
+    `sample` is nodata_sample's result; `out` and `scratch` are boolean arrays of the
+    shape of `values`, owned by the caller, so a raster streamed in pieces allocates
+    nothing per piece. For floats, v > ISIS_SPECIAL_LIMIT is false for NaN, -inf and
+    the special pixels, and v < inf false for NaN and +inf: two comparisons cover them all.
+    keep_positive_infinity leaves +inf marked valid, one comparison fewer, for a caller
+    that finds +inf itself (img's float32 path sees it as the maximum) and removes it.
+    """
+    if values.dtype.kind == "f":
+        np.greater(values, ISIS_SPECIAL_LIMIT, out=out)
+        if not keep_positive_infinity:
+            np.less(values, np.inf, out=scratch)
+            np.logical_and(out, scratch, out=out)
+    else:
+        out.fill(True)
+    if sample is not None:
+        np.not_equal(values, sample, out=scratch)
+        np.logical_and(out, scratch, out=out)
+    return out
 
 
 def _representable(value: float, dtype: np.dtype) -> bool:
@@ -36,5 +66,3 @@ def _representable(value: float, dtype: np.dtype) -> bool:
         return True
     info = np.iinfo(dtype)
     return float(value).is_integer() and info.min <= value <= info.max
-
-
