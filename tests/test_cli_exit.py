@@ -99,3 +99,23 @@ def test_exit_codes_other_than_numbers_are_reported_as_python_does():
     assert done.returncode == 1 and done.stderr == "stopped: a reason\n"
     assert _run_script("from pdsgen.cli import _end; _end(None)").returncode == 0
     assert _run_script("from pdsgen.cli import _end; _end(3)").returncode == 3
+
+
+def test_the_collector_pauses_for_imports_only():
+    """Paused while the command's modules are imported, running again for the command's work
+    (a validation of thousands of files must not run without it); a pause the caller made
+    is left as it is."""
+    done = _run_script("""
+        import gc, click
+        from pdsgen import cli
+        cli._start_up_begins()
+        assert not gc.isenabled()
+        cli.main.get_command(click.Context(cli.main), "dtm")
+        assert gc.isenabled() and gc.get_freeze_count() > 10000, gc.get_freeze_count()
+        gc.disable()
+        cli._start_up_begins()
+        cli.main.get_command(click.Context(cli.main), "validate")
+        assert not gc.isenabled()
+        print("ok")
+    """)
+    assert done.stdout == "ok\n", done.stderr

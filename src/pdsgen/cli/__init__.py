@@ -9,6 +9,7 @@ can fix (`PdsgenError`) become one line on stderr and exit code 2.
 from __future__ import annotations
 
 import atexit
+import gc
 import importlib
 import os
 import sys
@@ -53,6 +54,7 @@ class _Group(click.Group):
         if name not in COMMANDS:
             return None
         module = importlib.import_module(f"{__name__}.{name}")
+        _start_up_done()
         return getattr(module, name.replace("-", "_"))
 
     def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
@@ -133,12 +135,36 @@ def run(args: list[str] | None = None, prog_name: str | None = None) -> NoReturn
     process end. A live non-daemon thread, or a stream that cannot be flushed, takes Python's
     ordinary exit instead, which waits for the thread or reports the stream as it always does.
     """
+    _start_up_begins()
     try:
         main(args=args, prog_name=prog_name)
         code: str | int | None = 0
     except SystemExit as exc:
         code = exc.code
     _end(code)
+
+
+_START_UP = {"collector_paused": False}
+
+
+def _start_up_begins() -> None:
+    """Pause the cyclic garbage collector while the command's modules are imported.
+
+    Importing numpy, rasterio, jinja2 and pdsgen creates hundreds of thousands of objects
+    that live as long as the process; the collector would walk them again and again while
+    they are made (0.02 s of a 64 x 64 DTM's 0.23 s, measured). See _start_up_done."""
+    if gc.isenabled():
+        gc.disable()
+        _START_UP["collector_paused"] = True
+
+
+def _start_up_done() -> None:
+    """The command is imported: set the objects made so far aside for good (gc.freeze) and
+    let the collector run again for the command's own work, whatever its length."""
+    if _START_UP["collector_paused"]:
+        _START_UP["collector_paused"] = False
+        gc.freeze()
+        gc.enable()
 
 
 def _end(code: str | int | None) -> NoReturn:
