@@ -520,3 +520,26 @@ def test_pds4_labels_named_lblx_are_products_of_the_bundle(demo_products, tmp_pa
     ortho_lid = "urn:nasa:pds:demo_dtm:data:psp_008669_1705_red_c_01_ortho"
     lblx.write_text(lblx.read_text().replace(lid + "<", ortho_lid + "<"))
     assert any(f.rule == "DLV-012" for f in _errors(out, "DLV-012"))  # the .lblx label is among those compared
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_file_checks_and_their_progress_start_before_the_delivery_checks(delivery, monkeypatch, jobs):
+    """A delivery is checked whole when the first report asks for its findings, so the count
+    of files checked moves from the start; the findings are the same."""
+    from pdsgen.validate.families import delivery_rules
+
+    expected = {(f.rule, f.file) for f in validate_paths([delivery]).findings if f.rule.startswith("DLV")}
+    events: list[str] = []
+    checked = delivery_rules.check_delivery
+
+    def recorded(root, labels_only=False):
+        events.append("delivery")
+        return checked(root, labels_only)
+
+    monkeypatch.setattr(delivery_rules, "check_delivery", recorded)
+    with open(delivery / "DATA" / "JP2INFO.TXT", "a") as stream:  # one DLV finding to carry
+        stream.write("edited\n")
+    report = validate_paths([delivery], jobs=jobs, progress=lambda done, total: events.append("file"))
+    assert events[0] == "file" and events.count("delivery") == 1
+    found = {(f.rule, f.file) for f in report.findings if f.rule.startswith("DLV")}
+    assert found - expected == {("DLV-020", str(delivery / "DATA" / "JP2INFO.TXT"))}

@@ -480,14 +480,26 @@ def _deliveries(path: Path) -> Iterator[Path]:
 class DeliveryChecks:
     """The runner's hook: DLV findings of the deliveries among the paths given, handed to each
     file's report as it streams past; files that get no report of their own (INDEX.TAB, the
-    manifest, images) get one at the end."""
+    manifest, images) get one at the end.
+
+    The deliveries are looked for and checked when the first report asks, not when the run
+    starts: the per-file checks (and their progress count) begin at once, and with several
+    jobs the workers go on checking files while the delivery is checked here."""
 
     def __init__(self, paths: Iterable[str | os.PathLike[str]], labels_only: bool) -> None:
-        self.pending: dict[str, list[Finding]] = {}
-        for raw in paths:
-            for root in _deliveries(Path(raw)):
-                for finding in check_delivery(root, labels_only):
-                    self.pending.setdefault(os.path.normpath(finding.file), []).append(finding)
+        self._paths = [Path(raw) for raw in paths]
+        self._labels_only = labels_only
+        self._pending: dict[str, list[Finding]] | None = None
+
+    @property
+    def pending(self) -> dict[str, list[Finding]]:
+        if self._pending is None:
+            self._pending = {}
+            for path in self._paths:
+                for root in _deliveries(path):
+                    for finding in check_delivery(root, self._labels_only):
+                        self._pending.setdefault(os.path.normpath(finding.file), []).append(finding)
+        return self._pending
 
     def take(self, path: str) -> list[Finding]:
         return self.pending.pop(os.path.normpath(path), [])
