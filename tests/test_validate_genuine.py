@@ -75,7 +75,7 @@ def test_the_mission_column_says_what_the_labels_say():
     assert not wrong, wrong
     missions = set().union(*(_identities(CORPUS / row[0]) for row in _rows("PROVENANCE.md")))
     # missions none of the earlier corpora had, each named by a label of its own
-    assert {"LUNAR PROSPECTOR", "PHOENIX", "ULYSSES", "INFRARED ASTRONOMICAL SATELLITE"} <= missions
+    assert {"LUNAR PROSPECTOR", "PHOENIX", "ULYSSES", "INFRARED ASTRONOMICAL SATELLITE", "PHOBOS 2"} <= missions
 
 
 def test_errors_are_exactly_the_judged_ones():
@@ -127,3 +127,14 @@ def test_mission_conventions_are_not_errors():
     probe_software = by_file["galileo_probe/nfredr.lbl"]  # ^ASCII_DOCUMENT = {"NFREDR4.H", "NFREDR41.C"}
     assert not {"PTR-001", "PTR-008"} & set(probe_software)
     assert "PTR-001" not in by_file["deep_impact/sclk_correlation.lbl"]  # ^JPG_DOCUMENT = {two figures}
+    phobos = by_file["phobos2/PAN1IRED.LBL"]  # SFDU-wrapped, PDS_VERSION_ID = PDS2 (Phobos 2, 1992)
+    assert phobos["FILE-010"].severity == "warning" and "version 2" in phobos["FILE-010"].message
+
+
+def test_a_version_other_than_pds2_or_pds3_stays_an_error(tmp_path):
+    """Only PDS version 2 labels, which genuine archives hold, are let off with a warning."""
+    for version, severity in (("PDS2", "warning"), ("PDS4", "error"), ("PDS", "error")):
+        label = tmp_path / f"{version}.LBL"
+        label.write_bytes(f"PDS_VERSION_ID = {version}\r\nRECORD_TYPE = STREAM\r\nEND\r\n".encode())
+        found = [f for f in validate_paths([label]).findings if f.rule == "FILE-010"]
+        assert [f.severity for f in found] == [severity], (version, found)
