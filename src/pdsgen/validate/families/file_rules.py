@@ -143,8 +143,16 @@ def check_first_statement(ctx: FileContext) -> Iterator[Hit]:
 
 
 def check_version(ctx: FileContext) -> Iterator[Hit]:
+    """A version other than PDS3 is an error, except PDS2: a PDS version 2 label that says so
+    (Phobos 2 volumes) is a deviation genuine archives hold, like the SFDU-wrapped PDS2 labels
+    without a PDS_VERSION_ID (FILE-006), and is checked as far as PDS3 rules apply."""
     stmt = ctx.root.get("PDS_VERSION_ID")
-    if stmt is not None and stmt.value.text.upper() != "PDS3":
+    if stmt is None or stmt.value.text.upper() == "PDS3":
+        return
+    if stmt.value.text.upper() == "PDS2":
+        yield Hit("PDS_VERSION_ID is PDS2: a PDS version 2 label, checked as far as PDS3 rules apply",
+                  stmt.line, "PDS_VERSION_ID", severity="warning")
+    else:
         yield Hit(f"PDS_VERSION_ID is {stmt.value.raw}, expected PDS3", stmt.line, "PDS_VERSION_ID")
 
 
@@ -210,7 +218,9 @@ register(
     Rule("FILE-007", "error", "an END statement closes the label", check_end),
     Rule("FILE-008", "warning", "the label is padded with spaces (not NUL)", check_padding),
     Rule("FILE-009", "warning", "label lines contain no tab characters", check_tabs),
-    Rule("FILE-010", "error", "PDS_VERSION_ID = PDS3", check_version),
+    Rule("FILE-010", "error", "PDS_VERSION_ID = PDS3", check_version,
+         note="warning for PDS version 2 labels (PDS_VERSION_ID = PDS2, Phobos 2 volumes), checked as "
+         "far as PDS3 rules apply"),
     Rule("FILE-011", "error", "the file is not empty", check_empty),
     # FILE-013 is reported by the runner for a file named on the command line
     Rule("FILE-013", "error", "a file named for validation is a PDS3 label (not a JP2, TIFF, bare image)",
