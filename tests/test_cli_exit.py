@@ -81,7 +81,7 @@ def test_a_working_thread_is_waited_for(tmp_path):
         import threading, time
         from pathlib import Path
         def work():
-            time.sleep(0.5)
+            time.sleep(1.5)  # long past the command's end, even on a slow machine
             Path({str(marker)!r}).write_text("done")
         threading.Thread(target=work).start()
         from pdsgen.cli import run
@@ -119,3 +119,23 @@ def test_the_collector_pauses_for_imports_only():
         print("ok")
     """)
     assert done.stdout == "ok\n", done.stderr
+
+
+def test_a_validation_report_written_to_a_pipe_arrives_whole(tmp_path):
+    """The report goes to stdout in pieces without a flush of its own: the end of the run flushes it."""
+    crs, transform = ORIGINS["equirectangular"]
+    source = write_raster(tmp_path / "in.tif", np.arange(64 * 64, dtype=np.float32).reshape(64, 64), crs, transform)
+    made = _run([sys.executable, "-m", "pdsgen", "dtm", str(source), "-o", str(tmp_path / "out"), "-q"])
+    assert made.returncode == 0, made.stderr
+    done = _run([sys.executable, "-m", "pdsgen", "validate", str(tmp_path / "out"), "--format", "json"])
+    assert done.returncode == 0, done.stderr
+    report = json.loads(done.stdout)
+    assert [Path(f["path"]).name for f in report["files"]] == ["IN.IMG"]
+
+
+def test_a_closed_stdout_or_stderr_is_no_error():
+    """Started with a descriptor closed (some cron jobs and daemons), the command ends as before."""
+    for redirect in (">&-", "2>&-"):
+        done = subprocess.run(["sh", "-c", f"{sys.executable} -m pdsgen --version {redirect}"],
+                              capture_output=True, text=True, env=_BUFFERED)
+        assert done.returncode == 0 and "Traceback" not in done.stderr, (redirect, done.stderr)

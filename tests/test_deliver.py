@@ -543,3 +543,32 @@ def test_file_checks_and_their_progress_start_before_the_delivery_checks(deliver
     assert events[0] == "file" and events.count("delivery") == 1
     found = {(f.rule, f.file) for f in report.findings if f.rule.startswith("DLV")}
     assert found - expected == {("DLV-020", str(delivery / "DATA" / "JP2INFO.TXT"))}
+
+
+def test_a_pointer_to_several_files_brings_every_one_into_the_delivery(tmp_path):
+    """^ASCII_DOCUMENT = {"NFREDR4.H", "NFREDR41.C"} (a Galileo Probe software label): both files
+    belong to the product, as the validator reads the pointer."""
+    from pdsgen.deliver.scan import pointed_files
+    from pdsgen.validate.lexer import parse_label
+
+    text = ('PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = STREAM\r\n^ASCII_DOCUMENT = {"NFREDR4.H", "NFREDR41.C"}\r\n'
+            '^TABLE = ("NFR.TAB", 2)\r\nEND\r\n')
+    for name in ("NFREDR4.H", "NFREDR41.C", "NFR.TAB"):
+        (tmp_path / name).write_text("x\r\n")
+    root = parse_label(text).root
+    assert pointed_files(root, tmp_path) == ["NFREDR4.H", "NFREDR41.C", "NFR.TAB"]
+
+
+def test_browse_and_collection_labels_a_delivery_makes_are_never_taken_as_products(tmp_path):
+    """A delivery remakes its own Product_Browse/Collection/Bundle/Document labels, whichever of
+    the two PDS4 label names they have in the source."""
+    from pdsgen.deliver.scan import is_made_by_delivery
+
+    head = ('<?xml version="1.0" encoding="UTF-8"?>\n<Product_Browse xmlns="http://pds.nasa.gov/pds4/pds/v1">\n'
+            '<Identification_Area><product_class>Product_Browse</product_class></Identification_Area>\n'
+            '</Product_Browse>\n')
+    for name in ("X.browse.xml", "X.browse.lblx", "X.browse.LBLX"):
+        (tmp_path / name).write_text(head)
+        assert is_made_by_delivery(tmp_path / name, Path(name)), name
+    (tmp_path / "X.lblx").write_text(head.replace("Product_Browse", "Product_Observational"))
+    assert not is_made_by_delivery(tmp_path / "X.lblx", Path("X.lblx"))

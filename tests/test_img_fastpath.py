@@ -304,3 +304,31 @@ def test_strips_are_written_in_pieces_of_whole_samples(tmp_path, big_endian):
     assert sum(out.calls) == data.size * 4
     _, stored = reference(data, -9999.0)
     assert out.getvalue() == stored.astype(">f4" if big_endian else "<f4").tobytes()
+
+
+def test_a_failing_write_stops_the_pass_with_its_error(tmp_path, small_strips_and_chunks):
+    """A disk that fills up mid-product: the write's own error reaches the caller (the product
+    writer's staging then removes the partial file), and the reading thread stops with it."""
+    import errno
+    import threading
+
+    class FullDisk(io.RawIOBase):
+        def __init__(self, room: int) -> None:
+            self.room = room
+
+        def writable(self) -> bool:
+            return True
+
+        def write(self, data) -> int:
+            size = memoryview(data).nbytes
+            if size > self.room:
+                raise OSError(errno.ENOSPC, "No space left on device")
+            self.room -= size
+            return size
+
+    data = elevation_array(60, 50, seed=12)
+    source = write_raster(tmp_path / "in.tif", data, CRS_EQUIRECTANGULAR, TRANSFORM, nodata=-9999.0)
+    with open_raster(source) as dataset, pytest.raises(OSError) as raised:
+        img.stream_float32_band(dataset, FullDisk(room=data.nbytes // 3), big_endian=False)
+    assert raised.value.errno == errno.ENOSPC
+    assert not [t for t in threading.enumerate() if t.name.startswith(("pdsgen-read", "pdsgen-write"))]

@@ -36,3 +36,12 @@ def test_version_does_not_load_the_validator():
             "print('pdscat1r102' in out, any(m.startswith('pdsgen.validate') for m in sys.modules))")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert result.stdout.split() == ["True", "False"], result.stderr
+
+
+def test_the_dictionary_date_is_read_only_when_it_is_a_date():
+    from pdsgen.label.data_dictionary import version_text
+
+    assert version_text({"version": "v1", "generated": "Mon Sep 25 14:04:29 2017"}) == "v1 (generated 2017-09-25)"
+    assert version_text({"version": "v1", "generated": "Fri Feb 29 00:00:00 2008"}) == "v1 (generated 2008-02-29)"
+    for stamp in ("Mon Sep 99 14:04:29 2017", "Mon Sep 0 14:04:29 2017", "Mon Foo 25 14:04:29 2017", "2017-09-25"):
+        assert version_text({"version": "v1", "generated": stamp}) == f"v1 (generated {stamp})"

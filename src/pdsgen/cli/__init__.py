@@ -174,8 +174,9 @@ def _end(code: str | int | None) -> NoReturn:
     status = _exit_status(code)
     atexit._run_exitfuncs()
     try:
-        sys.stdout.flush()
-        sys.stderr.flush()
+        for stream in (sys.stdout, sys.stderr):
+            if stream is not None:  # None: the process was started with that descriptor closed
+                stream.flush()
     except (OSError, ValueError):
         sys.exit(status)
     os._exit(status)
@@ -187,5 +188,6 @@ def _exit_status(code: str | int | None) -> int:
         return 0
     if isinstance(code, int):
         return code
-    print(code, file=sys.stderr)
+    if sys.stderr is not None:
+        print(code, file=sys.stderr)
     return 1

@@ -65,7 +65,8 @@ def label_value(root: Block, keyword: str) -> str | None:
 
 
 def pointed_files(root: Block, directory: Path) -> list[str]:
-    """Names of the existing files beside the label that its data pointers name."""
+    """Names of the existing files beside the label that its data pointers name (every name
+    of a pointer to several files, {"A.H", "B.C"})."""
     names: list[str] = []
     for block in root.walk():
         for stmt in block.statements():
@@ -76,7 +77,6 @@ def pointed_files(root: Block, directory: Path) -> list[str]:
                     name = value.text.replace("\\", "/").rsplit("/", 1)[-1]
                     if (directory / name).is_file() and name not in names:
                         names.append(name)
-                    break
     return names
 
 
@@ -110,7 +110,7 @@ def is_made_by_delivery(path: Path, relative: Path) -> bool:
         return True
     if relative.name.startswith("collection_") and relative.suffix in (".xml", ".csv"):
         return True
-    if relative.suffix == ".xml":
+    if relative.suffix.lower() in PDS4_LABEL_SUFFIXES:
         match = _PRODUCT_CLASS.search(file_head(path, 4096) or b"")
         return match is not None and match.group(1) in _MADE_CLASSES
     return False

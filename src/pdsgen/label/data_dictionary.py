@@ -28,6 +28,7 @@ def version_text(data: dict) -> str:
     return version
 
 
+_MONTH_DAYS = (31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31)
 _MONTHS = ("JAN", "FEB", "MAR", "APR", "MAY", "JUN", "JUL", "AUG", "SEP", "OCT", "NOV", "DEC")
 
 
@@ -37,7 +38,9 @@ def _iso_date(stamp: str) -> str:
     that checks a label, a tenth of a small product's own time."""
     parts = stamp.split()
     if len(parts) == 5 and parts[1].upper() in _MONTHS and parts[2].isdigit() and parts[4].isdigit():
-        return f"{int(parts[4]):04d}-{_MONTHS.index(parts[1].upper()) + 1:02d}-{int(parts[2]):02d}"
+        day = int(parts[2])
+        if 1 <= day <= _MONTH_DAYS[_MONTHS.index(parts[1].upper())]:
+            return f"{int(parts[4]):04d}-{_MONTHS.index(parts[1].upper()) + 1:02d}-{day:02d}"
     return stamp
 
 
