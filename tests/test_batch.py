@@ -307,10 +307,15 @@ def _identity(path: str) -> tuple[int, int]:
 
 
 def test_job_past_its_timeout_is_stopped(tmp_path):
-    """A job's child is ended at its timeout; the job fails with that reason and may be retried."""
+    """A job's child is ended at its timeout; the job fails with that reason and may be retried.
+    The child starts cold (its imports alone outlast 0.01 s): a warm one left by an earlier test
+    could finish a small DTM first."""
+    from pdsgen.batch.resident import POOL
+
     write_inputs(tmp_path / "input", 1)
     manifest = load_manifest(write_manifest(tmp_path, 1), tmp_path / "out")
     task = make_task(manifest.jobs[0], manifest, Settings(), {})
+    POOL.close()
     outcome = run_job({**task, "timeout": 0.01})
     assert outcome["status"] == "failed" and outcome["error"] == "timed out after 0.01 s" and outcome["retry"]
     assert not Path(task["marker"]).exists() and not list((tmp_path / "out").glob("*.IMG"))

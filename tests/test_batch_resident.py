@@ -6,7 +6,8 @@ test exercises the real child process, its pipes and its memory accounting. Faul
 are injected into the child through Python's audit hook, loaded by sitecustomize in
 every process these tests start: opening a file whose name holds `abort-on-open`
 aborts the process; `kill-on-open` has it killed by SIGKILL, as the kernel's OOM killer
-does; `grow-on-open` makes it keep 300 MB; `warn-on-open` issues a UserWarning.
+does; `grow-on-open` makes it keep 300 MB; `warn-on-open` issues a UserWarning;
+`sleep-on-open` holds it for 5 s.
 """
 
 from __future__ import annotations
@@ -36,6 +37,9 @@ def _faults(event, args):
         if "warn-on-open" in args[0]:
             import warnings
             warnings.warn("injected warning", UserWarning)
+        if "sleep-on-open" in args[0]:
+            import time
+            time.sleep(5)
         if "grow-on-open" in args[0]:
             _kept.append(bytearray(os.urandom(1)) * (300 * 1000 * 1000))
 sys.addaudithook(_faults)
@@ -44,9 +48,9 @@ sys.addaudithook(_faults)
 
 @pytest.fixture()
 def jobs(tmp_path, monkeypatch):
-    """A manifest of seven DTM jobs (the third with the abort params, the fifth with the
-    grow params, the sixth with the kill params) and a function making the task of job N;
-    fresh children for this test."""
+    """A manifest of nine DTM jobs (job 2 with the abort params, 4 the grow params, 5 the
+    kill params, 6 and 7 the warn params, 8 the sleep params) and a function making the task
+    of job N; fresh children for this test."""
     hook_dir = tmp_path / "hook"
     hook_dir.mkdir()
     (hook_dir / "sitecustomize.py").write_text(HOOK, encoding="utf-8")
@@ -54,13 +58,14 @@ def jobs(tmp_path, monkeypatch):
     crs, transform = ORIGINS["equirectangular"]
     (tmp_path / "input").mkdir()
     write_raster(tmp_path / "input" / "dtm.tif", elevation_array(64, 64, seed=7), crs, transform)
-    for name in ("abort-on-open.toml", "grow-on-open.toml", "kill-on-open.toml", "warn-on-open.toml"):
+    for name in ("abort-on-open.toml", "grow-on-open.toml", "kill-on-open.toml", "warn-on-open.toml",
+                 "sleep-on-open.toml"):
         (tmp_path / name).write_text('producer_full_name = "A. Tester"\n', encoding="utf-8")
     entries = []
     for n in range(9):
         params = {2: 'params = "abort-on-open.toml"\n', 4: 'params = "grow-on-open.toml"\n',
                   5: 'params = "kill-on-open.toml"\n', 6: 'params = "warn-on-open.toml"\n',
-                  7: 'params = "warn-on-open.toml"\n'}.get(n, "")
+                  7: 'params = "warn-on-open.toml"\n', 8: 'params = "sleep-on-open.toml"\n'}.get(n, "")
         entries.append(f'[[dtm]]\nid = "j{n}"\ninput = "input/dtm.tif"\nproduct_id = "J{n}"\n{params}')
     (tmp_path / "batch.toml").write_text("\n".join(entries), encoding="utf-8")
     manifest = load_manifest(tmp_path / "batch.toml", tmp_path / "out")
@@ -124,13 +129,15 @@ def test_a_fresh_process_per_job_when_asked(jobs):
 
 
 def test_a_timed_out_job_loses_its_child_and_the_next_job_runs(jobs, tmp_path):
+    """Job 8's child sleeps 5 s reading its params (a job stuck on a hung file system): the
+    timeout kills it whatever the machine's speed, before the product is written."""
     warm = run_job(jobs(0))
-    late = run_job({**jobs(1), "timeout": 0.01})
-    assert late["status"] == "failed" and late["error"] == "timed out after 0.01 s" and late["retry"]
+    late = run_job({**jobs(8), "timeout": 0.5})
+    assert late["status"] == "failed" and late["error"] == "timed out after 0.5 s" and late["retry"]
     assert late["child_pid"] == warm["child_pid"]
     with pytest.raises(ProcessLookupError):
         os.kill(warm["child_pid"], 0)  # killed and reaped
-    assert not (tmp_path / "out" / "J1.IMG").exists()
+    assert not (tmp_path / "out" / "J8.IMG").exists() and not list((tmp_path / "out").glob(".*.part"))
     assert run_job(jobs(1))["status"] == "done"
 
 
