@@ -200,3 +200,30 @@ def test_a_marker_temporary_of_a_killed_batch_is_removed_and_a_live_ones_kept(tm
     live.write_text("{")
     assert remove_interrupted_leftovers([marker]) == [stale]
     assert not stale.exists() and live.exists()
+
+
+def test_a_marker_temporary_whose_process_id_was_reused_is_removed(tmp_path):
+    """Process ids come round again (32768 of them on many Linux systems): a process that
+    started after the temporary was written, under the killed writer's id, did not write it."""
+    import os
+    import subprocess
+    import sys
+    import time
+
+    from pdsgen.batch.resume import marker_path, remove_interrupted_leftovers
+
+    marker = marker_path(tmp_path, "s0_ortho")
+    marker.parent.mkdir(parents=True)
+    newcomer = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(30)"])
+    try:
+        reused = marker.parent / f".{marker.name}.{newcomer.pid}.part"
+        reused.write_text("{")
+        an_hour_ago = time.time() - 3600
+        os.utime(reused, (an_hour_ago, an_hour_ago))  # written long before the newcomer started
+        mine = marker.parent / f".{marker.name}.{os.getpid()}.part"
+        mine.write_text("{")  # written by this process, after it started: kept
+        assert remove_interrupted_leftovers([marker]) == [reused]
+        assert not reused.exists() and mine.exists()
+    finally:
+        newcomer.kill()
+        newcomer.wait()

@@ -107,20 +107,40 @@ def _stale_marker_temporaries(marker: Path) -> list[Path]:
     removed = []
     for leftover in marker.parent.glob(f".{marker.name}.*.part"):
         pid = leftover.name[len(marker.name) + 2:-len(".part")]
-        if pid.isdigit() and not _process_alive(int(pid)):
+        try:
+            written = leftover.stat().st_mtime
+        except FileNotFoundError:
+            continue
+        if pid.isdigit() and not _writer_alive(int(pid), written):
             leftover.unlink(missing_ok=True)
             removed.append(leftover)
     return removed
 
 
-def _process_alive(pid: int) -> bool:
+def _writer_alive(pid: int, written: float) -> bool:
+    """Whether the process that wrote a file at time `written` may still be running: a process
+    `pid` exists and (where the system says when it started) started before the file was
+    written. Process ids are reused (after 32768 of them on many Linux systems), so a new
+    process holding a killed batch's id must not keep its leftover alive forever."""
     try:
         os.kill(pid, 0)
     except ProcessLookupError:
         return False
     except PermissionError:  # alive, another user's
-        return True
-    return True
+        pass
+    started = _process_start_time(pid)
+    return started is None or started <= written + 1.0  # 1 s: clock ticks and file-time granularity
+
+
+def _process_start_time(pid: int) -> float | None:
+    """When process `pid` started (seconds since the epoch), from /proc on Linux; None elsewhere."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+        boot = next(line for line in Path("/proc/stat").read_text().splitlines() if line.startswith("btime "))
+        ticks = int(stat.rsplit(")", 1)[1].split()[19])  # field 22, starttime, after "(comm)"
+        return int(boot.split()[1]) + ticks / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, IndexError, StopIteration):
+        return None
 
 
 def remove_interrupted_leftovers(markers: Iterable[Path]) -> list[Path]:
