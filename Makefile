@@ -4,6 +4,7 @@ PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.pdsgen-installed
+TEST_STAMP := $(VENV)/.pdsgen-test-tools
 
 .PHONY: demo test lint clean setup
 
@@ -17,10 +18,15 @@ $(STAMP): pyproject.toml
 	  || sh tools/install-openjpeg.sh
 	touch $@
 
+# The tests also compare with GDAL's command-line tools and render pages in Chromium.
+$(TEST_STAMP): $(STAMP) tools/install-test-tools.sh
+	sh tools/install-test-tools.sh
+	touch $@
+
 demo: $(STAMP)
 	$(VENV)/bin/pdsgen demo out/demo
 
-test: $(STAMP)
+test: $(TEST_STAMP)
 	$(PY) -m pytest -q
 
 lint: $(STAMP)
