@@ -35,22 +35,33 @@ def _item(key: str, value) -> str:
     return f"{key}={value}"
 
 
-def map_group(east_m: float, north_m: float, pixel_m: float, *, scale_factor: float | None = K0,
-              projection: str = "TRANSVERSE_MERCATOR") -> dict:
-    """The MAP group of a tile whose upper-left corner is (east_m, north_m) in UTM 33N grid metres.
+# How the offsets count from pixel (1, 1): by the HRSC-AX image description (Table B2) "the
+# offset value of the map projection origin position from the center of the pixel at line
+# and sample position 1,1"; DLR's HRSC Mars labels (DSMAP.CAT) count one pixel further.
+OFFSET_COUNTING = {"table_b2": 0.0, "dlr": 1.0}
 
-    Offsets in DLR's (VICAR) convention: the projection centre's line/sample with pixel
-    (1, 1) centred at 1.0.
+
+def map_group(east_m: float, north_m: float, pixel_m: float, *, scale_factor: float | None = K0,
+              projection: str = "TRANSVERSE_MERCATOR", false_easting: float = FALSE_EASTING,
+              counting: str = "table_b2") -> dict:
+    """The MAP group of a tile whose upper-left corner is (east_m, north_m) grid metres of a
+    TM grid with false easting `false_easting` (UTM 33N by default).
+
+    Offsets as Table B2 defines them: the projection origin's position, in lines and samples,
+    from the centre of pixel (1, 1) - the centre of pixel (1, 1) lies half a pixel inside the
+    corner, so the origin is (north / pixel - 1/2) lines above it and (-x / pixel - 1/2)
+    samples left of it. `counting="dlr"` writes DLR's Mars counting instead.
     """
-    x_natural = east_m - FALSE_EASTING
+    x_natural = east_m - false_easting
+    shift = OFFSET_COUNTING[counting]
     group = {
         "TARGET_NAME": "EARTH",
         "A_AXIS_RADIUS": A_KM, "B_AXIS_RADIUS": A_KM, "C_AXIS_RADIUS": C_KM,
         "BODY_LONG_AXIS_LONGITUDE": 0.0, "CARTESIAN_AZIMUTH": 0.0,
         "CENTER_LATITUDE": 0.0, "CENTER_LONGITUDE": LON0,
         "COORDINATE_SYSTEM_NAME": "PLANETOGRAPHIC",
-        "LINE_PROJECTION_OFFSET": north_m / pixel_m + 0.5,
-        "SAMPLE_PROJECTION_OFFSET": -x_natural / pixel_m + 0.5,
+        "LINE_PROJECTION_OFFSET": north_m / pixel_m - 0.5 + shift,
+        "SAMPLE_PROJECTION_OFFSET": -x_natural / pixel_m - 0.5 + shift,
         "MAP_PROJECTION_TYPE": projection,
         "MAP_SCALE": pixel_m / 1000.0,
         "POSITIVE_LONGITUDE_DIRECTION": "EAST",

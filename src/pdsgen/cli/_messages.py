@@ -31,6 +31,7 @@ LIBRARY_TO_OPTION: dict[str, str] = {
     "reproject_input": "--reproject",
     "source_labels": "--source-label",
     "offset_convention": "--offset-convention",
+    "vicar_offsets": "--vicar-offsets",
     "allow_dictionary_deviations": "--allow-dictionary-deviations",
     "overwrite": "--overwrite",
     "schemas": "--schemas",

@@ -36,7 +36,7 @@ def profile_options(given: dict[str, object], used: set[str]) -> dict[str, objec
 
 def label_fidelity_options(command):
     """The options of `pdsgen dtm` and `pdsgen ortho` about what their labels carry:
-    HRSC source labels and offset convention, and keeping dictionary deviations."""
+    HRSC source labels and offset convention, HRSC-AX tile offsets, and keeping dictionary deviations."""
     options = [
         click.option("--source-label", "source_labels", multiple=True, type=click.Path(dir_okay=False),
                      help="hrsc: level-2/3 label whose identification, time and orbit keywords the "
@@ -45,6 +45,11 @@ def label_fidelity_options(command):
         click.option("--offset-convention", type=click.Choice(["standard", "dlr"]), default="standard",
                      show_default=True, help="hrsc: PDS3 standard projection offsets (GDAL reads them "
                                              "exactly) or DLR's own, one pixel apart."),
+        click.option("--vicar-offsets", type=click.Choice(["standard", "dlr"]), default="standard",
+                     show_default=True, help="hrsc-ax: how the tile's VICAR MAP offsets count: from the "
+                                             "centre of pixel 1,1 as the HRSC-AX image description "
+                                             "defines them (GDAL reads them so), or DLR's HRSC Mars "
+                                             "counting, one pixel further."),
         click.option("--allow-dictionary-deviations", "allow_deviations", is_flag=True, default=None,
                      help="Keep label values that break the PDS3 data dictionary (warned once) instead "
                           "of refusing the product."),

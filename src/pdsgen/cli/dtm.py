@@ -21,7 +21,8 @@ USED_BY_PROFILE = {
     "hrsc": _COMMON | {"allow_deviations", "source_labels", "offset_convention", "byte_order", "kind",
                        "vertical_datum", "areoid", "precision", "reproject", "label"},
     "imars": _COMMON | {"kind", "vertical_datum", "areoid", "precision"},
-    "hrsc-ax": (_COMMON - {"source_ids"}) | {"allow_deviations", "source_labels", "byte_order", "label"},
+    "hrsc-ax": (_COMMON - {"source_ids"}) | {"allow_deviations", "source_labels", "vicar_offsets", "byte_order",
+                                             "label"},
 }
 
 
@@ -60,7 +61,7 @@ USED_BY_PROFILE = {
 @click.pass_context
 def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, product_version,
         params_file, byte_order, kind, vertical_datum, areoid, precision, reproject, source_labels,
-        offset_convention, allow_deviations, label, overwrite) -> Outcome:
+        offset_convention, vicar_offsets, allow_deviations, label, overwrite) -> Outcome:
     """Convert the single-band elevation raster INPUT (any GDAL format, projected
     CRS: equirectangular, polar stereographic or sinusoidal) into a PDS3 DTM in OUTDIR:
     <PRODUCT_ID>.IMG (float32), or with --label pds4 a PDS4 one (<PRODUCT_ID>.img + .xml);
@@ -86,6 +87,7 @@ def library_options(params: Mapping[str, Any]) -> dict[str, object]:
         "vertical_datum": params["vertical_datum"], "areoid": params["areoid"], "precision": params["precision"],
         "reproject_input": params["reproject"], "allow_dictionary_deviations": params["allow_deviations"] or None,
         "source_labels": tuple(params["source_labels"]), "offset_convention": params["offset_convention"],
+        "vicar_offsets": params["vicar_offsets"],
         "label": params["label"],
     }
     return profile_options(given, USED_BY_PROFILE.get(params["profile"], USED_BY_PROFILE["generic"]))

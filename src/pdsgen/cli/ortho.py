@@ -22,7 +22,7 @@ USED_BY_PROFILE = {
     "hrsc": _COMMON | {"allow_deviations", "source_labels", "offset_convention", "bits", "source_ids", "reproject",
                        "label"},
     "imars": _COMMON | {"bits", "source_ids"},
-    "hrsc-ax": _COMMON | {"allow_deviations", "source_labels", "gmljp2", "label"},
+    "hrsc-ax": _COMMON | {"allow_deviations", "source_labels", "vicar_offsets", "gmljp2", "label"},
 }
 # Profiles whose products may be composed of several single-band input files.
 SEVERAL_INPUTS = {"hrsc-ax"}
@@ -60,7 +60,7 @@ SEVERAL_INPUTS = {"hrsc-ax"}
 @click.pass_context
 def ortho(ctx, input_path, more_inputs, outdir, profile, product_id, bits, value_range, observation_id, source_dtm_id,
           sequence, params_file, product_version, gmljp2, source_ids, reproject, source_labels,
-          offset_convention, allow_deviations, label, overwrite) -> Outcome:
+          offset_convention, vicar_offsets, allow_deviations, label, overwrite) -> Outcome:
     """Convert the 1-band (RED) or 3-band (IRB) orthoimage INPUT (any GDAL format,
     projected CRS as for DTMs) into OUTDIR/<PRODUCT_ID>.JP2 and .LBL (--label pds4: .JP2,
     .img and .xml); for --profile
@@ -98,6 +98,7 @@ def library_options(params: Mapping[str, Any]) -> dict[str, object]:
         "source_product_ids": tuple(params["source_ids"]), "reproject_input": params["reproject"],
         "label": params["label"], "allow_dictionary_deviations": params["allow_deviations"] or None,
         "source_labels": tuple(params["source_labels"]), "offset_convention": params["offset_convention"],
+        "vicar_offsets": params["vicar_offsets"],
     }
     return profile_options(given, USED_BY_PROFILE.get(params["profile"], USED_BY_PROFILE["generic"]))
 

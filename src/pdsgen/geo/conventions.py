@@ -28,6 +28,12 @@ def projection_offsets(ulx: float, uly: float, scale: float) -> tuple[float, flo
     return -ulx / scale - PIXEL_CENTRE, uly / scale - PIXEL_CENTRE
 
 
+def upper_left_corner(sample_offset: float, line_offset: float, scale: float) -> tuple[float, float]:
+    """(ULX, ULY), projection metres of a grid's upper-left corner, from its offsets: the inverse
+    of projection_offsets, for readers of labels and headers in the standard convention."""
+    return -(sample_offset + PIXEL_CENTRE) * scale, (line_offset + PIXEL_CENTRE) * scale
+
+
 def map_resolution(radius_m: float, scale: float) -> float:
     """MAP_RESOLUTION (pixels per degree) for a radius in metres and MAP_SCALE in metres per pixel."""
     return (math.pi * radius_m / 180.0) / scale

@@ -90,6 +90,8 @@ class Mission:
     valid_range_decimals: int | None = None  # VALID_MINIMUM/MAXIMUM to this many decimals (None: exact)
     ortho_stretch_namespace: str | None = None  # e.g. "MRO": MRO:MINIMUM_STRETCH/MAXIMUM_STRETCH per band
     ortho_standard_parallels_na: bool = False  # FIRST/SECOND_STANDARD_PARALLEL = "N/A" in ortho labels
+    # Comment lines (/* ... */) in IMAGE_MAP_PROJECTION saying how the source's grid was read.
+    map_projection_note: tuple[str, ...] = ()
     dtm_product_id: Callable[[ProductIdRequest], str] | None = None  # None: from the input file name
     ortho_product_id: Callable[[ProductIdRequest], str] | None = None
     dtm_writer: Writer | str | None = None  # None: the standard float32 PDS3 DTM writer

@@ -9,8 +9,11 @@ colour-infrared composite: infrared, red and green merged with the nadir channel
 
 Heights are ellipsoid heights above the rotational ellipsoid A = B = 6378.14 km,
 C = 6356.75 km (not geoid heights: sea level lies at about +36.5 m). The VICAR MAP
-group's offsets count the projection centre from pixel (1, 1) at 1.0, as DLR's HRSC
-labels do (DSMAP.CAT: one pixel beyond the PDS3 standard values).
+group's LINE/SAMPLE_PROJECTION_OFFSET are, by the HRSC-AX image description (Table B2),
+"the offset value of the map projection origin position from the center of the pixel at
+line and sample position 1,1": the PDS3 standard convention, as GDAL's VICAR reader reads
+them. DLR's Mars Express HRSC labels count one pixel further (DSMAP.CAT); a producer whose
+tiles were written that way says so (`vicar_offsets="dlr"`).
 """
 
 from __future__ import annotations
@@ -36,8 +39,22 @@ C_AXIS_KM = 6356.75
 GEOID_NOTE = "sea level lies at about +36.5 m above this ellipsoid"
 HEIGHT_DATUM = f"the {A_AXIS_KM} x {C_AXIS_KM} km ellipsoid (sea level at about +36.5 m)"
 
-# VICAR MAP offsets are DLR's (one pixel beyond the PDS3 standard convention).
-VICAR_OFFSET_SHIFT = OFFSET_CONVENTIONS["dlr"]
+# How a tile's VICAR MAP offsets count: "standard" by Table B2 of the HRSC-AX image
+# description (from the centre of pixel 1,1; the default), "dlr" one pixel further as
+# DLR's HRSC Mars labels do. Pixels to subtract to reach the standard values.
+VICAR_OFFSETS = {"standard": OFFSET_CONVENTIONS["standard"], "dlr": OFFSET_CONVENTIONS["dlr"]}
+VICAR_OFFSET_NOTES = {
+    "standard": (
+        "/* The source tile's VICAR LINE/SAMPLE_PROJECTION_OFFSET were read  */",
+        "/* as the HRSC-AX image description defines them (Table B2): from   */",
+        "/* the centre of pixel 1,1, the PDS3 standard convention GDAL reads. */",
+    ),
+    "dlr": (
+        "/* The source tile's VICAR LINE/SAMPLE_PROJECTION_OFFSET were read  */",
+        "/* in DLR's HRSC Mars counting (DSMAP.CAT), one pixel beyond the    */",
+        "/* HRSC-AX image description's Table B2, as the producer chose.     */",
+    ),
+}
 # Universal Transverse Mercator: a TM of this scale factor on a zone's central meridian
 # has the grid's false easting (and, south of the equator, false northing), metres.
 UTM_SCALE_FACTOR = 0.9996

@@ -131,6 +131,7 @@ def write_pds3_dtm(
             "source_product_id": source_id_values(sources),
             "geometry": geometry,
             "note": str(keywords.get("DTM_NOTE", chosen.dtm_note)),
+            "map_projection_note": chosen.map_projection_note,
             "bit_mask": Based(0xFFFFFFFF, 2, 32),
             "sample_type": Symbol(sample_type(byte_order == "msb", "f")),
             "missing_constant": Based(MISSING_BITS, 16, 8),

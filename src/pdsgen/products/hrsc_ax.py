@@ -2,8 +2,8 @@
 (.pan), RGB (.re .gr .bl) and CIR (.cir_re .cir_gr .cir_bl) images as JP2 + .LBL.
 
 The tiles are VICAR files. pdsgen reads their MAP and DIGITAL_TERRAIN_MODEL property
-groups itself (formats/vicar.py) - GDAL's VICAR reader ignores SCALE_FACTOR, places
-the grid half a pixel off and knows few projections - and hands the standard DTM and
+groups itself (formats/vicar.py) - GDAL's VICAR reader ignores SCALE_FACTOR and false
+easting/northing and knows few projections - and hands the standard DTM and
 orthoimage writers a GDAL virtual raster (VRT) that carries the label's grid: the
 CRS (Transverse Mercator with its scale factor on the HRSC-AX ellipsoid), the
 geotransform, the heights (DTM_OFFSET + stored * DTM_SCALING_FACTOR) and, for colour
@@ -28,8 +28,9 @@ from xml.sax.saxutils import escape
 from affine import Affine
 from rasterio.crs import CRS
 
-from ..errors import InputError, PdsgenError, param
+from ..errors import InputError, ParamsError, PdsgenError, param
 from ..formats.vicar import VicarLabel, VicarValue, read_vicar_label
+from ..geo.conventions import upper_left_corner
 from ..missions import hrsc_ax
 from .params import ParamValue
 
@@ -88,8 +89,12 @@ class Tile:
 
 
 def read_tile(inputs: str | os.PathLike[str] | Sequence[str | os.PathLike[str]],
-              source_labels: Sequence[str | os.PathLike[str]] = ()) -> Tile:
-    """Read the channel files of one product and the XML image labels given; refuse what does not fit."""
+              source_labels: Sequence[str | os.PathLike[str]] = (), vicar_offsets: str = "standard") -> Tile:
+    """Read the channel files of one product and the XML image labels given; refuse what does not fit.
+
+    `vicar_offsets`: how the MAP group's offsets count (missions/hrsc_ax.py VICAR_OFFSETS).
+    """
+    check_vicar_offsets(vicar_offsets)
     paths = [Path(inputs)] if isinstance(inputs, (str, os.PathLike)) else [Path(p) for p in inputs]
     if not paths:
         raise PdsgenError(None, "no input file given")
@@ -102,7 +107,7 @@ def read_tile(inputs: str | os.PathLike[str] | Sequence[str | os.PathLike[str]],
     _check_same_grid(labels)
     first = labels[0]
     map_group = {**_xml_group(xml, MAP_KEYS), **(first.group("MAP") or {})}
-    grid = tile_grid(map_group, first)
+    grid = tile_grid(map_group, first, vicar_offsets)
     heights = None
     if kind == "DEM":
         if first.bands != 1:
@@ -140,13 +145,20 @@ def _number(group: Mapping[str, VicarValue], key: str, path: Path, default: floa
         raise InputError(path, f"MAP/DIGITAL_TERRAIN_MODEL keyword {key} = {value!r} is not a number") from None
 
 
-def tile_grid(group: Mapping[str, VicarValue], label: VicarLabel) -> TileGrid:
+def check_vicar_offsets(convention: str) -> None:
+    if convention not in hrsc_ax.VICAR_OFFSETS:
+        raise ParamsError(None, f"{param('vicar_offsets')} must be one of "
+                                f"{', '.join(hrsc_ax.VICAR_OFFSETS)}, not {convention!r}")
+
+
+def tile_grid(group: Mapping[str, VicarValue], label: VicarLabel, vicar_offsets: str = "standard") -> TileGrid:
     """CRS and geotransform from a MAP group (the label's, not GDAL's reading of it).
 
     Transverse Mercator on the label's ellipsoid with its SCALE_FACTOR (1 without one);
     false easting/northing from FALSE_EASTING/FALSE_NORTHING (metres) when given, else
     those of the UTM grid when the projection is a UTM zone (the tile names count grid
-    kilometres), else none. Offsets are VICAR's (pixel (1, 1) centred at 1.0).
+    kilometres), else none. Offsets count as `vicar_offsets` says: "standard" by the HRSC-AX
+    image description's Table B2 (from the centre of pixel 1,1), "dlr" one pixel further.
     """
     path = label.path
     missing = [key for key in _REQUIRED_MAP if key not in group]
@@ -172,10 +184,10 @@ def tile_grid(group: Mapping[str, VicarValue], label: VicarLabel) -> TileGrid:
     scale = _number(group, "MAP_SCALE", path) * 1000.0  # grid metres per pixel
     if not scale > 0:
         raise InputError(path, "MAP_SCALE must be positive")
-    line_offset = _number(group, "LINE_PROJECTION_OFFSET", path) - hrsc_ax.VICAR_OFFSET_SHIFT
-    sample_offset = _number(group, "SAMPLE_PROJECTION_OFFSET", path) - hrsc_ax.VICAR_OFFSET_SHIFT
-    x_left = -(sample_offset + 0.5) * scale
-    y_top = (line_offset + 0.5) * scale
+    shift = hrsc_ax.VICAR_OFFSETS[vicar_offsets]
+    line_offset = _number(group, "LINE_PROJECTION_OFFSET", path) - shift
+    sample_offset = _number(group, "SAMPLE_PROJECTION_OFFSET", path) - shift
+    x_left, y_top = upper_left_corner(sample_offset, line_offset, scale)
     if "FALSE_EASTING" in group or "FALSE_NORTHING" in group:
         x0 = _number(group, "FALSE_EASTING", path, 0.0)
         y0 = _number(group, "FALSE_NORTHING", path, 0.0)
@@ -340,18 +352,24 @@ def write_hrsc_ax_dtm(
     product_id: str | None = None,
     params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
     source_labels: Sequence[str | os.PathLike[str]] = (),
+    vicar_offsets: str = "standard",
     byte_order: str | None = None,
     version: str = "1.0",
     overwrite: bool = False,
     label: str = "pds3",
     allow_dictionary_deviations: bool | None = None,
 ) -> Any:
-    """The DEM of an HRSC-AX tile (`TILE.dsm`) as `<PRODUCT_ID>.IMG`: float32 ellipsoid heights."""
+    """The DEM of an HRSC-AX tile (`TILE.dsm`) as `<PRODUCT_ID>.IMG`: float32 ellipsoid heights.
+
+    `vicar_offsets`: "standard" (the HRSC-AX image description's definition, default) or
+    "dlr" (tiles whose offsets count one pixel further); the label's comment says which.
+    """
     from .dtm import write_pds3_dtm
 
-    tile = read_tile(input_path, source_labels)
+    tile = read_tile(input_path, source_labels, vicar_offsets)
     product_id = product_id or hrsc_ax.tile_product_id(tile.stem, tile.kind)
-    mission = dataclasses.replace(hrsc_ax.MISSION, dtm_note=dtm_note(tile))
+    mission = dataclasses.replace(hrsc_ax.MISSION, dtm_note=dtm_note(tile),
+                                  map_projection_note=hrsc_ax.VICAR_OFFSET_NOTES[vicar_offsets])
     with tile_vrt(tile, product_id) as vrt:
         return write_pds3_dtm(vrt, outdir, mission=mission, product_id=product_id, params=params,
                               byte_order=byte_order, version=version, overwrite=overwrite, label=label,
@@ -365,6 +383,7 @@ def write_hrsc_ax_ortho(
     product_id: str | None = None,
     params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
     source_labels: Sequence[str | os.PathLike[str]] = (),
+    vicar_offsets: str = "standard",
     value_range: tuple[float, float] | None = None,
     gmljp2: bool = False,
     version: str = "1.0",
@@ -377,14 +396,16 @@ def write_hrsc_ax_ortho(
 
     `input_path` is one `.pan` file, or the three channel files of a composite in band
     order (`.re .gr .bl`, `.cir_re .cir_gr .cir_bl`); they must share one grid.
+    `vicar_offsets`: how the tiles' MAP offsets count, as for write_hrsc_ax_dtm.
     """
     from .ortho import write_jp2_ortho
 
-    tile = read_tile(input_path, source_labels)
+    tile = read_tile(input_path, source_labels, vicar_offsets)
     if tile.kind == "DEM":
         raise PdsgenError(tile.paths[0], "is an HRSC-AX DEM; make it with `pdsgen dtm`")
     product_id = product_id or hrsc_ax.tile_product_id(tile.stem, tile.kind)
-    mission = dataclasses.replace(hrsc_ax.MISSION, ortho_description=ortho_description(tile))
+    mission = dataclasses.replace(hrsc_ax.MISSION, ortho_description=ortho_description(tile),
+                                  map_projection_note=hrsc_ax.VICAR_OFFSET_NOTES[vicar_offsets])
     with tile_vrt(tile, product_id) as vrt:
         return write_jp2_ortho(vrt, outdir, mission=mission, product_id=product_id, params=params,
                                value_range=value_range, gmljp2=gmljp2, version=version, overwrite=overwrite,

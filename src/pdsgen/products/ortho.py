@@ -377,6 +377,7 @@ def _label_context(
         "filter_name": filters[0] if bands == 1 else list(filters),
         "center_wavelength": _wavelengths(wavelengths, bands),
         "standard_parallels_na": mission.ortho_standard_parallels_na,
+        "map_projection_note": mission.map_projection_note,
         "stretch_namespace": mission.ortho_stretch_namespace,
         # The linear display stretch of the valid DNs (the release: 3 and 1021 for 10-bit data).
         "minimum_stretch": special.valid_min if bands == 1 else [special.valid_min] * bands,
