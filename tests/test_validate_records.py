@@ -69,3 +69,30 @@ def test_detached_label_judged_by_its_data_file(tmp_path, records_in_file, sever
 
 def test_objects_filling_the_records_are_not_reported(tmp_path):
     assert _rec_008(_attached(tmp_path, file_records=6, records_in_file=6)) == []
+
+
+def _severities(path, **options):
+    return [(f.severity, f.message) for f in validate_paths([path], **options).findings if f.rule == "REC-008"]
+
+
+def test_detached_label_without_its_data_file_is_a_warning_that_says_so(tmp_path):
+    """PDS3 permits records no object describes; without the file no reader can be shown misled."""
+    (tmp_path / "PRODUCT.LBL").write_bytes(_label(4, '("PRODUCT.DAT", 1)'))
+    found = _severities(tmp_path / "PRODUCT.LBL")
+    assert [s for s, _ in found] == ["warning"]
+    assert "could not be looked at (not found beside the label)" in found[0][1]
+
+
+@pytest.mark.parametrize("records_in_file", [7, 9])
+def test_labels_only_is_a_warning_whatever_the_file_holds(tmp_path, records_in_file):
+    path = _attached(tmp_path, file_records=8, records_in_file=records_in_file)
+    found = _severities(path, labels_only=True)
+    assert [s for s, _ in found] == ["warning"] and "(--labels-only)" in found[0][1]
+    assert [s for s, _ in _severities(path)] == ["error"]  # with the data looked at: as before
+
+
+def test_label_only_copy_of_an_attached_label_is_a_warning(tmp_path):
+    label = _label(7, "5")
+    (tmp_path / "COPY.IMG").write_bytes(label + b" " * (4 * RECORD - len(label)))  # the label, no data
+    found = _severities(tmp_path / "COPY.IMG")
+    assert [s for s, _ in found] == ["warning"] and "(a label-only copy)" in found[0][1]

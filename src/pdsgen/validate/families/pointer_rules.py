@@ -274,9 +274,11 @@ def check_records_accounted(ctx: FileContext) -> Iterator[Hit]:
     Checked only when every data object's size is known from its keywords. Records at the
     end that no object describes, in a file that really has them (RECORD_BYTES x
     FILE_RECORDS = its size), mislead no reader: genuine archives have such an end-of-file
-    record, so that is a warning. Where the file does not have them (or cannot be found),
-    the label's arithmetic is broken - a keyword (often LINES) was edited - and the data
-    cannot be where the label says: an error.
+    record, so that is a warning. Where the file does not have them, the label's arithmetic
+    is broken - a keyword (often LINES) was edited - and the data cannot be where the label
+    says: an error. Where the data file could not be looked at (absent, a label-only copy,
+    --labels-only) only the label is known, and PDS3 permits records no object describes:
+    a warning that says so.
     """
     records = _fixed_records(ctx)
     if records is None:
@@ -298,13 +300,20 @@ def check_records_accounted(ctx: FileContext) -> Iterator[Hit]:
     stmt = ctx.root.get("FILE_RECORDS")
     line = stmt.line if stmt else None
     gap = f"FILE_RECORDS = {fr} but the objects end in record {needed}: {fr - needed} records of {rb} bytes"
-    target = _record_file(ctx)
-    if target is not None and target[0] == rb * fr and not ctx.data_absent:
+    target = None if ctx.labels_only or ctx.data_absent else _record_file(ctx)
+    if target is None:
+        why = "--labels-only" if ctx.labels_only else \
+            "a label-only copy" if ctx.data_absent else "not found beside the label"
+        yield Hit(f"{gap} hold no described object; the data file could not be looked at ({why}), so "
+                  "whether it has them is unknown (PDS3 permits records no object describes)", line,
+                  "FILE_RECORDS", severity="warning")
+        return
+    if target[0] == rb * fr:
         yield Hit(f"{gap} at the end of {target[1]} hold no described object; the file has them "
                   f"({target[0]} bytes), so no reader is misled", line, "FILE_RECORDS", severity="warning")
         return
-    where = f" and {target[1]} has {target[0]} bytes, not {rb * fr}" if target is not None else ""
-    yield Hit(f"{gap} hold no described object{where} (an edited LINES?)", line, "FILE_RECORDS")
+    yield Hit(f"{gap} hold no described object and {target[1]} has {target[0]} bytes, not {rb * fr} "
+              "(an edited LINES?)", line, "FILE_RECORDS")
 
 
 _INCLUDES = ("STRUCTURE",)
@@ -402,5 +411,6 @@ register(
          check_uncompressed_records),
     Rule("REC-008", "error", "FILE_RECORDS no larger than the described objects need",
          check_records_accounted, note="warning where the file really has the undescribed records "
-         "at its end, RECORD_BYTES x FILE_RECORDS being its size: no reader misreads them"),
+         "at its end, RECORD_BYTES x FILE_RECORDS being its size: no reader misreads them; warning "
+         "where the data file could not be looked at (absent, label-only copy, --labels-only)"),
 )
