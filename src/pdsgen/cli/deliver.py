@@ -38,11 +38,13 @@ def deliver(directory, dialect, out, volume_id, bundle_lid) -> Outcome:
     if result.bundle_lid:
         lines.append(f"PDS4     bundle {result.bundle_lid}::{result.bundle_version}, "
                      f"{len(result.changed)} product(s) new or with a new version")
-    lines += [f"SKIPPED  {path} (belongs to no product)" for path in result.skipped]
     lines.append(f"CHECK    pdsgen validate {result.path}")
     summary = {"command": "deliver", "path": str(result.path), "dialect": result.dialect,
                "products": result.products, "previews": result.previews, "documents": result.documents,
                "files": result.files, "volume_id": result.volume_id, "bundle_lid": result.bundle_lid,
                "bundle_version": result.bundle_version, "changed": result.changed,
                "skipped": [str(p) for p in result.skipped]}
-    return Outcome(lines, summary)
+    where = "left where it is, outside the layout" if result.in_place else "not delivered"
+    unclaimed = tuple(f"{path}: no label names it and no Extras rule claims it; {where}"
+                      for path in result.skipped)
+    return Outcome(lines, summary, unclaimed)

@@ -25,7 +25,7 @@ from ..progress import advance
 from ..validate.model import Block
 from . import bundle, layout
 from .index import IndexWriter
-from .scan import DataProduct, SourceSet, label_value, read_pds3_label, scan
+from .scan import DataProduct, SourceSet, is_pds3_label, label_value, read_pds3_label, scan
 from .volume import VolumeFacts, aareadme_text, voldesc_text
 
 log = logging.getLogger(__name__)
@@ -45,7 +45,10 @@ class Delivery:
     documents: int = 0
     files: int = 0
     changed: list[str] = field(default_factory=list)  # PDS4 LIDVIDs new or re-versioned by this run
-    skipped: list[Path] = field(default_factory=list)  # source files that belong to no product
+    # Source files no label names and no Extras rule claims: not delivered, or (in place) left
+    # where they are; each is reported, never placed silently.
+    skipped: list[Path] = field(default_factory=list)
+    in_place: bool = False
     volume_id: str | None = None
     bundle_lid: str | None = None
     bundle_version: str | None = None
@@ -280,6 +283,7 @@ def _build(found: SourceSet, tree: _Tree, previous: _Previous, source: Path, in_
         data_members[product.product_id.upper()] = (product, relatives)
         done += 1
         advance(done, total, "products")
+    _place_support_files(tree, found)
     preview_paths = []
     for preview in found.previews:
         preview_paths.append((preview, f"{layout.EXTRAS_DIR}/{preview.name}"))
@@ -296,8 +300,7 @@ def _build(found: SourceSet, tree: _Tree, previous: _Previous, source: Path, in_
     if in_place:
         for other in found.others:
             tree.place(other, other.relative_to(source).as_posix())
-    else:
-        result.skipped = list(found.others)
+    result.skipped, result.in_place = list(found.others), in_place
     result.products, result.previews, result.documents = len(found.products), len(preview_paths), len(document_paths)
     if dialect in ("pds4", "both"):
         assert bundle_lid is not None
@@ -316,6 +319,20 @@ def _place_product_file(tree: _Tree, path: Path, product: DataProduct) -> str:
         return relative  # written by _write_bundle (with its bundle LID) or _carry_pds4_labels
     tree.place(path, relative)
     return relative
+
+
+def _place_support_files(tree: _Tree, found: SourceSet) -> None:
+    """Description, structure and catalog files the PDS3 labels name, once each however many
+    labels share one (a data file of a product is placed already): beside the labels in DATA/,
+    except catalog files with labels of their own (DSMAP.CAT), which go to CATALOG/ - where a
+    reader looks for them, and where the volume's checks do not take them for data products."""
+    placed = {f for product in found.products for f in product.files}
+    for product in found.products:
+        for path in product.support:
+            if path not in placed:
+                directory = layout.CATALOG_DIR if is_pds3_label(path) else layout.DATA_DIR
+                tree.place(path, f"{directory}/{path.name}")
+                placed.add(path)
 
 
 def _carry_pds4_labels(tree: _Tree, data_members: dict[str, tuple[DataProduct, list[str]]]) -> None:

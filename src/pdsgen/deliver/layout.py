@@ -14,6 +14,9 @@ DATA_DIR = "DATA"
 EXTRAS_DIR = "EXTRAS"
 INDEX_DIR = "INDEX"
 DOCUMENT_DIR = "DOCUMENT"
+# Catalog files (DSMAP.CAT ...) a product label points to: where a PDS3 reader looks for a
+# catalog pointer's file not beside the label (PDS3 Standards Reference, chapter 14).
+CATALOG_DIR = "CATALOG"
 INDEX_TABLE = "INDEX.TAB"
 INDEX_LABEL = "INDEX.LBL"
 VOLDESC = "VOLDESC.CAT"

@@ -1,8 +1,11 @@
 """Find the products of a directory and the files each one consists of.
 
-A data product is a PDS3 label (an attached-label .IMG, or a detached .LBL with the
-files its pointers name) and/or a PDS4 Product_Observational label (with the files it
-lists), grouped when they share a file or a name. Extras images (.jpg, .QLOOK.JP2)
+A data product is a PDS3 label (an attached-label .IMG, or a detached .LBL with every
+file beside it the label names: its pointers' files, the FILE_NAME of its COMPRESSED_FILE
+and UNCOMPRESSED_FILE objects, and the description, structure and catalog files its
+reference pointers name, which several labels may share) and/or a PDS4
+Product_Observational label (with the files it lists), grouped when they share a file
+or a name. Extras images (.jpg, .QLOOK.JP2)
 preview the data product whose PRODUCT_ID starts their name; README.TXT and JP2INFO.TXT
 are documents. Files a delivery writes itself (index, volume description, bundle,
 collection, browse and document labels, manifest) are recognised and made anew.
@@ -20,6 +23,7 @@ from ..errors import InputError
 from ..formats.sniff import file_head
 from ..missions.imars import is_metadata_name as is_imars_metadata
 from ..pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
+from ..validate.context import directory_listing, parse_pointer, resolve_beside
 from ..validate.lexer import parse_label
 from ..validate.model import Block
 from . import layout
@@ -64,20 +68,59 @@ def label_value(root: Block, keyword: str) -> str | None:
     return None
 
 
-def pointed_files(root: Block, directory: Path) -> list[str]:
-    """Names of the existing files beside the label that its data pointers name (every name
-    of a pointer to several files, {"A.H", "B.C"})."""
-    names: list[str] = []
+# Objects that name a file of the product by FILE_NAME rather than by a pointer (a HiRISE
+# orthoimage's JP2 is its label's COMPRESSED_FILE; PDS3 Standards Reference, chapter 5).
+_FILE_OBJECTS = ("COMPRESSED_FILE", "UNCOMPRESSED_FILE")
+
+
+@dataclass
+class NamedFiles:
+    """The files beside a PDS3 label that it names, by whether they are the product's own."""
+
+    data: list[Path] = field(default_factory=list)  # data pointers, COMPRESSED/UNCOMPRESSED_FILE
+    support: list[Path] = field(default_factory=list)  # ^DESCRIPTION, ^STRUCTURE, catalogs: shareable
+
+
+def named_files(root: Block, directory: Path, catalog: Path | None = None) -> NamedFiles:
+    """The existing files beside the label (found as the validator finds them, a name differing
+    only in case included) that the label names: every name of every pointer (a pointer to
+    several files, {"A.H", "B.C"}, names each) and each FILE_NAME of a COMPRESSED_FILE or
+    UNCOMPRESSED_FILE object. A file named as data and as support is data. A reference
+    pointer's file not beside the label is looked for in `catalog` (a volume's CATALOG/)."""
+    listings = {directory: directory_listing(directory)}
+
+    def find(where: Path, name: str) -> Path | None:
+        if where not in listings:
+            listings[where] = directory_listing(where)
+        exact, other = resolve_beside(where, listings[where], name.replace("\\", "/").rsplit("/", 1)[-1])
+        return exact or other
+
+    named = NamedFiles()
+
+    def add(name: str, into: list[Path]) -> None:
+        path = find(directory, name)
+        if path is None and into is named.support and catalog is not None:
+            path = find(catalog, name)
+        if path is not None and path not in named.data and path not in into:
+            into.append(path)
+
     for block in root.walk():
         for stmt in block.statements():
-            if not stmt.pointer:
-                continue
-            for value in stmt.value.scalars():
-                if value.kind in ("string", "ident") and not value.text.isdigit():
-                    name = value.text.replace("\\", "/").rsplit("/", 1)[-1]
-                    if (directory / name).is_file() and name not in names:
-                        names.append(name)
-    return names
+            if stmt.pointer:
+                pointer = parse_pointer(stmt)
+                for name in pointer.targets:
+                    add(name, named.support if pointer.is_reference else named.data)
+        file_name = block.text("FILE_NAME") if block.name.upper() in _FILE_OBJECTS else None
+        if file_name:
+            add(file_name, named.data)
+    named.support = [path for path in named.support if path not in named.data]
+    return named
+
+
+def pointed_files(root: Block, directory: Path) -> list[str]:
+    """Names of the existing files beside the label that its pointers name."""
+    named = named_files(root, directory)
+    return [path.name for path in [*named.data, *named.support]]
 
 
 @dataclass
@@ -88,6 +131,9 @@ class DataProduct:
     files: list[Path] = field(default_factory=list)
     pds3_label: Path | None = None
     pds4_label: Path | None = None
+    # Description, structure and catalog files its PDS3 label names: delivered beside the
+    # label, and possibly shared with other products.
+    support: list[Path] = field(default_factory=list)
 
 
 @dataclass
@@ -158,40 +204,61 @@ def scan(source: Path, on_pds3: LabelValues | None = None) -> SourceSet:
             pds4.append(path)
         elif is_imars_metadata(name):
             result.imars.append(path)
-        elif path.suffix.lower() == ".lbl" or _starts_like_pds3(path):
+        elif path.suffix.lower() == ".lbl" or is_pds3_label(path):
             pds3.append(path)
         else:
             candidates.append(path)
-    result.products = _group(pds3, pds4, on_pds3)
-    owned = {f for p in result.products for f in p.files}
+    result.products = _group(pds3, pds4, on_pds3, source / layout.CATALOG_DIR)
+    owned = {f for p in result.products for f in (*p.files, *p.support)}
     result.others = [p for p in candidates if p not in owned]
     return result
 
 
-def _starts_like_pds3(path: Path) -> bool:
+def is_pds3_label(path: Path) -> bool:
+    """A file that begins as a PDS3 label does (PDS_VERSION_ID, or an SFDU wrapper)."""
     head = file_head(path, 64) or b""
     return head.lstrip().upper().startswith((b"PDS_VERSION_ID", b"CCSD3"))
 
 
-def _group(pds3: list[Path], pds4: list[Path], on_pds3: LabelValues | None) -> list[DataProduct]:
+@dataclass
+class _Pds3Label:
+    """What a PDS3 label tells the delivery (the label's tree itself is not kept)."""
+
+    path: Path
+    product_id: str
+    values: dict[str, str | None]
+    named: NamedFiles
+
+
+def _read_pds3(label: Path, catalog: Path) -> _Pds3Label:
+    root = read_pds3_label(label)
+    if root is None:
+        raise InputError(label, "a .LBL file that is not a PDS3 label (no PDS_VERSION_ID)")
+    named = named_files(root, label.parent, catalog)
+    # ^DESCRIPTION = "JP2INFO.TXT", README.TXT: documents, delivered as such
+    named.data = [p for p in named.data if p != label and p.name.upper() not in _DOCUMENTS]
+    named.support = [p for p in named.support if p != label and p.name.upper() not in _DOCUMENTS]
+    return _Pds3Label(label, label_value(root, "PRODUCT_ID") or label.stem,
+                      {name: label_value(root, name) for name in KEPT_KEYWORDS}, named)
+
+
+def _group(pds3: list[Path], pds4: list[Path], on_pds3: LabelValues | None, catalog: Path) -> list[DataProduct]:
     products: list[DataProduct] = []
     by_file: dict[Path, DataProduct] = {}
     by_stem: dict[tuple[Path, str], DataProduct] = {}
-    for label in pds3:
-        root = read_pds3_label(label)
-        if root is None:
-            raise InputError(label, "a .LBL file that is not a PDS3 label (no PDS_VERSION_ID)")
-        product_id = label_value(root, "PRODUCT_ID") or label.stem
-        product = DataProduct(product_id, [label], label)
+    read = [_read_pds3(path, catalog) for path in pds3]
+    # A catalog or description file another label points to (DSMAP.CAT) is that label's
+    # support, even where it has a PDS3 label of its own: not a data product.
+    support = {path for one in read for path in one.named.support}
+    for one in read:
+        if one.path in support:
+            continue
+        product = DataProduct(one.product_id, [one.path, *one.named.data], one.path, support=one.named.support)
         if on_pds3 is not None:
-            on_pds3(product, {name: label_value(root, name) for name in KEPT_KEYWORDS})
-        for name in pointed_files(root, label.parent):
-            member = label.parent / name
-            if member != label and name.upper() not in _DOCUMENTS:  # ^DESCRIPTION = "JP2INFO.TXT": a document
-                product.files.append(member)
-        _claim(product, by_file, label)
+            on_pds3(product, one.values)
+        _claim(product, by_file, one.path)
         products.append(product)
-        by_stem[(label.parent, label.stem.upper())] = product
+        by_stem[(one.path.parent, one.path.stem.upper())] = product
     for label in pds4:
         if _PRODUCT_CLASS.search(file_head(label, 4096) or b"") is None:
             continue  # some other XML file: not a PDS4 label

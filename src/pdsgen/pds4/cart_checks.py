@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from lxml import etree
 
-from ..validate.geojp2 import Jp2Error, read_jp2
+from ..validate.geojp2 import Jp2Error, grid_terms, read_jp2
 from ..validate.projection import Sphere, boundary
 from .label_tree import C, P, Report, data_path, file_areas, number
 
@@ -178,8 +178,11 @@ def check_encoded_jp2(report: Report, tree: etree._ElementTree) -> None:
         if georef is None:
             report.add("PDS4-040", f"{path.name} has no GeoJP2 box", encoded.sourceline)
             continue
-        for name, stated, found in (("upperleft_corner_x", cart.ulx, georef.ulx),
-                                    ("upperleft_corner_y", cart.uly, georef.uly),
+        # cart: corners count from the projection's natural origin (no false easting or
+        # northing in its projection classes); the GeoJP2 grid's may carry one (UTM)
+        _, east, north = grid_terms(georef.keys)
+        for name, stated, found in (("upperleft_corner_x", cart.ulx, georef.ulx - east),
+                                    ("upperleft_corner_y", cart.uly, georef.uly - north),
                                     ("pixel_resolution_x", cart.resolution_x, georef.xres)):
             if not math.isclose(stated, found, rel_tol=1e-9, abs_tol=1e-6 * cart.resolution_x):
                 report.add("PDS4-040", f"cart:{name} = {stated:.10g} but the GeoJP2 box of {path.name} "

@@ -56,6 +56,22 @@ class Jp2Info:
     georefs: list[Georef]
 
 
+def grid_terms(keys: dict[int, object]) -> tuple[float, float, float]:
+    """(scale factor, false easting, false northing) of a Transverse Mercator GeoKey set: its
+    own parameters, or those of the UTM zone its ProjectionGeoKey (3074) names (EPSG 16001-16060
+    north, 16101-16160 south: scale 0.9996, false easting 500 km, false northing 0 or 10,000 km)."""
+    code = keys.get(PROJECTION_CODE)
+    if isinstance(code, int) and (16001 <= code <= 16060 or 16101 <= code <= 16160):
+        return 0.9996, 500000.0, 0.0 if code <= 16060 else 10000000.0
+
+    def value(key: int, default: float) -> float:
+        found = keys.get(key)
+        return float(found) if isinstance(found, (int, float)) else default
+
+    return (value(PROJ_SCALE_AT_NAT_ORIGIN, 1.0), value(PROJ_FALSE_EASTING, 0.0),
+            value(PROJ_FALSE_NORTHING, 0.0))
+
+
 class Jp2Error(Exception):
     """The file is not a JP2 that can be read."""
 

@@ -20,15 +20,12 @@ from ..geojp2 import (
     PROJ_CENTER_LAT,
     PROJ_CENTER_LONG,
     PROJ_COORD_TRANS,
-    PROJ_FALSE_EASTING,
-    PROJ_FALSE_NORTHING,
     PROJ_NAT_ORIGIN_LONG,
-    PROJ_SCALE_AT_NAT_ORIGIN,
     PROJ_STD_PARALLEL1,
     PROJ_STRAIGHT_VERT_POLE_LONG,
-    PROJECTION_CODE,
     Jp2Error,
     Jp2Info,
+    grid_terms,
     read_jp2,
 )
 from ..model import Block, Hit
@@ -147,7 +144,7 @@ def check_geotransform(ctx: FileContext) -> Iterator[Hit]:
     folds = normalise(map_block.text("MAP_PROJECTION_TYPE") or "") == "TRANSVERSE_MERCATOR" \
         if map_block is not None else False
     for ref in info.georefs:
-        k, east, north = _grid_terms(ref.keys) if folds else (1.0, 0.0, 0.0)
+        k, east, north = grid_terms(ref.keys) if folds else (1.0, 0.0, 0.0)
         # A TM label carries the grid's scale factor and false origin folded into MAP_SCALE and
         # the offsets (PDS3 has no keywords for them): compare the JP2's grid in those terms.
         ref_ulx, ref_uly = (ref.ulx - east) / k, (ref.uly - north) / k
@@ -165,22 +162,6 @@ def check_geotransform(ctx: FileContext) -> Iterator[Hit]:
                 line,
                 "SAMPLE_PROJECTION_OFFSET",
             )
-
-
-def _grid_terms(keys: dict[int, object]) -> tuple[float, float, float]:
-    """(scale factor, false easting, false northing) of a Transverse Mercator GeoKey set: its
-    own parameters, or those of the UTM zone its ProjectionGeoKey (3074) names (EPSG 16001-16060
-    north, 16101-16160 south: scale 0.9996, false easting 500 km, false northing 0 or 10,000 km)."""
-    code = keys.get(PROJECTION_CODE)
-    if isinstance(code, int) and (16001 <= code <= 16060 or 16101 <= code <= 16160):
-        return 0.9996, 500000.0, 0.0 if code <= 16060 else 10000000.0
-
-    def value(key: int, default: float) -> float:
-        found = keys.get(key)
-        return float(found) if isinstance(found, (int, float)) else default
-
-    return (value(PROJ_SCALE_AT_NAT_ORIGIN, 1.0), value(PROJ_FALSE_EASTING, 0.0),
-            value(PROJ_FALSE_NORTHING, 0.0))
 
 
 def _center_longitude(keys: dict[int, object]) -> float | None:
