@@ -22,6 +22,12 @@ def product_stem(base: str, kind: str) -> str:
     return f"{base}_{kind}4_ucl"
 
 
+def mosaic_stem(product_id: str, product_type: str) -> str:
+    """A mosaic of strips, named as the iMars mosaics are: `sprc_mosaic` + DTM -> `sprc_mosaic_dtm`
+    (`_ori` for the orthoimage); its footprint is `<ID>.geojson` like a strip's."""
+    return f"{product_id}_{PRODUCT_TYPES[product_type][1].lower()}"
+
+
 def metadata_name(product_id: str) -> str:
     """The metadata file of a product: `<ProductId>_ucl.pvl`."""
     return f"{product_id}{METADATA_SUFFIX}"
