@@ -241,3 +241,26 @@ def test_memory_stays_flat_as_inputs_grow(tmp_path):
         peaks[count] = int(probe.stdout.strip())
     assert peaks[24] <= 1.1 * peaks[6] + 2**20, peaks
     assert peaks[24] < 24 * 2 ** 20, peaks  # the mosaic itself: 77 MB of float32
+
+
+def test_a_mosaic_job_in_a_batch_takes_the_strips_its_after_jobs_made(tmp_path):
+    """[[dtm]] strips, then a [[mosaic]] of their products (no inputs of its own: the products
+    of the jobs it follows), then [[validate]] of it, on a real Dask cluster."""
+    strips = make_strips(tmp_path, "float32", count=3)
+    dtm_jobs = "".join(f'[[dtm]]\nid = "strip{n}"\ninput = "{path}"\nproduct_id = "STRIP_{n}"\n\n'
+                       for n, path in enumerate(strips))
+    manifest = tmp_path / "batch.toml"
+    manifest.write_text(
+        '[batch]\noutdir = "out"\n\n' + dtm_jobs
+        + '[[mosaic]]\nid = "all"\nafter = ["strip0", "strip1", "strip2"]\nproduct_id = "ALL_STRIPS"\n'
+          'outdir = "mosaic"\n\n'
+          '[[validate]]\nafter = ["all"]\nformat = "json"\noutput = "reports/all.json"\n', encoding="utf-8")
+    result = run_cli("batch", manifest, "--workers", "1", "-q")
+    assert result.returncode == 0, result.stdout + result.stderr
+    report = json.loads((tmp_path / "out" / "reports" / "all.json").read_text())
+    assert report["summary"]["errors"] == 0
+    reference, ref_transform, _ = read(gdal_merge(strips, FLOAT_ND, tmp_path / "merged.tif"))
+    heights, transform, missing = read(tmp_path / "out" / "mosaic" / "ALL_STRIPS.IMG")
+    assert transform == ref_transform
+    assert np.array_equal(heights == missing, reference == FLOAT_ND)
+    assert np.array_equal(heights[reference != FLOAT_ND], reference[reference != FLOAT_ND])
