@@ -264,3 +264,32 @@ def test_a_mosaic_job_in_a_batch_takes_the_strips_its_after_jobs_made(tmp_path):
     assert transform == ref_transform
     assert np.array_equal(heights == missing, reference == FLOAT_ND)
     assert np.array_equal(heights[reference != FLOAT_ND], reference[reference != FLOAT_ND])
+
+
+def test_hrsc_ax_tiles_become_one_area_product_equal_to_merging_their_own_products(tmp_path):
+    """Two adjacent HRSC-AX DEM tiles (VICAR, written by the tests' own writer) read by the
+    HRSC-AX reader: the mosaic equals gdal_merge.py of the two tiles' own `pdsgen dtm` products."""
+    from hrsc_ax_tiles import dtm_group, map_group, tile_name, write_vicar
+
+    lines, samples, pixel = 40, 48, 0.5
+    tiles = []
+    for index, east in enumerate((430000.0, 430000.0 + samples * pixel - 4 * pixel)):  # overlapping by 4
+        stored = (np.arange(lines * samples, dtype=np.float32).reshape(lines, samples) * (index + 1)) % 997
+        stored[3 + index, 7] = -32768.0
+        tiles.append(write_vicar(tmp_path / f"{tile_name(430 + index, 8765, lines, pixel)}.dsm", stored, {
+            "MAP": map_group(east, 8765000.0, pixel),
+            "DIGITAL_TERRAIN_MODEL": dtm_group(100.0, 0.25, -500.0, 2000.0)}))
+    singles = []
+    for index, tile in enumerate(tiles):
+        made = run_cli("dtm", tile, "-o", tmp_path / f"single{index}", "--profile", "hrsc-ax")
+        assert made.returncode == 0, made.stderr
+        singles.append(next((tmp_path / f"single{index}").glob("*.IMG")))
+    with rasterio.open(singles[0]) as first:
+        nodata = float(first.nodata)
+    reference, ref_transform, _ = read(gdal_merge(singles, nodata, tmp_path / "merged.tif"))
+    result = run_cli("mosaic", *tiles, "-o", tmp_path / "area", "--profile", "hrsc-ax", "--product-id", "HRSCAX_AREA")
+    assert result.returncode == 0, result.stderr
+    heights, transform, missing = read(tmp_path / "area" / "HRSCAX_AREA.IMG")
+    assert transform == ref_transform and heights.shape == (lines, 2 * samples - 4)
+    assert np.array_equal(heights == missing, reference == nodata)
+    assert np.array_equal(heights[reference != nodata], reference[reference != nodata])

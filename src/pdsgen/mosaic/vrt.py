@@ -24,10 +24,11 @@ from ..errors import PdsgenError
 from .plan import MosaicPlan, Placement, Window2
 
 
-def vrt_text(plan: MosaicPlan, nodata: float) -> str:
-    """The VRT XML of `plan` with `nodata` as the value that is both transparent and the fill."""
+def vrt_text(plan: MosaicPlan, nodata: float, dtype: str | None = None) -> str:
+    """The VRT XML of `plan` with `nodata` as the value that is both transparent and the fill,
+    samples of `dtype` (default: the first input's, as gdal_merge.py's output)."""
     t = plan.transform
-    data_type = _gdal_typename(np.dtype(plan.dtype).name)
+    data_type = _gdal_typename(np.dtype(dtype or plan.dtype).name)
     bands = []
     for band in range(1, plan.band_count + 1):
         scaling = (f"<Offset>{plan.offset!r}</Offset><Scale>{plan.scale!r}</Scale>"
@@ -65,7 +66,7 @@ def _number(value: float) -> str:
 
 
 @contextmanager
-def mosaic_vrt(plan: MosaicPlan, nodata: float, name: str) -> Iterator[Path]:
+def mosaic_vrt(plan: MosaicPlan, nodata: float, name: str, dtype: str | None = None) -> Iterator[Path]:
     """The plan's VRT as `name`.vrt in a private temporary directory, removed afterwards.
 
     A problem a writer reports about the VRT (no valid pixels, unreadable data) is the
@@ -73,7 +74,7 @@ def mosaic_vrt(plan: MosaicPlan, nodata: float, name: str) -> Iterator[Path]:
     """
     with tempfile.TemporaryDirectory(prefix="pdsgen-mosaic-") as tmp:
         path = Path(tmp) / f"{name}.vrt"
-        path.write_text(vrt_text(plan, nodata), encoding="utf-8")
+        path.write_text(vrt_text(plan, nodata, dtype), encoding="utf-8")
         try:
             yield path
         except PdsgenError as exc:

@@ -60,9 +60,26 @@ def write_mosaic(
         plan = plan_mosaic(described, order, resampling)
         fill = _nodata(plan, nodata)
         statement = _statement(plan, order)
-        vrt = stack.enter_context(mosaic_vrt(plan, fill, product_id))
+        vrt = stack.enter_context(mosaic_vrt(plan, fill, product_id, _presented_dtype(plan, profile)))
         writer_options = {k: v for k, v in options.items() if not (profile == "hrsc-ax" and k == "source_labels")}
         return _write(plan, vrt, Path(outdir), profile, product_id, statement, writer_options)
+
+
+# Sample types a float32 holds exactly: a mosaic of them read as float32 has gdal_merge.py's values.
+_EXACT_IN_FLOAT32 = ("uint8", "int8", "uint16", "int16", "float32")
+
+
+def _presented_dtype(plan: MosaicPlan, profile: str) -> str | None:
+    """float32 for the float32 PDS3 DTM when every input converts exactly, else the inputs' own.
+
+    The DTM writer stores float32 anyway; reading float32 lets it take its float32 path (fewer
+    passes, strips of a quarter the lines of int16 ones), so the mosaic is faster and smaller."""
+    own_form = get_mission(profile).writer("dtm") is not None  # hrsc, imars: 16-bit forms of their own
+    uniform = all(i.dtype == plan.dtype for i in plan.inputs)
+    if plan.kind == "dtm" and (profile == "hrsc-ax" or not own_form) and uniform \
+            and plan.dtype in _EXACT_IN_FLOAT32 and (plan.scale, plan.offset) == (1.0, 0.0):
+        return "float32"
+    return None
 
 
 def _nodata(plan: MosaicPlan, nodata: float | None) -> float:
