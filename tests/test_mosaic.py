@@ -293,3 +293,21 @@ def test_hrsc_ax_tiles_become_one_area_product_equal_to_merging_their_own_produc
     assert transform == ref_transform and heights.shape == (lines, 2 * samples - 4)
     assert np.array_equal(heights == missing, reference == nodata)
     assert np.array_equal(heights[reference != nodata], reference[reference != nodata])
+
+
+def test_imars_strips_with_a_scale_mosaic_to_the_same_heights(tmp_path):
+    """Strips storing heights as DN * 0.5 + 0 (as an iMars strip of 0.5 m precision does): the
+    mosaic's heights are gdal_merge.py's DNs times that scale, and it keeps the precision."""
+    strips = make_strips(tmp_path, "int16", count=3)
+    for strip in strips:
+        with rasterio.open(strip, "r+") as dataset:
+            dataset.scales = (0.5,)
+            dataset.units = ("m",)
+    reference, _, _ = read(gdal_merge(strips, -32768, tmp_path / "merged.tif"))
+    product = write_mosaic(strips, tmp_path / "out", profile="imars", product_id="scaled")
+    with rasterio.open(product.tiff_path) as dataset:
+        dn, scale, offset = dataset.read(1), dataset.scales[0], dataset.offsets[0]
+    assert scale == 0.5
+    valid = reference != -32768
+    assert np.array_equal(dn == -32768, ~valid)
+    assert np.array_equal(dn[valid] * scale + offset, reference[valid] * 0.5)

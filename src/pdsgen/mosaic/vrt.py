@@ -29,20 +29,25 @@ def vrt_text(plan: MosaicPlan, nodata: float, dtype: str | None = None) -> str:
     samples of `dtype` (default: the first input's, as gdal_merge.py's output)."""
     t = plan.transform
     data_type = _gdal_typename(np.dtype(dtype or plan.dtype).name)
+    # Heights stored as DNs with a scale or offset are presented as the heights the DTM writers
+    # expect (float32), each source's no-data DN still transparent (NODATA applies before scaling);
+    # an image's DNs stay DNs, its scale and offset carried as the band's.
+    scaled = (plan.scale, plan.offset) != (1.0, 0.0)
+    heights = scaled and plan.kind == "dtm"
+    scaling = f"<ScaleOffset>{plan.offset!r}</ScaleOffset><ScaleRatio>{plan.scale!r}</ScaleRatio>" if heights else ""
+    band_scaling = f"<Offset>{plan.offset!r}</Offset><Scale>{plan.scale!r}</Scale>" if scaled and not heights else ""
     bands = []
     for band in range(1, plan.band_count + 1):
-        scaling = (f"<Offset>{plan.offset!r}</Offset><Scale>{plan.scale!r}</Scale>"
-                   if (plan.scale, plan.offset) != (1.0, 0.0) else "")
-        sources = "".join(_source(p, band, nodata, plan.resampling) for p in plan.placements)
-        bands.append(f'<VRTRasterBand dataType="{data_type}" band="{band}">'
-                     f"<NoDataValue>{_number(nodata)}</NoDataValue>{scaling}{sources}</VRTRasterBand>")
+        sources = "".join(_source(p, band, nodata, plan.resampling, scaling) for p in plan.placements)
+        bands.append(f'<VRTRasterBand dataType="{"Float32" if heights else data_type}" band="{band}">'
+                     f"<NoDataValue>{_number(nodata)}</NoDataValue>{band_scaling}{sources}</VRTRasterBand>")
     return (f'<VRTDataset rasterXSize="{plan.width}" rasterYSize="{plan.height}">'
             f"<SRS>{escape(plan.crs.to_wkt())}</SRS>"
             f"<GeoTransform>{t.c!r}, {t.a!r}, 0.0, {t.f!r}, 0.0, {t.e!r}</GeoTransform>"
             + "".join(bands) + "</VRTDataset>")
 
 
-def _source(placement: Placement, band: int, nodata: float, resampling: str | None) -> str:
+def _source(placement: Placement, band: int, nodata: float, resampling: str | None, scaling: str) -> str:
     source = placement.source
     props = (f'<SourceProperties RasterXSize="{source.width}" RasterYSize="{source.height}" '
              f'DataType="{_gdal_typename(np.dtype(source.dtype).name)}"/>')
@@ -51,7 +56,7 @@ def _source(placement: Placement, band: int, nodata: float, resampling: str | No
             f'<SourceFilename relativeToVRT="0">{escape(str(source.path.resolve()))}</SourceFilename>'
             f"<SourceBand>{band}</SourceBand>{props}"
             f"<SrcRect {_rect(placement.source_window)}/><DstRect {_rect(placement.target_window)}/>"
-            f"<NODATA>{_number(nodata)}</NODATA></ComplexSource>")
+            f"<NODATA>{_number(nodata)}</NODATA>{scaling}</ComplexSource>")
 
 
 def _rect(window: Window2) -> str:

@@ -149,6 +149,8 @@ def _write_imars(plan: MosaicPlan, vrt: Path, outdir: Path, product_id: str, sta
     """`<ID>_dtm.tif` / `<ID>_ori.tif` with the PVL naming the strips and their footprints."""
     from ..products.imars import ImarsMosaic, write_imars_dtm, write_imars_ori
 
+    if plan.kind == "dtm" and plan.scale != 1.0:  # the strips' own precision unless told otherwise
+        options = {"precision": plan.scale, **options}
     mosaic = ImarsMosaic(product_id, tuple(_outlines(plan)), statement)
     writer = functools.partial(write_imars_dtm if plan.kind == "dtm" else write_imars_ori, mosaic=mosaic)
     return call_mission_writer(writer, "imars", vrt, outdir, {"source_product_ids": _source_ids(plan), **options})
