@@ -1,11 +1,13 @@
 """Benchmark `pdsgen mosaic` against gdal_merge.py and gdalbuildvrt + gdal_translate.
 
-Usage: python bench/mosaic.py [--strips 33] [--lines 6000] [--samples 1500] [--repeat 1]
+Usage: python bench/mosaic.py [--strips 33] [--lines 6000] [--samples 1500] [--repeat 2]
 
 Makes STRIPS int16 DTM strips (LINES x SAMPLES posts, no-data -32768, ragged edges) on a
 south polar stereographic grid, laid out like the iMars south-polar strips: 11 columns of
 3 rows, overlapping (33 strips of 6,000 x 1,500 give a 17,800 x 15,300 mosaic). Then,
-each run after its previous outputs are removed, a sync and a pause (bench/_measure.py):
+the commands run in turn, --repeat times (so a change in the machine's load falls on all), each
+run after its previous outputs are removed, a sync and a pause (bench/_measure.py); the best
+run of each is compared:
 
 - `pdsgen mosaic --profile generic` -> the PDS3 .IMG DTM (float32, label, statistics);
 - `gdal_merge.py -n -32768 -a_nodata -32768 -init -32768` -> an int16 GeoTIFF;
@@ -87,7 +89,7 @@ def main() -> None:
     parser.add_argument("--strips", type=int, default=33)
     parser.add_argument("--lines", type=int, default=6000)
     parser.add_argument("--samples", type=int, default=1500)
-    parser.add_argument("--repeat", type=int, default=1)
+    parser.add_argument("--repeat", type=int, default=2)
     args = parser.parse_args()
     for tool in ("gdal_merge.py", "gdalbuildvrt", "gdal_translate"):
         if shutil.which(tool) is None:
@@ -97,13 +99,21 @@ def main() -> None:
         strips = [str(p) for p in make_strips(work, args.strips, args.lines, args.samples)]
         out, merged, vrt, translated = work / "out", work / "merged.tif", work / "all.vrt", work / "translated.tif"
         nd = str(NODATA)
-        ours = best_of([sys.executable, "-m", "pdsgen", "mosaic", *strips, "-o", str(out), "--kind", "dtm",
-                        "--product-id", "BENCH_MOSAIC", "-q"], args.repeat, [str(out)])
-        merge = best_of(["gdal_merge.py", "-q", "-o", str(merged),
-                         "-n", nd, "-a_nodata", nd, "-init", nd, *strips], args.repeat, [str(merged)])
-        build = best_of(["gdalbuildvrt", "-q", "-srcnodata", nd, "-vrtnodata", nd, str(vrt), *strips],
-                        args.repeat, [str(vrt)])
-        translate = best_of(["gdal_translate", "-q", str(vrt), str(translated)], args.repeat, [str(translated)])
+        commands = {
+            "ours": ([sys.executable, "-m", "pdsgen", "mosaic", *strips, "-o", str(out), "--kind", "dtm",
+                      "--product-id", "BENCH_MOSAIC", "-q"], [str(out)]),
+            "merge": (["gdal_merge.py", "-q", "-o", str(merged), "-n", nd, "-a_nodata", nd, "-init", nd, *strips],
+                      [str(merged)]),
+            "build": (["gdalbuildvrt", "-q", "-srcnodata", nd, "-vrtnodata", nd, str(vrt), *strips], [str(vrt)]),
+            "translate": (["gdal_translate", "-q", str(vrt), str(translated)], [str(translated)]),
+        }
+        runs: dict[str, list[Run]] = {name: [] for name in commands}
+        for _ in range(args.repeat):  # alternating, so a change in the machine's load falls on all
+            for name, (command, outputs) in commands.items():
+                runs[name].append(best_of(command, 1, outputs))
+                print(f"  run {name}: {runs[name][-1].seconds:.2f} s, {runs[name][-1].peak_mb:.0f} MB "
+                      f"(load {os.getloadavg()[0]:.1f})", flush=True)
+        ours, merge, build, translate = (min(runs[n], key=lambda r: r.seconds) for n in commands)
         both = Run(build.seconds + translate.seconds, max(build.peak_mb, translate.peak_mb),
                    build.cpu_seconds + translate.cpu_seconds)
         with rasterio.open(merged) as dataset:
