@@ -137,6 +137,8 @@ def test_imars_mosaic_equals_gdal_merge_with_pvl_naming_its_sources(imars_mosaic
         assert metadata["Image"]["Samples"] == reference.shape[1]
         assert metadata["Image"]["MosaicSourceCount"] == len(strips)
         assert "without resampling" in metadata["Image"]["MosaicMethod"]
+    result = run_cli("validate", tmp_path / "out")
+    assert result.returncode == 0 and " 0 error(s), 0 warning(s)" in result.stdout, result.stdout
 
 
 def test_imars_footprint_has_one_polygon_per_source_inside_the_mosaic(imars_mosaic):
@@ -165,6 +167,10 @@ def test_imars_footprint_has_one_polygon_per_source_inside_the_mosaic(imars_mosa
         assert min(ys) >= bottom - slack and max(ys) <= top + slack
     collection = json.loads((tmp_path / "out" / "sprc_mosaic.geojson").read_text())
     assert sorted(f["id"] for f in collection["features"]) == expected
+    collection["features"] = [f for f in collection["features"] if f["id"] != dtm_strips[1].stem]
+    (tmp_path / "out" / "sprc_mosaic.geojson").write_text(json.dumps(collection))
+    result = run_cli("validate", dtm.pvl_path)
+    assert result.returncode == 1 and "IMARS-011" in result.stdout and dtm_strips[1].stem in result.stdout
 
 
 def test_cli_mosaic_and_resampling_is_stated(tmp_path):

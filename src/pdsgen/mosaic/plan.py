@@ -108,13 +108,15 @@ def describe_input(path: str | os.PathLike[str], kind: str | None = None, shown:
     with open_raster(path) as dataset:  # the one-line refusal of an unreadable file
         facts = (dataset.crs, dataset.transform, dataset.width, dataset.height, dataset.dtypes[0],
                  dataset.count, dataset.nodata, float(dataset.scales[0]), float(dataset.offsets[0]))
+        tagged_id = dataset.tags().get("PRODUCT_ID", "").strip()  # an iMars strip's GeoTIFF names itself
     source = open_product(path, kind)
     crs, transform, width, height, dtype, count, nodata, scale, offset = facts
+    product_id = source.product_id if source.label_path is not None or not tagged_id else tagged_id
     if crs is None or transform.is_identity:
         raise InputError(path, "has no map projection; a mosaic places inputs by their georeferencing")
     if transform.b or transform.d:
         raise InputError(path, "has a rotated grid; a mosaic needs north-up grids")
-    return MosaicInput(Path(path), source.product_id, source.kind, crs, transform, width, height, dtype, count,
+    return MosaicInput(Path(path), product_id, source.kind, crs, transform, width, height, dtype, count,
                        nodata, scale, offset, shown)
 
 

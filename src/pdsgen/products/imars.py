@@ -79,7 +79,7 @@ def _pvl_mosaic(mosaic: ImarsMosaic | None) -> dict[str, Any]:
     """The Image keywords that say a product is a mosaic, and of what."""
     if mosaic is None:
         return {}
-    return {"MosaicSourceCount": len(mosaic.features), "MosaicMethod": mosaic.statement}
+    return {imars_mission.MOSAIC_KEYWORD: len(mosaic.features), "MosaicMethod": mosaic.statement}
 
 
 def _footprint_features(mosaic: ImarsMosaic | None, product_id: str, polygons, properties) -> list[Feature]:
@@ -137,7 +137,7 @@ def write_imars_dtm(
             raise PdsgenError(input_path, "has no valid pixels (all nodata)")
         encoding = choose_encoding(physical, precision, str(input_path))
         out = prepare_output_dir(outdir)
-        tiff, metadata = out / f"{stem}.tif", out / f"{stem}.pvl"
+        tiff, metadata = out / f"{stem}.tif", out / imars_mission.metadata_name(ident)
         facts = imars_facts(ident, "DTM", keywords, geometry.target_name or "MARS")
         tags = _processing_tags(ident, _DTM_DESCRIPTIONS[kind], encoding.scaling_factor,
                                 encoding.offset, MISSING_DN, keywords, sources, facts)
@@ -237,7 +237,7 @@ def write_imars_ori(
 
         encode = dn_encoder(mapping, str(input_path))
         out = prepare_output_dir(outdir)
-        tiff, metadata = out / f"{stem}.tif", out / f"{stem}.pvl"
+        tiff, metadata = out / f"{stem}.tif", out / imars_mission.metadata_name(ident)
         facts = imars_facts(ident, "ORI", keywords, geometry.target_name or "MARS")
         tags = _processing_tags(ident, "ORTHOIMAGE", mapping.scaling_factor, mapping.offset,
                                 special.null, keywords, sources, facts)
