@@ -317,3 +317,16 @@ def test_imars_strips_with_a_scale_mosaic_to_the_same_heights(tmp_path):
     valid = reference != -32768
     assert np.array_equal(dn == -32768, ~valid)
     assert np.array_equal(dn[valid] * scale + offset, reference[valid] * 0.5)
+
+
+def test_extras_and_deliver_take_a_mosaic_like_any_product(tmp_path):
+    strips = make_strips(tmp_path, "int16", count=3)
+    assert run_cli("mosaic", *strips, "--kind", "dtm", "--product-id", "SITE_MOSAIC", "-o",
+                   tmp_path / "products").returncode == 0
+    extras = run_cli("extras", tmp_path / "products" / "SITE_MOSAIC.IMG", "-o", tmp_path / "products", "-q")
+    assert extras.returncode == 0, extras.stderr
+    delivered = run_cli("deliver", tmp_path / "products", "--volume-id", "MOSAIC_0001", "-o", tmp_path / "vol", "-q")
+    assert delivered.returncode == 0, delivered.stderr
+    checked = run_cli("validate", tmp_path / "vol")
+    assert checked.returncode == 0 and " 0 error(s)" in checked.stdout, checked.stdout
+    assert (tmp_path / "vol" / "DATA" / "SITE_MOSAIC.IMG").exists()

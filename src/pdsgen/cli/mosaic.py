@@ -62,7 +62,7 @@ def mosaic(ctx, inputs, outdir, profile, product_id, kind, order, resampling, no
     into one product in OUTDIR: later inputs lie on top, no-data never covers data, the grid
     is the union of the inputs' - pixel for pixel what `gdal_merge.py -n ND -a_nodata ND
     -init ND` makes. generic/hirise/hrsc: the PDS3 .IMG DTM or JP2 orthoimage (PDS4 with
-    --label) naming its sources; imars: <ID>_dtm.tif or <ID>_ori.tif with its .pvl and a
+    --label) naming its sources; imars: <ID>_dtm.tif or <ID>_ori.tif with its _ucl.pvl and a
     footprint (<ID>.geojson + Shapefile) of every source; hrsc-ax: VICAR tiles (.dsm or .pan)
     as one area product."""
     used = USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"])

@@ -73,7 +73,7 @@ def _presented_dtype(plan: MosaicPlan, profile: str) -> str | None:
     """float32 for the float32 PDS3 DTM when every input converts exactly, else the inputs' own.
 
     The DTM writer stores float32 anyway; reading float32 lets it take its float32 path (fewer
-    passes, strips of a quarter the lines of int16 ones), so the mosaic is faster and smaller."""
+    passes, strips of half the lines of int16 ones), so the mosaic is faster and smaller."""
     own_form = get_mission(profile).writer("dtm") is not None  # hrsc, imars: 16-bit forms of their own
     uniform = all(i.dtype == plan.dtype for i in plan.inputs)
     if plan.kind == "dtm" and (profile == "hrsc-ax" or not own_form) and uniform \
