@@ -5,6 +5,8 @@ back by GDAL, OGR, pyshp and pvl; refusals in one line with nothing written."""
 from __future__ import annotations
 
 import json
+import re
+import shlex
 import shutil
 import subprocess
 import sys
@@ -330,3 +332,33 @@ def test_extras_and_deliver_take_a_mosaic_like_any_product(tmp_path):
     checked = run_cli("validate", tmp_path / "vol")
     assert checked.returncode == 0 and " 0 error(s)" in checked.stdout, checked.stdout
     assert (tmp_path / "vol" / "DATA" / "SITE_MOSAIC.IMG").exists()
+
+
+def test_the_readme_examples_run_as_written(tmp_path):
+    """README "Mosaics": each `pdsgen mosaic` line, run by the shell (its globs) on inputs made
+    as a user would have them: iMars strips and site DTMs made by pdsgen, HRSC-AX tiles."""
+    from hrsc_ax_tiles import dtm_group, map_group, write_vicar
+
+    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    body = text.split("## Mosaics\n", 1)[1].split("\n## ", 1)[0]
+    examples = [line for block in re.findall(r"```sh\n(.*?)```", body, re.S)
+                for line in block.splitlines() if line.startswith("pdsgen ")]
+    assert len(examples) == 4
+    heights, images = make_strips(tmp_path, "float32", count=3), make_strips(tmp_path, "uint8", count=3)
+    made = [(command, path, "--profile", "imars", "--product-id", f"h{1000 + n}_0000")
+            for command, paths in (("dtm", heights), ("ortho", images)) for n, path in enumerate(paths)]
+    made += [("dtm", path, "--product-id", f"SITE_{'ABC'[n]}") for n, path in enumerate(heights)]
+    for command, *args in made:
+        result = run_cli(command, *args, "-o", tmp_path)
+        assert result.returncode == 0, result.stderr
+    for east in (430, 435):
+        write_vicar(tmp_path / f"{east}-8765_5.0x5.0km.dsm", np.full((50, 50), 7.0, np.float32),
+                    {"MAP": map_group(east * 1000.0, 8765000.0, 100.0),
+                     "DIGITAL_TERRAIN_MODEL": dtm_group(0.0, 1.0, -500.0, 2000.0)})
+    for example in examples:
+        command = f"{shlex.quote(sys.executable)} -m {example}"
+        result = subprocess.run(command, shell=True, cwd=tmp_path, capture_output=True, text=True, timeout=300)
+        assert result.returncode == 0, f"{example}\n{result.stderr}"
+    written = {p.name for p in (tmp_path / "out").iterdir()}
+    assert {"sprc_mosaic_dtm.tif", "sprc_mosaic_ori.tif", "sprc_mosaic.shp", "SITE_MOSAIC.IMG",
+            "SITE_MOSAIC.xml", "HRSCAX_AREA.IMG"} <= written
