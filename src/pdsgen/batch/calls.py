@@ -37,6 +37,14 @@ def run_ortho(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
     return _product(write_ortho(ortho_inputs(p), p["outdir"], profile=p["profile"], **options))
 
 
+def run_mosaic(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
+    from ..cli.mosaic import library_options
+    from ..mosaic import write_mosaic
+
+    options = {**library_options(p), "overwrite": overwrite}
+    return _product(write_mosaic(list(p["inputs"]), p["outdir"], **options))
+
+
 def _product(product: ProductResult) -> Outputs:
     """Every file of a product; the one later jobs read is its label (or, for iMars, its GeoTIFF).
     The product's warnings go to the job's log, as the command prints them."""
@@ -95,5 +103,5 @@ def _written(outputs: list[Path], products: list[Path], shared: Sequence[Path] =
 # thread budget (GDAL's comes from the child's environment; the JPEG 2000 encoder's is
 # passed to write_ortho).
 RUNNERS: dict[str, Callable[[Mapping[str, Any], bool, int], Outputs]] = {
-    "dtm": run_dtm, "ortho": run_ortho, "extras": run_extras, "validate": run_validate,
+    "dtm": run_dtm, "ortho": run_ortho, "mosaic": run_mosaic, "extras": run_extras, "validate": run_validate,
 }

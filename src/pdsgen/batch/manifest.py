@@ -23,7 +23,7 @@ import click
 from .._compat import tomllib
 from ..errors import PdsgenError
 
-KINDS = ("dtm", "ortho", "extras", "validate")
+KINDS = ("dtm", "ortho", "mosaic", "extras", "validate")
 # Keys that only the batch knows: how to schedule a job, not what it makes.
 JOB_KEYS = ("id", "after", "memory", "threads", "timeout", "retries")
 BATCH_KEYS = ("outdir", "memory", "threads", "timeout", "retries")
@@ -152,7 +152,7 @@ class _Checker:
         jobs = [job for kind in KINDS for job in self._jobs(kind)]
         self._check_graph(jobs)
         if not jobs and not self.problems:
-            self.problems.append("no jobs: add [[dtm]], [[ortho]], [[extras]] or [[validate]] entries")
+            self.problems.append("no jobs: add [[dtm]], [[ortho]], [[mosaic]], [[extras]] or [[validate]] entries")
         if self.problems:
             raise ManifestError(self.path, self.problems)
         return Manifest(self.path, self.outdir.resolve(), jobs)

@@ -41,6 +41,9 @@ LIBRARY_TO_OPTION: dict[str, str] = {
     "exaggeration": "--exaggeration",
     "volume_id": "--volume-id",
     "bundle_lid": "--bundle-lid",
+    "order": "--order",
+    "resampling": "--resampling",
+    "nodata": "--nodata",
 }
 
 _REFERENCE = re.compile(r"`([a-z][a-z0-9_]*)(?:=([^`]*))?`")

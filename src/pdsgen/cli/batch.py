@@ -47,7 +47,7 @@ log = logging.getLogger("pdsgen.batch")
               help="Print the plan first and one line per finished job, with timings, even on a terminal.")
 def batch(manifest, outdir, scheduler, workers, threads_per_job, dry_run, retries, log_dir, child_jobs, child_growth,
           example, quiet, verbose) -> None:
-    """Run the jobs of MANIFEST (TOML: [[dtm]], [[ortho]], [[extras]], [[validate]] tables
+    """Run the jobs of MANIFEST (TOML: [[dtm]], [[ortho]], [[mosaic]], [[extras]], [[validate]] tables
     whose keys are those commands' options) on Dask, each job in its own process.
     Finished jobs are skipped on a re-run. Exit status: 0 all jobs succeeded,
     1 some failed (each named), 2 bad manifest or cluster."""

@@ -53,19 +53,29 @@ def write_footprint(
     merged collection is written to `staged_path` (published with the product);
     an existing file that is not a FeatureCollection is never replaced.
     """
+    return write_footprints(path, staged_path, [(feature_id, polygons, properties)], body)
+
+
+def write_footprints(
+    path: str | os.PathLike[str], staged_path: str | os.PathLike[str],
+    features: list[tuple[str, list[dict[str, Any]], dict[str, Any]]], body: str,
+) -> dict[str, Any]:
+    """write_footprint for several features at once (a mosaic: one per source product)."""
     path = Path(path)
     collection: dict[str, Any] = {"type": "FeatureCollection", "properties": {"body": body}, "features": []}
+    ids = {feature_id for feature_id, _, _ in features}
     if path.exists():
-        collection["features"] = [f for f in _existing_features(path) if f.get("id") != feature_id]
-    geometry = (
-        {"type": "MultiPolygon", "coordinates": [poly["coordinates"] for poly in polygons
-                                                 if poly["type"] == "Polygon"]}
-        if len(polygons) != 1 else polygons[0]
-    )
-    collection["features"].append(
-        {"type": "Feature", "id": feature_id, "properties": {"product_id": feature_id, **properties},
-         "geometry": geometry}
-    )
+        collection["features"] = [f for f in _existing_features(path) if f.get("id") not in ids]
+    for feature_id, polygons, properties in features:
+        geometry = (
+            {"type": "MultiPolygon", "coordinates": [poly["coordinates"] for poly in polygons
+                                                     if poly["type"] == "Polygon"]}
+            if len(polygons) != 1 else polygons[0]
+        )
+        collection["features"].append(
+            {"type": "Feature", "id": feature_id, "properties": {"product_id": feature_id, **properties},
+             "geometry": geometry}
+        )
     collection["features"].sort(key=lambda feature: str(feature.get("id")))
     Path(staged_path).write_text(json.dumps(collection, indent=1) + "\n")
     return collection

@@ -22,6 +22,25 @@ def product_stem(base: str, kind: str) -> str:
     return f"{base}_{kind}4_ucl"
 
 
+def mosaic_stem(product_id: str, product_type: str) -> str:
+    """A mosaic of strips, named as the iMars mosaics are: `sprc_mosaic` + DTM -> `sprc_mosaic_dtm`
+    (`_ori` for the orthoimage); its footprint is `<ID>.geojson` like a strip's."""
+    return f"{product_id}_{PRODUCT_TYPES[product_type][1].lower()}"
+
+
+# The Image keyword that marks a mosaic's metadata (its value: how many source strips).
+MOSAIC_KEYWORD = "MosaicSourceCount"
+
+
+def mosaic_base(product_id: str) -> str | None:
+    """`sprc_mosaic_dtm` -> `sprc_mosaic` (the footprint's name); None if not a mosaic's ID."""
+    for product_type in PRODUCT_TYPES:
+        suffix = mosaic_stem("", product_type)
+        if product_id.endswith(suffix) and len(product_id) > len(suffix):
+            return product_id[: -len(suffix)]
+    return None
+
+
 def metadata_name(product_id: str) -> str:
     """The metadata file of a product: `<ProductId>_ucl.pvl`."""
     return f"{product_id}{METADATA_SUFFIX}"

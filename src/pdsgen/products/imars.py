@@ -22,7 +22,7 @@ import rasterio
 
 from .. import __version__
 from ..errors import PdsgenError
-from ..formats.footprint import footprint_wkt, valid_data_outline, write_footprint, write_shapefile
+from ..formats.footprint import footprint_wkt, valid_data_outline, write_footprints, write_shapefile
 from ..formats.img import Adjust, physical_strips, scan_band, valid_extremes
 from ..formats.raster import open_raster, require_single_band
 from ..formats.scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
@@ -57,6 +57,39 @@ class ImarsProduct:
         return (self.tiff_path, self.pvl_path, self.footprint_path, *self.shapefile_paths)
 
 
+# A footprint feature: (product ID, lon/lat polygons, properties).
+Feature = tuple[str, list[dict[str, Any]], dict[str, Any]]
+
+
+@dataclass(frozen=True)
+class ImarsMosaic:
+    """How a mosaic of strips differs from a strip: `<ID>_dtm.tif` / `<ID>_ori.tif`, the
+    sources and how they were put together in the PVL, and a footprint whose features are
+    the source strips (each outlining its own valid data, with its own product ID)."""
+
+    product_id: str
+    features: tuple[Feature, ...]
+    statement: str  # how the sources were put together (order, resampling)
+
+    def stem(self, product_type: str) -> str:
+        return imars_mission.mosaic_stem(self.product_id, product_type)
+
+
+def _pvl_mosaic(mosaic: ImarsMosaic | None) -> dict[str, Any]:
+    """The Image keywords that say a product is a mosaic, and of what."""
+    if mosaic is None:
+        return {}
+    return {imars_mission.MOSAIC_KEYWORD: len(mosaic.features), "MosaicMethod": mosaic.statement}
+
+
+def _footprint_features(mosaic: ImarsMosaic | None, product_id: str, polygons, properties) -> list[Feature]:
+    """The strip's own outline, or the mosaic's sources' outlines."""
+    if mosaic is None:
+        return [(product_id, polygons(), properties)]
+    return [(fid, outline, {**extra, **{k: v for k, v in properties.items() if k == "type"}})
+            for fid, outline, extra in mosaic.features]
+
+
 def write_imars_dtm(
     input_path: str | os.PathLike[str],
     outdir: str | os.PathLike[str],
@@ -70,8 +103,10 @@ def write_imars_dtm(
     params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
     version: str = "1.0",
     overwrite: bool = False,
+    mosaic: ImarsMosaic | None = None,
 ) -> ImarsProduct:
-    """Write `<ID>_<kind>4_ucl.tif` (int16), its `.pvl` and the scene footprint.
+    """Write `<ID>_<kind>4_ucl.tif` (int16), its `.pvl` and the scene footprint
+    (a mosaic: `<ID>_dtm.tif`, its `.pvl` and its sources' footprints).
 
     `vertical_datum` says what the input heights are measured from (default: the
     datum of `kind`); when it differs from the kind's, `areoid` converts, as for HRSC.
@@ -84,8 +119,12 @@ def write_imars_dtm(
     check_datum_conversion(f"{kind}4", output_datum, vertical_datum or output_datum, areoid)
     keywords = resolve_params(params)
     sources = source_ids(source_product_ids, keywords)
-    base, _ = hrsc_base_name(product_id, sources)
-    stem = imars_mission.product_stem(base, kind)
+    if mosaic is None:
+        base, _ = hrsc_base_name(product_id, sources)
+        stem, ident = imars_mission.product_stem(base, kind), f"{base}_{kind}4"
+    else:
+        base, stem = mosaic.product_id, mosaic.stem("DTM")
+        ident = stem
     input_path = Path(input_path)
     with open_raster(input_path) as dataset:
         require_single_band(dataset)
@@ -98,9 +137,9 @@ def write_imars_dtm(
             raise PdsgenError(input_path, "has no valid pixels (all nodata)")
         encoding = choose_encoding(physical, precision, str(input_path))
         out = prepare_output_dir(outdir)
-        tiff, metadata = out / f"{stem}.tif", out / f"{stem}.pvl"
-        facts = imars_facts(f"{base}_{kind}4", "DTM", keywords, geometry.target_name or "MARS")
-        tags = _processing_tags(f"{base}_{kind}4", _DTM_DESCRIPTIONS[kind], encoding.scaling_factor,
+        tiff, metadata = out / f"{stem}.tif", out / imars_mission.metadata_name(ident)
+        facts = imars_facts(ident, "DTM", keywords, geometry.target_name or "MARS")
+        tags = _processing_tags(ident, _DTM_DESCRIPTIONS[kind], encoding.scaling_factor,
                                 encoding.offset, MISSING_DN, keywords, sources, facts)
         footprint = out / imars_mission.footprint_name(base)
         shapes = {part: out / name for part, name in imars_mission.footprint_shapefile_names(base).items()}
@@ -109,18 +148,21 @@ def write_imars_dtm(
                                        encoding.scaling_factor, encoding.offset, tags, adjust)
             with rasterio.open(staged.path(tiff)) as written:
                 written_crs = written.crs
-                text = imars_pvl_text(written, tiff.name, f"{base}_{kind}4", "DTM", geometry, keywords, sources,
+                text = imars_pvl_text(written, tiff.name, ident, "DTM", geometry, keywords, sources,
                                       version, {"ValidMinimum": low, "ValidMaximum": high,
                                                 "HeightReference": _DTM_DESCRIPTIONS[kind],
-                                                "Precision": pvl.Quantity(encoding.scaling_factor, "m")},
+                                                "Precision": pvl.Quantity(encoding.scaling_factor, "m"),
+                                                **_pvl_mosaic(mosaic)},
                                       facts)
-                polygons = valid_data_outline(written, lambda a: a != MISSING_DN)
+                features = _footprint_features(
+                    mosaic, ident, lambda: valid_data_outline(written, lambda a: a != MISSING_DN),
+                    {"type": "DTM", "file": tiff.name})
             staged.path(metadata).write_text(text)
-            collection = write_footprint(footprint, staged.path(footprint), f"{base}_{kind}4", polygons,
-                                         {"type": "DTM", "file": tiff.name}, geometry.target_name or "MARS")
+            collection = write_footprints(footprint, staged.path(footprint), features,
+                                          geometry.target_name or "MARS")
             write_shapefile(collection, {part: staged.path(path) for part, path in shapes.items()},
                             footprint_wkt(written_crs))
-    return ImarsProduct(f"{base}_{kind}4", tiff, metadata, footprint, geometry, encoding, low, high,
+    return ImarsProduct(ident, tiff, metadata, footprint, geometry, encoding, low, high,
                         tuple(shapes.values()))
 
 
@@ -173,13 +215,19 @@ def write_imars_ori(
     params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
     version: str = "1.0",
     overwrite: bool = False,
+    mosaic: ImarsMosaic | None = None,
 ) -> ImarsProduct:
-    """Write the orthoimage `<ID>_nd4_ucl.tif` (byte, nodata 0), its `.pvl` and the scene footprint."""
+    """Write the orthoimage `<ID>_nd4_ucl.tif` (byte, nodata 0), its `.pvl` and the scene footprint
+    (a mosaic: `<ID>_ori.tif`, its `.pvl` and its sources' footprints)."""
     version = check_version(version)
     keywords = resolve_params(params)
     sources = source_ids(source_product_ids, keywords)
-    base, _ = hrsc_base_name(product_id, sources)
-    stem = imars_mission.product_stem(base, "nd")
+    if mosaic is None:
+        base, _ = hrsc_base_name(product_id, sources)
+        stem, ident = imars_mission.product_stem(base, "nd"), f"{base}_nd4"
+    else:
+        base, stem = mosaic.product_id, mosaic.stem("ORI")
+        ident = stem
     input_path = Path(input_path)
     special = SPECIAL_DNS[8]
     with open_raster(input_path) as dataset:
@@ -189,9 +237,9 @@ def write_imars_ori(
 
         encode = dn_encoder(mapping, str(input_path))
         out = prepare_output_dir(outdir)
-        tiff, metadata = out / f"{stem}.tif", out / f"{stem}.pvl"
-        facts = imars_facts(f"{base}_nd4", "ORI", keywords, geometry.target_name or "MARS")
-        tags = _processing_tags(f"{base}_nd4", "ORTHOIMAGE", mapping.scaling_factor, mapping.offset,
+        tiff, metadata = out / f"{stem}.tif", out / imars_mission.metadata_name(ident)
+        facts = imars_facts(ident, "ORI", keywords, geometry.target_name or "MARS")
+        tags = _processing_tags(ident, "ORTHOIMAGE", mapping.scaling_factor, mapping.offset,
                                 special.null, keywords, sources, facts)
         footprint = out / imars_mission.footprint_name(base)
         shapes = {part: out / name for part, name in imars_mission.footprint_shapefile_names(base).items()}
@@ -200,16 +248,19 @@ def write_imars_ori(
                                        mapping.scaling_factor, mapping.offset, tags)
             with rasterio.open(staged.path(tiff)) as written:
                 written_crs = written.crs
-                text = imars_pvl_text(written, tiff.name, f"{base}_nd4", "ORI", geometry, keywords, sources,
-                                      version, {"ValidMinimum": low, "ValidMaximum": high}, facts)
-                polygons = valid_data_outline(written, lambda a: a != special.null)
+                text = imars_pvl_text(written, tiff.name, ident, "ORI", geometry, keywords, sources,
+                                      version, {"ValidMinimum": low, "ValidMaximum": high, **_pvl_mosaic(mosaic)},
+                                      facts)
+                features = _footprint_features(
+                    mosaic, ident, lambda: valid_data_outline(written, lambda a: a != special.null),
+                    {"type": "ORI", "file": tiff.name})
             staged.path(metadata).write_text(text)
-            collection = write_footprint(footprint, staged.path(footprint), f"{base}_nd4", polygons,
-                                         {"type": "ORI", "file": tiff.name}, geometry.target_name or "MARS")
+            collection = write_footprints(footprint, staged.path(footprint), features,
+                                          geometry.target_name or "MARS")
             write_shapefile(collection, {part: staged.path(path) for part, path in shapes.items()},
                             footprint_wkt(written_crs))
     encoding = Int16Encoding(mapping.scaling_factor, mapping.offset)
-    return ImarsProduct(f"{base}_nd4", tiff, metadata, footprint, geometry, encoding, low, high,
+    return ImarsProduct(ident, tiff, metadata, footprint, geometry, encoding, low, high,
                         tuple(shapes.values()))
 
 

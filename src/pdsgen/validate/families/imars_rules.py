@@ -18,8 +18,8 @@ import numpy as np
 
 from ...missions.hrsc import parse_name as parse_hrsc_name
 from ...missions.imars import METADATA_SUFFIX as IMARS_METADATA_SUFFIX
+from ...missions.imars import MOSAIC_KEYWORD, metadata_name, mosaic_base
 from ...missions.imars import footprint_name as imars_footprint_name
-from ...missions.imars import metadata_name
 from ..imars_context import ImarsContext
 from ..model import Hit
 from ..registry import Rule, register
@@ -282,7 +282,11 @@ def check_valid_range(ctx: ImarsContext) -> Iterator[Hit]:
 
 
 def footprint_name(ctx: ImarsContext) -> str | None:
-    """`<hOOOO_NNNN>.geojson`: the scene part of the product id (or of the file name)."""
+    """`<hOOOO_NNNN>.geojson`: the scene part of the product id (or of the file name);
+    a mosaic's: `<ID>.geojson` of its `<ID>_dtm` / `<ID>_ori`."""
+    base = mosaic_base(product_id(ctx) or "") if is_mosaic(ctx) else None
+    if base:
+        return imars_footprint_name(base)
     for candidate in (product_id(ctx) or "", ctx.path.name):
         match = parse_hrsc_name(candidate)
         if match:
@@ -330,13 +334,26 @@ def check_footprint(ctx: ImarsContext) -> Iterator[Hit]:
         yield Hit(problem, ctx.line("ProductInfo", "ProductId"), "ProductId")
 
 
+def is_mosaic(ctx: ImarsContext) -> bool:
+    return ctx.value("Image", MOSAIC_KEYWORD) is not None
+
+
 def check_footprint_feature(ctx: ImarsContext) -> Iterator[Hit]:
-    """IMARS-011: the footprint has a feature whose id is ProductInfo.ProductId."""
+    """IMARS-011: the footprint has a feature whose id is ProductInfo.ProductId (a mosaic: one
+    for each of its SourceProductId)."""
     pid = product_id(ctx)
     collection, _ = _footprint(ctx) if ctx.module is not None else (None, None)
     if pid is None or collection is None:
         return
     ids = [f.get("id") for f in collection["features"] if isinstance(f, dict)]
+    if is_mosaic(ctx):
+        sources = ctx.value("ProductInfo", "SourceProductId")
+        missing = [s for s in (sources if isinstance(sources, list) else [sources]) if s not in ids]
+        if missing:
+            yield Hit(f"footprint {footprint_name(ctx)} has no feature for the mosaic's source(s) "
+                      f"{', '.join(map(str, missing))}", ctx.line("ProductInfo", "SourceProductId"),
+                      "SourceProductId")
+        return
     if pid not in ids:
         yield Hit(f"footprint {footprint_name(ctx)} has no feature with id {pid} (ids found: "
                   f"{', '.join(map(str, ids)) or 'none'})", ctx.line("ProductInfo", "ProductId"), "ProductId")
