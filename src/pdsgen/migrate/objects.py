@@ -74,21 +74,51 @@ def describe_objects(ctx: FileContext) -> tuple[list[DataFile], str | None]:
             raise Refused(ctx.path, f"OBJECT = {ptr.name}: migrate describes IMAGE, *TABLE, *SERIES and "
                                     "*HEADER objects, not this one")
         files.setdefault(path, DataFile(path)).objects.append(described)
-    if not files:
-        raise Refused(ctx.path, "has no data object pointer (^IMAGE, ^TABLE ...) to describe")
     for data in files.values():
         data.objects.sort(key=lambda o: int(o["offset"]))  # type: ignore[call-overload]
     if ctx.attached:
         _add_attached_label(ctx, files[ctx.path])
     result = list(files.values())
-    if ctx.path not in files:  # a detached label: described as a supplemental header of its own
+    for encoded in _compressed_files(ctx):  # JPEG 2000 of a HiRISE-style detached label
+        result.append(encoded)
+        image_id = image_id or str(encoded.objects[0]["local_identifier"])
+    if not result:
+        raise Refused(ctx.path, "has no data object pointer (^IMAGE, ^TABLE ...) or COMPRESSED_FILE to describe")
+    if ctx.path not in files:  # a detached label: a header of its own (the primary file when all else is
+        # supplemental: PDS4 takes no JPEG 2000 as primary data)
+        primary = any(not data.supplemental for data in result)
         result.append(DataFile(ctx.path, [{"kind": "header", "local_identifier": "pds3_label", "offset": 0,
                                            "length": ctx.size, "parsing_standard_id": "PDS3",
                                            "description": "The detached PDS3 label of this product."}],
-                               supplemental=True))
+                               supplemental=primary))
     for data in result:
         _check_order(ctx, data)
+    result.sort(key=lambda data: data.supplemental)  # File_Area_Observational first, as the schema orders them
     return result, image_id
+
+
+def _compressed_files(ctx: FileContext) -> list[DataFile]:
+    """COMPRESSED_FILE objects (ENCODING_TYPE JP2) as Encoded_Image in a supplemental area, with
+    the size of the image their UNCOMPRESSED_FILE describes (for cart:)."""
+    found: list[DataFile] = []
+    for block in ctx.root.blocks("COMPRESSED_FILE"):
+        encoding = (block.text("ENCODING_TYPE") or "").upper()
+        name = block.text("FILE_NAME")
+        if not encoding.startswith("JP2") or not name:
+            raise Refused(ctx.path, f"OBJECT = COMPRESSED_FILE: ENCODING_TYPE {encoding or 'not given'} is not "
+                                    "JP2, the only encoding a PDS4 Encoded_Image of PDS3 products takes here")
+        exact, other = ctx.resolve(name)
+        path = exact or other
+        if path is None:
+            raise Refused(ctx.path, f"COMPRESSED_FILE {name} is missing")
+        image = next((b for u in ctx.root.blocks("UNCOMPRESSED_FILE") for b in u.blocks("IMAGE")), None)
+        entry: dict[str, object] = {"kind": "encoded", "local_identifier": "jp2_image", "offset": 0,
+                                    "length": path.stat().st_size, "encoding_standard_id": "JP2",
+                                    "description": "The JPEG 2000 file of the PDS3 product, unchanged."}
+        if image is not None:
+            entry["lines"], entry["samples"] = _int(ctx, image, "LINES"), _int(ctx, image, "LINE_SAMPLES")
+        found.append(DataFile(path, [entry], supplemental=True))
+    return found
 
 
 def _kind(name: str) -> str:

@@ -54,12 +54,13 @@ class MigrationRun:
 
 def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLike[str] | None = None, *,
                     bundle_lid: str | None = None, collection: str = COLLECTION, lid: str | None = None,
-                    in_place: bool = False, overwrite: bool = False) -> MigratedProduct:
+                    in_place: bool = False, overwrite: bool = False, copy: bool = True) -> MigratedProduct:
     """Write the PDS4 label of the PDS3 product whose label is `label_path` (attached or detached).
 
     The product's files are copied unchanged into `outdir` and the label written beside them
     (`<label stem>.xml`); with `in_place` the label is written beside the originals and nothing
-    is copied. `lid` gives the product's whole LID; otherwise it is `<bundle_lid>:<collection>:
+    is copied; without `copy`, only the label is written to `outdir` (a delivery places the
+    files itself). `lid` gives the product's whole LID; otherwise it is `<bundle_lid>:<collection>:
     <PRODUCT_ID>` (bundle LID from DATA_SET_ID when not given). Refused (InputError) with one line
     naming the construct when PDS4 cannot describe the files exactly; nothing is written then.
     """
@@ -81,6 +82,7 @@ def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLik
         image = next(o for f in files for o in f.objects if o.get("local_identifier") == image_id)
         cart = migrated_cartography(ctx, int(image["lines"]), int(image["samples"]),  # type: ignore[call-overload]
                                     str(obs["target_name"]))
+        obs["display"] = image["kind"] == "array"  # disp: refers to arrays only, not an Encoded_Image
     target_dir = source.parent if in_place else Path(outdir)  # type: ignore[arg-type]
     label_out = target_dir / f"{source.stem}.xml"
     if label_out.exists() and not overwrite:
@@ -89,7 +91,7 @@ def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLik
         "ident": ident, "obs": obs, "cart": cart, "array_id": image_id,
         "files": [_file_context(data) for data in files],
     })
-    written = _write(files, text, label_out, target_dir, in_place, overwrite)
+    written = _write(files, text, label_out, target_dir, copy and not in_place, overwrite)
     return MigratedProduct(pid, str(ident["lid"]), label_out, written)
 
 
@@ -145,13 +147,13 @@ def _file_context(data: DataFile) -> dict[str, object]:
             "objects": data.objects, "supplemental": data.supplemental}
 
 
-def _write(files: list[DataFile], text: str, label_out: Path, target_dir: Path, in_place: bool,
+def _write(files: list[DataFile], text: str, label_out: Path, target_dir: Path, copy: bool,
            overwrite: bool) -> tuple[Path, ...]:
     """Copies (temporary names, then renamed) and the label; on any failure nothing remains."""
     target_dir.mkdir(parents=True, exist_ok=True)
     staged: list[tuple[Path, Path]] = []
     try:
-        if not in_place:
+        if copy:
             for data in files:
                 final = target_dir / data.name
                 if final.resolve() == data.path.resolve():
@@ -170,4 +172,4 @@ def _write(files: list[DataFile], text: str, label_out: Path, target_dir: Path, 
         raise
     for temporary, final in staged:
         os.replace(temporary, final)
-    return tuple(target_dir / data.name for data in files)
+    return tuple((target_dir / data.name) if copy else data.path for data in files)
