@@ -13,23 +13,23 @@ from ._output import Outcome, output_options
 @click.command(short_help=COMMANDS["migrate"])
 @output_options
 @click.argument("products", nargs=-1, required=True, type=click.Path(dir_okay=False))
-@click.option("-o", "--out", type=click.Path(file_okay=False),
+@click.option("-o", "--outdir", type=click.Path(file_okay=False),
               help="Directory for the PDS4 labels and unchanged copies of the products' files.")
 @click.option("--in-place", is_flag=True, help="Write each PDS4 label beside its PDS3 product; copy nothing.")
 @click.option("--bundle-lid", help="Bundle LID the products' LIDs start with, urn:nasa:pds:NAME "
                                    "[default: from each product's DATA_SET_ID].")
 @click.option("--collection", default="data", show_default=True, help="Collection part of the products' LIDs.")
 @click.option("--overwrite", is_flag=True, help="Replace labels and copies the output already holds.")
-def migrate(products, out, in_place, bundle_lid, collection, overwrite) -> Outcome:
+def migrate(products, outdir, in_place, bundle_lid, collection, overwrite) -> Outcome:
     """Describe each PDS3 product (a label, an attached-label file, or a data file beside its
     .LBL) in a PDS4 label (IM 1.24): Header for the PDS3 label, arrays and tables at their
     byte offsets, scaling, special constants, cart: for map products, the PDS3 PRODUCT_ID
     and DATA_SET_ID as aliases. Data bytes are never changed. A product PDS4 cannot describe
     exactly is refused in one line and the others go on; the exit status is then 2.
     """
-    if bool(out) == in_place:
-        raise click.UsageError("give either -o/--out or --in-place")
-    run = migrate_products(product_labels(products), out, bundle_lid=bundle_lid, collection=collection,
+    if bool(outdir) == in_place:
+        raise click.UsageError("give either -o/--outdir or --in-place")
+    run = migrate_products(product_labels(products), outdir, bundle_lid=bundle_lid, collection=collection,
                            in_place=in_place, overwrite=overwrite)
     for failure in run.failed:
         click.echo(f"pdsgen: error: {in_cli_words(str(failure))}", err=True)
