@@ -249,13 +249,23 @@ def _vax_product(directory: Path) -> Path:
     return path
 
 
-def _prefix_product(directory: Path) -> Path:
-    data = (PRODUCTS / "MPF_IMP_i985135l" / "i985135l.img").read_bytes()
-    old = b"  BANDS                        = 1"
-    data = data.replace(old, b"  LINE_PREFIX_BYTES = 2".ljust(len(old)), 1)  # same length: the image stays put
-    path = directory / "prefix.img"
-    path.write_bytes(data)
-    return path
+def _line_prefix_product(directory: Path, storage: str = "BAND_SEQUENTIAL") -> tuple[Path, np.ndarray]:
+    """An attached-label image of 2 bands x 5 lines x 6 MSB 16-bit samples, each line after a
+    4-byte prefix (as HiRISE EDRs carry), written by the PDS3 definition of records."""
+    rng = np.random.default_rng(5)
+    image = rng.integers(-3000, 3000, (2, 5, 6)).astype(">i2")
+    lines = b"".join(struct.pack(">I", 1000 + n) + image[b, line].tobytes()
+                     for n, (b, line) in enumerate((b, line) for b in range(2) for line in range(5)))
+    record = 4 + 12
+    text = ("PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 16\r\n"
+            "FILE_RECORDS = 40\r\nLABEL_RECORDS = 30\r\n^IMAGE = 31\r\nPRODUCT_ID = PREFIXED\r\n"
+            "OBJECT = IMAGE\r\n LINES = 5\r\n LINE_SAMPLES = 6\r\n BANDS = 2\r\n"
+            f" BAND_STORAGE_TYPE = {storage}\r\n SAMPLE_TYPE = MSB_INTEGER\r\n SAMPLE_BITS = 16\r\n"
+            " LINE_PREFIX_BYTES = 4\r\n MISSING_CONSTANT = -32768\r\nEND_OBJECT = IMAGE\r\nEND\r\n")
+    header = text.encode().ljust(30 * record)
+    path = directory / f"prefix_{storage.lower()}.img"
+    path.write_bytes(header + lines)
+    return path, image
 
 
 def test_refusals_are_one_line_each_others_go_on_and_nothing_is_written_for_them(tmp_path):
@@ -264,7 +274,7 @@ def test_refusals_are_one_line_each_others_go_on_and_nothing_is_written_for_them
     shutil.copy(PRODUCTS / "MGN_FMIDR_FF01" / "FF01.LBL", bad)  # its FF01.IMG left behind
     refused = {
         "VAX_REAL": _vax_product(bad),
-        "LINE_PREFIX_BYTES": _prefix_product(bad),
+        "LINE_INTERLEAVED bands are not described": _line_prefix_product(bad, "LINE_INTERLEAVED")[0],
         "FF01.IMG is missing": bad / "FF01.LBL",
         "truncated": PRODUCTS / "synthetic_pds3_1band" / "pds3_1band.IMG",  # 712 of 840 bytes
         # genuine defect: ROW_BYTES 773 but records of 774 bytes (CR LF after 772)
@@ -281,6 +291,49 @@ def test_refusals_are_one_line_each_others_go_on_and_nothing_is_written_for_them
     for (what, path), line in zip(refused.items(), errors, strict=True):
         assert line.startswith(f"pdsgen: error: {path}") and what in line
     assert sorted(p.name for p in out.iterdir()) == ["i985135l.img", "i985135l.xml"]
+
+
+@needs_saxon
+def test_image_lines_with_prefixes_are_described_exactly_as_table_records(tmp_path):
+    pds4_tools = pytest.importorskip("pds4_tools")
+
+    path, image = _line_prefix_product(tmp_path)
+    product = migrate_product(path, tmp_path / "out", bundle_lid="urn:nasa:pds:test")
+    assert validate_pds4(product.label_path) == []
+    assert [f for f in validate_paths([product.label_path]).findings if f.severity == "error"] == []
+    table = pds4_tools.read(str(product.label_path), quiet=True)["image"]
+    samples = np.asarray(table["SAMPLES"]).reshape(2, 5, 6)
+    assert np.array_equal(samples, image)
+    prefixes = np.asarray(table["LINE_PREFIX"]).astype(np.uint8)
+    assert [int.from_bytes(bytes(p), "big") for p in prefixes] == list(range(1000, 1010))
+    with rasterio.open(path) as pds3:  # GDAL's PDS driver skips the prefixes too
+        assert np.array_equal(pds3.read(), image)
+
+
+@needs_saxon
+@pytest.mark.parametrize(("storage", "order"), [("BAND_SEQUENTIAL", (0, 1, 2)), ("LINE_INTERLEAVED", (1, 0, 2)),
+                                                ("SAMPLE_INTERLEAVED", (1, 2, 0))])
+def test_band_storage_is_the_axis_order(tmp_path, storage, order):
+    """A 3-band detached product written by the PDS3 definition of each storage; pds4_tools's
+    array, axes in the label's order, against GDAL's reading of the PDS3 product."""
+    pds4_tools = pytest.importorskip("pds4_tools")
+    cube = np.arange(3 * 4 * 5, dtype="<i2").reshape(3, 4, 5) * 7 - 200  # band, line, sample
+    (tmp_path / "CUBE.IMG").write_bytes(np.ascontiguousarray(cube.transpose(order)).tobytes())
+    (tmp_path / "CUBE.LBL").write_text(
+        "PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = UNDEFINED\r\n^IMAGE = \"CUBE.IMG\"\r\nPRODUCT_ID = CUBE\r\n"
+        "OBJECT = IMAGE\r\n LINES = 4\r\n LINE_SAMPLES = 5\r\n BANDS = 3\r\n"
+        f" BAND_STORAGE_TYPE = {storage}\r\n SAMPLE_TYPE = LSB_INTEGER\r\n SAMPLE_BITS = 16\r\n"
+        " SCALING_FACTOR = 0.5\r\n OFFSET = 10.0\r\nEND_OBJECT = IMAGE\r\nEND\r\n", newline="")
+    product = migrate_product(tmp_path / "CUBE.LBL", tmp_path / "out", bundle_lid="urn:nasa:pds:test")
+    assert validate_pds4(product.label_path) == []
+    array = np.asarray(pds4_tools.read(str(product.label_path), quiet=True, lazy_load=True)["image"].data)
+    physical = array.transpose(np.argsort(order))  # pds4_tools applies scaling_factor and value_offset
+    assert np.array_equal(physical, cube * 0.5 + 10.0)
+    if storage != "SAMPLE_INTERLEAVED":  # GDAL 3.6's PDS driver reads a SAMPLE_INTERLEAVED IMAGE as bands
+        with rasterio.open(tmp_path / "CUBE.LBL") as pds3:
+            assert np.array_equal(physical, pds3.read() * 0.5 + 10.0)
+    text = product.label_path.read_text()
+    assert "<scaling_factor>0.5</scaling_factor>" in text and "<value_offset>10.0</value_offset>" in text
 
 
 def test_refused_product_raises_refused_and_writes_nothing(tmp_path):

@@ -83,6 +83,8 @@ KEYWORD_TABLE: tuple[tuple[str, str], ...] = (
     ("OBJECT = IMAGE, BANDS = 1", "Array_2D_Image (axes Line, Sample)"),
     ("OBJECT = IMAGE, BANDS > 1, BAND_STORAGE_TYPE",
      "Array_3D_Image, axes " + "; ".join(f"{k}: {', '.join(v)}" for k, v in BAND_STORAGE_AXES.items())),
+    ("OBJECT = IMAGE with LINE_PREFIX_BYTES / LINE_SUFFIX_BYTES", "Table_Binary, a record per line: "
+     "Group_Field_Binary LINE_PREFIX, SAMPLES, LINE_SUFFIX (an array has no stride)"),
     ("^IMAGE / ^TABLE (record or <BYTES>) x RECORD_BYTES", "offset (bytes)"),
     ("SAMPLE_TYPE + SAMPLE_BITS", "Element_Array/data_type (pds4.model.pds4_data_type)"),
     ("SCALING_FACTOR, OFFSET", "Element_Array/scaling_factor, value_offset"),

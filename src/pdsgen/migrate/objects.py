@@ -67,7 +67,8 @@ def describe_objects(ctx: FileContext) -> tuple[list[DataFile], str | None]:
             described = _header(ctx, block, ident, offset)
         elif kind == "image":
             described = _image(ctx, block, ident, offset)
-            image_id = image_id or ident
+            if described["kind"] == "array":  # lines with prefixes are table records: no cart: for them
+                image_id = image_id or ident
         elif kind == "table":
             described = _table(ctx, block, ident, offset, path)
         else:
@@ -189,10 +190,6 @@ def _header(ctx: FileContext, block: Block, ident: str, offset: int) -> dict[str
 
 # -- images ------------------------------------------------------------------------------------
 def _image(ctx: FileContext, block: Block, ident: str, offset: int) -> dict[str, object]:
-    for key in ("LINE_PREFIX_BYTES", "LINE_SUFFIX_BYTES"):
-        if (block.number(key) or 0) > 0:
-            raise Refused(ctx.path, f"OBJECT = {block.name}: {key} = {block.text(key)} interleaves other bytes "
-                                    "with the image lines, which a PDS4 array cannot describe")
     lines, samples = _int(ctx, block, "LINES"), _int(ctx, block, "LINE_SAMPLES")
     bands = int(block.number("BANDS") or 1)
     sample_type = (block.text("SAMPLE_TYPE") or "").upper()
@@ -201,6 +198,10 @@ def _image(ctx: FileContext, block: Block, ident: str, offset: int) -> dict[str,
     if data_type is None:
         raise Refused(ctx.path, f"OBJECT = {block.name}: SAMPLE_TYPE {sample_type or 'not given'} of {bits} bits "
                                 "has no PDS4 data type")
+    prefix, suffix = (int(block.number(key) or 0) for key in ("LINE_PREFIX_BYTES", "LINE_SUFFIX_BYTES"))
+    if prefix or suffix:
+        return _lines_as_records(ctx, block, ident, offset, (lines, samples, bands), data_type, bits,
+                                 (prefix, suffix))
     names: tuple[str, ...]
     if bands == 1:
         element, names = "Array_2D_Image", ("Line", "Sample")
@@ -224,6 +225,49 @@ def _image(ctx: FileContext, block: Block, ident: str, offset: int) -> dict[str,
         "value_offset": value_offset if value_offset is not None else 0.0,
         "special": special_constants(ctx, block, sample_type in FLOAT_SAMPLE_TYPES, bits),
     }
+
+
+def _lines_as_records(ctx: FileContext, block: Block, ident: str, offset: int, size: tuple[int, int, int],
+                      data_type: str, bits: int, prefix_suffix: tuple[int, int]) -> dict[str, object]:
+    """An image whose lines carry prefix/suffix bytes: PDS4 arrays have no stride, so each line
+    with its prefix and suffix is one record of a binary table (the prefix and suffix as byte
+    groups, the samples as a group of LINE_SAMPLES fields) - exact, never an approximate array."""
+    lines, samples, bands = size
+    prefix, suffix = prefix_suffix
+    if bands > 1 and (block.text("BAND_STORAGE_TYPE") or "BAND_SEQUENTIAL").upper() != "BAND_SEQUENTIAL":
+        raise Refused(ctx.path, f"OBJECT = {block.name}: line prefixes/suffixes with "
+                                f"{block.text('BAND_STORAGE_TYPE')} bands are not described by migrate")
+    width = samples * bits // 8
+    sample_field = _image_field(ctx, block, data_type, bits, 1 + prefix, samples)
+    fields = [sample_field]
+    if prefix:
+        fields.insert(0, _byte_group("LINE_PREFIX", 1, prefix))
+    if suffix:
+        fields.append(_byte_group("LINE_SUFFIX", 1 + prefix + width, suffix))
+    description = (f"The {block.name} object's lines ({lines * bands} = LINES x BANDS, band after band), "
+                   f"each a record with its LINE_PREFIX_BYTES ({prefix}) and LINE_SUFFIX_BYTES ({suffix}): "
+                   "a PDS4 array cannot skip bytes between lines.")
+    return {"kind": "table", "element": "Table_Binary", "local_identifier": ident, "offset": offset,
+            "length": lines * bands * (prefix + width + suffix), "records": lines * bands,
+            "record_length": prefix + width + suffix, "description": description, "fields": fields,
+            "delimiter": None}
+
+
+def _image_field(ctx: FileContext, block: Block, data_type: str, bits: int, location: int,
+                 samples: int) -> dict[str, object]:
+    scaling, value_offset = block.number("SCALING_FACTOR"), block.number("OFFSET")
+    identity = (scaling in (None, 1) and value_offset in (None, 0))
+    return {"name": "SAMPLES", "location": 1, "length": bits // 8, "data_type": data_type, "unit": _unit(block),
+            "scaling_factor": None if identity else (scaling if scaling is not None else 1.0),
+            "value_offset": None if identity else (value_offset or 0.0), "description": None,
+            "special": special_constants(ctx, block, data_type.startswith("IEEE"), bits),
+            "group": {"repetitions": samples, "location": location, "length": samples * bits // 8}}
+
+
+def _byte_group(name: str, location: int, length: int) -> dict[str, object]:
+    return {"name": name, "location": 1, "length": 1, "data_type": "UnsignedByte", "unit": None,
+            "scaling_factor": None, "value_offset": None, "description": None, "special": [],
+            "group": {"repetitions": length, "location": location, "length": length}}
 
 
 def _unit(block: Block) -> str | None:
