@@ -16,7 +16,7 @@ from pathlib import Path
 from ..errors import InputError
 from ..label.grammar import FLOAT_SAMPLE_TYPES, PLACEHOLDERS
 from ..pds4.model import pds4_data_type
-from ..validate.context import FileContext, Pointer
+from ..validate.context import FileContext, Pointer, directory_listing, resolve_beside
 from ..validate.lexer import parse_label
 from ..validate.model import Block, Statement, Value
 from .mapping import (
@@ -176,6 +176,8 @@ def _check_order(ctx: FileContext, data: DataFile) -> None:
 # -- headers -----------------------------------------------------------------------------------
 def _header(ctx: FileContext, block: Block, ident: str, offset: int) -> dict[str, object]:
     kind = (block.text("TYPE") or block.text("HEADER_TYPE") or "").upper()
+    if not kind and (block.text("INTERCHANGE_FORMAT") or "").upper() == "ASCII":
+        kind = "ASCII"  # a text header of no named standard (a table's header lines)
     standard = HEADER_STANDARDS.get(kind)
     if standard is None:
         raise Refused(ctx.path, f"OBJECT = {block.name}: header TYPE {kind or 'not given'} has no PDS4 "
@@ -362,12 +364,10 @@ def _structure(ctx: FileContext, stmt: Statement) -> Block:
     name = stmt.value.text
     exact, other = ctx.resolve(name)
     path = exact or other
+    volume_label_dir = ctx.path.parent.parent / "LABEL"  # a volume's format files (PDS3 Standards, 19.3)
     if path is None:
-        for directory in (ctx.path.parent.parent / "LABEL", ctx.path.parent.parent / "label"):
-            candidate = directory / name
-            if candidate.is_file():
-                path = candidate
-                break
+        exact, other = resolve_beside(volume_label_dir, directory_listing(volume_label_dir), name)
+        path = exact or other
     if path is None:
         raise Refused(ctx.path, f"^STRUCTURE file {name} is missing")
     text = path.read_bytes().decode("latin-1")

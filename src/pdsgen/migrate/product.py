@@ -108,25 +108,14 @@ def migrate_products(labels: Iterable[str | os.PathLike[str]], outdir: str | os.
 
 
 def product_labels(paths: Iterable[str | os.PathLike[str]]) -> Iterator[Path]:
-    """The PDS3 labels among `paths`: a label or attached-label product as given; a data file
-    whose detached label (same stem, .LBL/.lbl) lies beside it, that label."""
+    """The PDS3 labels among `paths`: a label (.LBL) or attached-label product as given; a data
+    file whose detached label (same stem, .LBL/.lbl) lies beside it, that label."""
     for given in paths:
         path = Path(given)
-        if path.suffix.lower() != ".lbl" and not _starts_like_pds3(path):
-            for suffix in (".LBL", ".lbl"):
-                if path.with_suffix(suffix).is_file():
-                    path = path.with_suffix(suffix)
-                    break
+        if path.suffix.lower() != ".lbl":
+            path = next((label for label in (path.with_suffix(".LBL"), path.with_suffix(".lbl"))
+                         if label.is_file()), path)
         yield path
-
-
-def _starts_like_pds3(path: Path) -> bool:
-    try:
-        with open(path, "rb") as handle:
-            head = handle.read(64)
-    except OSError:
-        return False
-    return head.lstrip().upper().startswith((b"PDS_VERSION_ID", b"CCSD3"))
 
 
 def _read(source: Path) -> FileContext:
