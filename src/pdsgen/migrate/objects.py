@@ -57,6 +57,8 @@ def describe_objects(ctx: FileContext) -> tuple[list[DataFile], str | None]:
         block = ctx.object_for(ptr)
         kind = _kind(ptr.name)
         if block is None:
+            if ptr.form == "file":  # ^MEX_ORIENTATION_DESC = "X.TXT": a document beside the product, no data
+                continue
             raise Refused(ctx.path, f"^{ptr.name} points at an object the label does not describe")
         path = _data_path(ctx, ptr)
         offset = ctx.pointer_offset(ptr)
@@ -208,7 +210,7 @@ def _image(ctx: FileContext, block: Block, ident: str, offset: int) -> dict[str,
     if bands == 1:
         element, names = "Array_2D_Image", ("Line", "Sample")
     else:
-        storage = (block.text("BAND_STORAGE_TYPE") or "BAND_SEQUENTIAL").upper()
+        storage = (block.text("BAND_STORAGE_TYPE") or "BAND_SEQUENTIAL").upper().replace(" ", "_")
         if storage not in BAND_STORAGE_AXES:
             raise Refused(ctx.path, f"OBJECT = {block.name}: BAND_STORAGE_TYPE {storage} is not one PDS4 axes "
                                     "can state")
