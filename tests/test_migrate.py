@@ -111,7 +111,7 @@ def test_pds4_tools_reads_the_array_pdr_and_gdal_read_from_the_pds3_product(migr
 
 
 def _corners(transform, width: int, height: int) -> np.ndarray:
-    return np.array([transform * (c, r) for c, r in ((0, 0), (width, 0), (0, height), (width, height))])
+    return np.array([transform @ (c, r) for c, r in ((0, 0), (width, 0), (0, height), (width, height))])
 
 
 @pytest.mark.parametrize("name", ["mola_megdr", "crism_mrdr"])
