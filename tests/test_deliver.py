@@ -6,6 +6,7 @@ catching seeded defects."""
 from __future__ import annotations
 
 import csv
+import os
 import shutil
 import subprocess
 from pathlib import Path
@@ -362,9 +363,10 @@ def test_cli_deliver_and_bad_input(demo_products, tmp_path):
     pds3_only.mkdir()
     for name in ("DTEEC_008669_1705_009025_1705_U01.IMG",):
         shutil.copy(demo_products / name, pds3_only / name)
+        os.truncate(pds3_only / name, (pds3_only / name).stat().st_size - 4)  # migration refuses it
     refused = run_cli("deliver", str(pds3_only), "-o", str(tmp_path / "b"), "--pds4",
                       "--bundle-lid", "urn:nasa:pds:x")
-    assert refused.returncode == 2 and "no PDS4 label" in refused.stderr and "Traceback" not in refused.stderr
+    assert refused.returncode == 2 and "truncated" in refused.stderr and "Traceback" not in refused.stderr
     assert not (tmp_path / "b").exists() and list(tmp_path.glob(".b.*")) == []
     inside = run_cli("deliver", str(out / "DATA"), "-o", str(out), "--volume-id", "DEMO_0001")
     assert inside.returncode == 2 and "inside the delivery" in inside.stderr

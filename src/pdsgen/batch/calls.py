@@ -67,6 +67,20 @@ def run_extras(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
     return _written([w for w in written if w not in directory_files], [], shared=directory_files)
 
 
+def run_migrate(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
+    """`pdsgen migrate`: each product's PDS4 label beside unchanged copies of its files; a refused
+    product fails the job (one line each) after the others are written."""
+    from ..errors import PdsgenError
+    from ..migrate import migrate_products, product_labels
+
+    run = migrate_products(product_labels(p["products"]), p["outdir"], bundle_lid=p["bundle_lid"],
+                           collection=p["collection"], in_place=p["in_place"], overwrite=overwrite)
+    if run.failed:
+        raise PdsgenError(None, "; ".join(str(f) for f in run.failed))
+    return _written([f for m in run.migrated for f in (m.label_path, *m.files) if not p["in_place"] or
+                     f == m.label_path], [m.label_path for m in run.migrated])
+
+
 class ProblemsFound(Exception):
     """A validation that ran and found errors: the job failed, with the report's summary as reason."""
 
@@ -104,4 +118,5 @@ def _written(outputs: list[Path], products: list[Path], shared: Sequence[Path] =
 # passed to write_ortho).
 RUNNERS: dict[str, Callable[[Mapping[str, Any], bool, int], Outputs]] = {
     "dtm": run_dtm, "ortho": run_ortho, "mosaic": run_mosaic, "extras": run_extras, "validate": run_validate,
+    "migrate": run_migrate,
 }

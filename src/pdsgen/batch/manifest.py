@@ -23,7 +23,7 @@ import click
 from .._compat import tomllib
 from ..errors import PdsgenError
 
-KINDS = ("dtm", "ortho", "mosaic", "extras", "validate")
+KINDS = ("dtm", "ortho", "mosaic", "extras", "validate", "migrate")
 # Keys that only the batch knows: how to schedule a job, not what it makes.
 JOB_KEYS = ("id", "after", "memory", "threads", "timeout", "retries")
 BATCH_KEYS = ("outdir", "memory", "threads", "timeout", "retries")

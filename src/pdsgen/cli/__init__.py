@@ -39,6 +39,7 @@ COMMANDS = {
     "demo": "Make every product from a built-in synthetic Mars scene.",
     "dtm": "Make a PDS3 DTM (.IMG with attached label).",
     "extras": "Make preview JPEGs, orthoimage quick-look JP2s and README.TXT.",
+    "migrate": "Describe PDS3 products in PDS4 labels, their files unchanged.",
     "mosaic": "Mosaic strips or tiles into one DTM or orthoimage product.",
     "ortho": "Make a PDS3 orthoimage (.JP2 + detached .LBL).",
     "validate": "Check PDS3 and PDS4 labels, label sets, deliveries and their data.",

@@ -175,7 +175,10 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
         work.mkdir(parents=True)
     except OSError as exc:
         raise OutputError(target, f"cannot be written here ({exc.strerror or exc})") from None
+    migrated = target.parent / f".{target.name}.migrate-{os.getpid()}"  # PDS4 labels of PDS3-only products
     try:
+        if pds4:
+            _migrate_pds3_only(found, migrated, bundle_lid)
         result = _build(found, _Tree(work), previous, source_dir, in_place, dialect, index, bundle_lid)
         _swap(work, target)
         log.info("delivery built in %s and moved to %s", work, target)
@@ -185,8 +188,25 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
             raise OutputError(target, f"the delivery could not be written ({exc.strerror or exc}); "
                                       "nothing was changed") from None
         raise
+    finally:
+        shutil.rmtree(migrated, ignore_errors=True)
     result.path = target
     return result
+
+
+def _migrate_pds3_only(found: SourceSet, staging: Path, bundle_lid: str | None) -> None:
+    """A PDS3-only product gets the PDS4 label `pdsgen migrate` writes (its files unchanged)."""
+    from ..migrate import migrate_product  # on first use: a PDS3 volume never needs it
+
+    for product in found.products:
+        if product.pds4_label is None and product.pds3_label is not None:
+            migrated = migrate_product(product.pds3_label, staging, bundle_lid=bundle_lid, copy=False)
+            product.pds4_label = migrated.label_path
+            for path in migrated.files:  # every file the PDS4 label describes travels with it
+                if path not in product.files:
+                    product.files.append(path)
+                if path in found.others:
+                    found.others.remove(path)
 
 
 def _check_target(source: Path, target: Path) -> None:
@@ -249,9 +269,6 @@ def _check_dialects(found: SourceSet, pds3: bool, pds4: bool) -> None:
     for product in found.products:
         if pds3 and product.pds3_label is None:
             raise InputError(product.pds4_label, "has no PDS3 label, which a PDS3 volume needs "
-                                                 f"(make the product with {param('label', 'both')})")
-        if pds4 and product.pds4_label is None:
-            raise InputError(product.pds3_label, "has no PDS4 label, which a PDS4 bundle needs "
                                                  f"(make the product with {param('label', 'both')})")
 
 

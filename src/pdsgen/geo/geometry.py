@@ -103,9 +103,14 @@ class _Projection:
 
 
 def describe_geometry(
-    crs: CRS | None, transform: Affine, width: int, height: int, source: str = "input"
+    crs: CRS | None, transform: Affine, width: int, height: int, source: str = "input",
+    bounds: tuple[float, float, float, float] | None = None,
 ) -> MapGeometry:
-    """Compute the PDS3 map keywords of a north-up raster in a supported CRS."""
+    """Compute the PDS3 map keywords of a north-up raster in a supported CRS.
+
+    `bounds` (minimum and maximum latitude, westernmost and easternmost longitude) are taken
+    as given instead of computed: a label that already states them, checked elsewhere
+    (migration: a PDS3 label whose rounded MAP_SCALE puts a global grid's edge past a pole)."""
     if crs is None or not crs.to_wkt():
         raise PdsgenError(source, "raster has no coordinate reference system (map projection)")
     projection = _parse_projection(crs, source)
@@ -118,7 +123,7 @@ def describe_geometry(
     scale = grid_scale / k
     radius = projection.b if projection.kind == POLAR_STEREOGRAPHIC else projection.a
     sample_offset, line_offset = projection_offsets(ulx, uly, scale)
-    lat_min, lat_max, lon_west, lon_east = _bounds(crs, transform, width, height, projection, source)
+    lat_min, lat_max, lon_west, lon_east = bounds or _bounds(crs, transform, width, height, projection, source)
     return MapGeometry(
         projection_type=projection.kind,
         a_axis_km=projection.a / 1000.0,

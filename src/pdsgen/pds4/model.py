@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..errors import ParamsError, param
+from ..label.grammar import SAMPLE_TYPES
 
 PDS_NS = "http://pds.nasa.gov/pds4/pds/v1"
 CART_NS = "http://pds.nasa.gov/pds4/cart/v1"
@@ -70,21 +71,41 @@ def check_label_dialect(label: str) -> str:
         raise ParamsError(None, f"{param('label')} must be one of {', '.join(LABEL_DIALECTS)}, not {label!r}")
     return label
 
-# PDS4 array data types of the samples pdsgen writes, by (numpy kind+size, big endian).
+# PDS4 numeric data types by (numpy kind+size, big endian): the one table. The PDS3 side is
+# label.grammar.SAMPLE_TYPES (name -> byte order, kind); `pds4_data_type` joins the two, and
+# NUMPY_TYPES (PDS4 name -> numpy dtype) is this table's reverse.
 DATA_TYPES = {
     ("f4", False): "IEEE754LSBSingle",
     ("f4", True): "IEEE754MSBSingle",
+    ("f8", False): "IEEE754LSBDouble",
+    ("f8", True): "IEEE754MSBDouble",
     ("u1", False): "UnsignedByte",
     ("u1", True): "UnsignedByte",
+    ("i1", False): "SignedByte",
+    ("i1", True): "SignedByte",
     ("u2", False): "UnsignedLSB2",
     ("u2", True): "UnsignedMSB2",
     ("i2", False): "SignedLSB2",
     ("i2", True): "SignedMSB2",
+    ("u4", False): "UnsignedLSB4",
+    ("u4", True): "UnsignedMSB4",
+    ("i4", False): "SignedLSB4",
+    ("i4", True): "SignedMSB4",
+    ("u8", False): "UnsignedLSB8",
+    ("u8", True): "UnsignedMSB8",
+    ("i8", False): "SignedLSB8",
+    ("i8", True): "SignedMSB8",
 }
 # The reverse, for reading labels: data_type -> numpy dtype string.
 NUMPY_TYPES = {name: (">" if big else "<") + code for (code, big), name in DATA_TYPES.items()}
-NUMPY_TYPES.update({
-    "IEEE754LSBDouble": "<f8", "IEEE754MSBDouble": ">f8", "SignedByte": "i1",
-    "UnsignedLSB4": "<u4", "UnsignedMSB4": ">u4", "SignedLSB4": "<i4", "SignedMSB4": ">i4",
-    "UnsignedLSB8": "<u8", "UnsignedMSB8": ">u8", "SignedLSB8": "<i8", "SignedMSB8": ">i8",
-})
+NUMPY_TYPES.update({"UnsignedByte": "u1", "SignedByte": "i1"})
+
+
+def pds4_data_type(sample_type: str, bits: int) -> str | None:
+    """The PDS4 data_type of PDS3 samples (`SAMPLE_TYPE`/`DATA_TYPE` and their bits), or None when
+    PDS4 has none (VAX and IBM reals, complex, bit strings, sizes no numeric type has)."""
+    order_kind = SAMPLE_TYPES.get(sample_type.upper())
+    if order_kind is None or bits % 8:
+        return None
+    order, kind = order_kind
+    return DATA_TYPES.get((f"{kind}{bits // 8}", order == ">"))

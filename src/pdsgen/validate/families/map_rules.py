@@ -423,6 +423,22 @@ def _radius_fit(ctx: FileContext, block: Block) -> tuple[Geometry, Fit, Fit, str
     return next((t for t in tried if t[2].consistent), None) or min(tried, key=lambda t: t[1].worst)
 
 
+def offset_convention_shift(ctx: FileContext, block: Block) -> tuple[float, float] | None:
+    """(sample, line) pixels to subtract from the offsets as written to get the standard PDS3
+    convention's: (0, 0) for a standard label, (1, 1) for the older one-pixel-apart convention;
+    None when the bounds decide neither (the offsets are then taken as written). For readers
+    of a label (migration) that must place the grid as the validator judges it."""
+    fitted = _radius_fit(ctx, block)
+    if fitted is None:
+        return None
+    _, standard, best, _ = fitted
+    if standard.consistent:
+        return 0.0, 0.0
+    if best.consistent and abs(best.shift_sample) == 1 and best.shift_sample == best.shift_line:
+        return best.shift_sample, best.shift_line
+    return None
+
+
 def _describe(f: Fit) -> str:
     short = {"MINIMUM_LATITUDE": "S", "MAXIMUM_LATITUDE": "N", "WESTERNMOST_LONGITUDE": "W",
              "EASTERNMOST_LONGITUDE": "E"}

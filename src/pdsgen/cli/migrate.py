@@ -1,0 +1,42 @@
+"""`pdsgen migrate`: PDS4 labels that describe existing PDS3 products, their files unchanged."""
+
+from __future__ import annotations
+
+import click
+
+from ..migrate import migrate_products, product_labels
+from . import COMMANDS
+from ._messages import in_cli_words
+from ._output import Outcome, output_options
+
+
+@click.command(short_help=COMMANDS["migrate"])
+@output_options
+@click.argument("products", nargs=-1, required=True, type=click.Path(dir_okay=False))
+@click.option("-o", "--outdir", type=click.Path(file_okay=False),
+              help="Directory for the PDS4 labels and unchanged copies of the products' files.")
+@click.option("--in-place", is_flag=True, help="Write each PDS4 label beside its PDS3 product; copy nothing.")
+@click.option("--bundle-lid", help="Bundle LID the products' LIDs start with, urn:nasa:pds:NAME "
+                                   "[default: from each product's DATA_SET_ID].")
+@click.option("--collection", default="data", show_default=True, help="Collection part of the products' LIDs.")
+@click.option("--overwrite", is_flag=True, help="Replace labels and copies the output already holds.")
+def migrate(products, outdir, in_place, bundle_lid, collection, overwrite) -> Outcome:
+    """Describe each PDS3 product (a label, an attached-label file, or a data file beside its
+    .LBL) in a PDS4 label (IM 1.24): Header for the PDS3 label, arrays and tables at their
+    byte offsets, scaling, special constants, cart: for map products, the PDS3 PRODUCT_ID
+    and DATA_SET_ID as aliases. Data bytes are never changed. A product PDS4 cannot describe
+    exactly is refused in one line and the others go on; the exit status is then 2.
+    """
+    if bool(outdir) == in_place:
+        raise click.UsageError("give either -o/--outdir or --in-place")
+    run = migrate_products(product_labels(products), outdir, bundle_lid=bundle_lid, collection=collection,
+                           in_place=in_place, overwrite=overwrite)
+    for failure in run.failed:
+        click.echo(f"pdsgen: error: {in_cli_words(str(failure))}", err=True)
+    lines = [f"PDS4     {product.summary}" for product in run.migrated]
+    lines.append(f"{len(run.migrated)} product(s) migrated, {len(run.failed)} refused")
+    summary = {"command": "migrate",
+               "migrated": [{"product_id": p.product_id, "lid": p.lid, "label": str(p.label_path),
+                             "files": [str(f) for f in p.files]} for p in run.migrated],
+               "refused": [str(f) for f in run.failed]}
+    return Outcome(lines, summary, exit_code=0 if run.ok else 2)

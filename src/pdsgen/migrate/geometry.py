@@ -1,0 +1,121 @@
+"""cart:Cartography of a migrated map product, from its IMAGE_MAP_PROJECTION.
+
+Nothing is derived here: the label's projection becomes a CRS and geotransform through
+the project's label georeferencing (the standard PDS3 offset convention, as GDAL reads
+it); the offset convention a product family uses is the validator's decision
+(`offset_convention_shift`), applied as a whole-pixel shift; and the cart: values come
+from the same geometry code as pdsgen's own PDS4 products (`describe_geometry`,
+`cartography`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass
+
+from affine import Affine
+from rasterio.crs import CRS
+
+from ..errors import PdsgenError
+from ..extras.label_georef import PROJECTION_OBJECTS, LabelGeorefError, label_georeferencing
+from ..geo.geometry import describe_geometry
+from ..pds4.label import Cartography, cartography
+from ..validate.context import FileContext
+from ..validate.families.map_rules import offset_convention_shift
+from ..validate.model import Block, Value
+from .objects import Refused
+
+
+@dataclass(frozen=True)
+class _Quantity:
+    """A number with its unit, as label_georeferencing reads label values."""
+
+    value: float | int
+    units: str | None
+
+
+class _BlockMapping(Mapping[str, object]):
+    """A label block as the mapping label_georeferencing reads (keyword -> value)."""
+
+    def __init__(self, block: Block) -> None:
+        self._block = block
+        self._keys = [s.keyword.upper() for s in block.statements() if not s.pointer]
+        self._keys += [b.name.upper() for b in block.blocks()]
+
+    def __getitem__(self, key: str) -> object:
+        child = next(self._block.blocks(key), None)
+        if child is not None:
+            return _BlockMapping(child)
+        value = self._block.value(key)
+        if value is None:
+            raise KeyError(key)
+        return _plain(value)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._keys)
+
+    def __len__(self) -> int:
+        return len(self._keys)
+
+
+def _plain(value: Value) -> object:
+    if value.is_number:
+        return _Quantity(value.number, value.unit) if value.unit else value.number
+    return value.text
+
+
+def map_projection(ctx: FileContext) -> Block | None:
+    for name in PROJECTION_OBJECTS:
+        found = next(ctx.root.find(name), None)
+        if found is not None:
+            return found
+    return None
+
+
+def migrated_cartography(ctx: FileContext, lines: int, samples: int, target: str) -> Cartography | None:
+    """cart: values of the label's map projection, or None when it has none."""
+    block = map_projection(ctx)
+    if block is None:
+        return None
+    try:
+        placed = label_georeferencing({block.name.upper(): _BlockMapping(block)})
+    except LabelGeorefError as exc:
+        raise Refused(ctx.path, f"OBJECT = {block.name}: {exc}") from None
+    if placed is None:
+        return None
+    crs, transform = placed
+    shift = offset_convention_shift(ctx, block) if block.name.upper() == "IMAGE_MAP_PROJECTION" else None
+    if shift is not None and shift != (0.0, 0.0):
+        transform = shifted(transform, *shift)
+    # Bounds the validator found consistent with the offsets are the label's to state.
+    bounds = stated_bounds(block) if shift is not None else None
+    return _cartography(ctx, crs, transform, lines, samples, target, bounds)
+
+
+def stated_bounds(block: Block) -> tuple[float, float, float, float] | None:
+    """(south, north, west, east) as the label states them, longitudes east-positive."""
+    values = [block.number(key) for key in ("MINIMUM_LATITUDE", "MAXIMUM_LATITUDE",
+                                            "WESTERNMOST_LONGITUDE", "EASTERNMOST_LONGITUDE")]
+    if any(v is None for v in values):
+        return None
+    south, north, west, east = (float(v) for v in values)  # type: ignore[arg-type]
+    if (block.text("POSITIVE_LONGITUDE_DIRECTION") or "EAST").upper() == "WEST":
+        west, east = -west, -east
+    if abs(east - west) < 360.0:
+        west, east = west % 360.0, east % 360.0
+    return south, north, west, east
+
+
+def shifted(transform: Affine, shift_sample: float, shift_line: float) -> Affine:
+    """The grid of offsets `shift` pixels less than written (the older convention's correction)."""
+    return Affine(transform.a, transform.b, transform.c + shift_sample * transform.a,
+                  transform.d, transform.e, transform.f + shift_line * transform.e)
+
+
+def _cartography(ctx: FileContext, crs: CRS, transform: Affine, lines: int, samples: int, target: str,
+                 bounds: tuple[float, float, float, float] | None) -> Cartography:
+    try:
+        geometry = describe_geometry(crs, transform, samples, lines, str(ctx.path), bounds)
+    except PdsgenError as exc:
+        raise Refused(ctx.path, f"map projection: {exc.problem}") from None
+    return cartography(geometry, crs, transform, target)

@@ -1,0 +1,109 @@
+"""What a PDS3 keyword becomes in a PDS4 label that describes the PDS3 file unchanged.
+
+The tables here are the ones the migration code reads (objects.py, identity.py), and the
+README's "Migrating PDS3 products" table is generated from `KEYWORD_TABLE` (a test holds
+the two together). Sample and column data types are not repeated here: they come from
+`pds4.model.pds4_data_type`, the join of PDS3's SAMPLE_TYPES and PDS4's DATA_TYPES.
+"""
+
+from __future__ import annotations
+
+# PDS3 special-constant keywords -> PDS4 Special_Constants elements.
+SPECIAL_CONSTANTS = {
+    "MISSING_CONSTANT": "missing_constant",
+    "NULL": "missing_constant",
+    "CORE_NULL": "missing_constant",
+    "INVALID_CONSTANT": "invalid_constant",
+    "SATURATED_CONSTANT": "saturated_constant",
+    "VALID_MAXIMUM": "valid_maximum",
+    "CORE_HIGH_INSTR_SATURATION": "high_instrument_saturation",
+    "CORE_HIGH_REPR_SATURATION": "high_representation_saturation",
+    "VALID_MINIMUM": "valid_minimum",
+    "CORE_LOW_INSTR_SATURATION": "low_instrument_saturation",
+    "CORE_LOW_REPR_SATURATION": "low_representation_saturation",
+}
+# The schema's order of Special_Constants' elements.
+SPECIAL_ORDER = ("saturated_constant", "missing_constant", "error_constant", "invalid_constant",
+                 "unknown_constant", "not_applicable_constant", "valid_maximum", "high_instrument_saturation",
+                 "high_representation_saturation", "valid_minimum", "low_instrument_saturation",
+                 "low_representation_saturation")
+
+# BAND_STORAGE_TYPE -> the axes, slowest first (PDS4 arrays are Last Index Fastest).
+BAND_STORAGE_AXES = {
+    "BAND_SEQUENTIAL": ("Band", "Line", "Sample"),
+    "LINE_INTERLEAVED": ("Line", "Band", "Sample"),
+    "SAMPLE_INTERLEAVED": ("Line", "Sample", "Band"),
+}
+
+# A header object's TYPE (IMAGE_HEADER, TABLE_HEADER ...) -> parsing_standard_id.
+HEADER_STANDARDS = {
+    "VICAR": "VICAR2",
+    "VICAR2": "VICAR2",
+    "VICAR1": "VICAR1",
+    "FITS": "FITS 3.0",
+    "ISIS": "ISIS2",
+    "ISIS2": "ISIS2",
+    "PDS3": "PDS3",
+    "ASCII": "7-Bit ASCII Text",
+    "TEXT": "7-Bit ASCII Text",
+}
+
+# Column DATA_TYPEs stored as text -> Field data_type (Table_Character and Table_Binary).
+# DATE and TIME become strings: PDS3 allows forms (day of year, no zone) PDS4's date types do not.
+TEXT_FIELD_TYPES = {
+    "ASCII_REAL": "ASCII_Real",
+    "ASCII_INTEGER": "ASCII_Integer",
+    "CHARACTER": "ASCII_String",
+    "DATE": "ASCII_String",
+    "TIME": "ASCII_String",
+}
+
+# In an ASCII table PDS3's generic numeric names mean numbers written as text (Standards
+# Reference, appendix C); byte-order names (MSB_INTEGER ...) have no meaning there.
+ASCII_TABLE_TYPES = {
+    **TEXT_FIELD_TYPES,
+    "INTEGER": "ASCII_Integer",
+    "UNSIGNED_INTEGER": "ASCII_NonNegative_Integer",
+    "REAL": "ASCII_Real",
+    "FLOAT": "ASCII_Real",
+}
+
+# INTERCHANGE_FORMAT -> the PDS4 table class.
+TABLE_CLASSES = {"BINARY": "Table_Binary", "ASCII": "Table_Character"}
+
+# CODMAC level, the fourth part of a DATA_SET_ID (MGS-M-MOLA-5-MEGDR-L3-V1.0) -> processing_level.
+PROCESSING_LEVELS = {"1": "Raw", "2": "Raw", "3": "Calibrated", "4": "Derived", "5": "Derived", "6": "Derived"}
+
+# The README's table: PDS3 keyword or object -> PDS4 class/attribute (what the code writes).
+KEYWORD_TABLE: tuple[tuple[str, str], ...] = (
+    ("attached label (bytes before the first object)", "File_Area_Observational/Header (parsing_standard_id PDS3)"),
+    ("detached label file", "File_Area_Observational_Supplemental/Header (parsing_standard_id PDS3)"),
+    ("^IMAGE_HEADER, ^TABLE_HEADER ... with TYPE", "Header (parsing_standard_id from TYPE: "
+     + ", ".join(sorted(set(HEADER_STANDARDS.values()))) + ")"),
+    ("OBJECT = IMAGE, BANDS = 1", "Array_2D_Image (axes Line, Sample)"),
+    ("OBJECT = IMAGE, BANDS > 1, BAND_STORAGE_TYPE",
+     "Array_3D_Image, axes " + "; ".join(f"{k}: {', '.join(v)}" for k, v in BAND_STORAGE_AXES.items())),
+    ("OBJECT = IMAGE with LINE_PREFIX_BYTES / LINE_SUFFIX_BYTES", "Table_Binary, a record per line: "
+     "Group_Field_Binary LINE_PREFIX, SAMPLES, LINE_SUFFIX (an array has no stride)"),
+    ("^IMAGE / ^TABLE (record or <BYTES>) x RECORD_BYTES", "offset (bytes)"),
+    ("SAMPLE_TYPE + SAMPLE_BITS", "Element_Array/data_type (pds4.model.pds4_data_type)"),
+    ("SCALING_FACTOR, OFFSET", "Element_Array/scaling_factor, value_offset"),
+    ("UNIT", "Element_Array/unit, Field_*/unit"),
+    *((keyword, f"Special_Constants/{element}") for keyword, element in SPECIAL_CONSTANTS.items()),
+    ("OBJECT = *TABLE / *SERIES, INTERCHANGE_FORMAT", "Table_Binary (BINARY), Table_Character (ASCII)"),
+    ("ROWS, ROW_BYTES (+ ROW_PREFIX_BYTES, ROW_SUFFIX_BYTES)", "records, Record_*/record_length"),
+    ("COLUMN NAME, START_BYTE, BYTES, DATA_TYPE", "Field_Binary / Field_Character name, field_location, "
+     "field_length, data_type"),
+    *((f"COLUMN DATA_TYPE = {k}", f"data_type {v}") for k, v in TEXT_FIELD_TYPES.items()),
+    *((f"COLUMN DATA_TYPE = {k} (ASCII table)", f"data_type {v}") for k, v in ASCII_TABLE_TYPES.items()
+      if k not in TEXT_FIELD_TYPES),
+    ("COLUMN ITEMS, ITEM_BYTES, ITEM_OFFSET", "Group_Field_Binary / Group_Field_Character (repetitions)"),
+    ("^STRUCTURE (format file)", "its COLUMNs, in place"),
+    ("IMAGE_MAP_PROJECTION", "Discipline_Area/cart:Cartography (offset convention as the validator decides)"),
+    ("PRODUCT_ID", "Alias_List/Alias/alternate_id (and the LID's last part)"),
+    ("DATA_SET_ID", "Alias_List/Alias/alternate_id; its CODMAC level -> processing_level"),
+    ("START_TIME, STOP_TIME", "Time_Coordinates/start_date_time, stop_date_time (UTC)"),
+    ("MISSION_NAME / INSTRUMENT_HOST_NAME / SPACECRAFT_NAME", "Investigation_Area, Observing_System (Host)"),
+    ("INSTRUMENT_NAME / INSTRUMENT_ID", "Observing_System_Component (Instrument)"),
+    ("TARGET_NAME", "Target_Identification"),
+)

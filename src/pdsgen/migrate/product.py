@@ -1,0 +1,164 @@
+"""Migrate one PDS3 product: a PDS4 label describing its unchanged files, beside copies of them.
+
+Order: read the label (the validator's reader, `FileContext`) -> describe every object
+(objects.py; refusals raise before anything is written) -> checksums of the files as they
+are -> copy the files to temporary names in the output directory -> write the PDS4 label
+under a temporary name -> rename all into place. A refusal or error leaves nothing of the
+product behind.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import InputError, OutputError, PdsgenError
+from ..pds4.content import digest_file
+from ..pds4.label import render_pds4
+from ..validate.context import FileContext
+from .geometry import migrated_cartography
+from .identity import check_bundle_lid, check_product_lid, default_bundle_lid, identification, observation, product_id
+from .objects import DataFile, Refused, describe_objects
+
+COLLECTION = "data"
+
+
+@dataclass(frozen=True)
+class MigratedProduct:
+    """What one migration wrote: the PDS4 label and the files it describes (in the output)."""
+
+    product_id: str
+    lid: str
+    label_path: Path
+    files: tuple[Path, ...]
+
+    @property
+    def summary(self) -> str:
+        return f"{self.label_path} ({self.lid}; {len(self.files)} file(s) described unchanged)"
+
+
+@dataclass
+class MigrationRun:
+    """Several products migrated in one run: what was written and what was refused."""
+
+    migrated: list[MigratedProduct] = field(default_factory=list)
+    failed: list[PdsgenError] = field(default_factory=list)
+
+    @property
+    def ok(self) -> bool:
+        return not self.failed
+
+
+def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLike[str] | None = None, *,
+                    bundle_lid: str | None = None, collection: str = COLLECTION, lid: str | None = None,
+                    in_place: bool = False, overwrite: bool = False, copy: bool = True) -> MigratedProduct:
+    """Write the PDS4 label of the PDS3 product whose label is `label_path` (attached or detached).
+
+    The product's files are copied unchanged into `outdir` and the label written beside them
+    (`<label stem>.xml`); with `in_place` the label is written beside the originals and nothing
+    is copied; without `copy`, only the label is written to `outdir` (a delivery places the
+    files itself). `lid` gives the product's whole LID; otherwise it is `<bundle_lid>:<collection>:
+    <PRODUCT_ID>` (bundle LID from DATA_SET_ID when not given). Refused (InputError) with one line
+    naming the construct when PDS4 cannot describe the files exactly; nothing is written then.
+    """
+    source = Path(label_path)
+    if not source.is_file():
+        raise InputError(source, "no such file")
+    if not in_place and outdir is None:
+        raise OutputError(None, "give an output directory, or migrate in place")
+    ctx = _read(source)
+    files, image_id = describe_objects(ctx)
+    pid, keyword = product_id(ctx.root, source.stem)
+    ident = identification(ctx.root, check_bundle_lid(bundle_lid or default_bundle_lid(ctx.root)), collection,
+                           pid, keyword)
+    if lid is not None:
+        ident["lid"] = check_product_lid(lid)
+    obs = observation(ctx.root, source.name)
+    cart = None
+    if image_id is not None:
+        image = next(o for f in files for o in f.objects if o.get("local_identifier") == image_id)
+        cart = migrated_cartography(ctx, int(image["lines"]), int(image["samples"]),  # type: ignore[call-overload]
+                                    str(obs["target_name"]))
+        obs["display"] = image["kind"] == "array"  # disp: refers to arrays only, not an Encoded_Image
+    target_dir = source.parent if in_place else Path(outdir)  # type: ignore[arg-type]
+    label_out = target_dir / f"{source.stem}.xml"
+    if label_out.exists() and not overwrite:
+        raise OutputError(label_out, "exists (give overwrite to replace it)")
+    text = render_pds4("migrated.xml.j2", {
+        "ident": ident, "obs": obs, "cart": cart, "array_id": image_id,
+        "files": [_file_context(data) for data in files],
+    })
+    written = _write(files, text, label_out, target_dir, copy and not in_place, overwrite)
+    return MigratedProduct(pid, str(ident["lid"]), label_out, written)
+
+
+def migrate_products(labels: Iterable[str | os.PathLike[str]], outdir: str | os.PathLike[str] | None = None,
+                     **options: object) -> MigrationRun:
+    """Each product migrated on its own: a refused one is recorded and the others go on."""
+    run = MigrationRun()
+    for label in labels:
+        try:
+            run.migrated.append(migrate_product(label, outdir, **options))  # type: ignore[arg-type]
+        except PdsgenError as exc:
+            run.failed.append(exc)
+    return run
+
+
+def product_labels(paths: Iterable[str | os.PathLike[str]]) -> Iterator[Path]:
+    """The PDS3 labels among `paths`: a label (.LBL) or attached-label product as given; a data
+    file whose detached label (same stem, .LBL/.lbl) lies beside it, that label."""
+    for given in paths:
+        path = Path(given)
+        if path.suffix.lower() != ".lbl":
+            path = next((label for label in (path.with_suffix(".LBL"), path.with_suffix(".lbl"))
+                         if label.is_file()), path)
+        yield path
+
+
+def _read(source: Path) -> FileContext:
+    try:
+        ctx = FileContext(source)
+    except OSError as exc:
+        raise InputError(source, f"cannot be read ({exc.strerror})") from None
+    if not ctx.label.end_found:
+        raise Refused(source, "is not a PDS3 label (no END statement)")
+    return ctx
+
+
+def _file_context(data: DataFile) -> dict[str, object]:
+    content = digest_file(data.path)
+    return {"file": {"name": data.name, "local_identifier": f"file_{Path(data.name).stem.lower()}"
+                     + ("_label" if data.supplemental else ""),
+                     "size": content.size, "md5": content.md5},
+            "objects": data.objects, "supplemental": data.supplemental}
+
+
+def _write(files: list[DataFile], text: str, label_out: Path, target_dir: Path, copy: bool,
+           overwrite: bool) -> tuple[Path, ...]:
+    """Copies (temporary names, then renamed) and the label; on any failure nothing remains."""
+    target_dir.mkdir(parents=True, exist_ok=True)
+    staged: list[tuple[Path, Path]] = []
+    try:
+        if copy:
+            for data in files:
+                final = target_dir / data.name
+                if final.resolve() == data.path.resolve():
+                    continue
+                if final.exists() and not overwrite:
+                    raise OutputError(final, "exists (give overwrite to replace it)")
+                temporary = final.with_name(f".{final.name}.migrating")
+                shutil.copyfile(data.path, temporary)
+                staged.append((temporary, final))
+        temporary = label_out.with_name(f".{label_out.name}.migrating")
+        temporary.write_text(text, encoding="utf-8")
+        staged.append((temporary, label_out))
+    except BaseException:
+        for temporary, _ in staged:
+            temporary.unlink(missing_ok=True)
+        raise
+    for temporary, final in staged:
+        os.replace(temporary, final)
+    return tuple((target_dir / data.name) if copy else data.path for data in files)
