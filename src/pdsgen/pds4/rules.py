@@ -53,7 +53,7 @@ RULES = (
     Pds4Rule("PDS4-057", "error", "the objects of a file (header, tables, arrays) do not overlap"),
     Pds4Rule("PDS4-058", "error", "table values have the precision of their field's validation_format"),
     Pds4Rule("PDS4-059", "warning", "table values have the precision of their field's field_format"),
-    Pds4Rule("PDS4-060", "error", "no two labels of a run describe the same data file"),
+    Pds4Rule("PDS4-060", "error", "no two labels of a run describe the same file of observational data"),
     Pds4Rule("PDS4-062", "error", "file names use only letters, digits, '-', '_' and '.', and directory paths "
                                   "are relative"),
     Pds4Rule("PDS4-061", "error", "a PDF a document product holds is identified as PDF/A (its XMP pdfaid:part)"),
