@@ -68,9 +68,6 @@ REASONS: dict[str, str] = {
     "71-1": "NASA's errors come from its XML catalog of this case (5 unresolvable resources); with the "
             "same schema files resolved by name, pdsgen finds the label valid against them",
     "71-2": "as 71-1",
-    "298-2": "not implemented: NASA's invalid_field_value for UTF8_String values of a delimited table "
-             "whose quoted fields span lines",
-    "299-2": "not implemented: NASA reads the data types of manifest rows beyond the stated record count",
 }
 
 

@@ -69,6 +69,44 @@ def test_overlapping_bit_fields():
     assert _content_errors(CASES / "github392/test1_valid.xml") == []
 
 
+def test_double_quote_inside_a_double_quoted_delimited_value():
+    """298-2: 43 values such as "has ""double quote inside double quote"" and" (RFC 4180's
+    escape, which PDS DSV 1 does not have): 43 errors, as NASA's 43 invalid_field_value;
+    298-1, the same table without them, passes."""
+    found = [m for rule, m in _content_errors(CASES / "github298/invalid/sentences.xml") if rule == "PDS4-055"]
+    assert len(found) == 6 and sum(m.endswith("and 38 more like these") for m in found) == 1, found
+    assert any("record 2, field sentence: a double-quoted value holds a double quote" in m for m in found)
+    assert _content_errors(CASES / "github298/valid/sentences.xml") == []
+
+
+def test_file_specification_names_in_an_aip_transfer_manifest(tmp_path):
+    """299-2: the AIP's transfer manifest (inside Information_Package_Component) names
+    _158.xml, 158.tab_ and _.tab: three errors, as NASA's three data_type mismatches (the
+    Standards Reference's file names neither begin nor end with '_', '-' or '.')."""
+    label = CASES / "github299/invalid/gbo_ast_fieber-beyer_spectra_v2.0_20210211_aip_v1.0.xml"
+    found = [m for rule, m in _content_errors(label) if rule == "PDS4-052"]
+    assert [m.split("'")[1].rsplit("/", 1)[1] for m in found] == ["_158.xml", "158.tab_", "_.tab"], found
+    copy = Path(shutil.copytree(label.parent, tmp_path / "aip")) / label.name
+    manifest = copy.with_name("gbo_ast_fieber-beyer_spectra_v2.0_20210211_transfer_manifest_v1.0.tab")
+    data = manifest.read_bytes()
+    for bad, good in ((b"/_158.xml", b"/a158.xml"), (b"/158.tab_", b"/158.tab1"), (b"/_.tab  ", b"/1.tab  ")):
+        data = data.replace(bad, good)
+    manifest.write_bytes(data)
+    assert _content_errors(copy) == []
+
+
+@pytest.mark.parametrize(("data_type", "good", "bad"), [
+    ("ASCII_File_Name", ["a.txt", "A-1_b.2.IMG", "x.c"], ["_a.txt", "a.txt_", "README", "a b.txt", "a."]),
+    ("ASCII_File_Specification_Name", ["data/a.xml", "/data/sub_1/a.xml", "a.xml"],
+     ["data/_a.xml", "data_/a.xml", "/data//a.xml", "data/"]),
+    ("ASCII_Directory_Path_Name", ["data", "data/sub-1/", "/a/b"], ["_data", "data-/x", "a//b"]),
+])
+def test_file_and_directory_name_types(data_type, good, bad):
+    pattern = PATTERNS[data_type]
+    assert all(pattern.match(v) for v in good), [v for v in good if not pattern.match(v)]
+    assert not any(pattern.match(v) for v in bad), [v for v in bad if pattern.match(v)]
+
+
 def test_bundle_member_named_twice():
     """467-1: the LIDVID document::1.0 listed twice, the LID document twice: two duplicates."""
     found = _content_errors(CASES / "github476/bundle_mars2020_spice_v003.xml", labels_only=True)

@@ -47,7 +47,8 @@ RULES = (
     Pds4Rule("PDS4-053", "error", "numeric table values lie within their Field_Statistics minimum and maximum"),
     Pds4Rule("PDS4-054", "warning", "numeric table values lie within the field's valid_minimum/valid_maximum "
                                     "or are special constants"),
-    Pds4Rule("PDS4-055", "error", "each delimited record has the number of fields the label defines"),
+    Pds4Rule("PDS4-055", "error", "each delimited record has the number of fields the label defines, and no "
+                                  "double-quoted value holds a double quote"),
     Pds4Rule("PDS4-056", "error", "inventory and bundle members: status P or S, a LIDVID or LID, none listed "
                                   "twice"),
     Pds4Rule("PDS4-057", "error", "the objects of a file (header, tables, arrays) do not overlap"),
