@@ -14,13 +14,24 @@ files), and its error verdict (any error finding, or a usage error) compared wit
 expected message types and pdsgen's error findings, with the reason where it is known
 (REASONS below).
 
-Not comparable, and counted apart with the reason: bundle/collection integrity runs (-R
-pds4.bundle / pds4.collection, --target-manifest, -M: the delivery checks' domain), runs
-configured by files pdsgen does not read (-c, -e patterns), cases whose data files are
-absent from the checkout (--absent lists them, one path per line relative to the checkout),
-and cases where a schema a label names was not found (PDS4-002: the verdict would be on
-a partial check). Each comparable case is run a second time from another working
-directory (unless --no-cwd-check) and must give the same findings.
+How pdsgen is run: directories named are given as directories (pdsgen's own search, which
+recognises labels by content); for -R pds4.bundle / pds4.collection on a label, its
+directory, so that the delivery checks (DLV-*) run as NASA's referential-integrity checks
+do. In runs without those rules NASA makes no integrity check, and pdsgen's DLV findings
+are set aside. NASA's options map onto pdsgen's configuration:
+--skip-context-validation ignores PDS4-063 (context products), and
+--skip-strict-collection-membership reports missing members (DLV-010, DLV-015) as warnings.
+
+Not comparable, and counted apart with the reason: runs configured by files pdsgen does
+not read (-c, -M, --target-manifest, --alternate_file_paths, -e with real patterns),
+--skip-product-validation runs, integrity runs whose directory holds other bundle or
+collection labels than the one named (NASA checks that one, pdsgen the directory), runs on a
+directory where NASA's extension filter finds no label but pdsgen finds some by content,
+cases whose data files are absent from the checkout (--absent lists them, one path per
+line relative to the checkout), and cases where a schema a label names was not found
+(PDS4-002: the verdict would be on a partial check). Each comparable case is run a second
+time from another working directory (unless --no-cwd-check) and must give the same
+findings.
 """
 
 from __future__ import annotations
@@ -50,19 +61,26 @@ VALUE_FLAGS = {"-R", "--rule", "-x", "--schema", "-S", "--schematron", "-schema"
                "--label-extension",
                "-v", "--verbose", "-c", "--config", "-e", "--regexp", "-M", "--checksum-manifest",
                "--target-manifest", "-r", "--report-file", "-s", "--report-style", "--alternate",
-               "--add-context-products", "--max-errors"}
+               "--alternate_file_paths",
+               "--add-context-products", "--max-errors", "-progress", "--progress"}
+# NASA's --skip-strict-collection-membership reports missing members as warnings: pdsgen's
+# configuration does the same with these severities.
+LENIENT_MEMBERSHIP = {"DLV-010": "warning", "DLV-015": "warning"}
 NOT_COMPARABLE_FLAGS = {
-    "-c": "a configuration file", "--config": "a configuration file", "-e": "file-name patterns (-e)",
-    "--regexp": "file-name patterns", "-M": "a checksum manifest", "--checksum-manifest": "a checksum manifest",
+    "-c": "a configuration file", "--config": "a configuration file", "-M": "a checksum manifest",
+    "--checksum-manifest": "a checksum manifest",
     "--target-manifest": "a target manifest", "--alternate": "alternate file paths",
+    "--alternate_file_paths": "alternate file paths",
 }
-DELIVERY_RULES = {"pds4.bundle", "pds4.collection", "pds4.folder"}
+# Rules that check a bundle's or collection's integrity (pds4.folder checks a directory's
+# labels one by one, as a run on a directory does by default).
+DELIVERY_RULES = {"pds4.bundle", "pds4.collection"}
+_EXTENSION = re.compile(r"\*?\.?([A-Za-z0-9]+)")
 
 # Why pdsgen and NASA differ on a case (case id -> reason), checked by hand on each case.
-_CONTEXT = ("policy: NASA looks the label's context products (investigation, host, target LIDs) up in "
-            "PDS's registry of context products; pdsgen is offline and has no such registry")
 REASONS: dict[str, str] = {
-    "11-3": _CONTEXT, "47-2": _CONTEXT, "62-2": _CONTEXT, "137-2": _CONTEXT,
+    "173-2": "NASA reads a collection's inventory in an integrity run even with --skip-content-validation "
+             "(records_mismatch); pdsgen's --labels-only reads no data file, inventories included",
     "209-2": "NASA accepts bit fields 20-23 overlapping 23-... here yet reports the same kind of overlap in "
              "392-2; pdsgen reports both",
     "71-1": "NASA's errors come from its XML catalog of this case (5 unresolvable resources); with the "
@@ -82,6 +100,9 @@ class Case:
     schema_files: list[Path] = field(default_factory=list)
     schema_dirs: list[Path] = field(default_factory=list)
     labels_only: bool = False
+    integrity: bool = False  # -R pds4.bundle / pds4.collection: the directory's integrity too
+    lenient_membership: bool = False
+    skip_context: bool = False
     extension: str = "xml"
     skip: str | None = None
 
@@ -130,15 +151,25 @@ def _parse(case: Case) -> Case:
         if arg in NOT_COMPARABLE_FLAGS:
             case.skip = f"run configured by {NOT_COMPARABLE_FLAGS[arg]}"
         if arg in ("-R", "--rule") and value in DELIVERY_RULES:
-            case.skip = f"-R {value}: bundle/collection integrity (delivery checks)"
+            case.integrity = True
         if arg in ("-x", "--schema", "-S", "--schematron", "-schema", "-schematron"):
             case.schema_files.append(Path(value))
+        if arg in ("-e", "--regexp"):  # file patterns: comparable when each is an extension (lblx, *.xml)
+            extensions = [_EXTENSION.fullmatch(p) for p in value.split(",")]
+            if len(extensions) == 1 and extensions[0] is not None:
+                case.extension = extensions[0][1]
+            else:
+                case.skip = "run configured by file-name patterns (-e)"
         if arg in ("-C", "--catalog"):
             case.schema_dirs.append(case.datasrc)  # its catalog maps pds.nasa.gov/pds4 onto the test data
         if arg == "--label-extension":
             case.extension = value.lstrip(".")
         if arg in ("--skip-content-validation", "--no-data-check"):
             case.labels_only = True
+        if arg == "--skip-strict-collection-membership":
+            case.lenient_membership = True
+        if arg == "--skip-context-validation":
+            case.skip_context = True
         if arg == "--skip-product-validation":
             case.skip = "--skip-product-validation: only bundle/collection integrity is checked"
         if arg in VALUE_FLAGS:
@@ -167,6 +198,35 @@ def label_files(case: Case) -> list[Path]:
     return found
 
 
+def pdsgen_paths(case: Case) -> list[Path]:
+    """What pdsgen is given: the files named, directories as directories (pdsgen's own
+    search, by content); for an integrity run (-R pds4.bundle) on a bundle label, the
+    bundle's directory, as NASA's validator checks it."""
+    return [target.parent if case.integrity and target.is_file() else target for target in case.targets]
+
+
+def _rivals(case: Case) -> bool:
+    """Whether an integrity run's directory holds another label of the kind named (a second
+    bundle, or another collection), which pdsgen would check with it."""
+    for target in case.targets:
+        if target.is_file():
+            kind = _product_class(target)
+            if any(_product_class(p) == kind for p in target.parent.rglob(f"*.{case.extension}") if p != target):
+                return True
+        elif sum(_product_class(p) == b"Bundle" for p in target.glob(f"*.{case.extension}")) > 1:
+            return True
+    return False
+
+
+def _product_class(path: Path) -> bytes | None:
+    try:
+        with open(path, "rb") as stream:
+            match = re.search(rb"<Product_(Bundle|Collection)[\s>]", stream.read(4096))
+    except OSError:
+        return None
+    return match[1] if match else None
+
+
 @dataclass
 class Outcome:
     case: Case
@@ -178,7 +238,7 @@ class Outcome:
 def run_case(case: Case, extra_schemas: list[str], absent: set[Path], cwd_check: bool,
              scratch: Path) -> Outcome:
     from pdsgen.errors import PdsgenError
-    from pdsgen.validate import validate_paths
+    from pdsgen.validate import Settings, discover, validate_paths
 
     if case.skip:
         return Outcome(case, "not-comparable", case.skip)
@@ -193,15 +253,25 @@ def run_case(case: Case, extra_schemas: list[str], absent: set[Path], cwd_check:
             if file.is_file() and not (own / file.name).exists():
                 (own / file.name).symlink_to(file.resolve())
         schemas.append(str(own))
+    if not labels:  # NASA finds no product (no_products_found); does pdsgen find none either?
+        found = sum(1 for target in case.targets if target.is_dir() for _ in discover([target]))
+        if found:
+            return Outcome(case, "not-comparable", f"NASA selects labels by extension (*.{case.extension}) and "
+                                                   f"finds none; pdsgen finds {found} by content")
+    given = pdsgen_paths(case)
+    if case.integrity and _rivals(case):
+        return Outcome(case, "not-comparable", "other bundle/collection labels beside the one named (NASA "
+                                               "checks the one named, pdsgen the directory)")
+    settings = Settings(severity=LENIENT_MEMBERSHIP if case.lenient_membership else {},
+                        ignore=frozenset({"PDS4-063"} if case.skip_context else set()))
     runs = []
     for cwd in ([scratch / "a", scratch / "b"] if cwd_check else [scratch / "a"]):
         cwd.mkdir(exist_ok=True)
         os.chdir(cwd)
         try:
-            if not labels:
-                raise PdsgenError(None, "no label to check")
-            report = validate_paths(labels, labels_only=case.labels_only, schemas=schemas)
-            findings = [(f.rule, f.severity, f.file, f.line, f.message) for f in report.findings]
+            report = validate_paths(given, labels_only=case.labels_only, schemas=schemas, settings=settings)
+            findings = [(f.rule, f.severity, f.file, f.line, f.message) for f in report.findings
+                        if case.integrity or not f.rule.startswith("DLV-")]
         except PdsgenError as exc:
             findings = [("USAGE", "error", "", None, str(exc))]
         except Exception:  # noqa: BLE001 - a crash is what the harness must count, not stop on

@@ -65,3 +65,11 @@ def test_inventory_primary_members_must_be_present_secondary_ones_need_not(bundl
     inventory.write_bytes(first + b"P,urn:nasa:pds:kaguya_grs_spectra:data_spectra:per9::1.0\r\n")
     assert [f for f in _dlv(bundle) if f[1] == "error"] == [
         ("DLV-010", "error", "spectra_data_collection_inventory.csv")]
+
+
+def test_a_primary_member_without_version_is_an_error(bundle):
+    """230-1: primary members named by LID alone (error.integrity.missing_version for NASA)."""
+    inventory = bundle / "data_spectra" / "spectra_data_collection_inventory.csv"
+    inventory.write_bytes(inventory.read_bytes().replace(b"_per1::1.0", b"_per1"))
+    errors = [f for f in validate_paths([bundle], labels_only=True).findings if f.severity == "error"]
+    assert [(f.rule, "has no version" in f.message) for f in errors] == [("DLV-010", True)], errors

@@ -416,7 +416,8 @@ def _check_inventory(root: Path, collection: _Pds4Label, labels: list[_Pds4Label
         entry = row[1].strip()
         lid = entry.split("::", 1)[0]
         secondary = row[0].strip().upper() == "S"  # another collection's product: not looked for here
-        if not secondary and not lid.startswith(prefix):
+        present = entry in by_lidvid  # an absent member is DLV-010's, whatever its LID (as NASA's validator)
+        if not secondary and present and not lid.startswith(prefix):
             found.append(_Found("DLV-013", collection.inventory, f"member {entry} is not under the collection's "
                                                                  f"LID {collection.lid}", number))
         if not secondary:  # a product is primary in one collection, secondary in any number
@@ -425,7 +426,12 @@ def _check_inventory(root: Path, collection: _Pds4Label, labels: list[_Pds4Label
                                                                      f"{members[entry].relative_to(root)}", number))
             members.setdefault(entry, collection.inventory)
         listed.add(entry)
-        if not secondary and entry not in by_lidvid and ("::" in entry or entry not in by_lid):
+        if secondary:
+            continue
+        if "::" not in entry:  # the Standards Reference: a primary member is named by its LIDVID
+            found.append(_Found("DLV-010", collection.inventory, f"primary member {entry} has no version (::M.N): "
+                                                                 "a primary member is named by its LIDVID", number))
+        elif not present:
             found.append(_Found("DLV-010", collection.inventory, f"primary member {entry} is listed, but no label "
                                                                  "in the delivery has that LIDVID", number))
     for label in labels:
@@ -532,7 +538,8 @@ register(
     Rule("DLV-005", "error", "VOLUME_ID and DATA_SET_ID agree across INDEX.TAB, INDEX.LBL and VOLDESC.CAT", None),
     Rule("DLV-006", "warning", "no [TO BE WRITTEN: ...] placeholder left in VOLDESC.CAT, AAREADME.TXT, "
                                "bundle or collection labels", None),
-    Rule("DLV-010", "error", "every primary member of a collection inventory is a product of the delivery", None),
+    Rule("DLV-010", "error", "every primary member of a collection inventory is the LIDVID of a product of the "
+                             "delivery", None),
     Rule("DLV-011", "error", "every product under a collection's LID is in its inventory", None),
     Rule("DLV-012", "error", "LIDVIDs are unique across the delivery's labels and inventories", None),
     Rule("DLV-013", "error", "primary inventory members' LIDs are under their collection's LID", None),
