@@ -58,6 +58,8 @@ RULES = (
     Pds4Rule("PDS4-062", "error", "file names use only letters, digits, '-', '_' and '.', and directory paths "
                                   "are relative"),
     Pds4Rule("PDS4-061", "error", "a PDF a document product holds is identified as PDF/A (its XMP pdfaid:part)"),
+    Pds4Rule("PDS4-063", "error", "context references (investigation, instrument, target ...) name registered "
+                                  "context products (the registry snapshot NASA's validator ships)"),
     Pds4Rule("PDS4-030", "error", "cart: pixel_scale agrees with pixel_resolution and the body radius"),
     Pds4Rule("PDS4-031", "error", "cart: bounding coordinates agree with Geo_Transformation within half a pixel"),
     Pds4Rule("PDS4-032", "error", "cart: map_projection_name has the parameter block of that projection"),
