@@ -26,12 +26,14 @@ Not comparable, and counted apart with the reason: runs configured by files pdsg
 not read (-c, -M, --target-manifest, --alternate_file_paths, -e with real patterns),
 --skip-product-validation runs, integrity runs whose directory holds other bundle or
 collection labels than the one named (NASA checks that one, pdsgen the directory), runs on a
-directory where NASA's extension filter finds no label but pdsgen finds some by content,
-cases whose data files are absent from the checkout (--absent lists them, one path per
-line relative to the checkout), and cases where a schema a label names was not found
-(PDS4-002: the verdict would be on a partial check). Each comparable case is run a second
-time from another working directory (unless --no-cwd-check) and must give the same
-findings.
+directory where pdsgen finds labels by content that NASA's extension filter leaves out
+(.lblx, PDS3 .lbl: a different input, not a different verdict; NASA's no_products_found
+on a directory of .lblx labels is one of these), cases whose data files are absent from
+the checkout (--absent lists them, one path per line relative to the checkout), and cases
+where a schema a label names was not found (PDS4-002: the verdict would be on a partial
+check). Findings on files NASA's run does not look at are set aside. Each comparable case
+is run a second time from another working directory (unless --no-cwd-check) and must give
+the same findings.
 """
 
 from __future__ import annotations
@@ -46,6 +48,7 @@ import tempfile
 import time
 import traceback
 from collections import Counter
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -186,13 +189,18 @@ def _parse(case: Case) -> Case:
     return case
 
 
+def _pattern(case: Case) -> str:
+    """NASA's label file pattern, in either case (its default is *.xml,*.XML)."""
+    return "*." + "".join(f"[{c.lower()}{c.upper()}]" if c.isalpha() else c for c in case.extension)
+
+
 def label_files(case: Case) -> list[Path]:
     """The labels NASA's validator would check: files named, and files with the label
     extension under directories named (pdsgen would also check PDS3 labels found there)."""
     found: list[Path] = []
     for target in case.targets:
         if target.is_dir():
-            found.extend(sorted(p for p in target.rglob(f"*.{case.extension}") if p.is_file()))
+            found.extend(sorted(p for p in target.rglob(_pattern(case)) if p.is_file()))
         else:
             found.append(target)
     return found
@@ -205,15 +213,40 @@ def pdsgen_paths(case: Case) -> list[Path]:
     return [target.parent if case.integrity and target.is_file() else target for target in case.targets]
 
 
+def _scope(case: Case, given: list[Path]) -> list[Path]:
+    """The labels NASA's run checks on the paths pdsgen is given: files named, and in
+    directories (an integrity run's bundle directory included) those of the label extension."""
+    return [p for path in given for p in (sorted(path.rglob(_pattern(case))) if path.is_dir() else [path])
+            if p.is_file()]
+
+
+def _found_beyond(given: list[Path], scope: list[Path], discover: Callable[[list[Path]], list[Path]]) -> str:
+    """The kinds of label pdsgen finds by content in the directories it is given that NASA's
+    extension filter does not select (".lbl, .lblx"), or ""."""
+    selected = {p.resolve() for p in scope}
+    beyond = {p.suffix.lower() or p.name for d in given if d.is_dir() for p in discover([d])
+              if p.resolve() not in selected}
+    return ", ".join(sorted(beyond))
+
+
+def _in_nasa_run(case: Case, rule: str, file: str, checked: set[str]) -> bool:
+    """Whether a finding is on what NASA's run checks: the labels it selects (not, say, the
+    PDS3 labels pdsgen also finds in a directory), the run as a whole, and in integrity runs
+    the delivery checks' findings on any file of the directory."""
+    if rule.startswith("DLV-"):
+        return case.integrity
+    return not file or rule == "USAGE" or os.path.normpath(Path(file).resolve()) in checked
+
+
 def _rivals(case: Case) -> bool:
     """Whether an integrity run's directory holds another label of the kind named (a second
     bundle, or another collection), which pdsgen would check with it."""
     for target in case.targets:
         if target.is_file():
             kind = _product_class(target)
-            if any(_product_class(p) == kind for p in target.parent.rglob(f"*.{case.extension}") if p != target):
+            if any(_product_class(p) == kind for p in target.parent.rglob(_pattern(case)) if p != target):
                 return True
-        elif sum(_product_class(p) == b"Bundle" for p in target.glob(f"*.{case.extension}")) > 1:
+        elif sum(_product_class(p) == b"Bundle" for p in target.glob(_pattern(case))) > 1:
             return True
     return False
 
@@ -259,9 +292,15 @@ def run_case(case: Case, extra_schemas: list[str], absent: set[Path], cwd_check:
             return Outcome(case, "not-comparable", f"NASA selects labels by extension (*.{case.extension}) and "
                                                    f"finds none; pdsgen finds {found} by content")
     given = pdsgen_paths(case)
+    scope = _scope(case, given)
+    extra = _found_beyond(given, scope, discover)
+    if extra:
+        return Outcome(case, "not-comparable", f"pdsgen also finds labels NASA's extension filter (*.{case.extension}) "
+                                               f"leaves out ({extra})")
     if case.integrity and _rivals(case):
         return Outcome(case, "not-comparable", "other bundle/collection labels beside the one named (NASA "
                                                "checks the one named, pdsgen the directory)")
+    checked = {os.path.normpath(p.resolve()) for p in scope}
     settings = Settings(severity=LENIENT_MEMBERSHIP if case.lenient_membership else {},
                         ignore=frozenset({"PDS4-063"} if case.skip_context else set()))
     runs = []
@@ -271,7 +310,7 @@ def run_case(case: Case, extra_schemas: list[str], absent: set[Path], cwd_check:
         try:
             report = validate_paths(given, labels_only=case.labels_only, schemas=schemas, settings=settings)
             findings = [(f.rule, f.severity, f.file, f.line, f.message) for f in report.findings
-                        if case.integrity or not f.rule.startswith("DLV-")]
+                        if _in_nasa_run(case, f.rule, f.file, checked)]
         except PdsgenError as exc:
             findings = [("USAGE", "error", "", None, str(exc))]
         except Exception:  # noqa: BLE001 - a crash is what the harness must count, not stop on
