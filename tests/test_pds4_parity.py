@@ -24,8 +24,8 @@ FEATURE = """Feature: sample
 | 480 | 3 | "github480" | "-t {datasrc}/test_fail_table_offset.xml --no-data-check" | "summary:totalErrors=1" |
 | 164 | 2 | "github164" | "-R pds4.label -t {datasrc}/valid/document_pdfa_valid.xml" | "summary:totalErrors=1" |
 | 1 | 1 | "github681" | "-c {datasrc}/config.txt -t {datasrc}/" | |
-| 482 | 4 | "github482" | "--skip-context-validation -R pds4.bundle -t {datasrc}/bundle2/bundle_kaguya_derived.xml" | "summary:totalWarnings=5" |
-| 482 | 6 | "github482" | "--skip-context-validation -R pds4.folder -e lblx -t {datasrc}/bundle2/" | "summary:totalErrors=1" |
+| 482 | 4 | "github482" | "-R pds4.bundle -t {datasrc}/bundle2/bundle_kaguya_derived.xml" | "summary:totalWarnings=5" |
+| 482 | 6 | "github482" | "-R pds4.folder -e lblx -t {datasrc}/bundle2/" | "summary:totalErrors=1" |
 """
 
 

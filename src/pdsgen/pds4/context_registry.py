@@ -13,8 +13,8 @@ schemas/pds4/SOURCES.md) and checks the same references the same way, offline:
   LID is registered with that version or a later one.
 
 A context product registered after the snapshot is reported until the snapshot is renewed
-(tools/pack_context_products.py); `--ignore PDS4-063` or a configured severity sets the
-rule aside, as NASA's --skip-context-validation does.
+(tools/pack_context_products.py); ignoring the rule, or configuring its severity, sets it
+aside as NASA's option to skip context validation does.
 """
 
 from __future__ import annotations
