@@ -14,13 +14,26 @@ files), and its error verdict (any error finding, or a usage error) compared wit
 expected message types and pdsgen's error findings, with the reason where it is known
 (REASONS below).
 
-Not comparable, and counted apart with the reason: bundle/collection integrity runs (-R
-pds4.bundle / pds4.collection, --target-manifest, -M: the delivery checks' domain), runs
-configured by files pdsgen does not read (-c, -e patterns), cases whose data files are
-absent from the checkout (--absent lists them, one path per line relative to the checkout),
-and cases where a schema a label names was not found (PDS4-002: the verdict would be on
-a partial check). Each comparable case is run a second time from another working
-directory (unless --no-cwd-check) and must give the same findings.
+How pdsgen is run: directories named are given as directories (pdsgen's own search, which
+recognises labels by content); for -R pds4.bundle / pds4.collection on a label, its
+directory, so that the delivery checks (DLV-*) run as NASA's referential-integrity checks
+do. In runs without those rules NASA makes no integrity check, and pdsgen's DLV findings
+are set aside. NASA's options map onto pdsgen's configuration:
+--skip-context-validation ignores PDS4-063 (context products), and
+--skip-strict-collection-membership reports missing members (DLV-010, DLV-015) as warnings.
+
+Not comparable, and counted apart with the reason: runs configured by files pdsgen does
+not read (-c, -M, --target-manifest, --alternate_file_paths, -e with real patterns),
+--skip-product-validation runs, integrity runs whose directory holds other bundle or
+collection labels than the one named (NASA checks that one, pdsgen the directory), runs on a
+directory where pdsgen finds labels by content that NASA's extension filter leaves out
+(.lblx, PDS3 .lbl: a different input, not a different verdict; NASA's no_products_found
+on a directory of .lblx labels is one of these), cases whose data files are absent from
+the checkout (--absent lists them, one path per line relative to the checkout), and cases
+where a schema a label names was not found (PDS4-002: the verdict would be on a partial
+check). Findings on files NASA's run does not look at are set aside. Each comparable case
+is run a second time from another working directory (unless --no-cwd-check) and must give
+the same findings.
 """
 
 from __future__ import annotations
@@ -35,6 +48,7 @@ import tempfile
 import time
 import traceback
 from collections import Counter
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -50,27 +64,31 @@ VALUE_FLAGS = {"-R", "--rule", "-x", "--schema", "-S", "--schematron", "-schema"
                "--label-extension",
                "-v", "--verbose", "-c", "--config", "-e", "--regexp", "-M", "--checksum-manifest",
                "--target-manifest", "-r", "--report-file", "-s", "--report-style", "--alternate",
-               "--add-context-products", "--max-errors"}
+               "--alternate_file_paths",
+               "--add-context-products", "--max-errors", "-progress", "--progress"}
+# NASA's --skip-strict-collection-membership reports missing members as warnings: pdsgen's
+# configuration does the same with these severities.
+LENIENT_MEMBERSHIP = {"DLV-010": "warning", "DLV-015": "warning"}
 NOT_COMPARABLE_FLAGS = {
-    "-c": "a configuration file", "--config": "a configuration file", "-e": "file-name patterns (-e)",
-    "--regexp": "file-name patterns", "-M": "a checksum manifest", "--checksum-manifest": "a checksum manifest",
+    "-c": "a configuration file", "--config": "a configuration file", "-M": "a checksum manifest",
+    "--checksum-manifest": "a checksum manifest",
     "--target-manifest": "a target manifest", "--alternate": "alternate file paths",
+    "--alternate_file_paths": "alternate file paths",
 }
-DELIVERY_RULES = {"pds4.bundle", "pds4.collection", "pds4.folder"}
+# Rules that check a bundle's or collection's integrity (pds4.folder checks a directory's
+# labels one by one, as a run on a directory does by default).
+DELIVERY_RULES = {"pds4.bundle", "pds4.collection"}
+_EXTENSION = re.compile(r"\*?\.?([A-Za-z0-9]+)")
 
 # Why pdsgen and NASA differ on a case (case id -> reason), checked by hand on each case.
-_CONTEXT = ("policy: NASA looks the label's context products (investigation, host, target LIDs) up in "
-            "PDS's registry of context products; pdsgen is offline and has no such registry")
 REASONS: dict[str, str] = {
-    "11-3": _CONTEXT, "47-2": _CONTEXT, "62-2": _CONTEXT, "137-2": _CONTEXT,
+    "173-2": "NASA reads a collection's inventory in an integrity run even with --skip-content-validation "
+             "(records_mismatch); pdsgen's --labels-only reads no data file, inventories included",
     "209-2": "NASA accepts bit fields 20-23 overlapping 23-... here yet reports the same kind of overlap in "
              "392-2; pdsgen reports both",
     "71-1": "NASA's errors come from its XML catalog of this case (5 unresolvable resources); with the "
             "same schema files resolved by name, pdsgen finds the label valid against them",
     "71-2": "as 71-1",
-    "298-2": "not implemented: NASA's invalid_field_value for UTF8_String values of a delimited table "
-             "whose quoted fields span lines",
-    "299-2": "not implemented: NASA reads the data types of manifest rows beyond the stated record count",
 }
 
 
@@ -85,6 +103,9 @@ class Case:
     schema_files: list[Path] = field(default_factory=list)
     schema_dirs: list[Path] = field(default_factory=list)
     labels_only: bool = False
+    integrity: bool = False  # -R pds4.bundle / pds4.collection: the directory's integrity too
+    lenient_membership: bool = False
+    skip_context: bool = False
     extension: str = "xml"
     skip: str | None = None
 
@@ -133,15 +154,25 @@ def _parse(case: Case) -> Case:
         if arg in NOT_COMPARABLE_FLAGS:
             case.skip = f"run configured by {NOT_COMPARABLE_FLAGS[arg]}"
         if arg in ("-R", "--rule") and value in DELIVERY_RULES:
-            case.skip = f"-R {value}: bundle/collection integrity (delivery checks)"
+            case.integrity = True
         if arg in ("-x", "--schema", "-S", "--schematron", "-schema", "-schematron"):
             case.schema_files.append(Path(value))
+        if arg in ("-e", "--regexp"):  # file patterns: comparable when each is an extension (lblx, *.xml)
+            extensions = [_EXTENSION.fullmatch(p) for p in value.split(",")]
+            if len(extensions) == 1 and extensions[0] is not None:
+                case.extension = extensions[0][1]
+            else:
+                case.skip = "run configured by file-name patterns (-e)"
         if arg in ("-C", "--catalog"):
             case.schema_dirs.append(case.datasrc)  # its catalog maps pds.nasa.gov/pds4 onto the test data
         if arg == "--label-extension":
             case.extension = value.lstrip(".")
         if arg in ("--skip-content-validation", "--no-data-check"):
             case.labels_only = True
+        if arg == "--skip-strict-collection-membership":
+            case.lenient_membership = True
+        if arg == "--skip-context-validation":
+            case.skip_context = True
         if arg == "--skip-product-validation":
             case.skip = "--skip-product-validation: only bundle/collection integrity is checked"
         if arg in VALUE_FLAGS:
@@ -158,16 +189,75 @@ def _parse(case: Case) -> Case:
     return case
 
 
+def _pattern(case: Case) -> str:
+    """NASA's label file pattern, in either case (its default is *.xml,*.XML)."""
+    return "*." + "".join(f"[{c.lower()}{c.upper()}]" if c.isalpha() else c for c in case.extension)
+
+
 def label_files(case: Case) -> list[Path]:
     """The labels NASA's validator would check: files named, and files with the label
     extension under directories named (pdsgen would also check PDS3 labels found there)."""
     found: list[Path] = []
     for target in case.targets:
         if target.is_dir():
-            found.extend(sorted(p for p in target.rglob(f"*.{case.extension}") if p.is_file()))
+            found.extend(sorted(p for p in target.rglob(_pattern(case)) if p.is_file()))
         else:
             found.append(target)
     return found
+
+
+def pdsgen_paths(case: Case) -> list[Path]:
+    """What pdsgen is given: the files named, directories as directories (pdsgen's own
+    search, by content); for an integrity run (-R pds4.bundle) on a bundle label, the
+    bundle's directory, as NASA's validator checks it."""
+    return [target.parent if case.integrity and target.is_file() else target for target in case.targets]
+
+
+def _scope(case: Case, given: list[Path]) -> list[Path]:
+    """The labels NASA's run checks on the paths pdsgen is given: files named, and in
+    directories (an integrity run's bundle directory included) those of the label extension."""
+    return [p for path in given for p in (sorted(path.rglob(_pattern(case))) if path.is_dir() else [path])
+            if p.is_file()]
+
+
+def _found_beyond(given: list[Path], scope: list[Path], discover: Callable[[list[Path]], list[Path]]) -> str:
+    """The kinds of label pdsgen finds by content in the directories it is given that NASA's
+    extension filter does not select (".lbl, .lblx"), or ""."""
+    selected = {p.resolve() for p in scope}
+    beyond = {p.suffix.lower() or p.name for d in given if d.is_dir() for p in discover([d])
+              if p.resolve() not in selected}
+    return ", ".join(sorted(beyond))
+
+
+def _in_nasa_run(case: Case, rule: str, file: str, checked: set[str]) -> bool:
+    """Whether a finding is on what NASA's run checks: the labels it selects (not, say, the
+    PDS3 labels pdsgen also finds in a directory), the run as a whole, and in integrity runs
+    the delivery checks' findings on any file of the directory."""
+    if rule.startswith("DLV-"):
+        return case.integrity
+    return not file or rule == "USAGE" or os.path.normpath(Path(file).resolve()) in checked
+
+
+def _rivals(case: Case) -> bool:
+    """Whether an integrity run's directory holds another label of the kind named (a second
+    bundle, or another collection), which pdsgen would check with it."""
+    for target in case.targets:
+        if target.is_file():
+            kind = _product_class(target)
+            if any(_product_class(p) == kind for p in target.parent.rglob(_pattern(case)) if p != target):
+                return True
+        elif sum(_product_class(p) == b"Bundle" for p in target.glob(_pattern(case))) > 1:
+            return True
+    return False
+
+
+def _product_class(path: Path) -> bytes | None:
+    try:
+        with open(path, "rb") as stream:
+            match = re.search(rb"<Product_(Bundle|Collection)[\s>]", stream.read(4096))
+    except OSError:
+        return None
+    return match[1] if match else None
 
 
 @dataclass
@@ -181,7 +271,7 @@ class Outcome:
 def run_case(case: Case, extra_schemas: list[str], absent: set[Path], cwd_check: bool,
              scratch: Path) -> Outcome:
     from pdsgen.errors import PdsgenError
-    from pdsgen.validate import validate_paths
+    from pdsgen.validate import Settings, discover, validate_paths
 
     if case.skip:
         return Outcome(case, "not-comparable", case.skip)
@@ -196,15 +286,31 @@ def run_case(case: Case, extra_schemas: list[str], absent: set[Path], cwd_check:
             if file.is_file() and not (own / file.name).exists():
                 (own / file.name).symlink_to(file.resolve())
         schemas.append(str(own))
+    if not labels:  # NASA finds no product (no_products_found); does pdsgen find none either?
+        found = sum(1 for target in case.targets if target.is_dir() for _ in discover([target]))
+        if found:
+            return Outcome(case, "not-comparable", f"NASA selects labels by extension (*.{case.extension}) and "
+                                                   f"finds none; pdsgen finds {found} by content")
+    given = pdsgen_paths(case)
+    scope = _scope(case, given)
+    extra = _found_beyond(given, scope, discover)
+    if extra:
+        return Outcome(case, "not-comparable", f"pdsgen also finds labels NASA's extension filter (*.{case.extension}) "
+                                               f"leaves out ({extra})")
+    if case.integrity and _rivals(case):
+        return Outcome(case, "not-comparable", "other bundle/collection labels beside the one named (NASA "
+                                               "checks the one named, pdsgen the directory)")
+    checked = {os.path.normpath(p.resolve()) for p in scope}
+    settings = Settings(severity=LENIENT_MEMBERSHIP if case.lenient_membership else {},
+                        ignore=frozenset({"PDS4-063"} if case.skip_context else set()))
     runs = []
     for cwd in ([scratch / "a", scratch / "b"] if cwd_check else [scratch / "a"]):
         cwd.mkdir(exist_ok=True)
         os.chdir(cwd)
         try:
-            if not labels:
-                raise PdsgenError(None, "no label to check")
-            report = validate_paths(labels, labels_only=case.labels_only, schemas=schemas)
-            findings = [(f.rule, f.severity, f.file, f.line, f.message) for f in report.findings]
+            report = validate_paths(given, labels_only=case.labels_only, schemas=schemas, settings=settings)
+            findings = [(f.rule, f.severity, f.file, f.line, f.message) for f in report.findings
+                        if _in_nasa_run(case, f.rule, f.file, checked)]
         except PdsgenError as exc:
             findings = [("USAGE", "error", "", None, str(exc))]
         except Exception:  # noqa: BLE001 - a crash is what the harness must count, not stop on

@@ -275,7 +275,7 @@ def test_seeded_browse_pointing_at_missing_product(delivery):
     _seed(delivery, "EXTRAS/PSP_008669_1705_RED_C_01_ORTHO.browse.xml",
           "urn:nasa:pds:demo_dtm:data:psp_008669_1705_red_c_01_ortho::1.0",
           "urn:nasa:pds:demo_dtm:data:psp_000000_0000_red_c_01_ortho::1.0")
-    found = _errors(delivery, "DLV-014")
+    found = [f for f in validate_paths([delivery]).findings if f.rule == "DLV-014"]  # a warning, as NASA's
     assert len(found) == 1 and found[0].file.endswith("PSP_008669_1705_RED_C_01_ORTHO.browse.xml")
 
 

@@ -23,7 +23,9 @@ FEATURE = """Feature: sample
 | 1234 | 1 | "github1234" | " -t {datasrc}/collection6.xml" | "summary:totalErrors=1" |
 | 480 | 3 | "github480" | "-t {datasrc}/test_fail_table_offset.xml --no-data-check" | "summary:totalErrors=1" |
 | 164 | 2 | "github164" | "-R pds4.label -t {datasrc}/valid/document_pdfa_valid.xml" | "summary:totalErrors=1" |
-| 1 | 1 | "github681" | "-R pds4.bundle -t {datasrc}/" | |
+| 1 | 1 | "github681" | "-c {datasrc}/config.txt -t {datasrc}/" | |
+| 482 | 4 | "github482" | "-R pds4.bundle -t {datasrc}/bundle2/bundle_kaguya_derived.xml" | "summary:totalWarnings=5" |
+| 482 | 6 | "github482" | "-R pds4.folder -e lblx -t {datasrc}/bundle2/" | "summary:totalErrors=1" |
 """
 
 
@@ -41,15 +43,17 @@ def test_harness_prints_the_confusion_table_and_each_disagreement(tmp_path):
                              str(tmp_path / "o.json")], capture_output=True, text=True, timeout=600, cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     out = result.stdout
-    assert "comparable: 5; not comparable: 1; crashes: 0" in out
+    assert "comparable: 6; not comparable: 2; crashes: 0" in out
     assert "NASA: error                      3                  1" in out  # 164-2 is made to disagree here
-    assert "NASA: no error                   0                  1" in out
-    assert "agreement on the error verdict: 4/5 = 80.0 %" in out
-    assert "-R pds4.bundle: bundle/collection integrity" in out
+    assert "NASA: no error                   0                  2" in out
+    assert "agreement on the error verdict: 5/6 = 83.3 %" in out
+    assert "run configured by a configuration file" in out
+    assert "NASA selects labels by extension (*.lblx) and finds none; pdsgen finds 3 by content" in out
     assert "missed-error (1):\n  164-2" in out
     outcomes = {o["case"]: o["status"] for o in json.loads((tmp_path / "o.json").read_text())}
     assert outcomes == {"681-2": "agree", "681-9": "agree", "1234-1": "agree", "480-3": "agree",
-                        "164-2": "missed-error", "1-1": "not-comparable"}
+                        "164-2": "missed-error", "1-1": "not-comparable", "482-4": "agree",
+                        "482-6": "not-comparable"}
 
 
 def test_harness_without_a_checkout_says_so(tmp_path):

@@ -109,7 +109,7 @@ def test_hirise_ortho_passes_schema_and_schematron(ortho):
     _, label = ortho
     assert validate_pds4(label.path) == []
     assert "<encoding_standard_id>JP2</encoding_standard_id>" in label.text
-    assert "urn:nasa:pds:context:instrument:mro.hirise" in label.text
+    assert "urn:nasa:pds:context:instrument:hirise.mro" in label.text  # as PDS registers it
 
 
 def test_ortho_primary_array_equals_the_jp2_and_keeps_the_grid(ortho):

@@ -150,13 +150,14 @@ def test_an_import_that_does_not_resolve_fails_loudly(product, tmp_path):
 
 @needs_saxon
 def test_missing_dictionaries_are_reported_once_each_and_the_rest_is_checked(product, tmp_path):
-    """IM 1.21 (1L00): its core schema is shipped, its cart and disp are not. Each missing
-    dictionary is one finding; the core XML Schema and Schematron still run (and find that
-    information_model_version 1.24.0.0 is not 1L00's)."""
-    label = _copy(product, tmp_path, lambda t: t.replace("1O00", "1L00"))
+    """IM 1.21 (1L00): its core schema is shipped, cart 1.9.9.9 and disp 1.5.9.9 (versions
+    never released) are not. Each missing dictionary is one finding; the core XML Schema and
+    Schematron still run (and find that information_model_version 1.24.0.0 is not 1L00's)."""
+    label = _copy(product, tmp_path, lambda t: t.replace("1O00", "1L00").replace("_1970", "_1999")
+                  .replace("_1510", "_1599"))
     found = validate_pds4(label, labels_only=True)
     missing = sorted(f.message.split()[1] for f in found if f.rule == "PDS4-002")
-    assert missing == ["PDS4_CART_1L00_1970", "PDS4_DISP_1L00_1510"]
+    assert missing == ["PDS4_CART_1L00_1999", "PDS4_DISP_1L00_1599"]
     assert all("--offline" in f.message and "--schemas" in f.message for f in found if f.rule == "PDS4-002")
     assert {f.rule for f in found} == {"PDS4-002", "PDS4-005"}
     assert any("1.21.0.0" in f.message for f in found if f.rule == "PDS4-005")

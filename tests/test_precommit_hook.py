@@ -140,7 +140,7 @@ def test_skip_non_labels_passes_over_what_a_directory_search_passes_over(project
     # a named directory without labels is still a usage error: a CI job pointed at nothing must not pass
     (project.parent / "empty").mkdir(exist_ok=True)
     empty = run_cli("validate", "--skip-non-labels", project.parent / "empty")
-    assert empty.returncode == 2 and "no PDS3 labels found" in empty.stderr
+    assert empty.returncode == 2 and "no PDS3 or PDS4 label found" in empty.stderr
 
 
 def test_skip_non_labels_keeps_pds4_labels(tmp_path):

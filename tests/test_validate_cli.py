@@ -163,9 +163,9 @@ def test_no_labels_found_is_a_usage_error(tmp_path):
     for where in (empty, others):
         for fmt in ("text", "json", "junit"):
             line = _usage_error_line(_run("--format", fmt, where))
-            assert line == f"pdsgen: error: no PDS3 labels found under {where}"
+            assert line == f"pdsgen: error: no PDS3 or PDS4 label found under {where}"
     both = _usage_error_line(_run(empty, others))
-    assert both == f"pdsgen: error: no PDS3 labels found under {empty}, {others}"
+    assert both == f"pdsgen: error: no PDS3 or PDS4 label found under {empty}, {others}"
     # one label anywhere among the paths: the others are simply searched
     make_dtm(others)
     data = json.loads(_run("--format", "json", empty, others).output)
@@ -173,7 +173,7 @@ def test_no_labels_found_is_a_usage_error(tmp_path):
 
 
 def test_no_labels_found_from_python(tmp_path):
-    with pytest.raises(PdsgenError, match="no PDS3 labels found under"):
+    with pytest.raises(PdsgenError, match="no PDS3 or PDS4 label found under"):
         validate_paths([tmp_path])
 
 

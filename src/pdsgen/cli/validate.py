@@ -124,8 +124,8 @@ def _output(path: str | None):
               help="Extra data dictionary (PSDD .full format) merged over the built-in one; repeatable.")
 @click.option("--schemas", "schemas", multiple=True, type=click.Path(file_okay=False),
               help="Directory of PDS4 schemas (.xsd/.sch), searched first (recursively); repeatable. pdsgen "
-                   "ships the core schema of every IM version from 1.0.0.0 to 1.24.0.0 and common "
-                   "dictionaries at 1.24.")
+                   "ships the core schema of every IM version from 1.0.0.0 to 1.24.0.0 and every "
+                   "version of the discipline dictionaries.")
 @click.option("--schema-cache", type=click.Path(file_okay=False),
               help="Directory of downloaded PDS4 schemas (default: ~/.cache/pdsgen/pds4-schemas).")
 @click.option("--offline", is_flag=True,

@@ -248,7 +248,7 @@ PDS4 = Pds4Facts(
         ContextReference("Mars Reconnaissance Orbiter", "Host",
                          "urn:nasa:pds:context:instrument_host:spacecraft.mro", "is_instrument_host"),
         ContextReference("High Resolution Imaging Science Experiment", "Instrument",
-                         "urn:nasa:pds:context:instrument:mro.hirise", "is_instrument"),
+                         "urn:nasa:pds:context:instrument:hirise.mro", "is_instrument"),
     ),
 )
 

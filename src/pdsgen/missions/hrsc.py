@@ -156,7 +156,7 @@ PDS4 = Pds4Facts(
     bundle="mex_hrsc",
     authority="urn:esa:psa",
     investigation=ContextReference("Mars Express", "Mission",
-                                   "urn:esa:psa:context:investigation:mission.mex", "data_to_investigation"),
+                                   "urn:esa:psa:context:investigation:mission.mars_express", "data_to_investigation"),
     observing_system=(
         ContextReference("Mars Express", "Host", "urn:esa:psa:context:instrument_host:spacecraft.mex",
                          "is_instrument_host"),

@@ -9,7 +9,7 @@ They are looked up, first found wins:
 2. the directories the user gives (`--schemas DIR`, searched recursively);
 3. pdsgen's download cache (`~/.cache/pdsgen/pds4-schemas`, or `--schema-cache DIR`);
 4. the schemas shipped with pdsgen: `schemas/pds4/<IM>/` as files, and the core schemas
-   of every released IM version plus common dictionaries as xz archives in
+   of every released IM version and every version of the discipline dictionaries as xz archives in
    `schemas/pds4/packed/` (listed by its index.json, read in memory when first needed);
 5. the label's URL, when downloads are allowed (the file then goes into the cache, its
    SHA-256 recorded in the cache's SHA256SUMS).

@@ -5,8 +5,11 @@
   here is the identification every PDF/A file carries, `pdfaid:part` in its XMP metadata
   (which PDF/A forbids compressing), so a plain PDF is caught, a broken PDF/A is not.
 - File names use the characters PDS4 allows, and directory paths are relative.
-- No two labels of one run may describe the same data file (NASA's validator reports it
-  for the run): `DataFileRegister` sees every PDS4 report of a run, in the parent process.
+- No two labels of one run may describe the same file of observational data (NASA's
+  validator reports it for the run): `DataFileRegister` sees every PDS4 report of a run,
+  in the parent process. Other files may be shared, as NASA's validator lets them be: two
+  editions of a document (two Product_Document labels) naming the same figures, a browse
+  image two products point at.
 """
 
 from __future__ import annotations
@@ -62,11 +65,14 @@ def _marked_pdf_a(path: Path) -> bool:
 
 class DataFileRegister:
     """The data files the PDS4 labels of one run describe (every file_name of the label),
-    and which label named each first. The label's text is scanned, not parsed again: this
-    runs in the parent process for every label of the run."""
+    which label named each first, and whether any named it as observational data (a
+    File_Area_Observational or _Supplemental, or any file of a Product_Observational). The
+    label's text is scanned, not parsed again: this runs in the parent process for every
+    label of the run."""
 
     def __init__(self) -> None:
         self.first: dict[str, str] = {}
+        self.observational: dict[str, bool] = {}
 
     def add(self, label: str) -> list[Finding]:
         """PDS4-060 findings for the label's data files another label of the run named."""
@@ -76,6 +82,8 @@ class DataFileRegister:
         except OSError:
             return []  # the label's own report says why it cannot be read
         directory = os.path.dirname(os.path.abspath(label))
+        observational_product = _OBSERVATIONAL_ROOT.search(text) is not None
+        areas = [(m.start(), m[1]) for m in _FILE_AREA.finditer(text)]
         findings = []
         for block in _FILE_ELEMENT.finditer(text):
             match = _FILE_NAME_ELEMENT.search(block[0])
@@ -85,14 +93,20 @@ class DataFileRegister:
             folder = _DIRECTORY_ELEMENT.search(block[0])  # a Document_File's directory_path_name
             relative = os.path.join(folder[1].decode("utf-8", "replace").strip(), name) if folder else name
             data = os.path.normpath(os.path.join(directory, relative))
+            area = next((tag for start, tag in reversed(areas) if start < block.start()), b"")
+            observational = observational_product or area in _OBSERVATIONAL_AREAS
             first = self.first.setdefault(data, label)
-            if first != label:
+            observational = self.observational[data] = self.observational.get(data, False) or observational
+            if first != label and observational:
                 findings.append(Finding("PDS4-060", SEVERITY["PDS4-060"], label,
                                         f"{relative} is also described by {first}",
                                         text.count(b"\n", 0, block.start() + match.start()) + 1, "file_name"))
         return findings
 
 
+_OBSERVATIONAL_ROOT = re.compile(rb"<(?:[A-Za-z_][\w.-]*:)?Product_Observational[\s>]")
+_FILE_AREA = re.compile(rb"<(?:[A-Za-z_][\w.-]*:)?(File_Area_\w+|Document_Edition)[\s>]")
+_OBSERVATIONAL_AREAS = (b"File_Area_Observational", b"File_Area_Observational_Supplemental")
 _FILE_ELEMENT = re.compile(rb"<((?:[A-Za-z_][\w.-]*:)?(?:File|Document_File))>.*?</\1>", re.DOTALL)
 _FILE_NAME_ELEMENT = re.compile(rb"<(?:[A-Za-z_][\w.-]*:)?file_name>([^<]+)</")
 _DIRECTORY_ELEMENT = re.compile(rb"<(?:[A-Za-z_][\w.-]*:)?directory_path_name>([^<]+)</")

@@ -47,16 +47,19 @@ RULES = (
     Pds4Rule("PDS4-053", "error", "numeric table values lie within their Field_Statistics minimum and maximum"),
     Pds4Rule("PDS4-054", "warning", "numeric table values lie within the field's valid_minimum/valid_maximum "
                                     "or are special constants"),
-    Pds4Rule("PDS4-055", "error", "each delimited record has the number of fields the label defines"),
+    Pds4Rule("PDS4-055", "error", "each delimited record has the number of fields the label defines, and no "
+                                  "double-quoted value holds a double quote"),
     Pds4Rule("PDS4-056", "error", "inventory and bundle members: status P or S, a LIDVID or LID, none listed "
                                   "twice"),
     Pds4Rule("PDS4-057", "error", "the objects of a file (header, tables, arrays) do not overlap"),
     Pds4Rule("PDS4-058", "error", "table values have the precision of their field's validation_format"),
     Pds4Rule("PDS4-059", "warning", "table values have the precision of their field's field_format"),
-    Pds4Rule("PDS4-060", "error", "no two labels of a run describe the same data file"),
+    Pds4Rule("PDS4-060", "error", "no two labels of a run describe the same file of observational data"),
     Pds4Rule("PDS4-062", "error", "file names use only letters, digits, '-', '_' and '.', and directory paths "
                                   "are relative"),
     Pds4Rule("PDS4-061", "error", "a PDF a document product holds is identified as PDF/A (its XMP pdfaid:part)"),
+    Pds4Rule("PDS4-063", "error", "context references (investigation, instrument, target ...) name registered "
+                                  "context products (the registry snapshot NASA's validator ships)"),
     Pds4Rule("PDS4-030", "error", "cart: pixel_scale agrees with pixel_resolution and the body radius"),
     Pds4Rule("PDS4-031", "error", "cart: bounding coordinates agree with Geo_Transformation within half a pixel"),
     Pds4Rule("PDS4-032", "error", "cart: map_projection_name has the parameter block of that projection"),

@@ -6,7 +6,8 @@ collection inventories, checked as NASA's validator checks them.
 - the values: each parses as its field's data_type (PDS4-052), and a numeric value lies
   within the field's Field_Statistics minimum/maximum (PDS4-053, error) and its
   Special_Constants valid range (PDS4-054, warning, as NASA warns);
-- Table_Delimited: the number of fields in each record (PDS4-055);
+- Table_Delimited: the number of fields in each record, no double quote inside a
+  double-quoted value (PDS4-055);
 - inventories: member status P or S, LIDVID/LID syntax, no member listed twice (PDS4-056).
 
 Records are read one at a time from the file (memory does not grow with the table), and
@@ -35,6 +36,10 @@ _DATE_DOY = r"\d{4}(-(00[1-9]|0[1-9]\d|[12]\d\d|3[0-5]\d|36[0-6]))?"
 _TIME = r"([01]\d|2[0-3])(:[0-5]\d(:([0-5]\d|60)(\.\d+)?)?)?"
 _ZONE = r"(Z|[+-]\d{2}:?\d{2})?"
 _LID = r"urn:[A-Za-z0-9-]+:[A-Za-z0-9._-]+:[A-Za-z0-9_.:-]+"
+# Standards Reference 6C.1-2: file and directory names of letters, digits, '-', '_', '.', neither
+# beginning nor ending with one of those three; a file name has a period and an extension.
+_DIRECTORY = r"[A-Za-z0-9](?:[A-Za-z0-9_-]*[A-Za-z0-9])?"
+_FILE = r"(?=[^/]*\.[A-Za-z0-9])[A-Za-z0-9](?:[A-Za-z0-9._-]*[A-Za-z0-9])?"
 PATTERNS: dict[str, re.Pattern[str]] = {name: re.compile(rf"(?:{pattern})\Z") for name, pattern in {
     "ASCII_Real": _REAL + r"|[+-]?(INF|Inf|inf|Infinity|NaN|nan)",
     "ASCII_Integer": r"[+-]?\d+",
@@ -57,6 +62,9 @@ PATTERNS: dict[str, re.Pattern[str]] = {name: re.compile(rf"(?:{pattern})\Z") fo
     "ASCII_LIDVID": _LID + r"::\d+\.\d+",
     "ASCII_LIDVID_LID": _LID + r"(::\d+\.\d+)?",
     "ASCII_VID": r"\d+\.\d+",
+    "ASCII_File_Name": _FILE,
+    "ASCII_Directory_Path_Name": rf"/?(?:{_DIRECTORY}/)*{_DIRECTORY}/?",
+    "ASCII_File_Specification_Name": rf"/?(?:{_DIRECTORY}/)*{_FILE}",
 }.items()}
 _NUMERIC = {"ASCII_Real", "ASCII_Integer", "ASCII_NonNegative_Integer"}
 _BASES = {"ASCII_Numeric_Base2": 2, "ASCII_Numeric_Base8": 8, "ASCII_Numeric_Base16": 16}
@@ -122,7 +130,13 @@ def check_tables(report: Report, tree: etree._ElementTree) -> None:
 
 
 def _areas(tree: etree._ElementTree) -> Iterator[etree._Element]:
+    """The label's file areas, and those of its Information_Package_Components (an AIP's or
+    SIP's checksum and transfer manifests)."""
     yield from file_areas(tree)
+    for component in tree.getroot().iterchildren(f"{P}Information_Package_Component"):
+        for area in component:
+            if isinstance(area.tag, str) and area.tag.startswith(f"{P}File_Area"):
+                yield area
 
 
 def _text(element: etree._Element, name: str) -> str | None:
@@ -425,7 +439,13 @@ def _records_after(handle, object_length: int | None) -> int:  # noqa: ANN001 - 
 
 
 def _split(record: bytes, delimiter: bytes) -> list[bytes]:
-    """Fields of a delimited record; a double-quoted field may hold the delimiter."""
+    """Values of a delimited record (a double-quoted field without its quotes)."""
+    return [_unquoted(field) for field in _as_written(record, delimiter)]
+
+
+def _as_written(record: bytes, delimiter: bytes) -> list[bytes]:
+    """Fields of a delimited record, as written (quotes kept); a double-quoted field may hold
+    the delimiter."""
     fields, current, quoted = [], bytearray(), False
     for byte in record:
         char = bytes([byte])
@@ -437,7 +457,19 @@ def _split(record: bytes, delimiter: bytes) -> list[bytes]:
             continue
         current += char
     fields.append(bytes(current))
-    return [f.strip().strip(b'"') if f.strip().startswith(b'"') else f for f in fields]
+    return fields
+
+
+def _unquoted(field: bytes) -> bytes:
+    """A field's value: a double-quoted field without its quotes."""
+    return field.strip().strip(b'"') if field.strip().startswith(b'"') else field
+
+
+def _quote_inside_quotes(field: bytes) -> bool:
+    """PDS DSV 1 (Standards Reference 4C) has no escape for a double quote: a double-quoted
+    value must not hold one (RFC 4180's doubled "" included)."""
+    text = field.strip()
+    return len(text) >= 2 and text.startswith(b'"') and text.endswith(b'"') and b'"' in text[1:-1]
 
 
 def _table_delimited(out: _Limited, table: etree._Element, path: Path | None,
@@ -457,12 +489,18 @@ def _table_delimited(out: _Limited, table: etree._Element, path: Path | None,
             if not data.endswith(ending) or (ending == _LF and data.endswith(b"\r\n")):
                 out.add("PDS4-051", f"record {count} does not end with the record delimiter "
                                     f"{_text(table, 'record_delimiter')}", table, "record_delimiter")
-            values = _split(data[:-len(ending)] if data.endswith(ending) else data.rstrip(b"\r\n"), delimiter)
+            written = _as_written(data[:-len(ending)] if data.endswith(ending) else data.rstrip(b"\r\n"), delimiter)
+            values = [_unquoted(value) for value in written]
             expected = len(fields) if fields or declared is None else declared  # groups expanded
             if len(values) != expected:
                 out.add("PDS4-055", f"record {count} has {len(values)} fields, the label defines {expected}",
                         record, "fields")
                 continue
+            for number, value in enumerate(written, start=1):
+                if _quote_inside_quotes(value):
+                    name = fields[number - 1].name if number <= len(fields) else str(number)
+                    out.add("PDS4-055", f"record {count}, field {name}: a double-quoted value holds a double "
+                                        "quote, which PDS DSV 1 does not allow", record, "field_delimiter")
             for field, value in zip(fields, values, strict=False):
                 if field.length and len(value) > field.length:
                     out.add("PDS4-052", f"record {count}, field {field.name}: {len(value)} characters, "

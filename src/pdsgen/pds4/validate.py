@@ -24,6 +24,7 @@ from ..validate.model import Finding
 from . import schematron
 from .cart_checks import check_cartography, check_encoded_jp2
 from .catalog import SchemaCatalog, schema_references
+from .context_registry import check_context_references
 from .data_checks import check_data, check_special_constants
 from .detect import is_pds4_label
 from .document_checks import DataFileRegister, check_file_names, check_pdf_a
@@ -34,9 +35,9 @@ from .xsd import SchemaImportError, build_schema, xsd_errors
 
 # Checks of the label against its data (skipped by --labels-only), and of the label alone.
 CONTENT_CHECKS = (check_data, check_special_constants, check_cartography, check_encoded_jp2, check_tables,
-                  check_object_layout, check_members, check_pdf_a, check_file_names)
+                  check_object_layout, check_members, check_pdf_a, check_file_names, check_context_references)
 LABEL_ONLY_CHECKS = (check_special_constants, check_cartography, check_object_layout, check_members,
-                     check_file_names)
+                     check_file_names, check_context_references)
 
 
 def check_schema_dirs(directories: Iterable[str | os.PathLike[str]]) -> tuple[str, ...]:

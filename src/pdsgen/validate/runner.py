@@ -261,7 +261,7 @@ def iter_reports(
     if first is None and skip_non_labels and all(Path(p).is_file() for p in paths):
         return iter(())  # files named, none a label: nothing to check (a directory must hold labels)
     if first is None:  # a CI job pointed at the wrong directory must not pass
-        raise PdsgenError(None, "no PDS3 labels found under " + ", ".join(os.fspath(p) for p in paths))
+        raise PdsgenError(None, "no PDS3 or PDS4 label found under " + ", ".join(os.fspath(p) for p in paths))
     files = itertools.chain([first], found)
     cache = os.fspath(schema_cache) if schema_cache is not None else None
     job = _Job(labels_only, extra, strict, settings, schema_dirs, cache, download_schemas and cache is not None)

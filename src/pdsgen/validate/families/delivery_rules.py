@@ -321,7 +321,8 @@ class _Pds4Label:
     product_class: str
     lid: str
     version: str
-    references: list[tuple[str, int]] = field(default_factory=list)  # (lid or lidvid, line)
+    references: list[tuple[str, int]] = field(default_factory=list)  # (lid or lidvid, line), not members
+    members: list[tuple[str, str, int]] = field(default_factory=list)  # a bundle's (lidvid, status, line)
     inventory: Path | None = None
 
     @property
@@ -343,9 +344,16 @@ def _read_pds4(path: Path) -> _Pds4Label | None:
     lid = (area.findtext(f"{PDS_NS}logical_identifier") or "").strip() if area is not None else ""
     version = (area.findtext(f"{PDS_NS}version_id") or "").strip() if area is not None else ""
     label = _Pds4Label(path, root.tag[len(PDS_NS):], lid, version)
+    member_entries = set(root.iter(f"{PDS_NS}Bundle_Member_Entry"))
     for tag in ("lidvid_reference", "lid_reference"):
         for element in root.iter(f"{PDS_NS}{tag}"):
-            label.references.append(((element.text or "").strip(), element.sourceline or 0))
+            reference = ((element.text or "").strip(), element.sourceline or 0)
+            entry = element.getparent()
+            if entry in member_entries:
+                status = (entry.findtext(f"{PDS_NS}member_status") or "").strip()
+                label.members.append((reference[0], status, reference[1]))
+            else:
+                label.references.append(reference)
     name = root.findtext(f"{PDS_NS}File_Area_Inventory/{PDS_NS}File/{PDS_NS}file_name")
     if name:
         label.inventory = path.parent / name.strip()
@@ -369,17 +377,21 @@ def _check_bundle(root: Path, found: list[_Found]) -> None:
         by_lid.setdefault(label.lid, []).append(label)
     bundle = bundles[0]
     collections = [label for label in labels if label.product_class == "Product_Collection"]
-    listed = {ref for ref, _ in bundle.references}
+    listed = {ref for ref, _, _ in bundle.members}
     for collection in collections:
         if collection.lidvid not in listed and collection.lid not in listed:
             found.append(_Found("DLV-015", bundle.path, f"the bundle does not list collection {collection.lidvid} "
                                                         f"({collection.path.relative_to(root)})"))
+    for ref, status, line in bundle.members:  # a secondary member is another bundle's: not looked for
+        if status.lower() == "primary" and ref not in by_lidvid and ref not in by_lid:
+            found.append(_Found("DLV-015", bundle.path, f"primary member {ref} is no collection of this delivery",
+                                line))
     owned = bundle.lid + ":"
     for label in labels:
         for ref, line in label.references:
             if ref.startswith(owned) and ref not in by_lidvid and ref not in by_lid:
-                rule = "DLV-015" if label is bundle else "DLV-014"
-                found.append(_Found(rule, label.path, f"{ref} is no product of this delivery", line))
+                found.append(_Found("DLV-014", label.path, f"{ref} is no product of this delivery (one "
+                                                           "delivered apart, or a mistyped LID)", line))
     members: dict[str, Path] = {}
     for collection in collections:
         _check_inventory(root, collection, labels, by_lidvid, by_lid, members, found)
@@ -403,17 +415,25 @@ def _check_inventory(root: Path, collection: _Pds4Label, labels: list[_Pds4Label
             continue
         entry = row[1].strip()
         lid = entry.split("::", 1)[0]
-        if not lid.startswith(prefix):
+        secondary = row[0].strip().upper() == "S"  # another collection's product: not looked for here
+        present = entry in by_lidvid  # an absent member is DLV-010's, whatever its LID (as NASA's validator)
+        if not secondary and present and not lid.startswith(prefix):
             found.append(_Found("DLV-013", collection.inventory, f"member {entry} is not under the collection's "
                                                                  f"LID {collection.lid}", number))
-        if entry in members and members[entry] != collection.inventory:  # a repeat within one: PDS4-056
-            found.append(_Found("DLV-012", collection.inventory, f"{entry} is also listed in "
-                                                                 f"{members[entry].relative_to(root)}", number))
-        members.setdefault(entry, collection.inventory)
+        if not secondary:  # a product is primary in one collection, secondary in any number
+            if entry in members and members[entry] != collection.inventory:  # a repeat within one: PDS4-056
+                found.append(_Found("DLV-012", collection.inventory, f"{entry} is also listed in "
+                                                                     f"{members[entry].relative_to(root)}", number))
+            members.setdefault(entry, collection.inventory)
         listed.add(entry)
-        if entry not in by_lidvid and ("::" in entry or entry not in by_lid):
-            found.append(_Found("DLV-010", collection.inventory, f"{entry} is listed, but no label in the delivery "
-                                                                 "has that LIDVID", number))
+        if secondary:
+            continue
+        if "::" not in entry:  # the Standards Reference: a primary member is named by its LIDVID
+            found.append(_Found("DLV-010", collection.inventory, f"primary member {entry} has no version (::M.N): "
+                                                                 "a primary member is named by its LIDVID", number))
+        elif not present:
+            found.append(_Found("DLV-010", collection.inventory, f"primary member {entry} is listed, but no label "
+                                                                 "in the delivery has that LIDVID", number))
     for label in labels:
         if label.lid.startswith(prefix) and label.lidvid not in listed and label.lid not in listed:
             found.append(_Found("DLV-011", label.path, f"{label.lidvid} is not in the inventory of "
@@ -518,13 +538,14 @@ register(
     Rule("DLV-005", "error", "VOLUME_ID and DATA_SET_ID agree across INDEX.TAB, INDEX.LBL and VOLDESC.CAT", None),
     Rule("DLV-006", "warning", "no [TO BE WRITTEN: ...] placeholder left in VOLDESC.CAT, AAREADME.TXT, "
                                "bundle or collection labels", None),
-    Rule("DLV-010", "error", "every collection inventory entry is a product of the delivery", None),
+    Rule("DLV-010", "error", "every primary member of a collection inventory is the LIDVID of a product of the "
+                             "delivery", None),
     Rule("DLV-011", "error", "every product under a collection's LID is in its inventory", None),
     Rule("DLV-012", "error", "LIDVIDs are unique across the delivery's labels and inventories", None),
-    Rule("DLV-013", "error", "inventory members' LIDs are under their collection's LID", None),
-    Rule("DLV-014", "error", "references to products of the bundle (Product_Browse's data product ...) resolve",
-         None),
-    Rule("DLV-015", "error", "the bundle lists every collection, and each one it lists exists", None),
+    Rule("DLV-013", "error", "primary inventory members' LIDs are under their collection's LID", None),
+    Rule("DLV-014", "warning", "references to products of the bundle (Product_Browse's data product, a "
+                               "Reference_List's document ...) resolve in the delivery", None),
+    Rule("DLV-015", "error", "the bundle lists every collection, and each primary member it lists exists", None),
     Rule("DLV-020", "error", "every file MD5SUMS.TXT lists exists and has that MD5", None, needs_data=True),
     Rule("DLV-021", "error", "every file of the delivery is listed in MD5SUMS.TXT", None),
 )
