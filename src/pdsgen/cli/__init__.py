@@ -98,9 +98,10 @@ class _Group(click.Group):
         try:
             return super().invoke(ctx)
         except PdsgenError as exc:
+            from ..storage.locations import display_text
             from ._messages import in_cli_words
 
-            click.echo(f"pdsgen: error: {in_cli_words(str(exc))}", err=True)
+            click.echo(f"pdsgen: error: {display_text(in_cli_words(str(exc)))}", err=True)
             sys.exit(2)
         except KeyboardInterrupt:
             # the writers' staging has already removed its temporary files on the way out

@@ -1,0 +1,253 @@
+"""A command's boundary with object storage: inputs in, complete products out.
+
+An object store has no rename, so a product cannot appear there "all at once" the way
+formats/staging.py makes it appear on disk. Instead the writer works in a local staging
+directory exactly as it would in a real OUTDIR, and only when it has finished without an
+error are its files uploaded; if anything fails before or during the upload, the objects
+already uploaded are deleted again and nothing else is left in the bucket.
+
+Commands call three things here, each a no-op for local paths:
+- `output_area(outdir)`: where to write, and the upload when done;
+- `raster_input(path)`: the path to give GDAL (read in place, with range requests);
+- `local_inputs(paths)`: local copies for readers that are not GDAL (labels, text).
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import shutil
+import tempfile
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError, OutputError, PdsgenError
+from . import objects
+from .locations import S3Location, configure_gdal, display, internal, is_remote, is_s3
+
+log = logging.getLogger(__name__)
+# Temporaries of formats/staging.py (".NAME.PID.part") and other hidden work files never leave the staging area.
+_HIDDEN = "."
+
+
+@dataclass
+class OutputArea:
+    """Where a command writes: `directory` (local), and for an S3 OUTDIR its `location`.
+
+    Paths the writer returns under `directory` are named in the bucket by `remote()`.
+    `shared` names files a product updates for its whole directory (README.TXT,
+    JP2INFO.TXT): they are fetched before writing and may be replaced on upload.
+    """
+
+    directory: Path
+    location: S3Location | None = None
+    shared: tuple[str, ...] = ()
+    uploaded: list[S3Location] = field(default_factory=list)
+
+    def remote(self, path: str | os.PathLike[str]) -> str:
+        """PATH (a file the writer wrote in `directory`) where it ends up: its internal
+        /vsis3/ form for an S3 OUTDIR, the path itself for a local one."""
+        if self.location is None:
+            return os.fspath(path)
+        relative = Path(path).resolve().relative_to(self.directory.resolve()).as_posix()
+        return str(self.location.child(relative).path)
+
+    def shown(self, value: Any) -> Any:
+        """VALUE (a summary line, a --json summary) with the staging directory's paths
+        replaced by the URLs the files were uploaded to."""
+        if self.location is None:
+            return value
+        if isinstance(value, str):
+            base = str(self.directory)
+            return value.replace(base, display(self.location.path)) if base in value else value
+        if isinstance(value, dict):
+            return {key: self.shown(item) for key, item in value.items()}
+        if isinstance(value, list | tuple):
+            return type(value)(self.shown(item) for item in value)
+        if isinstance(value, Path):
+            return self.shown(str(value))
+        return value
+
+
+@contextmanager
+def output_area(outdir: str | os.PathLike[str], shared: Sequence[str] = ()) -> Iterator[OutputArea]:
+    """The directory a command writes its products into.
+
+    Local OUTDIR: itself. S3 OUTDIR (s3://bucket/prefix or /vsis3/...): a fresh local
+    staging directory that looks like the prefix - each object there as an empty
+    placeholder file, so writers see what exists (and refuse it unless told to overwrite)
+    as on disk, and the `shared` directory files with their contents, so writers
+    update them. On a clean exit every file written or changed there is uploaded
+    under the prefix; a failed upload deletes what it had uploaded. Local staging is
+    removed in every case.
+    """
+    if not is_s3(outdir):
+        yield OutputArea(Path(outdir), shared=tuple(shared))
+        return
+    location = S3Location.parse(outdir)
+    objects.check_bucket(location, reading=False)
+    staging = Path(tempfile.mkdtemp(prefix="pdsgen-s3-"))
+    try:
+        area = OutputArea(staging, location, tuple(shared))
+        untouched = _mirror(area)
+        with _renamed_in_errors(area.shown):
+            yield area
+            _publish(area, untouched)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+
+
+@contextmanager
+def _renamed_in_errors(rename: Callable[[str], str]) -> Iterator[None]:
+    """A one-line error from inside names the URL, not the local copy it was about."""
+    try:
+        yield
+    except PdsgenError as exc:
+        exc.path = rename(exc.path) if exc.path is not None else None
+        exc.problem = rename(exc.problem)
+        exc.args = (str(exc),)
+        raise
+
+
+def _signature(path: Path) -> tuple[int, int, int]:
+    st = path.stat()
+    return (st.st_ino, st.st_size, st.st_mtime_ns)
+
+
+def _mirror(area: OutputArea) -> dict[str, tuple[int, int, int]]:
+    """Lay out the prefix's objects in the staging directory (placeholders; the shared
+    directory files whole); what each file looked like, to tell later which were written."""
+    assert area.location is not None
+    untouched = {}
+    for item in objects.list_objects(area.location):
+        name = relative_name(item.location, area.location)
+        if not name or name.endswith("/") or any(part.startswith(_HIDDEN) for part in name.split("/")):
+            continue
+        target = area.directory / name
+        if name in area.shared:
+            objects.download(item.location, target)
+        else:
+            target.parent.mkdir(parents=True, exist_ok=True)
+            target.touch()
+        untouched[name] = _signature(target)
+    return untouched
+
+
+def _publish(area: OutputArea, untouched: dict[str, tuple[int, int, int]]) -> None:
+    """Upload the files the command wrote or changed: products first, directory files last,
+    so a reader never finds a directory file naming a product not there yet."""
+    assert area.location is not None
+    files = sorted(p for p in area.directory.rglob("*") if p.is_file()
+                   and not any(part.startswith(_HIDDEN) for part in p.relative_to(area.directory).parts))
+    relative = {p: p.relative_to(area.directory).as_posix() for p in files}
+    written = [p for p in files if untouched.get(relative[p]) != _signature(p)]
+    ordered = [p for p in written if relative[p] not in area.shared] + \
+              [p for p in written if relative[p] in area.shared]
+    try:
+        for path in ordered:
+            target = area.location.child(relative[path])
+            objects.upload(path, target)
+            area.uploaded.append(target)
+            log.info("uploaded %s (%d bytes)", target.url, path.stat().st_size)
+    except BaseException:
+        for target in area.uploaded:  # all or nothing, as on disk
+            if relative_name(target, area.location) not in untouched:
+                try:
+                    objects.delete(target)
+                except OutputError:
+                    pass
+        raise
+
+
+def relative_name(target: S3Location, base: S3Location) -> str:
+    return target.key[len(base.prefix):]
+
+
+def raster_input(path: str | os.PathLike[str]) -> str:
+    """What to give GDAL for an input: a local path unchanged, an object as /vsis3/ (GDAL's
+    configuration set from the AWS variables), a web URL as /vsicurl/. An S3 object that
+    is not there says so in one line before GDAL tries (when boto3 is installed)."""
+    text = internal(path)
+    if not is_remote(text):
+        return text
+    configure_gdal()
+    if is_s3(text):
+        location = S3Location.parse(text)
+        try:
+            objects.require_object(location)
+        except InputError:
+            raise
+        except Exception as exc:  # no boto3: GDAL will say what it can
+            if objects.MISSING_CLIENT not in str(exc):
+                raise
+    return text
+
+
+@dataclass
+class LocalInputs:
+    """Local paths for a command's inputs; `shown` names the copies by their URLs again."""
+
+    paths: list[str]
+    origins: dict[str, str] = field(default_factory=dict)  # local copy's directory -> URL of the same level
+
+    def shown(self, text: str) -> str:
+        for local, url in self.origins.items():
+            text = text.replace(local, url)
+        return text
+
+
+@contextmanager
+def local_inputs(paths: Iterable[str | os.PathLike[str]], companions: bool = True) -> Iterator[LocalInputs]:
+    """Local files for inputs read by Python rather than GDAL (PDS3 labels, text).
+
+    Local paths come back unchanged. An object is downloaded into a temporary directory
+    with, when `companions`, the objects beside it that share its name's stem (a label's
+    .IMG/.JP2, whatever their case), so a reader finds the files a label points to as it
+    would on disk. A prefix (s3://bucket/dir/) comes back as a local copy of its tree.
+    """
+    given = [os.fspath(p) for p in paths]
+    if not any(is_s3(p) for p in given):
+        yield LocalInputs(given)
+        return
+    staging = Path(tempfile.mkdtemp(prefix="pdsgen-s3-in-"))
+    try:
+        inputs = LocalInputs([])
+        for number, path in enumerate(given):
+            if not is_s3(path):
+                inputs.paths.append(path)
+                continue
+            local, origin = _fetch_input(internal(path), staging / str(number), companions)
+            inputs.paths.append(local)
+            inputs.origins[str(staging / str(number))] = origin
+        with _renamed_in_errors(inputs.shown):
+            yield inputs
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+
+
+def _fetch_input(path: str, target_dir: Path, companions: bool) -> tuple[str, str]:
+    """The local copy of PATH (an object or a prefix) and the URL its directory stands for."""
+    location = S3Location.parse(path)
+    info = objects.stat(location) if location.key and not location.key.endswith("/") else None
+    if info is None:  # a prefix: the whole "directory"
+        found = list(objects.list_objects(location))
+        if not found:
+            objects.check_bucket(location)
+            raise InputError(location.url, "no such object or prefix")
+        for item in found:
+            objects.download(item.location, target_dir / relative_name(item.location, location))
+        return str(target_dir), location.url.rstrip("/")
+    parent = S3Location(location.bucket, location.key.rpartition("/")[0])
+    stem = Path(location.key).stem.lower()
+    wanted = [item.location for item in objects.list_objects(parent)
+              if "/" not in relative_name(item.location, parent)
+              and (item.location == location or (companions and Path(item.location.key).stem.lower() == stem))]
+    for each in wanted:
+        objects.download(each, target_dir / Path(each.key).name)
+    return str(target_dir / Path(location.key).name), parent.url.rstrip("/")
+
+
+__all__ = ["LocalInputs", "OutputArea", "local_inputs", "output_area", "raster_input"]
