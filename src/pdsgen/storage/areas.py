@@ -194,19 +194,20 @@ class LocalInputs:
     origins: dict[str, str] = field(default_factory=dict)  # local copy's directory -> URL of the same level
 
     def shown(self, text: str) -> str:
-        for local, url in self.origins.items():
-            text = text.replace(local, url)
+        for local in sorted(self.origins, key=len, reverse=True):  # .../10 before .../1
+            text = text.replace(local, self.origins[local])
         return text
 
 
 @contextmanager
-def local_inputs(paths: Iterable[str | os.PathLike[str]], companions: bool = True) -> Iterator[LocalInputs]:
-    """Local files for inputs read by Python rather than GDAL (PDS3 labels, text).
+def local_inputs(paths: Iterable[str | os.PathLike[str]]) -> Iterator[LocalInputs]:
+    """Local files for inputs read by Python rather than GDAL (PDS3 labels, the files they
+    point to, their directory's other products for the validator's set rules).
 
-    Local paths come back unchanged. An object is downloaded into a temporary directory
-    with, when `companions`, the objects beside it that share its name's stem (a label's
-    .IMG/.JP2, whatever their case), so a reader finds the files a label points to as it
-    would on disk. A prefix (s3://bucket/dir/) comes back as a local copy of its tree.
+    Local paths come back unchanged. An object comes back inside a local copy of its
+    "directory": the objects beside it whole, those in subdirectories (Extras) as empty
+    files of their size, so a reader finds what it would find on disk. A prefix
+    (s3://bucket/dir/) comes back as a local copy of its whole tree.
     """
     given = [os.fspath(p) for p in paths]
     if not any(is_s3(p) for p in given):
@@ -215,39 +216,51 @@ def local_inputs(paths: Iterable[str | os.PathLike[str]], companions: bool = Tru
     staging = Path(tempfile.mkdtemp(prefix="pdsgen-s3-in-"))
     try:
         inputs = LocalInputs([])
-        for number, path in enumerate(given):
-            if not is_s3(path):
-                inputs.paths.append(path)
-                continue
-            local, origin = _fetch_input(internal(path), staging / str(number), companions)
-            inputs.paths.append(local)
-            inputs.origins[str(staging / str(number))] = origin
+        copies: dict[str, Path] = {}  # URL of a directory -> its local copy (several inputs may share one)
+        for path in given:
+            inputs.paths.append(_fetch_input(internal(path), staging, copies) if is_s3(path) else path)
+        inputs.origins = {str(local): url.rstrip("/") for url, local in copies.items()}
         with _renamed_in_errors(inputs.shown):
             yield inputs
     finally:
         shutil.rmtree(staging, ignore_errors=True)
 
 
-def _fetch_input(path: str, target_dir: Path, companions: bool) -> tuple[str, str]:
-    """The local copy of PATH (an object or a prefix) and the URL its directory stands for."""
+def _fetch_input(path: str, staging: Path, copies: dict[str, Path]) -> str:
+    """The local copy of PATH (an object or a prefix), made inside a copy of its directory
+    under STAGING unless COPIES has that directory already."""
     location = S3Location.parse(path)
     info = objects.stat(location) if location.key and not location.key.endswith("/") else None
     if info is None:  # a prefix: the whole "directory"
-        found = list(objects.list_objects(location))
-        if not found:
-            objects.check_bucket(location)
-            raise InputError(location.url, "no such object or prefix")
-        for item in found:
-            objects.download(item.location, target_dir / relative_name(item.location, location))
-        return str(target_dir), location.url.rstrip("/")
-    parent = S3Location(location.bucket, location.key.rpartition("/")[0])
-    stem = Path(location.key).stem.lower()
-    wanted = [item.location for item in objects.list_objects(parent)
-              if "/" not in relative_name(item.location, parent)
-              and (item.location == location or (companions and Path(item.location.key).stem.lower() == stem))]
-    for each in wanted:
-        objects.download(each, target_dir / Path(each.key).name)
-    return str(target_dir / Path(location.key).name), parent.url.rstrip("/")
+        directory = S3Location(location.bucket, location.prefix)
+        if directory.url not in copies:
+            copies[directory.url] = _copy_tree(directory, staging / str(len(copies)), whole=True)
+        return str(copies[directory.url])
+    directory = S3Location(location.bucket, location.key.rpartition("/")[0])
+    directory = S3Location(directory.bucket, directory.prefix)
+    if directory.url not in copies:
+        copies[directory.url] = _copy_tree(directory, staging / str(len(copies)), whole=False)
+    return str(copies[directory.url] / Path(location.key).name)
+
+
+def _copy_tree(directory: S3Location, target: Path, whole: bool) -> Path:
+    """Download the objects under DIRECTORY into TARGET. Unless `whole`, only the objects
+    directly in it: those in subdirectories (Extras) become empty files of their size,
+    enough for rules that ask whether a file is there."""
+    found = list(objects.list_objects(directory))
+    if not found:
+        objects.check_bucket(directory)
+        raise InputError(directory.url, "no such object or prefix")
+    target.mkdir(parents=True)
+    for item in found:
+        name = relative_name(item.location, directory)
+        if whole or "/" not in name:
+            objects.download(item.location, target / name)
+        else:
+            (target / name).parent.mkdir(parents=True, exist_ok=True)
+            with open(target / name, "wb") as placeholder:
+                placeholder.truncate(item.size)
+    return target
 
 
 __all__ = ["LocalInputs", "OutputArea", "local_inputs", "output_area", "raster_input"]

@@ -133,6 +133,16 @@ def list_objects(location: S3Location) -> Iterator[ObjectInfo]:
         raise problem(exc, location) from None
 
 
+def read_if_there(location: S3Location) -> bytes | None:
+    """The object's bytes, or None if there is no such object."""
+    try:
+        return bytes(client().get_object(Bucket=location.bucket, Key=location.key)["Body"].read())
+    except _errors() as exc:
+        if str(getattr(exc, "response", {}).get("Error", {}).get("Code", "")) in ("404", "NoSuchKey", "NotFound"):
+            return None
+        raise problem(exc, location) from None
+
+
 def read_bytes(location: S3Location) -> bytes:
     try:
         return bytes(client().get_object(Bucket=location.bucket, Key=location.key)["Body"].read())
