@@ -118,11 +118,13 @@ def _signature(path: Path) -> tuple[int, int, int]:
 
 
 def _mirror(area: OutputArea) -> dict[str, tuple[int, int, int]]:
-    """Lay out the prefix's objects in the staging directory (placeholders; the shared
-    directory files whole); what each file looked like, to tell later which were written."""
+    """Lay out the objects directly under the prefix in the staging directory (placeholders;
+    the shared directory files whole); what each file looked like, to tell later which were
+    written. Writers write into OUTDIR itself, so deeper "directories" are not listed (a
+    batch's markers and logs there would make every job's listing grow with the run)."""
     assert area.location is not None
     untouched = {}
-    for item in objects.list_objects(area.location):
+    for item in objects.list_objects(area.location, recursive=False):
         name = relative_name(item.location, area.location)
         if not name or name.endswith("/") or any(part.startswith(_HIDDEN) for part in name.split("/")):
             continue

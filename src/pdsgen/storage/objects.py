@@ -121,11 +121,13 @@ def require_object(location: S3Location) -> ObjectInfo:
     return info
 
 
-def list_objects(location: S3Location) -> Iterator[ObjectInfo]:
-    """Every object under LOCATION taken as a directory (its key and a slash), in key order."""
+def list_objects(location: S3Location, recursive: bool = True) -> Iterator[ObjectInfo]:
+    """Every object under LOCATION taken as a directory (its key and a slash), in key order;
+    not `recursive`: only those directly in it, as a directory listing."""
     paginator = client().get_paginator("list_objects_v2")
+    delimiter = {} if recursive else {"Delimiter": "/"}
     try:
-        for page in paginator.paginate(Bucket=location.bucket, Prefix=location.prefix):
+        for page in paginator.paginate(Bucket=location.bucket, Prefix=location.prefix, **delimiter):
             for item in page.get("Contents", []):
                 yield ObjectInfo(S3Location(location.bucket, item["Key"]), int(item["Size"]),
                                  int(item["LastModified"].timestamp() * 1e9))
