@@ -174,3 +174,36 @@ def test_bad_inputs_and_credentials_give_one_line_and_leave_no_object(s3_server,
                                capture_output=True, text=True, env=env, timeout=120)
     _one_line(wrong_key, "access denied")
     assert s3_server.keys(bucket) == ["in/dtm.tif", "in/truncated.tif"]
+
+
+def test_deliver_from_and_into_a_bucket_equals_the_local_delivery(s3_server, tmp_path):
+    bucket = s3_server.new_bucket()
+    _invoke("dtm", _dtm_source(tmp_path), "-o", tmp_path / "products", "--product-id", "DTM_A")
+    _invoke("extras", tmp_path / "products" / "DTM_A.IMG", "-o", tmp_path / "products")
+    for name, data in _local_tree(tmp_path / "products").items():
+        s3_server.put(bucket, f"products/{name}", data)
+    shown = _invoke("deliver", f"s3://{bucket}/products", "-o", f"s3://{bucket}/delivery", "--volume-id", "TEST_0001")
+    assert f"CHECK    pdsgen validate s3://{bucket}/delivery" in shown
+    _invoke("deliver", tmp_path / "products", "-o", tmp_path / "delivery", "--volume-id", "TEST_0001")
+    _same_products(s3_server.tree(bucket, "delivery/"), _local_tree(tmp_path / "delivery"))
+    # a product added: brought up to date in the bucket as on disk, nothing stale left
+    _invoke("dtm", _dtm_source(tmp_path), "-o", f"s3://{bucket}/products", "--product-id", "DTM_B")
+    _invoke("dtm", _dtm_source(tmp_path), "-o", tmp_path / "products", "--product-id", "DTM_B")
+    _invoke("deliver", f"s3://{bucket}/products", "-o", f"s3://{bucket}/delivery")
+    _invoke("deliver", tmp_path / "products", "-o", tmp_path / "delivery")
+    _same_products(s3_server.tree(bucket, "delivery/"), _local_tree(tmp_path / "delivery"))
+    checked = CliRunner().invoke(main, ["validate", f"s3://{bucket}/delivery/"])
+    local = CliRunner().invoke(main, ["validate", str(tmp_path / "delivery")])
+    assert checked.exit_code == local.exit_code
+    assert checked.output.replace(f"s3://{bucket}/delivery", "ROOT") == \
+        local.output.replace(str(tmp_path / "delivery"), "ROOT")
+
+
+def test_a_delivery_publishes_its_index_and_manifest_last():
+    from pdsgen.deliver.layout import publication_rank
+
+    names = ["MD5SUMS.TXT", "INDEX/INDEX.TAB", "DATA/DTM_A.IMG", "bundle_x.xml", "EXTRAS/DTM_A.browse.jpg",
+             "VOLDESC.CAT", "DATA/collection_data_inventory.csv"]
+    assert sorted(names, key=lambda name: (publication_rank(name), name)) == [
+        "DATA/DTM_A.IMG", "EXTRAS/DTM_A.browse.jpg", "DATA/collection_data_inventory.csv", "INDEX/INDEX.TAB",
+        "VOLDESC.CAT", "bundle_x.xml", "MD5SUMS.TXT"]

@@ -18,8 +18,8 @@ an s3:// input or OUTDIR is three lines::
 
 from __future__ import annotations
 
-from .areas import OutputArea, local_inputs, output_area, raster_input
+from .areas import OutputArea, local_inputs, output_area, raster_input, tree_area
 from .locations import S3Location, configure_gdal, display, display_text, internal, is_remote, is_s3
 
 __all__ = ["OutputArea", "S3Location", "configure_gdal", "display", "display_text", "internal", "is_remote",
-           "is_s3", "local_inputs", "output_area", "raster_input"]
+           "is_s3", "local_inputs", "output_area", "raster_input", "tree_area"]

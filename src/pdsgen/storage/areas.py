@@ -164,6 +164,66 @@ def _publish(area: OutputArea, untouched: dict[str, tuple[int, int, int]]) -> No
         raise
 
 
+@contextmanager
+def tree_area(outdir: str | os.PathLike[str], order: Callable[[str], int] | None = None) -> Iterator[OutputArea]:
+    """For a command that rewrites a whole tree (a delivery): the directory to rewrite.
+
+    Local OUTDIR: itself. S3 OUTDIR: a local copy of every object under the prefix. An
+    object store has no rename to swap a tree in, so on a clean exit the files that
+    changed are uploaded in `order` (lowest first: the files that index the others - a
+    checksum manifest - last), and only then the objects no longer in the tree deleted:
+    a reader going by the index never finds it naming a file that is not there yet. If
+    an upload fails, the objects it added are deleted and those it changed put back.
+    """
+    if not is_s3(outdir):
+        yield OutputArea(Path(outdir))
+        return
+    location = S3Location.parse(outdir)
+    objects.check_bucket(location, reading=False)
+    staging = Path(tempfile.mkdtemp(prefix="pdsgen-s3-"))
+    try:
+        area = OutputArea(staging / "tree", location)
+        previous = staging / "previous"
+        for item in objects.list_objects(location):
+            objects.download(item.location, previous / relative_name(item.location, location))
+        if previous.is_dir():
+            shutil.copytree(previous, area.directory)
+        with _renamed_in_errors(area.shown):
+            yield area
+            _publish_tree(area, previous, order or (lambda name: 0))
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+
+
+def _tree_files(root: Path) -> dict[str, bytes]:
+    return {p.relative_to(root).as_posix(): p.read_bytes() for p in sorted(root.rglob("*")) if p.is_file()} \
+        if root.is_dir() else {}
+
+
+def _publish_tree(area: OutputArea, previous: Path, order: Callable[[str], int]) -> None:
+    assert area.location is not None
+    before, now = _tree_files(previous), _tree_files(area.directory)
+    changed = sorted((name for name in now if before.get(name) != now[name]), key=lambda name: (order(name), name))
+    done: list[str] = []
+    try:
+        for name in changed:
+            objects.upload(area.directory / name, area.location.child(name))
+            done.append(name)
+        log.info("uploaded %d changed file(s) of %s", len(done), area.location.url)
+    except BaseException:
+        for name in reversed(done):  # as it was: added objects deleted, changed ones put back
+            try:
+                if name in before:
+                    objects.upload(previous / name, area.location.child(name))
+                else:
+                    objects.delete(area.location.child(name))
+            except PdsgenError:
+                pass
+        raise
+    for name in sorted(set(before) - set(now)):
+        objects.delete(area.location.child(name))
+
+
 def relative_name(target: S3Location, base: S3Location) -> str:
     return target.key[len(base.prefix):]
 
@@ -265,4 +325,4 @@ def _copy_tree(directory: S3Location, target: Path, whole: bool) -> Path:
     return target
 
 
-__all__ = ["LocalInputs", "OutputArea", "local_inputs", "output_area", "raster_input"]
+__all__ = ["LocalInputs", "OutputArea", "local_inputs", "output_area", "raster_input", "tree_area"]
