@@ -8,10 +8,15 @@ rasters are read back from the bucket through GDAL's own /vsis3/ by the system's
 
 from __future__ import annotations
 
+import functools
+import http.server
+import io
 import json
 import os
 import re
 import subprocess
+import sys
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -170,7 +175,7 @@ def test_bad_inputs_and_credentials_give_one_line_and_leave_no_object(s3_server,
     _one_line(run_cli("ortho", f"s3://{bucket}/in/missing.tif", "-o", out), "no such object")
     _one_line(run_cli("extras", f"s3://{bucket}/in/missing.IMG", "-o", out), "no such object")
     env = {**os.environ, "AWS_SECRET_ACCESS_KEY": "not-the-key"}
-    wrong_key = subprocess.run(["python" if False else os.sys.executable, "-m", "pdsgen", "dtm", url, "-o", out],
+    wrong_key = subprocess.run([sys.executable, "-m", "pdsgen", "dtm", url, "-o", out],
                                capture_output=True, text=True, env=env, timeout=120)
     _one_line(wrong_key, "access denied")
     assert s3_server.keys(bucket) == ["in/dtm.tif", "in/truncated.tif"]
@@ -207,3 +212,71 @@ def test_a_delivery_publishes_its_index_and_manifest_last():
     assert sorted(names, key=lambda name: (publication_rank(name), name)) == [
         "DATA/DTM_A.IMG", "EXTRAS/DTM_A.browse.jpg", "DATA/collection_data_inventory.csv", "INDEX/INDEX.TAB",
         "VOLDESC.CAT", "bundle_x.xml", "MD5SUMS.TXT"]
+
+
+class _RangeHandler(http.server.SimpleHTTPRequestHandler):
+    """A static web server that answers range requests (206), as GDAL's /vsicurl/ asks for."""
+
+    def log_message(self, *args: object) -> None:
+        pass
+
+    def send_head(self):  # type: ignore[override]
+        match = re.fullmatch(r"bytes=(\d+)-(\d*)", self.headers.get("Range", ""))
+        path = Path(self.translate_path(self.path))
+        if not match or not path.is_file():
+            return super().send_head()
+        data = path.read_bytes()
+        first = int(match[1])
+        last = min(int(match[2]) if match[2] else len(data) - 1, len(data) - 1)
+        self.send_response(206)
+        self.send_header("Content-Range", f"bytes {first}-{last}/{len(data)}")
+        self.send_header("Content-Length", str(last - first + 1))
+        self.send_header("Accept-Ranges", "bytes")
+        self.end_headers()
+        return io.BytesIO(data[first:last + 1])
+
+
+def test_a_web_url_is_read_through_gdal(tmp_path):
+    """An https:// or http:// input goes to GDAL's /vsicurl/ (range requests), here from a
+    web server on 127.0.0.1."""
+    (tmp_path / "site").mkdir()
+    source = _dtm_source(tmp_path / "site")
+    handler = functools.partial(_RangeHandler, directory=str(tmp_path / "site"))
+    with http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler) as server:
+        threading.Thread(target=server.serve_forever, daemon=True).start()
+        try:  # pdsgen in its own process: GDAL holds this one's interpreter lock while it reads
+            made = run_cli("dtm", f"http://127.0.0.1:{server.server_port}/dtm.tif", "-o", tmp_path / "web")
+            missing = run_cli("dtm", f"http://127.0.0.1:{server.server_port}/no.tif", "-o", tmp_path / "none")
+        finally:
+            server.shutdown()
+    assert made.returncode == 0, made.stderr
+    _one_line(missing, f"http://127.0.0.1:{server.server_port}/no.tif: ")
+    _invoke("dtm", source, "-o", tmp_path / "local")
+    _same_products(_local_tree(tmp_path / "web"), _local_tree(tmp_path / "local"))
+
+
+def test_a_large_product_is_uploaded_in_parts(s3_server, tmp_path, monkeypatch):
+    """Above the multipart threshold (lowered to S3's smallest part, 5 MiB) the upload goes in
+    parts: S3 gives such an object an ETag ending in -<number of parts>."""
+    from pdsgen.storage import objects
+
+    monkeypatch.setattr(objects, "MULTIPART_BYTES", 5 * 1024 * 1024)
+    bucket = s3_server.new_bucket()
+    source = _dtm_source(tmp_path, 1400, 1200)  # 6.7 MB of float32
+    _invoke("dtm", source, "-o", f"s3://{bucket}/big")
+    _invoke("dtm", source, "-o", tmp_path / "local")
+    etag = s3_server.client.head_object(Bucket=bucket, Key="big/DTM.IMG")["ETag"]
+    assert etag.strip('"').endswith("-2")
+    assert s3_server.get(bucket, "big/DTM.IMG") == (tmp_path / "local" / "DTM.IMG").read_bytes()
+
+
+def test_without_the_s3_extra_one_line_says_what_to_install(tmp_path):
+    """boto3 made unimportable in a fresh process: an s3:// OUTDIR needs it, and says so."""
+    blocker = tmp_path / "blocker" / "boto3"
+    blocker.mkdir(parents=True)
+    (blocker / "__init__.py").write_text("raise ImportError('blocked for this test')\n")
+    env = {**os.environ, "PYTHONPATH": str(blocker.parent)}
+    result = subprocess.run([sys.executable, "-m", "pdsgen", "dtm", _dtm_source(tmp_path), "-o", "s3://b/out"],
+                            capture_output=True, text=True, env=env, timeout=120)
+    assert result.returncode == 2
+    assert result.stderr == "pdsgen: error: reading and writing s3:// needs boto3: pip install 'pdsgen[s3]'\n"

@@ -25,6 +25,7 @@ GDAL_HTTP = "/vsicurl/"
 S3_SCHEME = "s3://"
 _HTTP_SCHEMES = ("http://", "https://")
 _INTERNAL_S3 = re.compile(r"/vsis3/(?=[^/\s:'\"])")
+_COLLAPSED_URL = re.compile(r"^/vsicurl/(https?):/(?!/)")
 
 
 def is_remote(path: str | os.PathLike[str] | None) -> bool:
@@ -48,14 +49,16 @@ def internal(path: str | os.PathLike[str]) -> str:
         return GDAL_S3 + text[len(S3_SCHEME):]
     if text.startswith(_HTTP_SCHEMES):
         return GDAL_HTTP + text
-    return text
+    return _COLLAPSED_URL.sub(r"/vsicurl/\1://", text)  # pathlib.Path made "https://" "https:/"
 
 
 def display(path: str | os.PathLike[str]) -> str:
     """PATH as a person writes it: `s3://BUCKET/KEY` for an object."""
-    text = os.fspath(path)
+    text = internal(path)
     if text.startswith(GDAL_S3):
         return S3_SCHEME + text[len(GDAL_S3):]
+    if text.startswith(GDAL_HTTP):
+        return text[len(GDAL_HTTP):]
     return text
 
 
