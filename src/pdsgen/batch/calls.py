@@ -27,7 +27,7 @@ def run_dtm(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
     from ..products.dtm import write_dtm
 
     options = {**library_options(p), "overwrite": overwrite}
-    with output_area(p["outdir"]) as area:  # the worker writes into the bucket itself (s3:// OUTDIR)
+    with output_area(p["outdir"], overwrite) as area:  # the worker writes into the bucket itself (s3:// OUTDIR)
         return _product(write_dtm(p["input_path"], area.directory, profile=p["profile"], **options), area)
 
 
@@ -36,7 +36,7 @@ def run_ortho(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
     from ..products.ortho import write_ortho
 
     options = {**library_options(p), "overwrite": overwrite, "threads": threads}
-    with output_area(p["outdir"], shared=SHARED_FILES) as area:
+    with output_area(p["outdir"], overwrite, shared=SHARED_FILES) as area:
         return _product(write_ortho(ortho_inputs(p), area.directory, profile=p["profile"], **options), area)
 
 
@@ -53,7 +53,7 @@ def run_extras(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
     from ..extras import make_extras
     from ..extras.readme_txt import README_NAME
 
-    with local_inputs(p["products"]) as inputs, output_area(p["outdir"], shared=(README_NAME,)) as area:
+    with local_inputs(p["products"]) as inputs, output_area(p["outdir"], overwrite, shared=(README_NAME,)) as area:
         written = make_extras(inputs.paths, area.directory, credit=p["credit"], params=p["params_file"],
                               browse_width=p["browse_width"], thumb_width=p["thumb_width"], azimuth=p["azimuth"],
                               altitude=p["altitude"], exaggeration=p["exaggeration"], kind=p["kind"],

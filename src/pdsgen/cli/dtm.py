@@ -71,7 +71,7 @@ def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, p
     for --profile hrsc-ax the HRSC-AX tile's VICAR .dsm as HRSCAX_<tile>_DEM.IMG (float32
     ellipsoid heights, transverse Mercator)."""
     refuse_unused_options(ctx, profile, USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"]))
-    with output_area(outdir) as area:  # an s3:// OUTDIR: staged here, uploaded when complete
+    with output_area(outdir, overwrite) as area:  # an s3:// OUTDIR: staged here, uploaded when complete
         product = write_dtm(internal(input_path), area.directory, profile=profile, **library_options(ctx.params))
         lines, summary = area.shown([_summary(product)]), area.shown(product_summary("dtm", product))
     return Outcome(lines, summary, getattr(product, "warnings", ()))

@@ -57,7 +57,7 @@ def extras(products, outdir, credit, params_file, browse_width, thumb_width, azi
     # errors instead (a NullHandler keeps Python's last-resort printer quiet).
     logging.getLogger("rasterio").addHandler(logging.NullHandler())
     # s3:// PRODUCTs are fetched with the files beside them; an s3:// OUTDIR is staged and uploaded
-    with local_inputs(products) as inputs, output_area(outdir, shared=(README_NAME,)) as area:
+    with local_inputs(products) as inputs, output_area(outdir, overwrite, shared=(README_NAME,)) as area:
         written = make_extras(inputs.paths, area.directory, credit=credit, params=params_file,
                               browse_width=browse_width, thumb_width=thumb_width, azimuth=azimuth,
                               altitude=altitude, exaggeration=exaggeration, kind=kind,

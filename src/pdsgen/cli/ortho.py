@@ -74,7 +74,7 @@ def ortho(ctx, input_path, more_inputs, outdir, profile, product_id, bits, value
     hrsc-ax TILE.pan, or the channel files of one colour product in band order
     (TILE.re TILE.gr TILE.bl, TILE.cir_re TILE.cir_gr TILE.cir_bl)."""
     refuse_unused_options(ctx, profile, USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"]))
-    with output_area(outdir, shared=SHARED_FILES) as area:  # s3:// OUTDIR: uploaded when complete
+    with output_area(outdir, overwrite, shared=SHARED_FILES) as area:  # s3:// OUTDIR: uploaded when complete
         product = write_ortho(ortho_inputs(ctx.params), area.directory, profile=profile, **library_options(ctx.params))
         lines, summary = area.shown([_summary(product)]), area.shown(product_summary("ortho", product))
     return Outcome(lines, summary, getattr(product, "warnings", ()))

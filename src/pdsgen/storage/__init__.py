@@ -11,9 +11,9 @@ an s3:// input or OUTDIR is three lines::
     from pdsgen import storage
 
     inputs = [storage.raster_input(p) for p in inputs]      # GDAL reads objects in place
-    with storage.output_area(outdir) as area:              # staging dir, uploaded on success
+    with storage.output_area(outdir, overwrite) as area:    # staging dir, uploaded on success
         product = write_something(inputs, area.directory, ...)
-    lines = area.shown(summary_lines)                        # URLs, not staging paths
+        lines = area.shown([summary_line(product)])         # URLs, not staging paths
 """
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ error are its files uploaded; if anything fails before or during the upload, the
 already uploaded are deleted again and nothing else is left in the bucket.
 
 Commands call three things here, each a no-op for local paths:
-- `output_area(outdir)`: where to write, and the upload when done;
+- `output_area(outdir, overwrite)`: where to write, and the upload when done;
 - `raster_input(path)`: the path to give GDAL (read in place, with range requests);
 - `local_inputs(paths)`: local copies for readers that are not GDAL (labels, text).
 """
@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError, OutputError, PdsgenError
+from ..errors import InputError, OutputError, PdsgenError, param
 from . import objects
 from .locations import S3Location, configure_gdal, display, internal, is_remote, is_s3
 
@@ -73,31 +73,59 @@ class OutputArea:
 
 
 @contextmanager
-def output_area(outdir: str | os.PathLike[str], shared: Sequence[str] = ()) -> Iterator[OutputArea]:
+def output_area(outdir: str | os.PathLike[str], overwrite: bool = False,
+                shared: Sequence[str] = ()) -> Iterator[OutputArea]:
     """The directory a command writes its products into.
 
     Local OUTDIR: itself. S3 OUTDIR (s3://bucket/prefix or /vsis3/...): a fresh local
-    staging directory that looks like the prefix - each object there as an empty
-    placeholder file, so writers see what exists (and refuse it unless told to overwrite)
-    as on disk, and the `shared` directory files with their contents, so writers
-    update them. On a clean exit every file written or changed there is uploaded
+    staging directory. On a clean exit every file written or changed there is uploaded
     under the prefix; a failed upload deletes what it had uploaded. Local staging is
     removed in every case.
+
+    A product that updates `shared` directory files (JP2INFO.TXT, README.TXT) sees the
+    prefix as a directory: its objects as empty placeholder files (so the writer finds
+    which products exist, and refuses to replace one unless told to overwrite, as on
+    disk) and the shared files whole. Without `shared` nothing is listed (a listing
+    grows with the prefix): each file written is checked with one request instead, and
+    an existing one refused unless `overwrite`.
     """
     if not is_s3(outdir):
         yield OutputArea(Path(outdir), shared=tuple(shared))
         return
     location = S3Location.parse(outdir)
     objects.check_bucket(location, reading=False)
-    staging = Path(tempfile.mkdtemp(prefix="pdsgen-s3-"))
+    staging = _staging_directory()
     try:
         area = OutputArea(staging, location, tuple(shared))
-        untouched = _mirror(area)
+        untouched = _mirror(area) if shared else None
         with _renamed_in_errors(area.shown):
             yield area
-            _publish(area, untouched)
+            _publish(area, untouched, overwrite)
     finally:
         shutil.rmtree(staging, ignore_errors=True)
+
+
+_STAGING_PREFIX = "pdsgen-s3-"
+
+
+def _staging_directory() -> Path:
+    """A new local staging directory, named for this process; those of processes that are
+    gone (a killed batch job) are removed first."""
+    for leftover in Path(tempfile.gettempdir()).glob(f"{_STAGING_PREFIX}*-*"):
+        pid = leftover.name[len(_STAGING_PREFIX):].split("-", 1)[0]
+        if pid.isdigit() and not _alive(int(pid)):
+            shutil.rmtree(leftover, ignore_errors=True)
+    return Path(tempfile.mkdtemp(prefix=f"{_STAGING_PREFIX}{os.getpid()}-"))
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
 
 
 @contextmanager
@@ -138,13 +166,19 @@ def _mirror(area: OutputArea) -> dict[str, tuple[int, int, int]]:
     return untouched
 
 
-def _publish(area: OutputArea, untouched: dict[str, tuple[int, int, int]]) -> None:
+def _publish(area: OutputArea, untouched: dict[str, tuple[int, int, int]] | None, overwrite: bool) -> None:
     """Upload the files the command wrote or changed: products first, directory files last,
     so a reader never finds a directory file naming a product not there yet."""
     assert area.location is not None
     files = sorted(p for p in area.directory.rglob("*") if p.is_file()
                    and not any(part.startswith(_HIDDEN) for part in p.relative_to(area.directory).parts))
     relative = {p: p.relative_to(area.directory).as_posix() for p in files}
+    if untouched is None:  # not mirrored: ask about each file
+        untouched = {}
+        for path in files:
+            target = area.location.child(relative[path])
+            if not overwrite and objects.stat(target) is not None:
+                raise OutputError(target.url, f"output exists; use {param('overwrite', True)} to replace it")
     written = [p for p in files if untouched.get(relative[p]) != _signature(p)]
     ordered = [p for p in written if relative[p] not in area.shared] + \
               [p for p in written if relative[p] in area.shared]
@@ -180,7 +214,7 @@ def tree_area(outdir: str | os.PathLike[str], order: Callable[[str], int] | None
         return
     location = S3Location.parse(outdir)
     objects.check_bucket(location, reading=False)
-    staging = Path(tempfile.mkdtemp(prefix="pdsgen-s3-"))
+    staging = _staging_directory()
     try:
         area = OutputArea(staging / "tree", location)
         previous = staging / "previous"
@@ -275,7 +309,7 @@ def local_inputs(paths: Iterable[str | os.PathLike[str]]) -> Iterator[LocalInput
     if not any(is_s3(p) for p in given):
         yield LocalInputs(given)
         return
-    staging = Path(tempfile.mkdtemp(prefix="pdsgen-s3-in-"))
+    staging = _staging_directory()
     try:
         inputs = LocalInputs([])
         copies: dict[str, Path] = {}  # URL of a directory -> its local copy (several inputs may share one)
