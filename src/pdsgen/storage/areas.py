@@ -264,22 +264,24 @@ def relative_name(target: S3Location, base: S3Location) -> str:
 
 def raster_input(path: str | os.PathLike[str]) -> str:
     """What to give GDAL for an input: a local path unchanged, an object as /vsis3/ (GDAL's
-    configuration set from the AWS variables), a web URL as /vsicurl/. An S3 object that
-    is not there says so in one line before GDAL tries (when boto3 is installed)."""
+    configuration set from the AWS variables), a web URL as /vsicurl/."""
     text = internal(path)
-    if not is_remote(text):
-        return text
-    configure_gdal()
-    if is_s3(text):
-        location = S3Location.parse(text)
-        try:
-            objects.require_object(location)
-        except InputError:
-            raise
-        except Exception as exc:  # no boto3: GDAL will say what it can
-            if objects.MISSING_CLIENT not in str(exc):
-                raise
+    if is_remote(text):
+        configure_gdal()
     return text
+
+
+def explain_unreadable(path: str | os.PathLike[str]) -> None:
+    """After GDAL failed to open an object: raise the one line saying why, if the store
+    can tell (no such bucket or object, access denied, endpoint unreachable). Asked only
+    on failure, so a successful open costs no extra request. Without boto3, nothing."""
+    if not is_s3(path):
+        return
+    try:
+        objects.require_object(S3Location.parse(path))
+    except PdsgenError as exc:
+        if objects.MISSING_CLIENT not in str(exc):
+            raise
 
 
 @dataclass
@@ -359,4 +361,5 @@ def _copy_tree(directory: S3Location, target: Path, whole: bool) -> Path:
     return target
 
 
-__all__ = ["LocalInputs", "OutputArea", "local_inputs", "output_area", "raster_input", "tree_area"]
+__all__ = ["LocalInputs", "OutputArea", "explain_unreadable", "local_inputs", "output_area", "raster_input",
+           "tree_area"]

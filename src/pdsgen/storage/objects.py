@@ -86,8 +86,14 @@ def _errors() -> tuple[type[BaseException], ...]:
     return (BotoCoreError, ClientError)
 
 
+_BUCKETS_SEEN: set[tuple[str | None, str]] = set()  # (endpoint, bucket) found to exist by this process
+
+
 def check_bucket(location: S3Location, reading: bool = True) -> None:
-    """One line if the bucket is missing, forbidden or unreachable."""
+    """One line if the bucket is missing, forbidden or unreachable (asked once per process
+    and bucket while it answers: a batch job process makes many products in one bucket)."""
+    if (endpoint_url(), location.bucket) in _BUCKETS_SEEN:
+        return
     s3 = client()
     try:
         s3.head_bucket(Bucket=location.bucket)
@@ -97,6 +103,7 @@ def check_bucket(location: S3Location, reading: bool = True) -> None:
             kind = InputError if reading else OutputError
             raise kind(location.url, f"no such bucket: {location.bucket}") from None
         raise problem(exc, location, reading) from None
+    _BUCKETS_SEEN.add((endpoint_url(), location.bucket))
 
 
 def stat(location: S3Location) -> ObjectInfo | None:
