@@ -14,6 +14,7 @@ import io
 import json
 import os
 import re
+import socket
 import subprocess
 import sys
 import threading
@@ -178,6 +179,13 @@ def test_bad_inputs_and_credentials_give_one_line_and_leave_no_object(s3_server,
     wrong_key = subprocess.run([sys.executable, "-m", "pdsgen", "dtm", url, "-o", out],
                                capture_output=True, text=True, env=env, timeout=120)
     _one_line(wrong_key, "access denied")
+    with socket.socket() as probe:  # a port nothing listens on
+        probe.bind(("127.0.0.1", 0))
+        closed = probe.getsockname()[1]
+    env = {**os.environ, "AWS_ENDPOINT_URL": f"http://127.0.0.1:{closed}"}
+    unreachable = subprocess.run([sys.executable, "-m", "pdsgen", "dtm", url, "-o", out], capture_output=True,
+                                 text=True, env=env, timeout=120)
+    _one_line(unreachable, f"{out}: cannot reach the S3 endpoint (http://127.0.0.1:{closed})")
     assert s3_server.keys(bucket) == ["in/dtm.tif", "in/truncated.tif"]
 
 
