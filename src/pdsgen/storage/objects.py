@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import functools
 import os
+import sys
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -40,6 +41,8 @@ class ObjectInfo:
 @functools.lru_cache(maxsize=8)
 def _client(endpoint: str | None, profile: str | None, identity: tuple[str | None, ...]) -> Any:
     """One boto3 client per endpoint and identity (they are thread-safe and slow to make)."""
+    if "boto3" in sys.modules and sys.modules["boto3"] is None:  # kept from rasterio (cli.keep_boto3_from_rasterio)
+        del sys.modules["boto3"]
     try:
         import boto3
         from botocore.config import Config
