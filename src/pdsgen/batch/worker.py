@@ -8,7 +8,6 @@ timed out - comes back as a small dict, so the client can report and go on.
 from __future__ import annotations
 
 import contextlib
-import hashlib
 import resource
 import tempfile
 import time
@@ -90,14 +89,17 @@ def _directory_lock(name: str | None) -> Iterator[None]:
 def _run_child(task: dict[str, Any]) -> dict[str, Any]:
     """The job's body in this worker slot's resident child (resident.py), its output appended
     to the job's log after a header line. A log in a bucket (s3:// OUTDIR) is written on this
-    worker's disk while the job runs and uploaded whole when it ends."""
+    worker's disk while the job runs (begun with what earlier attempts wrote) and uploaded
+    whole when it ends."""
     if not is_s3(task["log"]):
         return _run_child_logged(task)
-    local = Path(tempfile.gettempdir()) / "pdsgen-batch-logs" / hashlib.sha256(task["log"].encode()).hexdigest()[:16]
-    try:
-        return _run_child_logged({**task, "log": str(local)})
-    finally:
-        files.write_text_whole(task["log"], local.read_text("utf-8", "replace") if local.is_file() else "")
+    with tempfile.TemporaryDirectory(prefix="pdsgen-batch-log-") as folder:
+        local = Path(folder) / Path(task["log"]).name
+        local.write_text(files.read_text(task["log"]) or "", encoding="utf-8")
+        try:
+            return _run_child_logged({**task, "log": str(local)})
+        finally:
+            files.write_text_whole(task["log"], local.read_text("utf-8", "replace"))
 
 
 def _run_child_logged(task: dict[str, Any]) -> dict[str, Any]:
