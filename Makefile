@@ -13,7 +13,7 @@ setup: $(STAMP)
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -e '.[test,pds4]'
+	$(PY) -m pip install --quiet -e '.[test,pds4,s3]'
 	@$(PY) -c "import glymur, sys; sys.exit(0 if glymur.lib.openjp2.OPENJP2 else 1)" 2>/dev/null \
 	  || sh tools/install-openjpeg.sh
 	touch $@

@@ -11,6 +11,8 @@ from pathlib import Path
 
 import pytest
 
+from s3_server import s3_server  # noqa: F401  (the real S3 server fixture)
+
 REPO_ROOT = Path(__file__).resolve().parents[1]
 DATA_DIR = REPO_ROOT / "tests" / "data"
 CORPUS_DIR = DATA_DIR / "corpus"

@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from ..products.result import ProductResult
+from ..storage import OutputArea, local_inputs, output_area, raster_input
 
 Outputs = dict[str, list[str]]
 # Files `pdsgen extras` and `pdsgen validate` take for a product: its PDS3 label.
@@ -26,15 +27,17 @@ def run_dtm(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
     from ..products.dtm import write_dtm
 
     options = {**library_options(p), "overwrite": overwrite}
-    return _product(write_dtm(p["input_path"], p["outdir"], profile=p["profile"], **options))
+    with output_area(p["outdir"], overwrite) as area:  # the worker writes into the bucket itself (s3:// OUTDIR)
+        return _product(write_dtm(p["input_path"], area.directory, profile=p["profile"], **options), area)
 
 
 def run_ortho(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
-    from ..cli.ortho import library_options, ortho_inputs
+    from ..cli.ortho import SHARED_FILES, library_options, ortho_inputs
     from ..products.ortho import write_ortho
 
     options = {**library_options(p), "overwrite": overwrite, "threads": threads}
-    return _product(write_ortho(ortho_inputs(p), p["outdir"], profile=p["profile"], **options))
+    with output_area(p["outdir"], overwrite, shared=SHARED_FILES) as area:
+        return _product(write_ortho(ortho_inputs(p), area.directory, profile=p["profile"], **options), area)
 
 
 def run_mosaic(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
@@ -42,29 +45,32 @@ def run_mosaic(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
     from ..mosaic import write_mosaic
 
     options = {**library_options(p), "overwrite": overwrite}
-    return _product(write_mosaic(list(p["inputs"]), p["outdir"], **options))
+    inputs = [raster_input(i) for i in p["inputs"]]  # GDAL reads objects in place
+    with output_area(p["outdir"], overwrite) as area:
+        return _product(write_mosaic(inputs, area.directory, **options), area)
 
 
-def _product(product: ProductResult) -> Outputs:
+def _product(product: ProductResult, area: OutputArea) -> Outputs:
     """Every file of a product; the one later jobs read is its label (or, for iMars, its GeoTIFF).
     The product's warnings go to the job's log, as the command prints them."""
     for warning in getattr(product, "warnings", ()):
         print(f"warning: {warning}")
     labels = [f for f in product.files if f.suffix.lower() in LABEL_SUFFIXES]
-    return _written(list(product.files), labels[:1] or list(product.files[:1]))
+    return _written(list(product.files), labels[:1] or list(product.files[:1]), area=area)
 
 
 def run_extras(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
     from ..extras import make_extras
     from ..extras.readme_txt import README_NAME
 
-    written = make_extras(p["products"], p["outdir"], credit=p["credit"], params=p["params_file"],
-                          browse_width=p["browse_width"], thumb_width=p["thumb_width"], azimuth=p["azimuth"],
-                          altitude=p["altitude"], exaggeration=p["exaggeration"], kind=p["kind"],
-                          profile=p["profile"], product_id=p["product_id"], overwrite=overwrite,
-                          report=print)  # notes into the log
-    directory_files = [w for w in written if w.name == README_NAME]
-    return _written([w for w in written if w not in directory_files], [], shared=directory_files)
+    with local_inputs(p["products"]) as inputs, output_area(p["outdir"], overwrite, shared=(README_NAME,)) as area:
+        written = make_extras(inputs.paths, area.directory, credit=p["credit"], params=p["params_file"],
+                              browse_width=p["browse_width"], thumb_width=p["thumb_width"], azimuth=p["azimuth"],
+                              altitude=p["altitude"], exaggeration=p["exaggeration"], kind=p["kind"],
+                              profile=p["profile"], product_id=p["product_id"], overwrite=overwrite,
+                              report=lambda line: print(inputs.shown(line)))  # notes into the log
+        directory_files = [w for w in written if w.name == README_NAME]
+        return _written([w for w in written if w not in directory_files], [], shared=directory_files, area=area)
 
 
 def run_migrate(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
@@ -86,31 +92,33 @@ class ProblemsFound(Exception):
 
 
 def run_validate(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
-    """Validate; the report goes to `output` (written whole, then renamed) when given."""
-    from ..formats.staging import StagedOutputs
+    """Validate; the report goes to `output` (written whole, then renamed or PUT) when given."""
+    from ..storage import files
     from ..validate import render, validate_paths
 
-    report = validate_paths(p["paths"], strict=p["strict"], jobs=p["jobs"], labels_only=p["labels_only"],
-                            dictionaries=p["dictionaries"])
-    written: list[Path] = []
+    with local_inputs(p["paths"]) as inputs:
+        report = validate_paths(inputs.paths, strict=p["strict"], jobs=p["jobs"], labels_only=p["labels_only"],
+                                dictionaries=p["dictionaries"])
+        text = inputs.shown(render(report, p["fmt"]))
+    written: list[str] = []
     if p["output"]:
-        output = Path(p["output"])
-        output.parent.mkdir(parents=True, exist_ok=True)
-        with StagedOutputs([output], overwrite=True) as staged:
-            staged.path(output).write_text(render(report, p["fmt"]), encoding="utf-8")
-        written.append(output)
+        files.write_text_whole(p["output"], text)
+        written.append(str(p["output"]))
     else:
-        print(render(report, p["fmt"]), end="")  # into the job's log
+        print(text, end="")  # into the job's log
     if report.exit_code != 0:
         raise ProblemsFound(report.summary_line())
-    return _written(written, [])
+    return {"outputs": written, "products": [], "shared": []}
 
 
-def _written(outputs: list[Path], products: list[Path], shared: Sequence[Path] = ()) -> Outputs:
+def _written(outputs: list[Path], products: list[Path], shared: Sequence[Path] = (),
+             area: OutputArea | None = None) -> Outputs:
     """`shared`: files the job updated that describe its whole directory (README.TXT);
-    a later job in that directory rewrites them, so they are reported, not checked on resume."""
-    return {"outputs": [str(o) for o in outputs], "products": [str(p) for p in products],
-            "shared": [str(s) for s in shared]}
+    a later job in that directory rewrites them, so they are reported, not checked on resume.
+    Files written in an s3:// OUTDIR's staging area are reported where they were uploaded."""
+    named = area.remote if area is not None else str
+    return {"outputs": [named(o) for o in outputs], "products": [named(p) for p in products],
+            "shared": [named(s) for s in shared]}
 
 
 # Each takes the job's parameters, whether it may replace its earlier outputs, and its

@@ -22,6 +22,7 @@ import click
 
 from .._compat import tomllib
 from ..errors import PdsgenError
+from ..storage.locations import internal, is_remote
 
 KINDS = ("dtm", "ortho", "mosaic", "extras", "validate", "migrate")
 # Keys that only the batch knows: how to schedule a job, not what it makes.
@@ -137,6 +138,8 @@ class _Checker:
         elif not isinstance(given, str | Path):
             self.problems.append("[batch] outdir: must be a string")
             self.outdir = self.base
+        elif is_remote(given):  # s3://bucket/prefix: kept in its internal /vsis3/ form, which paths join onto
+            self.outdir = Path(internal(given))
         else:
             self.outdir = (Path.cwd() if outdir is not None else self.base) / given
         self.defaults = self._table(data.get("defaults", {}), "[defaults]")
@@ -155,7 +158,8 @@ class _Checker:
             self.problems.append("no jobs: add [[dtm]], [[ortho]], [[mosaic]], [[extras]] or [[validate]] entries")
         if self.problems:
             raise ManifestError(self.path, self.problems)
-        return Manifest(self.path, self.outdir.resolve(), jobs)
+        outdir = self.outdir if is_remote(self.outdir) else self.outdir.resolve()
+        return Manifest(self.path, outdir, jobs)
 
     def _table(self, value: Any, where: str) -> dict[str, Any]:
         if isinstance(value, dict):
@@ -286,6 +290,8 @@ class _Checker:
             self.problems.append(f"{where}: {key} must be a string (write it in quotes)")
             return None
         if isinstance(param.type, click.Path):
+            if is_remote(str(item)):  # an object or prefix (s3://, /vsis3/, https://) is where it says
+                return internal(str(item))
             base = self.outdir if param.name in OUTPUT_OPTIONS else self.base
             return str(base / str(item))
         return str(item)

@@ -24,6 +24,8 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
+from ..storage import files
+
 STATE_DIR = ".pdsgen-batch"
 MARKER_FORMAT = "pdsgen batch marker 1"
 
@@ -39,42 +41,30 @@ def marker_path(outdir: Path, job_id: str) -> Path:
 
 
 def file_stats(paths: Iterable[str]) -> dict[str, list[int] | None]:
-    """path -> [size, mtime in ns] (None if missing), directories expanded to their files."""
-    stats: dict[str, list[int] | None] = {}
+    """path -> [size, mtime in ns] (None if missing), directories (and s3:// prefixes) expanded
+    to their files."""
+    found: dict[str, list[int] | None] = {}
     for name in paths:
-        path = Path(name)
-        files = sorted(p for p in path.rglob("*") if p.is_file()) if path.is_dir() else [path]
-        for file in files:
-            try:
-                st = file.stat()
-            except OSError:
-                stats[str(file)] = None
-            else:
-                stats[str(file)] = [st.st_size, st.st_mtime_ns]
-    return stats
+        found.update(files.stats(name))
+    return found
 
 
 def read_marker(path: Path) -> dict[str, Any] | None:
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
+        text = files.read_text(path)
+        data = json.loads(text) if text is not None else None
     except (OSError, ValueError):
         return None
     return data if isinstance(data, dict) and data.get("format") == MARKER_FORMAT else None
 
 
 def write_marker(path: Path, **fields: Any) -> None:
-    """Write the marker whole under a temporary name, then rename it into place."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.part")
-    tmp.write_text(json.dumps({"format": MARKER_FORMAT, **fields}, indent=1, sort_keys=True), encoding="utf-8")
-    os.replace(tmp, path)
+    """Write the marker whole (a temporary name renamed into place; an object PUT whole)."""
+    files.write_text_whole(path, json.dumps({"format": MARKER_FORMAT, **fields}, indent=1, sort_keys=True))
 
 
 def remove_marker(path: Path) -> None:
-    try:
-        path.unlink()
-    except FileNotFoundError:
-        pass
+    files.remove(path)
 
 
 def is_done(marker: Mapping[str, Any] | None, digest: str, inputs: Iterable[str]) -> bool:
@@ -87,7 +77,7 @@ def is_done(marker: Mapping[str, Any] | None, digest: str, inputs: Iterable[str]
     if not (isinstance(outputs, dict) and outputs == file_stats(outputs)):
         return False
     # directory-wide files (README.TXT) are rewritten by later jobs: they need only exist
-    return all(Path(shared).is_file() for shared in marker.get("shared", []))
+    return all(files.is_file(shared) for shared in marker.get("shared", []))
 
 
 def may_replace(marker: Mapping[str, Any] | None) -> bool:

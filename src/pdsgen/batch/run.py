@@ -20,6 +20,7 @@ from typing import Any, TextIO
 import click
 
 from .. import __version__
+from ..storage import files
 from .cluster import RESOURCE, Sizing, check_workers, open_client
 from .manifest import OUTPUT_OPTIONS, Job, Manifest, command
 from .progress import Progress
@@ -284,6 +285,5 @@ def _write_summary(manifest: Manifest, settings: Settings, outcomes: Mapping[str
             "pdsgen": __version__, "scheduler": settings.scheduler or f"local, {settings.workers} worker(s)",
             "seconds": round(time.time() - started, 3), "counts": counts, "jobs": jobs}
     path = log_dir(manifest, settings) / "summary.json"
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
+    files.write_text_whole(path, json.dumps(data, indent=1) + "\n")  # beside the logs, in a bucket too
     return Summary(path, data)

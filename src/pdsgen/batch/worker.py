@@ -9,11 +9,13 @@ from __future__ import annotations
 
 import contextlib
 import resource
+import tempfile
 import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
+from ..storage import files, is_s3
 from .resident import DEFAULT_MAX_GROWTH_MB, DEFAULT_MAX_JOBS, Recycling, run_in_child
 from .resume import file_stats, is_done, may_replace, read_marker, remove_marker, write_marker
 
@@ -86,7 +88,21 @@ def _directory_lock(name: str | None) -> Iterator[None]:
 
 def _run_child(task: dict[str, Any]) -> dict[str, Any]:
     """The job's body in this worker slot's resident child (resident.py), its output appended
-    to the job's log after a header line."""
+    to the job's log after a header line. A log in a bucket (s3:// OUTDIR) is written on this
+    worker's disk while the job runs (begun with what earlier attempts wrote) and uploaded
+    whole when it ends."""
+    if not is_s3(task["log"]):
+        return _run_child_logged(task)
+    with tempfile.TemporaryDirectory(prefix="pdsgen-batch-log-") as folder:
+        local = Path(folder) / Path(task["log"]).name
+        local.write_text(files.read_text(task["log"]) or "", encoding="utf-8")
+        try:
+            return _run_child_logged({**task, "log": str(local)})
+        finally:
+            files.write_text_whole(task["log"], local.read_text("utf-8", "replace"))
+
+
+def _run_child_logged(task: dict[str, Any]) -> dict[str, Any]:
     log = Path(task["log"])
     log.parent.mkdir(parents=True, exist_ok=True)
     with open(log, "ab") as log_file:

@@ -100,9 +100,10 @@ class _Group(click.Group):
         try:
             return super().invoke(ctx)
         except PdsgenError as exc:
+            from ..storage.locations import display_text
             from ._messages import in_cli_words
 
-            click.echo(f"pdsgen: error: {in_cli_words(str(exc))}", err=True)
+            click.echo(f"pdsgen: error: {display_text(in_cli_words(str(exc)))}", err=True)
             sys.exit(2)
         except KeyboardInterrupt:
             # the writers' staging has already removed its temporary files on the way out
@@ -138,6 +139,7 @@ def run(args: list[str] | None = None, prog_name: str | None = None) -> NoReturn
     ordinary exit instead, which waits for the thread or reports the stream as it always does.
     """
     _start_up_begins()
+    keep_boto3_from_rasterio()  # rasterio would import boto3 on every command (see pdsgen.storage)
     try:
         main(args=args, prog_name=prog_name)
         code: str | int | None = 0
@@ -158,6 +160,19 @@ def _start_up_begins() -> None:
     if gc.isenabled():
         gc.disable()
         _START_UP["collector_paused"] = True
+
+
+def keep_boto3_from_rasterio() -> None:
+    """In pdsgen's own processes (the command, a batch job's process), before rasterio is
+    imported: keep rasterio from importing boto3.
+
+    rasterio imports boto3 whenever it is installed (the s3 extra; moto brings it into a
+    test environment too) to offer its AWSSession: some 230 modules and a sixth of a second
+    on every command, even a local one. pdsgen does not need it: GDAL reads the AWS
+    variables itself (pdsgen.storage adds the endpoint), which is rasterio's own fallback.
+    pdsgen.storage's client lifts this when a command first talks to a bucket."""
+    if "rasterio" not in sys.modules and "boto3" not in sys.modules:
+        sys.modules["boto3"] = None  # type: ignore[assignment]  # `import boto3` raises ImportError
 
 
 def _start_up_done() -> None:

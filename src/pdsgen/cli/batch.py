@@ -14,6 +14,7 @@ from ..batch.cluster import local_workers
 from ..batch.manifest import parse_size
 from ..batch.resident import DEFAULT_MAX_GROWTH_MB, DEFAULT_MAX_JOBS
 from ..progress import wanted as progress_wanted
+from ..storage import display
 from . import COMMANDS
 from ._output import log_to_stderr
 
@@ -86,7 +87,7 @@ def batch(manifest, outdir, scheduler, workers, threads_per_job, dry_run, retrie
     if not quiet:
         click.echo(f"{len(summary.data['jobs'])} jobs in {summary.data['seconds']:.1f} s: {counts['done']} done, "
                    f"{counts['skipped']} already done, {counts['failed']} failed, {counts['blocked']} blocked; "
-                   f"summary {summary.path}", err=True)
+                   f"summary {display(summary.path)}", err=True)
     for job in summary.failed:
         click.echo(f"pdsgen: {job['status']}: {job['kind']} {job['id']}: {job['error']}", err=True)
     sys.exit(summary.exit_code)

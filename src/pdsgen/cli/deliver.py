@@ -5,6 +5,9 @@ from __future__ import annotations
 import click
 
 from ..deliver import make_delivery
+from ..deliver.build import Delivery
+from ..deliver.layout import publication_rank
+from ..storage import local_inputs, tree_area
 from . import COMMANDS
 from ._output import Outcome, output_options
 
@@ -29,7 +32,16 @@ def deliver(directory, dialect, out, volume_id, bundle_lid) -> Outcome:
     the MD5SUMS.TXT manifest are brought up to date, and nothing stale stays.
     Then check the whole delivery with `pdsgen validate OUT`.
     """
-    result = make_delivery(directory, out, dialect=dialect, volume_id=volume_id, bundle_lid=bundle_lid)
+    # s3:// DIRECTORY and OUT: built from local copies; published changed files first, the index and MD5SUMS.TXT last
+    with local_inputs([directory] if out is not None else []) as inputs, \
+            tree_area(out if out is not None else directory, publication_rank) as area:
+        source = inputs.paths[0] if out is not None else area.directory
+        result = make_delivery(source, area.directory, dialect=dialect, volume_id=volume_id, bundle_lid=bundle_lid)
+        outcome = _outcome(result)
+    return Outcome(area.shown([inputs.shown(line) for line in outcome.lines]), area.shown(outcome.summary))
+
+
+def _outcome(result: Delivery) -> Outcome:
     lines = [f"DELIVERY {result.path}: {result.products} data product(s), {result.previews} preview(s), "
              f"{result.documents} document(s), {result.files} file(s) in {result.path / 'MD5SUMS.TXT'}"]
     if result.volume_id:

@@ -10,6 +10,7 @@ import click
 from ..pds4.model import LABEL_DIALECTS
 from ..products.dtm import DtmProduct, write_dtm
 from ..profiles import profile_names
+from ..storage import internal, output_area
 from . import COMMANDS
 from ._output import Outcome, output_options, pds4_name, product_summary
 from ._profile_options import label_fidelity_options, profile_options, refuse_unused_options
@@ -71,8 +72,10 @@ def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, p
     for --profile hrsc-ax the HRSC-AX tile's VICAR .dsm as HRSCAX_<tile>_DEM.IMG (float32
     ellipsoid heights, transverse Mercator)."""
     refuse_unused_options(ctx, profile, USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"]))
-    product = write_dtm(input_path, outdir, profile=profile, **library_options(ctx.params))
-    return Outcome([_summary(product)], product_summary("dtm", product), getattr(product, "warnings", ()))
+    with output_area(outdir, overwrite) as area:  # an s3:// OUTDIR: staged here, uploaded when complete
+        product = write_dtm(internal(input_path), area.directory, profile=profile, **library_options(ctx.params))
+        lines, summary = area.shown([_summary(product)]), area.shown(product_summary("dtm", product))
+    return Outcome(lines, summary, getattr(product, "warnings", ()))
 
 
 def library_options(params: Mapping[str, Any]) -> dict[str, object]:
@@ -84,7 +87,8 @@ def library_options(params: Mapping[str, Any]) -> dict[str, object]:
         "product_id": params["product_id"], "source_product_ids": tuple(params["source_ids"]),
         "params": params["params_file"], "version": params["product_version"], "overwrite": params["overwrite"],
         "byte_order": params["byte_order"], "institution": params["institution"], "kind": params["kind"],
-        "vertical_datum": params["vertical_datum"], "areoid": params["areoid"], "precision": params["precision"],
+        "vertical_datum": params["vertical_datum"], "areoid": params["areoid"] and internal(params["areoid"]),
+        "precision": params["precision"],
         "reproject_input": params["reproject"], "allow_dictionary_deviations": params["allow_deviations"] or None,
         "source_labels": tuple(params["source_labels"]), "offset_convention": params["offset_convention"],
         "vicar_offsets": params["vicar_offsets"],

@@ -7,7 +7,9 @@ import logging
 import click
 
 from ..extras import KINDS, NOMAP, make_extras
+from ..extras.readme_txt import README_NAME
 from ..profiles import profile_names
+from ..storage import local_inputs, output_area
 from . import COMMANDS
 from ._messages import in_cli_words
 from ._output import Outcome, files_summary, output_options
@@ -54,10 +56,13 @@ def extras(products, outdir, credit, params_file, browse_width, thumb_width, azi
     # GDAL's own messages reach rasterio's logger; the user sees pdsgen's one-line
     # errors instead (a NullHandler keeps Python's last-resort printer quiet).
     logging.getLogger("rasterio").addHandler(logging.NullHandler())
-    written = make_extras(products, outdir, credit=credit, params=params_file,
-                          browse_width=browse_width, thumb_width=thumb_width, azimuth=azimuth,
-                          altitude=altitude, exaggeration=exaggeration, kind=kind,
-                          profile=profile, product_id=product_id, overwrite=overwrite,
-                          report=lambda line: click.echo(f"pdsgen: {in_cli_words(line)}", err=True))
-    summary = {"command": "extras", "files": files_summary(written)}
-    return Outcome([str(path) for path in written], summary)
+    # s3:// PRODUCTs are fetched with the files beside them; an s3:// OUTDIR is staged and uploaded
+    with local_inputs(products) as inputs, output_area(outdir, overwrite, shared=(README_NAME,)) as area:
+        written = make_extras(inputs.paths, area.directory, credit=credit, params=params_file,
+                              browse_width=browse_width, thumb_width=thumb_width, azimuth=azimuth,
+                              altitude=altitude, exaggeration=exaggeration, kind=kind,
+                              profile=profile, product_id=product_id, overwrite=overwrite,
+                              report=lambda line: click.echo(f"pdsgen: {inputs.shown(in_cli_words(line))}", err=True))
+        summary = area.shown({"command": "extras", "files": files_summary(written)})
+        lines = area.shown([str(path) for path in written])
+    return Outcome(lines, summary)

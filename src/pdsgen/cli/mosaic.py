@@ -11,6 +11,7 @@ import click
 from ..mosaic import KINDS, ORDERS, RESAMPLING_METHODS, write_mosaic
 from ..pds4.model import LABEL_DIALECTS
 from ..profiles import profile_names
+from ..storage import output_area, raster_input
 from . import COMMANDS
 from ._output import Outcome, product_summary
 from ._output import output_options as _output_options
@@ -68,10 +69,13 @@ def mosaic(ctx, inputs, outdir, profile, product_id, kind, order, resampling, no
     used = USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"])
     refuse_unused_options(ctx, profile, used)
     options: dict[str, Any] = library_options(ctx.params)
-    product = write_mosaic(list(inputs), outdir, **options)
-    files = "  ".join(Path(f).name for f in product.files)
-    line = f"{product.files[0].parent}/  {files}  {product.geometry.lines} x {product.geometry.samples}"
-    return Outcome([line], product_summary("mosaic", product), getattr(product, "warnings", ()))
+    sources = [raster_input(i) for i in inputs]  # objects (s3://, https://) read in place by GDAL
+    with output_area(outdir, overwrite) as area:  # an s3:// OUTDIR: staged here, uploaded when complete
+        product = write_mosaic(sources, area.directory, **options)
+        files = "  ".join(Path(f).name for f in product.files)
+        line = f"{product.files[0].parent}/  {files}  {product.geometry.lines} x {product.geometry.samples}"
+        lines, summary = area.shown([line]), area.shown(product_summary("mosaic", product))
+    return Outcome(lines, summary, getattr(product, "warnings", ()))
 
 
 def library_options(params: Mapping[str, Any]) -> dict[str, Any]:

@@ -8,9 +8,11 @@ from typing import Any
 import click
 
 from ..errors import PdsgenError
+from ..formats.jp2 import JP2INFO_NAME
 from ..pds4.model import LABEL_DIALECTS
 from ..products.ortho import OrthoProduct, write_ortho
 from ..profiles import profile_names
+from ..storage import internal, output_area
 from . import COMMANDS
 from ._output import Outcome, output_options, pds4_name, product_summary
 from ._profile_options import label_fidelity_options, profile_options, refuse_unused_options
@@ -26,6 +28,9 @@ USED_BY_PROFILE = {
 }
 # Profiles whose products may be composed of several single-band input files.
 SEVERAL_INPUTS = {"hrsc-ax"}
+
+# Files one orthoimage updates for its whole directory: fetched from, and written back to, an s3:// OUTDIR.
+SHARED_FILES = (JP2INFO_NAME,)
 
 
 @click.command(short_help=COMMANDS["ortho"])
@@ -69,19 +74,21 @@ def ortho(ctx, input_path, more_inputs, outdir, profile, product_id, bits, value
     hrsc-ax TILE.pan, or the channel files of one colour product in band order
     (TILE.re TILE.gr TILE.bl, TILE.cir_re TILE.cir_gr TILE.cir_bl)."""
     refuse_unused_options(ctx, profile, USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"]))
-    product = write_ortho(ortho_inputs(ctx.params), outdir, profile=profile, **library_options(ctx.params))
-    return Outcome([_summary(product)], product_summary("ortho", product), getattr(product, "warnings", ()))
+    with output_area(outdir, overwrite, shared=SHARED_FILES) as area:  # s3:// OUTDIR: uploaded when complete
+        product = write_ortho(ortho_inputs(ctx.params), area.directory, profile=profile, **library_options(ctx.params))
+        lines, summary = area.shown([_summary(product)]), area.shown(product_summary("ortho", product))
+    return Outcome(lines, summary, getattr(product, "warnings", ()))
 
 
 def ortho_inputs(params: Mapping[str, Any]) -> str | tuple[str, ...]:
     """The input of write_ortho: one file, or (profiles that compose bands) the files in band order."""
     more = tuple(params.get("more_inputs") or ())
     if not more:
-        return str(params["input_path"])
+        return internal(params["input_path"])
     if params["profile"] not in SEVERAL_INPUTS:
         raise PdsgenError(None, f"--profile {params['profile']} takes one INPUT; "
                                 f"{len(more) + 1} were given")
-    return (str(params["input_path"]), *more)
+    return (internal(params["input_path"]), *(internal(path) for path in more))
 
 
 def library_options(params: Mapping[str, Any]) -> dict[str, object]:

@@ -6,10 +6,10 @@ import logging
 import os
 import sys
 import time
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import IO
+from typing import IO, Any, TextIO, cast
 
 import click
 
@@ -17,6 +17,7 @@ from ..errors import PdsgenError
 from ..pds4.detect import default_schema_cache
 from ..progress import TerminalBar
 from ..progress import wanted as progress_wanted
+from ..storage import local_inputs
 from ..validate import config as configuration
 from ..validate import rules
 from ..validate.dictionary import version as dictionary_version
@@ -168,35 +169,51 @@ def validate(paths: tuple[str, ...], fmt: str, strict: bool, fail_on: str | None
     settings = configuration.load(config_path, search=not no_config)
     settings = configuration.override(settings, select, ignore, severities, "warning" if strict else fail_on)
     baseline = configuration.Baseline.read(baseline_path) if baseline_path else None
-    with _files_progress(quiet) as bar:
-        progress = None if bar is None else (lambda done, total: bar(done, total, "file(s) checked"))
-        reports = iter_reports(paths, strict=strict, jobs=jobs, labels_only=labels_only, progress=progress,
-                               dictionaries=dictionaries, settings=settings, baseline=baseline, schemas=schemas,
-                               skip_non_labels=skip_non_labels,
-                               schema_cache=schema_cache or str(default_schema_cache()),
-                               download_schemas=not offline)
-        if bar is not None:
-            reports = _giving_way(reports, bar)
-        if verbose:  # after iter_reports has checked the paths given with --dictionary
-            _tell_choices(settings, baseline_path, tuple(dictionaries), jobs, labels_only)
-            log.info("PDS4 schemas: %s; cache %s; %s", ", ".join(schemas) or "shipped",
-                     schema_cache or str(default_schema_cache()), "offline" if offline else "downloads allowed")
-        if write_baseline_path:
-            kept = [f for report in reports for f in report.findings]
-            count = configuration.write_baseline(write_baseline_path, kept)
-            if not quiet:
-                click.echo(f"{count} finding(s) recorded in the baseline {write_baseline_path}")
-            return
-        tally = Tally(settings.fail_on, dictionary=dictionary_version(tuple(dictionaries)))
-        if quiet and fmt == "text" and not output:
-            _failing_findings(_counting_baseline(reports, baseline, tally), tally)
-        else:
-            with _output(output) as out:
-                write_stream(_counting_baseline(reports, baseline, tally), fmt, out, tally)
-        elapsed = time.monotonic() - started
-        log.info("checked %d file(s) in %.2f s (%.0f files/s): %d error(s), %d warning(s)", tally.files, elapsed,
-                 tally.files / elapsed if elapsed > 0 else 0.0, tally.errors, tally.warnings)
-        sys.exit(tally.exit_code)
+    # an s3:// object is read with the files beside it sharing its name; an s3:// prefix as a directory
+    with local_inputs(paths) as inputs:
+        with _files_progress(quiet) as bar:
+            progress = None if bar is None else (lambda done, total: bar(done, total, "file(s) checked"))
+            reports = iter_reports(inputs.paths, strict=strict, jobs=jobs, labels_only=labels_only, progress=progress,
+                                   dictionaries=dictionaries, settings=settings, baseline=baseline, schemas=schemas,
+                                   skip_non_labels=skip_non_labels,
+                                   schema_cache=schema_cache or str(default_schema_cache()),
+                                   download_schemas=not offline)
+            if bar is not None:
+                reports = _giving_way(reports, bar)
+            if verbose:  # after iter_reports has checked the paths given with --dictionary
+                _tell_choices(settings, baseline_path, tuple(dictionaries), jobs, labels_only)
+                log.info("PDS4 schemas: %s; cache %s; %s", ", ".join(schemas) or "shipped",
+                         schema_cache or str(default_schema_cache()), "offline" if offline else "downloads allowed")
+            if write_baseline_path:
+                kept = [f for report in reports for f in report.findings]
+                count = configuration.write_baseline(write_baseline_path, kept)
+                if not quiet:
+                    click.echo(f"{count} finding(s) recorded in the baseline {write_baseline_path}")
+                return
+            tally = Tally(settings.fail_on, dictionary=dictionary_version(tuple(dictionaries)))
+            if quiet and fmt == "text" and not output:
+                _failing_findings(_counting_baseline(reports, baseline, tally), tally)
+            else:
+                with _output(output) as out:
+                    named = cast(IO[str], _Renaming(out, inputs.shown))
+                    write_stream(_counting_baseline(reports, baseline, tally), fmt, named, tally)
+            elapsed = time.monotonic() - started
+            log.info("checked %d file(s) in %.2f s (%.0f files/s): %d error(s), %d warning(s)", tally.files, elapsed,
+                     tally.files / elapsed if elapsed > 0 else 0.0, tally.errors, tally.warnings)
+            sys.exit(tally.exit_code)
+
+
+class _Renaming:
+    """A report stream naming the local copies of objects by their URLs."""
+
+    def __init__(self, out: TextIO, rename: Callable[[str], str]) -> None:
+        self.out, self.rename = out, rename
+
+    def write(self, text: str) -> int:
+        return self.out.write(self.rename(text))
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.out, name)
 
 
 def _tell_choices(settings: configuration.Settings, baseline_path: str | None, dictionaries: tuple[str, ...],

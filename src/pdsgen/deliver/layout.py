@@ -24,6 +24,20 @@ AAREADME = "AAREADME.TXT"
 # The checksum manifest: `md5  relative/path` lines (md5sum -c reads them), written last.
 MANIFEST = "MD5SUMS.TXT"
 
+
+
+def publication_rank(relative: str) -> int:
+    """Where a delivery cannot be swapped in at once (an object store has no rename), the
+    order its files are published in: products, previews and documents (0), then the
+    labels, tables and inventories that index them (1), the checksum manifest last (2)."""
+    name = relative.rsplit("/", 1)[-1]
+    if relative == MANIFEST:
+        return 2
+    if relative.startswith(f"{INDEX_DIR}/") or name == VOLDESC or name.startswith(("bundle_", "collection_")):
+        return 1
+    return 0
+
+
 # Text a person must write is marked so; `pdsgen validate` reports any left in.
 PLACEHOLDER = "[TO BE WRITTEN: {what}]"
 PLACEHOLDER_PATTERN = re.compile(r"\[TO BE WRITTEN: [^\]]*\]")

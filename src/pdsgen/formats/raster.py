@@ -21,6 +21,7 @@ from rasterio.io import DatasetReader
 from rasterio.windows import Window
 
 from ..errors import PdsgenError
+from ..storage import display, explain_unreadable, is_remote, raster_input
 
 STRIP_BYTES = 16 * 1024 * 1024  # working-set size of one strip of input
 # GDAL's block cache defaults to 5 % of RAM and would keep every block we stream
@@ -34,17 +35,25 @@ MAX_CACHE_MB = 64
 
 @contextmanager
 def open_raster(path: str | os.PathLike[str]) -> Iterator[DatasetReader]:
-    """Open a raster with GDAL, turning every failure into a one-line PdsgenError."""
-    path = Path(path)
-    if not path.exists():
-        raise PdsgenError(path, "no such file")
-    if path.is_dir():
-        raise PdsgenError(path, "is a directory, not a raster file")
+    """Open a raster with GDAL, turning every failure into a one-line PdsgenError.
+
+    An object in a bucket (s3://, /vsis3/) or on the web is read in place by GDAL;
+    pdsgen.storage says why one cannot be opened and names it by its URL in messages."""
+    if is_remote(path):
+        path = raster_input(path)
+        shown: str | Path = display(path)
+    else:
+        path = shown = Path(path)
+        if not path.exists():
+            raise PdsgenError(path, "no such file")
+        if path.is_dir():
+            raise PdsgenError(path, "is a directory, not a raster file")
     try:
         dataset = rasterio.open(path)
     except RasterioIOError as exc:
+        explain_unreadable(path)  # a missing object or bucket, refused credentials: said as such
         reason = str(exc).splitlines()[0] if str(exc) else "unknown format"
-        raise PdsgenError(path, f"not a raster GDAL can read ({reason})") from None
+        raise PdsgenError(shown, f"not a raster GDAL can read ({reason})") from None
     log.info("read %s: %d lines x %d samples, %d band(s) of %s, projection %s", path, dataset.height,
              dataset.width, dataset.count, dataset.dtypes[0], _projection_name(dataset))
     with dataset, rasterio.Env(GDAL_CACHEMAX=streaming_cache_mb(dataset)):
@@ -52,7 +61,7 @@ def open_raster(path: str | os.PathLike[str]) -> Iterator[DatasetReader]:
             yield dataset
         except RasterioIOError as exc:
             reason = gdal_reason(exc)
-            raise PdsgenError(path, f"cannot read the raster data; truncated or damaged? (GDAL: {reason})") from None
+            raise PdsgenError(shown, f"cannot read the raster data; truncated or damaged? (GDAL: {reason})") from None
 
 
 def gdal_reason(exc: BaseException) -> str:
