@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from ..products.result import ProductResult
-from ..storage import OutputArea, local_inputs, output_area, raster_input
+from ..storage import OutputArea, local_inputs, output_area
 
 Outputs = dict[str, list[str]]
 # Files `pdsgen extras` and `pdsgen validate` take for a product: its PDS3 label.
@@ -45,9 +45,8 @@ def run_mosaic(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
     from ..mosaic import write_mosaic
 
     options = {**library_options(p), "overwrite": overwrite}
-    inputs = [raster_input(i) for i in p["inputs"]]  # GDAL reads objects in place
-    with output_area(p["outdir"], overwrite) as area:
-        return _product(write_mosaic(inputs, area.directory, **options), area)
+    with local_inputs(p["inputs"]) as inputs, output_area(p["outdir"], overwrite) as area:  # as `pdsgen mosaic`
+        return _product(write_mosaic(inputs.paths, area.directory, **options), area)
 
 
 def _product(product: ProductResult, area: OutputArea) -> Outputs:

@@ -11,7 +11,7 @@ import click
 from ..mosaic import KINDS, ORDERS, RESAMPLING_METHODS, write_mosaic
 from ..pds4.model import LABEL_DIALECTS
 from ..profiles import profile_names
-from ..storage import output_area, raster_input
+from ..storage import local_inputs, output_area
 from . import COMMANDS
 from ._output import Outcome, product_summary
 from ._output import output_options as _output_options
@@ -69,12 +69,14 @@ def mosaic(ctx, inputs, outdir, profile, product_id, kind, order, resampling, no
     used = USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"])
     refuse_unused_options(ctx, profile, used)
     options: dict[str, Any] = library_options(ctx.params)
-    sources = [raster_input(i) for i in inputs]  # objects (s3://, https://) read in place by GDAL
-    with output_area(outdir, overwrite) as area:  # an s3:// OUTDIR: staged here, uploaded when complete
-        product = write_mosaic(sources, area.directory, **options)
+    # Objects in a bucket are fetched as extras fetches them: an input's label (a PDS3 .IMG, an
+    # iMars strip's tags) is read by Python to name and classify it, and a mosaic reads every
+    # pixel of every input anyway. An s3:// OUTDIR: staged here, uploaded when complete.
+    with local_inputs(inputs) as sources, output_area(outdir, overwrite) as area:
+        product = write_mosaic(sources.paths, area.directory, **options)
         files = "  ".join(Path(f).name for f in product.files)
         line = f"{product.files[0].parent}/  {files}  {product.geometry.lines} x {product.geometry.samples}"
-        lines, summary = area.shown([line]), area.shown(product_summary("mosaic", product))
+        lines, summary = area.shown([sources.shown(line)]), area.shown(product_summary("mosaic", product))
     return Outcome(lines, summary, getattr(product, "warnings", ()))
 
 
