@@ -120,9 +120,10 @@ def test_mosaic_of_strips_in_a_bucket_equals_the_local_mosaic(s3_server, tmp_pat
     strips = [write_raster(tmp_path / f"strip{i}.tif", elevation_array(20, 16, seed=i), crs,
                            transform @ transform.translation(10 * i, 6 * i)) for i in range(2)]
     urls = [s3_server.put(bucket, f"in/{s.name}", s.read_bytes()) for s in strips]
-    output = _invoke("mosaic", *urls, "-o", f"s3://{bucket}/out", "--product-id", "SITE_MOSAIC", "--kind", "dtm", "--nodata", "-9999")
+    options = ("--product-id", "SITE_MOSAIC", "--kind", "dtm", "--nodata", "-9999")
+    output = _invoke("mosaic", *urls, "-o", f"s3://{bucket}/out", *options)
     assert output.startswith(f"s3://{bucket}/out/")
-    _invoke("mosaic", *strips, "-o", tmp_path / "local", "--product-id", "SITE_MOSAIC", "--kind", "dtm", "--nodata", "-9999")
+    _invoke("mosaic", *strips, "-o", tmp_path / "local", *options)
     _same_products(s3_server.tree(bucket, "out/"), _local_tree(tmp_path / "local"))
     _same_raster(f"/vsis3/{bucket}/out/SITE_MOSAIC.IMG", tmp_path / "local" / "SITE_MOSAIC.IMG")
 
