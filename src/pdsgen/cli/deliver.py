@@ -38,7 +38,8 @@ def deliver(directory, dialect, out, volume_id, bundle_lid) -> Outcome:
         source = inputs.paths[0] if out is not None else area.directory
         result = make_delivery(source, area.directory, dialect=dialect, volume_id=volume_id, bundle_lid=bundle_lid)
         outcome = _outcome(result)
-    return Outcome(area.shown([inputs.shown(line) for line in outcome.lines]), area.shown(outcome.summary))
+    return Outcome(area.shown([inputs.shown(line) for line in outcome.lines]), area.shown(outcome.summary),
+                   tuple(area.shown(inputs.shown(line)) for line in outcome.warnings))
 
 
 def _outcome(result: Delivery) -> Outcome:
