@@ -17,8 +17,8 @@ from affine import Affine
 from rasterio.crs import CRS
 
 from ..errors import PdsgenError
-from ..extras.label_georef import PROJECTION_OBJECTS, LabelGeorefError, label_georeferencing
 from ..geo.geometry import describe_geometry
+from ..geo.label_georef import PROJECTION_OBJECTS, LabelGeorefError, label_georeferencing
 from ..pds4.label import Cartography, cartography
 from ..validate.context import FileContext
 from ..validate.families.map_rules import offset_convention_shift

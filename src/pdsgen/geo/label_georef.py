@@ -1,4 +1,7 @@
-"""Georeferencing from a PDS3 label's map projection object, for products GDAL cannot place.
+"""Georeferencing from a PDS3 label's map projection object: label -> CRS and grid.
+
+The one reader of a label's map projection for the Extras (products GDAL cannot place)
+and the PDS3 -> PDS4 migration (cart:); geometry.py is the other direction.
 
 GDAL's PDS driver reads `IMAGE_MAP_PROJECTION` with the names current PDS3 labels
 use. Older map products describe the same grid differently and GDAL then reports
@@ -29,6 +32,8 @@ from typing import Any
 from rasterio.crs import CRS
 from rasterio.errors import CRSError
 from rasterio.transform import Affine
+
+from .conventions import upper_left_corner
 
 PROJECTION_OBJECTS = ("IMAGE_MAP_PROJECTION", "IMAGE_MAP_PROJECTION_CATALOG")
 # (line offset, sample offset) keyword pairs: the PDS3 names, then Magellan's.
@@ -66,8 +71,8 @@ def label_georeferencing(label: Mapping[str, Any]) -> tuple[CRS, Affine] | None:
     crs = _crs(block)
     scale = _map_scale_m(block)
     line_offset, sample_offset = _offsets(block)
-    transform = Affine(scale, 0.0, -(sample_offset + 0.5) * scale,
-                       0.0, -scale, (line_offset + 0.5) * scale)
+    ulx, uly = upper_left_corner(sample_offset, line_offset, scale)
+    transform = Affine(scale, 0.0, ulx, 0.0, -scale, uly)
     return crs, transform
 
 
