@@ -31,6 +31,9 @@ comment (templates/_transverse_mercator_note.lbl.j2); given the label's text,
 geotransform are the grid itself (scale factor, false origin, grid spacing) and the
 pixels land on the same ground positions.
 
+Magellan MIDR framelets are placed by their data set's own equations (a 6051.0 km sphere,
+sample centres half a pixel out; missions/magellan.py), not by their A_AXIS_RADIUS.
+
 West-positive labels give their longitudes west; the projection's central
 meridian is turned east-positive, as PROJ expects, and x still grows to the east.
 """
@@ -47,6 +50,7 @@ from rasterio.crs import CRS
 from rasterio.errors import CRSError
 from rasterio.transform import Affine
 
+from ..missions import magellan
 from .conventions import upper_left_corner
 
 PROJECTION_OBJECTS = ("IMAGE_MAP_PROJECTION", "IMAGE_MAP_PROJECTION_CATALOG")
@@ -124,9 +128,12 @@ def label_georeferencing(label: Mapping[str, Any], label_text: str | None = None
     if _projection_kind(block) in _TRANSVERSE_MERCATOR and label_text is not None:
         grid = transverse_mercator_grid(label_text)
     grid = grid or TransverseMercatorGrid(1.0, 0.0, 0.0)
-    crs = _crs(block, grid)
+    midr = magellan.is_midr_grid(str(block.get("DATA_SET_ID", "")), _projection_kind(block))
+    crs = _crs(block, grid, magellan.MIDR_PROJECTION_RADIUS_M if midr else None)
     scale = _map_scale_m(block)
     line_offset, sample_offset = _offsets(block)
+    if midr:  # the data set's own equations (missions/magellan.py), not the label's radius
+        sample_offset -= magellan.MIDR_SAMPLE_SHIFT
     ulx, uly = upper_left_corner(sample_offset, line_offset, scale)
     k = grid.scale_factor
     transform = Affine(scale * k, 0.0, ulx * k + grid.false_easting,
@@ -138,10 +145,12 @@ def _projection_kind(block: Mapping[str, Any]) -> str:
     return str(block.get("MAP_PROJECTION_TYPE", "")).strip().upper()
 
 
-def _crs(block: Mapping[str, Any], grid: TransverseMercatorGrid) -> CRS:
+def _crs(block: Mapping[str, Any], grid: TransverseMercatorGrid, sphere_radius: float | None = None) -> CRS:
     kind = _projection_kind(block)
     a = _length_m(block, "A_AXIS_RADIUS", default_km=True)
     c = _optional_length_m(block, "C_AXIS_RADIUS") or a
+    if sphere_radius is not None:  # a data set whose grid is defined on another sphere
+        a = c = sphere_radius
     lon0 = _degrees(block, "CENTER_LONGITUDE", 0.0)
     if str(block.get("POSITIVE_LONGITUDE_DIRECTION", "EAST")).strip().upper() == "WEST":
         lon0 = -lon0
