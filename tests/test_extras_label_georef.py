@@ -13,9 +13,9 @@ import rasterio
 from click.testing import CliRunner
 
 from pdsgen.cli import main
-from pdsgen.extras.label_georef import LabelGeorefError, label_georeferencing
 from pdsgen.extras.product_source import open_product
 from pdsgen.extras.renderings import render_product
+from pdsgen.geo.label_georef import LabelGeorefError, label_georeferencing
 
 VENUS_R_KM = 6051.92
 MAP_SCALE_M = 75.0

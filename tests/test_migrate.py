@@ -150,6 +150,37 @@ def test_detached_label_and_vicar_header_are_described(migrated):
     assert supplemental.findtext("pds:Header/pds:parsing_standard_id", namespaces=NS) == "PDS3"
 
 
+def test_magellan_cart_grid_puts_pixel_centres_on_the_label_bounds(migrated):
+    """FF01.LBL states its pixel-centre bounds (the data set's DSMAPF.LBL: integral lines and samples
+    are pixel centres): latitudes -18.1813 .. -17.4548, longitudes 141.6269 .. 142.4009. The cart:
+    grid, evaluated with PROJ from its own values alone, puts the extreme pixel centres there to
+    half a pixel. (Read with the label's A_AXIS_RADIUS 6051.92 km instead of the 6051.0 km sphere
+    of the catalog's SCALE equation, the latitudes were 3.4 and 3.6 px off; missions/magellan.py.)"""
+    from rasterio.crs import CRS
+    from rasterio.warp import transform as warp_transform
+
+    root = etree.parse(str(migrated["magellan_fmidr"].label_path)).getroot()
+
+    def number(name: str) -> float:
+        return float(root.findtext(f".//cart:{name}", namespaces=NS))
+
+    radius, size = number("a_axis_radius"), number("pixel_resolution_x")
+    lon0 = number("longitude_of_central_meridian")
+    crs = CRS.from_proj4(f"+proj=sinu +lon_0={lon0} +R={radius} +units=m +no_defs")
+    centres = np.arange(1024) + 0.5
+    cols, rows = np.meshgrid(centres, centres)
+    xs = number("upperleft_corner_x") + cols.ravel() * size
+    ys = number("upperleft_corner_y") - rows.ravel() * size
+    lon, lat = (np.asarray(v) for v in warp_transform(crs, CRS.from_proj4(f"+proj=longlat +R={radius}"),
+                                                      xs.tolist(), ys.tolist()))
+    px_per_deg = np.pi * radius / 180.0 / size
+    cos_lat = np.cos(np.radians(17.8))
+    residuals = [(lat.min() + 18.1813) * px_per_deg, (lat.max() + 17.4548) * px_per_deg,
+                 (lon.min() % 360 - 141.6269) * px_per_deg * cos_lat,
+                 (lon.max() % 360 - 142.4009) * px_per_deg * cos_lat]
+    assert max(abs(r) for r in residuals) < 0.5, residuals
+
+
 # -- tables: written here by the PDS3 Standards' definition of TABLE and ^STRUCTURE ---------------
 
 def _binary_table(directory: Path) -> tuple[Path, list[tuple[float, int, bytes, list[int]]]]:

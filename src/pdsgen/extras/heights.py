@@ -22,8 +22,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from ..geo.label_georef import projection_object
 from ..missions import get_mission, mission_names
-from .label_georef import projection_object
 
 # A radius OFFSET and A_AXIS_RADIUS agree when within this many metres (labels
 # round the radius to 0.1 km or better; heights are never that close to it).

@@ -31,11 +31,11 @@ from rasterio.errors import NotGeoreferencedWarning, RasterioError
 from rasterio.transform import Affine
 
 from ..errors import PdsgenError, param
+from ..geo.label_georef import LabelGeorefError, label_georeferencing
 from ..label.grammar import FLOAT_SAMPLE_TYPES
 from ..missions import LabelFacts, detect_mission
 from .heights import HeightReference, height_reference, mission_datum, radius_offset_m
 from .kind import DTM, KINDS, LENGTH_UNITS, ORTHO, KindDecision, decide_kind
-from .label_georef import LabelGeorefError, label_georeferencing
 
 __all__ = ["DTM", "ORTHO", "KINDS", "ProductSource", "open_product", "quiet_gdal"]
 

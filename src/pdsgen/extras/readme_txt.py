@@ -284,7 +284,7 @@ def _sources(src: ProductSource) -> str:
 
 
 def _projection(src: ProductSource) -> str:
-    from .label_georef import projection_object
+    from ..geo.label_georef import projection_object
 
     mp = projection_object(src.label)
     if mp is not None and "MAP_PROJECTION_TYPE" in mp:
@@ -308,7 +308,7 @@ def _georeferencing(src: ProductSource) -> str:
 
 
 def _spacing(src: ProductSource) -> str:
-    from .label_georef import projection_object
+    from ..geo.label_georef import projection_object
 
     mp = projection_object(src.label)
     if mp is not None and "MAP_SCALE" in mp:

@@ -17,8 +17,8 @@ from affine import Affine
 from rasterio.crs import CRS
 
 from ..errors import PdsgenError
-from ..extras.label_georef import PROJECTION_OBJECTS, LabelGeorefError, label_georeferencing
 from ..geo.geometry import describe_geometry
+from ..geo.label_georef import PROJECTION_OBJECTS, LabelGeorefError, label_georeferencing
 from ..pds4.label import Cartography, cartography
 from ..validate.context import FileContext
 from ..validate.families.map_rules import offset_convention_shift
@@ -78,7 +78,9 @@ def migrated_cartography(ctx: FileContext, lines: int, samples: int, target: str
     if block is None:
         return None
     try:
-        placed = label_georeferencing({block.name.upper(): _BlockMapping(block)})
+        # The label's text too: a folded Transverse Mercator grid is unfolded from pdsgen's note.
+        placed = label_georeferencing({block.name.upper(): _BlockMapping(block)},
+                                      ctx.head.decode("latin-1"))
     except LabelGeorefError as exc:
         raise Refused(ctx.path, f"OBJECT = {block.name}: {exc}") from None
     if placed is None:

@@ -1,4 +1,7 @@
-"""Georeferencing from a PDS3 label's map projection object, for products GDAL cannot place.
+"""Georeferencing from a PDS3 label's map projection object: label -> CRS and grid.
+
+The one reader of a label's map projection for the Extras (products GDAL cannot place)
+and the PDS3 -> PDS4 migration (cart:); geometry.py is the other direction.
 
 GDAL's PDS driver reads `IMAGE_MAP_PROJECTION` with the names current PDS3 labels
 use. Older map products describe the same grid differently and GDAL then reports
@@ -10,11 +13,26 @@ arrow, so this module builds them from the label:
 
 - the CRS as a PROJ definition on a sphere or ellipsoid of the label's radii
   (sinusoidal and equirectangular from A_AXIS_RADIUS; polar stereographic from
-  C_AXIS_RADIUS, as GDAL does), handed to rasterio's CRS (PROJ);
+  C_AXIS_RADIUS, as GDAL does; Transverse Mercator on the ellipsoid of A_AXIS_RADIUS
+  and C_AXIS_RADIUS, scale factor 1, as a PDS3 label states it - see below), handed to
+  rasterio's CRS (PROJ);
 - the geotransform with the standard PDS3 offset convention
   (`ULX = -(SAMPLE_PROJECTION_OFFSET + 0.5) * MAP_SCALE`,
   `ULY = (LINE_PROJECTION_OFFSET + 0.5) * MAP_SCALE`; docs section 4), the
   convention GDAL itself applies to PDS3 labels.
+
+Transverse Mercator: PDS3 has no keyword for a grid's scale factor or false
+easting/northing, so a label (pdsgen's HRSC-AX products; geometry.py's module
+docstring) folds them in - offsets from the natural origin, MAP_SCALE the grid spacing
+divided by the scale factor - and read with scale factor 1 every pixel lands on its
+ground position. pdsgen's writer states the true grid in the projection object's
+comment (templates/_transverse_mercator_note.lbl.j2); given the label's text,
+`label_georeferencing` unfolds it (`transverse_mercator_grid`), so the CRS and
+geotransform are the grid itself (scale factor, false origin, grid spacing) and the
+pixels land on the same ground positions.
+
+Magellan MIDR framelets are placed by their data set's own equations (a 6051.0 km sphere,
+sample centres half a pixel out; missions/magellan.py), not by their A_AXIS_RADIUS.
 
 West-positive labels give their longitudes west; the projection's central
 meridian is turned east-positive, as PROJ expects, and x still grows to the east.
@@ -23,12 +41,17 @@ meridian is turned east-positive, as PROJ expects, and x still grows to the east
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Mapping
+from dataclasses import dataclass
 from typing import Any
 
 from rasterio.crs import CRS
 from rasterio.errors import CRSError
 from rasterio.transform import Affine
+
+from ..missions import magellan
+from .conventions import upper_left_corner
 
 PROJECTION_OBJECTS = ("IMAGE_MAP_PROJECTION", "IMAGE_MAP_PROJECTION_CATALOG")
 # (line offset, sample offset) keyword pairs: the PDS3 names, then Magellan's.
@@ -39,6 +62,18 @@ _EQUIRECTANGULAR = {"EQUIRECTANGULAR", "SIMPLE CYLINDRICAL", "SIMPLE_CYLINDRICAL
                     "EQUIDISTANT", "CYLINDRICAL EQUAL DISTANCE"}
 _SINUSOIDAL = {"SINUSOIDAL", "SINUSOIDAL EQUAL-AREA", "SINUSOIDAL_EQUAL-AREA"}
 _POLAR = {"POLAR STEREOGRAPHIC", "POLAR_STEREOGRAPHIC"}
+_TRANSVERSE_MERCATOR = {"TRANSVERSE MERCATOR", "TRANSVERSE_MERCATOR"}
+_PLANETOCENTRIC = "PLANETOCENTRIC"
+# The true grid of a folded Transverse Mercator label, as pdsgen's writer states it in the
+# projection object's comment (templates/_transverse_mercator_note.lbl.j2): "... grid has
+# scale factor K on the central meridian, */ /* false easting E m, false northing N m."
+_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+_COMMENT_BREAK = r"(?:\s|\*/|/\*)*"
+_TM_GRID_NOTE = re.compile(
+    rf"grid{_COMMENT_BREAK}has{_COMMENT_BREAK}scale{_COMMENT_BREAK}factor{_COMMENT_BREAK}(?P<k>{_NUMBER})"
+    rf"{_COMMENT_BREAK}on{_COMMENT_BREAK}the{_COMMENT_BREAK}central{_COMMENT_BREAK}meridian,{_COMMENT_BREAK}"
+    rf"false{_COMMENT_BREAK}easting{_COMMENT_BREAK}(?P<east>{_NUMBER}){_COMMENT_BREAK}m,{_COMMENT_BREAK}"
+    rf"false{_COMMENT_BREAK}northing{_COMMENT_BREAK}(?P<north>{_NUMBER}){_COMMENT_BREAK}m\.")
 
 
 class LabelGeorefError(ValueError):
@@ -54,33 +89,79 @@ def projection_object(label: Mapping[str, Any]) -> Mapping[str, Any] | None:
     return None
 
 
-def label_georeferencing(label: Mapping[str, Any]) -> tuple[CRS, Affine] | None:
+@dataclass(frozen=True)
+class TransverseMercatorGrid:
+    """The grid a folded Transverse Mercator label stands for: what PDS3 cannot say."""
+
+    scale_factor: float
+    false_easting: float  # metres
+    false_northing: float
+
+
+def transverse_mercator_grid(label_text: str) -> TransverseMercatorGrid | None:
+    """The true grid pdsgen's writer states in a Transverse Mercator label's comment, or None."""
+    match = _TM_GRID_NOTE.search(label_text)
+    if match is None:
+        return None
+    grid = TransverseMercatorGrid(float(match["k"]), float(match["east"]), float(match["north"]))
+    if not (math.isfinite(grid.scale_factor) and grid.scale_factor > 0
+            and math.isfinite(grid.false_easting) and math.isfinite(grid.false_northing)):
+        raise LabelGeorefError(f"the label's Transverse Mercator grid note is unusable ({match[0]!r})")
+    return grid
+
+
+def label_georeferencing(label: Mapping[str, Any], label_text: str | None = None
+                         ) -> tuple[CRS, Affine] | None:
     """(CRS, geotransform) stated by the label, or None when it has no map projection.
 
+    `label_text`, the label as written: a Transverse Mercator label's comment stating its
+    true grid (pdsgen's writer) is then unfolded (module docstring); without it, or without
+    the comment, the grid is the label's as PDS3 states it (scale factor 1, no false origin),
+    the same ground positions.
     LabelGeorefError when the projection object is there but unusable (an
     unsupported projection type, a missing radius, scale or offset).
     """
     block = projection_object(label)
     if block is None:
         return None
-    crs = _crs(block)
+    grid = None
+    if _projection_kind(block) in _TRANSVERSE_MERCATOR and label_text is not None:
+        grid = transverse_mercator_grid(label_text)
+    grid = grid or TransverseMercatorGrid(1.0, 0.0, 0.0)
+    midr = magellan.is_midr_grid(str(block.get("DATA_SET_ID", "")), _projection_kind(block))
+    crs = _crs(block, grid, magellan.MIDR_PROJECTION_RADIUS_M if midr else None)
     scale = _map_scale_m(block)
     line_offset, sample_offset = _offsets(block)
-    transform = Affine(scale, 0.0, -(sample_offset + 0.5) * scale,
-                       0.0, -scale, (line_offset + 0.5) * scale)
+    if midr:  # the data set's own equations (missions/magellan.py), not the label's radius
+        sample_offset -= magellan.MIDR_SAMPLE_SHIFT
+    ulx, uly = upper_left_corner(sample_offset, line_offset, scale)
+    k = grid.scale_factor
+    transform = Affine(scale * k, 0.0, ulx * k + grid.false_easting,
+                       0.0, -scale * k, uly * k + grid.false_northing)
     return crs, transform
 
 
-def _crs(block: Mapping[str, Any]) -> CRS:
-    kind = str(block.get("MAP_PROJECTION_TYPE", "")).strip().upper()
+def _projection_kind(block: Mapping[str, Any]) -> str:
+    return str(block.get("MAP_PROJECTION_TYPE", "")).strip().upper()
+
+
+def _crs(block: Mapping[str, Any], grid: TransverseMercatorGrid, sphere_radius: float | None = None) -> CRS:
+    kind = _projection_kind(block)
     a = _length_m(block, "A_AXIS_RADIUS", default_km=True)
     c = _optional_length_m(block, "C_AXIS_RADIUS") or a
+    if sphere_radius is not None:  # a data set whose grid is defined on another sphere
+        a = c = sphere_radius
     lon0 = _degrees(block, "CENTER_LONGITUDE", 0.0)
     if str(block.get("POSITIVE_LONGITUDE_DIRECTION", "EAST")).strip().upper() == "WEST":
         lon0 = -lon0
     lon0 = (lon0 + 180.0) % 360.0 - 180.0
     lat0 = _degrees(block, "CENTER_LATITUDE", 0.0)
-    if kind in _SINUSOIDAL:
+    origin = "+x_0=0 +y_0=0"
+    if kind in _TRANSVERSE_MERCATOR:
+        definition = (f"+proj=tmerc +lat_0={_geodetic(block, lat0, a, c)!r} +lon_0={lon0!r} "
+                      f"+k={grid.scale_factor!r} +a={a!r} +b={c!r}")
+        origin = f"+x_0={grid.false_easting!r} +y_0={grid.false_northing!r}"
+    elif kind in _SINUSOIDAL:
         definition = f"+proj=sinu +lon_0={lon0!r} +R={a!r}"
     elif kind in _EQUIRECTANGULAR:
         definition = f"+proj=eqc +lat_ts={lat0!r} +lat_0=0 +lon_0={lon0!r} +R={a!r}"
@@ -88,12 +169,21 @@ def _crs(block: Mapping[str, Any]) -> CRS:
         pole = 90.0 if lat0 >= 0 else -90.0
         definition = f"+proj=stere +lat_0={pole!r} +lon_0={lon0!r} +k=1 +R={c!r}"
     else:
-        raise LabelGeorefError(f"map projection {kind or 'not named'} is not one the Extras "
-                               "can place (sinusoidal, equirectangular, polar stereographic)")
+        raise LabelGeorefError(f"map projection {kind or 'not named'} is not one pdsgen can place "
+                               "from a label (sinusoidal, equirectangular, polar stereographic, "
+                               "transverse Mercator)")
     try:
-        return CRS.from_proj4(f"{definition} +x_0=0 +y_0=0 +units=m +no_defs +type=crs")
+        return CRS.from_proj4(f"{definition} {origin} +units=m +no_defs +type=crs")
     except CRSError as exc:
         raise LabelGeorefError(f"PROJ refuses the label's projection ({exc})") from None
+
+
+def _geodetic(block: Mapping[str, Any], latitude: float, a: float, c: float) -> float:
+    """A latitude of the label as PROJ takes it on an ellipsoid: geodetic (planetographic)."""
+    kind = str(block.get("PROJECTION_LATITUDE_TYPE", block.get("COORDINATE_SYSTEM_NAME", ""))).strip().upper()
+    if kind != _PLANETOCENTRIC or a == c or abs(latitude) >= 90.0:
+        return latitude
+    return math.degrees(math.atan(math.tan(math.radians(latitude)) * (a / c) ** 2))
 
 
 def _map_scale_m(block: Mapping[str, Any]) -> float:
