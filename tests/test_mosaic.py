@@ -362,3 +362,43 @@ def test_the_readme_examples_run_as_written(tmp_path):
     written = {p.name for p in (tmp_path / "out").iterdir()}
     assert {"sprc_mosaic_dtm.tif", "sprc_mosaic_ori.tif", "sprc_mosaic.shp", "SITE_MOSAIC.IMG",
             "SITE_MOSAIC.xml", "HRSCAX_AREA.IMG"} <= written
+
+
+def _mosaic_options() -> set[str]:
+    help_text = run_cli("mosaic", "--help").stdout
+    return set(re.findall(r"(--[a-z][a-z-]+)", help_text))
+
+
+def test_an_hrsc_refusal_names_an_option_of_mosaic_and_that_option_works(tmp_path):
+    """HRSC strips not yet on the HRSC sphere and projection: the refusal the HRSC writer gives
+    names an option `pdsgen mosaic` has, and with it the mosaic is warped as `pdsgen dtm` warps
+    one strip (heights above the 3396.19 km sphere end 190 m higher above the 3396.0 km one)."""
+    equirectangular = "+proj=eqc +lat_ts=0 +lon_0=0 +R=3396190 +units=m +no_defs"
+    heights = np.full((30, 40), -1000.0, np.float32)
+    strips = [write_raster(tmp_path / f"s{n}.tif", heights + 100 * n, equirectangular,
+                           Affine(100.0, 0, 4000000.0 + 3000.0 * n, 0, -100.0, -1200000.0), nodata=FLOAT_ND)
+              for n in range(2)]
+    refused = _refusal(tmp_path, strips, "--profile", "hrsc", "--kind", "dtm")
+    named = set(re.findall(r"(--[a-z][a-z-]+)", refused))
+    assert named and named <= _mosaic_options(), refused
+    done = run_cli("mosaic", *strips, "-o", tmp_path / "out", "--profile", "hrsc", "--product-id", "h0002_0001",
+                   "--kind", "dtm", "--reproject", "--precision", "0.1")
+    assert done.returncode == 0, done.stderr
+    with rasterio.open(tmp_path / "out" / "h0002_0001_dt4.img") as out:
+        assert out.crs.to_dict()["proj"] == "sinu"
+        restored = out.read(1, masked=True) * out.scales[0] + out.offsets[0]
+    assert restored.count() > 0 and abs(restored.min() - (-1000 + 190)) <= 1
+    assert abs(restored.max() - (-900 + 190)) <= 1
+
+
+def test_a_dictionary_refusal_names_an_option_of_mosaic_and_that_option_works(tmp_path):
+    strips = make_strips(tmp_path, "int16", count=2)
+    params = tmp_path / "p.toml"
+    params.write_text(f'producer_full_name = "{"A PRODUCER NAME LONGER THAN THE DICTIONARY ALLOWS " * 2}"\n')
+    refused = _refusal(tmp_path, strips, "--kind", "dtm", "--params", params)
+    named = set(re.findall(r"(--[a-z][a-z-]+)", refused))
+    assert "PRODUCER_FULL_NAME" in refused and named and named <= _mosaic_options(), refused
+    kept = run_cli("mosaic", *strips, "-o", tmp_path / "out", "--product-id", "KEPT", "--kind", "dtm",
+                   "--params", params, "--allow-dictionary-deviations")
+    assert kept.returncode == 0, kept.stderr
+    assert "PRODUCER_FULL_NAME" in kept.stderr and (tmp_path / "out" / "KEPT.IMG").exists()

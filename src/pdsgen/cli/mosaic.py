@@ -19,11 +19,11 @@ from ._profile_options import profile_options, refuse_unused_options
 _COMMON = {"inputs", "outdir", "profile", "product_id", "kind", "order", "resampling", "nodata", "params_file",
            "product_version", "overwrite"}
 USED_BY_PROFILE = {
-    "generic": _COMMON | {"label", "byte_order"},
-    "hirise": _COMMON | {"label", "byte_order"},
-    "hrsc": _COMMON | {"label", "precision"},
+    "generic": _COMMON | {"label", "byte_order", "allow_deviations"},
+    "hirise": _COMMON | {"label", "byte_order", "allow_deviations"},
+    "hrsc": _COMMON | {"label", "precision", "reproject", "allow_deviations"},
     "imars": _COMMON | {"precision"},
-    "hrsc-ax": _COMMON | {"label", "byte_order", "source_labels"},
+    "hrsc-ax": _COMMON | {"label", "byte_order", "source_labels", "allow_deviations"},
 }
 
 
@@ -50,6 +50,11 @@ USED_BY_PROFILE = {
               help="DTM sample byte order [default: lsb].")
 @click.option("--precision", type=float, default=None,
               help="hrsc/imars DTM: metres per stored integer step (SCALING_FACTOR) [default: 1].")
+@click.option("--reproject", is_flag=True,
+              help="hrsc: warp the mosaic into the HRSC projection and sphere instead of refusing it.")
+@click.option("--allow-dictionary-deviations", "allow_deviations", is_flag=True, default=None,
+              help="Keep label values that break the PDS3 data dictionary (warned once) instead "
+                   "of refusing the product (not imars).")
 @click.option("--source-label", "source_labels", multiple=True, type=click.Path(dir_okay=False),
               help="hrsc-ax: XML image label of the tiles' MAP/DTM keywords; repeat for each.")
 @click.option("--label", type=click.Choice(LABEL_DIALECTS), default="pds3", show_default=True,
@@ -57,7 +62,8 @@ USED_BY_PROFILE = {
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 @click.pass_context
 def mosaic(ctx, inputs, outdir, profile, product_id, kind, order, resampling, nodata, params_file,
-           product_version, byte_order, precision, source_labels, label, overwrite) -> Outcome:
+           product_version, byte_order, precision, reproject, allow_deviations, source_labels, label,
+           overwrite) -> Outcome:
     """Mosaic the rasters INPUT... (DTMs or orthoimages, any GDAL format, one CRS, one grid)
     into one product in OUTDIR: later inputs lie on top, no-data never covers data, the grid
     is the union of the inputs' - pixel for pixel what `gdal_merge.py -n ND -a_nodata ND
@@ -85,6 +91,7 @@ def library_options(params: Mapping[str, Any]) -> dict[str, Any]:
         "resampling": params["resampling"], "nodata": params["nodata"], "params": params["params_file"],
         "version": params["product_version"], "overwrite": params["overwrite"], "label": params["label"],
         "byte_order": params["byte_order"], "precision": params["precision"],
+        "reproject_input": params["reproject"], "allow_dictionary_deviations": params["allow_deviations"] or None,
         "source_labels": tuple(params["source_labels"]),
     }
     options = profile_options(given, USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"]))
