@@ -402,3 +402,19 @@ def test_a_dictionary_refusal_names_an_option_of_mosaic_and_that_option_works(tm
                    "--params", params, "--allow-dictionary-deviations")
     assert kept.returncode == 0, kept.stderr
     assert "PRODUCER_FULL_NAME" in kept.stderr and (tmp_path / "out" / "KEPT.IMG").exists()
+
+
+def test_an_hrsc_mosaic_takes_its_own_product_id_never_its_first_strips(tmp_path):
+    """HRSC names a product by orbit and sequence; a mosaic given another ID is refused, not
+    silently named after its first source strip (which would take that strip's own file name)."""
+    sinusoidal = "+proj=sinu +lon_0=70 +R=3396000 +units=m +no_defs"
+    strips = [write_raster(tmp_path / f"h{1111 * (n + 1)}_0000_dt4.tif", np.full((20, 30), 100.0 * n, np.float32),
+                           sinusoidal, Affine(50.0, 0, 4000000.0 + 1000.0 * n, 0, -50.0, 0.0), nodata=FLOAT_ND)
+              for n in range(2)]
+    refused = run_cli("mosaic", *strips, "-o", tmp_path / "no", "--profile", "hrsc", "--product-id", "MY_MOSAIC")
+    assert refused.returncode == 2 and refused.stderr.count("\n") == 1, refused.stderr
+    assert "--product-id" in refused.stderr and "--source-product-id" not in refused.stderr
+    assert not (tmp_path / "no").exists() or not any((tmp_path / "no").iterdir())
+    done = run_cli("mosaic", *strips, "-o", tmp_path / "yes", "--profile", "hrsc", "--product-id", "h3333_0000")
+    assert done.returncode == 0, done.stderr
+    assert [p.name for p in (tmp_path / "yes").glob("*.img")] == ["h3333_0000_dt4.img"]

@@ -33,7 +33,8 @@ USED_BY_PROFILE = {
 @click.option("-o", "--outdir", required=True, type=click.Path(file_okay=False), help="Output directory.")
 @click.option("--profile", type=click.Choice(profile_names()), default="generic", show_default=True,
               help="Mission profile: the product form, names and keywords.")
-@click.option("--product-id", required=True, help="Product ID of the mosaic (imars: <ID>_dtm.tif / <ID>_ori.tif).")
+@click.option("--product-id", required=True,
+              help="Product ID of the mosaic (imars: <ID>_dtm.tif / <ID>_ori.tif; hrsc: hOOOO_NNNN).")
 @click.option("--kind", type=click.Choice(KINDS), default=None,
               help="Heights or images [default: decided from each input as `pdsgen extras` decides it].")
 @click.option("--order", type=click.Choice(ORDERS), default="given", show_default=True,

@@ -54,6 +54,7 @@ def write_mosaic(
     if kind is not None and kind not in KINDS:
         raise ParamsError(None, f"{param('kind')} must be one of {', '.join(KINDS)}")
     get_mission(profile)  # an unknown profile is refused before any input is read
+    _check_own_name(profile, product_id)
     with ExitStack() as stack:
         described = (_hrsc_ax_inputs(inputs, options, stack) if profile == "hrsc-ax"
                      else [describe_input(path, kind) for path in inputs])
@@ -63,6 +64,16 @@ def write_mosaic(
         vrt = stack.enter_context(mosaic_vrt(plan, fill, product_id, _presented_dtype(plan, profile)))
         writer_options = {k: v for k, v in options.items() if not (profile == "hrsc-ax" and k == "source_labels")}
         return _write(plan, vrt, Path(outdir), profile, product_id, statement, writer_options)
+
+
+def _check_own_name(profile: str, product_id: str) -> None:
+    """An HRSC product is named by orbit and sequence; the HRSC writer would otherwise take
+    them from the first source, naming the mosaic after (and as) one of its own strips."""
+    from ..missions.hrsc import parse_name
+
+    if profile == "hrsc" and parse_name(product_id) is None:
+        raise ParamsError(None, f"an HRSC mosaic is named by orbit and sequence: give "
+                                f"{param('product_id', 'h1234_0000')} (not its first source's name)")
 
 
 # Sample types a float32 holds exactly: a mosaic of them read as float32 has gdal_merge.py's values.
