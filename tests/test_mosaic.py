@@ -418,3 +418,36 @@ def test_an_hrsc_mosaic_takes_its_own_product_id_never_its_first_strips(tmp_path
     done = run_cli("mosaic", *strips, "-o", tmp_path / "yes", "--profile", "hrsc", "--product-id", "h3333_0000")
     assert done.returncode == 0, done.stderr
     assert [p.name for p in (tmp_path / "yes").glob("*.img")] == ["h3333_0000_dt4.img"]
+
+
+@pytest.mark.parametrize("vicar_offsets", ["standard", "dlr"])
+def test_an_hrsc_ax_area_says_what_its_tiles_products_say(tmp_path, vicar_offsets):
+    """The area product's label says what each tile's own `pdsgen dtm` product says: that the
+    heights are ellipsoid heights (not geoid), and how the VICAR offsets were read; with
+    --vicar-offsets dlr the area lies where the tiles' own dlr products lie."""
+    from hrsc_ax_tiles import dtm_group, map_group, tile_name, write_vicar
+
+    lines, samples, pixel = 20, 24, 0.5
+    tiles = [write_vicar(tmp_path / f"{tile_name(430 + n, 8765, lines, pixel)}.dsm",
+                         np.full((lines, samples), 40.0 * (n + 1), np.float32),
+                         {"MAP": map_group(430000.0 + n * samples * pixel, 8765000.0, pixel),
+                          "DIGITAL_TERRAIN_MODEL": dtm_group(100.0, 0.25, -500.0, 2000.0)})
+             for n in range(2)]
+    single = run_cli("dtm", tiles[0], "-o", tmp_path / "single", "--profile", "hrsc-ax",
+                     "--vicar-offsets", vicar_offsets)
+    assert single.returncode == 0, single.stderr
+    area = run_cli("mosaic", *tiles, "-o", tmp_path / "area", "--profile", "hrsc-ax", "--product-id", "AREA",
+                   "--vicar-offsets", vicar_offsets)
+    assert area.returncode == 0, area.stderr
+    single_path = next((tmp_path / "single").glob("*.IMG"))
+    area_path = tmp_path / "area" / "AREA.IMG"
+    texts = [" ".join(path.read_bytes()[:30000].decode("ascii", "replace").split()) for path in (single_path,
+                                                                                               area_path)]
+    own_note = texts[0].split('NOTE = "', 1)[1].split('"', 1)[0]
+    assert own_note.startswith("Pixel values are ellipsoid heights") and own_note in texts[1]
+    offsets_comment = re.search(r"/\* The source tile's VICAR .*?\*/ /\*.*?\*/ /\*.*?\*/", texts[0])
+    assert offsets_comment and ("DLR" in offsets_comment.group(0)) == (vicar_offsets == "dlr")
+    assert offsets_comment.group(0) in texts[1]
+    with rasterio.open(single_path) as one, rasterio.open(area_path) as both:
+        assert both.transform == one.transform  # the first tile's corner is the area's
+        assert float(both.read(1)[0, 0]) == float(one.read(1)[0, 0])

@@ -14,7 +14,12 @@ from ..profiles import profile_names
 from . import COMMANDS
 from ._output import Outcome, product_summary
 from ._output import output_options as _output_options
-from ._profile_options import profile_options, refuse_unused_options
+from ._profile_options import (
+    allow_deviations_option,
+    profile_options,
+    refuse_unused_options,
+    vicar_offsets_option,
+)
 
 _COMMON = {"inputs", "outdir", "profile", "product_id", "kind", "order", "resampling", "nodata", "params_file",
            "product_version", "overwrite"}
@@ -23,7 +28,7 @@ USED_BY_PROFILE = {
     "hirise": _COMMON | {"label", "byte_order", "allow_deviations"},
     "hrsc": _COMMON | {"label", "precision", "reproject", "allow_deviations"},
     "imars": _COMMON | {"precision"},
-    "hrsc-ax": _COMMON | {"label", "byte_order", "source_labels", "allow_deviations"},
+    "hrsc-ax": _COMMON | {"label", "byte_order", "source_labels", "vicar_offsets", "allow_deviations"},
 }
 
 
@@ -53,18 +58,17 @@ USED_BY_PROFILE = {
               help="hrsc/imars DTM: metres per stored integer step (SCALING_FACTOR) [default: 1].")
 @click.option("--reproject", is_flag=True,
               help="hrsc: warp the mosaic into the HRSC projection and sphere instead of refusing it.")
-@click.option("--allow-dictionary-deviations", "allow_deviations", is_flag=True, default=None,
-              help="Keep label values that break the PDS3 data dictionary (warned once) instead "
-                   "of refusing the product (not imars).")
+@allow_deviations_option
 @click.option("--source-label", "source_labels", multiple=True, type=click.Path(dir_okay=False),
               help="hrsc-ax: XML image label of the tiles' MAP/DTM keywords; repeat for each.")
+@vicar_offsets_option
 @click.option("--label", type=click.Choice(LABEL_DIALECTS), default="pds3", show_default=True,
               help="pds3, pds4 or both (not imars).")
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 @click.pass_context
 def mosaic(ctx, inputs, outdir, profile, product_id, kind, order, resampling, nodata, params_file,
-           product_version, byte_order, precision, reproject, allow_deviations, source_labels, label,
-           overwrite) -> Outcome:
+           product_version, byte_order, precision, reproject, allow_deviations, source_labels, vicar_offsets,
+           label, overwrite) -> Outcome:
     """Mosaic the rasters INPUT... (DTMs or orthoimages, any GDAL format, one CRS, one grid)
     into one product in OUTDIR: later inputs lie on top, no-data never covers data, the grid
     is the union of the inputs' - pixel for pixel what `gdal_merge.py -n ND -a_nodata ND
@@ -93,7 +97,7 @@ def library_options(params: Mapping[str, Any]) -> dict[str, Any]:
         "version": params["product_version"], "overwrite": params["overwrite"], "label": params["label"],
         "byte_order": params["byte_order"], "precision": params["precision"],
         "reproject_input": params["reproject"], "allow_dictionary_deviations": params["allow_deviations"] or None,
-        "source_labels": tuple(params["source_labels"]),
+        "source_labels": tuple(params["source_labels"]), "vicar_offsets": params["vicar_offsets"],
     }
     options = profile_options(given, USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"]))
     return {name: value for name, value in options.items()  # unset: the writer's own default

@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, ParamsError, param
-from ..missions import get_mission
+from ..missions import Mission, get_mission
 from ..products.dispatch import call_mission_writer
 from .plan import MosaicInput, MosaicPlan, describe_input, plan_mosaic
 from .vrt import mosaic_vrt
@@ -56,14 +56,22 @@ def write_mosaic(
     get_mission(profile)  # an unknown profile is refused before any input is read
     _check_own_name(profile, product_id)
     with ExitStack() as stack:
-        described = (_hrsc_ax_inputs(inputs, options, stack) if profile == "hrsc-ax"
-                     else [describe_input(path, kind) for path in inputs])
+        mission = get_mission(profile)
+        if profile == "hrsc-ax":
+            described, mission = _hrsc_ax_inputs(inputs, options, stack)
+        else:
+            described = [describe_input(path, kind) for path in inputs]
         plan = plan_mosaic(described, order, resampling)
         fill = _nodata(plan, nodata)
         statement = _statement(plan, order)
         vrt = stack.enter_context(mosaic_vrt(plan, fill, product_id, _presented_dtype(plan, profile)))
-        writer_options = {k: v for k, v in options.items() if not (profile == "hrsc-ax" and k == "source_labels")}
-        return _write(plan, vrt, Path(outdir), profile, product_id, statement, writer_options)
+        writer_options = {k: v for k, v in options.items()
+                          if not (profile == "hrsc-ax" and k in _HRSC_AX_READER_OPTIONS)}
+        return _write(plan, vrt, Path(outdir), mission, product_id, statement, writer_options)
+
+
+# Options of the HRSC-AX tile reader (not of the writers the mosaic's VRT goes to).
+_HRSC_AX_READER_OPTIONS = ("source_labels", "vicar_offsets")
 
 
 def _check_own_name(profile: str, product_id: str) -> None:
@@ -118,12 +126,13 @@ def _source_ids(plan: MosaicPlan) -> tuple[str, ...]:
     return tuple(dict.fromkeys(i.product_id for i in plan.inputs))
 
 
-def _write(plan: MosaicPlan, vrt: Path, outdir: Path, profile: str, product_id: str, statement: str,
+def _write(plan: MosaicPlan, vrt: Path, outdir: Path, mission: Mission, product_id: str, statement: str,
            options: Mapping[str, Any]) -> Any:
-    """The profile's writer, reading the mosaic's VRT."""
+    """The profile's writer, reading the mosaic's VRT; `mission` the profile's (for HRSC-AX,
+    with what its tiles' labels say about their heights, images and offsets)."""
+    profile = mission.name
     if profile == "imars":
         return _write_imars(plan, vrt, outdir, product_id, statement, options)
-    mission = get_mission(profile)
     options = {**options, "product_id": product_id, "params": _with_sources(plan, options.get("params"))}
     if plan.kind == "dtm":
         from ..products.dtm import write_dtm, write_pds3_dtm
@@ -187,18 +196,28 @@ def _outlines(plan: MosaicPlan) -> Iterator[tuple[str, list[dict[str, Any]], dic
 
 
 def _hrsc_ax_inputs(inputs: Sequence[str | os.PathLike[str]], options: Mapping[str, Any],
-                    stack: ExitStack) -> list[MosaicInput]:
-    """HRSC-AX tiles read by the HRSC-AX reader (its grid and height scaling), each as its VRT."""
+                    stack: ExitStack) -> tuple[list[MosaicInput], Mission]:
+    """HRSC-AX tiles read by the HRSC-AX reader (its grid and height scaling), each as its VRT;
+    and the HRSC-AX mission saying in the label what a single tile's product says: what the
+    heights or bands are (each distinct statement of the tiles once) and how the offsets were read."""
     from ..missions import hrsc_ax
-    from ..products.hrsc_ax import read_tile, vrt_text
+    from ..products.hrsc_ax import dtm_note, ortho_description, read_tile, vrt_text
 
     folder = Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="pdsgen-mosaic-tiles-")))
-    described = []
+    vicar_offsets = options.get("vicar_offsets", "standard")
+    described, tiles = [], []
     for path in inputs:
-        tile = read_tile(path, options.get("source_labels", ()))
+        tile = read_tile(path, options.get("source_labels", ()), vicar_offsets)
         name = hrsc_ax.tile_product_id(tile.stem, tile.kind)
         tile_vrt = folder / f"{name}.vrt"
         tile_vrt.write_text(vrt_text(tile), encoding="utf-8")
         described.append(dataclasses.replace(describe_input(tile_vrt, "dtm" if tile.kind == "DEM" else "ortho"),
                                              shown=str(path)))
-    return described
+        tiles.append(tile)
+    dems = [tile for tile in tiles if tile.kind == "DEM"]
+    mission = dataclasses.replace(
+        hrsc_ax.MISSION, map_projection_note=hrsc_ax.VICAR_OFFSET_NOTES[vicar_offsets],
+        dtm_note=" ".join(dict.fromkeys(dtm_note(tile) for tile in dems)) or hrsc_ax.MISSION.dtm_note,
+        ortho_description=" ".join(dict.fromkeys(ortho_description(tile) for tile in tiles if tile.kind != "DEM"))
+        or hrsc_ax.MISSION.ortho_description)
+    return described, mission
