@@ -451,3 +451,14 @@ def test_an_hrsc_ax_area_says_what_its_tiles_products_say(tmp_path, vicar_offset
     with rasterio.open(single_path) as one, rasterio.open(area_path) as both:
         assert both.transform == one.transform  # the first tile's corner is the area's
         assert float(both.read(1)[0, 0]) == float(one.read(1)[0, 0])
+
+
+def test_an_hrsc_ax_colour_channel_is_refused_naming_the_file(tmp_path):
+    """A mosaic takes HRSC-AX tiles of one file each (.dsm, .pan); one channel of an RGB tile is
+    refused in one line that names it."""
+    from hrsc_ax_tiles import map_group, write_vicar
+
+    red = write_vicar(tmp_path / "430-8765_5.0x5.0km.re", np.full((10, 10), 7, np.uint8),
+                      {"MAP": map_group(430000.0, 8765000.0, 500.0)})
+    stderr = _refusal(tmp_path, [red], "--profile", "hrsc-ax")
+    assert str(red) in stderr and ".pan" in stderr and ".dsm" in stderr
