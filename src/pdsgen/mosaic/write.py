@@ -207,7 +207,7 @@ def _hrsc_ax_inputs(inputs: Sequence[str | os.PathLike[str]], options: Mapping[s
     vicar_offsets = options.get("vicar_offsets", "standard")
     described, tiles = [], []
     for path in inputs:
-        if hrsc_ax.channel_of(path).extension not in hrsc_ax.PRODUCT_KINDS:
+        if hrsc_ax.channel_of(Path(path)).extension not in hrsc_ax.PRODUCT_KINDS:
             raise InputError(path, "is one channel of an HRSC-AX colour tile; a mosaic takes tiles of one "
                                    f"file each: {', '.join('.' + c for c in hrsc_ax.PRODUCT_KINDS)}")
         tile = read_tile(path, options.get("source_labels", ()), vicar_offsets)
