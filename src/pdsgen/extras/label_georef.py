@@ -30,6 +30,8 @@ from rasterio.crs import CRS
 from rasterio.errors import CRSError
 from rasterio.transform import Affine
 
+from ..geo.conventions import upper_left_corner
+
 PROJECTION_OBJECTS = ("IMAGE_MAP_PROJECTION", "IMAGE_MAP_PROJECTION_CATALOG")
 # (line offset, sample offset) keyword pairs: the PDS3 names, then Magellan's.
 _OFFSET_KEYWORDS = (("LINE_PROJECTION_OFFSET", "SAMPLE_PROJECTION_OFFSET"),
@@ -66,8 +68,8 @@ def label_georeferencing(label: Mapping[str, Any]) -> tuple[CRS, Affine] | None:
     crs = _crs(block)
     scale = _map_scale_m(block)
     line_offset, sample_offset = _offsets(block)
-    transform = Affine(scale, 0.0, -(sample_offset + 0.5) * scale,
-                       0.0, -scale, (line_offset + 0.5) * scale)
+    ulx, uly = upper_left_corner(sample_offset, line_offset, scale)
+    transform = Affine(scale, 0.0, ulx, 0.0, -scale, uly)
     return crs, transform
 
 
