@@ -11,7 +11,6 @@ is bounded by a strip of the output, not by the number or size of the inputs.
 from __future__ import annotations
 
 import math
-import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -20,7 +19,7 @@ from xml.sax.saxutils import escape
 import numpy as np
 from rasterio.dtypes import _gdal_typename
 
-from ..errors import PdsgenError
+from ..formats.raster import temporary_vrt
 from .plan import MosaicPlan, Placement, Window2
 
 
@@ -72,18 +71,8 @@ def _number(value: float) -> str:
 
 @contextmanager
 def mosaic_vrt(plan: MosaicPlan, nodata: float, name: str, dtype: str | None = None) -> Iterator[Path]:
-    """The plan's VRT as `name`.vrt in a private temporary directory, removed afterwards.
-
-    A problem a writer reports about the VRT (no valid pixels, unreadable data) is the
-    inputs' problem and is reported naming them, never the temporary file.
-    """
-    with tempfile.TemporaryDirectory(prefix="pdsgen-mosaic-") as tmp:
-        path = Path(tmp) / f"{name}.vrt"
-        path.write_text(vrt_text(plan, nodata, dtype), encoding="utf-8")
-        try:
-            yield path
-        except PdsgenError as exc:
-            if exc.path is None or Path(exc.path) != path:
-                raise
-            names = ", ".join(str(i.path) for i in plan.inputs)
-            raise type(exc)(f"the mosaic of {names}", exc.problem) from None
+    """The plan's VRT as `name`.vrt in a private temporary directory, removed afterwards; a
+    problem a writer reports about it is reported naming the inputs (formats.raster.temporary_vrt)."""
+    names = ", ".join(str(i.path) for i in plan.inputs)
+    with temporary_vrt(vrt_text(plan, nodata, dtype), name, f"the mosaic of {names}", prefix="pdsgen-mosaic-") as path:
+        yield path
