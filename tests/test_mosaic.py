@@ -462,3 +462,15 @@ def test_an_hrsc_ax_colour_channel_is_refused_naming_the_file(tmp_path):
                       {"MAP": map_group(430000.0, 8765000.0, 500.0)})
     stderr = _refusal(tmp_path, [red], "--profile", "hrsc-ax")
     assert str(red) in stderr and ".pan" in stderr and ".dsm" in stderr
+
+
+def test_an_hrsc_ax_area_refusal_names_the_users_tiles_not_temporary_files(tmp_path):
+    from hrsc_ax_tiles import dtm_group, map_group, write_vicar
+
+    tiles = [write_vicar(tmp_path / f"{east}-8765_5.0x5.0km.dsm", np.full((10, 10), -32768.0, np.float32),
+                         {"MAP": map_group(east * 1000.0, 8765000.0, 500.0),
+                          "DIGITAL_TERRAIN_MODEL": dtm_group(0.0, 1.0, -500.0, 2000.0)})
+             for east in (430, 435)]
+    stderr = _refusal(tmp_path, tiles, "--profile", "hrsc-ax")
+    assert "no valid pixels" in stderr and all(str(tile) in stderr for tile in tiles)
+    assert ".vrt" not in stderr

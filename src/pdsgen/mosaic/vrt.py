@@ -73,6 +73,6 @@ def _number(value: float) -> str:
 def mosaic_vrt(plan: MosaicPlan, nodata: float, name: str, dtype: str | None = None) -> Iterator[Path]:
     """The plan's VRT as `name`.vrt in a private temporary directory, removed afterwards; a
     problem a writer reports about it is reported naming the inputs (formats.raster.temporary_vrt)."""
-    names = ", ".join(str(i.path) for i in plan.inputs)
+    names = ", ".join(i.name for i in plan.inputs)  # the user's files (an HRSC-AX tile, not its VRT)
     with temporary_vrt(vrt_text(plan, nodata, dtype), name, f"the mosaic of {names}", prefix="pdsgen-mosaic-") as path:
         yield path
