@@ -154,7 +154,7 @@ def _write(plan: MosaicPlan, vrt: Path, outdir: Path, mission: Mission, product_
 
 def _with_sources(plan: MosaicPlan, params: Any) -> dict[str, Any]:
     """The params keywords with the mosaic's sources first in SOURCE_PRODUCT_ID (the PDS3
-    and PDS4 writers of DTMs and orthoimages all take their sources from it)."""
+    labels of DTMs and orthoimages take their sources from it; the PDS4 labels name none)."""
     from ..products.params import resolve_params
 
     keywords = resolve_params(params)
