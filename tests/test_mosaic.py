@@ -476,3 +476,37 @@ def test_an_hrsc_ax_area_refusal_names_the_users_tiles_not_temporary_files(tmp_p
     stderr = _refusal(tmp_path, tiles, "--profile", "hrsc-ax")
     assert "no valid pixels" in stderr and all(str(tile) in stderr for tile in tiles)
     assert ".vrt" not in stderr
+
+
+def _dem_xml(path: Path, offset: float) -> Path:
+    path.write_text("<ImageLabel><DIGITAL_TERRAIN_MODEL>"
+                    f"<DTM_OFFSET>{offset}</DTM_OFFSET><DTM_SCALING_FACTOR>0.25</DTM_SCALING_FACTOR>"
+                    "<DTM_RANGE>(-500, 2000)</DTM_RANGE></DIGITAL_TERRAIN_MODEL></ImageLabel>")
+    return path
+
+
+def test_each_hrsc_ax_tile_takes_its_own_xml_image_label(tmp_path):
+    """Tiles whose heights are scaled by the keywords of their own XML image labels: each tile of
+    the area has the heights its own `pdsgen dtm --source-label` product has (the labels are
+    given one per tile, in the tiles' order), and a count that does not match is refused."""
+    from hrsc_ax_tiles import map_group, write_vicar
+
+    tiles, labels = [], []
+    for n, east in enumerate((430, 435)):
+        tiles.append(write_vicar(tmp_path / f"{east}-8765_5.0x5.0km.dsm", np.full((10, 10), 40.0, np.float32),
+                                 {"MAP": map_group(east * 1000.0, 8765000.0, 500.0)}))
+        labels.append(_dem_xml(tmp_path / f"tile{n}.xml", 100.0 * (n + 1)))
+    area = run_cli("mosaic", *tiles, "-o", tmp_path / "area", "--profile", "hrsc-ax", "--product-id", "AREA",
+                   "--source-label", labels[0], "--source-label", labels[1])
+    assert area.returncode == 0, area.stderr
+    with rasterio.open(tmp_path / "area" / "AREA.IMG") as dataset:
+        heights = dataset.read(1)
+    for n, tile in enumerate(tiles):
+        single = run_cli("dtm", tile, "-o", tmp_path / f"single{n}", "--profile", "hrsc-ax",
+                         "--source-label", labels[n])
+        assert single.returncode == 0, single.stderr
+        with rasterio.open(next((tmp_path / f"single{n}").glob("*.IMG"))) as dataset:
+            own = dataset.read(1)
+        assert np.array_equal(heights[:, 10 * n: 10 * (n + 1)], own)  # 100 + 40 * 0.25, then 200 + ...
+    stderr = _refusal(tmp_path, tiles, "--profile", "hrsc-ax", "--source-label", labels[0])
+    assert "--source-label" in stderr and "2 tiles" in stderr

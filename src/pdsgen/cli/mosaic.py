@@ -60,7 +60,7 @@ USED_BY_PROFILE = {
               help="hrsc: warp the mosaic into the HRSC projection and sphere instead of refusing it.")
 @allow_deviations_option
 @click.option("--source-label", "source_labels", multiple=True, type=click.Path(dir_okay=False),
-              help="hrsc-ax: XML image label of the tiles' MAP/DTM keywords; repeat for each.")
+              help="hrsc-ax: XML image label of a tile's MAP/DTM keywords; one per tile, in the tiles' order.")
 @vicar_offsets_option
 @click.option("--label", type=click.Choice(LABEL_DIALECTS), default="pds3", show_default=True,
               help="pds3, pds4 or both (not imars).")
