@@ -510,3 +510,22 @@ def test_each_hrsc_ax_tile_takes_its_own_xml_image_label(tmp_path):
         assert np.array_equal(heights[:, 10 * n: 10 * (n + 1)], own)  # 100 + 40 * 0.25, then 200 + ...
     stderr = _refusal(tmp_path, tiles, "--profile", "hrsc-ax", "--source-label", labels[0])
     assert "--source-label" in stderr and "2 tiles" in stderr
+
+
+@pytest.mark.parametrize("kind", ["dtm", "ortho"])
+def test_an_hrsc_mosaic_label_states_the_mosaic_and_its_resampling(tmp_path, kind):
+    """HRSC's own DT4 and ND4 writers: the NOTE says the product is a mosaic of which sources and
+    that they were resampled with the method asked for, as the generic label's NOTE does."""
+    sinusoidal = "+proj=sinu +lon_0=70 +R=3396000 +units=m +no_defs"
+    values = (np.arange(600, dtype=np.float32).reshape(20, 30) % 97) + (0 if kind == "dtm" else 1)
+    if kind == "ortho":
+        values = (values / 100.0).astype(np.float32)
+    strips = [write_raster(tmp_path / f"h{1111 * (n + 1)}_0000_x.tif", values, sinusoidal,
+                           Affine(50.0, 0, 4000000.0 + 1017.0 * n, 0, -50.0, 0.0), nodata=FLOAT_ND)
+              for n in range(2)]
+    done = run_cli("mosaic", *strips, "-o", tmp_path / "out", "--profile", "hrsc", "--product-id", "h3333_0000",
+                   "--kind", kind, "--resampling", "bilinear")
+    assert done.returncode == 0, done.stderr
+    product = next((tmp_path / "out").glob("*.img"))
+    note = " ".join(str(pvl.load(str(product))["IMAGE"]["NOTE"]).split())
+    assert "Mosaic of 2 products (h1111_0000_x, h2222_0000_x)" in note and "bilinear" in note

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import inspect
 import math
 import os
 import tempfile
@@ -138,18 +139,26 @@ def _write(plan: MosaicPlan, vrt: Path, outdir: Path, mission: Mission, product_
         from ..products.dtm import write_dtm, write_pds3_dtm
 
         if mission.writer("dtm") is not None and profile != "hrsc-ax":  # hrsc: its own DT4/DA4 form
-            return write_dtm(vrt, outdir, profile=profile, **options)
+            return write_dtm(vrt, outdir, profile=profile, **_stated(mission, "dtm", options, statement))
         note = f"{mission.dtm_note} {statement}".strip()
         writer = functools.partial(write_pds3_dtm, mission=dataclasses.replace(mission, dtm_note=note))
         return call_mission_writer(writer, profile, vrt, outdir, options)
     from ..products.ortho import write_jp2_ortho, write_ortho
 
     if mission.writer("ortho") is not None and profile != "hrsc-ax":
-        return write_ortho(vrt, outdir, profile=profile, **options)
+        return write_ortho(vrt, outdir, profile=profile, **_stated(mission, "ortho", options, statement))
     description = f"{mission.ortho_description} {statement}".strip()
     jp2_writer = functools.partial(write_jp2_ortho,
                                    mission=dataclasses.replace(mission, ortho_description=description))
     return call_mission_writer(jp2_writer, profile, vrt, outdir, options)
+
+
+def _stated(mission: Mission, kind: str, options: Mapping[str, Any], statement: str) -> dict[str, Any]:
+    """A profile's own writer that takes a `mosaic_statement` (HRSC's) gets the mosaic's, for its
+    label to say what the standard writers' NOTE/DESCRIPTION say."""
+    writer = mission.writer(kind)
+    takes = writer is not None and "mosaic_statement" in inspect.signature(writer).parameters
+    return {**options, "mosaic_statement": statement} if takes else dict(options)
 
 
 def _with_sources(plan: MosaicPlan, params: Any) -> dict[str, Any]:
