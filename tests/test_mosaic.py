@@ -529,3 +529,21 @@ def test_an_hrsc_mosaic_label_states_the_mosaic_and_its_resampling(tmp_path, kin
     product = next((tmp_path / "out").glob("*.img"))
     note = " ".join(str(pvl.load(str(product))["IMAGE"]["NOTE"]).split())
     assert "Mosaic of 2 products (h1111_0000_x, h2222_0000_x)" in note and "bilinear" in note
+
+
+def test_an_inputs_own_no_data_never_covers_data_when_no_nodata_is_given(tmp_path):
+    """Strips from two producers, no-data -32768 and -9999: without --nodata each strip's own
+    no-data value is no data (never a height of -9999 m lying over the first strip's heights);
+    with --nodata ND one value for all, as gdal_merge.py -n ND."""
+    grid = Affine(PIXEL, 0, 1000.0, 0, -PIXEL, 2000.0)
+    first = write_raster(tmp_path / "a.tif", np.full((10, 10), 5.0, np.float32), CRS_SOUTH_POLAR, grid,
+                         nodata=-32768.0)
+    top = np.full((10, 10), 9.0, np.float32)
+    top[:, :5] = -9999.0
+    second = write_raster(tmp_path / "b.tif", top, CRS_SOUTH_POLAR, grid, nodata=-9999.0)
+    product = write_mosaic([first, second], tmp_path / "own", product_id="OWN", kind="dtm")
+    heights, _, _ = read(product.path)
+    assert np.array_equal(heights[:, :5], np.full((10, 5), 5.0)) and np.array_equal(heights[:, 5:], top[:, 5:])
+    product = write_mosaic([first, second], tmp_path / "one", product_id="ONE", kind="dtm", nodata=-32768.0)
+    reference, _, _ = read(gdal_merge([first, second], -32768.0, tmp_path / "merged.tif"))
+    assert np.array_equal(read(product.path)[0], reference)  # -9999 is data to gdal_merge.py -n -32768

@@ -48,7 +48,8 @@ USED_BY_PROFILE = {
               help="Resample inputs whose grid differs from the first's with this GDAL method "
                    "(refused otherwise); the label says so.")
 @click.option("--nodata", type=float, default=None,
-              help="No-data value of the inputs and the mosaic [default: the first input's; ortho 0].")
+              help="No-data value of all inputs and the mosaic, as gdal_merge.py -n [default: each input's "
+                   "own in it, the first input's for the mosaic; ortho 0].")
 @click.option("--params", "params_file", type=click.Path(dir_okay=False),
               help="PVL or TOML file of producer/data-set keywords (see schemas/params.toml).")
 @click.option("--version", "product_version", default="1.0", show_default=True, help="PRODUCT_VERSION_ID.")

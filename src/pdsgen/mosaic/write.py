@@ -65,7 +65,10 @@ def write_mosaic(
         plan = plan_mosaic(described, order, resampling)
         fill = _nodata(plan, nodata)
         statement = _statement(plan, order)
-        vrt = stack.enter_context(mosaic_vrt(plan, fill, product_id, _presented_dtype(plan, profile)))
+        # without --nodata, each input's own no-data value is no data in it (a no-data pixel never
+        # covers data); a given ND is the one value for all inputs, as gdal_merge.py's -n ND
+        vrt = stack.enter_context(mosaic_vrt(plan, fill, product_id, _presented_dtype(plan, profile),
+                                             own_nodata=nodata is None))
         writer_options = {k: v for k, v in options.items()
                           if not (profile == "hrsc-ax" and k in _HRSC_AX_READER_OPTIONS)}
         return _write(plan, vrt, Path(outdir), mission, product_id, statement, writer_options)
