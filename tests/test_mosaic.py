@@ -391,6 +391,8 @@ def test_an_hrsc_refusal_names_an_option_of_mosaic_and_that_option_works(tmp_pat
         restored = out.read(1, masked=True) * out.scales[0] + out.offsets[0]
     assert restored.count() > 0 and abs(restored.min() - (-1000 + 190)) <= 1
     assert abs(restored.max() - (-900 + 190)) <= 1
+    note = " ".join(str(pvl.load(str(tmp_path / "out" / "h0002_0001_dt4.img"))["IMAGE"]["NOTE"]).split())
+    assert "Mosaic of 2 products" in note and "warped" in note and "without resampling" not in note
 
 
 def test_a_dictionary_refusal_names_an_option_of_mosaic_and_that_option_works(tmp_path):

@@ -64,7 +64,7 @@ def write_mosaic(
             described = [describe_input(path, kind) for path in inputs]
         plan = plan_mosaic(described, order, resampling)
         fill = _nodata(plan, nodata)
-        statement = _statement(plan, order)
+        statement = _statement(plan, order, bool(options.get("reproject_input")))
         # without --nodata, each input's own no-data value is no data in it (a no-data pixel never
         # covers data); a given ND is the one value for all inputs, as gdal_merge.py's -n ND
         vrt = stack.enter_context(mosaic_vrt(plan, fill, product_id, _presented_dtype(plan, profile),
@@ -117,10 +117,13 @@ def _nodata(plan: MosaicPlan, nodata: float | None) -> float:
     raise InputError(first.name, f"has no no-data value; give the one its heights use as {param('nodata')}")
 
 
-def _statement(plan: MosaicPlan, order: str) -> str:
-    """How the sources were put together, for the label or metadata to say."""
+def _statement(plan: MosaicPlan, order: str, warped: bool = False) -> str:
+    """How the sources were put together, for the label or metadata to say (`warped`: the
+    profile's writer then warps the mosaic into its own projection, `reproject_input`)."""
     how = (f"resampled with GDAL's {plan.resampling} method onto the grid of the first" if plan.resampling
-           else "placed on their common grid without resampling")
+           else "placed on their common grid")
+    how += ", then warped into the profile's map projection" if warped else \
+        "" if plan.resampling else " without resampling"
     stacking = "listed order" if order == "given" else "reverse of the listed order"
     return (f"Mosaic of {len(plan.inputs)} products ({', '.join(i.product_id for i in plan.inputs)}), "
             f"{how}; later ones lie on top ({stacking}) and no-data never covers data.")
