@@ -113,7 +113,9 @@ def test_generic_ortho_jp2_equals_gdal_merge(tmp_path, order):
     image, transform, _ = read(product.jp2_path)  # through GDAL's JPEG 2000 driver
     assert np.array_equal(image, reference)
     assert transform.almost_equals(ref_transform)
-    assert "SOURCE_PRODUCT_ID" in product.label_path.read_text()
+    label = pvl.load(str(product.label_path))  # "N/A" when a product has no sources: name each strip
+    assert list(label["SOURCE_PRODUCT_ID"]) == [s.stem for s in stacked]  # bottom first
+    assert "Mosaic of 4 products" in " ".join(product.label_path.read_text().split())
 
 
 @pytest.fixture()
@@ -362,3 +364,188 @@ def test_the_readme_examples_run_as_written(tmp_path):
     written = {p.name for p in (tmp_path / "out").iterdir()}
     assert {"sprc_mosaic_dtm.tif", "sprc_mosaic_ori.tif", "sprc_mosaic.shp", "SITE_MOSAIC.IMG",
             "SITE_MOSAIC.xml", "HRSCAX_AREA.IMG"} <= written
+
+
+def _mosaic_options() -> set[str]:
+    help_text = run_cli("mosaic", "--help").stdout
+    return set(re.findall(r"(--[a-z][a-z-]+)", help_text))
+
+
+def test_an_hrsc_refusal_names_an_option_of_mosaic_and_that_option_works(tmp_path):
+    """HRSC strips not yet on the HRSC sphere and projection: the refusal the HRSC writer gives
+    names an option `pdsgen mosaic` has, and with it the mosaic is warped as `pdsgen dtm` warps
+    one strip (heights above the 3396.19 km sphere end 190 m higher above the 3396.0 km one)."""
+    equirectangular = "+proj=eqc +lat_ts=0 +lon_0=0 +R=3396190 +units=m +no_defs"
+    heights = np.full((30, 40), -1000.0, np.float32)
+    strips = [write_raster(tmp_path / f"s{n}.tif", heights + 100 * n, equirectangular,
+                           Affine(100.0, 0, 4000000.0 + 3000.0 * n, 0, -100.0, -1200000.0), nodata=FLOAT_ND)
+              for n in range(2)]
+    refused = _refusal(tmp_path, strips, "--profile", "hrsc", "--kind", "dtm")
+    named = set(re.findall(r"(--[a-z][a-z-]+)", refused))
+    assert named and named <= _mosaic_options(), refused
+    done = run_cli("mosaic", *strips, "-o", tmp_path / "out", "--profile", "hrsc", "--product-id", "h0002_0001",
+                   "--kind", "dtm", "--reproject", "--precision", "0.1")
+    assert done.returncode == 0, done.stderr
+    with rasterio.open(tmp_path / "out" / "h0002_0001_dt4.img") as out:
+        assert out.crs.to_dict()["proj"] == "sinu"
+        restored = out.read(1, masked=True) * out.scales[0] + out.offsets[0]
+    assert restored.count() > 0 and abs(restored.min() - (-1000 + 190)) <= 1
+    assert abs(restored.max() - (-900 + 190)) <= 1
+    note = " ".join(str(pvl.load(str(tmp_path / "out" / "h0002_0001_dt4.img"))["IMAGE"]["NOTE"]).split())
+    assert "Mosaic of 2 products" in note and "warped" in note and "without resampling" not in note
+
+
+def test_a_dictionary_refusal_names_an_option_of_mosaic_and_that_option_works(tmp_path):
+    strips = make_strips(tmp_path, "int16", count=2)
+    params = tmp_path / "p.toml"
+    params.write_text(f'producer_full_name = "{"A PRODUCER NAME LONGER THAN THE DICTIONARY ALLOWS " * 2}"\n')
+    refused = _refusal(tmp_path, strips, "--kind", "dtm", "--params", params)
+    named = set(re.findall(r"(--[a-z][a-z-]+)", refused))
+    assert "PRODUCER_FULL_NAME" in refused and named and named <= _mosaic_options(), refused
+    kept = run_cli("mosaic", *strips, "-o", tmp_path / "out", "--product-id", "KEPT", "--kind", "dtm",
+                   "--params", params, "--allow-dictionary-deviations")
+    assert kept.returncode == 0, kept.stderr
+    assert "PRODUCER_FULL_NAME" in kept.stderr and (tmp_path / "out" / "KEPT.IMG").exists()
+
+
+def test_an_hrsc_mosaic_takes_its_own_product_id_never_its_first_strips(tmp_path):
+    """HRSC names a product by orbit and sequence; a mosaic given another ID is refused, not
+    silently named after its first source strip (which would take that strip's own file name)."""
+    sinusoidal = "+proj=sinu +lon_0=70 +R=3396000 +units=m +no_defs"
+    strips = [write_raster(tmp_path / f"h{1111 * (n + 1)}_0000_dt4.tif", np.full((20, 30), 100.0 * n, np.float32),
+                           sinusoidal, Affine(50.0, 0, 4000000.0 + 1000.0 * n, 0, -50.0, 0.0), nodata=FLOAT_ND)
+              for n in range(2)]
+    refused = run_cli("mosaic", *strips, "-o", tmp_path / "no", "--profile", "hrsc", "--product-id", "MY_MOSAIC")
+    assert refused.returncode == 2 and refused.stderr.count("\n") == 1, refused.stderr
+    assert "--product-id" in refused.stderr and "--source-product-id" not in refused.stderr
+    assert not (tmp_path / "no").exists() or not any((tmp_path / "no").iterdir())
+    done = run_cli("mosaic", *strips, "-o", tmp_path / "yes", "--profile", "hrsc", "--product-id", "h3333_0000")
+    assert done.returncode == 0, done.stderr
+    assert [p.name for p in (tmp_path / "yes").glob("*.img")] == ["h3333_0000_dt4.img"]
+
+
+@pytest.mark.parametrize("vicar_offsets", ["standard", "dlr"])
+def test_an_hrsc_ax_area_says_what_its_tiles_products_say(tmp_path, vicar_offsets):
+    """The area product's label says what each tile's own `pdsgen dtm` product says: that the
+    heights are ellipsoid heights (not geoid), and how the VICAR offsets were read; with
+    --vicar-offsets dlr the area lies where the tiles' own dlr products lie."""
+    from hrsc_ax_tiles import dtm_group, map_group, tile_name, write_vicar
+
+    lines, samples, pixel = 20, 24, 0.5
+    tiles = [write_vicar(tmp_path / f"{tile_name(430 + n, 8765, lines, pixel)}.dsm",
+                         np.full((lines, samples), 40.0 * (n + 1), np.float32),
+                         {"MAP": map_group(430000.0 + n * samples * pixel, 8765000.0, pixel),
+                          "DIGITAL_TERRAIN_MODEL": dtm_group(100.0, 0.25, -500.0, 2000.0)})
+             for n in range(2)]
+    single = run_cli("dtm", tiles[0], "-o", tmp_path / "single", "--profile", "hrsc-ax",
+                     "--vicar-offsets", vicar_offsets)
+    assert single.returncode == 0, single.stderr
+    area = run_cli("mosaic", *tiles, "-o", tmp_path / "area", "--profile", "hrsc-ax", "--product-id", "AREA",
+                   "--vicar-offsets", vicar_offsets)
+    assert area.returncode == 0, area.stderr
+    single_path = next((tmp_path / "single").glob("*.IMG"))
+    area_path = tmp_path / "area" / "AREA.IMG"
+    texts = [" ".join(path.read_bytes()[:30000].decode("ascii", "replace").split()) for path in (single_path,
+                                                                                               area_path)]
+    own_note = texts[0].split('NOTE = "', 1)[1].split('"', 1)[0]
+    assert own_note.startswith("Pixel values are ellipsoid heights") and own_note in texts[1]
+    offsets_comment = re.search(r"/\* The source tile's VICAR .*?\*/ /\*.*?\*/ /\*.*?\*/", texts[0])
+    assert offsets_comment and ("DLR" in offsets_comment.group(0)) == (vicar_offsets == "dlr")
+    assert offsets_comment.group(0) in texts[1]
+    with rasterio.open(single_path) as one, rasterio.open(area_path) as both:
+        assert both.transform == one.transform  # the first tile's corner is the area's
+        assert float(both.read(1)[0, 0]) == float(one.read(1)[0, 0])
+
+
+def test_an_hrsc_ax_colour_channel_is_refused_naming_the_file(tmp_path):
+    """A mosaic takes HRSC-AX tiles of one file each (.dsm, .pan); one channel of an RGB tile is
+    refused in one line that names it."""
+    from hrsc_ax_tiles import map_group, write_vicar
+
+    red = write_vicar(tmp_path / "430-8765_5.0x5.0km.re", np.full((10, 10), 7, np.uint8),
+                      {"MAP": map_group(430000.0, 8765000.0, 500.0)})
+    stderr = _refusal(tmp_path, [red], "--profile", "hrsc-ax")
+    assert str(red) in stderr and ".pan" in stderr and ".dsm" in stderr
+
+
+def test_an_hrsc_ax_area_refusal_names_the_users_tiles_not_temporary_files(tmp_path):
+    from hrsc_ax_tiles import dtm_group, map_group, write_vicar
+
+    tiles = [write_vicar(tmp_path / f"{east}-8765_5.0x5.0km.dsm", np.full((10, 10), -32768.0, np.float32),
+                         {"MAP": map_group(east * 1000.0, 8765000.0, 500.0),
+                          "DIGITAL_TERRAIN_MODEL": dtm_group(0.0, 1.0, -500.0, 2000.0)})
+             for east in (430, 435)]
+    stderr = _refusal(tmp_path, tiles, "--profile", "hrsc-ax")
+    assert "no valid pixels" in stderr and all(str(tile) in stderr for tile in tiles)
+    assert ".vrt" not in stderr
+
+
+def _dem_xml(path: Path, offset: float) -> Path:
+    path.write_text("<ImageLabel><DIGITAL_TERRAIN_MODEL>"
+                    f"<DTM_OFFSET>{offset}</DTM_OFFSET><DTM_SCALING_FACTOR>0.25</DTM_SCALING_FACTOR>"
+                    "<DTM_RANGE>(-500, 2000)</DTM_RANGE></DIGITAL_TERRAIN_MODEL></ImageLabel>")
+    return path
+
+
+def test_each_hrsc_ax_tile_takes_its_own_xml_image_label(tmp_path):
+    """Tiles whose heights are scaled by the keywords of their own XML image labels: each tile of
+    the area has the heights its own `pdsgen dtm --source-label` product has (the labels are
+    given one per tile, in the tiles' order), and a count that does not match is refused."""
+    from hrsc_ax_tiles import map_group, write_vicar
+
+    tiles, labels = [], []
+    for n, east in enumerate((430, 435)):
+        tiles.append(write_vicar(tmp_path / f"{east}-8765_5.0x5.0km.dsm", np.full((10, 10), 40.0, np.float32),
+                                 {"MAP": map_group(east * 1000.0, 8765000.0, 500.0)}))
+        labels.append(_dem_xml(tmp_path / f"tile{n}.xml", 100.0 * (n + 1)))
+    area = run_cli("mosaic", *tiles, "-o", tmp_path / "area", "--profile", "hrsc-ax", "--product-id", "AREA",
+                   "--source-label", labels[0], "--source-label", labels[1])
+    assert area.returncode == 0, area.stderr
+    with rasterio.open(tmp_path / "area" / "AREA.IMG") as dataset:
+        heights = dataset.read(1)
+    for n, tile in enumerate(tiles):
+        single = run_cli("dtm", tile, "-o", tmp_path / f"single{n}", "--profile", "hrsc-ax",
+                         "--source-label", labels[n])
+        assert single.returncode == 0, single.stderr
+        with rasterio.open(next((tmp_path / f"single{n}").glob("*.IMG"))) as dataset:
+            own = dataset.read(1)
+        assert np.array_equal(heights[:, 10 * n: 10 * (n + 1)], own)  # 100 + 40 * 0.25, then 200 + ...
+    stderr = _refusal(tmp_path, tiles, "--profile", "hrsc-ax", "--source-label", labels[0])
+    assert "--source-label" in stderr and "2 tiles" in stderr
+
+
+@pytest.mark.parametrize("kind", ["dtm", "ortho"])
+def test_an_hrsc_mosaic_label_states_the_mosaic_and_its_resampling(tmp_path, kind):
+    """HRSC's own DT4 and ND4 writers: the NOTE says the product is a mosaic of which sources and
+    that they were resampled with the method asked for, as the generic label's NOTE does."""
+    sinusoidal = "+proj=sinu +lon_0=70 +R=3396000 +units=m +no_defs"
+    values = (np.arange(600, dtype=np.float32).reshape(20, 30) % 97) + (0 if kind == "dtm" else 1)
+    if kind == "ortho":
+        values = (values / 100.0).astype(np.float32)
+    strips = [write_raster(tmp_path / f"h{1111 * (n + 1)}_0000_x.tif", values, sinusoidal,
+                           Affine(50.0, 0, 4000000.0 + 1017.0 * n, 0, -50.0, 0.0), nodata=FLOAT_ND)
+              for n in range(2)]
+    done = run_cli("mosaic", *strips, "-o", tmp_path / "out", "--profile", "hrsc", "--product-id", "h3333_0000",
+                   "--kind", kind, "--resampling", "bilinear")
+    assert done.returncode == 0, done.stderr
+    product = next((tmp_path / "out").glob("*.img"))
+    note = " ".join(str(pvl.load(str(product))["IMAGE"]["NOTE"]).split())
+    assert "Mosaic of 2 products (h1111_0000_x, h2222_0000_x)" in note and "bilinear" in note
+
+
+def test_an_inputs_own_no_data_never_covers_data_when_no_nodata_is_given(tmp_path):
+    """Strips from two producers, no-data -32768 and -9999: without --nodata each strip's own
+    no-data value is no data (never a height of -9999 m lying over the first strip's heights);
+    with --nodata ND one value for all, as gdal_merge.py -n ND."""
+    grid = Affine(PIXEL, 0, 1000.0, 0, -PIXEL, 2000.0)
+    first = write_raster(tmp_path / "a.tif", np.full((10, 10), 5.0, np.float32), CRS_SOUTH_POLAR, grid,
+                         nodata=-32768.0)
+    top = np.full((10, 10), 9.0, np.float32)
+    top[:, :5] = -9999.0
+    second = write_raster(tmp_path / "b.tif", top, CRS_SOUTH_POLAR, grid, nodata=-9999.0)
+    product = write_mosaic([first, second], tmp_path / "own", product_id="OWN", kind="dtm")
+    heights, _, _ = read(product.path)
+    assert np.array_equal(heights[:, :5], np.full((10, 5), 5.0)) and np.array_equal(heights[:, 5:], top[:, 5:])
+    product = write_mosaic([first, second], tmp_path / "one", product_id="ONE", kind="dtm", nodata=-32768.0)
+    reference, _, _ = read(gdal_merge([first, second], -32768.0, tmp_path / "merged.tif"))
+    assert np.array_equal(read(product.path)[0], reference)  # -9999 is data to gdal_merge.py -n -32768

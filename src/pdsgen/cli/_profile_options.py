@@ -34,6 +34,16 @@ def profile_options(given: dict[str, object], used: set[str]) -> dict[str, objec
     return {name: value for name, value in given.items() if _CLI_NAMES.get(name, name) in used}
 
 
+# Options `pdsgen mosaic` shares with `pdsgen dtm` and `pdsgen ortho`.
+vicar_offsets_option = click.option(
+    "--vicar-offsets", type=click.Choice(["standard", "dlr"]), default="standard", show_default=True,
+    help="hrsc-ax: how the tile's VICAR MAP offsets count: from the centre of pixel 1,1 as the HRSC-AX "
+         "image description defines them (GDAL reads them so), or DLR's HRSC Mars counting, one pixel further.")
+allow_deviations_option = click.option(
+    "--allow-dictionary-deviations", "allow_deviations", is_flag=True, default=None,
+    help="Keep label values that break the PDS3 data dictionary (warned once) instead of refusing the product.")
+
+
 def label_fidelity_options(command):
     """The options of `pdsgen dtm` and `pdsgen ortho` about what their labels carry:
     HRSC source labels and offset convention, HRSC-AX tile offsets, and keeping dictionary deviations."""
@@ -45,14 +55,8 @@ def label_fidelity_options(command):
         click.option("--offset-convention", type=click.Choice(["standard", "dlr"]), default="standard",
                      show_default=True, help="hrsc: PDS3 standard projection offsets (GDAL reads them "
                                              "exactly) or DLR's own, one pixel apart."),
-        click.option("--vicar-offsets", type=click.Choice(["standard", "dlr"]), default="standard",
-                     show_default=True, help="hrsc-ax: how the tile's VICAR MAP offsets count: from the "
-                                             "centre of pixel 1,1 as the HRSC-AX image description "
-                                             "defines them (GDAL reads them so), or DLR's HRSC Mars "
-                                             "counting, one pixel further."),
-        click.option("--allow-dictionary-deviations", "allow_deviations", is_flag=True, default=None,
-                     help="Keep label values that break the PDS3 data dictionary (warned once) instead "
-                          "of refusing the product."),
+        vicar_offsets_option,
+        allow_deviations_option,
     ]
     for option in reversed(options):
         command = option(command)

@@ -15,16 +15,21 @@ from ..storage import local_inputs, output_area
 from . import COMMANDS
 from ._output import Outcome, product_summary
 from ._output import output_options as _output_options
-from ._profile_options import profile_options, refuse_unused_options
+from ._profile_options import (
+    allow_deviations_option,
+    profile_options,
+    refuse_unused_options,
+    vicar_offsets_option,
+)
 
 _COMMON = {"inputs", "outdir", "profile", "product_id", "kind", "order", "resampling", "nodata", "params_file",
            "product_version", "overwrite"}
 USED_BY_PROFILE = {
-    "generic": _COMMON | {"label", "byte_order"},
-    "hirise": _COMMON | {"label", "byte_order"},
-    "hrsc": _COMMON | {"label", "precision"},
+    "generic": _COMMON | {"label", "byte_order", "allow_deviations"},
+    "hirise": _COMMON | {"label", "byte_order", "allow_deviations"},
+    "hrsc": _COMMON | {"label", "precision", "reproject", "allow_deviations"},
     "imars": _COMMON | {"precision"},
-    "hrsc-ax": _COMMON | {"label", "byte_order", "source_labels"},
+    "hrsc-ax": _COMMON | {"label", "byte_order", "source_labels", "vicar_offsets", "allow_deviations"},
 }
 
 
@@ -34,7 +39,8 @@ USED_BY_PROFILE = {
 @click.option("-o", "--outdir", required=True, type=click.Path(file_okay=False), help="Output directory.")
 @click.option("--profile", type=click.Choice(profile_names()), default="generic", show_default=True,
               help="Mission profile: the product form, names and keywords.")
-@click.option("--product-id", required=True, help="Product ID of the mosaic (imars: <ID>_dtm.tif / <ID>_ori.tif).")
+@click.option("--product-id", required=True,
+              help="Product ID of the mosaic (imars: <ID>_dtm.tif / <ID>_ori.tif; hrsc: hOOOO_NNNN).")
 @click.option("--kind", type=click.Choice(KINDS), default=None,
               help="Heights or images [default: decided from each input as `pdsgen extras` decides it].")
 @click.option("--order", type=click.Choice(ORDERS), default="given", show_default=True,
@@ -43,7 +49,8 @@ USED_BY_PROFILE = {
               help="Resample inputs whose grid differs from the first's with this GDAL method "
                    "(refused otherwise); the label says so.")
 @click.option("--nodata", type=float, default=None,
-              help="No-data value of the inputs and the mosaic [default: the first input's; ortho 0].")
+              help="No-data value of all inputs and the mosaic, as gdal_merge.py -n [default: each input's "
+                   "own in it, the first input's for the mosaic; ortho 0].")
 @click.option("--params", "params_file", type=click.Path(dir_okay=False),
               help="PVL or TOML file of producer/data-set keywords (see schemas/params.toml).")
 @click.option("--version", "product_version", default="1.0", show_default=True, help="PRODUCT_VERSION_ID.")
@@ -51,14 +58,19 @@ USED_BY_PROFILE = {
               help="DTM sample byte order [default: lsb].")
 @click.option("--precision", type=float, default=None,
               help="hrsc/imars DTM: metres per stored integer step (SCALING_FACTOR) [default: 1].")
+@click.option("--reproject", is_flag=True,
+              help="hrsc: warp the mosaic into the HRSC projection and sphere instead of refusing it.")
+@allow_deviations_option
 @click.option("--source-label", "source_labels", multiple=True, type=click.Path(dir_okay=False),
-              help="hrsc-ax: XML image label of the tiles' MAP/DTM keywords; repeat for each.")
+              help="hrsc-ax: XML image label of a tile's MAP/DTM keywords; one per tile, in the tiles' order.")
+@vicar_offsets_option
 @click.option("--label", type=click.Choice(LABEL_DIALECTS), default="pds3", show_default=True,
               help="pds3, pds4 or both (not imars).")
 @click.option("--overwrite", is_flag=True, help="Replace an existing product.")
 @click.pass_context
 def mosaic(ctx, inputs, outdir, profile, product_id, kind, order, resampling, nodata, params_file,
-           product_version, byte_order, precision, source_labels, label, overwrite) -> Outcome:
+           product_version, byte_order, precision, reproject, allow_deviations, source_labels, vicar_offsets,
+           label, overwrite) -> Outcome:
     """Mosaic the rasters INPUT... (DTMs or orthoimages, any GDAL format, one CRS, one grid)
     into one product in OUTDIR: later inputs lie on top, no-data never covers data, the grid
     is the union of the inputs' - pixel for pixel what `gdal_merge.py -n ND -a_nodata ND
@@ -91,7 +103,8 @@ def library_options(params: Mapping[str, Any]) -> dict[str, Any]:
         "resampling": params["resampling"], "nodata": params["nodata"], "params": params["params_file"],
         "version": params["product_version"], "overwrite": params["overwrite"], "label": params["label"],
         "byte_order": params["byte_order"], "precision": params["precision"],
-        "source_labels": tuple(params["source_labels"]),
+        "reproject_input": params["reproject"], "allow_dictionary_deviations": params["allow_deviations"] or None,
+        "source_labels": tuple(params["source_labels"]), "vicar_offsets": params["vicar_offsets"],
     }
     options = profile_options(given, USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"]))
     return {name: value for name, value in options.items()  # unset: the writer's own default

@@ -81,13 +81,16 @@ class NamedFiles:
     support: list[Path] = field(default_factory=list)  # ^DESCRIPTION, ^STRUCTURE, catalogs: shareable
 
 
-def named_files(root: Block, directory: Path, catalog: Path | None = None) -> NamedFiles:
+def named_files(root: Block, directory: Path, catalog: Path | None = None,
+                listings: dict[Path, list[str]] | None = None) -> NamedFiles:
     """The existing files beside the label (found as the validator finds them, a name differing
     only in case included) that the label names: every name of every pointer (a pointer to
     several files, {"A.H", "B.C"}, names each) and each FILE_NAME of a COMPRESSED_FILE or
     UNCOMPRESSED_FILE object. A file named as data and as support is data. A reference
-    pointer's file not beside the label is looked for in `catalog` (a volume's CATALOG/)."""
-    listings = {directory: directory_listing(directory)}
+    pointer's file not beside the label is looked for in `catalog` (a volume's CATALOG/).
+    `listings`: directory listings shared by the labels of one scan, so a directory of N
+    products is listed once, not once per label (N^2 work)."""
+    listings = {} if listings is None else listings
 
     def find(where: Path, name: str) -> Path | None:
         if where not in listings:
@@ -230,11 +233,11 @@ class _Pds3Label:
     named: NamedFiles
 
 
-def _read_pds3(label: Path, catalog: Path) -> _Pds3Label:
+def _read_pds3(label: Path, catalog: Path, listings: dict[Path, list[str]]) -> _Pds3Label:
     root = read_pds3_label(label)
     if root is None:
         raise InputError(label, "a .LBL file that is not a PDS3 label (no PDS_VERSION_ID)")
-    named = named_files(root, label.parent, catalog)
+    named = named_files(root, label.parent, catalog, listings)
     # ^DESCRIPTION = "JP2INFO.TXT", README.TXT: documents, delivered as such
     named.data = [p for p in named.data if p != label and p.name.upper() not in _DOCUMENTS]
     named.support = [p for p in named.support if p != label and p.name.upper() not in _DOCUMENTS]
@@ -246,7 +249,8 @@ def _group(pds3: list[Path], pds4: list[Path], on_pds3: LabelValues | None, cata
     products: list[DataProduct] = []
     by_file: dict[Path, DataProduct] = {}
     by_stem: dict[tuple[Path, str], DataProduct] = {}
-    read = [_read_pds3(path, catalog) for path in pds3]
+    listings: dict[Path, list[str]] = {}  # each directory listed once for all the labels in it
+    read = [_read_pds3(path, catalog, listings) for path in pds3]
     # A catalog or description file another label points to (DSMAP.CAT) is that label's
     # support, even where it has a PDS3 label of its own: not a data product.
     support = {path for one in read for path in one.named.support}

@@ -10,6 +10,7 @@ from __future__ import annotations
 import logging
 import math
 import os
+import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -62,6 +63,25 @@ def open_raster(path: str | os.PathLike[str]) -> Iterator[DatasetReader]:
         except RasterioIOError as exc:
             reason = gdal_reason(exc)
             raise PdsgenError(shown, f"cannot read the raster data; truncated or damaged? (GDAL: {reason})") from None
+
+
+@contextmanager
+def temporary_vrt(text: str, name: str, shown: str, prefix: str = "pdsgen-") -> Iterator[Path]:
+    """The VRT XML `text` as a file `name`.vrt in a private temporary directory, removed afterwards.
+
+    A writer reading it reports problems (no valid pixels, unreadable data) naming the VRT; they
+    are the problems of the user's files, so they are reported naming `shown`, never the
+    temporary file.
+    """
+    with tempfile.TemporaryDirectory(prefix=prefix) as tmp:
+        path = Path(tmp) / f"{name}.vrt"
+        path.write_text(text, encoding="utf-8")
+        try:
+            yield path
+        except PdsgenError as exc:
+            if exc.path is None or Path(exc.path) != path:
+                raise
+            raise type(exc)(shown, exc.problem) from None
 
 
 def gdal_reason(exc: BaseException) -> str:

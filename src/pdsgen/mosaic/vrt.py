@@ -11,7 +11,6 @@ is bounded by a strip of the output, not by the number or size of the inputs.
 from __future__ import annotations
 
 import math
-import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -20,13 +19,15 @@ from xml.sax.saxutils import escape
 import numpy as np
 from rasterio.dtypes import _gdal_typename
 
-from ..errors import PdsgenError
+from ..formats.raster import temporary_vrt
 from .plan import MosaicPlan, Placement, Window2
 
 
-def vrt_text(plan: MosaicPlan, nodata: float, dtype: str | None = None) -> str:
+def vrt_text(plan: MosaicPlan, nodata: float, dtype: str | None = None, own_nodata: bool = False) -> str:
     """The VRT XML of `plan` with `nodata` as the value that is both transparent and the fill,
-    samples of `dtype` (default: the first input's, as gdal_merge.py's output)."""
+    samples of `dtype` (default: the first input's, as gdal_merge.py's output). `own_nodata`:
+    each input's own no-data value is transparent in it (inputs without one: `nodata`), so
+    inputs of different producers never lay their no-data over another's data."""
     t = plan.transform
     data_type = _gdal_typename(np.dtype(dtype or plan.dtype).name)
     # Heights stored as DNs with a scale or offset are presented as the heights the DTM writers
@@ -38,13 +39,19 @@ def vrt_text(plan: MosaicPlan, nodata: float, dtype: str | None = None) -> str:
     band_scaling = f"<Offset>{plan.offset!r}</Offset><Scale>{plan.scale!r}</Scale>" if scaled and not heights else ""
     bands = []
     for band in range(1, plan.band_count + 1):
-        sources = "".join(_source(p, band, nodata, plan.resampling, scaling) for p in plan.placements)
+        sources = "".join(_source(p, band, _transparent(p, nodata, own_nodata), plan.resampling, scaling)
+                          for p in plan.placements)
         bands.append(f'<VRTRasterBand dataType="{"Float32" if heights else data_type}" band="{band}">'
                      f"<NoDataValue>{_number(nodata)}</NoDataValue>{band_scaling}{sources}</VRTRasterBand>")
     return (f'<VRTDataset rasterXSize="{plan.width}" rasterYSize="{plan.height}">'
             f"<SRS>{escape(plan.crs.to_wkt())}</SRS>"
             f"<GeoTransform>{t.c!r}, {t.a!r}, 0.0, {t.f!r}, 0.0, {t.e!r}</GeoTransform>"
             + "".join(bands) + "</VRTDataset>")
+
+
+def _transparent(placement: Placement, nodata: float, own_nodata: bool) -> float:
+    own = placement.source.nodata
+    return float(own) if own_nodata and own is not None else nodata
 
 
 def _source(placement: Placement, band: int, nodata: float, resampling: str | None, scaling: str) -> str:
@@ -71,19 +78,11 @@ def _number(value: float) -> str:
 
 
 @contextmanager
-def mosaic_vrt(plan: MosaicPlan, nodata: float, name: str, dtype: str | None = None) -> Iterator[Path]:
-    """The plan's VRT as `name`.vrt in a private temporary directory, removed afterwards.
-
-    A problem a writer reports about the VRT (no valid pixels, unreadable data) is the
-    inputs' problem and is reported naming them, never the temporary file.
-    """
-    with tempfile.TemporaryDirectory(prefix="pdsgen-mosaic-") as tmp:
-        path = Path(tmp) / f"{name}.vrt"
-        path.write_text(vrt_text(plan, nodata, dtype), encoding="utf-8")
-        try:
-            yield path
-        except PdsgenError as exc:
-            if exc.path is None or Path(exc.path) != path:
-                raise
-            names = ", ".join(str(i.path) for i in plan.inputs)
-            raise type(exc)(f"the mosaic of {names}", exc.problem) from None
+def mosaic_vrt(plan: MosaicPlan, nodata: float, name: str, dtype: str | None = None,
+               own_nodata: bool = False) -> Iterator[Path]:
+    """The plan's VRT as `name`.vrt in a private temporary directory, removed afterwards; a
+    problem a writer reports about it is reported naming the inputs (formats.raster.temporary_vrt)."""
+    names = ", ".join(i.name for i in plan.inputs)  # the user's files (an HRSC-AX tile, not its VRT)
+    text = vrt_text(plan, nodata, dtype, own_nodata)
+    with temporary_vrt(text, name, f"the mosaic of {names}", prefix="pdsgen-mosaic-") as path:
+        yield path

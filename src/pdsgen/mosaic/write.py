@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import inspect
 import math
 import os
 import tempfile
@@ -20,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, ParamsError, param
-from ..missions import get_mission
+from ..missions import Mission, get_mission
 from ..products.dispatch import call_mission_writer
 from .plan import MosaicInput, MosaicPlan, describe_input, plan_mosaic
 from .vrt import mosaic_vrt
@@ -54,15 +55,37 @@ def write_mosaic(
     if kind is not None and kind not in KINDS:
         raise ParamsError(None, f"{param('kind')} must be one of {', '.join(KINDS)}")
     get_mission(profile)  # an unknown profile is refused before any input is read
+    _check_own_name(profile, product_id)
     with ExitStack() as stack:
-        described = (_hrsc_ax_inputs(inputs, options, stack) if profile == "hrsc-ax"
-                     else [describe_input(path, kind) for path in inputs])
+        mission = get_mission(profile)
+        if profile == "hrsc-ax":
+            described, mission = _hrsc_ax_inputs(inputs, options, stack)
+        else:
+            described = [describe_input(path, kind) for path in inputs]
         plan = plan_mosaic(described, order, resampling)
         fill = _nodata(plan, nodata)
-        statement = _statement(plan, order)
-        vrt = stack.enter_context(mosaic_vrt(plan, fill, product_id, _presented_dtype(plan, profile)))
-        writer_options = {k: v for k, v in options.items() if not (profile == "hrsc-ax" and k == "source_labels")}
-        return _write(plan, vrt, Path(outdir), profile, product_id, statement, writer_options)
+        statement = _statement(plan, order, bool(options.get("reproject_input")))
+        # without --nodata, each input's own no-data value is no data in it (a no-data pixel never
+        # covers data); a given ND is the one value for all inputs, as gdal_merge.py's -n ND
+        vrt = stack.enter_context(mosaic_vrt(plan, fill, product_id, _presented_dtype(plan, profile),
+                                             own_nodata=nodata is None))
+        writer_options = {k: v for k, v in options.items()
+                          if not (profile == "hrsc-ax" and k in _HRSC_AX_READER_OPTIONS)}
+        return _write(plan, vrt, Path(outdir), mission, product_id, statement, writer_options)
+
+
+# Options of the HRSC-AX tile reader (not of the writers the mosaic's VRT goes to).
+_HRSC_AX_READER_OPTIONS = ("source_labels", "vicar_offsets")
+
+
+def _check_own_name(profile: str, product_id: str) -> None:
+    """An HRSC product is named by orbit and sequence; the HRSC writer would otherwise take
+    them from the first source, naming the mosaic after (and as) one of its own strips."""
+    from ..missions.hrsc import parse_name
+
+    if profile == "hrsc" and parse_name(product_id) is None:
+        raise ParamsError(None, f"an HRSC mosaic is named by orbit and sequence: give "
+                                f"{param('product_id', 'h1234_0000')} (not its first source's name)")
 
 
 # Sample types a float32 holds exactly: a mosaic of them read as float32 has gdal_merge.py's values.
@@ -94,10 +117,13 @@ def _nodata(plan: MosaicPlan, nodata: float | None) -> float:
     raise InputError(first.name, f"has no no-data value; give the one its heights use as {param('nodata')}")
 
 
-def _statement(plan: MosaicPlan, order: str) -> str:
-    """How the sources were put together, for the label or metadata to say."""
+def _statement(plan: MosaicPlan, order: str, warped: bool = False) -> str:
+    """How the sources were put together, for the label or metadata to say (`warped`: the
+    profile's writer then warps the mosaic into its own projection, `reproject_input`)."""
     how = (f"resampled with GDAL's {plan.resampling} method onto the grid of the first" if plan.resampling
-           else "placed on their common grid without resampling")
+           else "placed on their common grid")
+    how += ", then warped into the profile's map projection" if warped else \
+        "" if plan.resampling else " without resampling"
     stacking = "listed order" if order == "given" else "reverse of the listed order"
     return (f"Mosaic of {len(plan.inputs)} products ({', '.join(i.product_id for i in plan.inputs)}), "
             f"{how}; later ones lie on top ({stacking}) and no-data never covers data.")
@@ -107,34 +133,43 @@ def _source_ids(plan: MosaicPlan) -> tuple[str, ...]:
     return tuple(dict.fromkeys(i.product_id for i in plan.inputs))
 
 
-def _write(plan: MosaicPlan, vrt: Path, outdir: Path, profile: str, product_id: str, statement: str,
+def _write(plan: MosaicPlan, vrt: Path, outdir: Path, mission: Mission, product_id: str, statement: str,
            options: Mapping[str, Any]) -> Any:
-    """The profile's writer, reading the mosaic's VRT."""
+    """The profile's writer, reading the mosaic's VRT; `mission` the profile's (for HRSC-AX,
+    with what its tiles' labels say about their heights, images and offsets)."""
+    profile = mission.name
     if profile == "imars":
         return _write_imars(plan, vrt, outdir, product_id, statement, options)
-    mission = get_mission(profile)
     options = {**options, "product_id": product_id, "params": _with_sources(plan, options.get("params"))}
     if plan.kind == "dtm":
         from ..products.dtm import write_dtm, write_pds3_dtm
 
         if mission.writer("dtm") is not None and profile != "hrsc-ax":  # hrsc: its own DT4/DA4 form
-            return write_dtm(vrt, outdir, profile=profile, **options)
+            return write_dtm(vrt, outdir, profile=profile, **_stated(mission, "dtm", options, statement))
         note = f"{mission.dtm_note} {statement}".strip()
         writer = functools.partial(write_pds3_dtm, mission=dataclasses.replace(mission, dtm_note=note))
         return call_mission_writer(writer, profile, vrt, outdir, options)
     from ..products.ortho import write_jp2_ortho, write_ortho
 
     if mission.writer("ortho") is not None and profile != "hrsc-ax":
-        return write_ortho(vrt, outdir, profile=profile, **options)
+        return write_ortho(vrt, outdir, profile=profile, **_stated(mission, "ortho", options, statement))
     description = f"{mission.ortho_description} {statement}".strip()
     jp2_writer = functools.partial(write_jp2_ortho,
                                    mission=dataclasses.replace(mission, ortho_description=description))
     return call_mission_writer(jp2_writer, profile, vrt, outdir, options)
 
 
+def _stated(mission: Mission, kind: str, options: Mapping[str, Any], statement: str) -> dict[str, Any]:
+    """A profile's own writer that takes a `mosaic_statement` (HRSC's) gets the mosaic's, for its
+    label to say what the standard writers' NOTE/DESCRIPTION say."""
+    writer = mission.writer(kind)
+    takes = writer is not None and "mosaic_statement" in inspect.signature(writer).parameters
+    return {**options, "mosaic_statement": statement} if takes else dict(options)
+
+
 def _with_sources(plan: MosaicPlan, params: Any) -> dict[str, Any]:
     """The params keywords with the mosaic's sources first in SOURCE_PRODUCT_ID (the PDS3
-    and PDS4 writers of DTMs and orthoimages all take their sources from it)."""
+    labels of DTMs and orthoimages take their sources from it; the PDS4 labels name none)."""
     from ..products.params import resolve_params
 
     keywords = resolve_params(params)
@@ -176,18 +211,46 @@ def _outlines(plan: MosaicPlan) -> Iterator[tuple[str, list[dict[str, Any]], dic
 
 
 def _hrsc_ax_inputs(inputs: Sequence[str | os.PathLike[str]], options: Mapping[str, Any],
-                    stack: ExitStack) -> list[MosaicInput]:
-    """HRSC-AX tiles read by the HRSC-AX reader (its grid and height scaling), each as its VRT."""
+                    stack: ExitStack) -> tuple[list[MosaicInput], Mission]:
+    """HRSC-AX tiles read by the HRSC-AX reader (its grid and height scaling), each as its VRT;
+    and the HRSC-AX mission saying in the label what a single tile's product says: what the
+    heights or bands are (each distinct statement of the tiles once) and how the offsets were read."""
     from ..missions import hrsc_ax
-    from ..products.hrsc_ax import read_tile, vrt_text
+    from ..products.hrsc_ax import dtm_note, ortho_description, read_tile, vrt_text
 
+    labels = _labels_per_tile(inputs, options.get("source_labels", ()))
     folder = Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="pdsgen-mosaic-tiles-")))
-    described = []
-    for path in inputs:
-        tile = read_tile(path, options.get("source_labels", ()))
+    vicar_offsets = options.get("vicar_offsets", "standard")
+    described, tiles = [], []
+    for path, own_labels in zip(inputs, labels, strict=True):
+        if hrsc_ax.channel_of(Path(path)).extension not in hrsc_ax.PRODUCT_KINDS:
+            raise InputError(path, "is one channel of an HRSC-AX colour tile; a mosaic takes tiles of one "
+                                   f"file each: {', '.join('.' + c for c in hrsc_ax.PRODUCT_KINDS)}")
+        tile = read_tile(path, own_labels, vicar_offsets)
         name = hrsc_ax.tile_product_id(tile.stem, tile.kind)
         tile_vrt = folder / f"{name}.vrt"
         tile_vrt.write_text(vrt_text(tile), encoding="utf-8")
         described.append(dataclasses.replace(describe_input(tile_vrt, "dtm" if tile.kind == "DEM" else "ortho"),
                                              shown=str(path)))
-    return described
+        tiles.append(tile)
+    dems = [tile for tile in tiles if tile.kind == "DEM"]
+    mission = dataclasses.replace(
+        hrsc_ax.MISSION, map_projection_note=hrsc_ax.VICAR_OFFSET_NOTES[vicar_offsets],
+        dtm_note=" ".join(dict.fromkeys(dtm_note(tile) for tile in dems)) or hrsc_ax.MISSION.dtm_note,
+        ortho_description=" ".join(dict.fromkeys(ortho_description(tile) for tile in tiles if tile.kind != "DEM"))
+        or hrsc_ax.MISSION.ortho_description)
+    return described, mission
+
+
+def _labels_per_tile(inputs: Sequence[str | os.PathLike[str]],
+                     source_labels: Sequence[str | os.PathLike[str]]) -> list[tuple[str | os.PathLike[str], ...]]:
+    """Each tile's own XML image label: one per tile, in the tiles' order (or none at all).
+
+    The HRSC-AX reader takes a keyword from the first label that gives it, so labels given to
+    every tile would scale all tiles' heights by the first tile's keywords."""
+    if not source_labels:
+        return [()] * len(inputs)
+    if len(source_labels) != len(inputs):
+        raise ParamsError(None, f"give one {param('source_labels')} per tile, in the tiles' order: "
+                                f"{len(inputs)} tiles, {len(source_labels)} label(s)")
+    return [(label,) for label in source_labels]

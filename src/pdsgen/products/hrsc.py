@@ -165,6 +165,7 @@ def write_hrsc_dtm(
     offset_convention: str = "standard",
     allow_dictionary_deviations: bool | None = None,
     label: str = "pds3",
+    mosaic_statement: str = "",
 ) -> HrscDtmProduct:
     """Write `OUTDIR/hOOOO_NNNN_<kind>.img` from a single-band height raster.
 
@@ -174,7 +175,7 @@ def write_hrsc_dtm(
     With `reproject_input`, heights above the input's own reference surface are
     converted to the 3396.0 km sphere (radius = R_in + h, h' = radius - 3396.0 km).
     label "both" adds `hOOOO_NNNN_<kind>.xml`, a PDS4 label of the same .img (see
-    `_pds4_beside`).
+    `_pds4_beside`). `mosaic_statement`: how a mosaic's sources were put together, for NOTE.
     """
     _check_hrsc_label(label)
     byte_order = byte_order or "msb"
@@ -211,10 +212,10 @@ def write_hrsc_dtm(
             "missing_dn": MISSING_DN,
             "dtm_radius_km": hrsc_mission.SPHERE_KM if kind == "dt4" else NOT_APPLICABLE,
             "dtm_desc": description,
-            "note": (
+            "note": _with_statement(
                 f"Heights in meters {hrsc_mission.DTM_NOTE_DATUMS[kind]} = DN * SCALING_FACTOR "
-                f"+ OFFSET, quantised to {encoding.scaling_factor:g} m. DN {MISSING_DN} marks missing data."
-            ),
+                f"+ OFFSET, quantised to {encoding.scaling_factor:g} m. DN {MISSING_DN} marks missing data.",
+                mosaic_statement),
         }
 
         big_endian = byte_order == "msb"
@@ -298,6 +299,10 @@ def hrsc_identification(
     }
 
 
+def _with_statement(note: str, statement: str) -> str:
+    return f"{note} {statement}".strip()
+
+
 @dataclass(frozen=True, kw_only=True)
 class HrscImageProduct(HrscProduct):
     scaling_factor: float
@@ -319,6 +324,7 @@ def write_hrsc_nd4(
     offset_convention: str = "standard",
     allow_dictionary_deviations: bool | None = None,
     label: str = "pds3",
+    mosaic_statement: str = "",
 ) -> HrscImageProduct:
     """Write the nadir orthoimage `OUTDIR/hOOOO_NNNN_nd4.img`: 8-bit DNs, 0 = no data.
 
@@ -326,6 +332,7 @@ def write_hrsc_nd4(
     mapped linearly from its valid range (or `value_range`) onto DNs 1..254,
     with SCALING_FACTOR and OFFSET giving the input values back. label "both" adds
     `hOOOO_NNNN_nd4.xml`, a PDS4 label of the same .img (see `_pds4_beside`).
+    `mosaic_statement`: how a mosaic's sources were put together, for NOTE.
     """
     _check_hrsc_label(label)
     check_offset_convention(offset_convention)
@@ -346,7 +353,8 @@ def write_hrsc_nd4(
             "offset": mapping.offset,
             "scaling_factor": mapping.scaling_factor,
             "missing_dn": special.null,
-            "note": "Nadir orthoimage. Value = DN * SCALING_FACTOR + OFFSET; DN 0 marks missing data.",
+            "note": _with_statement("Nadir orthoimage. Value = DN * SCALING_FACTOR + OFFSET; DN 0 marks "
+                                    "missing data.", mosaic_statement),
         }
 
         encode = moments.counting(dn_encoder(mapping, str(input_path)))

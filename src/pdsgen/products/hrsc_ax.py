@@ -17,7 +17,6 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
-import tempfile
 from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -29,6 +28,7 @@ from affine import Affine
 from rasterio.crs import CRS
 
 from ..errors import InputError, ParamsError, PdsgenError, param
+from ..formats.raster import temporary_vrt
 from ..formats.vicar import VicarLabel, VicarValue, read_vicar_label
 from ..geo.conventions import upper_left_corner
 from ..missions import hrsc_ax
@@ -295,16 +295,9 @@ def tile_vrt(tile: Tile, name: str) -> Iterator[Path]:
     A problem the standard writers report about the VRT (no valid pixels, unreadable data) is
     the user's files' problem: it is reported naming them, never the temporary file.
     """
-    with tempfile.TemporaryDirectory(prefix="pdsgen-hrsc-ax-") as tmp:
-        path = Path(tmp) / f"{name}.vrt"
-        path.write_text(vrt_text(tile), encoding="utf-8")
-        try:
-            yield path
-        except PdsgenError as exc:
-            if exc.path is None or Path(exc.path) != path:
-                raise
-            names = tile.paths[0] if len(tile.paths) == 1 else ", ".join(str(p) for p in tile.paths)
-            raise type(exc)(names, exc.problem) from None
+    names = str(tile.paths[0]) if len(tile.paths) == 1 else ", ".join(str(p) for p in tile.paths)
+    with temporary_vrt(vrt_text(tile), name, names, prefix="pdsgen-hrsc-ax-") as path:
+        yield path
 
 
 # -- what the labels say -----------------------------------------------------------------
