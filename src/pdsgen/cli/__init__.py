@@ -40,6 +40,7 @@ COMMANDS = {
     "dtm": "Make a PDS3 DTM (.IMG with attached label).",
     "extras": "Make preview JPEGs, orthoimage quick-look JP2s and README.TXT.",
     "ortho": "Make a PDS3 orthoimage (.JP2 + detached .LBL).",
+    "review": "Write a self-contained HTML page to look over a delivery.",
     "validate": "Check PDS3 and PDS4 labels, label sets, deliveries and their data.",
 }
 

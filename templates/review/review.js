@@ -1,0 +1,61 @@
+// Filters for the findings: by severity and rule, optionally only the products that have such
+// findings. The page is complete without this script; the filter state is kept in the address
+// (#severity=error,warning&rule=MAP-003&only=1), so a filtered view can be bookmarked.
+(function () {
+  "use strict";
+  var form = document.getElementById("filters");
+  if (!form) { return; }
+  var boxes = Array.prototype.slice.call(form.querySelectorAll("input[name=severity]"));
+  var rule = form.querySelector("select[name=rule]");
+  var only = form.querySelector("input[name=only]");
+  var shown = form.querySelector("output[name=shown]");
+  var rows = Array.prototype.slice.call(document.querySelectorAll("tr.finding"));
+  var entries = Array.prototype.slice.call(document.querySelectorAll("article.entry"));
+  var outlines = {};
+  Array.prototype.forEach.call(document.querySelectorAll(".footprints a"), function (a) {
+    outlines[a.getAttribute("href").slice(1)] = a;
+  });
+
+  function readAddress() {
+    var state = {};
+    location.hash.replace(/^#/, "").split("&").forEach(function (part) {
+      var pair = part.split("=");
+      if (pair.length === 2) { state[pair[0]] = decodeURIComponent(pair[1]); }
+    });
+    if (state.severity !== undefined) {
+      var wanted = state.severity.split(",");
+      boxes.forEach(function (box) { box.checked = wanted.indexOf(box.value) >= 0; });
+    }
+    if (state.rule !== undefined) { rule.value = state.rule; }
+    if (state.only !== undefined) { only.checked = state.only === "1"; }
+  }
+
+  function apply(remember) {
+    var severities = boxes.filter(function (box) { return box.checked; }).map(function (box) { return box.value; });
+    var wantedRule = rule.value;
+    rows.forEach(function (row) {
+      row.hidden = severities.indexOf(row.getAttribute("data-severity")) < 0 ||
+        (wantedRule !== "" && row.getAttribute("data-rule") !== wantedRule);
+    });
+    var count = 0;
+    entries.forEach(function (entry) {
+      var keep = !only.checked || entry.querySelector("tr.finding:not([hidden])") !== null;
+      entry.hidden = !keep;
+      if (keep && !entry.classList.contains("other")) { count += 1; }
+      var outline = outlines[entry.id];
+      if (outline) { if (keep) { outline.removeAttribute("hidden"); } else { outline.setAttribute("hidden", ""); } }
+    });
+    shown.value = count + " product(s) shown";
+    if (remember) {
+      var address = "severity=" + severities.join(",") + "&rule=" + encodeURIComponent(wantedRule) +
+        "&only=" + (only.checked ? "1" : "0");
+      history.replaceState(null, "", "#" + address);
+    }
+  }
+
+  form.hidden = false;
+  if (/severity=|rule=|only=/.test(location.hash)) { readAddress(); }
+  apply(false);
+  form.addEventListener("change", function () { apply(true); });
+  form.addEventListener("submit", function (event) { event.preventDefault(); });
+}());
