@@ -174,6 +174,9 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
         raise OutputError(target, f"cannot be written here ({exc.strerror or exc})") from None
     try:
         result = _build(found, _Tree(work), previous, source_dir, in_place, dialect, index, bundle_lid)
+        from ..review import write_review  # the review page, after (and outside) the manifest
+
+        write_review(work, shown_as=str(target))
         _swap(work, target)
         log.info("delivery built in %s and moved to %s", work, target)
     except BaseException as exc:

@@ -33,11 +33,12 @@ class ReviewResult:
 
 
 def write_review(directory: str | os.PathLike[str], page: str | os.PathLike[str] | None = None,
-                 labels_only: bool = False, jobs: int = 1) -> ReviewResult:
+                 labels_only: bool = False, jobs: int = 1, shown_as: str | None = None) -> ReviewResult:
     """Check the products of `directory` (as `pdsgen validate` does, the delivery's index,
     inventories and manifest too) and write the review page (default DIRECTORY/REVIEW.html).
 
-    The page is written under a temporary name and renamed when complete."""
+    The page is written under a temporary name and renamed when complete. `shown_as`: the
+    directory's name on the page (a delivery is reviewed before it is moved into place)."""
     root = Path(directory)
     if not root.is_dir():
         raise InputError(root, "not a directory of products")
@@ -50,8 +51,10 @@ def write_review(directory: str | os.PathLike[str], page: str | os.PathLike[str]
     if not found.products:
         raise InputError(root, "holds no data product (no PDS3 or PDS4 product label)")
     reports = list(iter_reports([root], labels_only=labels_only, jobs=jobs))
-    title = root.resolve().name + (" (delivery)" if (root / MANIFEST).is_file() else "")
+    shown = shown_as or str(root)
+    title = Path(shown).resolve().name + (" (delivery)" if (root / MANIFEST).is_file() else "")
     review = review_directory(root, found.products, found.previews, reports, target.parent, title)
+    review.source = shown
     for path in walk(root):
         if path.resolve() != target.resolve():
             review.files += 1

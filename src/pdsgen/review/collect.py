@@ -82,6 +82,7 @@ class Review:
     total_bytes: int = 0
     checks: list[tuple[str, str]] = field(default_factory=list)  # (check, "pass" / "fail: n finding(s)")
     verdict: str = ""
+    source: str = ""  # what the page says it shows (a directory, or the labels checked)
 
     def counts(self) -> dict[str, int]:
         found = Counter(f.severity for p in self.products for f in p.findings)
@@ -255,7 +256,7 @@ def review_reports(reports: list[FileReport], page_dir: Path, title: str) -> Rev
         entry = product_entry(_first_id(label) or path.stem, path, files, linker, taken)
         entry.previews = _previews(_nearby_previews(path, _first_id(label) or path.stem), linker)
         entries.append(entry)
-    review = Review(title, root, entries)
+    review = Review(title, root, entries, source=f"{len(reports)} file(s) under {root}")
     review.others = attach_findings(entries, reports, linker)
     return review
 

@@ -148,21 +148,36 @@ def _points(xs: np.ndarray, ys: np.ndarray) -> str:
 
 
 def _simplified(xs: np.ndarray, ys: np.ndarray) -> list[int]:
-    """Indices of the ring's points worth drawing: a point on the straight line between the
-    last kept point and the next one (within _SIMPLIFY) adds nothing."""
+    """Indices of the ring's points worth drawing: the grid's four corners always (the ring runs
+    along its four edges, footprint.EDGE_POINTS - 1 steps each), and of each edge's points those
+    farther than _SIMPLIFY from the line the kept ones draw (Douglas-Peucker)."""
     n = len(xs)
-    keep = [0]
-    for i in range(1, n):
-        j = (i + 1) % n
-        ax, ay = xs[keep[-1]], ys[keep[-1]]
-        dx, dy = xs[j] - ax, ys[j] - ay
-        length = math.hypot(dx, dy)
-        if length == 0.0:
-            continue
-        distance = abs(dx * (ys[i] - ay) - dy * (xs[i] - ax)) / length
-        if distance > _SIMPLIFY:
-            keep.append(i)
+    side = n // 4
+    keep: list[int] = []
+    for corner in range(4):
+        first, last = corner * side, (corner + 1) * side
+        keep += _douglas_peucker(xs, ys, first, last % n, list(range(first, last + 1)))[:-1]
     return keep
+
+
+def _douglas_peucker(xs: np.ndarray, ys: np.ndarray, first: int, last: int, span: list[int]) -> list[int]:
+    n = len(xs)
+    if len(span) <= 2:
+        return [first, last]
+    ax, ay, bx, by = xs[first], ys[first], xs[last], ys[last]
+    inner = [i % n for i in span[1:-1]]
+    length = math.hypot(bx - ax, by - ay)
+    if length == 0.0:
+        distances = [math.hypot(xs[i] - ax, ys[i] - ay) for i in inner]
+    else:
+        distances = [abs((bx - ax) * (ys[i] - ay) - (by - ay) * (xs[i] - ax)) / length for i in inner]
+    worst = int(np.argmax(distances))
+    if distances[worst] <= _SIMPLIFY:
+        return [first, last]
+    split = worst + 1
+    left = _douglas_peucker(xs, ys, first, span[split] % n, span[: split + 1])
+    right = _douglas_peucker(xs, ys, span[split] % n, last, span[split:])
+    return left[:-1] + right
 
 
 def _step(span: float, lines: int = 5) -> float:
