@@ -22,6 +22,7 @@ meridian is turned east-positive, as PROJ expects, and x still grows to the east
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Mapping
 from typing import Any
@@ -90,8 +91,14 @@ def _crs(block: Mapping[str, Any]) -> CRS:
     else:
         raise LabelGeorefError(f"map projection {kind or 'not named'} is not one the Extras "
                                "can place (sinusoidal, equirectangular, polar stereographic)")
+    return _proj_crs(f"{definition} +x_0=0 +y_0=0 +units=m +no_defs +type=crs")
+
+
+@functools.lru_cache(maxsize=256)
+def _proj_crs(definition: str) -> CRS:
+    """The CRS of a PROJ definition, made once per definition (a delivery's labels share a few)."""
     try:
-        return CRS.from_proj4(f"{definition} +x_0=0 +y_0=0 +units=m +no_defs +type=crs")
+        return CRS.from_proj4(definition)
     except CRSError as exc:
         raise LabelGeorefError(f"PROJ refuses the label's projection ({exc})") from None
 

@@ -13,13 +13,14 @@ from collections import Counter
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
+from urllib.parse import quote
 
 from ..deliver import layout
 from ..deliver.scan import DataProduct, is_preview, pointed_files, read_pds3_label
 from ..extras.renderings import DTM_RENDERINGS, ORTHO_RENDERING
 from ..validate.model import SEVERITIES, Block, Finding
 from ..validate.report import FileReport
-from .footprint import Outline, product_outline
+from .footprint import Outline, OutlineBatch
 from .index_table import IndexTable
 from .labels import LabelView, read_facts
 
@@ -113,19 +114,15 @@ class Linker:
     paths shown (relative to the reviewed directory)."""
 
     def __init__(self, root: Path, page_dir: Path) -> None:
-        self.root = root.resolve()
-        self.page_dir = page_dir.resolve()
+        self.root = os.path.abspath(root)
+        self.page_dir = os.path.abspath(page_dir)
 
     def shown(self, path: Path) -> str:
-        try:
-            return path.resolve().relative_to(self.root).as_posix()
-        except ValueError:
-            return str(path)
+        relative = os.path.relpath(os.path.abspath(path), self.root)
+        return str(path) if relative.startswith("..") else relative.replace(os.sep, "/")
 
     def link(self, path: Path) -> str:
-        from urllib.parse import quote
-
-        return quote(os.path.relpath(path.resolve(), self.page_dir).replace(os.sep, "/"))
+        return quote(os.path.relpath(os.path.abspath(path), self.page_dir).replace(os.sep, "/"))
 
 
 def previews_by_product(paths: Iterable[Path]) -> dict[str, list[Path]]:
@@ -152,12 +149,13 @@ def _previews(images: list[Path], linker: Linker) -> list[Preview]:
 
 
 def product_entry(product_id: str, label: Path | None, files: list[Path], linker: Linker,
-                  taken: set[str]) -> ProductEntry:
-    """One product's entry from its PDS3 label (facts, outline) and files (sizes)."""
+                  taken: set[str], outlines: OutlineBatch) -> ProductEntry:
+    """One product's entry from its PDS3 label (facts; its outline queued in `outlines`) and
+    files (sizes)."""
     entry = ProductEntry(product_id, anchor_of(product_id, taken), linker.shown(label or files[0]))
     root = read_pds3_label(label) if label is not None else None
     if root is not None and label is not None:
-        _fill_from_label(entry, root, label)
+        _fill_from_label(entry, root, label, outlines)
     elif label is None:
         entry.no_outline = "a PDS4 label only (facts and outline are read from PDS3 labels)"
     for path in files:
@@ -169,12 +167,16 @@ def product_entry(product_id: str, label: Path | None, files: list[Path], linker
     return entry
 
 
-def _fill_from_label(entry: ProductEntry, root: Block, label: Path) -> None:
+def _fill_from_label(entry: ProductEntry, root: Block, label: Path, outlines: OutlineBatch) -> None:
     facts = read_facts(root, label)
     entry.product_id = facts.product_id if entry.product_id == label.stem else entry.product_id
     entry.kind, entry.profile, entry.target = facts.kind, facts.profile, facts.target
     entry.rows, entry.bounds = facts.rows, facts.bounds
-    entry.outline, entry.no_outline = product_outline(LabelView(root), facts.lines, facts.samples)
+
+    def done(outline: Outline | None, why_not: str) -> None:
+        entry.outline, entry.no_outline = outline, why_not
+
+    outlines.add(LabelView(root), facts.lines, facts.samples, done)
 
 
 def attach_findings(entries: list[ProductEntry], reports: Iterable[FileReport], linker: Linker) -> list[OtherFile]:
@@ -230,10 +232,12 @@ def review_directory(root: Path, products: list[DataProduct], previews: list[Pat
     taken: set[str] = set()
     by_id = previews_by_product(previews)
     entries = []
+    outlines = OutlineBatch()
     for product in products:
-        entry = product_entry(product.product_id, product.pds3_label, product.files, linker, taken)
+        entry = product_entry(product.product_id, product.pds3_label, product.files, linker, taken, outlines)
         entry.previews = _previews(by_id.get(product.product_id.upper(), []), linker)
         entries.append(entry)
+    outlines.run()
     add_index_rows(entries, root)
     review = Review(title, root, entries)
     review.others = attach_findings(entries, reports, linker)
@@ -248,14 +252,16 @@ def review_reports(reports: list[FileReport], page_dir: Path, title: str) -> Rev
     linker = Linker(root, page_dir)
     taken: set[str] = set()
     entries = []
+    outlines = OutlineBatch()
     for path in paths:
         label = read_pds3_label(path) if path.is_file() else None
         if label is None or label.value("PRODUCT_ID") is None and _first_id(label) is None:
             continue
         files = [path] + [path.parent / n for n in pointed_files(label, path.parent) if path.parent / n != path]
-        entry = product_entry(_first_id(label) or path.stem, path, files, linker, taken)
+        entry = product_entry(_first_id(label) or path.stem, path, files, linker, taken, outlines)
         entry.previews = _previews(_nearby_previews(path, _first_id(label) or path.stem), linker)
         entries.append(entry)
+    outlines.run()
     review = Review(title, root, entries, source=f"{len(reports)} file(s) under {root}")
     review.others = attach_findings(entries, reports, linker)
     return review
