@@ -76,6 +76,9 @@ def delivery(tmp_path_factory) -> Path:
     ortho = write_ortho(ortho_in, products, profile="hirise", observation_id="PSP_008669_1705",
                         source_dtm_id=dtm.product_id)
     polar = write_dtm(polar_in, products, product_id="SOUTH_POLAR_DTM")
+    # one seeded defect, for the filters: a sample type PDS3 does not have (IMG-002, an error)
+    text = ortho.label_path.read_text()
+    ortho.label_path.write_text(text.replace("= MSB_UNSIGNED_INTEGER", "= MSB_UNSIGNED_INTEGEX"))
     make_extras([dtm.path, ortho.label_path, polar.path], products / "extras")
     out = root / "volume"
     make_delivery(products, out, dialect="pds3", volume_id="REVIEW_01")
@@ -103,7 +106,8 @@ def test_the_dom_after_scripts_holds_every_product_and_every_rule(delivery):
     dom = dom_after_scripts(delivery / "REVIEW.html")
     shown = {article.get("data-product") for article in dom.xpath("//article[@data-product]")}
     assert shown == set(ids)
-    rules = {f.rule for f in validate_paths([delivery]).findings}  # the validator run on its own
+    # the validator run on its own, as deliver runs it for the page (labels and the delivery's files)
+    rules = {f.rule for f in validate_paths([delivery], labels_only=True).findings}
     assert rules and rules <= {row.get("data-rule") for row in dom.xpath("//tr[@data-rule]")}
     assert dom.get_element_by_id("filters").get("hidden") is None, "the script shows the filters"
     assert {a.get("href")[1:] for a in dom.xpath("//*[local-name()='svg']//*[local-name()='a']")} == {
@@ -121,7 +125,8 @@ def test_a_filter_hides_what_it_should(delivery):
     for article in dom.xpath("//article[@data-product]"):
         has_error = bool(article.xpath(".//tr[@data-severity='error']"))
         assert (article.get("hidden") is None) == has_error, article.get("data-product")
-    assert dom.xpath("//article[@data-product][@hidden]"), "a product without errors is hidden"
+    shown = [a.get("data-product") for a in dom.xpath("//article[@data-product]") if a.get("hidden") is None]
+    assert shown == ["PSP_008669_1705_RED_C_01_ORTHO"], "only the product with the seeded error"
     dom = dom_after_scripts(delivery / "REVIEW.html", "#severity=error,warning,info&rule=MAP-004&only=0")
     visible = [r.get("data-rule") for r in dom.xpath("//tr[contains(@class, 'finding')]") if r.get("hidden") is None]
     assert visible and set(visible) == {"MAP-004"}
@@ -270,10 +275,13 @@ def test_footprint_corners_are_gdals_corners(delivery, product, projection):
 
 def test_review_command_and_its_errors(delivery, tmp_path):
     page = tmp_path / "out.html"
-    result = run_cli("review", delivery, "-o", page, "--labels-only", "--json")
+    result = run_cli("review", delivery, "-o", page, "--json")
     assert result.returncode == 0, result.stderr
     summary = json.loads(result.stdout)
     assert summary["products"] == 3 and summary["footprints"] == 3 and Path(summary["path"]) == page
+    written = html.fromstring(page.read_text(encoding="utf-8"))
+    assert {f.rule for f in validate_paths([delivery]).findings} <= {
+        row.get("data-rule") for row in written.xpath("//tr[@data-rule]")}, "review checks the data too"
     for img in html.fromstring(page.read_text(encoding="utf-8")).xpath("//img"):
         assert (tmp_path / img.get("src")).resolve().is_file(), "links are relative to where the page is"
     missing = run_cli("review", tmp_path / "nothing")

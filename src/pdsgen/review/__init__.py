@@ -37,7 +37,9 @@ def write_review(directory: str | os.PathLike[str], page: str | os.PathLike[str]
     """Check the products of `directory` (as `pdsgen validate` does, the delivery's index,
     inventories and manifest too) and write the review page (default DIRECTORY/REVIEW.html).
 
-    The page is written under a temporary name and renamed when complete. `shown_as`: the
+    labels_only: the checks read the labels and the delivery's own files, not the data (what
+    `pdsgen deliver` does: its products were checked when they were made; `pdsgen review` opens
+    the data). The page is written under a temporary name and renamed when complete. `shown_as`: the
     directory's name on the page (a delivery is reviewed before it is moved into place)."""
     root = Path(directory)
     if not root.is_dir():
@@ -54,7 +56,7 @@ def write_review(directory: str | os.PathLike[str], page: str | os.PathLike[str]
     shown = shown_as or str(root)
     title = Path(shown).resolve().name + (" (delivery)" if (root / MANIFEST).is_file() else "")
     review = review_directory(root, found.products, found.previews, reports, target.parent, title)
-    review.source = shown
+    review.source, review.labels_only = shown, labels_only
     for path in walk(root):
         if path.resolve() != target.resolve():
             review.files += 1

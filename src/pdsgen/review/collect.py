@@ -84,6 +84,7 @@ class Review:
     checks: list[tuple[str, str]] = field(default_factory=list)  # (check, "pass" / "fail: n finding(s)")
     verdict: str = ""
     source: str = ""  # what the page says it shows (a directory, or the labels checked)
+    labels_only: bool = False  # the checks did not open the data files
 
     def counts(self) -> dict[str, int]:
         found = Counter(f.severity for p in self.products for f in p.findings)
