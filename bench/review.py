@@ -77,7 +77,7 @@ def make_products(directory: Path, count: int) -> None:
     side = math.ceil(math.sqrt(count))
     for number in range(count):
         lat = -60.0 + 120.0 * (number // side) / side
-        lon = 360.0 * (number % side) / side
+        lon = 360.0 * (number % side + 0.5) / side  # clear of the 0/360 seam
         product_id = f"SYN_{number:06d}"
         (directory / f"{product_id}.LBL").write_bytes(_label(product_id, lat, lon).encode("ascii"))
         (directory / f"{product_id}.IMG").write_bytes(data)

@@ -54,7 +54,7 @@ class ProductEntry:
     no_outline: str = ""
     files: list[tuple[str, str, int]] = field(default_factory=list)  # (shown path, link, bytes)
     previews: list[Preview] = field(default_factory=list)
-    index_row: list[tuple[str, str]] = field(default_factory=list)
+    index_row: str = ""  # the product's INDEX.TAB row, as the table holds it
     findings: list[Finding] = field(default_factory=list)
 
     def count(self, severity: str) -> int:
@@ -85,6 +85,7 @@ class Review:
     verdict: str = ""
     source: str = ""  # what the page says it shows (a directory, or the labels checked)
     labels_only: bool = False  # the checks did not open the data files
+    index_header: str = ""  # INDEX.TAB's column names, each above its field
 
     def counts(self) -> dict[str, int]:
         found = Counter(f.severity for p in self.products for f in p.findings)
@@ -215,15 +216,17 @@ def delivery_checks(root: Path, findings: Iterable[Finding]) -> list[tuple[str, 
     return result
 
 
-def add_index_rows(entries: list[ProductEntry], root: Path) -> None:
-    """Each product's row of INDEX/INDEX.TAB, matched by label path or PRODUCT_ID."""
+def add_index_rows(entries: list[ProductEntry], root: Path) -> str:
+    """Each product's row of INDEX/INDEX.TAB, matched by label path or PRODUCT_ID; returns the
+    columns' names placed over a row (empty without an index)."""
     table = IndexTable.read(root / layout.INDEX_DIR / layout.INDEX_LABEL)
     if table is None:
-        return
+        return ""
     for entry in entries:
         row = table.row_for(entry.label, entry.product_id)
         if row is not None:
             entry.index_row = row
+    return table.header
 
 
 def review_directory(root: Path, products: list[DataProduct], previews: list[Path],
@@ -239,8 +242,8 @@ def review_directory(root: Path, products: list[DataProduct], previews: list[Pat
         entry.previews = _previews(by_id.get(product.product_id.upper(), []), linker)
         entries.append(entry)
     outlines.run()
-    add_index_rows(entries, root)
-    review = Review(title, root, entries)
+    header = add_index_rows(entries, root)
+    review = Review(title, root, entries, index_header=header)
     review.others = attach_findings(entries, reports, linker)
     review.checks = delivery_checks(root, (f for r in reports for f in r.findings))
     return review

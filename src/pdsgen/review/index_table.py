@@ -13,8 +13,8 @@ from ..deliver.scan import read_pds3_label
 @dataclass
 class IndexTable:
     columns: list[tuple[str, int, int]]  # (NAME, START_BYTE (1-based), BYTES)
-    by_file: dict[str, list[tuple[str, str]]]
-    by_id: dict[str, list[tuple[str, str]]]
+    by_file: dict[str, str]  # FILE_SPECIFICATION_NAME (upper case) -> the row
+    by_id: dict[str, str]  # PRODUCT_ID (upper case) -> the row
 
     @classmethod
     def read(cls, label_path: Path) -> IndexTable | None:
@@ -45,13 +45,21 @@ class IndexTable:
         return result
 
     def _add(self, line: str) -> None:
-        row = [(name, line[start - 1:start - 1 + size].strip().strip('"').strip())
-               for name, start, size in self.columns]
-        values = dict(row)
+        values = {name: line[start - 1:start - 1 + size].strip().strip('"').strip()
+                  for name, start, size in self.columns}
         if values.get("FILE_SPECIFICATION_NAME"):
-            self.by_file[values["FILE_SPECIFICATION_NAME"].upper()] = row
+            self.by_file[values["FILE_SPECIFICATION_NAME"].upper()] = line
         if values.get("PRODUCT_ID"):
-            self.by_id[values["PRODUCT_ID"].upper()] = row
+            self.by_id[values["PRODUCT_ID"].upper()] = line
 
-    def row_for(self, label: str, product_id: str) -> list[tuple[str, str]] | None:
+    @property
+    def header(self) -> str:
+        """The column names, each at its START_BYTE, to stand above a row as the table holds it."""
+        text = ""
+        for name, start, _ in self.columns:
+            text = text.ljust(start - 1) + name + " "
+        return text.rstrip()
+
+    def row_for(self, label: str, product_id: str) -> str | None:
+        """The product's row as the table holds it (without its CR LF)."""
         return self.by_file.get(label.upper()) or self.by_id.get(product_id.upper())
