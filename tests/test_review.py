@@ -290,3 +290,94 @@ def test_review_command_and_its_errors(delivery, tmp_path):
     empty.mkdir()
     refused = run_cli("review", empty)
     assert refused.returncode == 2 and "no data product" in refused.stderr and not list(empty.iterdir())
+
+
+class DevTools:
+    """Chromium driven over its DevTools protocol on a pipe (--remote-debugging-pipe: JSON messages
+    ended by NUL, commands on fd 3, replies on fd 4): no websocket, no extra package."""
+
+    def __init__(self, url: str, profile: str) -> None:
+        import os
+
+        binary = shutil.which("chromium") or shutil.which("chromium-browser")
+        assert binary
+        to_browser, self._write = os.pipe()
+        self._read, from_browser = os.pipe()
+        # the child's fds 3 and 4 are the pipe ends Chromium reads and writes
+        self.process = subprocess.Popen(
+            [binary, "--headless", "--no-sandbox", "--disable-gpu", f"--user-data-dir={profile}", "--no-first-run",
+             "--disable-background-networking", "--host-resolver-rules=MAP * ~NOTFOUND", "--window-size=1200,1600",
+             "--remote-debugging-pipe", url],
+            pass_fds=(3, 4), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+            preexec_fn=lambda: (os.dup2(to_browser, 3), os.dup2(from_browser, 4)))
+        os.close(to_browser)
+        os.close(from_browser)
+        self._buffer = b""
+        self._next = 0
+        self.session = None
+        page = next(t for t in self.call("Target.getTargets")["targetInfos"] if t["type"] == "page")
+        self.session = self.call("Target.attachToTarget", targetId=page["targetId"], flatten=True)["sessionId"]
+
+    def call(self, method: str, **params):
+        import os
+        import select
+        import time
+
+        self._next += 1
+        message = {"id": self._next, "method": method, "params": params}
+        if self.session:
+            message["sessionId"] = self.session
+        os.write(self._write, json.dumps(message).encode() + b"\0")
+        deadline = time.monotonic() + 30
+        while True:
+            while b"\0" in self._buffer:
+                raw, self._buffer = self._buffer.split(b"\0", 1)
+                reply = json.loads(raw)
+                if reply.get("id") == self._next:
+                    assert "error" not in reply, reply
+                    return reply["result"]
+            ready, _, _ = select.select([self._read], [], [], max(0.0, deadline - time.monotonic()))
+            assert ready, f"no reply to {method}"
+            self._buffer += os.read(self._read, 1 << 16)
+
+    def evaluate(self, expression: str):
+        return self.call("Runtime.evaluate", expression=expression, returnByValue=True)["result"].get("value")
+
+    def click(self, selector: str) -> None:
+        """A real mouse click (pressed, released) at the middle of the element."""
+        box = self.evaluate(f"(function () {{ var e = document.querySelector({json.dumps(selector)}); "
+                            "e.scrollIntoView(); var r = e.getBoundingClientRect(); "
+                            "return [r.left + r.width / 2, r.top + r.height / 2]; }())")
+        for kind in ("mousePressed", "mouseReleased"):
+            self.call("Input.dispatchMouseEvent", type=kind, x=box[0], y=box[1], button="left", clickCount=1)
+
+    def close(self) -> None:
+        import os
+
+        self.process.kill()
+        self.process.wait(timeout=30)
+        os.close(self._write)
+        os.close(self._read)
+
+
+def test_clicking_a_severity_box_hides_its_findings(delivery, tmp_path):
+    """The filter as a person uses it: a mouse click on the "info" box (DevTools protocol) hides
+    every info finding and nothing else, and the address remembers it."""
+    import time
+
+    browser = DevTools((delivery / "REVIEW.html").as_uri(), str(tmp_path / "profile"))
+    try:
+        for _ in range(300):
+            if browser.evaluate("location.protocol + document.readyState") == "file:complete":
+                break
+            time.sleep(0.1)
+        count = "document.querySelectorAll('tr.finding[data-severity=\"{}\"]{}').length"
+        infos, warnings = browser.evaluate(count.format("info", "")), browser.evaluate(count.format("warning", ""))
+        assert infos > 0 and browser.evaluate(count.format("info", "[hidden]")) == 0
+        browser.click("#filters input[value=info]")
+        assert browser.evaluate("document.querySelector('#filters input[value=info]').checked") is False
+        assert browser.evaluate(count.format("info", "[hidden]")) == infos
+        assert browser.evaluate(count.format("warning", "[hidden]")) == 0 and warnings >= 0
+        assert "severity=error,warning" in browser.evaluate("location.hash")
+    finally:
+        browser.close()
