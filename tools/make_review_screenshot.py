@@ -1,9 +1,10 @@
 """Regenerate docs/images/review_page.png: the review page of the demo delivery, as headless
 Chromium shows it, for README.md.
 
-Runs the demo into a temporary directory, makes it a PDS3 volume with `pdsgen deliver` (which
-writes REVIEW.html), loads that page from its file URL in headless Chromium and keeps the
-first screenful, reduced to a size the README shows whole (under 300 KB).
+Runs the demo into a temporary directory, makes it a PDS3 volume with `pdsgen deliver`, writes
+its page as `pdsgen review` does (the data checked too), loads that page from its file URL in
+headless Chromium and keeps the first screenful, reduced to a size the README shows whole
+(under 300 KB).
 
 Run from the repository root: PYTHONPATH=src python tools/make_review_screenshot.py
 """
@@ -19,6 +20,7 @@ from PIL import Image
 
 from pdsgen.deliver import make_delivery
 from pdsgen.demo import run_demo
+from pdsgen.review import write_review
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "images" / "review_page.png"
 WINDOW = (1200, 1500)
@@ -41,8 +43,9 @@ def main() -> None:
         work = Path(tmp)
         run_demo(work / "demo")
         delivery = make_delivery(work / "demo", work / "DEMO_0001", dialect="pds3", volume_id="DEMO_0001")
+        page = write_review(delivery.path).path
         raw = work / "raw.png"
-        screenshot(delivery.path / "REVIEW.html", raw, work)
+        screenshot(page, raw, work)
         image = Image.open(raw).convert("RGB")
         image = image.resize((WIDTH, round(image.height * WIDTH / image.width)), Image.LANCZOS)
         image = image.quantize(colors=128, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import click
 
 from ..deliver import make_delivery
+from ..deliver.layout import REVIEW_PAGE
 from . import COMMANDS
 from ._output import Outcome, output_options
 
@@ -39,6 +40,7 @@ def deliver(directory, dialect, out, volume_id, bundle_lid) -> Outcome:
         lines.append(f"PDS4     bundle {result.bundle_lid}::{result.bundle_version}, "
                      f"{len(result.changed)} product(s) new or with a new version")
     lines += [f"SKIPPED  {path} (belongs to no product)" for path in result.skipped]
+    lines.append(f"REVIEW   {result.path / REVIEW_PAGE} (open it in a browser; not in the manifest)")
     lines.append(f"CHECK    pdsgen validate {result.path}")
     summary = {"command": "deliver", "path": str(result.path), "dialect": result.dialect,
                "products": result.products, "previews": result.previews, "documents": result.documents,
