@@ -53,6 +53,17 @@
     }
   }
 
+  // the outline of the product whose entry is selected (#p-...) stands out on the map
+  function markSelected() {
+    Array.prototype.forEach.call(document.querySelectorAll(".footprints polygon.selected"), function (p) {
+      p.classList.remove("selected");
+    });
+    var link = outlines[location.hash.slice(1)];
+    if (link) { link.querySelector("polygon").classList.add("selected"); }
+  }
+  window.addEventListener("hashchange", markSelected);
+  markSelected();
+
   form.hidden = false;
   if (/severity=|rule=|only=/.test(location.hash)) { readAddress(); }
   apply(false);
