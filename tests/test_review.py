@@ -85,6 +85,12 @@ def delivery(tmp_path_factory) -> Path:
     return out
 
 
+@pytest.fixture(scope="module")
+def delivery_dom(delivery) -> html.HtmlElement:
+    """The delivery's page after its script ran, as Chromium holds it."""
+    return dom_after_scripts(delivery / "REVIEW.html")
+
+
 def _index_product_ids(volume: Path) -> list[str]:
     """PRODUCT_ID of every INDEX.TAB row (csv: quoted fields, the third column)."""
     with open(volume / "INDEX" / "INDEX.TAB", newline="", encoding="ascii") as table:
@@ -100,10 +106,10 @@ def test_deliver_writes_the_page_outside_the_manifest(delivery):
     assert not [f for f in report.findings if f.rule.startswith("DLV-02")], "the page breaks no manifest check"
 
 
-def test_the_dom_after_scripts_holds_every_product_and_every_rule(delivery):
+def test_the_dom_after_scripts_holds_every_product_and_every_rule(delivery, delivery_dom):
     ids = _index_product_ids(delivery)
     assert len(ids) == 3
-    dom = dom_after_scripts(delivery / "REVIEW.html")
+    dom = delivery_dom
     shown = {article.get("data-product") for article in dom.xpath("//article[@data-product]")}
     assert shown == set(ids)
     # the validator run on its own, as deliver runs it for the page (labels and the delivery's files)
@@ -247,7 +253,7 @@ def test_footprints_of_genuine_labels_match_their_bounds(tmp_path):
 
 @pytest.mark.parametrize("product, projection", [("DTEEC_008669_1705_009025_1705_U01", "equirectangular"),
                                                  ("SOUTH_POLAR_DTM", "south-polar")])
-def test_footprint_corners_are_gdals_corners(delivery, product, projection):
+def test_footprint_corners_are_gdals_corners(delivery, delivery_dom, product, projection):
     """GDAL reads the product (its PDS driver reads the label) and transforms the raster's four
     corners to longitude/latitude (gdaltransform); each is a vertex of the page's outline, read
     back from the SVG of its view (the polar DTM in the south-polar view)."""
@@ -261,8 +267,7 @@ def test_footprint_corners_are_gdals_corners(delivery, product, projection):
                          text=True, check=True, timeout=60).stdout.split("\n")
     gdal_corners = np.array([[float(v) for v in line.split()[:2]] for line in out if line.strip()])
     pixel_deg = math.degrees(abs(info["geoTransform"][1]) / 3396190.0)
-    dom = dom_after_scripts(delivery / "REVIEW.html")
-    svg = dom.xpath(f"//*[local-name()='svg'][@data-projection='{projection}']")[0]
+    svg = delivery_dom.xpath(f"//*[local-name()='svg'][@data-projection='{projection}']")[0]
     lons, lats = _to_lonlat(svg, _svg_points(svg)[product])
     assert len(gdal_corners) == 4
     for lon, lat in gdal_corners:  # within a hundredth of a pixel
