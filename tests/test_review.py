@@ -386,3 +386,47 @@ def test_clicking_a_severity_box_hides_its_findings(delivery, tmp_path):
         assert "severity=error,warning" in browser.evaluate("location.hash")
     finally:
         browser.close()
+
+
+def test_thumbnails_beyond_the_first_are_built_as_their_entry_is_scrolled_near(delivery, tmp_path):
+    """With one product's thumbnails in the HTML, the others are links until their entry comes
+    near the screen; scrolled to, they become images of the previews; a preview opened shows its
+    browse image."""
+    import time
+
+    from pdsgen.review import write_review
+
+    page = write_review(delivery, tmp_path / "page.html", labels_only=True, inline_thumbnails=1).path
+    written = html.fromstring(page.read_text(encoding="utf-8"))
+    articles = written.xpath("//article[@data-product]")
+    assert articles[0].xpath(".//summary/img") and not articles[0].xpath(".//a[@data-thumb]")
+    assert all(a.xpath(".//a[@data-thumb]") and not a.xpath(".//summary/img") for a in articles[1:]
+               if a.xpath(".//details[@class='preview']"))
+    browser = DevTools(page.as_uri(), str(tmp_path / "profile"))
+    try:
+        for _ in range(300):
+            if browser.evaluate("location.protocol + document.readyState") == "file:complete":
+                break
+            time.sleep(0.1)
+        last = articles[-1].get("id")
+        images = f"document.getElementById('{last}').querySelectorAll('summary img').length"
+        browser.evaluate(f"document.getElementById('{last}').scrollIntoView()")
+        for _ in range(50):
+            if browser.evaluate(images):
+                break
+            time.sleep(0.1)
+        assert browser.evaluate(images) == len(articles[-1].xpath(".//a[@data-thumb]")) > 0
+        sources = browser.evaluate(f"Array.prototype.map.call(document.getElementById('{last}')"
+                                   ".querySelectorAll('summary img'), function (i) { return i.src; })")
+        assert all(source.startswith("file://") and Path(source[7:]).is_file() for source in sources)
+        loaded = (f"Array.prototype.every.call(document.getElementById('{last}').querySelectorAll('summary img'), "
+                  "function (i) { return i.complete && i.naturalWidth > 0; })")
+        for _ in range(50):
+            if browser.evaluate(loaded):
+                break
+            time.sleep(0.1)
+        assert browser.evaluate(loaded), "the thumbnails load (the page's policy lets its own images in)"
+        browser.click(f"#{last} details.preview summary")
+        assert browser.evaluate(f"document.querySelector('#{last} details.preview a.browse img') !== null")
+    finally:
+        browser.close()

@@ -64,6 +64,41 @@
   window.addEventListener("hashchange", markSelected);
   markSelected();
 
+  // Thumbnails beyond the first products are built as their entry comes near the screen (a
+  // page of 10,000 products would otherwise read 10,000 images on opening); the larger browse
+  // image when its preview is opened.
+  function showThumbnails(entry) {
+    Array.prototype.forEach.call(entry.querySelectorAll("a.thumb[data-thumb]"), function (link) {
+      var img = document.createElement("img");
+      img.src = link.getAttribute("data-thumb");
+      img.alt = link.textContent;
+      img.title = link.title;
+      link.parentNode.replaceChild(img, link);
+    });
+  }
+  var waiting = entries.filter(function (entry) { return entry.querySelector("a.thumb[data-thumb]"); });
+  if (waiting.length && "IntersectionObserver" in window) {
+    var observer = new IntersectionObserver(function (seen) {
+      seen.forEach(function (item) {
+        if (item.isIntersecting) { showThumbnails(item.target); observer.unobserve(item.target); }
+      });
+    }, { rootMargin: "1500px 0px" });
+    waiting.forEach(function (entry) { observer.observe(entry); });
+  }
+  document.addEventListener("toggle", function (event) {
+    var details = event.target;
+    if (!details.open || !details.classList || !details.classList.contains("preview")) { return; }
+    var link = details.querySelector("a.browse");
+    if (link && !link.querySelector("img")) {
+      var img = document.createElement("img");
+      img.className = "browse";
+      img.src = link.getAttribute("href");
+      img.alt = "browse image";
+      link.textContent = "";
+      link.appendChild(img);
+    }
+  }, true);
+
   form.hidden = false;
   if (/severity=|rule=|only=/.test(location.hash)) { readAddress(); }
   apply(false);

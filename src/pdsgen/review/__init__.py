@@ -17,7 +17,7 @@ from ..deliver.scan import scan, walk
 from ..errors import InputError, OutputError
 from ..validate.runner import iter_reports
 from .collect import review_directory
-from .page import HtmlWriter, render_page
+from .page import INLINE_THUMBNAILS, HtmlWriter, render_page
 
 __all__ = ["HtmlWriter", "ReviewResult", "write_review"]
 
@@ -33,14 +33,17 @@ class ReviewResult:
 
 
 def write_review(directory: str | os.PathLike[str], page: str | os.PathLike[str] | None = None,
-                 labels_only: bool = False, jobs: int = 1, shown_as: str | None = None) -> ReviewResult:
+                 labels_only: bool = False, jobs: int = 1, shown_as: str | None = None,
+                 inline_thumbnails: int = INLINE_THUMBNAILS) -> ReviewResult:
     """Check the products of `directory` (as `pdsgen validate` does, the delivery's index,
     inventories and manifest too) and write the review page (default DIRECTORY/REVIEW.html).
 
     labels_only: the checks read the labels and the delivery's own files, not the data (what
     `pdsgen deliver` does: its products were checked when they were made; `pdsgen review` opens
-    the data). The page is written under a temporary name and renamed when complete. `shown_as`: the
-    directory's name on the page (a delivery is reviewed before it is moved into place)."""
+    the data). inline_thumbnails: how many products' thumbnails are in the HTML itself (the rest
+    are built as their entries are scrolled near). shown_as: the directory's name on the page (a
+    delivery is reviewed before it is moved into place). The page is written under a temporary
+    name and renamed when complete."""
     root = Path(directory)
     if not root.is_dir():
         raise InputError(root, "not a directory of products")
@@ -64,7 +67,7 @@ def write_review(directory: str | os.PathLike[str], page: str | os.PathLike[str]
     counts = review.counts()
     review.verdict = (f"{len(reports)} file(s) checked: {counts['error']} error(s), {counts['warning']} "
                       f"warning(s), {counts['info']} info - {'FAILED' if counts['error'] else 'OK'}")
-    text = render_page(review)
+    text = render_page(review, inline_thumbnails)
     partial = target.with_name(f".{target.name}.partial")
     try:
         partial.write_text(text, encoding="utf-8")

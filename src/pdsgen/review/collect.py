@@ -56,6 +56,7 @@ class ProductEntry:
     previews: list[Preview] = field(default_factory=list)
     index_row: str = ""  # the product's INDEX.TAB row, as the table holds it
     findings: list[Finding] = field(default_factory=list)
+    inline: bool = True  # thumbnails in the HTML (else built by the script as the entry is scrolled near)
 
     def count(self, severity: str) -> int:
         return sum(1 for f in self.findings if f.severity == severity)

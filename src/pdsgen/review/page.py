@@ -71,7 +71,14 @@ def content_security_policy(style: str, script: str) -> str:
             "base-uri 'none'; form-action 'none'")
 
 
-def render_page(review: Review) -> str:
+# Thumbnails of the first products are in the HTML itself; further ones are built by the script
+# as their entries come near the screen (without scripts: their names, and links to the images).
+INLINE_THUMBNAILS = 200
+
+
+def render_page(review: Review, inline_thumbnails: int = INLINE_THUMBNAILS) -> str:
+    for number, product in enumerate(review.products):
+        product.inline = number < inline_thumbnails
     env = _environment()
     style = (templates_dir() / "review" / "review.css").read_text(encoding="utf-8")
     script = (templates_dir() / "review" / "review.js").read_text(encoding="utf-8")
