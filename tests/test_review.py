@@ -427,6 +427,11 @@ def test_thumbnails_beyond_the_first_are_built_as_their_entry_is_scrolled_near(d
             time.sleep(0.1)
         assert browser.evaluate(loaded), "the thumbnails load (the page's policy lets its own images in)"
         browser.click(f"#{last} details.preview summary")
-        assert browser.evaluate(f"document.querySelector('#{last} details.preview a.browse img') !== null")
+        opened = f"document.querySelector('#{last} details.preview a.browse img') !== null"
+        for _ in range(50):  # the toggle event comes after the click
+            if browser.evaluate(opened):
+                break
+            time.sleep(0.1)
+        assert browser.evaluate(opened)
     finally:
         browser.close()
