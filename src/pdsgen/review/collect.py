@@ -16,7 +16,7 @@ from pathlib import Path
 from urllib.parse import quote
 
 from ..deliver import layout
-from ..deliver.scan import DataProduct, is_preview, pointed_files, read_pds3_label
+from ..deliver.scan import DataProduct, is_preview, label_value, pointed_files, read_pds3_label
 from ..extras.renderings import DTM_RENDERINGS, ORTHO_RENDERING
 from ..validate.model import SEVERITIES, Block, Finding
 from ..validate.report import FileReport
@@ -49,7 +49,6 @@ class ProductEntry:
     profile: str = "generic"
     target: str | None = None
     rows: list[tuple[str, str]] = field(default_factory=list)
-    bounds: dict[str, float] = field(default_factory=dict)
     outline: Outline | None = None
     no_outline: str = ""
     files: list[tuple[str, str, int]] = field(default_factory=list)  # (shown path, link, bytes)
@@ -174,7 +173,7 @@ def _fill_from_label(entry: ProductEntry, root: Block, label: Path, outlines: Ou
     facts = read_facts(root, label)
     entry.product_id = facts.product_id if entry.product_id == label.stem else entry.product_id
     entry.kind, entry.profile, entry.target = facts.kind, facts.profile, facts.target
-    entry.rows, entry.bounds = facts.rows, facts.bounds
+    entry.rows = facts.rows
 
     def done(outline: Outline | None, why_not: str) -> None:
         entry.outline, entry.no_outline = outline, why_not
@@ -260,22 +259,17 @@ def review_reports(reports: list[FileReport], page_dir: Path, title: str) -> Rev
     outlines = OutlineBatch()
     for path in paths:
         label = read_pds3_label(path) if path.is_file() else None
-        if label is None or label.value("PRODUCT_ID") is None and _first_id(label) is None:
+        product_id = label_value(label, "PRODUCT_ID") if label is not None else None
+        if label is None or product_id is None:
             continue
         files = [path] + [path.parent / n for n in pointed_files(label, path.parent) if path.parent / n != path]
-        entry = product_entry(_first_id(label) or path.stem, path, files, linker, taken, outlines)
-        entry.previews = _previews(_nearby_previews(path, _first_id(label) or path.stem), linker)
+        entry = product_entry(product_id, path, files, linker, taken, outlines)
+        entry.previews = _previews(_nearby_previews(path, product_id), linker)
         entries.append(entry)
     outlines.run()
     review = Review(title, root, entries, source=f"{len(reports)} file(s) under {root}")
     review.others = attach_findings(entries, reports, linker)
     return review
-
-
-def _first_id(label: Block) -> str | None:
-    from ..deliver.scan import label_value
-
-    return label_value(label, "PRODUCT_ID")
 
 
 def _nearby_previews(label: Path, product_id: str) -> list[Path]:

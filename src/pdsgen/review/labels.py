@@ -27,7 +27,6 @@ MAP_KEYWORDS = (
     ("WESTERNMOST_LONGITUDE", "westernmost longitude"),
     ("EASTERNMOST_LONGITUDE", "easternmost longitude"),
 )
-BOUNDS = tuple(keyword for keyword, _ in MAP_KEYWORDS[3:])
 _IMAGE_OBJECTS = ("IMAGE", "UNCOMPRESSED_FILE")
 
 
@@ -80,7 +79,6 @@ class LabelFactsShown:
 
     product_id: str
     rows: list[tuple[str, str]] = field(default_factory=list)  # (what, value as written)
-    bounds: dict[str, float] = field(default_factory=dict)  # BOUNDS keywords that are numbers
     projection: str | None = None
     target: str | None = None
     profile: str = "generic"
@@ -128,9 +126,6 @@ def read_facts(root: Block, path: Path) -> LabelFactsShown:
             written = _written(projection.value(keyword))
             if written is not None:
                 facts.rows.append((what, written))
-            number = projection.number(keyword)
-            if keyword in BOUNDS and number is not None:
-                facts.bounds[keyword] = float(number)
         facts.projection = projection.text("MAP_PROJECTION_TYPE")
     if image is not None:
         for low, high in (("VALID_MINIMUM", "VALID_MAXIMUM"), ("MINIMUM", "MAXIMUM")):
