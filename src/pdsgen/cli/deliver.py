@@ -40,8 +40,8 @@ def deliver(directory, dialect, out, volume_id, bundle_lid) -> Outcome:
         lines.append(f"PDS4     bundle {result.bundle_lid}::{result.bundle_version}, "
                      f"{len(result.changed)} product(s) new or with a new version")
     lines += [f"SKIPPED  {path} (belongs to no product)" for path in result.skipped]
-    lines.append(f"REVIEW   {result.path / REVIEW_PAGE} (open it in a browser; not in the manifest)")
     lines.append(f"CHECK    pdsgen validate {result.path}")
+    lines.append(f"REVIEW   {result.path / REVIEW_PAGE} (open it in a browser; not in the manifest)")
     summary = {"command": "deliver", "path": str(result.path), "dialect": result.dialect,
                "products": result.products, "previews": result.previews, "documents": result.documents,
                "files": result.files, "volume_id": result.volume_id, "bundle_lid": result.bundle_lid,
