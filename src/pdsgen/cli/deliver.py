@@ -6,7 +6,7 @@ import click
 
 from ..deliver import make_delivery
 from ..deliver.build import Delivery
-from ..deliver.layout import publication_rank
+from ..deliver.layout import REVIEW_PAGE, publication_rank
 from ..storage import local_inputs, tree_area
 from . import COMMANDS
 from ._output import Outcome, output_options
@@ -52,6 +52,8 @@ def _outcome(result: Delivery) -> Outcome:
         lines.append(f"PDS4     bundle {result.bundle_lid}::{result.bundle_version}, "
                      f"{len(result.changed)} product(s) new or with a new version")
     lines.append(f"CHECK    pdsgen validate {result.path}")
+    lines.append(f"REVIEW   {result.path / REVIEW_PAGE} (open it in a browser; not in the manifest)")
+    lines.append(f"REVIEW   {result.path / REVIEW_PAGE} (open it in a browser; not in the manifest)")
     summary = {"command": "deliver", "path": str(result.path), "dialect": result.dialect,
                "products": result.products, "previews": result.previews, "documents": result.documents,
                "files": result.files, "volume_id": result.volume_id, "bundle_lid": result.bundle_lid,

@@ -98,7 +98,7 @@ def _output(path: str | None):
 @click.argument("paths", nargs=-1, type=click.Path())
 @click.option("--format", "fmt", type=click.Choice(FORMATS), default="text", show_default=True,
               help="Report format: text for people; json, junit, sarif (code scanning) or github "
-                   "(workflow annotations) for CI.")
+                   "(workflow annotations) for CI; html: a review page (as pdsgen review writes).")
 @click.option("--strict", is_flag=True,
               help="Fail (exit 1) on warnings too, and keep over-long lines an error for any label.")
 @click.option("--fail-on", type=click.Choice(["error", "warning"]), default=None,
@@ -196,7 +196,8 @@ def validate(paths: tuple[str, ...], fmt: str, strict: bool, fail_on: str | None
             else:
                 with _output(output) as out:
                     named = cast(IO[str], _Renaming(out, inputs.shown))
-                    write_stream(_counting_baseline(reports, baseline, tally), fmt, named, tally)
+                    write_stream(_counting_baseline(reports, baseline, tally), fmt, named, tally,
+                                 writer_class=_html_writer() if fmt == "html" else None)
             elapsed = time.monotonic() - started
             log.info("checked %d file(s) in %.2f s (%.0f files/s): %d error(s), %d warning(s)", tally.files, elapsed,
                      tally.files / elapsed if elapsed > 0 else 0.0, tally.errors, tally.warnings)
@@ -214,6 +215,13 @@ class _Renaming:
 
     def __getattr__(self, name: str) -> Any:
         return getattr(self.out, name)
+
+
+def _html_writer():
+    """The review page's writer (loaded only for --format html)."""
+    from ..review import HtmlWriter
+
+    return HtmlWriter
 
 
 def _tell_choices(settings: configuration.Settings, baseline_path: str | None, dictionaries: tuple[str, ...],

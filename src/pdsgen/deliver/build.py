@@ -180,6 +180,9 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
         if pds4:
             _migrate_pds3_only(found, migrated, bundle_lid)
         result = _build(found, _Tree(work), previous, source_dir, in_place, dialect, index, bundle_lid)
+        from ..review import write_review  # the review page, after (and outside) the manifest
+
+        write_review(work, labels_only=True, shown_as=str(target))
         _swap(work, target)
         log.info("delivery built in %s and moved to %s", work, target)
     except BaseException as exc:

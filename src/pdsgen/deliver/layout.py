@@ -23,6 +23,9 @@ VOLDESC = "VOLDESC.CAT"
 AAREADME = "AAREADME.TXT"
 # The checksum manifest: `md5  relative/path` lines (md5sum -c reads them), written last.
 MANIFEST = "MD5SUMS.TXT"
+# The review page (pdsgen review), written after the manifest and not listed in it: it shows
+# whether the manifest checks, and is remade by every run.
+REVIEW_PAGE = "REVIEW.html"
 
 
 

@@ -40,6 +40,7 @@ meridian is turned east-positive, as PROJ expects, and x still grows to the east
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 from collections.abc import Mapping
@@ -172,8 +173,14 @@ def _crs(block: Mapping[str, Any], grid: TransverseMercatorGrid, sphere_radius: 
         raise LabelGeorefError(f"map projection {kind or 'not named'} is not one pdsgen can place "
                                "from a label (sinusoidal, equirectangular, polar stereographic, "
                                "transverse Mercator)")
+    return _proj_crs(f"{definition} {origin} +units=m +no_defs +type=crs")
+
+
+@functools.lru_cache(maxsize=256)
+def _proj_crs(definition: str) -> CRS:
+    """The CRS of a PROJ definition, made once per definition (a delivery's labels share a few)."""
     try:
-        return CRS.from_proj4(f"{definition} {origin} +units=m +no_defs +type=crs")
+        return CRS.from_proj4(definition)
     except CRSError as exc:
         raise LabelGeorefError(f"PROJ refuses the label's projection ({exc})") from None
 

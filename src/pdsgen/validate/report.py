@@ -28,7 +28,7 @@ from lxml import etree
 
 from .model import Finding
 
-FORMATS = ("text", "json", "junit", "sarif", "github")
+FORMATS = ("text", "json", "junit", "sarif", "github", "html")
 FAIL_LEVELS = ("error", "warning")
 
 
@@ -380,9 +380,11 @@ WRITERS: dict[str, type[Writer]] = {
 
 
 def write_stream(reports: Iterable[FileReport], fmt: str, out: IO[str], tally: Tally,
-                 show_info: bool = True) -> Tally:
-    """Render file reports as they come; returns the tally (for the exit code)."""
-    writer = WRITERS[fmt](out, show_info)
+                 show_info: bool = True, writer_class: type[Writer] | None = None) -> Tally:
+    """Render file reports as they come; returns the tally (for the exit code).
+
+    writer_class: a format written by a higher layer (html: the review page, pdsgen.review)."""
+    writer = (writer_class or WRITERS[fmt])(out, show_info)
     if isinstance(writer, JunitWriter):
         writer.fail_on_warning = tally.fail_on == "warning"
     writer.start()

@@ -261,9 +261,11 @@ def _extras(directory: Path, group: list[Summary], rule: str) -> Iterator[Hit]:
     if "README.TXT" not in upper:
         yield _finding(products[0], f"no README.TXT in {directory} or its "
                        "EXTRAS directory", None, None)
+    # every "NAME." a browse JPEG's name starts with: one look-up per product, not a scan of the names
+    jpeg_prefixes = {n[:i + 1] for n in upper if n.endswith(".JPG") for i, c in enumerate(n) if c == "."}
     for s in products:
         prefix = s.product_id.upper() + "."  # type: ignore[union-attr]
-        if not any(n.startswith(prefix) and n.endswith(".JPG") for n in upper):
+        if prefix not in jpeg_prefixes:
             yield _finding(s, f"no browse JPEG ({s.product_id}.*.jpg) for this "
                            "product in its directory or EXTRAS", s.product_id_line, "PRODUCT_ID")
 

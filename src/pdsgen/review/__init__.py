@@ -1,0 +1,79 @@
+"""The review page of a delivery (or any directory of products): what it holds, seen at a
+glance in a browser - summary, footprints on a map of the body, each product's previews,
+label facts, index row, files and findings - as one self-contained, offline HTML file.
+
+`write_review` is the API behind `pdsgen review` (and what `pdsgen deliver` calls);
+`HtmlWriter` is `pdsgen validate --format html`. Nothing else imports this package.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..deliver.layout import MANIFEST, REVIEW_PAGE
+from ..deliver.scan import scan, walk
+from ..errors import InputError, OutputError
+from ..validate.runner import iter_reports
+from .collect import review_directory
+from .page import INLINE_THUMBNAILS, HtmlWriter, render_page
+
+__all__ = ["HtmlWriter", "ReviewResult", "write_review"]
+
+
+@dataclass
+class ReviewResult:
+    path: Path
+    products: int
+    outlines: int
+    errors: int
+    warnings: int
+    info: int
+
+
+def write_review(directory: str | os.PathLike[str], page: str | os.PathLike[str] | None = None,
+                 labels_only: bool = False, jobs: int = 1, shown_as: str | None = None,
+                 inline_thumbnails: int = INLINE_THUMBNAILS) -> ReviewResult:
+    """Check the products of `directory` (as `pdsgen validate` does, the delivery's index,
+    inventories and manifest too) and write the review page (default DIRECTORY/REVIEW.html).
+
+    labels_only: the checks read the labels and the delivery's own files, not the data (what
+    `pdsgen deliver` does: its products were checked when they were made; `pdsgen review` opens
+    the data). inline_thumbnails: how many products' thumbnails are in the HTML itself (the rest
+    are built as their entries are scrolled near). shown_as: the directory's name on the page (a
+    delivery is reviewed before it is moved into place). The page is written under a temporary
+    name and renamed when complete."""
+    root = Path(directory)
+    if not root.is_dir():
+        raise InputError(root, "not a directory of products")
+    target = Path(page) if page is not None else root / REVIEW_PAGE
+    if target.is_dir():
+        raise OutputError(target, "is a directory; give the page's file name")
+    if not target.parent.is_dir():
+        raise OutputError(target, "its directory does not exist")
+    found = scan(root)
+    if not found.products:
+        raise InputError(root, "holds no data product (no PDS3 or PDS4 product label)")
+    reports = list(iter_reports([root], labels_only=labels_only, jobs=jobs))
+    shown = shown_as or str(root)
+    title = Path(shown).resolve().name + (" (delivery)" if (root / MANIFEST).is_file() else "")
+    review = review_directory(root, found.products, found.previews, reports, target.parent, title)
+    review.source, review.labels_only = shown, labels_only
+    for path in walk(root):
+        if path.resolve() != target.resolve():
+            review.files += 1
+            review.total_bytes += path.stat().st_size
+    counts = review.counts()
+    review.verdict = (f"{len(reports)} file(s) checked: {counts['error']} error(s), {counts['warning']} "
+                      f"warning(s), {counts['info']} info - {'FAILED' if counts['error'] else 'OK'}")
+    text = render_page(review, inline_thumbnails)
+    partial = target.with_name(f".{target.name}.partial")
+    try:
+        partial.write_text(text, encoding="utf-8")
+        os.replace(partial, target)
+    except OSError as exc:
+        partial.unlink(missing_ok=True)
+        raise OutputError(target, f"cannot write the page ({exc.strerror or exc})") from None
+    return ReviewResult(target, len(review.products), sum(p.outline is not None for p in review.products),
+                        counts["error"], counts["warning"], counts["info"])

@@ -1,0 +1,65 @@
+"""A delivery's INDEX.TAB rows, read as its INDEX.LBL describes them (the columns' names,
+START_BYTE and BYTES), for showing each product's row; the validator's DLV rules are the
+ones that judge the table."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..deliver.scan import read_pds3_label
+
+
+@dataclass
+class IndexTable:
+    columns: list[tuple[str, int, int]]  # (NAME, START_BYTE (1-based), BYTES)
+    by_file: dict[str, str]  # FILE_SPECIFICATION_NAME (upper case) -> the row
+    by_id: dict[str, str]  # PRODUCT_ID (upper case) -> the row
+
+    @classmethod
+    def read(cls, label_path: Path) -> IndexTable | None:
+        """The table, or None when there is none or it cannot be read as labelled."""
+        try:
+            root = read_pds3_label(label_path) if label_path.is_file() else None
+        except OSError:
+            return None
+        if root is None:
+            return None
+        table = next((b for b in root.walk() if b.kind == "OBJECT" and b.name.upper().endswith("TABLE")), None)
+        if table is None:
+            return None
+        columns: list[tuple[str, int, int]] = []
+        for block in table.blocks("COLUMN"):
+            start, size = block.number("START_BYTE"), block.number("BYTES")
+            if isinstance(start, int) and isinstance(size, int):
+                columns.append(((block.text("NAME") or "").upper(), start, size))
+        pointer = next((s for s in root.statements() if s.pointer and s.keyword.upper().endswith("TABLE")), None)
+        name = pointer.value.text if pointer is not None and pointer.value.items is None else "INDEX.TAB"
+        result = cls(columns, {}, {})
+        try:
+            with open(label_path.parent / name, "rb") as stream:
+                for line in stream:
+                    result._add(line.rstrip(b"\r\n").decode("latin-1"))
+        except OSError:
+            return None
+        return result
+
+    def _add(self, line: str) -> None:
+        values = {name: line[start - 1:start - 1 + size].strip().strip('"').strip()
+                  for name, start, size in self.columns}
+        if values.get("FILE_SPECIFICATION_NAME"):
+            self.by_file[values["FILE_SPECIFICATION_NAME"].upper()] = line
+        if values.get("PRODUCT_ID"):
+            self.by_id[values["PRODUCT_ID"].upper()] = line
+
+    @property
+    def header(self) -> str:
+        """The column names, each at its START_BYTE, to stand above a row as the table holds it."""
+        text = ""
+        for name, start, _ in self.columns:
+            text = text.ljust(start - 1) + name + " "
+        return text.rstrip()
+
+    def row_for(self, label: str, product_id: str) -> str | None:
+        """The product's row as the table holds it (without its CR LF)."""
+        return self.by_file.get(label.upper()) or self.by_id.get(product_id.upper())

@@ -1,0 +1,160 @@
+"""What a reviewer checks in a PDS3 label, read with the validator's label reader.
+
+The label tree is the validator's (`validate.model.Block`, read up to END by
+`deliver.scan.read_pds3_label`); the functions that need a label as a mapping
+(the Extras' label georeferencing and kind decision) get a read-only view of the
+same tree, so no second reader or grammar is involved.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..deliver.scan import label_value
+from ..missions import LabelFacts, detect_mission
+from ..validate.model import Block, Value
+
+# Label keywords shown for each product, in this order: (keyword, what the page calls it).
+MAP_KEYWORDS = (
+    ("MAP_PROJECTION_TYPE", "projection"),
+    ("MAP_SCALE", "scale"),
+    ("MAP_RESOLUTION", "resolution"),
+    ("MINIMUM_LATITUDE", "minimum latitude"),
+    ("MAXIMUM_LATITUDE", "maximum latitude"),
+    ("WESTERNMOST_LONGITUDE", "westernmost longitude"),
+    ("EASTERNMOST_LONGITUDE", "easternmost longitude"),
+)
+_IMAGE_OBJECTS = ("IMAGE", "UNCOMPRESSED_FILE")
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """A number with its unit, as the label mappings of extras/ expect (pvl's shape)."""
+
+    value: float
+    units: str | None
+
+
+class LabelView(Mapping[str, Any]):
+    """A block of the validator's label tree as a read-only mapping: keywords to values
+    (numbers as Quantity, text as str), OBJECT/GROUP names to nested views."""
+
+    def __init__(self, block: Block) -> None:
+        self._block = block
+
+    def _keys(self) -> list[str]:
+        keys = [s.keyword.upper() for s in self._block.statements() if not s.pointer]
+        return keys + [b.name.upper() for b in self._block.blocks()]
+
+    def __getitem__(self, key: str) -> Any:
+        value = self._block.value(key)
+        if value is not None:
+            return _plain(value)
+        child = next(self._block.blocks(key), None)
+        if child is None:
+            raise KeyError(key)
+        return LabelView(child)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(dict.fromkeys(self._keys()))
+
+    def __len__(self) -> int:
+        return len(dict.fromkeys(self._keys()))
+
+
+def _plain(value: Value) -> Any:
+    if value.items is not None:
+        return [_plain(item) for item in value.items]
+    if value.is_number:
+        return Quantity(float(value.number), value.unit)
+    return value.text
+
+
+@dataclass
+class LabelFactsShown:
+    """The facts of one label the page shows, as text, and what the map needs."""
+
+    product_id: str
+    rows: list[tuple[str, str]] = field(default_factory=list)  # (what, value as written)
+    projection: str | None = None
+    target: str | None = None
+    profile: str = "generic"
+    kind: str = "product"
+    lines: int | None = None
+    samples: int | None = None
+
+
+def image_block(root: Block) -> Block | None:
+    """The label's IMAGE object (at the top, or the uncompressed file's of a JP2 label)."""
+    for block in root.walk():
+        if block is not root and block.name.upper() == "IMAGE" and block.kind == "OBJECT":
+            return block
+    return None
+
+
+def projection_block(root: Block) -> Block | None:
+    return next(iter(root.find("IMAGE_MAP_PROJECTION")), None) or next(
+        iter(root.find("IMAGE_MAP_PROJECTION_CATALOG")), None)
+
+
+def _written(value: Value | None) -> str | None:
+    if value is None:
+        return None
+    text = value.raw if value.items is None and value.kind != "string" else str(value.text)
+    return f"{text} <{value.unit}>" if value.unit else text
+
+
+def read_facts(root: Block, path: Path) -> LabelFactsShown:
+    """The facts a reviewer checks: id, size, projection, scale, bounds, extremes, creation time,
+    data set; the profile (mission) as pdsgen's mission detection names it; DTM or image."""
+    facts = LabelFactsShown(label_value(root, "PRODUCT_ID") or path.stem)
+    image = image_block(root)
+    if image is not None:
+        lines, samples = image.number("LINES"), image.number("LINE_SAMPLES")
+        facts.lines = int(lines) if isinstance(lines, int) else None
+        facts.samples = int(samples) if isinstance(samples, int) else None
+        if facts.lines is not None and facts.samples is not None:
+            bands = image.number("BANDS")
+            facts.rows.append(("lines x samples", f"{facts.lines} x {facts.samples}"
+                               + (f" x {int(bands)} bands" if isinstance(bands, int) and bands > 1 else "")))
+    projection = projection_block(root)
+    if projection is not None:
+        for keyword, what in MAP_KEYWORDS:
+            written = _written(projection.value(keyword))
+            if written is not None:
+                facts.rows.append((what, written))
+        facts.projection = projection.text("MAP_PROJECTION_TYPE")
+    if image is not None:
+        for low, high in (("VALID_MINIMUM", "VALID_MAXIMUM"), ("MINIMUM", "MAXIMUM")):
+            if image.value(low) is not None or image.value(high) is not None:
+                facts.rows.append(("minimum / maximum",
+                                   f"{_written(image.value(low)) or '-'} / {_written(image.value(high)) or '-'}"))
+                break
+    for keyword, what in (("PRODUCT_CREATION_TIME", "created"), ("DATA_SET_ID", "data set"),
+                          ("TARGET_NAME", "target")):
+        text = label_value(root, keyword)
+        if text is not None:
+            facts.rows.append((what, text))
+    facts.target = (label_value(root, "TARGET_NAME") or "").upper() or None
+    facts.profile = detect_mission(LabelFacts(
+        instrument_id=(label_value(root, "INSTRUMENT_ID") or "").upper(),
+        data_set_id=(label_value(root, "DATA_SET_ID") or "").upper(),
+        group_names=frozenset(b.name.upper() for b in root.walk() if b is not root),
+        file_name=path.name)) or "generic"
+    facts.kind = _kind(root, image, path)
+    return facts
+
+
+def _kind(root: Block, image: Block | None, path: Path) -> str:
+    """DTM or orthoimage, decided as the Extras decide it (from the label alone)."""
+    from ..extras.kind import DTM, decide_kind
+
+    try:
+        decision = decide_kind(LabelView(root), LabelView(image) if image is not None else {}, {}, path,
+                               lambda: None)
+    except Exception:  # a label the decision cannot place is shown as a plain product
+        return "product"
+    return "DTM" if decision.kind == DTM else "orthoimage"

@@ -1,0 +1,117 @@
+"""The review page: one self-contained HTML file, from templates/review/.
+
+Offline by construction: the style and the script are inlined, and the page's
+Content-Security-Policy (a meta element) allows exactly those two by their SHA-256
+hashes and images from the page's own origin (the previews, linked relatively), and
+nothing else - no request to the network can be made from it. The page is complete
+without the script (the filters are hidden until it runs), and prints without the
+controls. Long lists stay quick: each product's entry is laid out only when scrolled
+near (CSS content-visibility), thumbnails load lazily and the larger previews only
+when opened.
+"""
+
+from __future__ import annotations
+
+import base64
+import datetime
+import hashlib
+import html
+import os
+from functools import cache
+from pathlib import Path
+from typing import IO
+
+import jinja2
+from markupsafe import Markup
+
+from .. import __version__
+from ..resources import templates_dir
+from ..validate.model import SEVERITIES
+from ..validate.report import FileReport, Tally, Writer
+from .collect import Review, review_reports
+from .mapview import build_views
+
+PAGE_TEMPLATE = "page.html.j2"
+
+
+@cache
+def _environment() -> jinja2.Environment:
+    env = jinja2.Environment(loader=jinja2.FileSystemLoader(str(templates_dir() / "review")),
+                             autoescape=True, trim_blocks=True, lstrip_blocks=True,
+                             undefined=jinja2.StrictUndefined)
+    env.filters["size"] = human_size
+    env.filters["text"] = text_content
+    return env
+
+
+def text_content(value: str) -> Markup:
+    """Text for an element's content: <, > and & escaped; quotes need not be (index rows are full
+    of them, and a page of 10,000 rows is smaller without &#34;)."""
+    return Markup(html.escape(str(value), quote=False))
+
+
+def human_size(size: int) -> str:
+    if size < 0:
+        return "missing"
+    value = float(size)
+    for unit in ("B", "KiB", "MiB", "GiB"):
+        if value < 1024 or unit == "GiB":
+            return f"{value:.0f} {unit}" if unit == "B" else f"{value:.1f} {unit}"
+        value /= 1024
+    return f"{value:.1f} TiB"
+
+
+def _hash(text: str) -> str:
+    return "'sha256-" + base64.b64encode(hashlib.sha256(text.encode("utf-8")).digest()).decode("ascii") + "'"
+
+
+def content_security_policy(style: str, script: str) -> str:
+    """Nothing but the page's own style and script, and images from its own origin."""
+    return (f"default-src 'none'; img-src 'self'; style-src {_hash(style)}; script-src {_hash(script)}; "
+            "base-uri 'none'; form-action 'none'")
+
+
+# Thumbnails of the first products are in the HTML itself; further ones are built by the script
+# as their entries come near the screen (without scripts: their names, and links to the images).
+INLINE_THUMBNAILS = 200
+
+
+def render_page(review: Review, inline_thumbnails: int = INLINE_THUMBNAILS) -> str:
+    for number, product in enumerate(review.products):
+        product.inline = number < inline_thumbnails
+    env = _environment()
+    style = (templates_dir() / "review" / "review.css").read_text(encoding="utf-8")
+    script = (templates_dir() / "review" / "review.js").read_text(encoding="utf-8")
+    outlines = [(p.product_id, p.anchor, p.target or "UNKNOWN BODY", p.outline)
+                for p in review.products if p.outline is not None]
+    return env.get_template(PAGE_TEMPLATE).render(
+        review=review, views=build_views(outlines), counts=review.counts(), severities=SEVERITIES,
+        style=style, script=script, csp=content_security_policy(style, script), version=__version__,
+        made=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
+        without_outline=[p for p in review.products if p.outline is None])
+
+
+def page_directory(out: IO[str]) -> Path:
+    """Where a page written to `out` lies (its links are relative to it): the file's directory,
+    or the working directory for standard output."""
+    name = getattr(out, "name", None)
+    if isinstance(name, str) and os.path.isfile(name):
+        return Path(name).resolve().parent
+    return Path.cwd()
+
+
+class HtmlWriter(Writer):
+    """`pdsgen validate --format html`: the review page of the labels checked (each label with a
+    PRODUCT_ID a product), written when the run ends."""
+
+    def start(self) -> None:
+        self.reports: list[FileReport] = []
+
+    def file(self, report: FileReport, failed: bool) -> None:
+        self.reports.append(report)
+
+    def finish(self, tally: Tally) -> None:
+        review = review_reports(self.reports, page_directory(self.out), "labels checked by pdsgen validate")
+        review.files = tally.files
+        review.verdict = tally.summary_line()
+        self.out.write(render_page(review))
