@@ -16,6 +16,7 @@ from ..errors import ParamsError, param
 from ..label.grammar import PLACEHOLDERS
 from ..missions import ContextReference, LabelFacts, detect_mission, get_mission
 from ..pds4.context import TARGETS
+from ..pds4.context_registry import is_registered
 from ..validate.model import Block
 from .mapping import PROCESSING_LEVELS
 
@@ -118,9 +119,9 @@ def observation(root: Block, label_name: str) -> dict[str, object]:
         investigation, components = pds4.investigation, list(pds4.observing_system)
     else:
         investigation = get_mission("generic").pds4.investigation
-        if mission:
-            investigation = {"name": _title(mission), "type": "Mission",
-                             "lid": f"urn:nasa:pds:context:investigation:mission.{lid_part(mission)}",
+        mission_lid = f"urn:nasa:pds:context:investigation:mission.{lid_part(mission)}" if mission else ""
+        if mission_lid and is_registered(mission_lid):  # a LID PDS has not registered would not resolve
+            investigation = {"name": _title(mission), "type": "Mission", "lid": mission_lid,
                              "reference_type": "data_to_investigation"}
         components = []
         if host:
