@@ -53,7 +53,6 @@ def _outcome(result: Delivery) -> Outcome:
                      f"{len(result.changed)} product(s) new or with a new version")
     lines.append(f"CHECK    pdsgen validate {result.path}")
     lines.append(f"REVIEW   {result.path / REVIEW_PAGE} (open it in a browser; not in the manifest)")
-    lines.append(f"REVIEW   {result.path / REVIEW_PAGE} (open it in a browser; not in the manifest)")
     summary = {"command": "deliver", "path": str(result.path), "dialect": result.dialect,
                "products": result.products, "previews": result.previews, "documents": result.documents,
                "files": result.files, "volume_id": result.volume_id, "bundle_lid": result.bundle_lid,

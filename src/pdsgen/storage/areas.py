@@ -216,7 +216,10 @@ def tree_area(outdir: str | os.PathLike[str], order: Callable[[str], int] | None
     objects.check_bucket(location, reading=False)
     staging = _staging_directory()
     try:
-        area = OutputArea(staging / "tree", location)
+        # the copy has the prefix's own name: what the tree says of itself (a review page's
+        # title) is what it says on disk
+        name = location.prefix.rstrip("/").rpartition("/")[2] or location.bucket
+        area = OutputArea(staging / "tree" / name, location)
         previous = staging / "previous"
         for item in objects.list_objects(location):
             objects.download(item.location, previous / relative_name(item.location, location))
