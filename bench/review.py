@@ -9,7 +9,8 @@ Usage: python bench/review.py [--products 10000] [--repeat 1] [--no-demo]
   by pdsgen's writer), one 8 x 8 float image each, spread over Mars on a grid of latitudes and
   longitudes, each with a thumbnail JPEG; made a volume by `pdsgen deliver`, then the same pair;
 - loading: headless Chromium on the page's file URL (to the end of the load, scripts run and
-  the first screenful drawn: --screenshot) beside the same on a blank page.
+  the first screenful drawn: --screenshot) beside the same on a blank page; for a review in
+  pages, the first page (summary, map of every footprint, first products) and a later one.
 Each command runs in a fresh process (bench/_measure.py): wall time, CPU time and peak RSS.
 """
 
@@ -102,24 +103,37 @@ def _chromium(page: Path, profile: Path, shot: Path) -> list[str]:
             page.resolve().as_uri()]
 
 
-def review_pair(pdsgen: str, delivery: Path, repeat: int, count: int, title: str) -> Path:
+def review_pair(pdsgen: str, delivery: Path, repeat: int, count: int, title: str, baseline: bool) -> list[Path]:
+    """Time `pdsgen review` (beside `validate --format json` unless baseline is False); the pages."""
     page = delivery.parent / f"{delivery.name}-review.html"
     ours = best_of([pdsgen, "review", str(delivery), "-o", str(page), "--quiet"], repeat, [str(page)])
-    baseline = best_of(["sh", "-c", f"'{pdsgen}' validate '{delivery}' --format json > /dev/null; "
-                                    "test $? -le 1"], repeat, [])
-    report(title, [("pdsgen review (checks + page)", ours), ("pdsgen validate --format json", baseline)], count)
-    print(f"  page: {page.stat().st_size / 1e6:.1f} MB")
-    return page
+    if baseline:
+        other = best_of(["sh", "-c", f"'{pdsgen}' validate '{delivery}' --format json > /dev/null; "
+                                     "test $? -le 1"], repeat, [])
+        report(title, [("pdsgen review (checks + page)", ours), ("pdsgen validate --format json", other)], count)
+    else:
+        print(f"{title}\n  pdsgen review (checks + page): wall {ours.seconds:.2f} s, CPU {ours.cpu_seconds:.2f} s, "
+              f"peak {ours.peak_mb:.1f} MB")
+    pages = [page] + sorted(page.parent.glob(f"{page.stem}-*.html"), key=lambda p: int(p.stem.rsplit("-", 1)[1]))
+    sizes = [p.stat().st_size / 1e6 for p in pages]
+    print(f"  {len(pages)} page(s): the first {sizes[0]:.2f} MB, the others up to {max(sizes[1:] or [0]):.2f} MB, "
+          f"{sum(sizes):.1f} MB in all")
+    return pages
 
 
-def load_pair(page: Path, repeat: int, count: int, work: Path) -> None:
+def load_pair(pages: list[Path], repeat: int, count: int, work: Path) -> None:
     blank = work / "blank.html"
     blank.write_text("<!DOCTYPE html><title>blank</title>")
     profile, shot = work / "chromium-profile", work / "shot.png"
-    ours = best_of(_chromium(page, profile, shot), repeat, [str(profile), str(shot)])
+    rows = [("the review page" if len(pages) == 1 else f"the first page ({pages[0].name})",
+             best_of(_chromium(pages[0], profile, shot), repeat, [str(profile), str(shot)]))]
     baseline = best_of(_chromium(blank, profile, shot), repeat, [str(profile), str(shot)])
-    report(f"Chromium loads the page ({count} products; headless, to the first screenful)",
-           [("the review page", ours), ("a blank page", baseline)], count)
+    rows.append(("a blank page", baseline))
+    if len(pages) > 1:
+        later = pages[len(pages) // 2]
+        rows.append((f"a later page ({later.name})", best_of(_chromium(later, profile, shot), repeat,
+                                                               [str(profile), str(shot)])))
+    report(f"Chromium loads the page ({count} products; headless, to the first screenful)", rows, count)
 
 
 def main() -> None:
@@ -127,6 +141,8 @@ def main() -> None:
     parser.add_argument("--products", type=int, default=10000)
     parser.add_argument("--repeat", type=int, default=1)
     parser.add_argument("--no-demo", action="store_true", help="only the synthetic products")
+    parser.add_argument("--no-baseline", action="store_true",
+                        help="time review alone (not validate --format json beside it)")
     args = parser.parse_args()
     pdsgen = str(Path(sys.executable).with_name("pdsgen"))
     with tempfile.TemporaryDirectory(prefix="pdsgen-bench-review-") as tmp:
@@ -135,14 +151,15 @@ def main() -> None:
             subprocess.run([pdsgen, "demo", str(work / "demo"), "--quiet"], check=True)
             subprocess.run([pdsgen, "deliver", str(work / "demo"), "-o", str(work / "demo-volume"), "--pds3",
                             "--volume-id", "DEMO_0001", "--quiet"], check=True)
-            page = review_pair(pdsgen, work / "demo-volume", args.repeat, 2, "Demo delivery: the review page")
-            load_pair(page, args.repeat, 2, work)
+            pages = review_pair(pdsgen, work / "demo-volume", args.repeat, 2, "Demo delivery: the review page",
+                                not args.no_baseline)
+            load_pair(pages, args.repeat, 2, work)
         make_products(work / "synthetic", args.products)
         subprocess.run([pdsgen, "deliver", str(work / "synthetic"), "-o", str(work / "volume"), "--pds3",
                         "--volume-id", "SYN_0001", "--quiet"], check=True)
-        page = review_pair(pdsgen, work / "volume", args.repeat, args.products,
-                           f"{args.products} small products: the review page")
-        load_pair(page, args.repeat, args.products, work)
+        pages = review_pair(pdsgen, work / "volume", args.repeat, args.products,
+                            f"{args.products} small products: the review page", not args.no_baseline)
+        load_pair(pages, args.repeat, args.products, work)
         os.sync()
 
 

@@ -435,3 +435,81 @@ def test_thumbnails_beyond_the_first_are_built_as_their_entry_is_scrolled_near(d
         assert browser.evaluate(opened)
     finally:
         browser.close()
+
+
+def _small_pds3_product(directory: Path, number: int) -> str:
+    """A detached PDS3 label of a 4 x 4 equirectangular PC_REAL image over Mars, written here from
+    the PDS3 Standards' keywords (offsets by the standard convention), not by pdsgen's writer."""
+    product_id = f"SMALL_{number:03d}"
+    radius_m, scale, posts = 3396190.0, 1000.0, 4
+    lat, lon = -30.0 + 10.0 * (number // 4), 20.0 + 15.0 * (number % 4)
+    deg = math.degrees(scale / radius_m)
+    label = [
+        "PDS_VERSION_ID = PDS3", "RECORD_TYPE = FIXED_LENGTH", f"RECORD_BYTES = {posts * 4}",
+        f"FILE_RECORDS = {posts}", f'^IMAGE = "{product_id}.IMG"', f'PRODUCT_ID = "{product_id}"',
+        'DATA_SET_ID = "SMALL-M-DTM-V1.0"', "TARGET_NAME = MARS", "PRODUCT_CREATION_TIME = 2026-01-01T00:00:00",
+        'INSTRUMENT_ID = "SMALL"', "OBJECT = IMAGE", f"  LINES = {posts}", f"  LINE_SAMPLES = {posts}",
+        "  BANDS = 1", "  SAMPLE_TYPE = PC_REAL", "  SAMPLE_BITS = 32", "  UNIT = METER",
+        "  VALID_MINIMUM = -4000.0", f"  VALID_MAXIMUM = {-4000.0 + posts * posts - 1:.1f}", "END_OBJECT = IMAGE",
+        "OBJECT = IMAGE_MAP_PROJECTION", '  MAP_PROJECTION_TYPE = "EQUIRECTANGULAR"',
+        f"  A_AXIS_RADIUS = {radius_m / 1000} <KM>", f"  B_AXIS_RADIUS = {radius_m / 1000} <KM>",
+        f"  C_AXIS_RADIUS = {radius_m / 1000} <KM>", "  POSITIVE_LONGITUDE_DIRECTION = EAST",
+        "  CENTER_LATITUDE = 0.0 <DEG>", "  CENTER_LONGITUDE = 0.0 <DEG>", f"  MAP_SCALE = {scale} <METERS/PIXEL>",
+        f"  MAP_RESOLUTION = {1.0 / deg:.10f} <PIX/DEG>", f"  MAXIMUM_LATITUDE = {lat:.10f} <DEG>",
+        f"  MINIMUM_LATITUDE = {lat - posts * deg:.10f} <DEG>", f"  WESTERNMOST_LONGITUDE = {lon:.10f} <DEG>",
+        f"  EASTERNMOST_LONGITUDE = {lon + posts * deg:.10f} <DEG>",
+        f"  LINE_PROJECTION_OFFSET = {math.radians(lat) * radius_m / scale - 0.5:.4f} <PIXEL>",
+        f"  SAMPLE_PROJECTION_OFFSET = {-math.radians(lon) * radius_m / scale - 0.5:.4f} <PIXEL>",
+        "END_OBJECT = IMAGE_MAP_PROJECTION", "END", ""]
+    (directory / f"{product_id}.LBL").write_bytes("\r\n".join(label).encode("ascii"))
+    (directory / f"{product_id}.IMG").write_bytes((-4000.0 + np.arange(posts * posts, dtype="<f4")).tobytes())
+    return product_id
+
+
+def test_a_large_delivery_is_reviewed_in_pages_each_product_on_exactly_one(tmp_path):
+    """Seven products, three per page: REVIEW.html (summary, map, first three), REVIEW-2.html,
+    REVIEW-3.html. In Chromium, after the script ran, every product id is on exactly one page, every
+    footprint's link on the first page reaches an entry on the page it names, every finding's rule
+    is on some page; the delivery's manifest check takes every page as the delivery's own, and a
+    review in fewer pages removes the pages it no longer has."""
+    from pdsgen.deliver.scan import scan
+    from pdsgen.review import write_review
+
+    products = tmp_path / "products"
+    products.mkdir()
+    made = {_small_pds3_product(products, number) for number in range(7)}
+    volume = tmp_path / "volume"
+    make_delivery(products, volume, dialect="pds3", volume_id="PAGED_01")
+    assert set(_index_product_ids(volume)) == made
+    assert not list(volume.glob("REVIEW-*.html")), "seven products fit in one page by default"
+
+    result = write_review(volume, labels_only=True, per_page=3)
+    assert [p.name for p in result.pages] == ["REVIEW.html", "REVIEW-2.html", "REVIEW-3.html"]
+    doms = {p.name: dom_after_scripts(p) for p in result.pages}
+    pages_of: dict[str, list[str]] = {}
+    for name, dom in doms.items():
+        for article in dom.xpath("//article[@data-product]"):
+            pages_of.setdefault(article.get("data-product"), []).append(name)
+        assert len(dom.xpath("//article[@data-product]")) <= 3
+        for link in dom.xpath("//nav[@class='pages']//a/@href"):
+            assert (volume / link).is_file(), "the pages link each other"
+    assert set(pages_of) == made and all(len(names) == 1 for names in pages_of.values()), pages_of
+    links = [a.get("href") for a in doms["REVIEW.html"].xpath("//*[local-name()='svg']//*[local-name()='a']")]
+    assert len(links) == len(made), "the first page maps every footprint"
+    for link in links:
+        name, _, anchor = link.partition("#")
+        dom = doms[name or "REVIEW.html"]
+        entry = dom.xpath(f"//article[@id='{anchor}']")
+        assert entry and pages_of[entry[0].get("data-product")] == [name or "REVIEW.html"], link
+    rules = {f.rule for f in validate_paths([volume], labels_only=True).findings}
+    assert rules <= {row.get("data-rule") for dom in doms.values() for row in dom.xpath("//tr[@data-rule]")}
+    assert doms["REVIEW-2.html"].get_element_by_id("filters").get("hidden") is None, "filters on every page"
+    assert not doms["REVIEW-2.html"].xpath("//*[local-name()='svg']"), "the map is on the first page only"
+
+    report = validate_paths([volume])
+    assert not [f for f in report.findings if f.rule.startswith("DLV-02")], "no page is taken as unlisted"
+    assert not [p for p in scan(volume).others if p.name.startswith("REVIEW")]
+
+    again = write_review(volume, labels_only=True, per_page=4)
+    assert [p.name for p in again.pages] == ["REVIEW.html", "REVIEW-2.html"]
+    assert not (volume / "REVIEW-3.html").exists(), "a page of the earlier review is removed"

@@ -12,7 +12,8 @@
   var rows = Array.prototype.slice.call(document.querySelectorAll("tr.finding"));
   var entries = Array.prototype.slice.call(document.querySelectorAll("article.entry"));
   var outlines = {};
-  Array.prototype.forEach.call(document.querySelectorAll(".footprints a"), function (a) {
+  // (outlines of products on other pages of a large delivery link there: not filtered here)
+  Array.prototype.forEach.call(document.querySelectorAll(".footprints a[href^='#']"), function (a) {
     outlines[a.getAttribute("href").slice(1)] = a;
   });
 

@@ -20,14 +20,19 @@ def review(directory, page, labels_only, jobs) -> Outcome:
     """Check DIRECTORY's products as `pdsgen validate` does and write one self-contained HTML page
     to look at them: summary, footprints on a map of the body, and per product its previews,
     label facts, index row, files and findings (filterable). The page opens offline, from the
-    delivery, in any browser.
+    delivery, in any browser. A delivery of more than 500 products is reviewed in pages
+    (REVIEW.html with the summary and the map, then REVIEW-2.html ...), each quick to open.
     """
     from ..review import write_review
 
     result = write_review(directory, page, labels_only=labels_only, jobs=jobs)
     lines = [f"REVIEW   {result.path}: {result.products} product(s), {result.outlines} footprint(s); "
              f"{result.errors} error(s), {result.warnings} warning(s), {result.info} info"]
-    summary = {"command": "review", "path": str(result.path), "products": result.products,
+    if len(result.pages) > 1:
+        lines.append(f"PAGES    {len(result.pages)}: {result.pages[0].name}, then {result.pages[1].name} ... "
+                     f"{result.pages[-1].name} beside it")
+    summary = {"command": "review", "path": str(result.path), "pages": [str(p) for p in result.pages],
+               "products": result.products,
                "footprints": result.outlines, "errors": result.errors, "warnings": result.warnings,
                "info": result.info}
     return Outcome(lines, summary)

@@ -26,6 +26,14 @@ MANIFEST = "MD5SUMS.TXT"
 # The review page (pdsgen review), written after the manifest and not listed in it: it shows
 # whether the manifest checks, and is remade by every run.
 REVIEW_PAGE = "REVIEW.html"
+# A delivery of many products has its review in pages: REVIEW.html, then REVIEW-2.html ...
+_REVIEW_PAGES = re.compile(r"REVIEW(?:-[1-9][0-9]*)?\.html")
+
+
+def is_review_page(name: str) -> bool:
+    """A page of the delivery's review (REVIEW.html, REVIEW-2.html ...): made by every run, never
+    in the manifest."""
+    return _REVIEW_PAGES.fullmatch(name) is not None
 
 
 

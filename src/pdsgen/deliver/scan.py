@@ -33,7 +33,7 @@ _LABEL_LIMIT = 4 << 20
 _PRODUCT_CLASS = re.compile(rb"<product_class>\s*(Product_\w+)\s*</product_class>")
 _FILE_NAME = re.compile(r"<file_name>\s*([^<]+?)\s*</file_name>")
 _MADE_CLASSES = {b"Product_Bundle", b"Product_Collection", b"Product_Browse", b"Product_Document"}
-_MADE_NAMES = {layout.VOLDESC, layout.AAREADME, layout.MANIFEST, layout.REVIEW_PAGE}
+_MADE_NAMES = {layout.VOLDESC, layout.AAREADME, layout.MANIFEST}
 _DOCUMENTS = {"README.TXT", "JP2INFO.TXT"}
 # The keywords a delivery takes from a PDS3 label: the index columns' and the volume's producer.
 KEPT_KEYWORDS = tuple(name for name, _, _ in layout.INDEX_COLUMNS[2:]) + ("PRODUCER_INSTITUTION_NAME",)
@@ -153,7 +153,7 @@ class SourceSet:
 def is_made_by_delivery(path: Path, relative: Path) -> bool:
     """Files a delivery writes: made anew by every run, never taken as products."""
     parts = relative.parts
-    if len(parts) == 1 and relative.name in _MADE_NAMES:
+    if len(parts) == 1 and (relative.name in _MADE_NAMES or layout.is_review_page(relative.name)):
         return True
     if parts[0] == layout.INDEX_DIR and relative.name in (layout.INDEX_TABLE, layout.INDEX_LABEL):
         return True

@@ -9,7 +9,8 @@ label facts, index row, files and findings - as one self-contained, offline HTML
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+import re
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..deliver.layout import MANIFEST, REVIEW_PAGE
@@ -17,7 +18,7 @@ from ..deliver.scan import scan, walk
 from ..errors import InputError, OutputError
 from ..validate.runner import iter_reports
 from .collect import review_directory
-from .page import INLINE_THUMBNAILS, HtmlWriter, render_page
+from .page import INLINE_THUMBNAILS, PRODUCTS_PER_PAGE, HtmlWriter, render_pages
 
 __all__ = ["HtmlWriter", "ReviewResult", "write_review"]
 
@@ -30,20 +31,22 @@ class ReviewResult:
     errors: int
     warnings: int
     info: int
+    pages: list[Path] = field(default_factory=list)  # every page written, the first (`path`) first
 
 
 def write_review(directory: str | os.PathLike[str], page: str | os.PathLike[str] | None = None,
                  labels_only: bool = False, jobs: int = 1, shown_as: str | None = None,
-                 inline_thumbnails: int = INLINE_THUMBNAILS) -> ReviewResult:
+                 inline_thumbnails: int = INLINE_THUMBNAILS, per_page: int | None = PRODUCTS_PER_PAGE) -> ReviewResult:
     """Check the products of `directory` (as `pdsgen validate` does, the delivery's index,
     inventories and manifest too) and write the review page (default DIRECTORY/REVIEW.html).
 
     labels_only: the checks read the labels and the delivery's own files, not the data (what
     `pdsgen deliver` does: its products were checked when they were made; `pdsgen review` opens
     the data). inline_thumbnails: how many products' thumbnails are in the HTML itself (the rest
-    are built as their entries are scrolled near). shown_as: the directory's name on the page (a
+    are built as their entries are scrolled near). per_page: products per page (more are reviewed in
+    pages beside the first: REVIEW-2.html ...; None: one page). shown_as: the directory's name on the page (a
     delivery is reviewed before it is moved into place). The page is written under a temporary
-    name and renamed when complete."""
+    name and renamed when complete; pages of an earlier, larger review are removed."""
     root = Path(directory)
     if not root.is_dir():
         raise InputError(root, "not a directory of products")
@@ -61,19 +64,49 @@ def write_review(directory: str | os.PathLike[str], page: str | os.PathLike[str]
     review = review_directory(root, found.products, found.previews, reports, target.parent, title)
     review.source, review.labels_only = shown, labels_only
     for path in walk(root):
-        if path.resolve() != target.resolve():
+        if not _is_page_of(path, target):
             review.files += 1
             review.total_bytes += path.stat().st_size
     counts = review.counts()
     review.verdict = (f"{len(reports)} file(s) checked: {counts['error']} error(s), {counts['warning']} "
                       f"warning(s), {counts['info']} info - {'FAILED' if counts['error'] else 'OK'}")
-    text = render_page(review, inline_thumbnails)
-    partial = target.with_name(f".{target.name}.partial")
-    try:
-        partial.write_text(text, encoding="utf-8")
-        os.replace(partial, target)
-    except OSError as exc:
-        partial.unlink(missing_ok=True)
-        raise OutputError(target, f"cannot write the page ({exc.strerror or exc})") from None
+    pages = render_pages(review, target.name, inline_thumbnails, per_page)
+    written = _write_pages(target.parent, pages)
     return ReviewResult(target, len(review.products), sum(p.outline is not None for p in review.products),
-                        counts["error"], counts["warning"], counts["info"])
+                        counts["error"], counts["warning"], counts["info"], written)
+
+
+def _is_page_of(path: Path, target: Path) -> bool:
+    """Whether `path` is one of the review's pages (target, or target-2 ... beside it)."""
+    same_place = path.parent.resolve() == target.parent.resolve()
+    return same_place and _page_pattern(target.name).fullmatch(path.name) is not None
+
+
+def _page_pattern(first: str) -> re.Pattern[str]:
+    stem, dot, suffix = first.rpartition(".")
+    if not dot:
+        stem, suffix = first, ""
+    return re.compile(re.escape(stem) + r"(?:-[1-9][0-9]*)?" + re.escape(dot + suffix))
+
+
+def _write_pages(directory: Path, pages: list[tuple[str, str]]) -> list[Path]:
+    """Every page under a temporary name, then each renamed; later pages of an earlier review
+    that this one no longer has are removed (their links would lead to old products)."""
+    partials: list[Path] = []
+    try:
+        for name, text in pages:
+            partial = directory / f".{name}.partial"
+            partials.append(partial)
+            partial.write_text(text, encoding="utf-8")
+        for partial, (name, _) in zip(partials, pages, strict=True):
+            os.replace(partial, directory / name)
+    except OSError as exc:
+        for partial in partials:
+            partial.unlink(missing_ok=True)
+        raise OutputError(directory / pages[0][0], f"cannot write the page ({exc.strerror or exc})") from None
+    written = [directory / name for name, _ in pages]
+    pattern = _page_pattern(pages[0][0])
+    for stale in directory.iterdir():
+        if pattern.fullmatch(stale.name) and stale not in written and stale.is_file():
+            stale.unlink()
+    return written

@@ -56,6 +56,12 @@ class ProductEntry:
     index_row: str = ""  # the product's INDEX.TAB row, as the table holds it
     findings: list[Finding] = field(default_factory=list)
     inline: bool = True  # thumbnails in the HTML (else built by the script as the entry is scrolled near)
+    page: str = ""  # the page holding the entry, when not the first (REVIEW-2.html ...)
+
+    @property
+    def link(self) -> str:
+        """The entry's address from the first page (the map's links)."""
+        return f"{self.page}#{self.anchor}"
 
     def count(self, severity: str) -> int:
         return sum(1 for f in self.findings if f.severity == severity)

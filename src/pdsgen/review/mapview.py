@@ -33,7 +33,7 @@ _SIMPLIFY = 0.15  # SVG units: a point closer than this to the line through its 
 @dataclass
 class Shape:
     product_id: str
-    anchor: str
+    link: str  # to its product's entry: #p-... on the first page, REVIEW-2.html#p-... on another
     points: str  # SVG polygon points
 
 
@@ -88,10 +88,10 @@ def view_kind(outline: Outline) -> str:
 
 
 def build_views(outlines: Iterable[tuple[str, str, str, Outline]]) -> list[View]:
-    """(product id, anchor, target, outline) -> one view per target body and projection kind."""
+    """(product id, link to its entry, target, outline) -> one view per target body and projection kind."""
     groups: dict[tuple[str, str], list[tuple[str, str, Outline]]] = {}
-    for product_id, anchor, target, outline in outlines:
-        groups.setdefault((target, view_kind(outline)), []).append((product_id, anchor, outline))
+    for product_id, link, target, outline in outlines:
+        groups.setdefault((target, view_kind(outline)), []).append((product_id, link, outline))
     return [_view(target, kind, members) for (target, kind), members in sorted(groups.items())]
 
 
@@ -102,7 +102,7 @@ def _circular_mean(degrees: list[float]) -> float:
 
 def _view(target: str, kind: str, members: list[tuple[str, str, Outline]]) -> View:
     centre = _circular_mean([float(np.mean(o.lons)) for _, _, o in members]) if kind == "equirectangular" else 0.0
-    planes = [(pid, anchor, *_plane(o, kind, centre)) for pid, anchor, o in members]
+    planes = [(pid, link, *_plane(o, kind, centre)) for pid, link, o in members]
     xmin = min(float(x.min()) for _, _, x, _ in planes)
     xmax = max(float(x.max()) for _, _, x, _ in planes)
     ymin = min(float(y.min()) for _, _, _, y in planes)
@@ -118,9 +118,9 @@ def _view(target: str, kind: str, members: list[tuple[str, str, Outline]]) -> Vi
     else:
         params = {"x0": x0, "y0": y0, "k": k}
     view = View(target, kind, params, round(width, 2), round(height, 2))
-    for pid, anchor, xs, ys in planes:
+    for pid, link, xs, ys in planes:
         sx, sy = (xs - x0) * k, (y0 - ys) * k
-        view.shapes.append(Shape(pid, anchor, _points(sx, sy)))
+        view.shapes.append(Shape(pid, link, _points(sx, sy)))
     view.grid = _graticule(kind, x0, y0, k, width, height, centre)
     if kind == "equirectangular":
         _add_overview(view, planes, centre, x0, y0, width / k, height / k)

@@ -17,6 +17,8 @@ import datetime
 import hashlib
 import html
 import os
+from collections import Counter
+from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 from typing import IO
@@ -71,24 +73,72 @@ def content_security_policy(style: str, script: str) -> str:
             "base-uri 'none'; form-action 'none'")
 
 
-# Thumbnails of the first products are in the HTML itself; further ones are built by the script
-# as their entries come near the screen (without scripts: their names, and links to the images).
+# Thumbnails of each page's first products are in the HTML itself; further ones are built by the
+# script as their entries come near the screen (without scripts: their names, and links to the images).
 INLINE_THUMBNAILS = 200
+# Products per page: a delivery of more is reviewed in pages (the first holds the summary, the map
+# of every footprint and the first products; REVIEW-2.html ... the next ones), each opening in
+# seconds and complete without scripts. Measured (bench/review.py): about 3.4 KB of HTML per product
+# entry, and Chromium's time to open grows with the HTML.
+PRODUCTS_PER_PAGE = 500
 
 
-def render_page(review: Review, inline_thumbnails: int = INLINE_THUMBNAILS) -> str:
-    for number, product in enumerate(review.products):
-        product.inline = number < inline_thumbnails
+def page_names(first: str, count: int) -> list[str]:
+    """The file names of `count` pages: `first` (REVIEW.html), then REVIEW-2.html ..."""
+    stem, dot, suffix = first.rpartition(".")
+    if not dot:
+        stem, suffix = first, ""
+    return [first] + [f"{stem}-{number}{dot}{suffix}" for number in range(2, count + 1)]
+
+
+@dataclass
+class PageRef:
+    number: int
+    name: str
+    first: str  # the first and last product ids on it
+    last: str
+    counts: dict[str, int]  # its findings by severity
+
+
+def render_pages(review: Review, first_name: str = "REVIEW.html", inline_thumbnails: int = INLINE_THUMBNAILS,
+                 per_page: int | None = PRODUCTS_PER_PAGE) -> list[tuple[str, str]]:
+    """The review as (file name, HTML) pages of at most `per_page` products each (None: one page).
+    The first page holds the summary, the map (each footprint linked to its entry on whichever
+    page holds it) and the other files' findings; every page links every other."""
+    products = review.products
+    size = max(1, per_page or len(products) or 1)
+    chunks = [products[start:start + size] for start in range(0, len(products), size)] or [[]]
+    names = page_names(first_name, len(chunks))
+    refs = []
+    for number, (name, chunk) in enumerate(zip(names, chunks, strict=True), 1):
+        for position, product in enumerate(chunk):
+            product.inline = position < inline_thumbnails
+            product.page = "" if number == 1 else name
+        found = Counter(f.severity for p in chunk for f in p.findings)
+        refs.append(PageRef(number, name, chunk[0].product_id if chunk else "", chunk[-1].product_id if chunk else "",
+                            {s: found.get(s, 0) for s in SEVERITIES}))
     env = _environment()
     style = (templates_dir() / "review" / "review.css").read_text(encoding="utf-8")
     script = (templates_dir() / "review" / "review.js").read_text(encoding="utf-8")
-    outlines = [(p.product_id, p.anchor, p.target or "UNKNOWN BODY", p.outline)
-                for p in review.products if p.outline is not None]
-    return env.get_template(PAGE_TEMPLATE).render(
-        review=review, views=build_views(outlines), counts=review.counts(), severities=SEVERITIES,
-        style=style, script=script, csp=content_security_policy(style, script), version=__version__,
-        made=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
-        without_outline=[p for p in review.products if p.outline is None])
+    outlines = [(p.product_id, p.link, p.target or "UNKNOWN BODY", p.outline)
+                for p in products if p.outline is not None]
+    common = dict(review=review, counts=review.counts(), severities=SEVERITIES, style=style, script=script,
+                  csp=content_security_policy(style, script), version=__version__, pages=refs,
+                  made=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"))
+    template = env.get_template(PAGE_TEMPLATE)
+    pages = []
+    for ref, chunk in zip(refs, chunks, strict=True):
+        first = ref.number == 1
+        pages.append((ref.name, template.render(
+            **common, page=ref, products=chunk, views=build_views(outlines) if first else [],
+            without_outline=[p for p in products if p.outline is None] if first else [])))
+    return pages
+
+
+def render_page(review: Review, inline_thumbnails: int = INLINE_THUMBNAILS) -> str:
+    """The review as one page, however many products (`pdsgen validate --format html` writes a
+    stream)."""
+    return render_pages(review, inline_thumbnails=inline_thumbnails, per_page=None)[0][1]
 
 
 def page_directory(out: IO[str]) -> Path:

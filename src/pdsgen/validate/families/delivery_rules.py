@@ -461,7 +461,7 @@ def _check_manifest(root: Path, labels_only: bool, found: list[_Found]) -> None:
                                                  "changed after the manifest was written"))
     for path in _all_files(root):
         name = path.relative_to(root).as_posix()
-        if name not in (layout.MANIFEST, layout.REVIEW_PAGE) and name not in listed:
+        if name != layout.MANIFEST and not layout.is_review_page(name) and name not in listed:
             found.append(_Found("DLV-021", path, f"not listed in {layout.MANIFEST}"))
 
 
