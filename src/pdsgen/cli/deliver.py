@@ -36,7 +36,8 @@ def deliver(directory, dialect, out, volume_id, bundle_lid) -> Outcome:
     with local_inputs([directory] if out is not None else []) as inputs, \
             tree_area(out if out is not None else directory, publication_rank) as area:
         source = inputs.paths[0] if out is not None else area.directory
-        result = make_delivery(source, area.directory, dialect=dialect, volume_id=volume_id, bundle_lid=bundle_lid)
+        result = make_delivery(source, area.directory, dialect=dialect, volume_id=volume_id, bundle_lid=bundle_lid,
+                               shown_as=area.shown(str(area.directory)))
         outcome = _outcome(result)
     return Outcome(area.shown([inputs.shown(line) for line in outcome.lines]), area.shown(outcome.summary),
                    tuple(area.shown(inputs.shown(line)) for line in outcome.warnings))

@@ -133,14 +133,15 @@ class _Previous:
 
 def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | None = None,
                   dialect: str = "pds3", volume_id: str | None = None,
-                  bundle_lid: str | None = None) -> Delivery:
+                  bundle_lid: str | None = None, shown_as: str | None = None) -> Delivery:
     """Make (or bring up to date) a delivery of the products in `source`.
 
     dialect: "pds3" (volume: DATA/, EXTRAS/, INDEX/, VOLDESC.CAT, AAREADME.TXT), "pds4"
     (bundle: Product_Bundle, data/browse/document collections with inventories, browse and
     document labels) or "both". `out` is the delivery directory (default: `source` itself,
-    whose products are then moved into the layout). Raises InputError for what the user must
-    fix; nothing is changed then.
+    whose products are then moved into the layout). `shown_as`: how the review page names the
+    delivery when `out` is a local copy of it (an s3:// prefix). Raises InputError for what the
+    user must fix; nothing is changed then.
     """
     if dialect not in DIALECTS:
         raise InputError(None, f"dialect must be one of {', '.join(DIALECTS)}, not {dialect!r}")
@@ -182,7 +183,7 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
         result = _build(found, _Tree(work), previous, source_dir, in_place, dialect, index, bundle_lid)
         from ..review import write_review  # the review page, after (and outside) the manifest
 
-        write_review(work, labels_only=True, shown_as=str(target))
+        write_review(work, labels_only=True, shown_as=shown_as or str(target))
         _swap(work, target)
         log.info("delivery built in %s and moved to %s", work, target)
     except BaseException as exc:
