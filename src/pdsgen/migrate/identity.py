@@ -120,7 +120,7 @@ def observation(root: Block, label_name: str) -> dict[str, object]:
     else:
         investigation = get_mission("generic").pds4.investigation
         mission_lid = f"urn:nasa:pds:context:investigation:mission.{lid_part(mission)}" if mission else ""
-        if mission_lid and is_registered(mission_lid):  # a LID PDS has not registered would not resolve
+        if mission and is_registered(mission_lid):  # a LID PDS has not registered would not resolve
             investigation = {"name": _title(mission), "type": "Mission", "lid": mission_lid,
                              "reference_type": "data_to_investigation"}
         components = []
