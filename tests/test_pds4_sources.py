@@ -60,6 +60,15 @@ def test_dtm_from_a_stereo_pair_names_both_sources(tmp_path):
     assert result.returncode == 0 and "0 error(s), 0 warning(s)" in result.stdout, result.stdout
 
 
+@needs_saxon
+def test_hirise_sources_are_curated_by_the_imaging_node(tmp_path):
+    product = a_dtm(tmp_path, product_id="PAIR_DTM", source_product_ids=PAIR, profile="hirise")
+    tree = etree.parse(str(product.pds4_label_path))
+    assert tree.xpath(f"{SOURCES}/pds:curating_facility/text()", namespaces=NS) == ["PDS Imaging Node"]
+    assert named_sources(product.pds4_label_path) == PAIR
+    assert validate_pds4(product.pds4_label_path) == []
+
+
 def test_pds4_tools_reads_the_sources(tmp_path):
     pds4_tools = pytest.importorskip("pds4_tools")
     product = a_dtm(tmp_path, product_id="PAIR_DTM", source_product_ids=PAIR)
