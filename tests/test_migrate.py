@@ -91,6 +91,15 @@ def test_identification_keeps_the_pds3_ids(migrated, name):
 
 
 @pytest.mark.parametrize("name", sorted(GENUINE))
+def test_source_product_id_becomes_source_product_external(migrated, name):
+    """Pathfinder's EDR names its source (SOURCE_PRODUCT_ID = "SEQ_S0154C_IMPEK"); the others none."""
+    root = etree.parse(str(migrated[name].label_path)).getroot()
+    named = root.xpath("pds:Reference_List/pds:Source_Product_External/pds:external_source_product_identifier/text()",
+                       namespaces=NS)
+    assert named == (["SEQ_S0154C_IMPEK"] if name == "pathfinder_imp" else [])
+
+
+@pytest.mark.parametrize("name", sorted(GENUINE))
 def test_pds4_tools_reads_the_array_pdr_and_gdal_read_from_the_pds3_product(migrated, name):
     pds4_tools = pytest.importorskip("pds4_tools")
     import pdr

@@ -15,7 +15,7 @@ from .. import __version__
 from ..errors import ParamsError, param
 from ..label.grammar import PLACEHOLDERS
 from ..missions import ContextReference, LabelFacts, detect_mission, get_mission
-from ..pds4.context import TARGETS
+from ..pds4.context import TARGETS, source_products
 from ..pds4.context_registry import is_registered
 from ..validate.model import Block
 from .mapping import PROCESSING_LEVELS
@@ -103,13 +103,28 @@ def _title(name: str) -> str:
     return " ".join(word.capitalize() for word in name.split())
 
 
+def _known_mission(root: Block, label_name: str) -> str | None:
+    """The mission profile that recognises the label, if one does."""
+    return detect_mission(LabelFacts(instrument_id=(text(root, "INSTRUMENT_ID") or "").upper(),
+                                     data_set_id=(text(root, "DATA_SET_ID") or "").upper(),
+                                     group_names=frozenset(b.name.upper() for b in root.walk() if b is not root),
+                                     file_name=label_name))
+
+
+def sources(root: Block, label_name: str) -> dict[str, object] | None:
+    """The Reference_List's source products, from SOURCE_PRODUCT_ID (a value or a sequence;
+    N/A: none), curated where the recognised mission's products are (else PDS)."""
+    statement = next((s for b in root.walk() if (s := b.get("SOURCE_PRODUCT_ID")) is not None), None)
+    if statement is None:
+        return None
+    known = _known_mission(root, label_name)
+    facility = get_mission(known or "generic").pds4.curating_facility
+    return source_products((str(v.py) for v in statement.value.scalars()), facility)
+
+
 def observation(root: Block, label_name: str) -> dict[str, object]:
     """Observation_Area values: times, level, investigation, observing system, target."""
-    facts = LabelFacts(instrument_id=(text(root, "INSTRUMENT_ID") or "").upper(),
-                       data_set_id=(text(root, "DATA_SET_ID") or "").upper(),
-                       group_names=frozenset(b.name.upper() for b in root.walk() if b is not root),
-                       file_name=label_name)
-    known = detect_mission(facts)
+    known = _known_mission(root, label_name)
     host = text(root, "INSTRUMENT_HOST_NAME") or text(root, "SPACECRAFT_NAME")
     mission = text(root, "MISSION_NAME") or host
     investigation: ContextReference | dict[str, str]

@@ -106,4 +106,5 @@ KEYWORD_TABLE: tuple[tuple[str, str], ...] = (
     ("MISSION_NAME / INSTRUMENT_HOST_NAME / SPACECRAFT_NAME", "Investigation_Area, Observing_System (Host)"),
     ("INSTRUMENT_NAME / INSTRUMENT_ID", "Observing_System_Component (Instrument)"),
     ("TARGET_NAME", "Target_Identification"),
+    ("SOURCE_PRODUCT_ID (N/A: none)", "Reference_List/Source_Product_External/external_source_product_identifier"),
 )

@@ -20,7 +20,15 @@ from ..pds4.content import digest_file
 from ..pds4.label import render_pds4
 from ..validate.context import FileContext
 from .geometry import migrated_cartography
-from .identity import check_bundle_lid, check_product_lid, default_bundle_lid, identification, observation, product_id
+from .identity import (
+    check_bundle_lid,
+    check_product_lid,
+    default_bundle_lid,
+    identification,
+    observation,
+    product_id,
+    sources,
+)
 from .objects import DataFile, Refused, describe_objects
 
 COLLECTION = "data"
@@ -88,7 +96,7 @@ def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLik
     if label_out.exists() and not overwrite:
         raise OutputError(label_out, "exists (give overwrite to replace it)")
     text = render_pds4("migrated.xml.j2", {
-        "ident": ident, "obs": obs, "cart": cart, "array_id": image_id,
+        "ident": ident, "obs": obs, "cart": cart, "array_id": image_id, "sources": sources(ctx.root, source.name),
         "files": [_file_context(data) for data in files],
     })
     written = _write(files, text, label_out, target_dir, copy and not in_place, overwrite)

@@ -65,6 +65,8 @@ class Pds4Facts:
     investigation: ContextReference
     observing_system: tuple[ContextReference, ...] = ()
     authority: str = "urn:nasa:pds"  # LID prefix of the archive holding the products (ESA: urn:esa:psa)
+    # The curating_facility of the products a label names as its sources (PDS3 product IDs).
+    curating_facility: str = "PDS"
 
 
 # Products of no particular mission (PDS4 requires an investigation; this is PDS's "none").

@@ -241,6 +241,7 @@ def is_hirise(facts: LabelFacts) -> bool:
 # PDS4: the mro_hirise bundle and the registered MRO and HiRISE context products.
 PDS4 = Pds4Facts(
     bundle="mro_hirise",
+    curating_facility="PDS Imaging Node",  # HiRISE's PDS3 archive (its observations and DTMs)
     investigation=ContextReference(
         "Mars Reconnaissance Orbiter", "Mission",
         "urn:nasa:pds:context:investigation:mission.mars_reconnaissance_orbiter", "data_to_investigation"),

@@ -155,6 +155,7 @@ def is_hrsc(facts: LabelFacts) -> bool:
 PDS4 = Pds4Facts(
     bundle="mex_hrsc",
     authority="urn:esa:psa",
+    curating_facility="ESA PSA",
     investigation=ContextReference("Mars Express", "Mission",
                                    "urn:esa:psa:context:investigation:mission.mars_express", "data_to_investigation"),
     observing_system=(

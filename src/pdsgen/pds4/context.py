@@ -8,7 +8,7 @@ context reference rather than an invented LID.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 
 from ..missions import ContextReference, Mission
 from ..products.params import ParamValue
@@ -51,3 +51,21 @@ def observation(mission: Mission, target: str | None, summary: str,
 def logical_identifier(mission: Mission, collection: str, product_id: str) -> str:
     """<authority>:<bundle>:<collection>:<product>, e.g. urn:nasa:pds:mro_hirise:data_dtm:... (lower case)."""
     return f"{mission.pds4.authority}:{mission.pds4.bundle}:{collection}:{product_id.lower()}"
+
+
+# What pdsgen's sources are: the PDS3 SOURCE_PRODUCT_ID of a map-projected DTM or orthoimage
+# names the products it was made from (a mosaic's strips, an orthoimage's DTM, a stereo pair),
+# whose processing level the label does not state; PDS4 has no "unknown" level, and
+# derived is the level of the products these are (processing_level Derived).
+SOURCE_REFERENCE_TYPE = "data_to_derived_source_product"
+NOT_A_SOURCE = frozenset({"", "N/A", "NULL", "UNK", "NONE"})
+
+
+def source_products(identifiers: Iterable[object], curating_facility: str) -> dict[str, object] | None:
+    """The Reference_List's Source_Product_External for the PDS3 SOURCE_PRODUCT_ID values
+    `identifiers` (N/A and empty ones dropped, repeats once); None when none is left."""
+    kept = list(dict.fromkeys(s for s in (str(i).strip() for i in identifiers) if s.upper() not in NOT_A_SOURCE))
+    if not kept:
+        return None
+    return {"identifiers": kept, "reference_type": SOURCE_REFERENCE_TYPE, "curating_facility": curating_facility,
+            "description": "The products named by the PDS3 label's SOURCE_PRODUCT_ID."}

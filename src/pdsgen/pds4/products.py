@@ -28,7 +28,7 @@ from ..geo.geometry import MapGeometry
 from ..missions import Mission
 from ..products.params import ParamValue
 from .content import ArrayStatistics, ContentTap, FileContent
-from .context import logical_identifier, observation
+from .context import logical_identifier, observation, source_products
 from .label import cartography, render_pds4
 from .model import DATA_TYPES, NUMPY_TYPES
 
@@ -56,6 +56,7 @@ class ProductDescription:
     keywords: Mapping[str, ParamValue]
     geometry: MapGeometry
     dataset: DatasetReader
+    sources: Sequence[str] = ()  # SOURCE_PRODUCT_ID of the PDS3 label (of the same product)
 
     def target(self) -> str | None:
         return self.geometry.target_name or str(self.keywords.get("TARGET_NAME", "")) or None
@@ -185,6 +186,7 @@ def _common(product: ProductDescription, collection: str, kind: str) -> dict[str
             "title": f"{product.product_id}: {kind} of {obs['target_name']}",
         },
         "obs": obs,
+        "sources": source_products(product.sources, product.mission.pds4.curating_facility),
         "cart": cartography(geometry, dataset.crs, dataset.transform, str(obs["target_name"])),
         "array_id": ARRAY_ID,
     }

@@ -164,7 +164,7 @@ def write_pds3_dtm(
                 write_pds4_dtm,
             )
 
-            description = ProductDescription(product_id, chosen, version, ident, geometry, dataset)
+            description = ProductDescription(product_id, chosen, version, ident, geometry, dataset, sources)
         big_endian = byte_order == "msb"
         xml_final = outdir / f"{product_id}.xml"
         warnings: tuple[str, ...] = ()

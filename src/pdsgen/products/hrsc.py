@@ -247,7 +247,7 @@ def write_hrsc_dtm(
                     "DNs equal to missing_constant hold no data.",
                     scaling=(encoding.scaling_factor, encoding.offset))
                 _pds4_beside(staged, final, xml_final, ProductDescription(
-                    final_id, hrsc_mission.MISSION, version, context["ident"], geometry, grid
+                    final_id, hrsc_mission.MISSION, version, context["ident"], geometry, grid, context["sources"]
                 ), stored, records.label_bytes, len(header))
     return HrscDtmProduct(product_id=final_id, path=final, geometry=geometry, kind=kind, encoding=encoding,
                           valid_minimum=_as_int(stats.minimum), valid_maximum=_as_int(stats.maximum),
@@ -296,6 +296,7 @@ def hrsc_identification(
         "processing_level": hrsc_mission.PROCESSING_LEVEL,
         "ident": ident,
         "source_product_id": source_id_values(sources),
+        "sources": sources,  # the same, for the PDS4 label's Reference_List
     }
 
 
@@ -391,7 +392,8 @@ def write_hrsc_nd4(
                     unit=None, scaling=None if identity else (mapping.scaling_factor, mapping.offset),
                     collection="data_ortho", kind="nadir orthoimage")
                 _pds4_beside(staged, final, xml_final, ProductDescription(
-                    context["product_id"], hrsc_mission.MISSION, version, context["ident"], geometry, grid
+                    context["product_id"], hrsc_mission.MISSION, version, context["ident"], geometry, grid,
+                    context["sources"]
                 ), stored, records.label_bytes, len(header))
     return HrscImageProduct(product_id=context["product_id"], path=final, geometry=geometry,
                             scaling_factor=mapping.scaling_factor, offset=mapping.offset,

@@ -204,7 +204,7 @@ def write_jp2_ortho(
                 from ..pds4.content import digest_file
                 from ..pds4.products import ProductDescription, ortho_label_text
 
-                description = ProductDescription(product_id, chosen, version, ident, geometry, dataset)
+                description = ProductDescription(product_id, chosen, version, ident, geometry, dataset, sources)
                 pds4_text = ortho_label_text(description, img_final.name, tap, jp2_final.name,
                                              digest_file(staged.path(jp2_final)), mapping.scaling_factor,
                                              mapping.offset)
