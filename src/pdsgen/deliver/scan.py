@@ -23,7 +23,7 @@ from ..errors import InputError
 from ..formats.sniff import file_head
 from ..missions.imars import is_metadata_name as is_imars_metadata
 from ..pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
-from ..validate.context import directory_listing, parse_pointer, resolve_beside
+from ..validate.context import DirectoryNames, directory_listing, parse_pointer, resolve_beside
 from ..validate.lexer import parse_label
 from ..validate.model import Block
 from . import layout
@@ -82,7 +82,7 @@ class NamedFiles:
 
 
 def named_files(root: Block, directory: Path, catalog: Path | None = None,
-                listings: dict[Path, list[str]] | None = None) -> NamedFiles:
+                listings: dict[Path, DirectoryNames] | None = None) -> NamedFiles:
     """The existing files beside the label (found as the validator finds them, a name differing
     only in case included) that the label names: every name of every pointer (a pointer to
     several files, {"A.H", "B.C"}, names each) and each FILE_NAME of a COMPRESSED_FILE or
@@ -233,7 +233,7 @@ class _Pds3Label:
     named: NamedFiles
 
 
-def _read_pds3(label: Path, catalog: Path, listings: dict[Path, list[str]]) -> _Pds3Label:
+def _read_pds3(label: Path, catalog: Path, listings: dict[Path, DirectoryNames]) -> _Pds3Label:
     root = read_pds3_label(label)
     if root is None:
         raise InputError(label, "a .LBL file that is not a PDS3 label (no PDS_VERSION_ID)")
@@ -249,7 +249,7 @@ def _group(pds3: list[Path], pds4: list[Path], on_pds3: LabelValues | None, cata
     products: list[DataProduct] = []
     by_file: dict[Path, DataProduct] = {}
     by_stem: dict[tuple[Path, str], DataProduct] = {}
-    listings: dict[Path, list[str]] = {}  # each directory listed once for all the labels in it
+    listings: dict[Path, DirectoryNames] = {}  # each directory listed once for all the labels in it
     read = [_read_pds3(path, catalog, listings) for path in pds3]
     # A catalog or description file another label points to (DSMAP.CAT) is that label's
     # support, even where it has a PDS3 label of its own: not a data product.

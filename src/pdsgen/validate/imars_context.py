@@ -18,7 +18,7 @@ from typing import Any
 
 from ..formats.sniff import file_head
 from ..missions.imars import is_metadata_name
-from .context import directory_listing, resolve_beside
+from .context import DirectoryNames, directory_listing, resolve_beside
 
 _SNIFF_BYTES = 64 * 1024
 _OBJECT = re.compile(rb"(?im)^[ \t]*object[ \t]*=[ \t]*(productinfo|image)[ \t]*\r?$")
@@ -101,8 +101,8 @@ class ImarsContext:
         return self._lines.get(tuple(n.upper() for n in names))
 
     # -- files beside it -------------------------------------------------------------
-    @cached_property
-    def listing(self) -> list[str]:
+    @property
+    def listing(self) -> DirectoryNames:
         return directory_listing(self.path.parent)
 
     def resolve(self, name: str) -> tuple[Path | None, Path | None]:

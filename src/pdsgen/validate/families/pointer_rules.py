@@ -7,11 +7,10 @@ attached object starts right after the label's LABEL_RECORDS records.
 
 from __future__ import annotations
 
-import os
 from collections.abc import Iterator
 from pathlib import Path
 
-from ..context import FileContext, Pointer
+from ..context import FileContext, Pointer, directory_listing
 from ..lexer import parse_label
 from ..model import Hit, Label
 from ..registry import Rule, register
@@ -336,10 +335,7 @@ def check_include_loops(ctx: FileContext) -> Iterator[Hit]:
         exact = directory / name
         if exact.is_file():
             return exact.resolve()
-        try:
-            match = next((n for n in os.listdir(directory) if n.lower() == name.lower()), None)
-        except OSError:
-            return None
+        match = next(iter(directory_listing(directory).same_but_case(name)), None)
         return (directory / match).resolve() if match else None
 
     reported: set[str] = set()
