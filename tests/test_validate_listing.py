@@ -103,3 +103,30 @@ def test_a_file_that_appears_during_a_run_is_found(tmp_path: Path) -> None:
     assert errors() == []
     (tmp_path / "LATE.IMG").unlink()
     assert errors() == missing
+
+
+def test_the_html_page_of_a_label_set_lists_each_directory_a_constant_number_of_times(
+        tmp_path: Path, listings: Counter[str]) -> None:
+    """`validate --format html` looks for each product's previews beside its label: once per
+    directory for the whole page, not once per label (a directory of N labels: N x N names)."""
+    from pdsgen.review.collect import review_reports
+
+    data = tmp_path / "DATA"
+    extras = tmp_path / "EXTRAS"
+    data.mkdir()
+    extras.mkdir()
+    for i in range(PRODUCTS):
+        pid = f"P{i:04d}"
+        _write(data, pid)
+        (data / f"{pid}.IMG").write_bytes(bytes(64))
+    for name in ("P0007.thumb.jpg", "P0007.browse.jpg"):  # one product has a preview
+        (extras / name).write_bytes(b"\xff\xd8\xff\xd9")
+    _settle(data)
+    _settle(extras)
+    reports = list(iter_reports([data]))
+    listings.clear()
+    review = review_reports(reports, tmp_path, "labels")
+    assert len(review.products) == PRODUCTS
+    assert listings[str(data.resolve())] <= 4 and listings[str(extras.resolve())] <= 4, listings
+    with_previews = [e for e in review.products if e.previews]
+    assert [e.product_id for e in with_previews] == ["P0007"]

@@ -263,6 +263,7 @@ def review_reports(reports: list[FileReport], page_dir: Path, title: str) -> Rev
     taken: set[str] = set()
     entries = []
     outlines = OutlineBatch()
+    extras: dict[Path, dict[str, list[Path]]] = {}  # each directory's previews, listed once
     for path in paths:
         label = read_pds3_label(path) if path.is_file() else None
         product_id = label_value(label, "PRODUCT_ID") if label is not None else None
@@ -270,7 +271,7 @@ def review_reports(reports: list[FileReport], page_dir: Path, title: str) -> Rev
             continue
         files = [path] + [path.parent / n for n in pointed_files(label, path.parent) if path.parent / n != path]
         entry = product_entry(product_id, path, files, linker, taken, outlines)
-        entry.previews = _previews(_nearby_previews(path, product_id), linker)
+        entry.previews = _previews(_nearby_previews(path, product_id, extras), linker)
         entries.append(entry)
     outlines.run()
     review = Review(title, root, entries, source=f"{len(reports)} file(s) under {root}")
@@ -278,11 +279,15 @@ def review_reports(reports: list[FileReport], page_dir: Path, title: str) -> Rev
     return review
 
 
-def _nearby_previews(label: Path, product_id: str) -> list[Path]:
-    """Extras beside a label, in an extras/ (or EXTRAS/) directory beside it or one level up."""
+def _nearby_previews(label: Path, product_id: str, extras: dict[Path, dict[str, list[Path]]]) -> list[Path]:
+    """Extras beside a label, in an extras/ (or EXTRAS/) directory beside it or one level up.
+
+    `extras` keeps each directory's previews by product id, so a directory of N labels is
+    listed once, not once per label (N x N names)."""
     found = []
     for directory in (label.parent, label.parent / "extras", label.parent / layout.EXTRAS_DIR,
                       label.parent.parent / layout.EXTRAS_DIR):
-        if directory.is_dir():
-            found += [p for p in directory.glob(f"{product_id}.*") if is_preview(p.name)]
+        if directory not in extras:
+            extras[directory] = previews_by_product(directory.iterdir()) if directory.is_dir() else {}
+        found += extras[directory].get(product_id.upper(), [])
     return found
