@@ -21,6 +21,7 @@ import threading
 from pathlib import Path
 
 import numpy as np
+import pytest
 from click.testing import CliRunner
 
 from pdsgen.cli import main
@@ -305,13 +306,23 @@ def test_a_large_product_is_uploaded_in_parts(s3_server, tmp_path, monkeypatch):
     assert s3_server.get(bucket, "big/DTM.IMG") == (tmp_path / "local" / "DTM.IMG").read_bytes()
 
 
-def test_without_the_s3_extra_one_line_says_what_to_install(tmp_path):
-    """boto3 made unimportable in a fresh process: an s3:// OUTDIR needs it, and says so."""
-    blocker = tmp_path / "blocker" / "boto3"
-    blocker.mkdir(parents=True)
-    (blocker / "__init__.py").write_text("raise ImportError('blocked for this test')\n")
-    env = {**os.environ, "PYTHONPATH": str(blocker.parent)}
-    result = subprocess.run([sys.executable, "-m", "pdsgen", "dtm", _dtm_source(tmp_path), "-o", "s3://b/out"],
-                            capture_output=True, text=True, env=env, timeout=120)
-    assert result.returncode == 2
-    assert result.stderr == "pdsgen: error: reading and writing s3:// needs boto3: pip install 'pdsgen[s3]'\n"
+@pytest.mark.parametrize("blocked", [("boto3",), ("boto3", "botocore")], ids=["boto3", "boto3+botocore"])
+def test_without_the_s3_extra_one_line_says_what_to_install(tmp_path, blocked):
+    """boto3 (and botocore, as in a plain `pip install pdsgen`) made unimportable in a fresh
+    process: an s3:// OUTDIR or input needs it, and says so in one line."""
+    for name in blocked:
+        blocker = tmp_path / "blocker" / name
+        blocker.mkdir(parents=True)
+        (blocker / "__init__.py").write_text("raise ImportError('blocked for this test')\n")
+    env = {**os.environ, "PYTHONPATH": str(tmp_path / "blocker")}
+    def dtm(*args: object) -> subprocess.CompletedProcess:
+        return subprocess.run([sys.executable, "-m", "pdsgen", "dtm", *map(str, args)],
+                              capture_output=True, text=True, env=env, timeout=120)
+
+    written = dtm(_dtm_source(tmp_path), "-o", "s3://b/out")
+    assert written.returncode == 2
+    assert written.stderr == "pdsgen: error: reading and writing s3:// needs boto3: pip install 'pdsgen[s3]'\n"
+    # an input is still read through GDAL's /vsis3/ alone, which says in one line why it cannot be
+    read = dtm("s3://b/in/dtm.tif", "-o", tmp_path / "out")  # (no credentials in this environment)
+    assert read.returncode == 2 and read.stderr.startswith("pdsgen: error: s3://b/in/dtm.tif: ")
+    assert read.stderr.count("\n") == 1 and not (tmp_path / "out").exists()

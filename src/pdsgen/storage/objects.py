@@ -84,8 +84,12 @@ def problem(exc: BaseException, location: S3Location, reading: bool = True) -> P
 
 
 def _errors() -> tuple[type[BaseException], ...]:
-    from botocore.exceptions import BotoCoreError, ClientError
-
+    """The client's errors, to catch; none without the client (boto3 brings botocore), whose
+    absence `client()` has then said in one line that this must not replace."""
+    try:
+        from botocore.exceptions import BotoCoreError, ClientError
+    except ImportError:
+        return ()
     return (BotoCoreError, ClientError)
 
 
