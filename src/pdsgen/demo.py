@@ -14,8 +14,8 @@ from pathlib import Path
 from .extras import make_extras
 from .formats.jp2 import require_openjpeg
 from .formats.staging import prepare_output_dir
-from .products.dtm import write_dtm
-from .products.ortho import write_ortho
+from .products.dtm import DtmProduct, write_dtm
+from .products.ortho import OrthoProduct, write_ortho
 from .synthetic import make_scene, write_geotiff
 from .validate import validate_paths
 from .validate.report import Report
@@ -50,6 +50,7 @@ def run_demo(outdir: str | os.PathLike[str], overwrite: bool = True) -> DemoResu
         dtm_input, outdir, profile="hirise", source_product_ids=DEMO_SOURCES,
         institution=DEMO_INSTITUTION, overwrite=overwrite,
     )
+    assert isinstance(dtm, DtmProduct)  # the HiRISE profile writes the standard float32 DTM
     result.products.append(dtm.path)
     result.lines.append(
         f"DTM    {dtm.path}: {dtm.geometry.lines} x {dtm.geometry.samples} posts (lines x samples) at "
@@ -61,6 +62,7 @@ def run_demo(outdir: str | os.PathLike[str], overwrite: bool = True) -> DemoResu
         ortho_input, outdir, profile="hirise", observation_id=DEMO_ORTHO_OBSERVATION,
         source_dtm_id=dtm.product_id, overwrite=overwrite,
     )
+    assert isinstance(ortho, OrthoProduct)  # and the standard JP2 + LBL orthoimage
     result.products += [ortho.jp2_path, ortho.label_path]
     result.lines.append(
         f"ORTHO  {ortho.jp2_path} + {ortho.label_path.name}: {ortho.bits}-bit lossless JPEG 2000, "

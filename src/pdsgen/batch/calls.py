@@ -52,7 +52,7 @@ def run_mosaic(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
 def _product(product: ProductResult, area: OutputArea) -> Outputs:
     """Every file of a product; the one later jobs read is its label (or, for iMars, its GeoTIFF).
     The product's warnings go to the job's log, as the command prints them."""
-    for warning in getattr(product, "warnings", ()):
+    for warning in product.warnings:
         print(f"warning: {warning}")
     labels = [f for f in product.files if f.suffix.lower() in LABEL_SUFFIXES]
     return _written(list(product.files), labels[:1] or list(product.files[:1]), area=area)

@@ -37,11 +37,6 @@ class Outcome:
     exit_code: int = 0
 
 
-def pds4_name(path: Path | None) -> str:
-    """The PDS4 label a product also wrote, as its summary line names it (empty if none)."""
-    return f"  {path.name}" if path else ""
-
-
 def output_options(command: Callable[..., Outcome]) -> Callable[..., None]:
     """Add --quiet / --verbose / --json to a command returning an `Outcome`."""
 
@@ -83,7 +78,6 @@ def product_summary(command: str, product: ProductResult) -> dict[str, Any]:
     with the validator's rules before publishing (it refuses them otherwise); the
     deviations it was told to keep are listed under `warnings`.
     """
-    warnings = getattr(product, "warnings", None)
     return {
         "command": command,
         "product_id": product.product_id,
@@ -91,8 +85,8 @@ def product_summary(command: str, product: ProductResult) -> dict[str, Any]:
         "samples": product.geometry.samples,
         "files": files_summary(product.files),
         "checks": {
-            "label_rules": "passed" if warnings is not None else "not run",
-            "warnings": list(warnings or ()),
+            "label_rules": "passed" if product.label_checked else "not run",
+            "warnings": list(product.warnings),
         },
     }
 

@@ -8,11 +8,12 @@ from typing import Any
 import click
 
 from ..pds4.model import LABEL_DIALECTS
-from ..products.dtm import DtmProduct, write_dtm
+from ..products.dtm import write_dtm
+from ..products.result import ProductResult
 from ..profiles import profile_names
 from ..storage import internal, output_area
 from . import COMMANDS
-from ._output import Outcome, output_options, pds4_name, product_summary
+from ._output import Outcome, output_options, product_summary
 from ._profile_options import label_fidelity_options, profile_options, refuse_unused_options
 
 _COMMON = {"input_path", "outdir", "product_id", "source_ids", "product_version", "params_file", "overwrite"}
@@ -75,7 +76,7 @@ def dtm(ctx, input_path, outdir, profile, product_id, source_ids, institution, p
     with output_area(outdir, overwrite) as area:  # an s3:// OUTDIR: staged here, uploaded when complete
         product = write_dtm(internal(input_path), area.directory, profile=profile, **library_options(ctx.params))
         lines, summary = area.shown([_summary(product)]), area.shown(product_summary("dtm", product))
-    return Outcome(lines, summary, getattr(product, "warnings", ()))
+    return Outcome(lines, summary, product.warnings)
 
 
 def library_options(params: Mapping[str, Any]) -> dict[str, object]:
@@ -97,21 +98,6 @@ def library_options(params: Mapping[str, Any]) -> dict[str, object]:
     return profile_options(given, USED_BY_PROFILE.get(params["profile"], USED_BY_PROFILE["generic"]))
 
 
-def _summary(product: object) -> str:
-    """The one line `pdsgen dtm` prints, in the form of the product the profile made."""
-    if isinstance(product, DtmProduct):
-        pds4 = pds4_name(product.pds4_label_path)
-        return (f"{product.path}{pds4}  {product.geometry.lines} x {product.geometry.samples}  "
-                f"valid {product.valid_minimum} .. {product.valid_maximum} m")
-    # Only HRSC/iMars results reach here: their modules are imported when they are used,
-    # so a HiRISE or generic conversion does not pay for them at start-up.
-    from ..products.hrsc import HrscDtmProduct
-    from ..products.imars import ImarsProduct
-
-    if isinstance(product, ImarsProduct):
-        return f"{product.tiff_path}  {product.pvl_path.name}  {product.footprint_path.name}"
-    assert isinstance(product, HrscDtmProduct)
-    pds4 = pds4_name(product.pds4_label_path)
-    return (f"{product.path}{pds4}  {product.geometry.lines} x {product.geometry.samples}  "
-            f"DN {product.valid_minimum} .. {product.valid_maximum} "
-            f"(x {product.encoding.scaling_factor:g} + {product.encoding.offset:g} m)")
+def _summary(product: ProductResult) -> str:
+    """The one line `pdsgen dtm` prints: the product's own, in the form its profile made."""
+    return product.summary_line

@@ -3,13 +3,13 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
-from pathlib import Path
 from typing import Any
 
 import click
 
 from ..mosaic import KINDS, ORDERS, RESAMPLING_METHODS, write_mosaic
 from ..pds4.model import LABEL_DIALECTS
+from ..products.result import ProductResult
 from ..profiles import profile_names
 from ..storage import local_inputs, output_area
 from . import COMMANDS
@@ -86,10 +86,8 @@ def mosaic(ctx, inputs, outdir, profile, product_id, kind, order, resampling, no
     # pixel of every input anyway. An s3:// OUTDIR: staged here, uploaded when complete.
     with local_inputs(inputs) as sources, output_area(outdir, overwrite) as area:
         product = write_mosaic(sources.paths, area.directory, **options)
-        files = "  ".join(Path(f).name for f in product.files)
-        line = f"{product.files[0].parent}/  {files}  {product.geometry.lines} x {product.geometry.samples}"
-        lines, summary = area.shown([sources.shown(line)]), area.shown(product_summary("mosaic", product))
-    return Outcome(lines, summary, getattr(product, "warnings", ()))
+        lines, summary = area.shown([sources.shown(_summary(product))]), area.shown(product_summary("mosaic", product))
+    return Outcome(lines, summary, product.warnings)
 
 
 def library_options(params: Mapping[str, Any]) -> dict[str, Any]:
@@ -109,3 +107,9 @@ def library_options(params: Mapping[str, Any]) -> dict[str, Any]:
     options = profile_options(given, USED_BY_PROFILE.get(profile, USED_BY_PROFILE["generic"]))
     return {name: value for name, value in options.items()  # unset: the writer's own default
             if not (name in ("byte_order", "precision") and value is None)}
+
+
+def _summary(product: ProductResult) -> str:
+    """The one line `pdsgen mosaic` prints: the directory, every file written, the mosaic's size."""
+    files = "  ".join(path.name for path in product.files)
+    return f"{product.files[0].parent}/  {files}  {product.geometry.lines} x {product.geometry.samples}"

@@ -10,11 +10,12 @@ import click
 from ..errors import PdsgenError
 from ..formats.jp2 import JP2INFO_NAME
 from ..pds4.model import LABEL_DIALECTS
-from ..products.ortho import OrthoProduct, write_ortho
+from ..products.ortho import write_ortho
+from ..products.result import ProductResult
 from ..profiles import profile_names
 from ..storage import internal, output_area
 from . import COMMANDS
-from ._output import Outcome, output_options, pds4_name, product_summary
+from ._output import Outcome, output_options, product_summary
 from ._profile_options import label_fidelity_options, profile_options, refuse_unused_options
 
 _COMMON = {"input_path", "outdir", "product_id", "value_range", "params_file", "product_version", "overwrite"}
@@ -77,7 +78,7 @@ def ortho(ctx, input_path, more_inputs, outdir, profile, product_id, bits, value
     with output_area(outdir, overwrite, shared=SHARED_FILES) as area:  # s3:// OUTDIR: uploaded when complete
         product = write_ortho(ortho_inputs(ctx.params), area.directory, profile=profile, **library_options(ctx.params))
         lines, summary = area.shown([_summary(product)]), area.shown(product_summary("ortho", product))
-    return Outcome(lines, summary, getattr(product, "warnings", ()))
+    return Outcome(lines, summary, product.warnings)
 
 
 def ortho_inputs(params: Mapping[str, Any]) -> str | tuple[str, ...]:
@@ -110,19 +111,6 @@ def library_options(params: Mapping[str, Any]) -> dict[str, object]:
     return profile_options(given, USED_BY_PROFILE.get(params["profile"], USED_BY_PROFILE["generic"]))
 
 
-def _summary(product: object) -> str:
-    """The one line `pdsgen ortho` prints, in the form of the product the profile made."""
-    if isinstance(product, OrthoProduct):
-        pds4 = pds4_name(product.pds4_label_path)
-        return (f"{product.jp2_path}{pds4}  {product.geometry.lines} x {product.geometry.samples} x "
-                f"{product.bands}  {product.bits}-bit DN * {product.scaling_factor:.6g} + {product.offset:.6g}")
-    # Only HRSC/iMars results reach here: their modules (and the validator and pvl they
-    # import) are loaded when used, so a JP2 conversion starts encoding sooner.
-    from ..products.hrsc import HrscImageProduct
-    from ..products.imars import ImarsProduct
-
-    if isinstance(product, HrscImageProduct):
-        pds4 = pds4_name(product.pds4_label_path)
-        return f"{product.path}{pds4}  DN {product.valid_minimum} .. {product.valid_maximum}"
-    assert isinstance(product, ImarsProduct)
-    return f"{product.tiff_path}  {product.pvl_path.name}  {product.footprint_path.name}"
+def _summary(product: ProductResult) -> str:
+    """The one line `pdsgen ortho` prints: the product's own, in the form its profile made."""
+    return product.summary_line

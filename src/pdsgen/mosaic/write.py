@@ -23,6 +23,7 @@ from typing import Any
 from ..errors import InputError, ParamsError, param
 from ..missions import Mission, get_mission
 from ..products.dispatch import call_mission_writer
+from ..products.result import ProductResult
 from .plan import MosaicInput, MosaicPlan, describe_input, plan_mosaic
 from .vrt import mosaic_vrt
 
@@ -40,7 +41,7 @@ def write_mosaic(
     resampling: str | None = None,
     nodata: float | None = None,
     **options: Any,
-) -> Any:
+) -> ProductResult:
     """Mosaic `inputs` (later on top; `order="reverse"` for the other way) into the product of
     `profile` named `product_id` in `outdir`; the writer's own `options` (label, params,
     version, overwrite ...) pass through. Equal to `gdal_merge.py -n ND -a_nodata ND -init ND`
@@ -134,7 +135,7 @@ def _source_ids(plan: MosaicPlan) -> tuple[str, ...]:
 
 
 def _write(plan: MosaicPlan, vrt: Path, outdir: Path, mission: Mission, product_id: str, statement: str,
-           options: Mapping[str, Any]) -> Any:
+           options: Mapping[str, Any]) -> ProductResult:
     """The profile's writer, reading the mosaic's VRT; `mission` the profile's (for HRSC-AX,
     with what its tiles' labels say about their heights, images and offsets)."""
     profile = mission.name
@@ -181,7 +182,7 @@ def _with_sources(plan: MosaicPlan, params: Any) -> dict[str, Any]:
 
 
 def _write_imars(plan: MosaicPlan, vrt: Path, outdir: Path, product_id: str, statement: str,
-                 options: Mapping[str, Any]) -> Any:
+                 options: Mapping[str, Any]) -> ProductResult:
     """`<ID>_dtm.tif` / `<ID>_ori.tif` with the PVL naming the strips and their footprints."""
     from ..products.imars import ImarsMosaic, write_imars_dtm, write_imars_ori
 

@@ -8,6 +8,7 @@ from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 from ..errors import ParamsError
+from .result import ProductResult, checked_result
 
 
 def call_mission_writer(
@@ -16,8 +17,9 @@ def call_mission_writer(
     input_path: str | os.PathLike[str] | Sequence[str | os.PathLike[str]],
     outdir: str | os.PathLike[str],
     options: Mapping[str, Any],
-) -> Any:
-    """`writer(input_path, outdir, **options)`, after checking each option is one it takes.
+) -> ProductResult:
+    """`writer(input_path, outdir, **options)`, after checking each option is one it takes;
+    its result must be a `ProductResult`.
 
     An option the profile does not use is refused rather than ignored, in Python
     as on the command line, so a misplaced keyword never drops a value silently.
@@ -26,4 +28,4 @@ def call_mission_writer(
     unused = sorted(name for name in options if name not in accepted)
     if unused:
         raise ParamsError(None, f"the {profile} profile does not use {', '.join(unused)}")
-    return writer(input_path, outdir, **options)
+    return checked_result(writer(input_path, outdir, **options), writer)

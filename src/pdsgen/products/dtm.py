@@ -37,12 +37,13 @@ from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords, source_id_values
 from .params import ParamValue, check_version, resolve_params, source_ids
+from .result import ProductResult, pds4_name
 
 BYTE_ORDERS = ("lsb", "msb")
 
 
 @dataclass(frozen=True)
-class DtmProduct:
+class DtmProduct(ProductResult):
     """What `write_dtm` produced, for callers that go on to make Extras or check it."""
 
     product_id: str
@@ -60,6 +61,11 @@ class DtmProduct:
         """Every file this product wrote."""
         return (self.path,) + ((self.pds4_label_path,) if self.pds4_label_path else ())
 
+    @property
+    def summary_line(self) -> str:
+        return (f"{self.path}{pds4_name(self.pds4_label_path)}  {self.geometry.lines} x {self.geometry.samples}  "
+                f"valid {self.valid_minimum} .. {self.valid_maximum} m")
+
 
 def write_dtm(
     input_path: str | os.PathLike[str],
@@ -67,7 +73,7 @@ def write_dtm(
     *,
     profile: str = "generic",
     **options: Any,
-) -> Any:
+) -> ProductResult:
     """Write the DTM product of `profile` from a single-band elevation raster.
 
     Missions with their own product form (hrsc: DT4/DA4 .img, imars: GeoTIFF +

@@ -64,13 +64,14 @@ from .hrsc_label import (
 )
 from .identification import source_id_values
 from .params import ParamValue, check_version, resolve_params, source_ids
+from .result import ProductResult, pds4_name
 
 HRSC_SPHERE_M = hrsc_mission.SPHERE_M
 HRSC_CREDIT = hrsc_mission.CREDIT
 
 
 @dataclass(frozen=True, kw_only=True)
-class HrscProduct:
+class HrscProduct(ProductResult):
     """What both HRSC level-4 products have: one file (VICAR header + PDS3 label + data)."""
 
     product_id: str
@@ -92,6 +93,12 @@ class HrscProduct:
 class HrscDtmProduct(HrscProduct):
     kind: str
     encoding: Int16Encoding
+
+    @property
+    def summary_line(self) -> str:
+        return (f"{self.path}{pds4_name(self.pds4_label_path)}  {self.geometry.lines} x {self.geometry.samples}  "
+                f"DN {self.valid_minimum} .. {self.valid_maximum} "
+                f"(x {self.encoding.scaling_factor:g} + {self.encoding.offset:g} m)")
 
 
 def hrsc_target_crs(dataset: DatasetReader) -> CRS:
@@ -308,6 +315,10 @@ def _with_statement(note: str, statement: str) -> str:
 class HrscImageProduct(HrscProduct):
     scaling_factor: float
     offset: float
+
+    @property
+    def summary_line(self) -> str:
+        return f"{self.path}{pds4_name(self.pds4_label_path)}  DN {self.valid_minimum} .. {self.valid_maximum}"
 
 
 def write_hrsc_nd4(

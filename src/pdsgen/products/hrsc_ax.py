@@ -21,7 +21,7 @@ from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 from xml.sax.saxutils import escape
 
 from affine import Affine
@@ -33,6 +33,10 @@ from ..formats.vicar import VicarLabel, VicarValue, read_vicar_label
 from ..geo.conventions import upper_left_corner
 from ..missions import hrsc_ax
 from .params import ParamValue
+
+if TYPE_CHECKING:  # the writers import them on first use
+    from .dtm import DtmProduct
+    from .ortho import OrthoProduct
 
 _VRT_TYPES = {"BYTE": "Byte", "HALF": "Int16", "FULL": "Int32", "REAL": "Float32", "DOUB": "Float64",
               "WORD": "Int16", "LONG": "Int32"}
@@ -351,7 +355,7 @@ def write_hrsc_ax_dtm(
     overwrite: bool = False,
     label: str = "pds3",
     allow_dictionary_deviations: bool | None = None,
-) -> Any:
+) -> DtmProduct:
     """The DEM of an HRSC-AX tile (`TILE.dsm`) as `<PRODUCT_ID>.IMG`: float32 ellipsoid heights.
 
     `vicar_offsets`: "standard" (the HRSC-AX image description's definition, default) or
@@ -384,7 +388,7 @@ def write_hrsc_ax_ortho(
     label: str = "pds3",
     allow_dictionary_deviations: bool | None = None,
     threads: int | None = None,
-) -> Any:
+) -> OrthoProduct:
     """The panchromatic, RGB or CIR image of an HRSC-AX tile as `<PRODUCT_ID>.JP2` + `.LBL`.
 
     `input_path` is one `.pan` file, or the three channel files of a composite in band

@@ -14,7 +14,7 @@ import os
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import pvl
@@ -34,13 +34,18 @@ from ..missions.hrsc import MISSING_DN
 from ..missions.hrsc import base_name as hrsc_base_name
 from .heights import Int16Encoding, areoid_adjustment, check_datum_conversion, choose_encoding
 from .params import ParamValue, check_version, resolve_params, source_ids
+from .result import ProductResult
 
 IMARS_INSTITUTION = imars_mission.INSTITUTION
 _DTM_DESCRIPTIONS = imars_mission.DTM_DESCRIPTIONS
 
 
 @dataclass(frozen=True)
-class ImarsProduct:
+class ImarsProduct(ProductResult):
+    """What an iMars writer produced: the GeoTIFF, its PVL metadata and the footprint."""
+
+    label_checked: ClassVar[bool] = False  # PVL metadata and GeoTIFF tags: no PDS3 label to check
+
     product_id: str
     tiff_path: Path
     pvl_path: Path
@@ -50,11 +55,16 @@ class ImarsProduct:
     valid_minimum: int
     valid_maximum: int
     shapefile_paths: tuple[Path, ...] = ()  # the footprint as .shp .shx .dbf .prj .qpj
+    warnings: tuple[str, ...] = ()  # none: nothing is checked against the PDS3 dictionary
 
     @property
     def files(self) -> tuple[Path, ...]:
         """Every file this product wrote."""
         return (self.tiff_path, self.pvl_path, self.footprint_path, *self.shapefile_paths)
+
+    @property
+    def summary_line(self) -> str:
+        return f"{self.tiff_path}  {self.pvl_path.name}  {self.footprint_path.name}"
 
 
 # A footprint feature: (product ID, lon/lat polygons, properties).
@@ -397,7 +407,8 @@ def imars_pvl_text(
             *[(key, value) for key, value in dict(keywords.get("MATCHER_PARAMETERS", {}) or {}).items()],
         ])),
     ])
-    return pvl.dumps(module, encoder=pvl.encoder.ISISEncoder())
+    text: str = pvl.dumps(module, encoder=pvl.encoder.ISISEncoder())
+    return text
 
 
 def proj4_string(crs) -> str:

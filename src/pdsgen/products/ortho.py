@@ -49,12 +49,13 @@ from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords, source_id_values
 from .params import ParamValue, check_source_id, check_version, resolve_params, source_ids
+from .result import ProductResult, pds4_name
 
 log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
-class OrthoProduct:
+class OrthoProduct(ProductResult):
     """What `write_ortho` produced, for callers that go on to make Extras or check it."""
 
     product_id: str
@@ -75,6 +76,12 @@ class OrthoProduct:
         pds4 = (self.pds4_label_path.with_suffix(".img"), self.pds4_label_path) if self.pds4_label_path else ()
         return tuple(dict.fromkeys((self.jp2_path, self.label_path, *pds4)))
 
+    @property
+    def summary_line(self) -> str:
+        return (f"{self.jp2_path}{pds4_name(self.pds4_label_path)}  {self.geometry.lines} x "
+                f"{self.geometry.samples} x {self.bands}  {self.bits}-bit DN * {self.scaling_factor:.6g} + "
+                f"{self.offset:.6g}")
+
 
 # Band names of 1- and 3-band orthoimages, as HiRISE labels write them.
 ORTHO_FILTER_NAMES = {1: ("RED",), 3: ("NEAR-INFRARED", "RED", "BLUE-GREEN")}
@@ -86,7 +93,7 @@ def write_ortho(
     *,
     profile: str = "generic",
     **options: Any,
-) -> Any:
+) -> ProductResult:
     """Write the orthoimage product of `profile`.
 
     Missions with their own form (hrsc: 8-bit ND4 .img, imars: GeoTIFF + PVL +

@@ -1,22 +1,58 @@
-"""The one shape every product result has, whichever mission wrote it."""
+"""The contract every product result keeps, whichever mission wrote it.
+
+A writer returns a `ProductResult`: its product ID, the files it wrote, the map geometry,
+the dictionary deviations it kept (`warnings`), whether its label was checked with the
+validator's rules, and the one line that says what was written (`summary_line`, the line
+`pdsgen dtm` and `pdsgen ortho` print). The CLI and `pdsgen batch` read only these, so a
+new mission's result needs no edit there, and nothing asks a result which class it is.
+"""
 
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
 from pathlib import Path
-from typing import Protocol, runtime_checkable
+from typing import ClassVar
 
 from ..geo.geometry import MapGeometry
 
 
-@runtime_checkable
-class ProductResult(Protocol):
-    """What a writer returns: the product ID, the files it wrote, and the map geometry."""
+class ProductResult(ABC):
+    """What a writer returns. Each mission's result is a frozen dataclass deriving from it,
+    with fields of its own (paths, DN ranges, scaling) beside these."""
+
+    product_id: str
+    geometry: MapGeometry
+    warnings: tuple[str, ...]  # dictionary deviations kept (allow_dictionary_deviations)
+    # The writer checked the label with the validator's rules before publishing it (and
+    # refuses a product that fails them); False where the metadata is not a PDS3 label.
+    label_checked: ClassVar[bool] = True
 
     @property
-    def product_id(self) -> str: ...
+    @abstractmethod
+    def files(self) -> tuple[Path, ...]:
+        """Every file this product wrote, the main one first."""
 
     @property
-    def files(self) -> tuple[Path, ...]: ...
+    @abstractmethod
+    def summary_line(self) -> str:
+        """What was written, in one line: the line `pdsgen dtm` / `pdsgen ortho` print."""
 
-    @property
-    def geometry(self) -> MapGeometry: ...
+
+def pds4_name(path: Path | None) -> str:
+    """The PDS4 label a product also wrote, as a summary line names it (empty if none)."""
+    return f"  {path.name}" if path else ""
+
+
+def checked_result(value: object, writer: object) -> ProductResult:
+    """What a mission's writer returned, refused (TypeError) unless it keeps the contract.
+
+    Missions name their writers as "module:function" and the registry imports them on
+    first use, so their return type is known only when they return.
+    """
+    if not isinstance(value, ProductResult):
+        name = getattr(writer, "__qualname__", repr(writer))
+        raise TypeError(f"{name} returned a {type(value).__name__}, not a ProductResult")
+    return value
+
+
+__all__ = ["ProductResult", "checked_result", "pds4_name"]
