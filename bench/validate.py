@@ -211,7 +211,7 @@ def make_big_dtm(workdir: Path, size: int) -> Path:
     import rasterio
     from rasterio.windows import Window
 
-    from pdsgen.dtm import write_dtm
+    from pdsgen import write_dtm
 
     from helpers import ORIGINS
 
@@ -235,7 +235,7 @@ def make_big_dtm(workdir: Path, size: int) -> Path:
 
 def make_pds4_labels(workdir: Path, count: int) -> Path:
     """`count` directories, each with one of three small PDS4 DTMs (label and data)."""
-    from pdsgen.dtm import write_dtm
+    from pdsgen import write_dtm
 
     from helpers import ORIGINS, elevation_array, write_raster
 

@@ -12,10 +12,7 @@ import pytest
 from affine import Affine
 
 import pdsgen
-from pdsgen.dtm import DtmProduct, write_dtm
 from pdsgen.errors import InputError, OutputError, ParamsError, PdsgenError
-from pdsgen.hrsc import HrscDtmProduct, HrscImageProduct
-from pdsgen.imars import ImarsProduct
 from pdsgen.missions import (
     LabelFacts,
     Mission,
@@ -26,7 +23,10 @@ from pdsgen.missions import (
     register_mission,
     unregister_mission,
 )
-from pdsgen.ortho import OrthoProduct, write_ortho
+from pdsgen.products.dtm import DtmProduct, write_dtm
+from pdsgen.products.hrsc import HrscDtmProduct, HrscImageProduct
+from pdsgen.products.imars import ImarsProduct
+from pdsgen.products.ortho import OrthoProduct, write_ortho
 from pdsgen.products.result import ProductResult
 
 from helpers import CRS_EQUIRECTANGULAR, elevation_array, write_raster

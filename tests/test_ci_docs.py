@@ -16,7 +16,7 @@ import pytest
 import yaml
 from affine import Affine
 
-from pdsgen.dtm import write_dtm
+from pdsgen import write_dtm
 
 from helpers import elevation_array, write_raster
 

@@ -13,7 +13,7 @@ import pytest
 from pdsgen.cli import dtm as dtm_cli
 from pdsgen.cli import ortho as ortho_cli
 from pdsgen.cli._profile_options import _CLI_NAMES
-from pdsgen.profiles import profile_names
+from pdsgen.missions import mission_names as profile_names
 
 NOT_LIBRARY_KEYWORDS = {"input_path", "outdir", "profile"}  # positional arguments of the call itself
 

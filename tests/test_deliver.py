@@ -377,7 +377,7 @@ def test_cli_deliver_and_bad_input(demo_products, tmp_path):
 
 def test_imars_products_refused_with_the_reason(tmp_path):
     """iMars products (GeoTIFF + PVL + GeoJSON) carry no PDS3 or PDS4 label: refused, nothing written."""
-    from pdsgen.imars import write_imars_dtm
+    from pdsgen.products.imars import write_imars_dtm
 
     south_polar = "+proj=stere +lat_0=-90 +lon_0=0 +k=1 +R=3396000 +units=m +no_defs"
     heights = write_raster(tmp_path / "in.tif", elevation_array(40, 30, seed=11), south_polar,

@@ -11,7 +11,7 @@ import pytest
 import rasterio
 from affine import Affine
 
-from pdsgen.dtm import write_dtm
+from pdsgen import write_dtm
 
 from helpers import CRS_EQUIRECTANGULAR, ORIGINS, elevation_array, write_raster
 

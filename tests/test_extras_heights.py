@@ -108,7 +108,7 @@ def test_legend_heading_names_the_datum_and_the_ramp_ends(tmp_path: Path):
 
 
 def test_hirise_dtm_heights_are_above_the_mars_2000_areoid(tmp_path: Path):
-    from pdsgen.dtm import write_dtm
+    from pdsgen import write_dtm
 
     (tmp_path / "in").mkdir()
     tif = write_geotiff(tmp_path / "in" / "z.tif", crater_field(80, 100))

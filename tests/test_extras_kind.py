@@ -12,7 +12,7 @@ import rasterio
 from pdsgen.extras import make_extras
 from pdsgen.extras.product_source import DTM, ORTHO, open_product
 from pdsgen.extras.renderings import render_product
-from pdsgen.imars import write_imars_dtm, write_imars_ori
+from pdsgen.products.imars import write_imars_dtm, write_imars_ori
 from test_extras_helpers import crater_field, write_geotiff
 
 DTM_CODES = ("br", "ab", "th", "sb", "sa", "st", "cb", "ca", "ct")

@@ -92,7 +92,7 @@ def test_dtm_geotiff_gives_nine_previews_and_readme(dtm_tif: Path, tmp_path: Pat
 
 def test_pdsgen_dtm_img_readme_has_label_valid_range_and_lowest_height_is_first_colour(
         tmp_path: Path):
-    from pdsgen.dtm import write_dtm
+    from pdsgen import write_dtm
 
     z = crater_field(400, 600)
     z[:, :120] = float(z.min()) - 50.0           # a wide flat plain, the lowest ground
@@ -325,7 +325,7 @@ def test_credit_and_title_come_from_the_product(corpus_dir: Path, tmp_path: Path
 
 def test_truncated_jp2_is_one_line_without_gdal_messages(tmp_path: Path):
     """Run as a real process: GDAL writes its own messages to file descriptor 2."""
-    from pdsgen import ortho
+    from pdsgen.products import ortho
 
     from helpers import run_cli
 

@@ -1,4 +1,4 @@
-"""Extras of orthoimage products written by pdsgen.ortho (lossless JP2 + detached label)."""
+"""Extras of orthoimage products written by pdsgen.products.ortho (lossless JP2 + detached label)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from PIL import Image
 from pdsgen.extras import make_extras
 from test_extras_helpers import write_geotiff
 
-ortho = pytest.importorskip("pdsgen.ortho", reason="the orthoimage writer is not merged yet")
+ortho = pytest.importorskip("pdsgen.products.ortho", reason="the orthoimage writer is not merged yet")
 
 
 def scene(bands: int) -> np.ndarray:

@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 import rasterio
 
-from pdsgen import ortho
 from pdsgen.extras import make_extras
 from pdsgen.extras.product_source import open_product
 from pdsgen.extras.qlook import write_qlook
 from pdsgen.extras.stretch import Stretch
+from pdsgen.products import ortho
 from test_extras_helpers import write_geotiff
 
 

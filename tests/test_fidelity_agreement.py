@@ -109,7 +109,7 @@ def test_allowed_deviation_is_written_and_warned_once(tmp_path, inputs):
 
 
 def test_hrsc_labels_are_checked_too(tmp_path):
-    from pdsgen.hrsc import write_hrsc_dtm
+    from pdsgen.products.hrsc import write_hrsc_dtm
 
     from helpers import elevation_array, write_raster
 

@@ -22,7 +22,7 @@ from rasterio.crs import CRS
 from rasterio.warp import transform as warp_transform
 
 from pdsgen.errors import InputError
-from pdsgen.hrsc import write_hrsc_dtm, write_hrsc_nd4
+from pdsgen.products.hrsc import write_hrsc_dtm, write_hrsc_nd4
 from pdsgen.validate import validate_paths
 from test_fidelity_hirise import keyword_sequence
 

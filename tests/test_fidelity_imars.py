@@ -17,7 +17,7 @@ import rasterio
 import shapefile
 from affine import Affine
 
-from pdsgen.imars import write_imars_dtm
+from pdsgen.products.imars import write_imars_dtm
 
 from helpers import elevation_array, write_raster
 

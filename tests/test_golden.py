@@ -18,11 +18,10 @@ import numpy as np
 import pytest
 from affine import Affine
 
-from pdsgen.dtm import write_dtm
+from pdsgen import write_dtm, write_ortho
 from pdsgen.extras import make_extras
-from pdsgen.hrsc import write_hrsc_dtm, write_hrsc_nd4
-from pdsgen.imars import write_imars_dtm
-from pdsgen.ortho import write_ortho
+from pdsgen.products.hrsc import write_hrsc_dtm, write_hrsc_nd4
+from pdsgen.products.imars import write_imars_dtm
 
 from helpers import CRS_EQUIRECTANGULAR, elevation_array, write_raster
 

@@ -11,7 +11,7 @@ from rasterio.crs import CRS
 from rasterio.warp import transform as warp_transform
 
 from pdsgen.errors import PdsgenError
-from pdsgen.hrsc import write_hrsc_dtm
+from pdsgen.products.hrsc import write_hrsc_dtm
 
 from helpers import elevation_array, run_cli, write_raster
 
@@ -148,7 +148,7 @@ def test_vicar_earth_input_from_hrsc_ax(tmp_path):
     heights = (36.5 + elevation_array(40, 30) / 100.0).astype(np.float32)
     source = write_raster(tmp_path / "ax.vic", heights, earth, Affine(1.0, 0, 500000.0, 0, -1.0, 5300000.0),
                           driver="VICAR")
-    from pdsgen.dtm import write_dtm
+    from pdsgen import write_dtm
 
     product = write_dtm(source, tmp_path / "out", product_id="HRSC_AX_TILE")
     label = pvl.load(str(product.path))

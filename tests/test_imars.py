@@ -10,7 +10,7 @@ import pytest
 import rasterio
 from affine import Affine
 
-from pdsgen.imars import write_imars_dtm
+from pdsgen.products.imars import write_imars_dtm
 
 from helpers import elevation_array, run_cli, write_raster
 
@@ -102,7 +102,7 @@ def test_ori_is_byte_geotiff_with_nodata_zero_and_shares_the_footprint(tmp_path,
     image[:, :3] = np.nan
     with rasterio.open(dtm_source) as src:
         ori_source = write_raster(tmp_path / "ori.tif", image, src.crs.to_proj4(), src.transform)
-    from pdsgen.imars import write_imars_ori
+    from pdsgen.products.imars import write_imars_ori
 
     write_imars_dtm(dtm_source, tmp_path / "out", product_id="h0022_0000")
     ori = write_imars_ori(ori_source, tmp_path / "out", product_id="h0022_0000")

@@ -19,7 +19,7 @@ import pytest
 import rasterio
 from rasterio.windows import Window
 
-from pdsgen.dtm import write_dtm
+from pdsgen import write_dtm
 from pdsgen.errors import PdsgenError
 from pdsgen.formats import img
 from pdsgen.formats.raster import open_raster, row_strips

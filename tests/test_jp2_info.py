@@ -10,7 +10,7 @@ import pvl
 from affine import Affine
 from rasterio.crs import CRS
 
-from pdsgen.ortho import write_ortho
+from pdsgen import write_ortho
 from pdsgen.synthetic import write_geotiff
 from pdsgen.validate import validate_paths
 

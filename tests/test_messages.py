@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 from affine import Affine
 
+from pdsgen import write_dtm
 from pdsgen.cli import COMMANDS, main
 from pdsgen.cli._messages import LIBRARY_TO_OPTION, in_cli_words
-from pdsgen.dtm import write_dtm
 from pdsgen.errors import PdsgenError, param
 from pdsgen.extras import make_extras
 from test_extras_helpers import crater_field, write_geotiff

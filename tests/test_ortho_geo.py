@@ -7,6 +7,7 @@ from affine import Affine
 from rasterio.crs import CRS
 from rasterio.warp import transform as warp_transform
 
+from pdsgen import write_ortho
 from pdsgen.formats.geojp2 import (
     GEOJP2_UUID,
     PROJ_CENTER_LAT,
@@ -16,7 +17,6 @@ from pdsgen.formats.geojp2 import (
     read_geojp2,
 )
 from pdsgen.formats.jp2 import jp2_boxes
-from pdsgen.ortho import write_ortho
 from pdsgen.synthetic import write_geotiff
 
 MARS = "+R=3396190 +units=m +no_defs"

@@ -11,11 +11,11 @@ from affine import Affine
 from click.testing import CliRunner
 from rasterio.crs import CRS
 
+from pdsgen import write_ortho
 from pdsgen.cli import main
 from pdsgen.errors import PdsgenError
 from pdsgen.formats.jp2 import TILE_SIZE
 from pdsgen.formats.scale_dn import SPECIAL_DNS
-from pdsgen.ortho import write_ortho
 from pdsgen.synthetic import write_geotiff
 
 EQC = CRS.from_proj4("+proj=eqc +lat_ts=-5 +lat_0=0 +lon_0=180 +R=3396190 +units=m +no_defs")

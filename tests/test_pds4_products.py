@@ -11,8 +11,7 @@ import pytest
 import rasterio
 from lxml import etree
 
-from pdsgen.dtm import write_dtm
-from pdsgen.ortho import write_ortho
+from pdsgen import write_dtm, write_ortho
 from pdsgen.pds4 import schematron
 from pdsgen.pds4.validate import validate_pds4
 from pdsgen.validate import validate_paths

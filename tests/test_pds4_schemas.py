@@ -17,7 +17,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from pdsgen.dtm import write_dtm
+from pdsgen import write_dtm
 from pdsgen.pds4 import schematron
 from pdsgen.pds4.catalog import packed_dir, packed_index, shipped_schema_dir
 from pdsgen.pds4.validate import validate_pds4

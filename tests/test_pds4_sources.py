@@ -12,7 +12,7 @@ import pvl
 import pytest
 from lxml import etree
 
-from pdsgen.dtm import write_dtm
+from pdsgen import write_dtm
 from pdsgen.migrate import migrate_product
 from pdsgen.mosaic import write_mosaic
 from pdsgen.pds4 import schematron

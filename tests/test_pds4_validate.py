@@ -13,8 +13,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from pdsgen.dtm import write_dtm
-from pdsgen.ortho import write_ortho
+from pdsgen import write_dtm, write_ortho
 from pdsgen.pds4 import schematron
 from pdsgen.pds4.catalog import SchemaCatalog, shipped_schema_dir
 from pdsgen.pds4.data_checks import constant_value

@@ -7,14 +7,18 @@ from affine import Affine
 from rasterio.crs import CRS
 
 from pdsgen.errors import PdsgenError
-from pdsgen.geo.geometry import describe_geometry
+from pdsgen.geo.geometry import MapGeometry, describe_geometry
+from pdsgen.missions import ProductIdRequest
+from pdsgen.missions.generic import generic_product_id
+from pdsgen.missions.hirise import dtm_product_id
+from pdsgen.missions.hirise import scale_letter as hirise_scale_letter
+from pdsgen.missions.hirise import version_code as hirise_version_code
 from pdsgen.products.params import load_params
-from pdsgen.profiles import (
-    generic_product_id,
-    hirise_dtm_product_id,
-    hirise_scale_letter,
-    hirise_version_code,
-)
+
+
+def hirise_dtm_product_id(geometry: MapGeometry, source_ids: list[str], institution: str | None, version: str) -> str:
+    """The HiRISE DTM product ID the profile's writer would choose for these sources."""
+    return dtm_product_id(ProductIdRequest("", geometry, source_ids, institution, version))
 
 EQC = CRS.from_proj4("+proj=eqc +lat_ts=-5 +lon_0=180 +R=3396190 +units=m")
 POLAR = CRS.from_proj4("+proj=stere +lat_0=90 +lon_0=0 +k=1 +R=3396190 +units=m")

@@ -62,7 +62,7 @@ def test_hrsc_dt4_products_are_clean(tmp_path, grid, order):
     import numpy as np
     from affine import Affine
 
-    from pdsgen.hrsc import write_hrsc_dtm
+    from pdsgen.products.hrsc import write_hrsc_dtm
 
     from helpers import elevation_array, write_raster
 
@@ -82,7 +82,7 @@ def test_hrsc_nd4_orthoimages_are_clean(tmp_path, dtype):
     import numpy as np
     from affine import Affine
 
-    from pdsgen.hrsc import write_hrsc_nd4
+    from pdsgen.products.hrsc import write_hrsc_nd4
 
     from helpers import write_raster
 
@@ -101,7 +101,7 @@ def test_wide_polar_product_whose_nearest_point_to_the_pole_is_mid_edge(tmp_path
     check must find it exactly (a sampled boundary would be off by ~0.1 px here)."""
     from affine import Affine
 
-    from pdsgen.dtm import write_dtm
+    from pdsgen import write_dtm
 
     from helpers import CRS_SOUTH_POLAR, elevation_array, write_raster
 

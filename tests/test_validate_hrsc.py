@@ -10,7 +10,7 @@ from affine import Affine
 from click.testing import CliRunner
 
 from pdsgen.cli import main
-from pdsgen.hrsc import write_hrsc_dtm, write_hrsc_nd4
+from pdsgen.products.hrsc import write_hrsc_dtm, write_hrsc_nd4
 from pdsgen.validate import validate_paths
 from test_validate_support import label_end, make_dtm, replace_in_label, resize_label_text
 
@@ -158,7 +158,7 @@ def test_areoid_radii_under_a_sphere_description(tmp_path):
 
 def _generic_named_hrsc(tmp_path, crs: str, transform: Affine):
     """A product written by the generic writer (no MEX:DTM group) under an HRSC name."""
-    from pdsgen.dtm import write_dtm
+    from pdsgen import write_dtm
 
     source = write_raster(tmp_path / "generic.tif", elevation_array(30, 20, seed=3), crs, transform)
     return write_dtm(source, tmp_path / "generic", product_id="H1234_0000_DT4").path
@@ -298,7 +298,7 @@ def test_statistics_leave_out_mex_dtm_missing_dn_pixels(tmp_path):
 
 def test_projection_rule_is_for_single_orbit_products_only(tmp_path):
     """An HRSC mosaic (DATA_SET_ID MEX-M-HRSC..., no hOOOO_NNNN name) may use another projection."""
-    from pdsgen.dtm import write_dtm
+    from pdsgen import write_dtm
 
     source = write_raster(tmp_path / "mosaic.tif", elevation_array(30, 20, seed=3),
                           "+proj=sinu +lon_0=0 +R=3396000 +units=m +no_defs",

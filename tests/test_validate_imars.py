@@ -13,7 +13,7 @@ from affine import Affine
 from click.testing import CliRunner
 
 from pdsgen.cli import main
-from pdsgen.imars import write_imars_dtm, write_imars_ori
+from pdsgen.products.imars import write_imars_dtm, write_imars_ori
 from pdsgen.validate import discover, validate_paths
 
 from helpers import elevation_array, write_raster

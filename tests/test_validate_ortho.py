@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pdsgen.ortho import write_ortho
+from pdsgen import write_ortho
 from pdsgen.validate import validate_paths
 from pdsgen.validate.geojp2 import GEOJP2_UUID, read_jp2
 

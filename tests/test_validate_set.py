@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from pdsgen.dtm import write_dtm
+from pdsgen import write_dtm
 from pdsgen.validate import validate_paths
 from test_validate_support import make_dtm, resize_label_text
 

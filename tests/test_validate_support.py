@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from pdsgen.dtm import write_dtm
+from pdsgen import write_dtm
 
 from helpers import ORIGINS, elevation_array, write_raster
 

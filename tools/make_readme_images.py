@@ -1,7 +1,7 @@
 """Regenerate docs/images/: small example Extras pictures for README.md, from the demo.
 
 Runs the demo into a temporary directory, makes the Extras of its DTM and of its
-orthoimage (the demo's .JP2 product, or one written here with pdsgen.ortho from the
+orthoimage (the demo's .JP2 product, or one written here with pdsgen.write_ortho from the
 demo's orthoimage input when the demo makes none), and stores the colour-coded and
 the orthoimage annotated browses and a strip of the four thumbnails, each under
 150 KB. The README shows each picture at its own size, one per row: the annotation
@@ -18,9 +18,9 @@ from pathlib import Path
 
 from PIL import Image
 
+from pdsgen import write_ortho
 from pdsgen.demo import run_demo
 from pdsgen.extras import make_extras
-from pdsgen.ortho import write_ortho
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "images"
 MAX_BYTES = 150 * 1024
