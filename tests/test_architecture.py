@@ -275,3 +275,127 @@ def test_a_rule_family_registered_at_run_time_is_listed_configured_and_run(tmp_p
     assert not [f for f in validate_paths([label]).findings if f.rule == "TOY-001"]
     with pytest.raises(ValueError, match="built-in"):
         unregister("MAP")
+
+
+# -- a product result is a contract (issue 34 item 5); one import path per thing (item 6) -----------
+
+RESULT_MODULES = ("pdsgen.products.dtm", "pdsgen.products.ortho", "pdsgen.products.hrsc", "pdsgen.products.imars",
+                  "pdsgen.products.hrsc_ax", "pdsgen.mosaic.write")
+
+
+def _result_classes() -> dict[str, type]:
+    """ProductResult and every class deriving from it, once the writers' modules are loaded."""
+    import importlib
+
+    for name in RESULT_MODULES:
+        importlib.import_module(name)
+    found: dict[str, type] = {"ProductResult": ProductResult}
+    pending = [ProductResult]
+    while pending:
+        for sub in pending.pop().__subclasses__():
+            found[sub.__name__] = sub
+            pending.append(sub)
+    return found
+
+
+def _declared_return(function) -> object:
+    """A function's declared return type, resolved in its module (and the result classes, which
+    a module may import only for type checking)."""
+    import importlib
+
+    annotation = function.__annotations__.get("return")
+    if not isinstance(annotation, str):
+        return annotation
+    namespace = {**vars(importlib.import_module(function.__module__)), **_result_classes()}
+    return eval(annotation, namespace)  # an annotation in our own source
+
+
+def test_every_writer_declares_a_product_result_not_any():
+    import importlib
+    import inspect
+
+    writers = [function for name in RESULT_MODULES
+               for function_name, function in vars(importlib.import_module(name)).items()
+               if function_name.startswith("write_") and inspect.isfunction(function)
+               and function.__module__ == name]
+    writers += [writer for name in mission_names() for kind in ("dtm", "ortho")
+                if (writer := get_mission(name).writer(kind)) is not None]
+    assert len(writers) >= 11
+    for writer in writers:
+        declared = _declared_return(writer)
+        assert isinstance(declared, type) and issubclass(declared, ProductResult), \
+            f"{writer.__module__}.{writer.__name__} returns {declared!r}, not a ProductResult"
+    from pdsgen.products.dispatch import call_mission_writer
+
+    assert _declared_return(call_mission_writer) is ProductResult
+
+
+def test_every_result_class_states_its_summary_line_and_files():
+    for name, kind in _result_classes().items():
+        if name in ("ProductResult", "HrscProduct"):  # the contract and HRSC's shared fields
+            continue
+        assert not getattr(kind, "__abstractmethods__", None), f"{name} leaves {kind.__abstractmethods__} open"
+        assert {"product_id", "geometry", "warnings"} <= set(kind.__dataclass_fields__), name
+
+
+def test_a_mission_writer_that_breaks_the_contract_is_refused(tmp_path, inputs):
+    def untyped_writer(input_path, outdir):
+        return {"product_id": "LOOSE"}
+
+    register_mission(Mission(name="loose", dtm_keywords=get_mission("generic").dtm_keywords, dtm_note="",
+                             credit="", dtm_writer=untyped_writer))
+    try:
+        with pytest.raises(TypeError, match="untyped_writer returned a dict, not a ProductResult"):
+            write_dtm(inputs["dtm"], tmp_path, profile="loose")
+    finally:
+        unregister_mission("loose")
+
+
+# Fields of the results: asking an object for one of them is asking which product it is.
+def _result_attributes() -> set[str]:
+    names: set[str] = set()
+    for kind in _result_classes().values():
+        names |= {n for n in vars(kind) if not n.startswith("_")} | set(getattr(kind, "__dataclass_fields__", ()))
+    return names
+
+
+def test_cli_and_batch_read_results_through_the_contract_only():
+    """No isinstance/issubclass against a result class, no getattr/hasattr of a result's field:
+    each result says its own summary line, warnings and files."""
+    classes, attributes = set(_result_classes()), _result_attributes()
+    offenders = []
+    for folder in ("cli", "batch"):
+        for path in sorted((SRC / folder).glob("*.py")):
+            for node in ast.walk(ast.parse(path.read_text())):
+                if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and len(node.args) >= 2):
+                    continue
+                where = f"{folder}/{path.name}:{node.lineno}"
+                if node.func.id in ("isinstance", "issubclass"):
+                    named = {n.id if isinstance(n, ast.Name) else n.attr for n in ast.walk(node.args[1])
+                             if isinstance(n, ast.Name | ast.Attribute)}
+                    offenders += [(where, name) for name in named & classes]
+                elif node.func.id in ("getattr", "hasattr") and isinstance(node.args[1], ast.Constant) \
+                        and node.args[1].value in attributes:
+                    offenders.append((where, node.args[1].value))
+    assert offenders == []
+
+
+def test_the_top_level_re_export_modules_are_gone():
+    """Version 0.1 has one import path per thing: `pdsgen.<name>` for the public API (the lazy
+    table of pdsgen/__init__.py), else the module that defines it."""
+    import importlib
+    import importlib.util
+
+    for name in ("dtm", "ortho", "hrsc", "imars"):
+        assert importlib.util.find_spec(f"pdsgen.{name}") is None, f"pdsgen/{name}.py is back"
+    for path in sorted(SRC.glob("*.py")):
+        if path.name in ("__init__.py", "__main__.py"):
+            continue
+        module = importlib.import_module(f"pdsgen.{path.stem}")
+        for name in getattr(module, "__all__", ()):
+            home = getattr(getattr(module, name), "__module__", module.__name__)
+            assert home == module.__name__, f"pdsgen.{path.stem} re-exports {name} of {home}"
+    if importlib.util.find_spec("pdsgen.profiles") is not None:
+        assert not hasattr(importlib.import_module("pdsgen.profiles"), "Profile")
+    for name in pdsgen.__all__:  # the public API itself resolves
+        assert getattr(pdsgen, name) is not None

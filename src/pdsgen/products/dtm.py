@@ -18,7 +18,6 @@ import numpy as np
 from ..errors import PdsgenError
 from ..formats.img import (
     MISSING_BITS,
-    MISSING_CONSTANT,
     RESERVATION_STATISTIC,
     BandStatistics,
     stream_float32_band,
@@ -228,4 +227,4 @@ def valid_bound(value: float, decimals: int | None, bound: str) -> float | Fixed
     return Fixed(float(stated) + 0.0, decimals)  # + 0.0: a zero is written "0.00", not "-0.00"
 
 
-__all__ = ["DtmProduct", "write_dtm", "write_pds3_dtm", "MISSING_CONSTANT"]
+__all__ = ["DtmProduct", "write_dtm", "write_pds3_dtm"]

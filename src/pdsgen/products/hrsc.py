@@ -67,7 +67,6 @@ from .params import ParamValue, check_version, resolve_params, source_ids
 from .result import ProductResult, pds4_name
 
 HRSC_SPHERE_M = hrsc_mission.SPHERE_M
-HRSC_CREDIT = hrsc_mission.CREDIT
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -464,4 +463,4 @@ def _snap_to_pixels(transform: Affine, width: int, height: int, resolution: floa
     return Affine(resolution, 0.0, left, 0.0, -resolution, top), width, height
 
 
-__all__ = ["write_hrsc_dtm", "write_hrsc_nd4", "HrscDtmProduct", "HrscImageProduct", "Int16Encoding", "HRSC_CREDIT"]
+__all__ = ["write_hrsc_dtm", "write_hrsc_nd4", "HrscDtmProduct", "HrscImageProduct"]
