@@ -51,7 +51,7 @@ def _inputs(root: Path) -> dict[str, Path]:
         "hrsc_nadir": write_raster(root / "h_nd.tif", nadir, SINUSOIDAL_HRSC, SINU, nodata=0),
         "strip_a": write_raster(root / "strip_a.tif", left, CRS_EQUIRECTANGULAR, EQC, nodata=-9999.0),
         "strip_b": write_raster(root / "strip_b.tif", right, CRS_EQUIRECTANGULAR,
-                                EQC * Affine.translation(10, 12), nodata=-9999.0),
+                                Affine(1.0, 0, 6123466.0, 0, -1.0, -563222.0), nodata=-9999.0),
     }
     rows, cols = np.mgrid[0:48, 0:64]
     stored = (rows * 7.0 - cols * 3.5 + 0.25 * rows * cols).astype(np.float32)
