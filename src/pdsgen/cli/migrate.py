@@ -33,7 +33,7 @@ def migrate(products, outdir, in_place, bundle_lid, collection, overwrite) -> Ou
                            in_place=in_place, overwrite=overwrite)
     for failure in run.failed:
         click.echo(f"pdsgen: error: {in_cli_words(str(failure))}", err=True)
-    lines = [f"PDS4     {product.summary}" for product in run.migrated]
+    lines = [f"PDS4     {product.summary_line}" for product in run.migrated]
     lines.append(f"{len(run.migrated)} product(s) migrated, {len(run.failed)} refused")
     summary = {"command": "migrate",
                "migrated": [{"product_id": p.product_id, "lid": p.lid, "label": str(p.label_path),

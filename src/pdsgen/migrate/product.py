@@ -44,7 +44,8 @@ class MigratedProduct:
     files: tuple[Path, ...]
 
     @property
-    def summary(self) -> str:
+    def summary_line(self) -> str:
+        """What was written, in one line (as product results say it: `ProductResult.summary_line`)."""
         return f"{self.label_path} ({self.lid}; {len(self.files)} file(s) described unchanged)"
 
 
