@@ -36,6 +36,7 @@ from ..progress import is_large
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords, source_id_values
+from .options import DTM_OPTIONS, refuse_undeclared
 from .params import ParamValue, check_version, resolve_params, source_ids
 
 BYTE_ORDERS = ("lsb", "msb")
@@ -73,9 +74,10 @@ def write_dtm(
     Missions with their own product form (hrsc: DT4/DA4 .img, imars: GeoTIFF +
     PVL + footprint) have their writer called with `options`; the others get the
     standard float32 PDS3 .IMG from `write_pds3_dtm` with the mission's names and
-    keywords. An option the profile's writer does not take is refused.
+    keywords. An option the profile does not use (its mission's declaration) is refused.
     """
     mission = get_mission(profile)
+    refuse_undeclared("dtm", profile, options, DTM_OPTIONS)
     own = mission.writer("dtm")
     if own is not None:
         return call_mission_writer(own, profile, input_path, outdir, options)

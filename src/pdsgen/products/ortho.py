@@ -48,6 +48,7 @@ from ..missions import Mission, ProductIdRequest, get_mission
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords, source_id_values
+from .options import ORTHO_OPTIONS, refuse_undeclared
 from .params import ParamValue, check_source_id, check_version, resolve_params, source_ids
 
 log = logging.getLogger(__name__)
@@ -94,9 +95,11 @@ def write_ortho(
     `bits` other than 8 is refused); the others get the JP2 + .LBL of
     `write_jp2_ortho` with the mission's names and keywords. `threads=N` caps the
     cores the JPEG 2000 encoder uses (default: all; a batch running several
-    products at once gives each a share); the other forms use one core anyway.
+    products at once gives each a share); the other forms use one core anyway. An option the
+    profile does not use (its mission's declaration) is refused.
     """
     mission = get_mission(profile)
+    refuse_undeclared("ortho", profile, options, ORTHO_OPTIONS)
     own = mission.writer("ortho")
     if own is None:
         if not isinstance(input_path, (str, os.PathLike)):
