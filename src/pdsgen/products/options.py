@@ -204,7 +204,11 @@ def library_keywords(kind: str, mission: Mission, vocabulary: Iterable[OptionSpe
 
 def refuse_undeclared(kind: str, profile: str, options: Mapping[str, Any],
                       vocabulary: Iterable[OptionSpec]) -> None:
-    """ParamsError naming the keywords given that the profile does not use (never silently dropped)."""
-    unused = sorted(set(options) - library_keywords(kind, get_mission(profile), vocabulary))
+    """ParamsError naming the keywords given that the profile does not use (never silently dropped).
+
+    A keyword given as None is not given, as an option left at its default on the command line
+    is not (the writer itself still refuses a keyword it has no parameter for)."""
+    given = {name for name, value in options.items() if value is not None}
+    unused = sorted(given - library_keywords(kind, get_mission(profile), vocabulary))
     if unused:
         raise ParamsError(None, f"the {profile} profile does not use {', '.join(unused)}")
