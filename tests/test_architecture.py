@@ -399,3 +399,75 @@ def test_the_top_level_re_export_modules_are_gone():
         assert not hasattr(importlib.import_module("pdsgen.profiles"), "Profile")
     for name in pdsgen.__all__:  # the public API itself resolves
         assert getattr(pdsgen, name) is not None
+# -- one option vocabulary: a mission declares its options; cli/ derives flags, tables and refusals ---
+
+
+def test_a_mission_declaring_an_option_gets_the_flag_and_the_refusal_with_no_cli_edit(tmp_path, inputs):
+    """A toy mission that uses --institution (in its product IDs) and not --byte-order: the
+    command line passes the one to the library and refuses the other, as the library does."""
+    from click.testing import CliRunner
+
+    from pdsgen.cli import dtm as dtm_cli
+    from pdsgen.cli import main
+    from pdsgen.missions import STANDARD_OPTIONS, OptionUse
+
+    toy = Mission(
+        name="toy",
+        dtm_keywords={**get_mission("generic").dtm_keywords, "INSTRUMENT_ID": "TOYCAM"},
+        dtm_product_id=lambda request: f"TOY_{request.institution or 'X'}_{request.geometry.lines}",
+        options=OptionUse(dtm=frozenset({"institution", "label"}), ortho=STANDARD_OPTIONS.ortho,
+                          mosaic=STANDARD_OPTIONS.mosaic),
+    )
+    register_mission(toy)  # after pdsgen.cli.dtm was imported: nothing in cli/ knows of it
+    try:
+        assert "institution" in dtm_cli.USED_BY_PROFILE["toy"] and "byte_order" not in dtm_cli.USED_BY_PROFILE["toy"]
+        assert "toy" in CliRunner().invoke(main, ["dtm", "--help"]).output
+        made = CliRunner().invoke(main, ["dtm", str(inputs["dtm"]), "-o", str(tmp_path / "cli"), "--profile", "toy",
+                                         "--institution", "U"])
+        assert made.exit_code == 0, made.output
+        assert (tmp_path / "cli" / "TOY_U_24.IMG").is_file()
+        refused = CliRunner().invoke(main, ["dtm", str(inputs["dtm"]), "-o", str(tmp_path / "refused"),
+                                            "--profile", "toy", "--byte-order", "msb"])
+        assert refused.exit_code == 2 and "--byte-order does not apply to --profile toy" in refused.output
+        assert not (tmp_path / "refused").exists()
+        with pytest.raises(ParamsError, match="the toy profile does not use byte_order"):
+            write_dtm(inputs["dtm"], tmp_path / "api", profile="toy", byte_order="msb")
+        assert write_dtm(inputs["dtm"], tmp_path / "api", profile="toy", institution="V").product_id == "TOY_V_24"
+    finally:
+        unregister_mission("toy")
+    gone = CliRunner().invoke(main, ["dtm", str(inputs["dtm"]), "-o", str(tmp_path / "gone"), "--profile", "toy"])
+    assert gone.exit_code == 2 and "toy" not in dtm_cli.USED_BY_PROFILE
+
+
+def test_every_declared_option_is_one_the_missions_writer_takes():
+    """A declaration naming an option the writer lacks would pass the CLI's check and then fail
+    in the writer: every declared option is a parameter of the writer the mission's products use."""
+    import inspect
+
+    from pdsgen.products.dtm import write_pds3_dtm
+    from pdsgen.products.options import DTM_OPTIONS, ORTHO_OPTIONS, library_keywords
+    from pdsgen.products.ortho import write_jp2_ortho
+
+    standard = {"dtm": write_pds3_dtm, "ortho": write_jp2_ortho}
+    for name in mission_names():
+        mission = get_mission(name)
+        for kind, vocabulary in (("dtm", DTM_OPTIONS), ("ortho", ORTHO_OPTIONS)):
+            writer = mission.writer(kind) or standard[kind]
+            takes = set(inspect.signature(writer).parameters) - {"input_path", "outdir", "mission"}
+            declared = library_keywords(kind, mission, vocabulary)
+            # bits: write_ortho itself checks a mission's own 8-bit forms; threads, mosaic_statement: library-only
+            assert declared - takes - {"bits", "threads", "mosaic_statement"} == set(), (name, kind)
+
+
+def test_no_profile_name_in_cli():
+    """cli/ names no mission: its flags, per-profile tables and help come from the declarations."""
+    import re
+
+    names = sorted(mission_names(), key=len, reverse=True)
+    pattern = re.compile(r"(?<![\w-])(" + "|".join(map(re.escape, names)) + r")(?![\w-])")
+    found = []
+    for path in sorted((SRC / "cli").glob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Constant) and isinstance(node.value, str) and pattern.search(node.value):
+                found.append(f"{path.name}:{node.lineno}: {pattern.search(node.value).group(0)}")
+    assert found == []

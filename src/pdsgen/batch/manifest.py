@@ -368,7 +368,7 @@ def _refuse_unused(kind: str, ctx: click.Context) -> None:
     used_by_profile = getattr(importlib.import_module(f"pdsgen.cli.{kind}"), "USED_BY_PROFILE", None)
     if used_by_profile is not None:
         profile = ctx.params["profile"]
-        refuse_unused_options(ctx, profile, used_by_profile.get(profile, used_by_profile["generic"]))
+        refuse_unused_options(ctx, profile, used_by_profile.of(profile))
 
 
 def _usage_message(exc: click.UsageError, keys: Mapping[str, click.Parameter]) -> str:

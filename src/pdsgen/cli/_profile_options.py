@@ -1,20 +1,31 @@
-"""Options that only some profiles use: giving one to another profile is an error.
+"""The product commands' options, made from the option vocabulary and the missions' declarations.
 
-A command's --help lists every option of every profile; silently ignoring one a
-profile has no use for would let a user believe it took effect.
+A command's --help lists every option of every profile; silently ignoring one a profile has
+no use for would let a user believe it took effect, so giving it is an error. Which options a
+profile uses is its mission's declaration (`Mission.options`), read when the command runs:
+a mission registered later needs no edit here, and no profile is named in cli/.
 """
 
 from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from typing import Any, TypeVar
 
 import click
 from click.core import ParameterSource
 
 from ..errors import PdsgenError
+from ..missions import DEFAULT_PROFILE, get_mission, mission_names
+from ..products.options import DTM_OPTIONS, NOT_GIVEN, ORTHO_OPTIONS, OptionSpec, used_options
+from ..storage import internal
 from ._output import OUTPUT_OPTIONS
 
+F = TypeVar("F", bound=Callable[..., Any])
 
-def refuse_unused_options(ctx: click.Context, profile: str, used: set[str]) -> None:
+
+def refuse_unused_options(ctx: click.Context, profile: str, used: Iterable[str]) -> None:
     """PdsgenError naming the first option given on the command line that `profile` does not use."""
+    used = set(used)
     for param in ctx.command.params:
         if param.name in used or param.name in OUTPUT_OPTIONS or param.name == "profile" \
                 or not isinstance(param, click.Option):
@@ -24,40 +35,113 @@ def refuse_unused_options(ctx: click.Context, profile: str, used: set[str]) -> N
             raise PdsgenError(None, f"{flag} does not apply to --profile {profile}")
 
 
-# Library keyword -> click parameter name, where they differ.
-_CLI_NAMES = {"source_product_ids": "source_ids", "params": "params_file", "version": "product_version",
-              "reproject_input": "reproject", "allow_dictionary_deviations": "allow_deviations"}
+class UsedByProfile(Mapping[str, frozenset[str]]):
+    """Profile name -> the click parameters its command accepts: the command's own (`structural`:
+    OUTDIR, INPUT ...) and the vocabulary entries the profile's mission declares for `kind`.
+
+    Read from the registry on each look-up, so a mission registered at run time is included."""
+
+    def __init__(self, kind: str, vocabulary: Sequence[OptionSpec], structural: Iterable[str]) -> None:
+        self.kind, self.vocabulary, self.structural = kind, vocabulary, frozenset(structural)
+
+    def __getitem__(self, profile: str) -> frozenset[str]:
+        if profile not in mission_names():
+            raise KeyError(profile)
+        specs = used_options(self.kind, get_mission(profile), self.vocabulary)
+        return self.structural | {spec.param for spec in specs}
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(mission_names())
+
+    def __len__(self) -> int:
+        return len(mission_names())
+
+    def of(self, profile: str) -> frozenset[str]:
+        """The parameters `profile` uses (an unknown profile: the default profile's)."""
+        return self.get(profile) or self[DEFAULT_PROFILE]
+
+    def library_options(self, params: Mapping[str, Any]) -> dict[str, Any]:
+        """The library keywords (with their values) of the options the command's profile uses.
+
+        `pdsgen batch` calls it too, so a manifest's job and the command make the same call."""
+        profile = params["profile"]
+        mission = get_mission(profile if profile in mission_names() else DEFAULT_PROFILE)
+        options: dict[str, Any] = {}
+        for spec in used_options(self.kind, mission, self.vocabulary):
+            value = params[spec.param]
+            if spec.omit_unset and value is None:
+                continue  # the writer's own default
+            if spec.stored:
+                value = value and internal(value)
+            elif spec.convert is not None:
+                value = spec.convert(value)
+            options[spec.library_keyword] = value
+        return options
 
 
-def profile_options(given: dict[str, object], used: set[str]) -> dict[str, object]:
-    """The library keywords (with their values) of the options `used` by a profile."""
-    return {name: value for name, value in given.items() if _CLI_NAMES.get(name, name) in used}
+def __getattr__(name: str) -> Any:
+    """`_CLI_NAMES`: library keyword -> click parameter name, where they differ, in every command's
+    vocabulary. Made when asked for: a DTM conversion does not import the mosaic's vocabulary."""
+    if name != "_CLI_NAMES":
+        raise AttributeError(name)
+    from ..mosaic.options import MOSAIC_OPTIONS
+
+    return {spec.library_keyword: spec.param for spec in (*DTM_OPTIONS, *ORTHO_OPTIONS, *MOSAIC_OPTIONS)
+            if spec.library_keyword != spec.param}
 
 
-# Options `pdsgen mosaic` shares with `pdsgen dtm` and `pdsgen ortho`.
-vicar_offsets_option = click.option(
-    "--vicar-offsets", type=click.Choice(["standard", "dlr"]), default="standard", show_default=True,
-    help="hrsc-ax: how the tile's VICAR MAP offsets count: from the centre of pixel 1,1 as the HRSC-AX "
-         "image description defines them (GDAL reads them so), or DLR's HRSC Mars counting, one pixel further.")
-allow_deviations_option = click.option(
-    "--allow-dictionary-deviations", "allow_deviations", is_flag=True, default=None,
-    help="Keep label values that break the PDS3 data dictionary (warned once) instead of refusing the product.")
+class ProfileChoice(click.Choice):
+    """--profile's choices: the missions registered when the command line is parsed, sorted."""
+
+    def __init__(self) -> None:
+        super().__init__(())
+
+    @property
+    def choices(self) -> tuple[str, ...]:
+        return tuple(sorted(mission_names()))
+
+    @choices.setter
+    def choices(self, _value: Sequence[str]) -> None:
+        pass
 
 
-def label_fidelity_options(command):
-    """The options of `pdsgen dtm` and `pdsgen ortho` about what their labels carry:
-    HRSC source labels and offset convention, HRSC-AX tile offsets, and keeping dictionary deviations."""
-    options = [
-        click.option("--source-label", "source_labels", multiple=True, type=click.Path(dir_okay=False),
-                     help="hrsc: level-2/3 label whose identification, time and orbit keywords the "
-                          "product carries; hrsc-ax: XML image label of the tile's MAP/DTM keywords "
-                          "and survey date; repeat for each source."),
-        click.option("--offset-convention", type=click.Choice(["standard", "dlr"]), default="standard",
-                     show_default=True, help="hrsc: PDS3 standard projection offsets (GDAL reads them "
-                                             "exactly) or DLR's own, one pixel apart."),
-        vicar_offsets_option,
-        allow_deviations_option,
-    ]
-    for option in reversed(options):
-        command = option(command)
-    return command
+def profile_option(help_text: str, default: str | None = DEFAULT_PROFILE) -> Callable[[F], F]:
+    """--profile, defaulting to the default profile (None: no default)."""
+    if default is None:
+        return click.option("--profile", type=ProfileChoice(), help=help_text)
+    return click.option("--profile", type=ProfileChoice(), default=default, show_default=True, help=help_text)
+
+
+def click_option(spec: OptionSpec) -> Callable[[F], F]:
+    """The click option of one vocabulary entry."""
+    attrs: dict[str, Any] = {"help": spec.help}
+    if spec.choices is not None:
+        attrs["type"] = click.Choice(spec.choices)
+    elif spec.file:
+        attrs["type"] = click.Path(dir_okay=False)
+    elif spec.value_type is not None:
+        attrs["type"] = spec.value_type
+    if spec.is_flag:
+        attrs["is_flag"] = True
+    if spec.default is not NOT_GIVEN:
+        attrs["default"] = spec.default
+    if spec.show_default:
+        attrs["show_default"] = True
+    if spec.multiple:
+        attrs["multiple"] = True
+    if spec.nargs != 1:
+        attrs["nargs"] = spec.nargs
+    if spec.metavar is not None:
+        attrs["metavar"] = spec.metavar
+    if spec.required:
+        attrs["required"] = True
+    return click.option(f"--{spec.flag}", spec.param, **attrs)
+
+
+def vocabulary_options(vocabulary: Sequence[OptionSpec]) -> Callable[[F], F]:
+    """Every option of a command's vocabulary, in its order on --help."""
+    def decorate(command: F) -> F:
+        for spec in reversed(vocabulary):
+            command = click_option(spec)(command)
+        return command
+    return decorate

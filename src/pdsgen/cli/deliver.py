@@ -7,6 +7,7 @@ import click
 from ..deliver import make_delivery
 from ..deliver.build import Delivery
 from ..deliver.layout import REVIEW_PAGE, publication_rank
+from ..dialect import Dialect
 from ..storage import local_inputs, tree_area
 from . import COMMANDS
 from ._output import Outcome, output_options
@@ -15,12 +16,12 @@ from ._output import Outcome, output_options
 @click.command(short_help=COMMANDS["deliver"])
 @output_options
 @click.argument("directory", type=click.Path(file_okay=False))
-@click.option("--pds3", "dialect", flag_value="pds3", default=True,
+@click.option("--pds3", "dialect", flag_value=Dialect.PDS3, default=True,
               help="A PDS3 volume: DATA/, EXTRAS/, INDEX/INDEX.TAB + INDEX.LBL, VOLDESC.CAT, AAREADME.TXT [default].")
-@click.option("--pds4", "dialect", flag_value="pds4",
+@click.option("--pds4", "dialect", flag_value=Dialect.PDS4,
               help="A PDS4 bundle: bundle, data/browse/document collections with inventories, browse "
                    "and document labels.")
-@click.option("--both", "dialect", flag_value="both", help="The PDS3 volume and the PDS4 bundle in one tree.")
+@click.option("--both", "dialect", flag_value=Dialect.BOTH, help="The PDS3 volume and the PDS4 bundle in one tree.")
 @click.option("-o", "--out", type=click.Path(file_okay=False),
               help="Delivery directory [default: DIRECTORY itself, its products moved into the layout].")
 @click.option("--volume-id", help="PDS3 VOLUME_ID (up to 11 characters) [default: the previous delivery's].")
@@ -54,7 +55,7 @@ def _outcome(result: Delivery) -> Outcome:
                      f"{len(result.changed)} product(s) new or with a new version")
     lines.append(f"CHECK    pdsgen validate {result.path}")
     lines.append(f"REVIEW   {result.path / REVIEW_PAGE} (open it in a browser; not in the manifest)")
-    summary = {"command": "deliver", "path": str(result.path), "dialect": result.dialect,
+    summary = {"command": "deliver", "path": str(result.path), "dialect": str(result.dialect),
                "products": result.products, "previews": result.previews, "documents": result.documents,
                "files": result.files, "volume_id": result.volume_id, "bundle_lid": result.bundle_lid,
                "bundle_version": result.bundle_version, "changed": result.changed,

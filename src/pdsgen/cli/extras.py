@@ -8,11 +8,11 @@ import click
 
 from ..extras import KINDS, NOMAP, make_extras
 from ..extras.readme_txt import README_NAME
-from ..profiles import profile_names
 from ..storage import local_inputs, output_area
 from . import COMMANDS
 from ._messages import in_cli_words
 from ._output import Outcome, files_summary, output_options
+from ._profile_options import profile_option
 
 
 @click.command(short_help=COMMANDS["extras"])
@@ -43,8 +43,7 @@ from ._output import Outcome, files_summary, output_options
                    "observation's RED and/or IRB NOMAP mosaics (not map-projected).")
 @click.option("--product-id", help="With --kind nomap: the observation ID (e.g. "
                                    "PSP_005000_1000) when the file names carry none.")
-@click.option("--profile", type=click.Choice(profile_names()),
-              help="Mission conventions (credit line) [default: from each product's label].")
+@profile_option("Mission conventions (credit line) [default: from each product's label].", default=None)
 @click.option("--overwrite", is_flag=True, help="Replace existing Extras files.")
 def extras(products, outdir, credit, params_file, browse_width, thumb_width, azimuth, altitude,
            exaggeration, kind, product_id, profile, overwrite) -> Outcome:

@@ -20,6 +20,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..dialect import DIALECT_NAMES, Dialect
 from ..errors import InputError, OutputError, PdsgenError, param
 from ..progress import advance
 from ..validate.model import Block
@@ -30,7 +31,6 @@ from .volume import VolumeFacts, aareadme_text, voldesc_text
 
 log = logging.getLogger(__name__)
 
-DIALECTS = ("pds3", "pds4", "both")
 _CHUNK = 1 << 20
 
 
@@ -39,7 +39,7 @@ class Delivery:
     """What `make_delivery` made: where, how many of each, and what it left out."""
 
     path: Path
-    dialect: str
+    dialect: Dialect
     products: int = 0
     previews: int = 0
     documents: int = 0
@@ -132,7 +132,7 @@ class _Previous:
 
 
 def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | None = None,
-                  dialect: str = "pds3", volume_id: str | None = None,
+                  dialect: str | Dialect = Dialect.PDS3, volume_id: str | None = None,
                   bundle_lid: str | None = None, shown_as: str | None = None) -> Delivery:
     """Make (or bring up to date) a delivery of the products in `source`.
 
@@ -143,8 +143,9 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
     delivery when `out` is a local copy of it (an s3:// prefix). Raises InputError for what the
     user must fix; nothing is changed then.
     """
-    if dialect not in DIALECTS:
-        raise InputError(None, f"dialect must be one of {', '.join(DIALECTS)}, not {dialect!r}")
+    if dialect not in DIALECT_NAMES:
+        raise InputError(None, f"dialect must be one of {', '.join(DIALECT_NAMES)}, not {dialect!r}")
+    chosen = Dialect(dialect)
     source_dir = Path(source)
     if not source_dir.is_dir():
         raise InputError(source_dir, "not a directory of products")
@@ -153,7 +154,7 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
     if not in_place:
         _check_target(source_dir, target)
     previous = _Previous(target)
-    pds3, pds4 = dialect in ("pds3", "both"), dialect in ("pds4", "both")
+    pds3, pds4 = chosen.pds3, chosen.pds4
     volume_id = _volume_id(volume_id or (previous.volume_id() if pds3 else None), pds3)
     bundle_lid = _bundle_lid(bundle_lid or (_previous_bundle_lid(previous) if pds4 else None), pds4)
     index = _IndexRows(volume_id) if pds3 else None
@@ -180,7 +181,7 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
     try:
         if pds4:
             _migrate_pds3_only(found, migrated, bundle_lid)
-        result = _build(found, _Tree(work), previous, source_dir, in_place, dialect, index, bundle_lid)
+        result = _build(found, _Tree(work), previous, source_dir, in_place, chosen, index, bundle_lid)
         from ..review import write_review  # the review page, after (and outside) the manifest
 
         write_review(work, labels_only=True, shown_as=shown_as or str(target))
@@ -292,7 +293,7 @@ def _swap(work: Path, target: Path) -> None:
         os.rename(work, target)
 
 
-def _build(found: SourceSet, tree: _Tree, previous: _Previous, source: Path, in_place: bool, dialect: str,
+def _build(found: SourceSet, tree: _Tree, previous: _Previous, source: Path, in_place: bool, dialect: Dialect,
            index: _IndexRows | None, bundle_lid: str | None) -> Delivery:
     result = Delivery(tree.root, dialect, volume_id=index.writer.volume_id if index else None, bundle_lid=bundle_lid)
     today = datetime.date.today().isoformat()
@@ -323,7 +324,7 @@ def _build(found: SourceSet, tree: _Tree, previous: _Previous, source: Path, in_
             tree.place(other, other.relative_to(source).as_posix())
     result.skipped, result.in_place = list(found.others), in_place
     result.products, result.previews, result.documents = len(found.products), len(preview_paths), len(document_paths)
-    if dialect in ("pds4", "both"):
+    if dialect.pds4:
         assert bundle_lid is not None
         _write_bundle(tree, previous, bundle_lid, data_members, preview_paths, document_paths, today, result)
     else:

@@ -9,9 +9,12 @@ from __future__ import annotations
 
 from . import generic, hirise, hrsc, hrsc_ax, imars
 from .base import (
+    DEFAULT_PROFILE,
+    STANDARD_OPTIONS,
     ContextReference,
     LabelFacts,
     Mission,
+    OptionUse,
     Pds4Facts,
     ProductIdRequest,
     detect_mission,
@@ -25,9 +28,12 @@ for _module in (generic, hirise, hrsc, imars, hrsc_ax):
     register_mission(_module.MISSION)
 
 __all__ = [
+    "DEFAULT_PROFILE",
+    "STANDARD_OPTIONS",
     "ContextReference",
     "LabelFacts",
     "Mission",
+    "OptionUse",
     "Pds4Facts",
     "ProductIdRequest",
     "detect_mission",

@@ -11,7 +11,7 @@ Writers are named as "module:function" so the registry never imports a writer
 from __future__ import annotations
 
 import importlib
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -78,6 +78,40 @@ INDIVIDUAL_INVESTIGATION = Pds4Facts(
 
 
 @dataclass(frozen=True)
+class OptionUse:
+    """The options a mission's products use, by library keyword, for each product kind.
+
+    Only the options some profile does without are declared here; those every profile takes
+    (product ID, params, version, overwrite ...) are marked `always` in the option vocabulary
+    (products/options.py). The CLI's flags, its refusal of a flag a profile does not use, the
+    library's refusal of a keyword and a batch manifest's check are all derived from this.
+    """
+
+    dtm: frozenset[str]
+    ortho: frozenset[str]
+    mosaic: frozenset[str]
+
+    def of(self, kind: str) -> frozenset[str]:
+        """The declared options of product kind "dtm", "ortho" or "mosaic"."""
+        return {"dtm": self.dtm, "ortho": self.ortho, "mosaic": self.mosaic}[kind]
+
+    def adding(self, *, dtm: Iterable[str] = (), ortho: Iterable[str] = (),
+               mosaic: Iterable[str] = ()) -> OptionUse:
+        """These options and more: a mission that takes the standard ones plus its own."""
+        return OptionUse(self.dtm | set(dtm), self.ortho | set(ortho), self.mosaic | set(mosaic))
+
+
+# What the standard writers (float32 PDS3 DTM, JP2 + LBL orthoimage) use: a mission that
+# declares nothing else gets these.
+STANDARD_OPTIONS = OptionUse(
+    dtm=frozenset({"source_product_ids", "byte_order", "label", "allow_dictionary_deviations"}),
+    ortho=frozenset({"bits", "observation_id", "source_dtm_id", "sequence", "gmljp2", "label",
+                     "allow_dictionary_deviations"}),
+    mosaic=frozenset({"byte_order", "label", "allow_dictionary_deviations"}),
+)
+
+
+@dataclass(frozen=True)
 class Mission:
     """One mission profile: names, keyword defaults, credit, detection and writers."""
 
@@ -102,6 +136,8 @@ class Mission:
     # What the heights of a DTM so named are above ("the Mars 2000 areoid"); Extras legends.
     dtm_height_datum: Callable[[str], str | None] | None = None
     pds4: Pds4Facts = INDIVIDUAL_INVESTIGATION  # context of the standard products' PDS4 labels
+    options: OptionUse = STANDARD_OPTIONS  # the options its products use (the CLI's and the library's)
+    composes_ortho_bands: bool = False  # an orthoimage may be made of several single-band input files
 
     def writer(self, which: str) -> Writer | None:
         """The mission's own DTM or ortho writer ("dtm"/"ortho"), imported on first use."""
@@ -136,6 +172,10 @@ def get_mission(name: str) -> Mission:
 
 def mission_names() -> list[str]:
     return list(_REGISTRY)
+
+
+# The profile used when none is named (the CLI's --profile default, write_dtm's `profile`).
+DEFAULT_PROFILE = "generic"
 
 
 def detect_mission(facts: LabelFacts) -> str | None:

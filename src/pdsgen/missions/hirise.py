@@ -13,7 +13,7 @@ import re
 
 from ..errors import PdsgenError, param
 from ..geo.geometry import EQUIRECTANGULAR, POLAR_STEREOGRAPHIC
-from .base import ContextReference, LabelFacts, Mission, Pds4Facts, ProductIdRequest
+from .base import STANDARD_OPTIONS, ContextReference, LabelFacts, Mission, Pds4Facts, ProductIdRequest
 
 INSTRUMENT_ID = "HIRISE"
 DATA_SET_PREFIX = "MRO-M-HIRISE"
@@ -270,4 +270,5 @@ MISSION = Mission(
     detect=is_hirise,
     dtm_height_datum=height_datum,
     pds4=PDS4,
+    options=STANDARD_OPTIONS.adding(dtm={"institution"}),  # institution letter of its DTM IDs
 )

@@ -16,7 +16,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from ..errors import PdsgenError, param
-from .base import ContextReference, LabelFacts, Mission, Pds4Facts
+from .base import ContextReference, LabelFacts, Mission, OptionUse, Pds4Facts
 
 INSTRUMENT_ID = "HRSC"
 DATA_SET_PREFIX = "MEX-M-HRSC"
@@ -176,4 +176,12 @@ MISSION = Mission(
     detect=is_hrsc,
     dtm_height_datum=height_datum,
     pds4=PDS4,
+    options=OptionUse(
+        dtm=frozenset({"source_product_ids", "source_labels", "offset_convention", "byte_order", "kind",
+                       "vertical_datum", "areoid", "precision", "reproject_input", "label",
+                       "allow_dictionary_deviations"}),
+        ortho=frozenset({"source_product_ids", "source_labels", "offset_convention", "bits", "reproject_input",
+                         "label", "allow_dictionary_deviations"}),
+        mosaic=frozenset({"precision", "reproject_input", "label", "allow_dictionary_deviations"}),
+    ),
 )

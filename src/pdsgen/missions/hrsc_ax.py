@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import InputError, PdsgenError, param
-from .base import LabelFacts, Mission, ProductIdRequest
+from .base import LabelFacts, Mission, OptionUse, ProductIdRequest
 from .hrsc import OFFSET_CONVENTIONS
 
 NAME = "hrsc-ax"
@@ -196,4 +196,11 @@ MISSION = Mission(
     ortho_writer="pdsgen.products.hrsc_ax:write_hrsc_ax_ortho",
     detect=is_hrsc_ax,
     dtm_height_datum=height_datum,
+    # A tile names no source products; its XML labels and VICAR offsets are its own.
+    options=OptionUse(
+        dtm=frozenset({"source_labels", "vicar_offsets", "byte_order", "label", "allow_dictionary_deviations"}),
+        ortho=frozenset({"source_labels", "vicar_offsets", "gmljp2", "label", "allow_dictionary_deviations"}),
+        mosaic=frozenset({"source_labels", "vicar_offsets", "byte_order", "label", "allow_dictionary_deviations"}),
+    ),
+    composes_ortho_bands=True,  # a colour product: one file per channel
 )

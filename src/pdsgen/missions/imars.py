@@ -7,7 +7,7 @@ HRSC's (see missions/hrsc.py), so are the sphere and the no-data DN.
 
 from __future__ import annotations
 
-from .base import Mission
+from .base import Mission, OptionUse
 from .hrsc import AREOID_DESC, SPHERE_DESC, height_datum
 
 CREDIT = "ESA/DLR/FU Berlin/UCL"
@@ -78,4 +78,10 @@ MISSION = Mission(
     dtm_height_datum=height_datum,  # HRSC's kinds and datums
     dtm_writer="pdsgen.products.imars:write_imars_dtm",
     ortho_writer="pdsgen.products.imars:write_imars_ori",
+    # GeoTIFF + PVL: no PDS label to choose a dialect of or keep deviations in
+    options=OptionUse(
+        dtm=frozenset({"source_product_ids", "kind", "vertical_datum", "areoid", "precision"}),
+        ortho=frozenset({"source_product_ids", "bits"}),
+        mosaic=frozenset({"precision"}),
+    ),
 )

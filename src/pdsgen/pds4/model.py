@@ -9,7 +9,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..errors import ParamsError, param
 from ..label.grammar import SAMPLE_TYPES
 
 PDS_NS = "http://pds.nasa.gov/pds4/pds/v1"
@@ -62,14 +61,6 @@ IM_1O00 = InformationModel(
 # The version pdsgen writes.
 CURRENT_IM = IM_1O00
 
-# Label dialects of the standard DTM and orthoimage products (`--label`).
-LABEL_DIALECTS = ("pds3", "pds4", "both")
-
-
-def check_label_dialect(label: str) -> str:
-    if label not in LABEL_DIALECTS:
-        raise ParamsError(None, f"{param('label')} must be one of {', '.join(LABEL_DIALECTS)}, not {label!r}")
-    return label
 
 # PDS4 numeric data types by (numpy kind+size, big endian): the one table. The PDS3 side is
 # label.grammar.SAMPLE_TYPES (name -> byte order, kind); `pds4_data_type` joins the two, and

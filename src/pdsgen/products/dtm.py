@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from ..dialect import Dialect
 from ..errors import PdsgenError
 from ..formats.img import (
     MISSING_BITS,
@@ -30,11 +31,11 @@ from ..label.grammar import sample_type
 from ..label.render import RecordLayout, render_label, settle_attached_label
 from ..label.values import Based, Fixed, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
-from ..pds4.model import check_label_dialect
 from ..progress import is_large
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords, source_id_values
+from .options import DTM_OPTIONS, refuse_undeclared
 from .params import ParamValue, check_version, resolve_params, source_ids
 from .result import ProductResult, pds4_name
 
@@ -78,9 +79,10 @@ def write_dtm(
     Missions with their own product form (hrsc: DT4/DA4 .img, imars: GeoTIFF +
     PVL + footprint) have their writer called with `options`; the others get the
     standard float32 PDS3 .IMG from `write_pds3_dtm` with the mission's names and
-    keywords. An option the profile's writer does not take is refused.
+    keywords. An option the profile does not use (its mission's declaration) is refused.
     """
     mission = get_mission(profile)
+    refuse_undeclared("dtm", profile, options, DTM_OPTIONS)
     own = mission.writer("dtm")
     if own is not None:
         return call_mission_writer(own, profile, input_path, outdir, options)
@@ -99,7 +101,7 @@ def write_pds3_dtm(
     institution: str | None = None,
     version: str = "1.0",
     overwrite: bool = False,
-    label: str = "pds3",
+    label: str | Dialect = Dialect.PDS3,
     allow_dictionary_deviations: bool | None = None,
 ) -> DtmProduct:
     """Convert a single-band elevation raster into `OUTDIR/<PRODUCT_ID>.IMG` (float32).
@@ -110,7 +112,7 @@ def write_pds3_dtm(
     byte_order = byte_order or "lsb"
     if byte_order not in BYTE_ORDERS:
         raise PdsgenError(None, f"byte order must be one of {', '.join(BYTE_ORDERS)}")
-    check_label_dialect(label)
+    dialect = Dialect.of(label)
     chosen = mission
     version = check_version(version)
     keywords = resolve_params(params)
@@ -160,7 +162,7 @@ def write_pds3_dtm(
             return stats
 
         outdir = prepare_output_dir(outdir)
-        if label != "pds3":  # the PDS4 writer (lxml, its templates) is loaded only for a PDS4 label
+        if dialect.pds4:  # the PDS4 writer (lxml, its templates) is loaded only for a PDS4 label
             from ..pds4.products import (
                 ProductDescription,
                 float32_dtm,
@@ -173,7 +175,7 @@ def write_pds3_dtm(
         big_endian = byte_order == "msb"
         xml_final = outdir / f"{product_id}.xml"
         warnings: tuple[str, ...] = ()
-        if label == "pds4":
+        if not dialect.pds3:
             final = outdir / f"{product_id}.img"
             with StagedOutputs([final, xml_final], overwrite) as staged:
                 stats, pds4 = write_pds4_dtm(description, staged.path(final), staged.path(xml_final), final.name,
@@ -188,12 +190,12 @@ def write_pds3_dtm(
                     lambda records: render(records, BandStatistics(0, 0.0, 0.0)), dataset.width * 4, dataset.height
                 )
                 check_label(provisional, final.name, allow_deviations=allow)
-            with StagedOutputs([final] + ([xml_final] if label == "both" else []), overwrite) as staged:
+            with StagedOutputs([final] + ([xml_final] if dialect.pds4 else []), overwrite) as staged:
                 records, text, stats = write_attached_product(
                     staged.path(final), render, dataset.width * 4, dataset.height, write_data
                 )
                 warnings = check_label(text, final.name, allow_deviations=allow)
-                if label == "both":
+                if dialect.pds4:
                     write_image_pds4_label(description, staged.path(xml_final), staged.path(final), final.name,
                                            float32_dtm(big_endian), [pds3_label_header(records.label_bytes)])
     return DtmProduct(
@@ -204,7 +206,7 @@ def write_pds3_dtm(
         valid_maximum=stats.maximum,
         records=records,
         label_text=text,
-        pds4_label_path=xml_final if label != "pds3" else None,
+        pds4_label_path=xml_final if dialect.pds4 else None,
         warnings=warnings,
     )
 

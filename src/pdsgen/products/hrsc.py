@@ -27,6 +27,7 @@ from rasterio.warp import calculate_default_transform
 from rasterio.warp import transform as warp_transform
 
 from .. import __version__
+from ..dialect import Dialect
 from ..errors import ParamsError, PdsgenError, param
 from ..formats.img import BandStatistics, scan_band, stream_band, write_attached_product
 from ..formats.raster import open_raster, require_single_band
@@ -40,7 +41,7 @@ from ..label.values import Based, Symbol
 from ..missions import hrsc as hrsc_mission
 from ..missions.hrsc import DTM_KINDS, MISSING_DN, NOT_APPLICABLE, POLAR_LIMIT_DEG
 from ..missions.hrsc import base_name as hrsc_base_name
-from ..pds4.model import DATA_TYPES, check_label_dialect
+from ..pds4.model import DATA_TYPES
 from ..pds4.products import FileHeader, ProductDescription, StoredArray, pds3_label_header, write_image_pds4_label
 from .agreement import allows_deviations, check_label
 from .heights import (
@@ -170,7 +171,7 @@ def write_hrsc_dtm(
     source_labels: Sequence[str | os.PathLike[str]] = (),
     offset_convention: str = "standard",
     allow_dictionary_deviations: bool | None = None,
-    label: str = "pds3",
+    label: str | Dialect = Dialect.PDS3,
     mosaic_statement: str = "",
 ) -> HrscDtmProduct:
     """Write `OUTDIR/hOOOO_NNNN_<kind>.img` from a single-band height raster.
@@ -237,7 +238,7 @@ def write_hrsc_dtm(
             return stream_band(grid, handle, big_endian, moments.counting(encoding.encode), adjust)
 
         final = prepare_output_dir(outdir) / file_name
-        xml_final = final.with_suffix(".xml") if label == "both" else None
+        xml_final = final.with_suffix(".xml") if Dialect.of(label).pds4 else None
         with StagedOutputs([final, *_vicar_description(final), *([xml_final] if xml_final else [])],
                            overwrite) as staged:
             records, text, stats = write_attached_product(
@@ -334,7 +335,7 @@ def write_hrsc_nd4(
     source_labels: Sequence[str | os.PathLike[str]] = (),
     offset_convention: str = "standard",
     allow_dictionary_deviations: bool | None = None,
-    label: str = "pds3",
+    label: str | Dialect = Dialect.PDS3,
     mosaic_statement: str = "",
 ) -> HrscImageProduct:
     """Write the nadir orthoimage `OUTDIR/hOOOO_NNNN_nd4.img`: 8-bit DNs, 0 = no data.
@@ -385,7 +386,7 @@ def write_hrsc_nd4(
             return stats
 
         final = prepare_output_dir(outdir) / context["file_name"]
-        xml_final = final.with_suffix(".xml") if label == "both" else None
+        xml_final = final.with_suffix(".xml") if Dialect.of(label).pds4 else None
         with StagedOutputs([final, *_vicar_description(final), *([xml_final] if xml_final else [])],
                            overwrite) as staged:
             records, text, stats = write_attached_product(
@@ -413,7 +414,7 @@ def write_hrsc_nd4(
 
 def _check_hrsc_label(label: str) -> None:
     """HRSC products are DLR's PDS3 .img; a PDS4 label can describe that file, not replace it."""
-    if check_label_dialect(label) == "pds4":
+    if not Dialect.of(label).pds3:
         raise ParamsError(None, f"HRSC products keep their PDS3 .img; use {param('label', 'both')} "
                                 "to add a PDS4 label of it")
 

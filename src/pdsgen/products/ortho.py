@@ -23,6 +23,7 @@ import numpy as np
 from rasterio.io import DatasetReader
 from rasterio.windows import Window
 
+from ..dialect import Dialect
 from ..errors import ParamsError, PdsgenError, param
 from ..formats.geojp2 import geojp2_box, gmljp2_box
 from ..formats.jp2 import JP2INFO_NAME, TILE_SIZE, describe_jp2, jp2info_text, require_openjpeg, write_jp2
@@ -44,10 +45,10 @@ from ..geo.geometry import MapGeometry, describe_geometry
 from ..label.render import render_label
 from ..label.values import Based, Quantity, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
-from ..pds4.model import check_label_dialect
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords, source_id_values
+from .options import ORTHO_OPTIONS, refuse_undeclared
 from .params import ParamValue, check_source_id, check_version, resolve_params, source_ids
 from .result import ProductResult, pds4_name
 
@@ -101,9 +102,11 @@ def write_ortho(
     `bits` other than 8 is refused); the others get the JP2 + .LBL of
     `write_jp2_ortho` with the mission's names and keywords. `threads=N` caps the
     cores the JPEG 2000 encoder uses (default: all; a batch running several
-    products at once gives each a share); the other forms use one core anyway.
+    products at once gives each a share); the other forms use one core anyway. An option the
+    profile does not use (its mission's declaration) is refused.
     """
     mission = get_mission(profile)
+    refuse_undeclared("ortho", profile, options, ORTHO_OPTIONS)
     own = mission.writer("ortho")
     if own is None:
         if not isinstance(input_path, (str, os.PathLike)):
@@ -133,7 +136,7 @@ def write_jp2_ortho(
     gmljp2: bool = False,
     version: str = "1.0",
     overwrite: bool = False,
-    label: str = "pds3",
+    label: str | Dialect = Dialect.PDS3,
     allow_dictionary_deviations: bool | None = None,
     threads: int | None = None,
     filter_names: Sequence[str] | None = None,
@@ -148,7 +151,7 @@ def write_jp2_ortho(
     `filter_names`: the bands' FILTER_NAMEs in band order, for missions whose bands are not
     HiRISE's (default: RED, or NEAR-INFRARED, RED, BLUE-GREEN).
     """
-    check_label_dialect(label)
+    dialect = Dialect.of(label)
     if bits is not None and bits not in BIT_DEPTHS:
         raise PdsgenError(None, f"{param('bits')} must be one of {', '.join(map(str, BIT_DEPTHS))}, not {bits}")
     chosen = mission
@@ -181,8 +184,8 @@ def write_jp2_ortho(
         if gmljp2:
             boxes.append(gmljp2_box(dataset.crs, dataset.transform, dataset.height, dataset.width))
         info_final = outdir / JP2INFO_NAME
-        finals = [jp2_final] + ([label_final] if label != "pds4" else []) + (
-            [img_final, xml_final] if label != "pds3" else [])
+        finals = [jp2_final] + ([label_final] if dialect.pds3 else []) + (
+            [img_final, xml_final] if dialect.pds4 else [])
         with StagedOutputs(finals, overwrite, shared=[info_final]) as staged, ExitStack() as files, \
                 ThreadPoolExecutor(1, "pdsgen-label-check") as checker:
             # The label is rendered and checked (the validator's first use loads it: a fifth of
@@ -192,7 +195,7 @@ def write_jp2_ortho(
             reader = _TileRowReader(dataset, mapping, str(input_path))
             rows: Callable[[int, int], np.ndarray] = reader
             tap = None
-            if label != "pds3":  # the same DNs also go, uncompressed, into the PDS4 primary array
+            if dialect.pds4:  # the same DNs also go, uncompressed, into the PDS4 primary array
                 from ..pds4.products import ArrayRowTap  # PDS4 code loads only when asked for
 
                 array_file = files.enter_context(open(staged.path(img_final), "wb"))
@@ -205,7 +208,7 @@ def write_jp2_ortho(
             if not reader.any_valid:
                 raise PdsgenError(input_path, "has no valid pixels (all nodata)")
             files.close()
-            if label != "pds4":
+            if dialect.pds3:
                 staged.path(label_final).write_bytes(text.encode("ascii"))
             if tap is not None:
                 from ..pds4.content import digest_file
@@ -216,7 +219,7 @@ def write_jp2_ortho(
                                              digest_file(staged.path(jp2_final)), mapping.scaling_factor,
                                              mapping.offset)
                 staged.path(xml_final).write_text(pds4_text, encoding="utf-8")
-                text = pds4_text if label == "pds4" else text
+                text = pds4_text if not dialect.pds3 else text
             entry = describe_jp2(jp2_final.name, settings, dataset.height, dataset.width, dataset.count,
                                  mapping.special.bits, ["GeoJP2", "GMLJP2"][:len(boxes)])
             previous = info_final.read_text("ascii", "replace") if info_final.is_file() else None
@@ -224,14 +227,14 @@ def write_jp2_ortho(
     return OrthoProduct(
         product_id=product_id,
         jp2_path=jp2_final,
-        label_path=xml_final if label == "pds4" else label_final,
+        label_path=xml_final if not dialect.pds3 else label_final,
         geometry=geometry,
         scaling_factor=mapping.scaling_factor,
         offset=mapping.offset,
         bits=bits,
         bands=dataset.count,
         label_text=text,
-        pds4_label_path=xml_final if label != "pds3" else None,
+        pds4_label_path=xml_final if dialect.pds4 else None,
         warnings=warnings,
     )
 

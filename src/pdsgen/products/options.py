@@ -1,0 +1,214 @@
+"""The option vocabulary of the product commands: one entry per option, in --help order.
+
+An entry says everything about one option once: its flag and help, its click parameter
+name (also a batch manifest's key), the library keyword it becomes and how its value is
+converted, and whether every profile uses it. Which of the other options a profile uses is
+the mission's declaration (`Mission.options`). The CLI builds its click options, its table
+of flags per profile and its refusal of a flag a profile does not use from these two;
+`write_dtm`/`write_ortho` refuse a keyword from the same declaration. Adding a mission, or
+a mission using an option, is an edit in missions/ only; a new option is an entry here.
+
+Plain data, no click: the CLI turns each entry into a click option (cli/_profile_options.py).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from ..dialect import DIALECT_NAMES, Dialect
+from ..errors import ParamsError
+from ..missions import Mission, get_mission
+
+
+class _NotGiven:
+    """An entry's default when it states none (the CLI's own default then applies: False for a flag)."""
+
+    def __repr__(self) -> str:
+        return "NOT_GIVEN"
+
+
+NOT_GIVEN: Any = _NotGiven()
+
+
+@dataclass(frozen=True)
+class OptionSpec:
+    """One option of a product command."""
+
+    param: str  # click's parameter name, the manifest's key
+    flag: str  # the command line's name of it, without its leading dashes
+    help: str
+    keyword: str = ""  # the library keyword ("": the same as `param`)
+    always: bool = False  # every profile uses it (else: those whose mission declares `keyword`)
+    choices: tuple[str, ...] | None = None
+    value_type: type | None = None  # float, int; None: text (or a flag)
+    default: Any = NOT_GIVEN
+    show_default: bool = False
+    is_flag: bool = False
+    multiple: bool = False
+    nargs: int = 1
+    metavar: str | None = None
+    required: bool = False
+    file: bool = False  # a file path (not a directory)
+    stored: bool = False  # a file that may be an object in storage: passed as storage.internal gives it
+    convert: Callable[[Any], Any] | None = None  # the parsed value -> the library's
+    omit_unset: bool = False  # None stays out of the library call: the writer's own default applies
+
+    @property
+    def library_keyword(self) -> str:
+        return self.keyword or self.param
+
+
+def _as_tuple(value: Any) -> tuple[Any, ...]:
+    return tuple(value)
+
+
+def _tuple_or_none(value: Any) -> tuple[Any, ...] | None:
+    return tuple(value) if value else None
+
+
+def _int_or_none(value: Any) -> int | None:
+    return int(value) if value else None
+
+
+def _true_or_none(value: Any) -> bool | None:
+    """A flag whose absence means "as the params file says": unset is None, never False."""
+    return value or None
+
+
+# -- entries shared by several commands (each command lists its own, in its --help order) ---------
+
+PARAMS = OptionSpec("params_file", "params", keyword="params", always=True, file=True,
+                    help="PVL or TOML file of producer/data-set keywords (see schemas/params.toml).")
+OVERWRITE = OptionSpec("overwrite", "overwrite", is_flag=True, always=True, help="Replace an existing product.")
+REPROJECT = OptionSpec("reproject", "reproject", keyword="reproject_input", is_flag=True,
+                       help="hrsc: warp the input into the HRSC projection and sphere instead of refusing it.")
+SOURCE_LABELS = OptionSpec(
+    "source_labels", "source-label", multiple=True, file=True, convert=_as_tuple,
+    help="hrsc: level-2/3 label whose identification, time and orbit keywords the "
+         "product carries; hrsc-ax: XML image label of the tile's MAP/DTM keywords "
+         "and survey date; repeat for each source.")
+OFFSET_CONVENTION = OptionSpec(
+    "offset_convention", "offset-convention", choices=("standard", "dlr"), default="standard",
+    show_default=True, help="hrsc: PDS3 standard projection offsets (GDAL reads them "
+                            "exactly) or DLR's own, one pixel apart.")
+VICAR_OFFSETS = OptionSpec(
+    "vicar_offsets", "vicar-offsets", choices=("standard", "dlr"), default="standard", show_default=True,
+    help="hrsc-ax: how the tile's VICAR MAP offsets count: from the centre of pixel 1,1 as the HRSC-AX "
+         "image description defines them (GDAL reads them so), or DLR's HRSC Mars counting, one pixel further.")
+ALLOW_DEVIATIONS = OptionSpec(
+    "allow_deviations", "allow-dictionary-deviations", keyword="allow_dictionary_deviations",
+    is_flag=True, default=None, convert=_true_or_none,
+    help="Keep label values that break the PDS3 data dictionary (warned once) instead of refusing the product.")
+# The options about what the labels of `pdsgen dtm` and `pdsgen ortho` carry.
+LABEL_FIDELITY = (SOURCE_LABELS, OFFSET_CONVENTION, VICAR_OFFSETS, ALLOW_DEVIATIONS)
+
+
+def label_option(help_text: str) -> OptionSpec:
+    """--label: the dialect of the product's labels."""
+    return OptionSpec("label", "label", choices=DIALECT_NAMES, default=Dialect.PDS3.value, show_default=True,
+                      help=help_text)
+
+
+DTM_OPTIONS: tuple[OptionSpec, ...] = (
+    OptionSpec("product_id", "product-id", always=True,
+               help="Product ID (default: built by the profile; hrsc: h1234_0000)."),
+    OptionSpec("source_ids", "source-product-id", keyword="source_product_ids", multiple=True,
+               convert=_as_tuple,
+               help="Source observation/product ID; repeat for each (hirise: two stereo images)."),
+    OptionSpec("institution", "institution", help="Producing institution letter for HiRISE product IDs."),
+    OptionSpec("product_version", "version", keyword="version", default="1.0", show_default=True, always=True,
+               help="PRODUCT_VERSION_ID (HiRISE IDs encode it as two digits)."),
+    PARAMS,
+    OptionSpec("byte_order", "byte-order", choices=("lsb", "msb"), default=None,
+               help="lsb: PC_REAL / LSB_INTEGER; msb: IEEE_REAL / MSB_INTEGER. [default: lsb; hrsc: msb]"),
+    OptionSpec("kind", "kind", choices=("dt4", "da4"), default="dt4", show_default=True,
+               help="hrsc/imars: heights above the 3396.0 km sphere (dt4) or the areoid (da4)."),
+    OptionSpec("vertical_datum", "vertical-datum", choices=("sphere", "areoid"), default="sphere",
+               show_default=True, help="hrsc: what the input heights are measured from."),
+    OptionSpec("areoid", "areoid", file=True, stored=True,
+               help="hrsc: areoid heights above the 3396.0 km sphere (any GDAL raster), to convert datums."),
+    OptionSpec("precision", "precision", value_type=float, default=1.0, show_default=True,
+               help="hrsc/imars: metres per stored integer step (SCALING_FACTOR)."),
+    REPROJECT,
+    *LABEL_FIDELITY,
+    label_option("pds3 (.IMG, attached label), pds4 (.img + .xml) or both (.IMG + a PDS4 .xml "
+                 "describing it); hrsc: pds3 or both."),
+    OVERWRITE,
+)
+
+DTM_HELP = """Convert the single-band elevation raster INPUT (any GDAL format, projected
+    CRS: equirectangular, polar stereographic or sinusoidal) into a PDS3 DTM in OUTDIR:
+    <PRODUCT_ID>.IMG (float32), or with --label pds4 a PDS4 one (<PRODUCT_ID>.img + .xml);
+    for --profile hrsc hOOOO_NNNN_dt4.img / _da4.img
+    (16-bit integers with MEX:DTM scaling); for --profile imars the iMars form:
+    hOOOO_NNNN_da4_ucl.tif (int16 GeoTIFF), its .pvl metadata and hOOOO_NNNN.geojson;
+    for --profile hrsc-ax the HRSC-AX tile's VICAR .dsm as HRSCAX_<tile>_DEM.IMG (float32
+    ellipsoid heights, transverse Mercator)."""
+
+ORTHO_OPTIONS: tuple[OptionSpec, ...] = (
+    OptionSpec("product_id", "product-id", always=True, help="Product ID (default: built by the profile)."),
+    OptionSpec("bits", "bits", choices=("8", "10", "16"), convert=_int_or_none,
+               help="DN bits (default: 8 for byte input, 16 for wider; floats 10 (hirise) or 16)."),
+    OptionSpec("value_range", "range", value_type=float, nargs=2, metavar="MIN MAX", always=True,
+               convert=_tuple_or_none,
+               help="Input values mapped onto the valid DNs; outside become saturation DNs "
+                    "(default: integer DNs kept if they fit, else the data's min and max)."),
+    OptionSpec("observation_id", "observation-id",
+               help="Source observation, e.g. ESP_042252_1930 (hirise product ID)."),
+    OptionSpec("source_dtm_id", "source-dtm-id", help="Product ID of the DTM the image was orthorectified on."),
+    OptionSpec("sequence", "sequence", value_type=int, default=1, show_default=True,
+               help="Sequence number NN of HiRISE ortho IDs."),
+    PARAMS,
+    OptionSpec("product_version", "version", keyword="version", default="1.0", show_default=True, always=True,
+               help="PRODUCT_VERSION_ID."),
+    OptionSpec("gmljp2", "gmljp2", is_flag=True,
+               help="Also write a GMLJP2 box (the GeoJP2 box is always written)."),
+    OptionSpec("source_ids", "source-product-id", keyword="source_product_ids", multiple=True,
+               convert=_as_tuple,
+               help="hrsc/imars: source product (e.g. H1234_0000_ND3) giving orbit and sequence."),
+    OptionSpec("reproject", "reproject", keyword="reproject_input", is_flag=True,
+               help="hrsc: warp the input into the HRSC projection and sphere."),
+    *LABEL_FIDELITY,
+    label_option("pds3 (.JP2 + .LBL), pds4 (.JP2 + uncompressed .img + .xml) or both; "
+                 "hrsc: pds3 or both (the nd4 .img + a PDS4 .xml describing it)."),
+    OVERWRITE,
+)
+
+ORTHO_HELP = """Convert the 1-band (RED) or 3-band (IRB) orthoimage INPUT (any GDAL format,
+    projected CRS as for DTMs) into OUTDIR/<PRODUCT_ID>.JP2 and .LBL (--label pds4: .JP2,
+    .img and .xml); for --profile
+    hrsc the 8-bit nadir image hOOOO_NNNN_nd4.img (attached label, DN 0 = no data);
+    for --profile imars hOOOO_NNNN_nd4_ucl.tif with its .pvl and footprint; for --profile
+    hrsc-ax TILE.pan, or the channel files of one colour product in band order
+    (TILE.re TILE.gr TILE.bl, TILE.cir_re TILE.cir_gr TILE.cir_bl)."""
+
+# Keywords the library takes that are no command-line option of the product (a batch sets them).
+# `threads`: cores for the JPEG 2000 encoder; `mosaic_statement`: what a mosaic's label says of its sources
+# (write_mosaic gives it to the writers that take it; the others refuse it by their signature).
+LIBRARY_ONLY = {"dtm": frozenset({"mosaic_statement"}), "ortho": frozenset({"threads", "mosaic_statement"}),
+                "mosaic": frozenset()}
+
+
+def used_options(kind: str, mission: Mission, vocabulary: Iterable[OptionSpec]) -> list[OptionSpec]:
+    """The entries of `vocabulary` the mission's products of `kind` use."""
+    declared = mission.options.of(kind)
+    return [spec for spec in vocabulary if spec.always or spec.library_keyword in declared]
+
+
+def library_keywords(kind: str, mission: Mission, vocabulary: Iterable[OptionSpec]) -> frozenset[str]:
+    """Every keyword a library call making the mission's `kind` product may be given."""
+    return frozenset(spec.library_keyword for spec in used_options(kind, mission, vocabulary)) | LIBRARY_ONLY[kind]
+
+
+def refuse_undeclared(kind: str, profile: str, options: Mapping[str, Any],
+                      vocabulary: Iterable[OptionSpec]) -> None:
+    """ParamsError naming the keywords given that the profile does not use (never silently dropped).
+
+    A keyword given as None is not given, as an option left at its default on the command line
+    is not (the writer itself still refuses a keyword it has no parameter for)."""
+    given = {name for name, value in options.items() if value is not None}
+    unused = sorted(given - library_keywords(kind, get_mission(profile), vocabulary))
+    if unused:
+        raise ParamsError(None, f"the {profile} profile does not use {', '.join(unused)}")
