@@ -224,7 +224,7 @@ def _html_writer():
     return HtmlWriter
 
 
-def _tell_choices(settings: configuration.Settings, baseline_path: str | None, dictionaries: tuple[str, ...],
+def _tell_choices(settings: configuration.RuleSettings, baseline_path: str | None, dictionaries: tuple[str, ...],
                   jobs: int, labels_only: bool) -> None:
     """--verbose: what the run reads and which rules it applies."""
     log.info("configuration: %s", settings.source or "none (defaults)")

@@ -20,12 +20,10 @@ from __future__ import annotations
 import importlib
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Generic, TypeVar
+from typing import Any, Generic, TypeVar
 
 from .model import Hit
-
-if TYPE_CHECKING:
-    from .families.set_rules import Summary
+from .summary import LabelSummary
 
 # The built-in families in --list-rules order; families registered later follow them.
 FAMILIES = ("FILE", "SYNTAX", "DICT", "PTR", "REC", "IMG", "MAP", "GEO", "HRSC", "SET", "IMARS", "PDS4")
@@ -41,7 +39,7 @@ class Rule(Generic[ContextT]):
     summary: str
     check: Callable[[ContextT], Iterable[Hit]] | None  # per-file check
     needs_data: bool = False
-    set_check: Callable[[list[Summary], set[str]], Iterable[Hit]] | None = None  # across files (SET)
+    set_check: Callable[[list[LabelSummary], set[str]], Iterable[Hit]] | None = None  # across files (SET)
     target: str = "label"  # what `check` takes: see the module docstring
     note: str = ""  # when a finding of this rule takes another severity, and why
 

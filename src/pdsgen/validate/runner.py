@@ -22,16 +22,17 @@ from pathlib import Path
 from ..errors import PdsgenError
 from ..formats.sniff import file_head
 from ..pds4.detect import is_pds4_label
-from .config import Baseline, Settings
+from .config import Baseline, RuleSettings
 from .context import FileContext
 from .dictionary import load as load_dictionary
 from .dictionary import version as dictionary_version
 from .families.delivery_rules import DeliveryChecks
-from .families.set_rules import Summary, summarise
+from .families.set_rules import summarise
 from .imars_context import ImarsContext, is_imars_metadata
 from .model import Finding
 from .registry import rules
-from .report import FileReport, Report
+from .report import FileReport, ValidationReport
+from .summary import LabelSummary
 
 LABEL_SUFFIXES = (".lbl",)
 _SNIFF = (b"PDS_VERSION_ID", b"CCSD3")
@@ -131,7 +132,7 @@ _MAGIC = ((b"\x00\x00\x00\x0cjP  ", "a JPEG 2000 signature"), (b"\xff\x4f\xff\x5
 
 def validate_file(path: Path, labels_only: bool = False, dictionaries: tuple[str, ...] = (),
                   strict: bool = False, schemas: tuple[str, ...] = (), schema_cache: str | None = None,
-                  download_schemas: bool = False) -> tuple[FileReport, Summary | None]:
+                  download_schemas: bool = False) -> tuple[FileReport, LabelSummary | None]:
     """All per-file rules on one file: PDS3 label rules, or IMARS rules for iMars metadata."""
     if is_pds4_label(path):  # PDS4 hook: pdsgen.pds4 checks it and returns Findings
         from ..pds4 import validate as pds4  # loaded (lxml, Schematron) only when a PDS4 label turns up
@@ -190,7 +191,7 @@ class _Job:
     labels_only: bool = False
     dictionaries: tuple[str, ...] = ()
     strict: bool = False
-    settings: Settings = Settings()
+    settings: RuleSettings = RuleSettings()
     schemas: tuple[str, ...] = ()  # PDS4 schema directories (--schemas)
     schema_cache: str | None = None  # PDS4 schema download cache (read; written when downloading)
     download_schemas: bool = False  # PDS4 schemas not found locally fetched from their URL
@@ -204,7 +205,7 @@ def _init_worker(job: _Job) -> None:
     _JOB = job
 
 
-def _one(path: str) -> tuple[FileReport, Summary | None]:
+def _one(path: str) -> tuple[FileReport, LabelSummary | None]:
     """One file, in a worker: its findings as the configuration reports them."""
     report, summary = validate_file(Path(path), _JOB.labels_only, _JOB.dictionaries, _JOB.strict, _JOB.schemas,
                                     _JOB.schema_cache, _JOB.download_schemas)
@@ -230,7 +231,7 @@ def iter_reports(
     labels_only: bool = False,
     progress: Callable[[int, int], None] | None = None,
     dictionaries: Iterable[str | os.PathLike[str]] = (),
-    settings: Settings | None = None,
+    settings: RuleSettings | None = None,
     baseline: Baseline | None = None,
     schemas: Iterable[str | os.PathLike[str]] = (),
     skip_non_labels: bool = False,
@@ -251,7 +252,7 @@ def iter_reports(
     given only such files checks nothing and passes; for hooks (pre-commit) that hand over
     every changed file of some suffixes. A named directory without labels is still an error.
     """
-    settings = settings or Settings()
+    settings = settings or RuleSettings()
     extra = tuple(str(d) for d in dictionaries)
     _check_dictionaries(extra)
     schema_dirs = _checked_schema_dirs(schemas)
@@ -270,7 +271,7 @@ def iter_reports(
                                             baseline), settings, baseline)
 
 
-def _with_deliveries(reports: Iterator[FileReport], deliveries: DeliveryChecks, settings: Settings,
+def _with_deliveries(reports: Iterator[FileReport], deliveries: DeliveryChecks, settings: RuleSettings,
                      baseline: Baseline | None) -> Iterator[FileReport]:
     """Delivery hook: each file's DLV findings beside its own; files with no report of their own
     (an index table, the manifest) get one at the end."""
@@ -283,7 +284,7 @@ def _with_deliveries(reports: Iterator[FileReport], deliveries: DeliveryChecks, 
             yield FileReport(path, kept)
 
 
-def _kept(path: str, findings: list[Finding], settings: Settings, baseline: Baseline | None) -> list[Finding]:
+def _kept(path: str, findings: list[Finding], settings: RuleSettings, baseline: Baseline | None) -> list[Finding]:
     """Findings made after a file's own report (across files), as configured and not in the baseline."""
     return _after_baseline(FileReport(path, settings.filter(findings)), baseline).findings
 
@@ -298,7 +299,7 @@ def _checked_schema_dirs(schemas: Iterable[str | os.PathLike[str]]) -> tuple[str
     return pds4.check_schema_dirs(schemas)
 
 
-def _with_run_notes(reports: Iterator[FileReport], settings: Settings,
+def _with_run_notes(reports: Iterator[FileReport], settings: RuleSettings,
                     baseline: Baseline | None) -> Iterator[FileReport]:
     """PDS4 hook: the run's one note when Schematron could not run, on its first PDS4 report;
     and the checks across the run's PDS4 labels (two labels describing one data file)."""
@@ -327,7 +328,7 @@ def _stream(files: Iterator[Path], job: _Job, jobs: int, progress: Callable[[int
         yield from _collect(map(_one, names), groups, progress, baseline)
 
 
-def _collect(results: Iterator[tuple[FileReport, Summary | None]], groups: _SetGroups,
+def _collect(results: Iterator[tuple[FileReport, LabelSummary | None]], groups: _SetGroups,
              progress: Callable[[int, int], None] | None, baseline: Baseline | None) -> Iterator[FileReport]:
     done = 0
     for report, summary in results:
@@ -349,14 +350,14 @@ def _after_baseline(report: FileReport, baseline: Baseline | None) -> FileReport
 class _SetGroups:
     """Holds one directory's reports until its set checks have run (see iter_reports)."""
 
-    def __init__(self, settings: Settings) -> None:
+    def __init__(self, settings: RuleSettings) -> None:
         self.settings = settings
         self.directory: str | None = None
-        self.group: list[tuple[FileReport, Summary | None]] = []
-        self.waiting: list[tuple[FileReport, Summary]] = []  # labels describing no data (SET-005)
+        self.group: list[tuple[FileReport, LabelSummary | None]] = []
+        self.waiting: list[tuple[FileReport, LabelSummary]] = []  # labels describing no data (SET-005)
         self.referenced: set[str] = set()
 
-    def add(self, report: FileReport, summary: Summary | None) -> list[FileReport]:
+    def add(self, report: FileReport, summary: LabelSummary | None) -> list[FileReport]:
         directory = os.path.dirname(report.path)
         ready = self._flush() if directory != self.directory else []
         self.directory = directory
@@ -385,7 +386,7 @@ class _SetGroups:
         self._run(RUN_SET_RULES, [s for _, s in waiting], by_path)
         return ready + [r for r, _ in waiting]
 
-    def _run(self, rule_ids: tuple[str, ...], summaries: list[Summary], by_path: dict[str, FileReport]) -> None:
+    def _run(self, rule_ids: tuple[str, ...], summaries: list[LabelSummary], by_path: dict[str, FileReport]) -> None:
         for rule_id in rule_ids:
             rule = rules()[rule_id]
             if rule.set_check is None or not summaries or not self.settings.keeps(rule_id):
@@ -413,13 +414,13 @@ def validate_paths(
     labels_only: bool = False,
     progress: Callable[[int, int], None] | None = None,
     dictionaries: Iterable[str | os.PathLike[str]] = (),
-    settings: Settings | None = None,
+    settings: RuleSettings | None = None,
     baseline: Baseline | None = None,
     schemas: Iterable[str | os.PathLike[str]] = (),
     skip_non_labels: bool = False,
     schema_cache: str | os.PathLike[str] | None = None,
     download_schemas: bool = False,
-) -> Report:
+) -> ValidationReport:
     """Validate label files and directories of them; the API behind `pdsgen validate`.
 
     Raises PdsgenError when the paths hold no label at all (an empty or wrong directory):
@@ -434,9 +435,9 @@ def validate_paths(
     grow from the URLs labels name (without a cache, no download).
     skip_non_labels passes over named files that are not labels (see iter_reports).
     """
-    settings = settings or Settings()
+    settings = settings or RuleSettings()
     reports = list(iter_reports(paths, strict, jobs, labels_only, progress, dictionaries, settings, baseline,
                                 schemas, skip_non_labels, schema_cache, download_schemas))
     fail_on = "warning" if strict else settings.fail_on
-    return Report(reports, fail_on=fail_on, baseline_suppressed=baseline.suppressed if baseline else 0,
+    return ValidationReport(reports, fail_on=fail_on, baseline_suppressed=baseline.suppressed if baseline else 0,
                   dictionary=dictionary_version())
