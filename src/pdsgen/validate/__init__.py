@@ -23,14 +23,14 @@ if TYPE_CHECKING:
     from .model import Finding
     from .registry import rules
     from .report import FileReport, ValidationReport, render
-    from .runner import discover, iter_reports, validate_file, validate_paths
+    from .runner import ValidationJob, discover, iter_reports, validate_file, validate_paths
 
 # public name -> the module (in this package) that defines it
 _HOMES = {"Baseline": "config", "RuleSettings": "config", "Finding": "model", "rules": "registry",
-          "FileReport": "report", "ValidationReport": "report", "render": "report", "discover": "runner",
-          "iter_reports": "runner", "validate_file": "runner", "validate_paths": "runner"}
+          "FileReport": "report", "ValidationReport": "report", "render": "report", "ValidationJob": "runner",
+          "discover": "runner", "iter_reports": "runner", "validate_file": "runner", "validate_paths": "runner"}
 
-__all__ = ["families", "Baseline", "Finding", "FileReport", "ValidationReport", "RuleSettings",
+__all__ = ["families", "Baseline", "Finding", "FileReport", "ValidationReport", "RuleSettings", "ValidationJob",
            "render", "rules", "discover", "iter_reports", "validate_file", "validate_paths"]
 
 
