@@ -5,7 +5,7 @@ Order: parse -> find the schemas it names in the catalog (shipped + `--schemas`)
 (file size, MD5, array statistics, special constants, cartography against the
 georeferencing). Every problem is a hit of a PDS4-nnn rule: these are the checks of
 the validator's PDS4 rule family (validate/families/pds4_rules.py declares the rules and
-their severities; the runner opens a `Pds4Label` for each PDS4 file). Nothing a label
+their severities; the runner opens a `Pds4LabelContext` for each PDS4 file). Nothing a label
 holds can raise out of here.
 
 The content checks compute independently of the writer: they read the data file
@@ -63,7 +63,7 @@ def catalog_for(schema_dirs: tuple[str, ...] = (), schema_cache: str | None = No
 _CATALOGS: dict[tuple[tuple[str, ...], str | None, bool], SchemaCatalog] = {}
 
 
-class Pds4Label:
+class Pds4LabelContext:
     """One PDS4 label as the validator's PDS4 rules see it (their context). Every check
     runs once, when the first rule asks; each rule then takes its own hits."""
 
@@ -93,7 +93,7 @@ def validate_pds4(path: str | Path, catalog: SchemaCatalog | None = None, labels
                   use_schematron: bool = True) -> list[Finding]:
     """Every finding for one PDS4 label, as the PDS4 family of a validation run reports it
     (before configuration): the registry's severities, in line order."""
-    label = Pds4Label(path, catalog or SchemaCatalog.build(), labels_only, use_schematron)
+    label = Pds4LabelContext(path, catalog or SchemaCatalog.build(), labels_only, use_schematron)
     findings = [Finding(rule.id, hit.severity or rule.severity, hit.file or str(label.path), hit.message,
                         hit.line, hit.keyword)
                 for rule in rules().values() if rule.target == "pds4" and rule.check is not None
@@ -101,7 +101,7 @@ def validate_pds4(path: str | Path, catalog: SchemaCatalog | None = None, labels
     return sorted(findings, key=lambda f: (f.line or 0, f.rule))
 
 
-__all__ = ["Pds4Label", "catalog_for", "check_schema_dirs", "validate_label", "validate_pds4"]
+__all__ = ["Pds4LabelContext", "catalog_for", "check_schema_dirs", "validate_label", "validate_pds4"]
 
 
 def _check(report: Pds4Hits, catalog: SchemaCatalog, labels_only: bool, use_schematron: bool) -> None:

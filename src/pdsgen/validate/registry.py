@@ -10,7 +10,7 @@ call). `rules()` is the table every part of the validator reads, and what
 
 Rules run on what their `target` names: "label" rules take a FileContext (PDS3
 labels), "imars" rules an ImarsContext (iMars `*_ucl.pvl` metadata, PVL rather
-than PDS3), "pds4" rules a Pds4Label (PDS4 XML labels, see families/pds4_rules.py).
+than PDS3), "pds4" rules a Pds4LabelContext (PDS4 XML labels, see families/pds4_rules.py).
 Rules with a `set_check` compare the PDS3 labels of a directory or run with each other
 (the SET family); rules with a `run_check` see every file of their target in report
 order, in the parent process (PDS4-007, PDS4-060); rules with no check at all are
@@ -31,7 +31,7 @@ from .summary import LabelSummary
 FAMILIES = ("FILE", "SYNTAX", "DICT", "PTR", "REC", "IMG", "MAP", "GEO", "HRSC", "SET", "IMARS", "PDS4")
 TARGETS = ("label", "imars", "pds4")
 
-ContextT = TypeVar("ContextT")  # FileContext for "label" rules, ImarsContext "imars", Pds4Label "pds4"
+ContextT = TypeVar("ContextT")  # FileContext for "label" rules, ImarsContext "imars", Pds4LabelContext "pds4"
 # A run check: called once per run, it gives the function that takes each file's path in turn.
 RunCheck = Callable[[], Callable[[str], Iterable[Hit]]]
 

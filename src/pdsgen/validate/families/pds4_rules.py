@@ -2,7 +2,7 @@
 
 A family like every other: one `Rule` per id in the registry (one severity each), checks
 that take a context and yield `Hit`s, findings made by the runner. Its context is a
-`Pds4Label` (pdsgen.pds4.validate), which the runner opens for a file that is a PDS4 label
+`Pds4LabelContext` (pdsgen.pds4.validate), which the runner opens for a file that is a PDS4 label
 (`open_label`). The PDS4 checks do not map one function to one rule: parsing, the XML
 Schema pass, Schematron and a content check each find problems of several rules at once.
 So the label is checked once, on the first rule's call, and each rule takes its own hits.
@@ -25,15 +25,15 @@ from ..model import Hit
 from ..registry import Rule, register
 
 if TYPE_CHECKING:
-    from ...pds4.validate import Pds4Label
+    from ...pds4.validate import Pds4LabelContext
 
 
 def open_label(path: Path, labels_only: bool, schemas: tuple[str, ...], schema_cache: str | None,
-               download_schemas: bool) -> Pds4Label:
+               download_schemas: bool) -> Pds4LabelContext:
     """The context the PDS4 rules take (nothing is read until the first rule asks)."""
-    from ...pds4.validate import Pds4Label, catalog_for
+    from ...pds4.validate import Pds4LabelContext, catalog_for
 
-    return Pds4Label(path, catalog_for(schemas, schema_cache, download_schemas), labels_only)
+    return Pds4LabelContext(path, catalog_for(schemas, schema_cache, download_schemas), labels_only)
 
 
 def check_schema_dirs(directories: tuple[str, ...]) -> tuple[str, ...]:
@@ -45,10 +45,10 @@ def check_schema_dirs(directories: tuple[str, ...]) -> tuple[str, ...]:
     return checked(directories)
 
 
-def _hits_of(rule_id: str) -> Callable[[Pds4Label], Iterable[Hit]]:
+def _hits_of(rule_id: str) -> Callable[[Pds4LabelContext], Iterable[Hit]]:
     """The check of one PDS4 rule: its share of the label's hits."""
 
-    def check(label: Pds4Label) -> Iterable[Hit]:
+    def check(label: Pds4LabelContext) -> Iterable[Hit]:
         return label.hits(rule_id)
 
     check.__name__ = f"check_{rule_id.replace('-', '_').lower()}"
