@@ -199,7 +199,7 @@ def _schema_checks(tree: etree._ElementTree, catalog: SchemaCatalog, use_schemat
             named = "; ".join(f"xml-model {text.strip()}" for text in refs.unusable) or "no xml-model instruction"
             report.add("PDS4-008", f"the label names no usable Schematron ({named}): no rule checks made", line)
         if not sch_files or not schematron.available():
-            return  # a missing Saxon is reported once per run (add_run_notes), not once per label
+            return  # a missing Saxon is reported once per run (run check PDS4-007), not per label
         text = etree.tostring(_collapsed(tree), encoding="unicode")
         for failure in schematron.compiled(sch_files).check(text):
             rule = "PDS4-006" if failure.role in ("warning", "warn", "info") else "PDS4-005"
