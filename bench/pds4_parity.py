@@ -271,7 +271,7 @@ class Outcome:
 def run_case(case: Case, extra_schemas: list[str], absent: set[Path], cwd_check: bool,
              scratch: Path) -> Outcome:
     from pdsgen.errors import PdsgenError
-    from pdsgen.validate import Settings, discover, validate_paths
+    from pdsgen.validate import RuleSettings, discover, validate_paths
 
     if case.skip:
         return Outcome(case, "not-comparable", case.skip)
@@ -301,7 +301,7 @@ def run_case(case: Case, extra_schemas: list[str], absent: set[Path], cwd_check:
         return Outcome(case, "not-comparable", "other bundle/collection labels beside the one named (NASA "
                                                "checks the one named, pdsgen the directory)")
     checked = {os.path.normpath(p.resolve()) for p in scope}
-    settings = Settings(severity=LENIENT_MEMBERSHIP if case.lenient_membership else {},
+    settings = RuleSettings(severity=LENIENT_MEMBERSHIP if case.lenient_membership else {},
                         ignore=frozenset({"PDS4-063"} if case.skip_context else set()))
     runs = []
     for cwd in ([scratch / "a", scratch / "b"] if cwd_check else [scratch / "a"]):

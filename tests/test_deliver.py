@@ -292,11 +292,11 @@ def test_seeded_file_changed_after_manifest(delivery):
 
 
 def test_dlv_rules_configurable_and_listed(delivery):
-    from pdsgen.validate.config import Settings
+    from pdsgen.validate.config import RuleSettings
 
     with open(delivery / "DATA" / "JP2INFO.TXT", "a") as stream:
         stream.write("edited\n")
-    report = validate_paths([delivery], settings=Settings(ignore=frozenset({"DLV-020"})))
+    report = validate_paths([delivery], settings=RuleSettings(ignore=frozenset({"DLV-020"})))
     assert not any(f.rule == "DLV-020" for f in report.findings)
     listing = run_cli("validate", "--list-rules").stdout
     assert all(f"DLV-0{n}" in listing for n in ("01", "04", "10", "14", "20", "21"))

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from pdsgen.validate import datastats, validate_paths
-from pdsgen.validate.datastats import Layout, image_stats
+from pdsgen.validate.datastats import SampleLayout, image_stats
 from test_validate_support import make_dtm, replace_in_label
 
 
@@ -24,7 +24,7 @@ def test_streamed_statistics_match_numpy(tmp_path, monkeypatch, dtype):
     rows = [b"P" * prefix + row.tobytes() + b"S" * suffix for row in data]
     path = tmp_path / "img.raw"
     path.write_bytes(b"HEADER" + b"".join(rows))
-    layout = Layout(6, np.dtype(dtype), 37, 23, prefix, suffix)
+    layout = SampleLayout(6, np.dtype(dtype), 37, 23, prefix, suffix)
     stats = image_stats(path, layout, [float(missing)], want_moments=True)
     valid = data.astype(float)
     valid = valid[(valid != float(missing)) & ~np.isnan(valid)]

@@ -18,7 +18,7 @@ from .products.dtm import DtmProduct, write_dtm
 from .products.ortho import OrthoProduct, write_ortho
 from .synthetic import make_scene, write_geotiff
 from .validate import validate_paths
-from .validate.report import Report
+from .validate.report import ValidationReport
 
 DEMO_SOURCES = ("PSP_008669_1705", "PSP_009025_1705")
 DEMO_INSTITUTION = "U"
@@ -30,7 +30,7 @@ class DemoResult:
     inputs: list[Path] = field(default_factory=list)
     products: list[Path] = field(default_factory=list)
     lines: list[str] = field(default_factory=list)
-    validation: Report | None = None
+    validation: ValidationReport | None = None
 
 
 def run_demo(outdir: str | os.PathLike[str], overwrite: bool = True) -> DemoResult:

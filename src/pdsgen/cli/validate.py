@@ -31,7 +31,7 @@ from ..validate.report import (
     terminal_safe,
     write_stream,
 )
-from ..validate.runner import iter_reports
+from ..validate.runner import ValidationJob, iter_reports
 from . import COMMANDS
 from ._output import log_to_stderr
 
@@ -173,11 +173,12 @@ def validate(paths: tuple[str, ...], fmt: str, strict: bool, fail_on: str | None
     with local_inputs(paths) as inputs:
         with _files_progress(quiet) as bar:
             progress = None if bar is None else (lambda done, total: bar(done, total, "file(s) checked"))
-            reports = iter_reports(inputs.paths, strict=strict, jobs=jobs, labels_only=labels_only, progress=progress,
-                                   dictionaries=dictionaries, settings=settings, baseline=baseline, schemas=schemas,
-                                   skip_non_labels=skip_non_labels,
-                                   schema_cache=schema_cache or str(default_schema_cache()),
-                                   download_schemas=not offline)
+            job = ValidationJob(strict=strict, jobs=jobs, labels_only=labels_only, dictionaries=dictionaries,
+                                settings=settings, baseline=baseline, schemas=schemas,
+                                skip_non_labels=skip_non_labels,
+                                schema_cache=schema_cache or str(default_schema_cache()),
+                                download_schemas=not offline)
+            reports = iter_reports(inputs.paths, job, progress)
             if bar is not None:
                 reports = _giving_way(reports, bar)
             if verbose:  # after iter_reports has checked the paths given with --dictionary
@@ -224,7 +225,7 @@ def _html_writer():
     return HtmlWriter
 
 
-def _tell_choices(settings: configuration.Settings, baseline_path: str | None, dictionaries: tuple[str, ...],
+def _tell_choices(settings: configuration.RuleSettings, baseline_path: str | None, dictionaries: tuple[str, ...],
                   jobs: int, labels_only: bool) -> None:
     """--verbose: what the run reads and which rules it applies."""
     log.info("configuration: %s", settings.source or "none (defaults)")

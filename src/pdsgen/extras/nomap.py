@@ -8,7 +8,7 @@ Extras (names in `missions.hirise`): `<OBS>_RED.NOMAP.JP2`, `<OBS>_IRB.NOMAP.JP2
 `<OBS>_RGB.NOMAP.JP2` and a `.browse.jpg` of each. RGB shows RED, BG and a
 synthetic blue = 2 x BG - 0.3 x RED of the IRB mosaic.
 
-Every band of every product is a linear combination of input bands (a `Channel`),
+Every band of every product is a linear combination of input bands (an `OutputBand`),
 computed in floating point, then stretched on its own (the lowest 0.1 % to black,
 the highest 0.01 % to white) and clipped to 8 bits: a synthetic blue beyond the
 stretch saturates, it never wraps. The stretch points come from histograms filled
@@ -58,7 +58,7 @@ WINDOW_PIXELS = 1 << 20  # statistics read at most this many pixels a band at on
 
 
 @dataclass(frozen=True)
-class Channel:
+class OutputBand:
     """One output band: sum of weight x input band (1-based band numbers)."""
 
     name: str
@@ -80,14 +80,14 @@ class Channel:
         return total, ok
 
 
-IR = Channel("IR", ((1, 1.0),))
-IRB_RED = Channel("RED", ((2, 1.0),))
-BG = Channel("BG", ((3, 1.0),))
-SYNTHETIC_BLUE = Channel("synthetic blue", ((3, hirise.SYNTHETIC_BLUE_BG),
+IR = OutputBand("IR", ((1, 1.0),))
+IRB_RED = OutputBand("RED", ((2, 1.0),))
+BG = OutputBand("BG", ((3, 1.0),))
+SYNTHETIC_BLUE = OutputBand("synthetic blue", ((3, hirise.SYNTHETIC_BLUE_BG),
                                             (2, hirise.SYNTHETIC_BLUE_RED)))
-RED = Channel("RED", ((1, 1.0),))
+RED = OutputBand("RED", ((1, 1.0),))
 # Product -> (the input mosaic it is made from, its bands).
-PRODUCTS: dict[str, tuple[str, tuple[Channel, ...]]] = {
+PRODUCTS: dict[str, tuple[str, tuple[OutputBand, ...]]] = {
     "RED": ("RED", (RED,)),
     "IRB": ("IRB", (IR, IRB_RED, BG)),
     "RGB": ("IRB", (IRB_RED, BG, SYNTHETIC_BLUE)),
@@ -145,9 +145,9 @@ def make_nomap_extras(paths: Sequence[str | os.PathLike[str]], outdir: str | os.
     return [*paths_out, readme]
 
 
-def _channels_of(role: str, made: Sequence[str]) -> list[Channel]:
+def _channels_of(role: str, made: Sequence[str]) -> list[OutputBand]:
     """Every distinct channel the products made from input ROLE need."""
-    channels: list[Channel] = []
+    channels: list[OutputBand] = []
     for name in made:
         if PRODUCTS[name][0] == role:
             channels += [c for c in PRODUCTS[name][1] if c not in channels]
@@ -250,7 +250,7 @@ def _split(data: np.ndarray, mask: np.ndarray, bands: Sequence[int]
     return values, valid
 
 
-def input_stretches(src: ProductSource, channels: Sequence[Channel]) -> dict[Channel, Stretch | None]:
+def input_stretches(src: ProductSource, channels: Sequence[OutputBand]) -> dict[OutputBand, Stretch | None]:
     """Each channel's 0.1 % / 0.01 % stretch over the whole input, streamed in strips."""
     bands = sorted({b for c in channels for b in c.bands})
     stats = {c: StreamingStretch() for c in channels}
@@ -268,7 +268,7 @@ def input_stretches(src: ProductSource, channels: Sequence[Channel]) -> dict[Cha
 
 
 def render(data: Mapping[int, np.ndarray], valid: Mapping[int, np.ndarray],
-           channels: Sequence[Channel], stretches: Sequence[Stretch | None]) -> np.ndarray:
+           channels: Sequence[OutputBand], stretches: Sequence[Stretch | None]) -> np.ndarray:
     """8-bit (rows, cols) or (rows, cols, 3): each channel stretched and clipped, no data 0."""
     out = []
     for channel, stretch in zip(channels, stretches, strict=True):
@@ -280,7 +280,7 @@ def render(data: Mapping[int, np.ndarray], valid: Mapping[int, np.ndarray],
     return out[0] if len(out) == 1 else np.dstack(out)
 
 
-def write_nomap_jp2(src: ProductSource, channels: Sequence[Channel],
+def write_nomap_jp2(src: ProductSource, channels: Sequence[OutputBand],
                     stretches: Sequence[Stretch | None], path: str | os.PathLike[str]) -> None:
     """The product at full scale, 8 bits per band, lossy as the QLOOK.JP2 (no GeoJP2: no map)."""
     settings = replace(choose_settings(src.height, src.width), reversible=False,
@@ -300,7 +300,7 @@ def write_nomap_jp2(src: ProductSource, channels: Sequence[Channel],
                   settings=settings)
 
 
-def nomap_browse(src: ProductSource, channels: Sequence[Channel],
+def nomap_browse(src: ProductSource, channels: Sequence[OutputBand],
                  stretches: Sequence[Stretch | None], width: int) -> Image.Image:
     """The browse: `width` wide (never wider than the mosaic), GDAL-averaged, same stretch.
 

@@ -162,7 +162,7 @@ def _make_temp(final: Path) -> Path:
 
 
 @dataclass
-class _Group:
+class _Rollback:
     """What a rollback of `published_together` does: put back each published file (final
     name, backup of what it replaced), then run the writers' own repairs."""
 
@@ -170,7 +170,7 @@ class _Group:
     repairs: list[Callable[[], None]] = field(default_factory=list)
 
 
-_GROUP: ContextVar[_Group | None] = ContextVar("pdsgen_staged_group", default=None)
+_GROUP: ContextVar[_Rollback | None] = ContextVar("pdsgen_staged_group", default=None)
 
 
 def on_rollback(repair: Callable[[], None]) -> None:
@@ -190,7 +190,7 @@ def published_together() -> Iterator[None]:
     restores the files they replaced: a half set would block the re-run (files
     exist, no --overwrite).
     """
-    group = _Group()
+    group = _Rollback()
     token = _GROUP.set(group)
     try:
         yield

@@ -15,7 +15,7 @@ from lxml import etree
 
 from ..validate.geojp2 import Jp2Error, grid_terms, read_jp2
 from ..validate.projection import Sphere, boundary
-from .label_tree import C, P, Report, data_path, file_areas, number
+from .label_tree import C, P, Pds4Hits, data_path, file_areas, number
 
 _SPHERE_NAMES = {"Equirectangular": "EQUIRECTANGULAR", "Polar Stereographic": "POLAR_STEREOGRAPHIC",
                  "Sinusoidal": "SINUSOIDAL"}
@@ -88,7 +88,7 @@ def _angle(parameters: etree._Element | None, name: str, default: float = 0.0) -
     return default if value is None else value
 
 
-def check_cartography(report: Report, tree: etree._ElementTree) -> None:
+def check_cartography(report: Pds4Hits, tree: etree._ElementTree) -> None:
     cart = _read_cart(tree)
     if cart is None:
         return
@@ -110,7 +110,7 @@ def check_cartography(report: Report, tree: etree._ElementTree) -> None:
     _check_bounds(report, cart, sphere_name, radius)
 
 
-def _check_bounds(report: Report, cart: _Cart, sphere_name: str, radius: float) -> None:
+def _check_bounds(report: Pds4Hits, cart: _Cart, sphere_name: str, radius: float) -> None:
     """Only "Coordinate Pair" encodings give Geo_Transformation in projection metres
     (as GDAL reads them); other encodings are not checked."""
     if len(cart.bounds) != 4 or not cart.lines or not cart.samples or cart.encoding != "Coordinate Pair":
@@ -160,7 +160,7 @@ def _wrap_bound(value: float, side: str) -> float:
     return value % 360.0 if side in ("west", "east") else value
 
 
-def check_encoded_jp2(report: Report, tree: etree._ElementTree) -> None:
+def check_encoded_jp2(report: Pds4Hits, tree: etree._ElementTree) -> None:
     cart = _read_cart(tree)
     for area in file_areas(tree):
         encoded = area.find(f"{P}Encoded_Image")

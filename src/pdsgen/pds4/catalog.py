@@ -18,7 +18,6 @@ They are looked up, first found wins:
 from __future__ import annotations
 
 import hashlib
-import io
 import itertools
 import json
 import logging
@@ -35,10 +34,10 @@ from lxml import etree
 
 from ..errors import PdsgenError, param
 from ..resources import schemas_dir
+from .download import SUMS_NAME, DownloadError, fetch_schema
 from .model import SCHEMATRON_NS, XSI_NS
 
 SCHEMA_SUFFIXES = (".xsd", ".sch")
-SUMS_NAME = "SHA256SUMS"
 log = logging.getLogger("pdsgen.validate")
 
 
@@ -189,8 +188,6 @@ class SchemaCatalog:
     def _fetch(self, url: str, name: str) -> SchemaFile | None:
         if url in self._failed or self.cache_dir is None:
             return None
-        from .download import DownloadError, fetch_schema
-
         try:
             path, digest = fetch_schema(url, self.cache_dir, name)
         except DownloadError as exc:
@@ -261,11 +258,3 @@ def schema_references(tree: etree._ElementTree) -> SchemaReferences:
         node = node.getprevious()
     return SchemaReferences(pairs, tuple(reversed(sch)), tuple(reversed(unusable)))
 
-
-def is_xml(data: bytes) -> bool:
-    """Whether bytes parse as XML (a download that is an HTML error page does not)."""
-    try:
-        etree.parse(io.BytesIO(data), etree.XMLParser(no_network=True, resolve_entities=False))
-    except etree.XMLSyntaxError:
-        return False
-    return True

@@ -25,7 +25,7 @@ from functools import cache
 from lxml import etree
 
 from ..resources import schemas_dir
-from .label_tree import P, Report
+from .label_tree import P, Pds4Hits
 
 CONTEXT_SUFFIXES = ("_to_target", "_to_investigation", "_to_instrument", "_to_instrument_host", "_to_other",
                     "_to_facility", "_to_telescope", "_to_airborne", "_to_laboratory")
@@ -64,7 +64,7 @@ def _is_context(reference_type: str) -> bool:
     return reference_type.startswith("is_") or reference_type.endswith(CONTEXT_SUFFIXES)
 
 
-def check_context_references(report: Report, tree: etree._ElementTree) -> None:
+def check_context_references(report: Pds4Hits, tree: etree._ElementTree) -> None:
     """Every context reference names a registered context product (label only)."""
     for internal in tree.getroot().iter(f"{P}Internal_Reference"):
         if not _is_context((internal.findtext(f"{P}reference_type") or "").strip()):

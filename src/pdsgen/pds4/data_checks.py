@@ -16,14 +16,14 @@ import numpy as np
 from lxml import etree
 
 from ..formats.nodata import ISIS_SPECIAL_LIMIT  # ISIS special pixels: float32 values at or below NULL
-from .label_tree import P, Report, data_path, file_areas, number
+from .label_tree import P, Pds4Hits, data_path, file_areas, number
 from .model import NUMPY_TYPES
 
 _READ_BYTES = 8 * 1024 * 1024  # one read of a data file
 _SAMPLES_PER_STEP = 1 << 20  # samples whose statistics are taken at a time (8 MB of float64)
 
 
-def check_data(report: Report, tree: etree._ElementTree) -> None:
+def check_data(report: Pds4Hits, tree: etree._ElementTree) -> None:
     """Each data file read once: its size, its MD5, and the statistics of every array in it."""
     for area in file_areas(tree):
         path = data_path(report, area)
@@ -96,7 +96,7 @@ class _ArrayStatistics:
         self.total += float(chosen.sum())
         self.squares += float(chosen @ chosen)
 
-    def report(self, report: Report) -> None:
+    def report(self, report: Pds4Hits) -> None:
         if self.undeclared:
             report.add("PDS4-022", f"{self.undeclared} samples hold ISIS special-pixel values (e.g. NULL "
                                    f"{float(ISIS_SPECIAL_LIMIT)!r}) but Special_Constants does not declare them",
@@ -124,7 +124,7 @@ def _area_arrays(area: etree._Element) -> Iterator[_ArrayStatistics]:
             yield _ArrayStatistics(element, int(offset), math.prod(axes), np.dtype(NUMPY_TYPES[data_type]))
 
 
-def _fits(report: Report, array: _ArrayStatistics, path: Path, size: int) -> bool:
+def _fits(report: Pds4Hits, array: _ArrayStatistics, path: Path, size: int) -> bool:
     if array.end <= size:
         return True
     report.add("PDS4-013", f"the array needs bytes up to {array.end} but {path.name} has {size}",
@@ -169,7 +169,7 @@ def constant_value(text: str, dtype: np.dtype | None) -> float | None:
         return None
 
 
-def check_special_constants(report: Report, tree: etree._ElementTree) -> None:
+def check_special_constants(report: Pds4Hits, tree: etree._ElementTree) -> None:
     """A special constant the array's data type cannot hold can never flag a sample."""
     for element in tree.iter():
         if not (isinstance(element.tag, str) and element.tag.startswith(f"{P}Array")):
@@ -200,7 +200,7 @@ def _float32_tolerance(value: float, dtype: np.dtype) -> float:
     return float(np.spacing(np.float32(abs(value)))) if math.isfinite(value) else 0.0
 
 
-def _compare_bound(report: Report, stats: etree._Element, name: str, actual: float, outwards: float,
+def _compare_bound(report: Pds4Hits, stats: etree._Element, name: str, actual: float, outwards: float,
                    tolerance: float) -> None:
     """A stated extreme: valid samples beyond it are an error (a reader trusting it would
     clip or misscale data); a bound that is looser than the data, as rounded statistics
@@ -217,7 +217,7 @@ def _compare_bound(report: Report, stats: etree._Element, name: str, actual: flo
                    element.sourceline, name)
 
 
-def _compare(report: Report, stats: etree._Element, name: str, actual: float, rule: str, tolerance: float) -> None:
+def _compare(report: Pds4Hits, stats: etree._Element, name: str, actual: float, rule: str, tolerance: float) -> None:
     element = stats.find(f"{P}{name}")
     stated = number(stats, f"{P}{name}")
     if element is None or stated is None:

@@ -20,14 +20,14 @@ from pathlib import Path
 
 from lxml import etree
 
-from ..validate.model import Finding
-from .label_tree import SEVERITY, P, Report
+from ..validate.model import Hit
+from .label_tree import P, Pds4Hits
 
 _PDFA_MARK = b"pdfaid:part"
 _READ_BYTES = 1 << 20
 
 
-def check_pdf_a(report: Report, tree: etree._ElementTree) -> None:
+def check_pdf_a(report: Pds4Hits, tree: etree._ElementTree) -> None:
     """Every PDF of a Document_File (of a Product_Document) identifies itself as PDF/A."""
     for area in tree.getroot().iter(f"{P}Document_File"):
         name = (area.findtext(f"{P}file_name") or "").strip()
@@ -74,8 +74,9 @@ class DataFileRegister:
         self.first: dict[str, str] = {}
         self.observational: dict[str, bool] = {}
 
-    def add(self, label: str) -> list[Finding]:
-        """PDS4-060 findings for the label's data files another label of the run named."""
+    def add(self, label: str) -> list[Hit]:
+        """PDS4-060: the label's data files another label of the run named (the PDS4
+        family's run check; the runner makes them findings of the label)."""
         try:
             with open(label, "rb") as handle:
                 text = handle.read()
@@ -98,9 +99,8 @@ class DataFileRegister:
             first = self.first.setdefault(data, label)
             observational = self.observational[data] = self.observational.get(data, False) or observational
             if first != label and observational:
-                findings.append(Finding("PDS4-060", SEVERITY["PDS4-060"], label,
-                                        f"{relative} is also described by {first}",
-                                        text.count(b"\n", 0, block.start() + match.start()) + 1, "file_name"))
+                findings.append(Hit(f"{relative} is also described by {first}",
+                                    text.count(b"\n", 0, block.start() + match.start()) + 1, "file_name"))
         return findings
 
 
@@ -113,7 +113,7 @@ _DIRECTORY_ELEMENT = re.compile(rb"<(?:[A-Za-z_][\w.-]*:)?directory_path_name>([
 _FILE_NAME = re.compile(r"[A-Za-z0-9._-][A-Za-z0-9._/-]*\Z")  # a relative path, as genuine labels give
 
 
-def check_file_names(report: Report, tree: etree._ElementTree) -> None:
+def check_file_names(report: Pds4Hits, tree: etree._ElementTree) -> None:
     """File names a label gives use only the characters PDS4 allows (letters, digits, '-',
     '_', '.'; no spaces), and directory paths are relative to the label (label only)."""
     for name in tree.getroot().iter(f"{P}file_name"):

@@ -1,4 +1,4 @@
-"""What the PDS4 checks share: the report they add findings to, and reading label values.
+"""What the PDS4 checks share: the hits they add (by rule id), and reading label values.
 
 Values are read in the units the checks compute in (metres, metres per pixel,
 degrees), whatever unit attribute the label gives.
@@ -12,26 +12,26 @@ from pathlib import Path
 
 from lxml import etree
 
-from ..validate.model import Finding
+from ..validate.model import Hit
 from .model import CART_NS, PDS_NS
-from .rules import RULES
 
 P = f"{{{PDS_NS}}}"
 C = f"{{{CART_NS}}}"
-SEVERITY = {rule.id: rule.severity for rule in RULES}
 
 
-class Report:
-    """The findings of one PDS4 label."""
+class Pds4Hits:
+    """What the checks of one PDS4 label found, by rule id. A check finds problems of
+    several rules at once; the validator's registry gives each rule its severity (the
+    PDS4 family in validate/families/pds4_rules.py), as for every other family."""
 
     def __init__(self, path: Path) -> None:
         self.path = path
-        self.findings: list[Finding] = []
+        self.by_rule: dict[str, list[Hit]] = {}
 
     def add(self, rule: str, message: str, line: int | None = None, keyword: str | None = None,
             severity: str | None = None) -> None:
-        self.findings.append(Finding(rule, severity or SEVERITY[rule], str(self.path), message, line, keyword))
-
+        """A problem of `rule`; `severity` only where this case departs from the rule's own."""
+        self.by_rule.setdefault(rule, []).append(Hit(message, line, keyword, severity=severity))
 
 
 def file_areas(tree: etree._ElementTree) -> Iterator[etree._Element]:
@@ -57,7 +57,7 @@ def number(element: etree._Element | None, path: str) -> float | None:
     return value * _UNITS.get(found.get("unit", ""), 1.0)
 
 
-def data_path(report: Report, area: etree._Element, report_missing: bool = True) -> Path | None:
+def data_path(report: Pds4Hits, area: etree._Element, report_missing: bool = True) -> Path | None:
     file = area.find(f"{P}File")
     name = file.findtext(f"{P}file_name") if file is not None else None
     if not name:

@@ -24,7 +24,7 @@ from pathlib import Path
 
 from lxml import etree
 
-from .label_tree import P, Report, data_path, file_areas
+from .label_tree import P, Pds4Hits, data_path, file_areas
 
 _SHOWN = 5  # findings per rule and table before "and N more"
 _CR, _LF = b"\r", b"\n"
@@ -96,7 +96,7 @@ class Field:
 class _Limited:
     """Findings of one table, at most _SHOWN per rule, the rest counted."""
 
-    def __init__(self, report: Report, table: etree._Element, name: str) -> None:
+    def __init__(self, report: Pds4Hits, table: etree._Element, name: str) -> None:
         self.report, self.table, self.name = report, table, name
         self.counts: dict[str, int] = {}
 
@@ -112,7 +112,7 @@ class _Limited:
                 self.report.add(rule, f"{self.name}: and {count - _SHOWN} more like these", self.table.sourceline)
 
 
-def check_tables(report: Report, tree: etree._ElementTree) -> None:
+def check_tables(report: Pds4Hits, tree: etree._ElementTree) -> None:
     """Every table of every file area (inventories included) against its file."""
     for area in _areas(tree):
         path = data_path(report, area, report_missing=False)
@@ -372,7 +372,7 @@ def _check_bits(out: _Limited, field: Field) -> None:
                                 f"(which stops at {stop})", bit, "start_bit_location")
 
 
-def check_object_layout(report: Report, tree: etree._ElementTree) -> None:
+def check_object_layout(report: Pds4Hits, tree: etree._ElementTree) -> None:
     """The objects of one file (headers, tables, arrays...) must not overlap: each starts
     at or after the end of the one before it (label only)."""
     for area in file_areas(tree):
@@ -563,7 +563,7 @@ _TABLES: dict[str, Callable[[_Limited, etree._Element, Path | None], None]] = {
 }
 
 
-def check_members(report: Report, tree: etree._ElementTree) -> None:
+def check_members(report: Pds4Hits, tree: etree._ElementTree) -> None:
     """A bundle lists each collection once: no two Bundle_Member_Entry give the same LIDVID
     or the same LID, as NASA's validator requires (label only)."""
     seen: dict[str, int] = {}

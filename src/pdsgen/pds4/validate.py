@@ -3,8 +3,10 @@
 Order: parse -> find the schemas it names in the catalog (shipped + `--schemas`)
 -> XML Schema (lxml) -> Schematron (Saxon, when installed) -> content checks
 (file size, MD5, array statistics, special constants, cartography against the
-georeferencing). Every problem is a Finding with a PDS4-nnn rule id; nothing a
-label holds can raise out of here.
+georeferencing). Every problem is a hit of a PDS4-nnn rule: these are the checks of
+the validator's PDS4 rule family (validate/families/pds4_rules.py declares the rules and
+their severities; the runner opens a `Pds4LabelContext` for each PDS4 file). Nothing a label
+holds can raise out of here.
 
 The content checks compute independently of the writer: they read the data file
 with numpy and project with the validator's own closed-form sphere formulas.
@@ -20,15 +22,15 @@ from pathlib import Path
 
 from lxml import etree
 
-from ..validate.model import Finding
+from ..validate.model import Finding, Hit
+from ..validate.registry import rules
 from . import schematron
 from .cart_checks import check_cartography, check_encoded_jp2
 from .catalog import SchemaCatalog, schema_references
 from .context_registry import check_context_references
 from .data_checks import check_data, check_special_constants
-from .detect import is_pds4_label
-from .document_checks import DataFileRegister, check_file_names, check_pdf_a
-from .label_tree import SEVERITY, P, Report
+from .document_checks import check_file_names, check_pdf_a
+from .label_tree import P, Pds4Hits
 from .model import PDS_NS
 from .table_checks import check_members, check_object_layout, check_tables
 from .xsd import SchemaImportError, build_schema, xsd_errors
@@ -47,48 +49,71 @@ def check_schema_dirs(directories: Iterable[str | os.PathLike[str]]) -> tuple[st
     return checked
 
 
-def validate_label(path: str | Path, schema_dirs: tuple[str, ...] = (), labels_only: bool = False,
-                   schema_cache: str | None = None, download: bool = False) -> list[Finding]:
-    """The validator's entry point for one PDS4 label (catalog cached per set of sources).
+def catalog_for(schema_dirs: tuple[str, ...] = (), schema_cache: str | None = None,
+                download: bool = False) -> SchemaCatalog:
+    """The schema catalog of a run, built once per process for each set of sources.
     `schema_cache` is the download cache read (and, with `download`, written); without
     one, neither the cache nor the network is used."""
     key = (schema_dirs, schema_cache, download)
     if key not in _CATALOGS:
         _CATALOGS[key] = SchemaCatalog.build(schema_dirs, schema_cache, download)
-    return validate_pds4(path, _CATALOGS[key], labels_only)
+    return _CATALOGS[key]
 
 
 _CATALOGS: dict[tuple[tuple[str, ...], str | None, bool], SchemaCatalog] = {}
 
 
-__all__ = ["DataFileRegister", "add_run_notes", "check_schema_dirs", "validate_label", "validate_pds4"]
+class Pds4LabelContext:
+    """One PDS4 label as the validator's PDS4 rules see it (their context). Every check
+    runs once, when the first rule asks; each rule then takes its own hits."""
+
+    def __init__(self, path: str | Path, catalog: SchemaCatalog, labels_only: bool = False,
+                 use_schematron: bool = True) -> None:
+        self.path = Path(path)
+        self.catalog = catalog
+        self.labels_only = labels_only
+        self.use_schematron = use_schematron
+        self._hits: dict[str, list[Hit]] | None = None
+
+    def hits(self, rule_id: str) -> list[Hit]:
+        if self._hits is None:
+            found = Pds4Hits(self.path)
+            self._hits = found.by_rule  # a check that raises out of here is not run again
+            _check(found, self.catalog, self.labels_only, self.use_schematron)
+        return self._hits.get(rule_id, [])
 
 
-def add_run_notes(reports: list) -> None:  # noqa: ANN001 - the validator's FileReport list
-    """One PDS4-007 warning for a run that checked PDS4 labels without Saxon (schema-only)."""
-    if schematron.available():
-        return
-    first = next((r for r in reports if is_pds4_label(Path(r.path))), None)
-    if first is not None:
-        first.findings.append(Finding("PDS4-007", SEVERITY["PDS4-007"], first.path,
-                                      "Schematron not run: saxonche is not installed (pip install pdsgen[pds4]); "
-                                      "PDS4 labels were checked against their XML Schemas only"))
+def validate_label(path: str | Path, schema_dirs: tuple[str, ...] = (), labels_only: bool = False,
+                   schema_cache: str | None = None, download: bool = False) -> list[Finding]:
+    """Every finding for one PDS4 label, with the catalog a validation run would use."""
+    return validate_pds4(path, catalog_for(schema_dirs, schema_cache, download), labels_only)
 
 
 def validate_pds4(path: str | Path, catalog: SchemaCatalog | None = None, labels_only: bool = False,
                   use_schematron: bool = True) -> list[Finding]:
-    """Every finding for one PDS4 label."""
-    path = Path(path)
-    report = Report(path)
-    catalog = catalog or SchemaCatalog.build()
+    """Every finding for one PDS4 label, as the PDS4 family of a validation run reports it
+    (before configuration): the registry's severities, in line order."""
+    label = Pds4LabelContext(path, catalog or SchemaCatalog.build(), labels_only, use_schematron)
+    findings = [Finding(rule.id, hit.severity or rule.severity, hit.file or str(label.path), hit.message,
+                        hit.line, hit.keyword)
+                for rule in rules().values() if rule.target == "pds4" and rule.check is not None
+                for hit in rule.check(label)]
+    return sorted(findings, key=lambda f: (f.line or 0, f.rule))
+
+
+__all__ = ["Pds4LabelContext", "catalog_for", "check_schema_dirs", "validate_label", "validate_pds4"]
+
+
+def _check(report: Pds4Hits, catalog: SchemaCatalog, labels_only: bool, use_schematron: bool) -> None:
+    """Parse -> schemas -> content checks, each problem added to `report` under its rule."""
     tree = _parse(report)
     if tree is None:
-        return report.findings
+        return
     root = tree.getroot()
     if not (root.tag.startswith(P) and root.tag[len(P):].startswith("Product_")):
         report.add("PDS4-001", f"root element {root.tag} is not a PDS4 Product_*", root.sourceline)
-        return report.findings
-    for check in _schema_checks(tree, catalog, use_schematron, path.absolute().parent):
+        return
+    for check in _schema_checks(tree, catalog, use_schematron, report.path.absolute().parent):
         check(report)
     for content_check in CONTENT_CHECKS:
         if labels_only and content_check not in LABEL_ONLY_CHECKS:
@@ -98,13 +123,12 @@ def validate_pds4(path: str | Path, catalog: SchemaCatalog | None = None, labels
         except Exception as exc:  # a check must never turn odd input into a traceback
             report.add("PDS4-001", f"check {content_check.__name__} could not run ({type(exc).__name__}: {exc})",
                        severity="error")
-    return sorted(report.findings, key=lambda f: (f.line or 0, f.rule))
 
 
 _DECLARATION = re.compile(rb"<\?xml\s[^>]*\?>")
 
 
-def _parse(report: Report) -> etree._ElementTree | None:
+def _parse(report: Pds4Hits) -> etree._ElementTree | None:
     """The label's tree, or None after a PDS4-001 finding. A label whose XML declaration
     follows a comment (not well-formed, but readers such as GDAL accept it) is reported
     and then checked without the misplaced declaration, keeping its line numbers."""
@@ -131,7 +155,7 @@ def _parse(report: Report) -> etree._ElementTree | None:
 
 
 def _schema_checks(tree: etree._ElementTree, catalog: SchemaCatalog, use_schematron: bool, base: Path
-                   ) -> list[Callable[[Report], None]]:
+                   ) -> list[Callable[[Pds4Hits], None]]:
     """XML Schema and Schematron checks with whatever schemas can be found: a namespace
     whose schema is missing is reported once and left unchecked, everything else is
     still checked (the core PDS schema missing leaves no XML Schema check to make)."""
@@ -144,7 +168,7 @@ def _schema_checks(tree: etree._ElementTree, catalog: SchemaCatalog, use_schemat
     sch_files = [file for file in (found[url] for url in refs.sch) if file is not None]
     has_core = any(ns == PDS_NS for ns, _ in available)
 
-    def not_found(report: Report) -> None:
+    def not_found(report: Pds4Hits) -> None:
         for stem, urls in _by_stem(missing).items():
             namespace = next((ns for ns, url in refs.xsd if url in urls), None)
             what = ("XML Schema checks skipped" if namespace == PDS_NS else
@@ -153,7 +177,7 @@ def _schema_checks(tree: etree._ElementTree, catalog: SchemaCatalog, use_schemat
             report.add("PDS4-002", f"schema {stem} ({kinds}; IM {version}) not found: {catalog.why_missing(urls[0])}; "
                                    f"{what} (supply it with --schemas DIR)", line, "information_model_version")
 
-    def xml_schema(report: Report) -> None:
+    def xml_schema(report: Pds4Hits) -> None:
         if not refs.xsd:
             report.add("PDS4-004", "the label names no XML Schema (xsi:schemaLocation)", line)
             return
@@ -170,12 +194,12 @@ def _schema_checks(tree: etree._ElementTree, catalog: SchemaCatalog, use_schemat
                 continue  # an element of a namespace whose schema is missing, which is reported once
             report.add("PDS4-004", message, error_line, element)
 
-    def rules(report: Report) -> None:
+    def rules(report: Pds4Hits) -> None:
         if not refs.sch:
             named = "; ".join(f"xml-model {text.strip()}" for text in refs.unusable) or "no xml-model instruction"
             report.add("PDS4-008", f"the label names no usable Schematron ({named}): no rule checks made", line)
         if not sch_files or not schematron.available():
-            return  # a missing Saxon is reported once per run (add_run_notes), not once per label
+            return  # a missing Saxon is reported once per run (run check PDS4-007), not per label
         text = etree.tostring(_collapsed(tree), encoding="unicode")
         for failure in schematron.compiled(sch_files).check(text):
             rule = "PDS4-006" if failure.role in ("warning", "warn", "info") else "PDS4-005"

@@ -34,7 +34,7 @@ _RENDERINGS = (*DTM_RENDERINGS, ORTHO_RENDERING)
 
 
 @dataclass
-class Preview:
+class PreviewLink:
     thumb: str  # page-relative link
     browse: str | None  # the larger image, when there is one
     what: str
@@ -52,7 +52,7 @@ class ProductEntry:
     outline: Outline | None = None
     no_outline: str = ""
     files: list[tuple[str, str, int]] = field(default_factory=list)  # (shown path, link, bytes)
-    previews: list[Preview] = field(default_factory=list)
+    previews: list[PreviewLink] = field(default_factory=list)
     index_row: str = ""  # the product's INDEX.TAB row, as the table holds it
     findings: list[Finding] = field(default_factory=list)
     inline: bool = True  # thumbnails in the HTML (else built by the script as the entry is scrolled near)
@@ -142,7 +142,7 @@ def previews_by_product(paths: Iterable[Path]) -> dict[str, list[Path]]:
     return found
 
 
-def _previews(images: list[Path], linker: Linker) -> list[Preview]:
+def _previews(images: list[Path], linker: Linker) -> list[PreviewLink]:
     """Each rendering's thumbnail with its browse image (larger, on demand)."""
     by_name = {p.name.lower(): p for p in images}
     shown = []
@@ -151,7 +151,7 @@ def _previews(images: list[Path], linker: Linker) -> list[Preview]:
         for rendering in _RENDERINGS:
             if lower.endswith(f".{rendering.thumb}.jpg"):
                 browse = by_name.get(lower[: -len(f"{rendering.thumb}.jpg")] + f"{rendering.browse}.jpg")
-                shown.append(Preview(linker.link(path), linker.link(browse) if browse else None,
+                shown.append(PreviewLink(linker.link(path), linker.link(browse) if browse else None,
                                      rendering.description))
     return shown
 

@@ -31,7 +31,7 @@ _IMAGE_OBJECTS = ("IMAGE", "UNCOMPRESSED_FILE")
 
 
 @dataclass(frozen=True)
-class Quantity:
+class PvlQuantity:
     """A number with its unit, as the label mappings of extras/ expect (pvl's shape)."""
 
     value: float
@@ -40,7 +40,7 @@ class Quantity:
 
 class LabelView(Mapping[str, Any]):
     """A block of the validator's label tree as a read-only mapping: keywords to values
-    (numbers as Quantity, text as str), OBJECT/GROUP names to nested views."""
+    (numbers as PvlQuantity, text as str), OBJECT/GROUP names to nested views."""
 
     def __init__(self, block: Block) -> None:
         self._block = block
@@ -69,7 +69,7 @@ def _plain(value: Value) -> Any:
     if value.items is not None:
         return [_plain(item) for item in value.items]
     if value.is_number:
-        return Quantity(float(value.number), value.unit)
+        return PvlQuantity(float(value.number), value.unit)
     return value.text
 
 

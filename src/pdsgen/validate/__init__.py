@@ -1,7 +1,7 @@
 """Validate PDS3 labels, label sets and their data: `pdsgen validate` and its Python API.
 
     from pdsgen.validate import validate_paths
-    report = validate_paths(["out/"], strict=True)
+    report = validate_paths(["out/"], strict=True)  # a ValidationReport
     print(report.summary())
 
 Rules have stable ids (FILE-001, MAP-003 ...) in one table (`rules()`, see registry.py),
@@ -19,19 +19,19 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from . import families
-    from .config import Baseline, Settings
+    from .config import Baseline, RuleSettings
     from .model import Finding
     from .registry import rules
-    from .report import FileReport, Report, render
-    from .runner import discover, iter_reports, validate_file, validate_paths
+    from .report import FileReport, ValidationReport, render
+    from .runner import ValidationJob, discover, iter_reports, validate_file, validate_paths
 
 # public name -> the module (in this package) that defines it
-_HOMES = {"Baseline": "config", "Settings": "config", "Finding": "model", "rules": "registry",
-          "FileReport": "report", "Report": "report", "render": "report", "discover": "runner",
-          "iter_reports": "runner", "validate_file": "runner", "validate_paths": "runner"}
+_HOMES = {"Baseline": "config", "RuleSettings": "config", "Finding": "model", "rules": "registry",
+          "FileReport": "report", "ValidationReport": "report", "render": "report", "ValidationJob": "runner",
+          "discover": "runner", "iter_reports": "runner", "validate_file": "runner", "validate_paths": "runner"}
 
-__all__ = ["families", "Baseline", "Finding", "FileReport", "Report", "Settings", "render", "rules", "discover",
-           "iter_reports", "validate_file", "validate_paths"]
+__all__ = ["families", "Baseline", "Finding", "FileReport", "ValidationReport", "RuleSettings", "ValidationJob",
+           "render", "rules", "discover", "iter_reports", "validate_file", "validate_paths"]
 
 
 def __getattr__(name: str) -> Any:

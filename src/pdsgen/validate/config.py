@@ -43,7 +43,7 @@ CONFIG_NAMES = ("pdsgen.toml", "pyproject.toml")
 
 
 @dataclass(frozen=True)
-class Settings:
+class RuleSettings:
     """Which findings a run keeps, at which severity, and which level fails it."""
 
     select: frozenset[str] | None = None  # rule ids or families; None: all rules
@@ -125,8 +125,8 @@ def _as_list(value: Any, where: str) -> list[str]:
     raise PdsgenError(where, "expected a list of rule ids")
 
 
-def from_table(table: Mapping[str, Any], where: str) -> Settings:
-    """Settings from a configuration table; any unknown key, rule id or level is an error."""
+def from_table(table: Mapping[str, Any], where: str) -> RuleSettings:
+    """RuleSettings from a configuration table; any unknown key, rule id or level is an error."""
     unknown = sorted(set(table) - set(_KEYS))
     if unknown:
         raise PdsgenError(where, f"unknown setting(s) {', '.join(unknown)}; known: {', '.join(_KEYS)}")
@@ -142,7 +142,7 @@ def from_table(table: Mapping[str, Any], where: str) -> Settings:
     _check_names(list(levels), where)
     severity = {str(name).strip().upper(): _check_level(level, where, SEVERITIES) for name, level in levels.items()}
     fail_on = _check_level(table.get("fail-on", "error"), where, FAIL_LEVELS)
-    return Settings(select, ignore, per_path, severity, fail_on, where)
+    return RuleSettings(select, ignore, per_path, severity, fail_on, where)
 
 
 def find_config(start: Path | None = None) -> Path | None:
@@ -168,20 +168,20 @@ def _table(path: Path) -> Mapping[str, Any] | None:
     return table
 
 
-def load(path: str | os.PathLike[str] | None = None, search: bool = True) -> Settings:
-    """Settings from `path`, or from the configuration file found near the working directory
+def load(path: str | os.PathLike[str] | None = None, search: bool = True) -> RuleSettings:
+    """RuleSettings from `path`, or from the configuration file found near the working directory
     (when `search`), or the defaults."""
     found = Path(path) if path is not None else (find_config() if search else None)
     if found is None:
-        return Settings()
+        return RuleSettings()
     if not found.is_file():
         raise PdsgenError(found, "no such configuration file")
     table = _table(found)
     return from_table(table or {}, str(found))
 
 
-def override(settings: Settings, select: Iterable[str] = (), ignore: Iterable[str] = (),
-             severity: Iterable[str] = (), fail_on: str | None = None) -> Settings:
+def override(settings: RuleSettings, select: Iterable[str] = (), ignore: Iterable[str] = (),
+             severity: Iterable[str] = (), fail_on: str | None = None) -> RuleSettings:
     """Command-line flags over the configuration: --select replaces the selection, --ignore
     adds to it, --severity RULE=LEVEL overrides one rule, --fail-on replaces the level."""
     where = "command line"

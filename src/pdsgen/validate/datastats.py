@@ -27,7 +27,7 @@ class Stats:
 
 
 @dataclass(slots=True)
-class Layout:
+class SampleLayout:
     """Where the samples are: byte offset, dtype, and the line structure around them."""
 
     offset: int
@@ -42,7 +42,7 @@ class Layout:
         return self.prefix + self.samples * self.dtype.itemsize + self.suffix
 
 
-def image_stats(path: Path, layout: Layout, specials: list[float], want_moments: bool) -> Stats:
+def image_stats(path: Path, layout: SampleLayout, specials: list[float], want_moments: bool) -> Stats:
     """Min, max (and mean, std if asked) of the valid samples, read block by block.
 
     Blocks are small enough to stay in the CPU cache, so the few passes over each (min,

@@ -10,9 +10,11 @@ call). `rules()` is the table every part of the validator reads, and what
 
 Rules run on what their `target` names: "label" rules take a FileContext (PDS3
 labels), "imars" rules an ImarsContext (iMars `*_ucl.pvl` metadata, PVL rather
-than PDS3); "pds4" rules are listed here but checked by pdsgen.pds4. Rules with a
-`set_check` compare files with each other (the SET family); rules with neither
-check are reported by the runner itself (FILE-012, FILE-013).
+than PDS3), "pds4" rules a Pds4LabelContext (PDS4 XML labels, see families/pds4_rules.py).
+Rules with a `set_check` compare the PDS3 labels of a directory or run with each other
+(the SET family); rules with a `run_check` see every file of their target in report
+order, in the parent process (PDS4-007, PDS4-060); rules with no check at all are
+reported by the runner itself (FILE-012, FILE-013).
 """
 
 from __future__ import annotations
@@ -20,18 +22,18 @@ from __future__ import annotations
 import importlib
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Generic, TypeVar
+from typing import Any, Generic, TypeVar
 
 from .model import Hit
-
-if TYPE_CHECKING:
-    from .families.set_rules import Summary
+from .summary import LabelSummary
 
 # The built-in families in --list-rules order; families registered later follow them.
 FAMILIES = ("FILE", "SYNTAX", "DICT", "PTR", "REC", "IMG", "MAP", "GEO", "HRSC", "SET", "IMARS", "PDS4")
 TARGETS = ("label", "imars", "pds4")
 
-ContextT = TypeVar("ContextT")  # FileContext for "label" rules, ImarsContext for "imars" rules
+ContextT = TypeVar("ContextT")  # FileContext for "label" rules, ImarsContext "imars", Pds4LabelContext "pds4"
+# A run check: called once per run, it gives the function that takes each file's path in turn.
+RunCheck = Callable[[], Callable[[str], Iterable[Hit]]]
 
 
 @dataclass(frozen=True)
@@ -41,9 +43,10 @@ class Rule(Generic[ContextT]):
     summary: str
     check: Callable[[ContextT], Iterable[Hit]] | None  # per-file check
     needs_data: bool = False
-    set_check: Callable[[list[Summary], set[str]], Iterable[Hit]] | None = None  # across files (SET)
+    set_check: Callable[[list[LabelSummary], set[str]], Iterable[Hit]] | None = None  # across files (SET)
     target: str = "label"  # what `check` takes: see the module docstring
     note: str = ""  # when a finding of this rule takes another severity, and why
+    run_check: RunCheck | None = None  # across the files of the run, one by one
 
     @property
     def family(self) -> str:

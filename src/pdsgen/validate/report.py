@@ -106,7 +106,7 @@ class Tally:
 
 
 @dataclass
-class Report:
+class ValidationReport:
     """A whole run held in memory (the Python API); the CLI streams instead."""
 
     files: list[FileReport]
@@ -395,7 +395,7 @@ def write_stream(reports: Iterable[FileReport], fmt: str, out: IO[str], tally: T
     return tally
 
 
-def render(report: Report, fmt: str) -> str:
+def render(report: ValidationReport, fmt: str) -> str:
     """The whole report in one format, as a string."""
     buffer = io.StringIO()
     tally = Tally(report.fail_on or "error", baseline_suppressed=report.baseline_suppressed,
@@ -404,7 +404,7 @@ def render(report: Report, fmt: str) -> str:
     return buffer.getvalue()
 
 
-def render_text(report: Report, show_info: bool = True) -> str:
+def render_text(report: ValidationReport, show_info: bool = True) -> str:
     buffer = io.StringIO()
     write_stream(report.files, "text", buffer, Tally(report.fail_on or "error",
                  baseline_suppressed=report.baseline_suppressed), show_info)

@@ -16,22 +16,25 @@ import re
 import stat
 import sys
 from collections.abc import Callable, Iterable, Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import Any
 
 from ..errors import PdsgenError
 from ..formats.sniff import file_head
 from ..pds4.detect import is_pds4_label
-from .config import Baseline, Settings
+from .config import Baseline, RuleSettings
 from .context import FileContext
 from .dictionary import load as load_dictionary
 from .dictionary import version as dictionary_version
+from .families import pds4_rules
 from .families.delivery_rules import DeliveryChecks
-from .families.set_rules import Summary, summarise
+from .families.set_rules import summarise
 from .imars_context import ImarsContext, is_imars_metadata
-from .model import Finding
+from .model import Finding, Hit
 from .registry import rules
-from .report import FileReport, Report
+from .report import FileReport, ValidationReport
+from .summary import LabelSummary
 
 LABEL_SUFFIXES = (".lbl",)
 _SNIFF = (b"PDS_VERSION_ID", b"CCSD3")
@@ -129,28 +132,83 @@ _MAGIC = ((b"\x00\x00\x00\x0cjP  ", "a JPEG 2000 signature"), (b"\xff\x4f\xff\x5
           (b"\xff\xd8\xff", "a JPEG header"), (b"\x89PNG", "a PNG header"))
 
 
-def validate_file(path: Path, labels_only: bool = False, dictionaries: tuple[str, ...] = (),
-                  strict: bool = False, schemas: tuple[str, ...] = (), schema_cache: str | None = None,
-                  download_schemas: bool = False) -> tuple[FileReport, Summary | None]:
-    """All per-file rules on one file: PDS3 label rules, or IMARS rules for iMars metadata."""
-    if is_pds4_label(path):  # PDS4 hook: pdsgen.pds4 checks it and returns Findings
-        from ..pds4 import validate as pds4  # loaded (lxml, Schematron) only when a PDS4 label turns up
+@dataclass(frozen=True)
+class ValidationJob:
+    """What a validation run checks and how: the one set of options `validate_paths`,
+    `iter_reports` and `validate_file` take (as a job, or as its fields by keyword).
 
-        return FileReport(str(path), pds4.validate_label(path, schemas, labels_only, schema_cache,
-                                                         download_schemas)), None
-    imars = is_imars_metadata(path)
-    reason = None if imars else not_a_label(path)
+    strict makes warnings fail the run too (and keeps over-long lines an error for labels
+    of any origin). labels_only skips every rule that opens the data files (data existence,
+    file sizes, statistics, JP2), for label-only checks. dictionaries are extra data
+    dictionaries (PSDD `.full` format) merged over the built-in one. settings select rules
+    and set severities (see config.py); baseline drops findings already known.
+    schemas are directories of PDS4 schemas (.xsd/.sch) added to the shipped ones;
+    schema_cache is a directory of downloaded PDS4 schemas, which download_schemas lets
+    grow from the URLs labels name (without a cache, no download).
+    skip_non_labels passes over named files that are not labels (see iter_reports).
+    jobs > 1 checks files in that many processes.
+    """
+
+    strict: bool = False
+    jobs: int = 1
+    labels_only: bool = False
+    dictionaries: tuple[str, ...] = ()
+    settings: RuleSettings = field(default_factory=RuleSettings)
+    baseline: Baseline | None = None
+    schemas: tuple[str, ...] = ()
+    skip_non_labels: bool = False
+    schema_cache: str | None = None
+    download_schemas: bool = False
+
+    def __post_init__(self) -> None:
+        # paths of any kind become strings (the job is sent to worker processes); None: defaults
+        set_ = object.__setattr__
+        set_(self, "dictionaries", tuple(os.fspath(d) for d in self.dictionaries))
+        set_(self, "schemas", tuple(os.fspath(d) for d in self.schemas))
+        set_(self, "settings", self.settings or RuleSettings())
+        cache = os.fspath(self.schema_cache) if self.schema_cache is not None else None
+        set_(self, "schema_cache", cache)
+        set_(self, "download_schemas", bool(self.download_schemas and cache is not None))
+
+    @classmethod
+    def of(cls, job: ValidationJob | None, options: dict[str, Any]) -> ValidationJob:
+        """`job`, or a job of these options (unknown names are a TypeError, as for any call)."""
+        if job is None:
+            return cls(**options)
+        if options:
+            raise TypeError(f"give a ValidationJob or its options, not both ({', '.join(options)})")
+        return job
+
+    @property
+    def fail_on(self) -> str:
+        return "warning" if self.strict else self.settings.fail_on
+
+
+def target_of(path: Path) -> str:
+    """Which rules a file is for (a rule's `target`): "pds4" for a PDS4 label, "imars"
+    for iMars metadata, "label" for everything else (PDS3 labels, or what claims to be one)."""
+    if is_pds4_label(path):
+        return "pds4"
+    return "imars" if is_imars_metadata(path) else "label"
+
+
+def validate_file(path: Path, job: ValidationJob | None = None,
+                  **options: Any) -> tuple[FileReport, LabelSummary | None]:
+    """Every per-file rule of the file's target on one file (before configuration), and
+    the summary of a PDS3 label the SET rules compare."""
+    job = ValidationJob.of(job, options)
+    target = target_of(path)
+    reason = not_a_label(path) if target == "label" else None
     if reason is not None:
         return FileReport(str(path), [Finding("FILE-013", _severity("FILE-013"), str(path), reason)]), None
     try:
-        ctx = ImarsContext(path, labels_only) if imars else FileContext(
-            path, labels_only=labels_only, dictionaries=dictionaries, strict=strict)
+        ctx = _open(path, target, job)
     except OSError as exc:
         finding = Finding("FILE-012", "error", str(path), f"cannot read the file: {exc.strerror or exc}")
         return FileReport(str(path), [finding]), None
     try:
-        skip_data = labels_only or (isinstance(ctx, FileContext) and ctx.data_absent)
-        findings = _run_rules(ctx, path, "imars" if imars else "label", skip_data)
+        skip_data = job.labels_only or (isinstance(ctx, FileContext) and ctx.data_absent)
+        findings = _run_rules(ctx, path, target, skip_data)
     finally:
         if isinstance(ctx, ImarsContext):
             ctx.close()
@@ -164,11 +222,20 @@ def validate_file(path: Path, labels_only: bool = False, dictionaries: tuple[str
     return FileReport(str(path), findings), summary
 
 
+def _open(path: Path, target: str, job: ValidationJob) -> Any:
+    """The context the rules of `target` take."""
+    if target == "pds4":
+        return pds4_rules.open_label(path, job.labels_only, job.schemas, job.schema_cache, job.download_schemas)
+    if target == "imars":
+        return ImarsContext(path, job.labels_only)
+    return FileContext(path, labels_only=job.labels_only, dictionaries=job.dictionaries, strict=job.strict)
+
+
 def _severity(rule_id: str) -> str:
     return rules()[rule_id].severity
 
 
-def _run_rules(ctx: FileContext | ImarsContext, path: Path, target: str, labels_only: bool) -> list[Finding]:
+def _run_rules(ctx: Any, path: Path, target: str, labels_only: bool) -> list[Finding]:
     findings: list[Finding] = []
     for rule in rules().values():
         if rule.check is None or rule.target != target or (labels_only and rule.needs_data):
@@ -183,31 +250,17 @@ def _run_rules(ctx: FileContext | ImarsContext, path: Path, target: str, labels_
     return findings
 
 
-@dataclass(frozen=True)
-class _Job:
-    """What a worker needs to check files (picklable, sent once per process)."""
-
-    labels_only: bool = False
-    dictionaries: tuple[str, ...] = ()
-    strict: bool = False
-    settings: Settings = Settings()
-    schemas: tuple[str, ...] = ()  # PDS4 schema directories (--schemas)
-    schema_cache: str | None = None  # PDS4 schema download cache (read; written when downloading)
-    download_schemas: bool = False  # PDS4 schemas not found locally fetched from their URL
+_JOB = ValidationJob()  # a worker's job, sent once per process
 
 
-_JOB = _Job()
-
-
-def _init_worker(job: _Job) -> None:
+def _init_worker(job: ValidationJob) -> None:
     global _JOB
     _JOB = job
 
 
-def _one(path: str) -> tuple[FileReport, Summary | None]:
+def _one(path: str) -> tuple[FileReport, LabelSummary | None]:
     """One file, in a worker: its findings as the configuration reports them."""
-    report, summary = validate_file(Path(path), _JOB.labels_only, _JOB.dictionaries, _JOB.strict, _JOB.schemas,
-                                    _JOB.schema_cache, _JOB.download_schemas)
+    report, summary = validate_file(Path(path), _JOB)
     report.findings = _JOB.settings.filter(report.findings)
     return report, summary
 
@@ -223,23 +276,12 @@ def _check_dictionaries(extra: tuple[str, ...]) -> None:
         load_dictionary(extra)  # refuses a file that is not a PSDD dictionary; cached for this process
 
 
-def iter_reports(
-    paths: Iterable[str | os.PathLike[str]],
-    strict: bool = False,
-    jobs: int = 1,
-    labels_only: bool = False,
-    progress: Callable[[int, int], None] | None = None,
-    dictionaries: Iterable[str | os.PathLike[str]] = (),
-    settings: Settings | None = None,
-    baseline: Baseline | None = None,
-    schemas: Iterable[str | os.PathLike[str]] = (),
-    skip_non_labels: bool = False,
-    schema_cache: str | os.PathLike[str] | None = None,
-    download_schemas: bool = False,
-) -> Iterator[FileReport]:
+def iter_reports(paths: Iterable[str | os.PathLike[str]], job: ValidationJob | None = None,
+                 progress: Callable[[int, int], None] | None = None, **options: Any) -> Iterator[FileReport]:
     """File reports one by one, as files are checked: the streaming core of validate_paths.
+    `job` (or its fields as keywords, see ValidationJob) says what to check and how.
 
-    Files are found lazily and checked in order (in `jobs` processes when > 1). The SET
+    Files are found lazily and checked in order (in `job.jobs` processes when > 1). The SET
     rules compare files of one directory, so a directory's reports are held until its last
     file is checked; reports of labels that describe no data wait for the end of the run
     (another label may include them). Memory is bounded by one directory, not the run.
@@ -251,83 +293,76 @@ def iter_reports(
     given only such files checks nothing and passes; for hooks (pre-commit) that hand over
     every changed file of some suffixes. A named directory without labels is still an error.
     """
-    settings = settings or Settings()
-    extra = tuple(str(d) for d in dictionaries)
-    _check_dictionaries(extra)
-    schema_dirs = _checked_schema_dirs(schemas)
+    job = ValidationJob.of(job, options)
+    _check_dictionaries(job.dictionaries)
+    pds4_rules.check_schema_dirs(job.schemas)
     paths = list(paths)
-    found = _discover_lazily(paths, skip_non_labels)
+    found = _discover_lazily(paths, job.skip_non_labels)
     first = next(found, None)
-    if first is None and skip_non_labels and all(Path(p).is_file() for p in paths):
+    if first is None and job.skip_non_labels and all(Path(p).is_file() for p in paths):
         return iter(())  # files named, none a label: nothing to check (a directory must hold labels)
     if first is None:  # a CI job pointed at the wrong directory must not pass
         raise PdsgenError(None, "no PDS3 or PDS4 label found under " + ", ".join(os.fspath(p) for p in paths))
     files = itertools.chain([first], found)
-    cache = os.fspath(schema_cache) if schema_cache is not None else None
-    job = _Job(labels_only, extra, strict, settings, schema_dirs, cache, download_schemas and cache is not None)
-    deliveries = DeliveryChecks(paths, labels_only)  # a delivery directory is also checked whole
-    return _with_run_notes(_with_deliveries(_stream(files, job, jobs, progress, baseline), deliveries, settings,
-                                            baseline), settings, baseline)
+    deliveries = DeliveryChecks(paths, job.labels_only)  # a delivery directory is also checked whole
+    return _with_run_checks(_with_deliveries(_stream(files, job, progress), deliveries, job), job)
 
 
-def _with_deliveries(reports: Iterator[FileReport], deliveries: DeliveryChecks, settings: Settings,
-                     baseline: Baseline | None) -> Iterator[FileReport]:
+def _with_deliveries(reports: Iterator[FileReport], deliveries: DeliveryChecks,
+                     job: ValidationJob) -> Iterator[FileReport]:
     """Delivery hook: each file's DLV findings beside its own; files with no report of their own
     (an index table, the manifest) get one at the end."""
     for report in reports:
-        report.findings.extend(_kept(report.path, deliveries.take(report.path), settings, baseline))
+        report.findings.extend(_kept(report.path, deliveries.take(report.path), job))
         yield report
     for path, findings in deliveries.rest():
-        kept = _kept(path, findings, settings, baseline)
+        kept = _kept(path, findings, job)
         if kept:
             yield FileReport(path, kept)
 
 
-def _kept(path: str, findings: list[Finding], settings: Settings, baseline: Baseline | None) -> list[Finding]:
+def _kept(path: str, findings: list[Finding], job: ValidationJob) -> list[Finding]:
     """Findings made after a file's own report (across files), as configured and not in the baseline."""
-    return _after_baseline(FileReport(path, settings.filter(findings)), baseline).findings
+    return _after_baseline(FileReport(path, job.settings.filter(findings)), job.baseline).findings
 
 
-def _checked_schema_dirs(schemas: Iterable[str | os.PathLike[str]]) -> tuple[str, ...]:
-    """`--schemas` directories, refused now (a usage error) if one is not a directory."""
-    schemas = tuple(schemas)
-    if not schemas:
-        return ()
-    from ..pds4 import validate as pds4
-
-    return pds4.check_schema_dirs(schemas)
-
-
-def _with_run_notes(reports: Iterator[FileReport], settings: Settings,
-                    baseline: Baseline | None) -> Iterator[FileReport]:
-    """PDS4 hook: the run's one note when Schematron could not run, on its first PDS4 report;
-    and the checks across the run's PDS4 labels (two labels describing one data file)."""
-    register = None
+def _with_run_checks(reports: Iterator[FileReport], job: ValidationJob) -> Iterator[FileReport]:
+    """The rules with a `run_check` (see registry.py): each sees every file of its target, in
+    report order, from the first such file on; their findings join the file's report."""
+    checks = [rule for rule in rules().values() if rule.run_check is not None]
+    observers: dict[str, Callable[[str], Iterable[Hit]]] = {}
     for report in reports:
-        if is_pds4_label(Path(report.path)):
-            from ..pds4 import validate as pds4
-
-            if register is None:
-                pds4.add_run_notes([report])
-                register = pds4.DataFileRegister()
-            report.findings.extend(_kept(report.path, register.add(report.path), settings, baseline))
+        target = target_of(Path(report.path)) if checks else None
+        found: list[Finding] = []
+        for rule in checks:
+            if rule.target != target or rule.run_check is None:
+                continue
+            try:
+                observe = observers.get(rule.id) or observers.setdefault(rule.id, rule.run_check())
+                found += [Finding(rule.id, hit.severity or rule.severity, hit.file or report.path, hit.message,
+                                  hit.line, hit.keyword) for hit in observe(report.path)]
+            except Exception as exc:  # never a traceback, whatever the files hold
+                found.append(Finding(rule.id, "error", report.path,
+                                     f"run check could not run ({type(exc).__name__}: {exc})"))
+        report.findings.extend(_kept(report.path, found, job))
         yield report
 
 
-def _stream(files: Iterator[Path], job: _Job, jobs: int, progress: Callable[[int, int], None] | None,
-            baseline: Baseline | None) -> Iterator[FileReport]:
+def _stream(files: Iterator[Path], job: ValidationJob, progress: Callable[[int, int], None] | None
+            ) -> Iterator[FileReport]:
     groups = _SetGroups(job.settings)
     names = (str(p) for p in files)
-    if jobs > 1:
+    if job.jobs > 1:
+        worker_job = replace(job, baseline=None)  # the baseline is applied here, in this process
         with multiprocessing.get_context("fork" if sys.platform == "linux" else "spawn").Pool(
-                jobs, _init_worker, (job,)) as pool:
-            yield from _collect(pool.imap(_one, names, chunksize=8), groups, progress, baseline)
+                job.jobs, _init_worker, (worker_job,)) as pool:
+            yield from _collect(pool.imap(_one, names, chunksize=8), groups, progress, job.baseline)
     else:
         _init_worker(job)
-        yield from _collect(map(_one, names), groups, progress, baseline)
+        yield from _collect(map(_one, names), groups, progress, job.baseline)
 
 
-def _collect(results: Iterator[tuple[FileReport, Summary | None]], groups: _SetGroups,
+def _collect(results: Iterator[tuple[FileReport, LabelSummary | None]], groups: _SetGroups,
              progress: Callable[[int, int], None] | None, baseline: Baseline | None) -> Iterator[FileReport]:
     done = 0
     for report, summary in results:
@@ -349,14 +384,14 @@ def _after_baseline(report: FileReport, baseline: Baseline | None) -> FileReport
 class _SetGroups:
     """Holds one directory's reports until its set checks have run (see iter_reports)."""
 
-    def __init__(self, settings: Settings) -> None:
+    def __init__(self, settings: RuleSettings) -> None:
         self.settings = settings
         self.directory: str | None = None
-        self.group: list[tuple[FileReport, Summary | None]] = []
-        self.waiting: list[tuple[FileReport, Summary]] = []  # labels describing no data (SET-005)
+        self.group: list[tuple[FileReport, LabelSummary | None]] = []
+        self.waiting: list[tuple[FileReport, LabelSummary]] = []  # labels describing no data (SET-005)
         self.referenced: set[str] = set()
 
-    def add(self, report: FileReport, summary: Summary | None) -> list[FileReport]:
+    def add(self, report: FileReport, summary: LabelSummary | None) -> list[FileReport]:
         directory = os.path.dirname(report.path)
         ready = self._flush() if directory != self.directory else []
         self.directory = directory
@@ -385,7 +420,7 @@ class _SetGroups:
         self._run(RUN_SET_RULES, [s for _, s in waiting], by_path)
         return ready + [r for r, _ in waiting]
 
-    def _run(self, rule_ids: tuple[str, ...], summaries: list[Summary], by_path: dict[str, FileReport]) -> None:
+    def _run(self, rule_ids: tuple[str, ...], summaries: list[LabelSummary], by_path: dict[str, FileReport]) -> None:
         for rule_id in rule_ids:
             rule = rules()[rule_id]
             if rule.set_check is None or not summaries or not self.settings.keeps(rule_id):
@@ -406,37 +441,20 @@ DIRECTORY_SET_RULES = ("SET-001", "SET-003", "SET-004")
 RUN_SET_RULES = ("SET-005",)
 
 
-def validate_paths(
-    paths: Iterable[str | os.PathLike[str]],
-    strict: bool = False,
-    jobs: int = 1,
-    labels_only: bool = False,
-    progress: Callable[[int, int], None] | None = None,
-    dictionaries: Iterable[str | os.PathLike[str]] = (),
-    settings: Settings | None = None,
-    baseline: Baseline | None = None,
-    schemas: Iterable[str | os.PathLike[str]] = (),
-    skip_non_labels: bool = False,
-    schema_cache: str | os.PathLike[str] | None = None,
-    download_schemas: bool = False,
-) -> Report:
+def validate_paths(paths: Iterable[str | os.PathLike[str]], job: ValidationJob | None = None,
+                   progress: Callable[[int, int], None] | None = None, **options: Any) -> ValidationReport:
     """Validate label files and directories of them; the API behind `pdsgen validate`.
+
+    `job` says what to check and how; or give its fields by keyword (strict, jobs,
+    labels_only, dictionaries, settings, baseline, schemas, skip_non_labels, schema_cache,
+    download_schemas: see ValidationJob), e.g. `validate_paths(["out/"], strict=True)`.
+    progress(done, total) is called as files are checked.
 
     Raises PdsgenError when the paths hold no label at all (an empty or wrong directory):
     checking nothing is a usage error, not a pass.
-    strict makes warnings fail the run too (and keeps over-long lines an error for labels
-    of any origin). labels_only skips every rule that opens the data files (data existence,
-    file sizes, statistics, JP2), for label-only checks. dictionaries are extra data
-    dictionaries (PSDD `.full` format) merged over the built-in one. settings select rules
-    and set severities (see config.py); baseline drops findings already known.
-    schemas are directories of PDS4 schemas (.xsd/.sch) added to the shipped ones;
-    schema_cache is a directory of downloaded PDS4 schemas, which download_schemas lets
-    grow from the URLs labels name (without a cache, no download).
-    skip_non_labels passes over named files that are not labels (see iter_reports).
     """
-    settings = settings or Settings()
-    reports = list(iter_reports(paths, strict, jobs, labels_only, progress, dictionaries, settings, baseline,
-                                schemas, skip_non_labels, schema_cache, download_schemas))
-    fail_on = "warning" if strict else settings.fail_on
-    return Report(reports, fail_on=fail_on, baseline_suppressed=baseline.suppressed if baseline else 0,
-                  dictionary=dictionary_version())
+    job = ValidationJob.of(job, options)
+    reports = list(iter_reports(paths, job, progress))
+    return ValidationReport(reports, fail_on=job.fail_on,
+                            baseline_suppressed=job.baseline.suppressed if job.baseline else 0,
+                            dictionary=dictionary_version())

@@ -17,7 +17,7 @@ import numpy as np
 
 from ...label.grammar import DATA_TYPES, SAMPLE_TYPES, SPECIAL_CONSTANTS
 from ..context import FileContext
-from ..datastats import Layout, Stats, image_stats
+from ..datastats import SampleLayout, Stats, image_stats
 from ..model import Block, Hit, Value
 from ..registry import Rule, register
 
@@ -56,7 +56,7 @@ def _int(block: Block, key: str, default: int = 0) -> int | None:
     return int(val) if isinstance(val, int) else None
 
 
-def layout(block: Block, offset: int) -> Layout | None:
+def layout(block: Block, offset: int) -> SampleLayout | None:
     dtype = sample_dtype(block)
     lines, samples, bands = _int(block, "LINES", -1), _int(block, "LINE_SAMPLES", -1), _int(block, "BANDS", 1)
     prefix, suffix = _int(block, "LINE_PREFIX_BYTES"), _int(block, "LINE_SUFFIX_BYTES")
@@ -66,10 +66,10 @@ def layout(block: Block, offset: int) -> Layout | None:
         return None
     storage = "_".join((block.text("BAND_STORAGE_TYPE") or "BAND_SEQUENTIAL").upper().split())
     if storage == "SAMPLE_INTERLEAVED":
-        return Layout(offset, dtype, lines, samples * bands, prefix, suffix)  # type: ignore[arg-type,operator]
+        return SampleLayout(offset, dtype, lines, samples * bands, prefix, suffix)  # type: ignore[arg-type,operator]
     if storage == "LINE_INTERLEAVED":
-        return Layout(offset, dtype, lines * bands, samples, prefix, suffix)  # type: ignore[operator,arg-type]
-    return Layout(offset, dtype, lines * bands, samples, prefix, suffix)  # type: ignore[operator,arg-type]
+        return SampleLayout(offset, dtype, lines * bands, samples, prefix, suffix)  # type: ignore[operator,arg-type]
+    return SampleLayout(offset, dtype, lines * bands, samples, prefix, suffix)  # type: ignore[operator,arg-type]
 
 
 def object_bytes(block: Block) -> int | None:

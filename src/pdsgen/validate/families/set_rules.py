@@ -1,6 +1,6 @@
 """SET family: products that belong together in one directory agree with each other.
 
-Per file, a small picklable `Summary` is taken from the label (so a process pool can
+Per file, a small picklable `LabelSummary` (validate/summary.py) is taken from the label (so a process pool can
 return it); the set checks then compare summaries of one directory: shared projection
 parameters, SOURCE_PRODUCT_ID references to products of the set, Extras and README.
 SET-005 (a product label describes some data) is a set check too, because only the whole
@@ -12,7 +12,6 @@ from __future__ import annotations
 import os
 import re
 from collections.abc import Iterator
-from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..context import REFERENCE_POINTERS, FileContext
@@ -22,6 +21,7 @@ from ..projection import normalise
 from ..quantities import kilometres as _km
 from ..quantities import number as _num
 from ..registry import Rule, register
+from ..summary import LabelSummary
 
 # Product ids of a HiRISE-style DTM set (pds3-products.md section 3): a reference of this
 # form in SOURCE_PRODUCT_ID names a product that must be in the same set.
@@ -30,20 +30,6 @@ SET_PRODUCT_ID = re.compile(
 )
 _PROJECTION_KEYS = ("MAP_PROJECTION_TYPE", "A_AXIS_RADIUS", "B_AXIS_RADIUS", "C_AXIS_RADIUS",
                     "CENTER_LATITUDE", "CENTER_LONGITUDE")
-
-
-@dataclass
-class Summary:
-    path: str
-    product_id: str | None = None
-    product_id_line: int | None = None
-    sources: list[str] = field(default_factory=list)
-    sources_line: int | None = None
-    projection: tuple | None = None
-    projection_line: int | None = None
-    describes_nothing: bool = False
-    first_line: int | None = None
-    referenced: list[str] = field(default_factory=list)  # upper-case names other files go by
 
 
 # Names of format and catalog files, which hold object definitions or catalog text for
@@ -74,9 +60,9 @@ def referenced_files(ctx: FileContext) -> list[str]:
     return sorted(names)
 
 
-def summarise(ctx: FileContext) -> Summary:
+def summarise(ctx: FileContext) -> LabelSummary:
     root = ctx.root
-    summary = Summary(str(ctx.path))
+    summary = LabelSummary(str(ctx.path))
     summary.describes_nothing = ctx.size > 0 and not describes_data(ctx)  # empty: FILE-011 says it
     summary.first_line = ctx.label.first_line
     summary.referenced = referenced_files(ctx)
@@ -115,19 +101,19 @@ def check_product_id(ctx: FileContext) -> Iterator[Hit]:
                   stmt.line, "PRODUCT_ID")
 
 
-def _finding(summary: Summary, message: str, line: int | None, keyword: str | None) -> Hit:
+def _finding(summary: LabelSummary, message: str, line: int | None, keyword: str | None) -> Hit:
     """A problem of one product of the set: the runner adds rule id and severity."""
     return Hit(message, line, keyword, file=summary.path)
 
 
-def by_directory(summaries: list[Summary]) -> dict[str, list[Summary]]:
-    groups: dict[str, list[Summary]] = {}
+def by_directory(summaries: list[LabelSummary]) -> dict[str, list[LabelSummary]]:
+    groups: dict[str, list[LabelSummary]] = {}
     for s in summaries:
         groups.setdefault(os.path.dirname(s.path), []).append(s)
     return dict(sorted(groups.items()))
 
 
-def check_projections(summaries: list[Summary], referenced: set[str] | None = None) -> Iterator[Hit]:
+def check_projections(summaries: list[LabelSummary], referenced: set[str] | None = None) -> Iterator[Hit]:
     """SET-001: map products that belong together share projection, radii and centre.
 
     Real volumes keep many unrelated products in one directory (an HRSC or LOLA DATA/
@@ -140,7 +126,7 @@ def check_projections(summaries: list[Summary], referenced: set[str] | None = No
             yield from _projections(related, "SET-001")
 
 
-def _link_keys(s: Summary) -> set[str]:
+def _link_keys(s: LabelSummary) -> set[str]:
     """Keys two related products share: their own id, their sources, their HRSC orbit."""
     keys = {f"id:{ref.upper()}" for ref in s.sources if ref.upper() not in ("N/A", "UNK", "NULL")}
     if s.product_id:
@@ -151,7 +137,7 @@ def _link_keys(s: Summary) -> set[str]:
     return keys
 
 
-def related_products(group: list[Summary]) -> list[list[Summary]]:
+def related_products(group: list[LabelSummary]) -> list[list[LabelSummary]]:
     """Map products of one directory joined into sets of related products (see check_projections);
     a product related to nothing else is left out."""
     mapped = [s for s in group if s.projection is not None]
@@ -170,13 +156,13 @@ def related_products(group: list[Summary]) -> list[list[Summary]]:
             if key in owner and (key not in own or owner[key] != i):
                 parent[root(i)] = root(owner[key])
             owner.setdefault(key, i)
-    sets: dict[int, list[Summary]] = {}
+    sets: dict[int, list[LabelSummary]] = {}
     for i, s in enumerate(mapped):
         sets.setdefault(root(i), []).append(s)
     return [members for members in sets.values() if len(members) > 1]
 
 
-def is_delivery_set(directory: Path, group: list[Summary]) -> bool:
+def is_delivery_set(directory: Path, group: list[LabelSummary]) -> bool:
     """Several map products together, or Extras/README.TXT begun: a set to check as a whole.
     A single product written on its own is not one (its sources may live elsewhere)."""
     products = [s for s in group if s.projection is not None and s.product_id]
@@ -187,20 +173,20 @@ def is_delivery_set(directory: Path, group: list[Summary]) -> bool:
         "EXTRA" in n.upper() and (directory / n).is_dir() for n in names)
 
 
-def check_sources(summaries: list[Summary], referenced: set[str] | None = None) -> Iterator[Hit]:
+def check_sources(summaries: list[LabelSummary], referenced: set[str] | None = None) -> Iterator[Hit]:
     """SET-003: SOURCE_PRODUCT_ID values naming products of the set resolve within it."""
     for directory, group in by_directory(summaries).items():
         if is_delivery_set(Path(directory), group):
             yield from _sources(group, "SET-003")
 
 
-def check_extras(summaries: list[Summary], referenced: set[str] | None = None) -> Iterator[Hit]:
+def check_extras(summaries: list[LabelSummary], referenced: set[str] | None = None) -> Iterator[Hit]:
     """SET-004: a delivery set has README.TXT and a browse JPEG per product."""
     for directory, group in by_directory(summaries).items():
         yield from _extras(Path(directory), group, "SET-004")
 
 
-def check_describes_data(summaries: list[Summary], referenced: set[str] | None = None) -> Iterator[Hit]:
+def check_describes_data(summaries: list[LabelSummary], referenced: set[str] | None = None) -> Iterator[Hit]:
     """SET-005: a product label describes some data. Labels named *.FMT/*.CAT, and labels
     another label of the run includes or points at (`referenced`: names from every label
     of the run), are fragments and exempt."""
@@ -219,7 +205,7 @@ def _fmt(values: tuple) -> str:
     return ", ".join(f"{k} {v}" for k, v in zip(keys, values, strict=False))
 
 
-def _projections(group: list[Summary], rule: str) -> Iterator[Hit]:
+def _projections(group: list[LabelSummary], rule: str) -> Iterator[Hit]:
     mapped = [s for s in group if s.projection is not None]
     if len(mapped) < 2:
         return
@@ -237,7 +223,7 @@ def _projections(group: list[Summary], rule: str) -> Iterator[Hit]:
                            f"{what}", s.projection_line, diffs[0][0])
 
 
-def _sources(group: list[Summary], rule: str) -> Iterator[Hit]:
+def _sources(group: list[LabelSummary], rule: str) -> Iterator[Hit]:
     ids = {s.product_id.upper() for s in group if s.product_id}
     for s in group:
         for ref in s.sources:
@@ -246,7 +232,7 @@ def _sources(group: list[Summary], rule: str) -> Iterator[Hit]:
                                "not in this directory", s.sources_line, "SOURCE_PRODUCT_ID")
 
 
-def _extras(directory: Path, group: list[Summary], rule: str) -> Iterator[Hit]:
+def _extras(directory: Path, group: list[LabelSummary], rule: str) -> Iterator[Hit]:
     """A directory holding map products should have README.TXT and browse JPEGs (Extras)."""
     if not is_delivery_set(directory, group):
         return
