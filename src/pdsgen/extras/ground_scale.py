@@ -33,6 +33,7 @@ from rasterio.errors import CRSError
 from rasterio.warp import transform as warp_transform
 
 from ..errors import PdsgenError
+from ..geo.longitudes import wrap_180, wrap_360
 
 _SPHEROID = re.compile(r'(?:SPHEROID|ELLIPSOID)\["[^"]*",\s*([-+0-9.eE]+),\s*([-+0-9.eE]+)')
 
@@ -101,7 +102,7 @@ def _radii(a: float, b: float, lat_deg: float) -> tuple[float, float]:
 
 def _distance(a: float, b: float, lon1: float, lat1: float, lon2: float, lat2: float) -> float:
     """Ground distance between two close points (local metric of the ellipsoid)."""
-    dlon = (lon2 - lon1 + 180.0) % 360.0 - 180.0
+    dlon = wrap_180(lon2 - lon1)
     m, n = _radii(a, b, 0.5 * (lat1 + lat2))
     dy = m * math.radians(lat2 - lat1)
     dx = n * math.cos(math.radians(0.5 * (lat1 + lat2))) * math.radians(dlon)
@@ -124,4 +125,4 @@ def _north_direction(crs: CRS, geo: CRS, transform: Any, lon: float, lat: float,
     inverse = ~transform
     c0, r0 = inverse @ (xs[0], ys[0])
     c1, r1 = inverse @ (xs[1], ys[1])
-    return math.degrees(math.atan2(c1 - c0, -(r1 - r0))) % 360.0
+    return wrap_360(math.degrees(math.atan2(c1 - c0, -(r1 - r0))))

@@ -254,41 +254,17 @@ def tile_vrt(tile: Tile, name: str) -> Iterator[Path]:
         yield path
 
 
-# -- what the labels say -----------------------------------------------------------------
+# -- what the labels say (the wording is missions/hrsc_ax.py's) ---------------------------
 def dtm_note(tile: Tile) -> str:
     """The DEM's NOTE: what the numbers are, the datum, the cut-off, the survey."""
     h = tile.heights
     assert h is not None
-    parts = [
-        f"Pixel values are ellipsoid heights in meters above the HRSC-AX ellipsoid (A = B = "
-        f"{hrsc_ax.A_AXIS_KM} km, C = {hrsc_ax.C_AXIS_KM} km), not geoid heights: "
-        f"{hrsc_ax.GEOID_NOTE}.",
-        f"Heights = DTM_OFFSET + stored value * DTM_SCALING_FACTOR of the source "
-        f"({h.offset:g} + value * {h.scaling_factor:g}).",
-    ]
-    if h.cut_off is not None:
-        parts.append(f"Heights were cut off by the producer to DTM_RANGE {h.cut_off[0]:g} .. {h.cut_off[1]:g} m.")
-    parts.append(_survey(tile))
-    parts.append("Pixels equal to MISSING_CONSTANT hold no data.")
-    return " ".join(p for p in parts if p)
+    return hrsc_ax.dtm_note(h.offset, h.scaling_factor, h.cut_off, tile.survey_date)
 
 
 def ortho_description(tile: Tile) -> str:
     """The orthoimage's DESCRIPTION: which band is which channel and wavelength, the survey."""
-    if tile.kind == "PAN":
-        what = (f"HRSC-AX panchromatic nadir orthoimage ({hrsc_ax.CHANNELS['pan'].wavelength_nm} nm), "
-                "8-bit DNs, DN 0 = no data.")
-    else:
-        bands = ", ".join(f"band {i} {c.band_name} {c.wavelength_nm} nm (.{c.extension})"
-                          for i, c in enumerate(tile.channels, start=1))
-        merged = " merged with the nadir channel" if tile.kind == "CIR" else ""
-        what = f"HRSC-AX {tile.kind} colour orthoimage{merged}: {bands}; 8-bit DNs, DN 0 = no data."
-    return " ".join(p for p in (what, _survey(tile)) if p)
-
-
-def _survey(tile: Tile) -> str:
-    return f"Airborne survey (HRSC-AX, DLR) of {tile.survey_date}." if tile.survey_date else \
-        "Airborne survey by HRSC-AX (DLR)."
+    return hrsc_ax.ortho_description(tile.kind, tile.channels, tile.survey_date)
 
 
 # -- the writers ---------------------------------------------------------------------------
