@@ -24,7 +24,6 @@ to (or away from) the pole, not up.
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass
 from typing import Any
 
@@ -33,9 +32,9 @@ from rasterio.errors import CRSError
 from rasterio.warp import transform as warp_transform
 
 from ..errors import PdsgenError
+from ..geo.geometry import ellipsoid_axes
+from ..geo.geometry import geographic_crs as geo_geographic_crs
 from ..geo.longitudes import wrap_180, wrap_360
-
-_SPHEROID = re.compile(r'(?:SPHEROID|ELLIPSOID)\["[^"]*",\s*([-+0-9.eE]+),\s*([-+0-9.eE]+)')
 
 
 @dataclass(frozen=True)
@@ -53,19 +52,9 @@ class GroundScale:
     latitude: float
 
 
-def ellipsoid_axes(crs: CRS) -> tuple[float, float]:
-    """Semi-major and semi-minor axis (metres) of the CRS's ellipsoid, from its WKT."""
-    match = _SPHEROID.search(crs.to_wkt())
-    if not match:
-        raise PdsgenError(None, "the map projection names no ellipsoid")
-    a, inv_f = float(match.group(1)), float(match.group(2))
-    return a, (a if inv_f == 0 else a * (1.0 - 1.0 / inv_f))
-
-
 def geographic_crs(crs: CRS) -> CRS:
     """Longitude/latitude on the same body as `crs` (no datum shift involved)."""
-    a, b = ellipsoid_axes(crs)
-    return CRS.from_proj4(f"+proj=longlat +a={a!r} +b={b!r} +no_defs +type=crs")
+    return geo_geographic_crs(*ellipsoid_axes(crs))
 
 
 def ground_scale_at(crs: CRS, transform: Any, col: float, row: float) -> GroundScale:

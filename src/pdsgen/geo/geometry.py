@@ -249,8 +249,14 @@ def _edge_points(transform: Affine, width: int, height: int, per_side: int = 257
     return xs, ys
 
 
+def geographic_crs(a: float, b: float) -> CRS:
+    """Longitude/latitude (geodetic) on the ellipsoid of semi-axes a, b metres: the body of a
+    projected CRS without any datum shift, for inverse projection."""
+    return CRS.from_proj4(f"+proj=longlat +a={a!r} +b={b!r} +no_defs")
+
+
 def _geographic_crs(projection: _Projection) -> CRS:
-    return CRS.from_proj4(f"+proj=longlat +a={projection.a!r} +b={projection.b!r} +no_defs")
+    return geographic_crs(projection.a, projection.b)
 
 
 def _bounds(crs: CRS, transform: Affine, width: int, height: int, projection: _Projection, source: str):
