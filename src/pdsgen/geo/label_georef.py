@@ -1,7 +1,9 @@
-"""Georeferencing from a PDS3 label's map projection object: label -> CRS and grid.
+"""Georeferencing from a label's map projection: label -> CRS and grid.
 
-The one reader of a label's map projection for the Extras (products GDAL cannot place)
-and the PDS3 -> PDS4 migration (cart:); geometry.py is the other direction.
+The one reader of a label's map projection for the Extras (products GDAL cannot place),
+the review page's footprints, the PDS3 -> PDS4 migration (cart:) and the HRSC-AX tiles'
+VICAR MAP groups (`vicar_map_georeferencing`; formats/vicar.py reads the group);
+geometry.py is the other direction.
 
 GDAL's PDS driver reads `IMAGE_MAP_PROJECTION` with the names current PDS3 labels
 use. Older map products describe the same grid differently and GDAL then reports
@@ -26,7 +28,8 @@ easting/northing, so a label (pdsgen's HRSC-AX products; geometry.py's module
 docstring) folds them in - offsets from the natural origin, MAP_SCALE the grid spacing
 divided by the scale factor - and read with scale factor 1 every pixel lands on its
 ground position. pdsgen's writer states the true grid in the projection object's
-comment (templates/_transverse_mercator_note.lbl.j2); given the label's text,
+comment, in the wording of transverse_mercator.py (the template renders it, this module
+parses it); given the label's text,
 `label_georeferencing` unfolds it (`transverse_mercator_grid`), so the CRS and
 geotransform are the grid itself (scale factor, false origin, grid spacing) and the
 pixels land on the same ground positions.
@@ -35,7 +38,8 @@ Magellan MIDR framelets are placed by their data set's own equations (a 6051.0 k
 sample centres half a pixel out; missions/magellan.py), not by their A_AXIS_RADIUS.
 
 West-positive labels give their longitudes west; the projection's central
-meridian is turned east-positive, as PROJ expects, and x still grows to the east.
+meridian is turned east-positive (longitudes.py), as PROJ expects, and x still grows to
+the east. A UTM grid's false origin is utm.py's.
 """
 
 from __future__ import annotations
