@@ -40,9 +40,11 @@ GEOID_NOTE = "sea level lies at about +36.5 m above this ellipsoid"
 HEIGHT_DATUM = f"the {A_AXIS_KM} x {C_AXIS_KM} km ellipsoid (sea level at about +36.5 m)"
 
 # How a tile's VICAR MAP offsets count: "standard" by Table B2 of the HRSC-AX image
-# description (from the centre of pixel 1,1; the default), "dlr" one pixel further as
-# DLR's HRSC Mars labels do. Pixels to subtract to reach the standard values.
-VICAR_OFFSETS = {"standard": OFFSET_CONVENTIONS["standard"], "dlr": OFFSET_CONVENTIONS["dlr"]}
+# description (from the centre of pixel 1,1: the PDS3 standard convention itself, nothing to
+# subtract; the default), "dlr" one pixel further as DLR's HRSC Mars labels do (missions/hrsc.py,
+# for producers who wrote their tiles that way). Pixels to subtract to reach the standard values.
+TABLE_B2_SHIFT = 0.0
+VICAR_OFFSETS = {"standard": TABLE_B2_SHIFT, "dlr": OFFSET_CONVENTIONS["dlr"]}
 VICAR_OFFSET_NOTES = {
     "standard": (
         "/* The source tile's VICAR LINE/SAMPLE_PROJECTION_OFFSET were read  */",
