@@ -330,13 +330,13 @@ def _is_full_turn(node: ast.AST) -> bool:
 
 
 def _longitude_wraps(tree: ast.AST) -> list[int]:
-    """Lines taking an angle modulo a full turn (geo/longitudes.py's wrap_360 / wrap_180)."""
+    """Lines taking an angle modulo a full turn (geo/conventions.py's wrap_360 / wrap_180)."""
     return [node.lineno for node in ast.walk(tree)
             if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Mod) and _is_full_turn(node.right)]
 
 
 def _west_flips(tree: ast.AST) -> list[int]:
-    """Lines comparing with "WEST" (a label's POSITIVE_LONGITUDE_DIRECTION: geo/longitudes.py)."""
+    """Lines comparing with "WEST" (a label's POSITIVE_LONGITUDE_DIRECTION: geo/conventions.py)."""
     return [node.lineno for node in ast.walk(tree) if isinstance(node, ast.Compare)
             and any(isinstance(side, ast.Constant) and side.value == "WEST" for side in [node.left, *node.comparators])]
 

@@ -3,7 +3,7 @@
 - geo/utm.py's scale factor, false origin and zone meridians against PROJ's `+proj=utm`;
 - a VICAR MAP group (formats/vicar.py reads it, geo/label_georef.py places it) of a southern
   and a west-positive tile, ground positions against PROJ's UTM zone;
-- geo/longitudes.py's wraps at their edges.
+- geo/conventions.py's wraps at their edges.
 """
 
 from __future__ import annotations
@@ -15,8 +15,8 @@ from rasterio.warp import transform as warp_transform
 
 from pdsgen.formats.vicar import read_map_group
 from pdsgen.geo import utm
+from pdsgen.geo.conventions import east_positive, unwrap_near, wrap_180, wrap_360
 from pdsgen.geo.label_georef import vicar_map_georeferencing
-from pdsgen.geo.longitudes import east_positive, unwrap_near, wrap_180, wrap_360
 
 WGS84_LONLAT = CRS.from_proj4("+proj=longlat +ellps=WGS84 +no_defs")
 

@@ -32,9 +32,9 @@ from rasterio.errors import CRSError
 from rasterio.warp import transform as warp_transform
 
 from ..errors import PdsgenError
+from ..geo.conventions import wrap_180, wrap_360
 from ..geo.geometry import ellipsoid_axes
 from ..geo.geometry import geographic_crs as geo_geographic_crs
-from ..geo.longitudes import wrap_180, wrap_360
 
 
 @dataclass(frozen=True)

@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING
 import jinja2
 from PIL import Image
 
-from ..geo.longitudes import wrap_360
+from ..geo.conventions import wrap_360
 from ..label.grammar import MAX_LINE_BYTES as GRAMMAR_MAX_LINE_BYTES
 from ..missions.hirise import SYNTHETIC_BLUE_BG, SYNTHETIC_BLUE_RED, rdr_extras_line
 from ..products.params import ParamValue

@@ -28,10 +28,7 @@ from rasterio.crs import CRS
 from rasterio.warp import transform as warp_transform
 
 from ..errors import PdsgenError
-from . import utm
-from .conventions import map_resolution, projection_offsets
-from .longitudes import unwrap_near, wrap_360
-from .transverse_mercator import grid_note
+from .conventions import map_resolution, projection_offsets, unwrap_near, wrap_360
 
 EQUIRECTANGULAR = "EQUIRECTANGULAR"
 POLAR_STEREOGRAPHIC = "POLAR STEREOGRAPHIC"
@@ -90,6 +87,8 @@ class MapGeometry:
 
     def transverse_mercator_note(self) -> tuple[str, ...]:
         """The label comment stating the grid folded into a Transverse Mercator label's keywords."""
+        from .transverse_mercator import grid_note  # only Transverse Mercator labels need it
+
         return grid_note(self.scale_factor, self.false_easting, self.false_northing)
 
 
@@ -188,6 +187,7 @@ def _parse_projection(crs: CRS, source: str) -> _Projection:
         k = float(params.get("k", params.get("k_0", 1.0)))
         lat0 = float(params.get("lat_0", 0.0))
         if name == "utm":
+            from . import utm  # a UTM CRS only: writers of other grids start faster
             lon0, k, x0 = utm.zone_central_meridian(int(params["zone"])), utm.SCALE_FACTOR, utm.FALSE_EASTING
             y0 = utm.false_northing(bool(params.get("south")))
         return _Projection(TRANSVERSE_MERCATOR, a, b, lat0, lon0, x0, y0, k)

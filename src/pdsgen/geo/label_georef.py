@@ -38,7 +38,7 @@ Magellan MIDR framelets are placed by their data set's own equations (a 6051.0 k
 sample centres half a pixel out; missions/magellan.py), not by their A_AXIS_RADIUS.
 
 West-positive labels give their longitudes west; the projection's central
-meridian is turned east-positive (longitudes.py), as PROJ expects, and x still grows to
+meridian is turned east-positive (conventions.py), as PROJ expects, and x still grows to
 the east. A UTM grid's false origin is utm.py's.
 """
 
@@ -56,8 +56,7 @@ from rasterio.transform import Affine
 from ..formats.vicar import VicarMap
 from ..missions import magellan
 from . import utm
-from .conventions import upper_left_corner
-from .longitudes import east_positive, wrap_180
+from .conventions import east_positive, upper_left_corner, wrap_180
 from .transverse_mercator import UNFOLDED, GridNoteError, TransverseMercatorGrid, read_grid_note
 
 PROJECTION_OBJECTS = ("IMAGE_MAP_PROJECTION", "IMAGE_MAP_PROJECTION_CATALOG")

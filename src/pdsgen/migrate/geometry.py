@@ -17,9 +17,9 @@ from affine import Affine
 from rasterio.crs import CRS
 
 from ..errors import PdsgenError
+from ..geo.conventions import FULL_TURN, east_positive, wrap_360
 from ..geo.geometry import describe_geometry
 from ..geo.label_georef import PROJECTION_OBJECTS, LabelGeorefError, label_georeferencing
-from ..geo.longitudes import FULL_TURN, east_positive, wrap_360
 from ..pds4.label import Cartography, cartography
 from ..validate.context import FileContext
 from ..validate.families.map_rules import offset_convention_shift

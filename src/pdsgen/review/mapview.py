@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..geo.longitudes import wrap_360
+from ..geo.conventions import wrap_360
 from .footprint import Outline
 
 VIEW_SIZE = 1000.0  # the longer side of a view, SVG units
