@@ -583,3 +583,116 @@ def test_packages_import_each_other_one_way_with_at_most_one_module_reaching_bac
                  for pair in importers if pair[::-1] in importers}
     assert {"deliver", "review"} in [set(pair) for pair in both_ways]  # the check sees folders
     assert {pair for pair, back in both_ways.items() if back > 1} <= TWO_WAY_PACKAGES
+# -- geometry: geo/ owns both directions and the facts they rest on (issue 34 item 2) ------------
+
+# The validator's own formulas, independent of geo/ on purpose (a check must not share the
+# computation it checks); each entry must still hold what it is excused for (so the list
+# cannot outlive the code).
+VALIDATOR_OWN_OFFSET_INVERSE = {"validate/families/map_rules.py", "validate/families/geo_rules.py",
+                                "validate/families/hrsc_rules.py"}
+VALIDATOR_OWN_LONGITUDE_WRAP = {"validate/projection.py", "validate/families/map_rules.py",
+                                "validate/families/geo_rules.py", "pds4/cart_checks.py"}
+VALIDATOR_OWN_WEST_FLIP = {"validate/families/map_rules.py", "validate/families/geo_rules.py"}
+_OFFSET_NAMES = ("offset", "spo", "lpo")
+
+
+def _source_modules():
+    """(path relative to pdsgen/, parsed module) of every module outside geo/."""
+    for path in sorted(SRC.rglob("*.py")):
+        relative = path.relative_to(SRC).as_posix()
+        if not relative.startswith("geo/"):
+            yield relative, ast.parse(path.read_text())
+
+
+def _names(node: ast.AST) -> set[str]:
+    return {n.id.lower() for n in ast.walk(node) if isinstance(n, ast.Name)} | \
+        {n.attr.lower() for n in ast.walk(node) if isinstance(n, ast.Attribute)}
+
+
+def _is_half_pixel(node: ast.AST) -> bool:
+    return (isinstance(node, ast.Constant) and node.value == 0.5) or \
+        (isinstance(node, ast.Name) and node.id == "PIXEL_CENTRE")
+
+
+def _offset_inverses(tree: ast.AST) -> list[int]:
+    """Lines adding or taking half a pixel to or from a projection offset (the PDS3 convention's
+    corner <-> offset arithmetic, geo/conventions.py's)."""
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub)):
+            for half, other in ((node.left, node.right), (node.right, node.left)):
+                if _is_half_pixel(half) and any(key in name for name in _names(other) for key in _OFFSET_NAMES):
+                    found.append(node.lineno)
+    return found
+
+
+def _is_number(node: ast.AST, values: tuple[float, ...]) -> bool:
+    return isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) \
+        and not isinstance(node.value, bool) and node.value in values
+
+
+def _is_full_turn(node: ast.AST) -> bool:
+    return _is_number(node, (360,)) or (isinstance(node, ast.Name) and node.id == "FULL_TURN")
+
+
+def _longitude_wraps(tree: ast.AST) -> list[int]:
+    """Lines taking an angle modulo a full turn (geo/conventions.py's wrap_360 / wrap_180)."""
+    return [node.lineno for node in ast.walk(tree)
+            if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Mod) and _is_full_turn(node.right)]
+
+
+def _west_flips(tree: ast.AST) -> list[int]:
+    """Lines comparing with "WEST" (a label's POSITIVE_LONGITUDE_DIRECTION: geo/conventions.py)."""
+    return [node.lineno for node in ast.walk(tree) if isinstance(node, ast.Compare)
+            and any(isinstance(side, ast.Constant) and side.value == "WEST" for side in [node.left, *node.comparators])]
+
+
+def test_the_offset_inverse_lives_in_geo():
+    found = {relative: lines for relative, tree in _source_modules() if (lines := _offset_inverses(tree))}
+    assert set(found) - VALIDATOR_OWN_OFFSET_INVERSE == set(), found
+    assert VALIDATOR_OWN_OFFSET_INVERSE <= set(found)  # the detector sees the validator's own copies
+
+
+def test_longitude_wraps_and_the_west_flip_live_in_geo():
+    wraps = {relative: lines for relative, tree in _source_modules() if (lines := _longitude_wraps(tree))}
+    assert set(wraps) - VALIDATOR_OWN_LONGITUDE_WRAP == set(), wraps
+    assert VALIDATOR_OWN_LONGITUDE_WRAP <= set(wraps)
+    flips = {relative: lines for relative, tree in _source_modules() if (lines := _west_flips(tree))}
+    assert set(flips) - VALIDATOR_OWN_WEST_FLIP == set(), flips
+    assert VALIDATOR_OWN_WEST_FLIP <= set(flips)
+
+
+def test_utm_constants_live_in_geo_utm():
+    """0.9996, 500 km, 10,000 km and the 6-degree zone arithmetic: geo/utm.py alone."""
+    offenders = []
+    for path in sorted(SRC.rglob("*.py")):
+        relative = path.relative_to(SRC).as_posix()
+        if relative == "geo/utm.py":
+            continue
+        tree = ast.parse(path.read_text())
+        offenders += [(relative, value) for value in _module_constants(tree)
+                      if isinstance(value, (int, float)) and not isinstance(value, bool)
+                      and value in (0.9996, 500000, 10000000)]
+        offenders += [(relative, node.lineno) for node in ast.walk(tree) if isinstance(node, ast.BinOp)
+                      and isinstance(node.op, ast.Mod) and _is_number(node.right, (6,))]
+    assert offenders == []
+
+
+def test_the_folded_transverse_mercator_note_has_one_wording():
+    """The label template renders geo/transverse_mercator.py's note, which the label reader parses;
+    no template or other module spells the grid statement itself."""
+    from pdsgen.geo.label_georef import transverse_mercator_grid
+    from pdsgen.geo.transverse_mercator import TransverseMercatorGrid, grid_note
+    from pdsgen.resources import templates_dir
+
+    for template in sorted(Path(templates_dir()).rglob("*.j2")):
+        text = template.read_text()
+        while "{#" in text:  # template comments may name the note; its wording may not be there
+            start = text.index("{#")
+            text = text[:start] + text[text.index("#}", start) + 2:]
+        assert "scale factor" not in text and "false easting" not in text, template.name
+    for relative, tree in _source_modules():
+        strings = [v for v in _module_constants(tree) if isinstance(v, str)]
+        assert not any("false northing" in s for s in strings), relative
+    note = "\r\n".join(grid_note(0.9996, 500000.0, 10000000.0))
+    assert transverse_mercator_grid(note) == TransverseMercatorGrid(0.9996, 500000.0, 10000000.0)

@@ -22,6 +22,7 @@ from PIL import Image
 
 from ..errors import ParamsError, PdsgenError, param
 from ..formats.staging import StagedOutputs, prepare_output_dir, publishes_together
+from ..geo.conventions import wrap_360
 from ..products.params import ParamValue, resolve_params
 from ..progress import advance, is_large
 from .credit import product_credit
@@ -171,7 +172,7 @@ def _check_options(browse_width: int | None, thumb_width: int, azimuth: float, a
         raise PdsgenError(None, f"vertical exaggeration {exaggeration!r} must be in (0, 10000]")
     if not (_is_finite_number(altitude) and 0.0 < altitude <= 90.0):
         raise PdsgenError(None, f"light altitude {altitude!r} must be in (0, 90] degrees")
-    return float(azimuth) % 360.0 + 0.0  # + 0.0 turns -0.0 into 0.0
+    return wrap_360(float(azimuth)) + 0.0  # + 0.0 turns -0.0 into 0.0
 
 
 def _check_int(what: str, value: object, low: int, high: int) -> None:

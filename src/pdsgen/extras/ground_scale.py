@@ -24,7 +24,6 @@ to (or away from) the pole, not up.
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass
 from typing import Any
 
@@ -33,8 +32,9 @@ from rasterio.errors import CRSError
 from rasterio.warp import transform as warp_transform
 
 from ..errors import PdsgenError
-
-_SPHEROID = re.compile(r'(?:SPHEROID|ELLIPSOID)\["[^"]*",\s*([-+0-9.eE]+),\s*([-+0-9.eE]+)')
+from ..geo.conventions import wrap_180, wrap_360
+from ..geo.geometry import ellipsoid_axes
+from ..geo.geometry import geographic_crs as geo_geographic_crs
 
 
 @dataclass(frozen=True)
@@ -52,19 +52,9 @@ class GroundScale:
     latitude: float
 
 
-def ellipsoid_axes(crs: CRS) -> tuple[float, float]:
-    """Semi-major and semi-minor axis (metres) of the CRS's ellipsoid, from its WKT."""
-    match = _SPHEROID.search(crs.to_wkt())
-    if not match:
-        raise PdsgenError(None, "the map projection names no ellipsoid")
-    a, inv_f = float(match.group(1)), float(match.group(2))
-    return a, (a if inv_f == 0 else a * (1.0 - 1.0 / inv_f))
-
-
 def geographic_crs(crs: CRS) -> CRS:
     """Longitude/latitude on the same body as `crs` (no datum shift involved)."""
-    a, b = ellipsoid_axes(crs)
-    return CRS.from_proj4(f"+proj=longlat +a={a!r} +b={b!r} +no_defs +type=crs")
+    return geo_geographic_crs(*ellipsoid_axes(crs))
 
 
 def ground_scale_at(crs: CRS, transform: Any, col: float, row: float) -> GroundScale:
@@ -101,7 +91,7 @@ def _radii(a: float, b: float, lat_deg: float) -> tuple[float, float]:
 
 def _distance(a: float, b: float, lon1: float, lat1: float, lon2: float, lat2: float) -> float:
     """Ground distance between two close points (local metric of the ellipsoid)."""
-    dlon = (lon2 - lon1 + 180.0) % 360.0 - 180.0
+    dlon = wrap_180(lon2 - lon1)
     m, n = _radii(a, b, 0.5 * (lat1 + lat2))
     dy = m * math.radians(lat2 - lat1)
     dx = n * math.cos(math.radians(0.5 * (lat1 + lat2))) * math.radians(dlon)
@@ -124,4 +114,4 @@ def _north_direction(crs: CRS, geo: CRS, transform: Any, lon: float, lat: float,
     inverse = ~transform
     c0, r0 = inverse @ (xs[0], ys[0])
     c1, r1 = inverse @ (xs[1], ys[1])
-    return math.degrees(math.atan2(c1 - c0, -(r1 - r0))) % 360.0
+    return wrap_360(math.degrees(math.atan2(c1 - c0, -(r1 - r0))))

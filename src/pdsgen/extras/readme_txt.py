@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING
 import jinja2
 from PIL import Image
 
+from ..geo.conventions import wrap_360
 from ..label.grammar import MAX_LINE_BYTES as GRAMMAR_MAX_LINE_BYTES
 from ..missions.hirise import SYNTHETIC_BLUE_BG, SYNTHETIC_BLUE_RED, rdr_extras_line
 from ..products.params import ParamValue
@@ -122,7 +123,7 @@ def product_entry(previews: ProductPreviews, credit: str, azimuth: float,
         "true_scale": (f"{_metres(previews.scale.metres_per_column / previews.grid.step_x)} "
                        f"per product pixel along rows at the image centre (latitude "
                        f"{previews.scale.latitude:.3f}, longitude "
-                       f"{previews.scale.longitude % 360.0:.3f} east)"),
+                       f"{wrap_360(previews.scale.longitude):.3f} east)"),
         "heights": _heights(src) if is_dtm else "",
         "valid_minimum": low, "valid_maximum": high,
         "conversion": _conversion(src),

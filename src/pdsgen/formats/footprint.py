@@ -21,7 +21,7 @@ from rasterio.io import DatasetReader
 from rasterio.warp import transform_geom
 
 from ..errors import PdsgenError
-from ..geo.geometry import ellipsoid_axes
+from ..geo.geometry import ellipsoid_axes, geographic_crs
 
 FOOTPRINT_SIZE = 1024
 
@@ -33,8 +33,7 @@ def valid_data_outline(dataset: DatasetReader, valid_fn) -> list[dict[str, Any]]
     sample = dataset.read(1, out_shape=shape, resampling=Resampling.nearest)
     valid = valid_fn(sample).astype(np.uint8)
     transform = dataset.transform @ dataset.transform.scale(dataset.width / shape[1], dataset.height / shape[0])
-    a, b = ellipsoid_axes(dataset.crs, dataset.name)
-    lonlat = CRS.from_proj4(f"+proj=longlat +a={a!r} +b={b!r} +no_defs")
+    lonlat = geographic_crs(*ellipsoid_axes(dataset.crs, dataset.name))
     polygons = []
     for geometry, value in shapes(valid, mask=valid.astype(bool), transform=transform, connectivity=8):
         if value:
@@ -87,8 +86,7 @@ SHAPEFILE_PARTS = (".shp", ".shx", ".dbf", ".prj", ".qpj")
 def footprint_wkt(crs: CRS) -> str:
     """The longitude/latitude CRS of a footprint (on the product's body), in ESRI's WKT
     dialect as .prj files hold it."""
-    a, b = ellipsoid_axes(crs)
-    return CRS.from_proj4(f"+proj=longlat +a={a!r} +b={b!r} +no_defs").to_wkt(version="WKT1_ESRI")
+    return geographic_crs(*ellipsoid_axes(crs)).to_wkt(version="WKT1_ESRI")
 _FIELDS = (("PRODUCT_ID", 40), ("TYPE", 8), ("FILE", 80))
 
 

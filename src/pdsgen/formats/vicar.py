@@ -13,7 +13,9 @@ little-endian) and reals (REALFMT IEEE = big-endian, RIEEE = little-endian).
 `PROPERTY='DIGITAL_TERRAIN_MODEL'` ...: every item after a PROPERTY item belongs to
 that group until the next PROPERTY or TASK item), and where the image's bytes are.
 pdsgen reads the map and terrain-model groups itself: GDAL's VICAR reader ignores
-some of their keywords (SCALE_FACTOR) and knows few projections.
+some of their keywords (SCALE_FACTOR) and knows few projections. `read_map_group` turns
+a MAP group into numbers in the label's own units and counting (`VicarMap`); what they
+mean on the ground (the CRS and grid) is geo/label_georef.py's `vicar_map_georeferencing`.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from __future__ import annotations
 import math
 import os
 import re
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -271,3 +274,75 @@ def _group(items: list[tuple[str, VicarValue]]) -> tuple[dict[str, VicarValue], 
         elif current is not None:
             current.setdefault(key, value)
     return system, properties
+
+
+# -- the MAP property group ------------------------------------------------------------------
+_REQUIRED_MAP = ("A_AXIS_RADIUS", "C_AXIS_RADIUS", "CENTER_LATITUDE", "CENTER_LONGITUDE",
+                 "LINE_PROJECTION_OFFSET", "SAMPLE_PROJECTION_OFFSET", "MAP_PROJECTION_TYPE", "MAP_SCALE")
+
+
+@dataclass(frozen=True)
+class VicarMap:
+    """A VICAR MAP group's map projection as the label states it: its units, its counting."""
+
+    projection_type: str  # upper case, words joined by "_" (TRANSVERSE_MERCATOR)
+    a_axis_km: float
+    c_axis_km: float
+    center_latitude: float  # degrees, of the latitude type below
+    center_longitude: float  # degrees, in the positive direction below
+    latitude_type: str  # COORDINATE_SYSTEM_NAME: PLANETOGRAPHIC when absent
+    positive_longitude_direction: str  # EAST when absent
+    map_scale_km: float  # MAP_SCALE, kilometres of the grid per pixel
+    line_projection_offset: float  # pixels, as the label counts them
+    sample_projection_offset: float
+    scale_factor: float  # SCALE_FACTOR, 1 when absent
+    false_easting_m: float | None  # FALSE_EASTING / FALSE_NORTHING (metres) when the label gives either
+    false_northing_m: float | None
+
+
+def group_number(group: Mapping[str, VicarValue], key: str, path: str | os.PathLike[str],
+                 default: float | None = None) -> float:
+    """A property group's keyword as a number (`default` when absent); one line naming the file if not."""
+    value = group.get(key)
+    if value is None and default is not None:
+        return default
+    try:
+        return float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise InputError(path, f"MAP/DIGITAL_TERRAIN_MODEL keyword {key} = {value!r} is not a number") from None
+
+
+def read_map_group(group: Mapping[str, VicarValue], path: str | os.PathLike[str], missing_hint: str = "") -> VicarMap:
+    """The map projection of a MAP group; refuses a group without the keywords a grid needs.
+
+    `missing_hint` ends the message about a missing keyword (where else the reader may find it).
+    """
+    missing = [key for key in _REQUIRED_MAP if key not in group]
+    if missing:
+        raise InputError(path, f"has no MAP group keyword {missing[0]}{missing_hint}")
+    a_km = group_number(group, "A_AXIS_RADIUS", path)
+    c_km = group_number(group, "C_AXIS_RADIUS", path)
+    if not (a_km > 0 and c_km > 0):
+        raise InputError(path, "MAP group radii must be positive")
+    scale_factor = group_number(group, "SCALE_FACTOR", path, 1.0)
+    center_latitude = group_number(group, "CENTER_LATITUDE", path)
+    center_longitude = group_number(group, "CENTER_LONGITUDE", path)
+    map_scale_km = group_number(group, "MAP_SCALE", path)
+    if not map_scale_km > 0:
+        raise InputError(path, "MAP_SCALE must be positive")
+    line_offset = group_number(group, "LINE_PROJECTION_OFFSET", path)
+    sample_offset = group_number(group, "SAMPLE_PROJECTION_OFFSET", path)
+    false_easting = false_northing = None
+    if "FALSE_EASTING" in group or "FALSE_NORTHING" in group:
+        false_easting = group_number(group, "FALSE_EASTING", path, 0.0)
+        false_northing = group_number(group, "FALSE_NORTHING", path, 0.0)
+    return VicarMap(
+        projection_type=str(group["MAP_PROJECTION_TYPE"]).upper().replace(" ", "_"),
+        a_axis_km=a_km, c_axis_km=c_km,
+        center_latitude=center_latitude, center_longitude=center_longitude,
+        latitude_type=str(group.get("COORDINATE_SYSTEM_NAME", "PLANETOGRAPHIC")).upper(),
+        positive_longitude_direction=str(group.get("POSITIVE_LONGITUDE_DIRECTION", "EAST")).upper(),
+        map_scale_km=map_scale_km,
+        line_projection_offset=line_offset, sample_projection_offset=sample_offset,
+        scale_factor=scale_factor, false_easting_m=false_easting, false_northing_m=false_northing,
+    )

@@ -28,7 +28,7 @@ from rasterio.crs import CRS
 from rasterio.warp import transform as warp_transform
 
 from ..errors import PdsgenError
-from .conventions import map_resolution, projection_offsets
+from .conventions import map_resolution, projection_offsets, unwrap_near, wrap_360
 
 EQUIRECTANGULAR = "EQUIRECTANGULAR"
 POLAR_STEREOGRAPHIC = "POLAR STEREOGRAPHIC"
@@ -85,6 +85,12 @@ class MapGeometry:
     def is_sphere(self) -> bool:
         return self.a_axis_km == self.c_axis_km
 
+    def transverse_mercator_note(self) -> tuple[str, ...]:
+        """The label comment stating the grid folded into a Transverse Mercator label's keywords."""
+        from .transverse_mercator import grid_note  # only Transverse Mercator labels need it
+
+        return grid_note(self.scale_factor, self.false_easting, self.false_northing)
+
 
 @dataclass(frozen=True)
 class _Projection:
@@ -130,7 +136,7 @@ def describe_geometry(
         b_axis_km=projection.a / 1000.0,
         c_axis_km=projection.b / 1000.0,
         center_latitude=projection.center_latitude,
-        center_longitude=projection.center_longitude % 360.0,
+        center_longitude=wrap_360(projection.center_longitude),
         map_scale=scale,
         map_resolution=map_resolution(radius, scale),
         line_projection_offset=line_offset,
@@ -181,9 +187,9 @@ def _parse_projection(crs: CRS, source: str) -> _Projection:
         k = float(params.get("k", params.get("k_0", 1.0)))
         lat0 = float(params.get("lat_0", 0.0))
         if name == "utm":
-            zone = int(params["zone"])
-            lon0, k, x0 = zone * 6.0 - 183.0, 0.9996, 500000.0
-            y0 = 10000000.0 if params.get("south") else 0.0
+            from . import utm  # a UTM CRS only: writers of other grids start faster
+            lon0, k, x0 = utm.zone_central_meridian(int(params["zone"])), utm.SCALE_FACTOR, utm.FALSE_EASTING
+            y0 = utm.false_northing(bool(params.get("south")))
         return _Projection(TRANSVERSE_MERCATOR, a, b, lat0, lon0, x0, y0, k)
     if name == "ups":
         raise PdsgenError(source, "UPS is not supported; use a polar stereographic CRS with k=1")
@@ -243,8 +249,14 @@ def _edge_points(transform: Affine, width: int, height: int, per_side: int = 257
     return xs, ys
 
 
+def geographic_crs(a: float, b: float) -> CRS:
+    """Longitude/latitude (geodetic) on the ellipsoid of semi-axes a, b metres: the body of a
+    projected CRS without any datum shift, for inverse projection."""
+    return CRS.from_proj4(f"+proj=longlat +a={a!r} +b={b!r} +no_defs")
+
+
 def _geographic_crs(projection: _Projection) -> CRS:
-    return CRS.from_proj4(f"+proj=longlat +a={projection.a!r} +b={projection.b!r} +no_defs")
+    return geographic_crs(projection.a, projection.b)
 
 
 def _bounds(crs: CRS, transform: Affine, width: int, height: int, projection: _Projection, source: str):
@@ -270,11 +282,11 @@ def _bounds(crs: CRS, transform: Affine, width: int, height: int, projection: _P
         crs, _geographic_crs(projection), [transform.c + transform.a * width / 2],
         [transform.f + transform.e * height / 2],
     )
-    unwrapped = centre_lon[0] + (lons - centre_lon[0] + 180.0) % 360.0 - 180.0
+    unwrapped = unwrap_near(lons, centre_lon[0])
     west, east = float(unwrapped.min()), float(unwrapped.max())
     if east - west >= 360.0 - 1e-9:
         return lat_min, lat_max, 0.0, 360.0
-    return lat_min, lat_max, west % 360.0, east % 360.0
+    return lat_min, lat_max, wrap_360(west), wrap_360(east)
 
 
 def _planetocentric(geodetic_lat: np.ndarray, projection: _Projection) -> np.ndarray:
@@ -310,7 +322,7 @@ def _north_azimuth(projection: _Projection, transform: Affine, width: int, heigh
     sign = -1.0 if projection.center_latitude > 0 else 1.0
     north_x, north_y = sign * dx, sign * dy  # map coordinates, y up
     angle = math.degrees(math.atan2(-north_y, north_x))  # image y runs down
-    return angle % 360.0
+    return wrap_360(angle)
 
 
 def _projected_north(crs: CRS, projection: _Projection, transform: Affine, width: int, height: int) -> float:
@@ -319,7 +331,7 @@ def _projected_north(crs: CRS, projection: _Projection, transform: Affine, width
     (lon,), (lat,) = warp_transform(crs, geographic, [x], [y])
     xs, ys = warp_transform(geographic, crs, [lon, lon], [lat, lat + 1e-4])
     angle = math.degrees(math.atan2(-(ys[1] - ys[0]), xs[1] - xs[0]))  # image y runs down
-    return round(angle % 360.0, 6)
+    return round(wrap_360(angle), 6)
 
 
 def _target_name(crs: CRS, semi_major_m: float) -> str | None:

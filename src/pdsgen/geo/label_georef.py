@@ -1,7 +1,9 @@
-"""Georeferencing from a PDS3 label's map projection object: label -> CRS and grid.
+"""Georeferencing from a label's map projection: label -> CRS and grid.
 
-The one reader of a label's map projection for the Extras (products GDAL cannot place)
-and the PDS3 -> PDS4 migration (cart:); geometry.py is the other direction.
+The one reader of a label's map projection for the Extras (products GDAL cannot place),
+the review page's footprints, the PDS3 -> PDS4 migration (cart:) and the HRSC-AX tiles'
+VICAR MAP groups (`vicar_map_georeferencing`; formats/vicar.py reads the group);
+geometry.py is the other direction.
 
 GDAL's PDS driver reads `IMAGE_MAP_PROJECTION` with the names current PDS3 labels
 use. Older map products describe the same grid differently and GDAL then reports
@@ -26,7 +28,8 @@ easting/northing, so a label (pdsgen's HRSC-AX products; geometry.py's module
 docstring) folds them in - offsets from the natural origin, MAP_SCALE the grid spacing
 divided by the scale factor - and read with scale factor 1 every pixel lands on its
 ground position. pdsgen's writer states the true grid in the projection object's
-comment (templates/_transverse_mercator_note.lbl.j2); given the label's text,
+comment, in the wording of transverse_mercator.py (the template renders it, this module
+parses it); given the label's text,
 `label_georeferencing` unfolds it (`transverse_mercator_grid`), so the CRS and
 geotransform are the grid itself (scale factor, false origin, grid spacing) and the
 pixels land on the same ground positions.
@@ -35,24 +38,26 @@ Magellan MIDR framelets are placed by their data set's own equations (a 6051.0 k
 sample centres half a pixel out; missions/magellan.py), not by their A_AXIS_RADIUS.
 
 West-positive labels give their longitudes west; the projection's central
-meridian is turned east-positive, as PROJ expects, and x still grows to the east.
+meridian is turned east-positive (conventions.py), as PROJ expects, and x still grows to
+the east. A UTM grid's false origin is utm.py's.
 """
 
 from __future__ import annotations
 
 import functools
 import math
-import re
 from collections.abc import Mapping
-from dataclasses import dataclass
 from typing import Any
 
 from rasterio.crs import CRS
 from rasterio.errors import CRSError
 from rasterio.transform import Affine
 
+from ..formats.vicar import VicarMap
 from ..missions import magellan
-from .conventions import upper_left_corner
+from . import utm
+from .conventions import east_positive, upper_left_corner, wrap_180
+from .transverse_mercator import UNFOLDED, GridNoteError, TransverseMercatorGrid, read_grid_note
 
 PROJECTION_OBJECTS = ("IMAGE_MAP_PROJECTION", "IMAGE_MAP_PROJECTION_CATALOG")
 # (line offset, sample offset) keyword pairs: the PDS3 names, then Magellan's.
@@ -65,16 +70,6 @@ _SINUSOIDAL = {"SINUSOIDAL", "SINUSOIDAL EQUAL-AREA", "SINUSOIDAL_EQUAL-AREA"}
 _POLAR = {"POLAR STEREOGRAPHIC", "POLAR_STEREOGRAPHIC"}
 _TRANSVERSE_MERCATOR = {"TRANSVERSE MERCATOR", "TRANSVERSE_MERCATOR"}
 _PLANETOCENTRIC = "PLANETOCENTRIC"
-# The true grid of a folded Transverse Mercator label, as pdsgen's writer states it in the
-# projection object's comment (templates/_transverse_mercator_note.lbl.j2): "... grid has
-# scale factor K on the central meridian, */ /* false easting E m, false northing N m."
-_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
-_COMMENT_BREAK = r"(?:\s|\*/|/\*)*"
-_TM_GRID_NOTE = re.compile(
-    rf"grid{_COMMENT_BREAK}has{_COMMENT_BREAK}scale{_COMMENT_BREAK}factor{_COMMENT_BREAK}(?P<k>{_NUMBER})"
-    rf"{_COMMENT_BREAK}on{_COMMENT_BREAK}the{_COMMENT_BREAK}central{_COMMENT_BREAK}meridian,{_COMMENT_BREAK}"
-    rf"false{_COMMENT_BREAK}easting{_COMMENT_BREAK}(?P<east>{_NUMBER}){_COMMENT_BREAK}m,{_COMMENT_BREAK}"
-    rf"false{_COMMENT_BREAK}northing{_COMMENT_BREAK}(?P<north>{_NUMBER}){_COMMENT_BREAK}m\.")
 
 
 class LabelGeorefError(ValueError):
@@ -90,25 +85,12 @@ def projection_object(label: Mapping[str, Any]) -> Mapping[str, Any] | None:
     return None
 
 
-@dataclass(frozen=True)
-class TransverseMercatorGrid:
-    """The grid a folded Transverse Mercator label stands for: what PDS3 cannot say."""
-
-    scale_factor: float
-    false_easting: float  # metres
-    false_northing: float
-
-
 def transverse_mercator_grid(label_text: str) -> TransverseMercatorGrid | None:
     """The true grid pdsgen's writer states in a Transverse Mercator label's comment, or None."""
-    match = _TM_GRID_NOTE.search(label_text)
-    if match is None:
-        return None
-    grid = TransverseMercatorGrid(float(match["k"]), float(match["east"]), float(match["north"]))
-    if not (math.isfinite(grid.scale_factor) and grid.scale_factor > 0
-            and math.isfinite(grid.false_easting) and math.isfinite(grid.false_northing)):
-        raise LabelGeorefError(f"the label's Transverse Mercator grid note is unusable ({match[0]!r})")
-    return grid
+    try:
+        return read_grid_note(label_text)
+    except GridNoteError as exc:
+        raise LabelGeorefError(str(exc)) from None
 
 
 def label_georeferencing(label: Mapping[str, Any], label_text: str | None = None
@@ -128,7 +110,7 @@ def label_georeferencing(label: Mapping[str, Any], label_text: str | None = None
     grid = None
     if _projection_kind(block) in _TRANSVERSE_MERCATOR and label_text is not None:
         grid = transverse_mercator_grid(label_text)
-    grid = grid or TransverseMercatorGrid(1.0, 0.0, 0.0)
+    grid = grid or UNFOLDED
     midr = magellan.is_midr_grid(str(block.get("DATA_SET_ID", "")), _projection_kind(block))
     crs = _crs(block, grid, magellan.MIDR_PROJECTION_RADIUS_M if midr else None)
     scale = _map_scale_m(block)
@@ -152,17 +134,13 @@ def _crs(block: Mapping[str, Any], grid: TransverseMercatorGrid, sphere_radius: 
     c = _optional_length_m(block, "C_AXIS_RADIUS") or a
     if sphere_radius is not None:  # a data set whose grid is defined on another sphere
         a = c = sphere_radius
-    lon0 = _degrees(block, "CENTER_LONGITUDE", 0.0)
-    if str(block.get("POSITIVE_LONGITUDE_DIRECTION", "EAST")).strip().upper() == "WEST":
-        lon0 = -lon0
-    lon0 = (lon0 + 180.0) % 360.0 - 180.0
+    lon0 = wrap_180(east_positive(_degrees(block, "CENTER_LONGITUDE", 0.0),
+                                  block.get("POSITIVE_LONGITUDE_DIRECTION")))
     lat0 = _degrees(block, "CENTER_LATITUDE", 0.0)
     origin = "+x_0=0 +y_0=0"
     if kind in _TRANSVERSE_MERCATOR:
-        definition = (f"+proj=tmerc +lat_0={_geodetic(block, lat0, a, c)!r} +lon_0={lon0!r} "
-                      f"+k={grid.scale_factor!r} +a={a!r} +b={c!r}")
-        origin = f"+x_0={grid.false_easting!r} +y_0={grid.false_northing!r}"
-    elif kind in _SINUSOIDAL:
+        return transverse_mercator_crs(_geodetic(block, lat0, a, c), lon0, grid, a, c)
+    if kind in _SINUSOIDAL:
         definition = f"+proj=sinu +lon_0={lon0!r} +R={a!r}"
     elif kind in _EQUIRECTANGULAR:
         definition = f"+proj=eqc +lat_ts={lat0!r} +lat_0=0 +lon_0={lon0!r} +R={a!r}"
@@ -185,12 +163,56 @@ def _proj_crs(definition: str) -> CRS:
         raise LabelGeorefError(f"PROJ refuses the label's projection ({exc})") from None
 
 
+def transverse_mercator_crs(geodetic_lat0: float, lon0: float, grid: TransverseMercatorGrid,
+                            a: float, c: float) -> CRS:
+    """Transverse Mercator on the ellipsoid of semi-axes a, c (metres), origin (geodetic latitude,
+    east longitude in degrees), with the grid's scale factor and false origin."""
+    return _proj_crs(f"+proj=tmerc +lat_0={geodetic_lat0!r} +lon_0={lon0!r} +k={grid.scale_factor!r} "
+                     f"+a={a!r} +b={c!r} +x_0={grid.false_easting!r} +y_0={grid.false_northing!r} "
+                     "+units=m +no_defs +type=crs")
+
+
+def geodetic_latitude(planetocentric: float, a: float, c: float) -> float:
+    """The geodetic (planetographic) latitude of a planetocentric one on the ellipsoid a, c."""
+    if a == c or abs(planetocentric) >= 90.0:
+        return planetocentric
+    return math.degrees(math.atan(math.tan(math.radians(planetocentric)) * (a / c) ** 2))
+
+
 def _geodetic(block: Mapping[str, Any], latitude: float, a: float, c: float) -> float:
     """A latitude of the label as PROJ takes it on an ellipsoid: geodetic (planetographic)."""
     kind = str(block.get("PROJECTION_LATITUDE_TYPE", block.get("COORDINATE_SYSTEM_NAME", ""))).strip().upper()
-    if kind != _PLANETOCENTRIC or a == c or abs(latitude) >= 90.0:
-        return latitude
-    return math.degrees(math.atan(math.tan(math.radians(latitude)) * (a / c) ** 2))
+    return geodetic_latitude(latitude, a, c) if kind == _PLANETOCENTRIC else latitude
+
+
+# -- a VICAR MAP group (formats/vicar.py reads it) ----------------------------------------------
+def vicar_map_georeferencing(projection: VicarMap, offset_shift: float = 0.0) -> tuple[CRS, Affine]:
+    """(CRS, geotransform in grid metres) of a Transverse Mercator VICAR MAP group.
+
+    Transverse Mercator on the label's ellipsoid with its SCALE_FACTOR; false easting/northing
+    from FALSE_EASTING/FALSE_NORTHING when given, else those of the UTM grid when the projection
+    is a UTM zone (southern grid when the upper-left corner is not north of the equator), else
+    none. The offsets count in the PDS3 standard convention once `offset_shift` pixels are taken
+    from both (a producer's other counting: missions/hrsc_ax.py VICAR_OFFSETS).
+    """
+    a = projection.a_axis_km * 1000.0
+    c = projection.c_axis_km * 1000.0
+    k = projection.scale_factor
+    lat0 = projection.center_latitude
+    if projection.latitude_type == _PLANETOCENTRIC:
+        lat0 = geodetic_latitude(lat0, a, c)
+    lon0 = wrap_180(east_positive(projection.center_longitude, projection.positive_longitude_direction))
+    scale = projection.map_scale_km * 1000.0  # grid metres per pixel
+    x_left, y_top = upper_left_corner(projection.sample_projection_offset - offset_shift,
+                                      projection.line_projection_offset - offset_shift, scale)
+    if projection.false_easting_m is not None and projection.false_northing_m is not None:
+        x0, y0 = projection.false_easting_m, projection.false_northing_m
+    elif utm.is_utm(k, lat0, lon0):
+        x0, y0 = utm.FALSE_EASTING, utm.false_northing(south=y_top <= 0)
+    else:
+        x0 = y0 = 0.0
+    crs = transverse_mercator_crs(lat0, lon0, TransverseMercatorGrid(k, x0, y0), a, c)
+    return crs, Affine(scale, 0.0, x0 + x_left, 0.0, -scale, y0 + y_top)
 
 
 def _map_scale_m(block: Mapping[str, Any]) -> float:

@@ -17,6 +17,7 @@ from affine import Affine
 from rasterio.crs import CRS
 
 from ..errors import PdsgenError
+from ..geo.conventions import FULL_TURN, east_positive, wrap_360
 from ..geo.geometry import describe_geometry
 from ..geo.label_georef import PROJECTION_OBJECTS, LabelGeorefError, label_georeferencing
 from ..pds4.label import Cartography, cartography
@@ -101,10 +102,10 @@ def stated_bounds(block: Block) -> tuple[float, float, float, float] | None:
     if any(v is None for v in values):
         return None
     south, north, west, east = (float(v) for v in values)  # type: ignore[arg-type]
-    if (block.text("POSITIVE_LONGITUDE_DIRECTION") or "EAST").upper() == "WEST":
-        west, east = -west, -east
-    if abs(east - west) < 360.0:
-        west, east = west % 360.0, east % 360.0
+    direction = block.text("POSITIVE_LONGITUDE_DIRECTION")
+    west, east = east_positive(west, direction), east_positive(east, direction)
+    if abs(east - west) < FULL_TURN:
+        west, east = wrap_360(west), wrap_360(east)
     return south, north, west, east
 
 

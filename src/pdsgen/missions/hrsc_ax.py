@@ -40,9 +40,11 @@ GEOID_NOTE = "sea level lies at about +36.5 m above this ellipsoid"
 HEIGHT_DATUM = f"the {A_AXIS_KM} x {C_AXIS_KM} km ellipsoid (sea level at about +36.5 m)"
 
 # How a tile's VICAR MAP offsets count: "standard" by Table B2 of the HRSC-AX image
-# description (from the centre of pixel 1,1; the default), "dlr" one pixel further as
-# DLR's HRSC Mars labels do. Pixels to subtract to reach the standard values.
-VICAR_OFFSETS = {"standard": OFFSET_CONVENTIONS["standard"], "dlr": OFFSET_CONVENTIONS["dlr"]}
+# description (from the centre of pixel 1,1: the PDS3 standard convention itself, nothing to
+# subtract; the default), "dlr" one pixel further as DLR's HRSC Mars labels do (missions/hrsc.py,
+# for producers who wrote their tiles that way). Pixels to subtract to reach the standard values.
+TABLE_B2_SHIFT = 0.0
+VICAR_OFFSETS = {"standard": TABLE_B2_SHIFT, "dlr": OFFSET_CONVENTIONS["dlr"]}
 VICAR_OFFSET_NOTES = {
     "standard": (
         "/* The source tile's VICAR LINE/SAMPLE_PROJECTION_OFFSET were read  */",
@@ -55,12 +57,6 @@ VICAR_OFFSET_NOTES = {
         "/* HRSC-AX image description's Table B2, as the producer chose.     */",
     ),
 }
-# Universal Transverse Mercator: a TM of this scale factor on a zone's central meridian
-# has the grid's false easting (and, south of the equator, false northing), metres.
-UTM_SCALE_FACTOR = 0.9996
-UTM_FALSE_EASTING = 500000.0
-UTM_FALSE_NORTHING_SOUTH = 10000000.0
-
 # Missing data: stored DEM values at or below this are no data (DLR's VICAR DEMs and the
 # PDS products derived from them use -32768 for a missing post).
 MISSING_STORED = -32768.0
@@ -162,10 +158,40 @@ def tile_stem(path: str | Path) -> str:
     return Path(path).name[: -len(Path(path).suffix)] if Path(path).suffix else Path(path).name
 
 
-def is_utm(scale_factor: float, center_latitude: float, center_longitude: float) -> bool:
-    """A TM that is a UTM zone: scale 0.9996, origin on the equator, on a zone's central meridian."""
-    zone_meridian = (center_longitude + 180.0) % 6.0 == 3.0
-    return abs(scale_factor - UTM_SCALE_FACTOR) < 1e-12 and center_latitude == 0.0 and zone_meridian
+def survey_sentence(survey_date: str | None) -> str:
+    """Who flew the survey, and when when known (a NOTE's or DESCRIPTION's last sentence)."""
+    return f"Airborne survey (HRSC-AX, DLR) of {survey_date}." if survey_date else \
+        "Airborne survey by HRSC-AX (DLR)."
+
+
+def dtm_note(offset: float, scaling_factor: float, cut_off: tuple[float, float] | None,
+             survey_date: str | None) -> str:
+    """A DEM's NOTE: what the numbers are (ellipsoid heights, how stored values became them),
+    the producer's cut-off, the survey."""
+    parts = [
+        f"Pixel values are ellipsoid heights in meters above the HRSC-AX ellipsoid (A = B = "
+        f"{A_AXIS_KM} km, C = {C_AXIS_KM} km), not geoid heights: {GEOID_NOTE}.",
+        f"Heights = DTM_OFFSET + stored value * DTM_SCALING_FACTOR of the source "
+        f"({offset:g} + value * {scaling_factor:g}).",
+    ]
+    if cut_off is not None:
+        parts.append(f"Heights were cut off by the producer to DTM_RANGE {cut_off[0]:g} .. {cut_off[1]:g} m.")
+    parts.append(survey_sentence(survey_date))
+    parts.append("Pixels equal to MISSING_CONSTANT hold no data.")
+    return " ".join(p for p in parts if p)
+
+
+def ortho_description(kind: str, channels: tuple[Channel, ...], survey_date: str | None) -> str:
+    """An orthoimage's DESCRIPTION: which band is which channel and wavelength, the survey."""
+    if kind == "PAN":
+        what = (f"HRSC-AX panchromatic nadir orthoimage ({CHANNELS['pan'].wavelength_nm} nm), "
+                "8-bit DNs, DN 0 = no data.")
+    else:
+        bands = ", ".join(f"band {i} {c.band_name} {c.wavelength_nm} nm (.{c.extension})"
+                          for i, c in enumerate(channels, start=1))
+        merged = " merged with the nadir channel" if kind == "CIR" else ""
+        what = f"HRSC-AX {kind} colour orthoimage{merged}: {bands}; 8-bit DNs, DN 0 = no data."
+    return " ".join(p for p in (what, survey_sentence(survey_date)) if p)
 
 
 def _product_id(request: ProductIdRequest) -> str:

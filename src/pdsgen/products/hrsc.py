@@ -44,15 +44,6 @@ from ..missions.hrsc import base_name as hrsc_base_name
 from ..pds4.model import DATA_TYPES
 from ..pds4.products import FileHeader, ProductDescription, StoredArray, pds3_label_header, write_image_pds4_label
 from .agreement import allows_deviations, check_label
-from .heights import (
-    Int16Encoding,
-    areoid_adjustment,
-    chain_adjustments,
-    check_datum_conversion,
-    choose_encoding,
-    source_body,
-    sphere_change,
-)
 from .hrsc_label import (
     VICAR_DESCRIPTION,
     VICAR_DESCRIPTION_NAME,
@@ -64,6 +55,15 @@ from .hrsc_label import (
     with_header,
 )
 from .identification import source_id_values
+from .int16_heights import (
+    Int16Encoding,
+    areoid_adjustment,
+    chain_adjustments,
+    check_datum_conversion,
+    choose_encoding,
+    source_body,
+    sphere_change,
+)
 from .params import ParamValue, check_version, resolve_params, source_ids
 from .result import ProductResult, pds4_name
 

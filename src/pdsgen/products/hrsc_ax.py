@@ -15,7 +15,6 @@ label checks and Extras are the standard ones.
 from __future__ import annotations
 
 import dataclasses
-import math
 import os
 from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
@@ -29,8 +28,8 @@ from rasterio.crs import CRS
 
 from ..errors import InputError, ParamsError, PdsgenError, param
 from ..formats.raster import temporary_vrt
-from ..formats.vicar import VicarLabel, VicarValue, read_vicar_label
-from ..geo.conventions import upper_left_corner
+from ..formats.vicar import VicarLabel, VicarValue, group_number, read_map_group, read_vicar_label
+from ..geo.label_georef import LabelGeorefError, vicar_map_georeferencing
 from ..missions import hrsc_ax
 from .params import ParamValue
 
@@ -47,8 +46,6 @@ MAP_KEYS = (
 )
 DTM_KEYS = ("DTM_OFFSET", "DTM_SCALING_FACTOR", "DTM_DESC", "DTM_RANGE", "DTM_MISSING_DN")
 DATE_KEYS = ("SURVEY_DATE", "ACQUISITION_DATE", "FLIGHT_DATE", "START_TIME", "IMAGE_TIME")
-_REQUIRED_MAP = ("A_AXIS_RADIUS", "C_AXIS_RADIUS", "CENTER_LATITUDE", "CENTER_LONGITUDE",
-                 "LINE_PROJECTION_OFFSET", "SAMPLE_PROJECTION_OFFSET", "MAP_PROJECTION_TYPE", "MAP_SCALE")
 
 
 @dataclass(frozen=True)
@@ -139,16 +136,6 @@ def _check_same_grid(labels: Sequence[VicarLabel]) -> None:
                                          "not channels of one tile")
 
 
-def _number(group: Mapping[str, VicarValue], key: str, path: Path, default: float | None = None) -> float:
-    value = group.get(key)
-    if value is None and default is not None:
-        return default
-    try:
-        return float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise InputError(path, f"MAP/DIGITAL_TERRAIN_MODEL keyword {key} = {value!r} is not a number") from None
-
-
 def check_vicar_offsets(convention: str) -> None:
     if convention not in hrsc_ax.VICAR_OFFSETS:
         raise ParamsError(None, f"{param('vicar_offsets')} must be one of "
@@ -158,61 +145,28 @@ def check_vicar_offsets(convention: str) -> None:
 def tile_grid(group: Mapping[str, VicarValue], label: VicarLabel, vicar_offsets: str = "standard") -> TileGrid:
     """CRS and geotransform from a MAP group (the label's, not GDAL's reading of it).
 
-    Transverse Mercator on the label's ellipsoid with its SCALE_FACTOR (1 without one);
-    false easting/northing from FALSE_EASTING/FALSE_NORTHING (metres) when given, else
-    those of the UTM grid when the projection is a UTM zone (the tile names count grid
-    kilometres), else none. Offsets count as `vicar_offsets` says: "standard" by the HRSC-AX
-    image description's Table B2 (from the centre of pixel 1,1), "dlr" one pixel further.
+    formats/vicar.py reads the group, geo/label_georef.py places its grid (Transverse Mercator
+    with the label's SCALE_FACTOR and false origin, or the UTM grid's); the offsets count as
+    `vicar_offsets` says (missions/hrsc_ax.py VICAR_OFFSETS).
     """
-    path = label.path
-    missing = [key for key in _REQUIRED_MAP if key not in group]
-    if missing:
-        raise InputError(path, f"has no MAP group keyword {missing[0]} (give the XML image label with "
-                               f"{param('source_labels')})")
-    projection = str(group["MAP_PROJECTION_TYPE"]).upper().replace(" ", "_")
-    if projection not in ("TRANSVERSE_MERCATOR", "UNIVERSAL_TRANSVERSE_MERCATOR"):
-        raise InputError(path, f"MAP_PROJECTION_TYPE {projection} is not read for HRSC-AX tiles "
-                               "(TRANSVERSE_MERCATOR is)")
-    a = _number(group, "A_AXIS_RADIUS", path) * 1000.0
-    c = _number(group, "C_AXIS_RADIUS", path) * 1000.0
-    if not (a > 0 and c > 0):
-        raise InputError(path, "MAP group radii must be positive")
-    k = _number(group, "SCALE_FACTOR", path, 1.0)
-    lat0 = _number(group, "CENTER_LATITUDE", path)
-    if str(group.get("COORDINATE_SYSTEM_NAME", "PLANETOGRAPHIC")).upper() == "PLANETOCENTRIC" and a != c:
-        lat0 = math.degrees(math.atan(math.tan(math.radians(lat0)) * (a / c) ** 2))
-    lon0 = _number(group, "CENTER_LONGITUDE", path)
-    if str(group.get("POSITIVE_LONGITUDE_DIRECTION", "EAST")).upper() == "WEST":
-        lon0 = -lon0
-    lon0 = (lon0 + 180.0) % 360.0 - 180.0
-    scale = _number(group, "MAP_SCALE", path) * 1000.0  # grid metres per pixel
-    if not scale > 0:
-        raise InputError(path, "MAP_SCALE must be positive")
-    shift = hrsc_ax.VICAR_OFFSETS[vicar_offsets]
-    line_offset = _number(group, "LINE_PROJECTION_OFFSET", path) - shift
-    sample_offset = _number(group, "SAMPLE_PROJECTION_OFFSET", path) - shift
-    x_left, y_top = upper_left_corner(sample_offset, line_offset, scale)
-    if "FALSE_EASTING" in group or "FALSE_NORTHING" in group:
-        x0 = _number(group, "FALSE_EASTING", path, 0.0)
-        y0 = _number(group, "FALSE_NORTHING", path, 0.0)
-    elif hrsc_ax.is_utm(k, lat0, lon0):
-        x0 = hrsc_ax.UTM_FALSE_EASTING
-        y0 = hrsc_ax.UTM_FALSE_NORTHING_SOUTH if y_top <= 0 else 0.0
-    else:
-        x0 = y0 = 0.0
-    crs = CRS.from_proj4(f"+proj=tmerc +lat_0={lat0!r} +lon_0={lon0!r} +k={k!r} +x_0={x0!r} +y_0={y0!r} "
-                         f"+a={a!r} +b={c!r} +units=m +no_defs")
-    transform = Affine(scale, 0.0, x0 + x_left, 0.0, -scale, y0 + y_top)
+    projection = read_map_group(group, label.path, f" (give the XML image label with {param('source_labels')})")
+    if projection.projection_type not in ("TRANSVERSE_MERCATOR", "UNIVERSAL_TRANSVERSE_MERCATOR"):
+        raise InputError(label.path, f"MAP_PROJECTION_TYPE {projection.projection_type} is not read for "
+                                     "HRSC-AX tiles (TRANSVERSE_MERCATOR is)")
+    try:
+        crs, transform = vicar_map_georeferencing(projection, hrsc_ax.VICAR_OFFSETS[vicar_offsets])
+    except LabelGeorefError as exc:
+        raise InputError(label.path, f"MAP group: {exc}") from None
     return TileGrid(crs, transform, label.lines, label.samples)
 
 
 def _heights(group: Mapping[str, VicarValue], label: VicarLabel) -> Heights:
     path = label.path
-    offset = _number(group, "DTM_OFFSET", path, 0.0)
-    factor = _number(group, "DTM_SCALING_FACTOR", path, 1.0)
+    offset = group_number(group, "DTM_OFFSET", path, 0.0)
+    factor = group_number(group, "DTM_SCALING_FACTOR", path, 1.0)
     if factor == 0:
         raise InputError(path, "DTM_SCALING_FACTOR is 0: the stored values cannot be heights")
-    missing = _number(group, "DTM_MISSING_DN", path, hrsc_ax.MISSING_STORED)
+    missing = group_number(group, "DTM_MISSING_DN", path, hrsc_ax.MISSING_STORED)
     cut = group.get("DTM_RANGE")
     cut_off = None
     if isinstance(cut, tuple) and len(cut) == 2:
@@ -304,41 +258,17 @@ def tile_vrt(tile: Tile, name: str) -> Iterator[Path]:
         yield path
 
 
-# -- what the labels say -----------------------------------------------------------------
+# -- what the labels say (the wording is missions/hrsc_ax.py's) ---------------------------
 def dtm_note(tile: Tile) -> str:
     """The DEM's NOTE: what the numbers are, the datum, the cut-off, the survey."""
     h = tile.heights
     assert h is not None
-    parts = [
-        f"Pixel values are ellipsoid heights in meters above the HRSC-AX ellipsoid (A = B = "
-        f"{hrsc_ax.A_AXIS_KM} km, C = {hrsc_ax.C_AXIS_KM} km), not geoid heights: "
-        f"{hrsc_ax.GEOID_NOTE}.",
-        f"Heights = DTM_OFFSET + stored value * DTM_SCALING_FACTOR of the source "
-        f"({h.offset:g} + value * {h.scaling_factor:g}).",
-    ]
-    if h.cut_off is not None:
-        parts.append(f"Heights were cut off by the producer to DTM_RANGE {h.cut_off[0]:g} .. {h.cut_off[1]:g} m.")
-    parts.append(_survey(tile))
-    parts.append("Pixels equal to MISSING_CONSTANT hold no data.")
-    return " ".join(p for p in parts if p)
+    return hrsc_ax.dtm_note(h.offset, h.scaling_factor, h.cut_off, tile.survey_date)
 
 
 def ortho_description(tile: Tile) -> str:
     """The orthoimage's DESCRIPTION: which band is which channel and wavelength, the survey."""
-    if tile.kind == "PAN":
-        what = (f"HRSC-AX panchromatic nadir orthoimage ({hrsc_ax.CHANNELS['pan'].wavelength_nm} nm), "
-                "8-bit DNs, DN 0 = no data.")
-    else:
-        bands = ", ".join(f"band {i} {c.band_name} {c.wavelength_nm} nm (.{c.extension})"
-                          for i, c in enumerate(tile.channels, start=1))
-        merged = " merged with the nadir channel" if tile.kind == "CIR" else ""
-        what = f"HRSC-AX {tile.kind} colour orthoimage{merged}: {bands}; 8-bit DNs, DN 0 = no data."
-    return " ".join(p for p in (what, _survey(tile)) if p)
-
-
-def _survey(tile: Tile) -> str:
-    return f"Airborne survey (HRSC-AX, DLR) of {tile.survey_date}." if tile.survey_date else \
-        "Airborne survey by HRSC-AX (DLR)."
+    return hrsc_ax.ortho_description(tile.kind, tile.channels, tile.survey_date)
 
 
 # -- the writers ---------------------------------------------------------------------------

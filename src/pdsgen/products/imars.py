@@ -32,7 +32,7 @@ from ..missions import hrsc as hrsc_mission
 from ..missions import imars as imars_mission
 from ..missions.hrsc import MISSING_DN
 from ..missions.hrsc import base_name as hrsc_base_name
-from .heights import Int16Encoding, areoid_adjustment, check_datum_conversion, choose_encoding
+from .int16_heights import Int16Encoding, areoid_adjustment, check_datum_conversion, choose_encoding
 from .params import ParamValue, check_version, resolve_params, source_ids
 from .result import ProductResult
 

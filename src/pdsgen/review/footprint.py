@@ -20,7 +20,7 @@ import numpy as np
 from rasterio.crs import CRS
 from rasterio.warp import transform as warp_transform
 
-from ..geo.geometry import ellipsoid_axes
+from ..geo.geometry import ellipsoid_axes, geographic_crs
 from ..geo.label_georef import LabelGeorefError, label_georeferencing
 from .labels import LabelView
 
@@ -79,8 +79,7 @@ class OutlineBatch:
     def run(self) -> None:
         for members in self._groups.values():
             crs = members[0][0]
-            a, b = ellipsoid_axes(crs)
-            lonlat = CRS.from_proj4(f"+proj=longlat +a={a!r} +b={b!r} +no_defs +type=crs")
+            lonlat = geographic_crs(*ellipsoid_axes(crs))
             xs = np.concatenate([m[1] for m in members])
             ys = np.concatenate([m[2] for m in members])
             lons, lats = (np.asarray(v, dtype=float) for v in warp_transform(crs, lonlat, xs, ys))

@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..geo.conventions import wrap_360
 from .footprint import Outline
 
 VIEW_SIZE = 1000.0  # the longer side of a view, SVG units
@@ -201,7 +202,7 @@ def _graticule(kind: str, x0: float, y0: float, k: float, width: float, height: 
         for i in range(math.ceil(x0 / step), math.floor(x1 / step) + 1):
             lon = i * step
             x = (lon - x0) * k
-            grid.append(GridLine(f"M{x:.2f},0V{height:.2f}", f"{_fmt(lon % 360.0, step)}°E", x + 3, height - 4))
+            grid.append(GridLine(f"M{x:.2f},0V{height:.2f}", f"{_fmt(wrap_360(lon), step)}°E", x + 3, height - 4))
         for i in range(math.ceil(y1 / step), math.floor(y0 / step) + 1):
             lat = i * step
             y = (y0 - lat) * k

@@ -62,7 +62,8 @@ def grid_terms(keys: dict[int, object]) -> tuple[float, float, float]:
     north, 16101-16160 south: scale 0.9996, false easting 500 km, false northing 0 or 10,000 km)."""
     code = keys.get(PROJECTION_CODE)
     if isinstance(code, int) and (16001 <= code <= 16060 or 16101 <= code <= 16160):
-        return 0.9996, 500000.0, 0.0 if code <= 16060 else 10000000.0
+        from ..geo import utm  # UTM's definition; imported only for a UTM GeoJP2
+        return utm.SCALE_FACTOR, utm.FALSE_EASTING, utm.false_northing(south=code > 16060)
 
     def value(key: int, default: float) -> float:
         found = keys.get(key)

@@ -47,17 +47,38 @@ def projection_radius_key(name: str) -> str:
     return "C_AXIS_RADIUS" if name == "POLAR_STEREOGRAPHIC" else "A_AXIS_RADIUS"
 
 
+class Projection:
+    """A label's map projection: its name, centre and the forward and inverse formulas.
 
+    Sphere and TransverseMercator (on an ellipsoid) are the two kinds; the MAP rules and the
+    PDS4 cart: checks hold either through this type.
+    """
 
-class Sphere:
-    """One projection on a sphere of radius R (metres) with its centre parameters."""
-
-    def __init__(self, name: str, radius: float, center_lat: float, center_lon: float) -> None:
+    def __init__(self, name: str, center_lat: float, center_lon: float) -> None:
         self.name = name
-        self.R = radius
         self.lat1 = math.radians(center_lat)
         self.lon0 = center_lon
         self.north = center_lat >= 0
+
+    def forward(self, lat, lon):
+        """(x, y) in metres of latitude/longitude in degrees (arrays welcome)."""
+        raise NotImplementedError
+
+    def inverse(self, x, y):
+        """(latitude, longitude) in degrees of x, y in metres; longitude relative-unwrapped."""
+        raise NotImplementedError
+
+    def contains_pole(self, x0: float, x1: float, y0: float, y1: float) -> bool:
+        """Whether the rectangle [x0, x1] x [y0, y1] of projection metres holds a pole."""
+        return False
+
+
+class Sphere(Projection):
+    """One projection on a sphere of radius R (metres) with its centre parameters."""
+
+    def __init__(self, name: str, radius: float, center_lat: float, center_lon: float) -> None:
+        super().__init__(name, center_lat, center_lon)
+        self.R = radius
 
     def forward(self, lat, lon):
         """(x, y) in metres of latitude/longitude in degrees (arrays welcome)."""
@@ -99,7 +120,7 @@ class Sphere:
         return self.name == "POLAR_STEREOGRAPHIC" and x0 <= 0 <= x1 and y0 <= 0 <= y1
 
 
-class TransverseMercator(Sphere):
+class TransverseMercator(Projection):
     """Transverse Mercator on the ellipsoid of semi-axes a (equatorial) and c (polar), metres.
 
     PDS3 labels have no scale-factor keyword: a grid's scale factor is folded into MAP_SCALE,
@@ -107,7 +128,7 @@ class TransverseMercator(Sphere):
     """
 
     def __init__(self, a: float, c: float, center_lat: float, center_lon: float) -> None:
-        super().__init__("TRANSVERSE_MERCATOR", a, center_lat, center_lon)
+        super().__init__("TRANSVERSE_MERCATOR", center_lat, center_lon)
         self.a = a
         self.e2 = 1.0 - (c / a) ** 2
         self.ep2 = self.e2 / (1.0 - self.e2)
@@ -156,12 +177,9 @@ class TransverseMercator(Sphere):
                 + (5 - 2 * c1 + 28 * t1 - 3 * c1 * c1 + 8 * ep2 + 24 * t1 * t1) * d**5 / 120) / cos
         return np.degrees(lat), self.lon0 + np.degrees(dlon)
 
-    def contains_pole(self, x0: float, x1: float, y0: float, y1: float) -> bool:
-        return False
-
 
 def projection_for(name: str, radius: float, center_lat: float, center_lon: float,
-                   polar_radius: float | None = None) -> Sphere:
+                   polar_radius: float | None = None) -> Projection:
     """The projection of a label: radii in metres (`polar_radius`: C_AXIS_RADIUS, for Transverse
     Mercator's ellipsoid; the sphere projections use `radius` alone)."""
     if name == "TRANSVERSE_MERCATOR":

@@ -22,7 +22,7 @@ from ..profiles import is_hrsc
 from ..projection import (
     GDAL_PROJECTIONS,
     SUPPORTED,
-    Sphere,
+    Projection,
     boundary,
     normalise,
     projection_for,
@@ -262,7 +262,7 @@ def check_resolution(ctx: FileContext) -> Iterator[Hit]:
 # -- offsets versus bounds ------------------------------------------------------------
 @dataclass
 class Geometry:
-    sphere: Sphere
+    sphere: Projection
     scale: float
     spo: float
     lpo: float
