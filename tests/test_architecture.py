@@ -471,6 +471,25 @@ def test_no_profile_name_in_cli():
             if isinstance(node, ast.Constant) and isinstance(node.value, str) and pattern.search(node.value):
                 found.append(f"{path.name}:{node.lineno}: {pattern.search(node.value).group(0)}")
     assert found == []
+
+
+def test_no_profile_name_in_the_mosaic_writer():
+    """write_mosaic asks the mission (Mission.mosaic_reader / mosaic_writer / mosaic_product_id)
+    instead of comparing profile names; the HRSC-AX reader and the iMars form are modules of
+    their own that those missions name."""
+    import re
+
+    names = sorted(mission_names(), key=len, reverse=True)
+    pattern = re.compile(r"(?<![\w-])(" + "|".join(map(re.escape, names)) + r")(?![\w-])")
+    found = []
+    for name in ("write.py", "plan.py", "vrt.py", "options.py"):
+        for node in ast.walk(ast.parse((SRC / "mosaic" / name).read_text())):
+            if isinstance(node, ast.Compare) and any(isinstance(c, ast.Constant) and isinstance(c.value, str)
+                                                     and pattern.fullmatch(c.value) for c in node.comparators):
+                found.append(f"{name}:{node.lineno}")
+    assert found == []
+
+
 # -- no circle even through imports made late: inside functions, under TYPE_CHECKING ----------------
 
 

@@ -138,14 +138,28 @@ class Mission:
     pds4: Pds4Facts = INDIVIDUAL_INVESTIGATION  # context of the standard products' PDS4 labels
     options: OptionUse = STANDARD_OPTIONS  # the options its products use (the CLI's and the library's)
     composes_ortho_bands: bool = False  # an orthoimage may be made of several single-band input files
+    # Mosaics (`pdsgen mosaic`), each "module:function" imported on first use: a reader of the
+    # mission's own inputs (HRSC-AX tiles: the inputs as the mosaic plans them, and the mission as
+    # their labels describe it) with the options that reader takes rather than the writers; a form
+    # of its own (iMars); and a check of a mosaic's product ID (the refusal, or None when it is fine).
+    mosaic_reader: str | None = None
+    mosaic_reader_options: frozenset[str] = frozenset()
+    mosaic_writer: str | None = None
+    mosaic_product_id: Callable[[str], str | None] | None = None
 
     def writer(self, which: str) -> Writer | None:
         """The mission's own DTM or ortho writer ("dtm"/"ortho"), imported on first use."""
         named = self.dtm_writer if which == "dtm" else self.ortho_writer
         if named is None or callable(named):
             return named
-        module, _, function = named.partition(":")
-        return getattr(importlib.import_module(module), function)
+        return resolve(named)
+
+
+def resolve(named: str) -> Any:
+    """The function a mission names as "module:function", imported on first use (a mission's
+    module imports no writer, so declaring one costs nothing until a product needs it)."""
+    module, _, function = named.partition(":")
+    return getattr(importlib.import_module(module), function)
 
 
 _REGISTRY: dict[str, Mission] = {}

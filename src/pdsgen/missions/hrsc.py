@@ -166,6 +166,15 @@ PDS4 = Pds4Facts(
     ),
 )
 
+def mosaic_name_refusal(product_id: str) -> str | None:
+    """An HRSC product is named by orbit and sequence; the HRSC writer would otherwise take
+    them from the first source, naming the mosaic after (and as) one of its own strips."""
+    if parse_name(product_id) is None:
+        return (f"an HRSC mosaic is named by orbit and sequence: give {param('product_id', 'h1234_0000')} "
+                "(not its first source's name)")
+    return None
+
+
 MISSION = Mission(
     name="hrsc",
     dtm_keywords=KEYWORDS,
@@ -184,4 +193,5 @@ MISSION = Mission(
                          "label", "allow_dictionary_deviations"}),
         mosaic=frozenset({"precision", "reproject_input", "label", "allow_dictionary_deviations"}),
     ),
+    mosaic_product_id=mosaic_name_refusal,
 )

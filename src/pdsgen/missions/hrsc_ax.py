@@ -229,4 +229,7 @@ MISSION = Mission(
         mosaic=frozenset({"source_labels", "vicar_offsets", "byte_order", "label", "allow_dictionary_deviations"}),
     ),
     composes_ortho_bands=True,  # a colour product: one file per channel
+    # A mosaic reads tiles as a tile's product does (grid, heights, offsets) and writes the standard forms.
+    mosaic_reader="pdsgen.mosaic.hrsc_ax:tile_inputs",
+    mosaic_reader_options=frozenset({"source_labels", "vicar_offsets"}),
 )

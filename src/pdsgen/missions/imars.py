@@ -84,4 +84,5 @@ MISSION = Mission(
         ortho=frozenset({"source_product_ids", "bits"}),
         mosaic=frozenset({"precision"}),
     ),
+    mosaic_writer="pdsgen.mosaic.imars:write_imars_mosaic",  # <ID>_dtm.tif/_ori.tif, a polygon per strip
 )

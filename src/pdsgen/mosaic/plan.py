@@ -213,3 +213,8 @@ def _resampled(source: MosaicInput, grid: Affine, width: int, height: int) -> Pl
     cols = source.width * source.transform.a / grid.a
     rows = source.height * source.transform.e / grid.e
     return Placement(source, Window2(0, 0, source.width, source.height), Window2(col, row, cols, rows))
+
+
+def source_ids(plan: MosaicPlan) -> tuple[str, ...]:
+    """The source products' IDs, each once, in the mosaic's order."""
+    return tuple(dict.fromkeys(i.product_id for i in plan.inputs))

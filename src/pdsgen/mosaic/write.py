@@ -12,19 +12,18 @@ from __future__ import annotations
 import dataclasses
 import functools
 import inspect
-import math
 import os
-import tempfile
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from contextlib import ExitStack
 from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, ParamsError, param
 from ..missions import Mission, get_mission
+from ..missions.base import resolve
 from ..products.dispatch import call_mission_writer
 from ..products.result import ProductResult
-from .plan import MosaicInput, MosaicPlan, describe_input, plan_mosaic
+from .plan import MosaicPlan, describe_input, plan_mosaic, source_ids
 from .vrt import mosaic_vrt
 
 KINDS = ("dtm", "ortho")
@@ -55,12 +54,13 @@ def write_mosaic(
         raise ParamsError(None, f"a mosaic needs {param('product_id')}")
     if kind is not None and kind not in KINDS:
         raise ParamsError(None, f"{param('kind')} must be one of {', '.join(KINDS)}")
-    get_mission(profile)  # an unknown profile is refused before any input is read
-    _check_own_name(profile, product_id)
+    mission = get_mission(profile)  # an unknown profile is refused before any input is read
+    refusal = mission.mosaic_product_id(product_id) if mission.mosaic_product_id else None
+    if refusal:
+        raise ParamsError(None, refusal)
     with ExitStack() as stack:
-        mission = get_mission(profile)
-        if profile == "hrsc-ax":
-            described, mission = _hrsc_ax_inputs(inputs, options, stack)
+        if mission.mosaic_reader:  # the mission's own inputs (HRSC-AX tiles), read by its reader
+            described, mission = resolve(mission.mosaic_reader)(inputs, options, stack)
         else:
             described = [describe_input(path, kind) for path in inputs]
         plan = plan_mosaic(described, order, resampling)
@@ -68,39 +68,25 @@ def write_mosaic(
         statement = _statement(plan, order, bool(options.get("reproject_input")))
         # without --nodata, each input's own no-data value is no data in it (a no-data pixel never
         # covers data); a given ND is the one value for all inputs, as gdal_merge.py's -n ND
-        vrt = stack.enter_context(mosaic_vrt(plan, fill, product_id, _presented_dtype(plan, profile),
+        vrt = stack.enter_context(mosaic_vrt(plan, fill, product_id, _presented_dtype(plan, mission),
                                              own_nodata=nodata is None))
-        writer_options = {k: v for k, v in options.items()
-                          if not (profile == "hrsc-ax" and k in _HRSC_AX_READER_OPTIONS)}
+        writer_options = {k: v for k, v in options.items() if k not in mission.mosaic_reader_options}
         return _write(plan, vrt, Path(outdir), mission, product_id, statement, writer_options)
 
 
-# Options of the HRSC-AX tile reader (not of the writers the mosaic's VRT goes to).
-_HRSC_AX_READER_OPTIONS = ("source_labels", "vicar_offsets")
-
-
-def _check_own_name(profile: str, product_id: str) -> None:
-    """An HRSC product is named by orbit and sequence; the HRSC writer would otherwise take
-    them from the first source, naming the mosaic after (and as) one of its own strips."""
-    from ..missions.hrsc import parse_name
-
-    if profile == "hrsc" and parse_name(product_id) is None:
-        raise ParamsError(None, f"an HRSC mosaic is named by orbit and sequence: give "
-                                f"{param('product_id', 'h1234_0000')} (not its first source's name)")
 
 
 # Sample types a float32 holds exactly: a mosaic of them read as float32 has gdal_merge.py's values.
 _EXACT_IN_FLOAT32 = ("uint8", "int8", "uint16", "int16", "float32")
 
 
-def _presented_dtype(plan: MosaicPlan, profile: str) -> str | None:
+def _presented_dtype(plan: MosaicPlan, mission: Mission) -> str | None:
     """float32 for the float32 PDS3 DTM when every input converts exactly, else the inputs' own.
 
     The DTM writer stores float32 anyway; reading float32 lets it take its float32 path (fewer
     passes, strips of half the lines of int16 ones), so the mosaic is faster and smaller."""
-    own_form = get_mission(profile).writer("dtm") is not None  # hrsc, imars: 16-bit forms of their own
     uniform = all(i.dtype == plan.dtype for i in plan.inputs)
-    if plan.kind == "dtm" and (profile == "hrsc-ax" or not own_form) and uniform \
+    if plan.kind == "dtm" and not _own_form(mission, "dtm") and uniform \
             and plan.dtype in _EXACT_IN_FLOAT32 and (plan.scale, plan.offset) == (1.0, 0.0):
         return "float32"
     return None
@@ -130,8 +116,6 @@ def _statement(plan: MosaicPlan, order: str, warped: bool = False) -> str:
             f"{how}; later ones lie on top ({stacking}) and no-data never covers data.")
 
 
-def _source_ids(plan: MosaicPlan) -> tuple[str, ...]:
-    return tuple(dict.fromkeys(i.product_id for i in plan.inputs))
 
 
 def _write(plan: MosaicPlan, vrt: Path, outdir: Path, mission: Mission, product_id: str, statement: str,
@@ -139,25 +123,33 @@ def _write(plan: MosaicPlan, vrt: Path, outdir: Path, mission: Mission, product_
     """The profile's writer, reading the mosaic's VRT; `mission` the profile's (for HRSC-AX,
     with what its tiles' labels say about their heights, images and offsets)."""
     profile = mission.name
-    if profile == "imars":
-        return _write_imars(plan, vrt, outdir, product_id, statement, options)
+    if mission.mosaic_writer:  # a mosaic form of its own (iMars)
+        own_form: Callable[..., ProductResult] = resolve(mission.mosaic_writer)
+        return own_form(plan, vrt, outdir, product_id, statement, options)
     options = {**options, "product_id": product_id, "params": _with_sources(plan, options.get("params"))}
     if plan.kind == "dtm":
         from ..products.dtm import write_dtm, write_pds3_dtm
 
-        if mission.writer("dtm") is not None and profile != "hrsc-ax":  # hrsc: its own DT4/DA4 form
+        if _own_form(mission, "dtm"):  # hrsc: its own DT4/DA4 form
             return write_dtm(vrt, outdir, profile=profile, **_stated(mission, "dtm", options, statement))
         note = f"{mission.dtm_note} {statement}".strip()
         writer = functools.partial(write_pds3_dtm, mission=dataclasses.replace(mission, dtm_note=note))
         return call_mission_writer(writer, profile, vrt, outdir, options)
     from ..products.ortho import write_jp2_ortho, write_ortho
 
-    if mission.writer("ortho") is not None and profile != "hrsc-ax":
+    if _own_form(mission, "ortho"):
         return write_ortho(vrt, outdir, profile=profile, **_stated(mission, "ortho", options, statement))
     description = f"{mission.ortho_description} {statement}".strip()
     jp2_writer = functools.partial(write_jp2_ortho,
                                    mission=dataclasses.replace(mission, ortho_description=description))
     return call_mission_writer(jp2_writer, profile, vrt, outdir, options)
+
+
+def _own_form(mission: Mission, kind: str) -> bool:
+    """Whether the mission writes its `kind` ("dtm"/"ortho") in a form of its own (HRSC's 16-bit
+    DT4/DA4, ND4): a mission whose own writer only reads its inputs (HRSC-AX tiles), and whose
+    mosaic reader does that instead, is written in the standard forms."""
+    return mission.writer(kind) is not None and mission.mosaic_reader is None
 
 
 def _stated(mission: Mission, kind: str, options: Mapping[str, Any], statement: str) -> dict[str, Any]:
@@ -177,82 +169,12 @@ def _with_sources(plan: MosaicPlan, params: Any) -> dict[str, Any]:
     keywords = resolve_params(params)
     given = keywords.get("SOURCE_PRODUCT_ID") or []
     given = [given] if isinstance(given, str) else list(given)
-    keywords["SOURCE_PRODUCT_ID"] = list(dict.fromkeys([*_source_ids(plan), *map(str, given)]))
+    keywords["SOURCE_PRODUCT_ID"] = list(dict.fromkeys([*source_ids(plan), *map(str, given)]))
     return keywords
 
 
-def _write_imars(plan: MosaicPlan, vrt: Path, outdir: Path, product_id: str, statement: str,
-                 options: Mapping[str, Any]) -> ProductResult:
-    """`<ID>_dtm.tif` / `<ID>_ori.tif` with the PVL naming the strips and their footprints."""
-    from ..products.imars import ImarsMosaic, write_imars_dtm, write_imars_ori
-
-    if plan.kind == "dtm" and plan.scale != 1.0:  # the strips' own precision unless told otherwise
-        options = {"precision": plan.scale, **options}
-    mosaic = ImarsMosaic(product_id, tuple(_outlines(plan)), statement)
-    writer = functools.partial(write_imars_dtm if plan.kind == "dtm" else write_imars_ori, mosaic=mosaic)
-    return call_mission_writer(writer, "imars", vrt, outdir, {"source_product_ids": _source_ids(plan), **options})
 
 
-def _outlines(plan: MosaicPlan) -> Iterator[tuple[str, list[dict[str, Any]], dict[str, Any]]]:
-    """Each source's valid data outlined (a decimated read of that source alone)."""
-    import numpy as np
-
-    from ..formats.footprint import valid_data_outline
-    from ..formats.raster import open_raster
-
-    for source in plan.inputs:
-        nodata = source.nodata
-
-        def valid(values: np.ndarray, nodata: float | None = nodata) -> np.ndarray:
-            finite = np.isfinite(values) if values.dtype.kind == "f" else np.ones(values.shape, bool)
-            return finite if nodata is None or math.isnan(nodata) else finite & (values != nodata)
-
-        with open_raster(source.path) as dataset:
-            polygons = valid_data_outline(dataset, valid)
-        yield source.product_id, polygons, {"file": Path(source.name).name}
 
 
-def _hrsc_ax_inputs(inputs: Sequence[str | os.PathLike[str]], options: Mapping[str, Any],
-                    stack: ExitStack) -> tuple[list[MosaicInput], Mission]:
-    """HRSC-AX tiles read by the HRSC-AX reader (its grid and height scaling), each as its VRT;
-    and the HRSC-AX mission saying in the label what a single tile's product says: what the
-    heights or bands are (each distinct statement of the tiles once) and how the offsets were read."""
-    from ..missions import hrsc_ax
-    from ..products.hrsc_ax import dtm_note, ortho_description, read_tile, vrt_text
 
-    labels = _labels_per_tile(inputs, options.get("source_labels", ()))
-    folder = Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="pdsgen-mosaic-tiles-")))
-    vicar_offsets = options.get("vicar_offsets", "standard")
-    described, tiles = [], []
-    for path, own_labels in zip(inputs, labels, strict=True):
-        if hrsc_ax.channel_of(Path(path)).extension not in hrsc_ax.PRODUCT_KINDS:
-            raise InputError(path, "is one channel of an HRSC-AX colour tile; a mosaic takes tiles of one "
-                                   f"file each: {', '.join('.' + c for c in hrsc_ax.PRODUCT_KINDS)}")
-        tile = read_tile(path, own_labels, vicar_offsets)
-        name = hrsc_ax.tile_product_id(tile.stem, tile.kind)
-        tile_vrt = folder / f"{name}.vrt"
-        tile_vrt.write_text(vrt_text(tile), encoding="utf-8")
-        described.append(dataclasses.replace(describe_input(tile_vrt, "dtm" if tile.kind == "DEM" else "ortho"),
-                                             shown=str(path)))
-        tiles.append(tile)
-    dems = [tile for tile in tiles if tile.kind == "DEM"]
-    mission = dataclasses.replace(
-        hrsc_ax.MISSION, map_projection_note=hrsc_ax.VICAR_OFFSET_NOTES[vicar_offsets],
-        dtm_note=" ".join(dict.fromkeys(dtm_note(tile) for tile in dems)) or hrsc_ax.MISSION.dtm_note,
-        ortho_description=" ".join(dict.fromkeys(ortho_description(tile) for tile in tiles if tile.kind != "DEM"))
-        or hrsc_ax.MISSION.ortho_description)
-    return described, mission
-
-
-def _labels_per_tile(inputs: Sequence[str | os.PathLike[str]],
-                     source_labels: Sequence[str | os.PathLike[str]]) -> list[tuple[str | os.PathLike[str], ...]]:
-    """Each tile's own XML image label: one per tile, in the tiles' order (or none at all).
-
-    The HRSC-AX reader takes a keyword from the first label that gives it, so labels given to
-    every tile would scale all tiles' heights by the first tile's keywords."""
-    if not source_labels:
-        return [()] * len(inputs)
-    if len(source_labels) != len(inputs):
-        raise ParamsError(None, f"give one {param('source_labels')} per tile, in the tiles' order: "
-                                f"{len(inputs)} tiles, {len(source_labels)} label(s)")
-    return [(label,) for label in source_labels]

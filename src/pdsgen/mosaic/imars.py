@@ -1,0 +1,50 @@
+"""The iMars mosaic form: `<ID>_dtm.tif` / `<ID>_ori.tif` with the PVL naming the strips, and a
+footprint polygon per source strip.
+
+The iMars mission names this writer (`Mission.mosaic_writer`), so `write_mosaic` has no iMars
+case of its own.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Iterator, Mapping
+from pathlib import Path
+from typing import Any
+
+from ..missions.imars import MISSION
+from ..products.dispatch import call_mission_writer
+from ..products.result import ProductResult
+from .plan import MosaicPlan, source_ids
+
+
+def write_imars_mosaic(plan: MosaicPlan, vrt: Path, outdir: Path, product_id: str, statement: str,
+                 options: Mapping[str, Any]) -> ProductResult:
+    """`<ID>_dtm.tif` / `<ID>_ori.tif` with the PVL naming the strips and their footprints."""
+    from ..products.imars import ImarsMosaic, write_imars_dtm, write_imars_ori
+
+    if plan.kind == "dtm" and plan.scale != 1.0:  # the strips' own precision unless told otherwise
+        options = {"precision": plan.scale, **options}
+    mosaic = ImarsMosaic(product_id, tuple(_outlines(plan)), statement)
+    writer = functools.partial(write_imars_dtm if plan.kind == "dtm" else write_imars_ori, mosaic=mosaic)
+    return call_mission_writer(writer, MISSION.name, vrt, outdir, {"source_product_ids": source_ids(plan), **options})
+
+
+def _outlines(plan: MosaicPlan) -> Iterator[tuple[str, list[dict[str, Any]], dict[str, Any]]]:
+    """Each source's valid data outlined (a decimated read of that source alone)."""
+    import numpy as np
+
+    from ..formats.footprint import valid_data_outline
+    from ..formats.raster import open_raster
+
+    for source in plan.inputs:
+        nodata = source.nodata
+
+        def valid(values: np.ndarray, nodata: float | None = nodata) -> np.ndarray:
+            finite = np.isfinite(values) if values.dtype.kind == "f" else np.ones(values.shape, bool)
+            return finite if nodata is None or math.isnan(nodata) else finite & (values != nodata)
+
+        with open_raster(source.path) as dataset:
+            polygons = valid_data_outline(dataset, valid)
+        yield source.product_id, polygons, {"file": Path(source.name).name}
