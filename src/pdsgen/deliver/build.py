@@ -21,8 +21,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import InputError, OutputError, PdsgenError, param
+from ..label.tree import Block
 from ..progress import advance
-from ..validate.model import Block
 from . import bundle, layout
 from .index import IndexWriter
 from .scan import DataProduct, SourceSet, is_pds3_label, label_value, read_pds3_label, scan

@@ -32,7 +32,9 @@ from rasterio.transform import Affine
 
 from ..errors import PdsgenError, param
 from ..geo.label_georef import LabelGeorefError, label_georeferencing
+from ..label.beside import find_beside
 from ..label.grammar import FLOAT_SAMPLE_TYPES
+from ..label.read import end_of_label
 from ..missions import LabelFacts, detect_mission
 from .heights import HeightReference, height_reference, mission_datum, radius_offset_m
 from .kind import DTM, KINDS, LENGTH_UNITS, ORTHO, KindDecision, decide_kind
@@ -48,9 +50,6 @@ __all__ = ["DTM", "ORTHO", "KINDS", "ProductSource", "open_product", "quiet_gdal
 GDAL_ENV = {"GDAL_CACHEMAX": 16, "GDAL_PAM_ENABLED": "NO", "GDAL_NUM_THREADS": "1"}
 
 _LABEL_SCAN_BYTES = 4 * 1024 * 1024
-# END (any case: ODL is case-insensitive) alone on its line, or followed directly by the
-# binary data with no line end (ISIS and several pipelines write it so)
-_END_LINE = re.compile(rb"(?im)^[ \t]*END[ \t]*(?:\r?$|(?=[^\x20-\x7e\r\n]))")
 _FLOAT_TYPES = FLOAT_SAMPLE_TYPES
 # GDAL metadata items that describe a raster's content (searched for height words).
 _DESCRIPTIVE_TAGS = ("DESCRIPTION", "TIFFTAG_IMAGEDESCRIPTION", "PRODUCT_ID", "PRODUCT_TYPE")
@@ -251,9 +250,9 @@ def _find_label(path: Path) -> tuple[Path | None, dict]:
     if head.lstrip().upper().startswith((b"PDS_VERSION_ID", b"ODL_VERSION_ID")):
         return path, _parse_label(path, head)
     if path.suffix.lower() in (".img", ".jp2"):
-        for sibling in path.parent.iterdir():
-            if sibling.stem.lower() == path.stem.lower() and sibling.suffix.lower() == ".lbl":
-                return sibling, _parse_label(sibling, _read_head(sibling))
+        sibling = find_beside(path.parent, f"{path.stem}.lbl")
+        if sibling is not None:
+            return sibling, _parse_label(sibling, _read_head(sibling))
     return None, {}
 
 
@@ -266,8 +265,8 @@ def _read_head(path: Path) -> bytes:
 
 
 def _parse_label(path: Path, head: bytes) -> dict:
-    end = _END_LINE.search(head)
-    text = head[: end.end()] if end else head
+    end = end_of_label(head)
+    text = head[:end] if end is not None else head
     try:
         return pvl.loads(text.decode("latin-1"))
     except Exception as exc:  # pvl raises several types for broken labels
@@ -288,9 +287,9 @@ def _raster_path(path: Path, label_path: Path | None, label: dict) -> Path:
 
 def _sibling(label_path: Path, name: str) -> Path:
     """A file the label names, found case-insensitively (archives mix cases)."""
-    for candidate in label_path.parent.iterdir():
-        if candidate.name.lower() == name.lower():
-            return candidate
+    found = find_beside(label_path.parent, name)
+    if found is not None:
+        return found
     raise PdsgenError(label_path, f"the file it names, {name!r}, is missing")
 
 

@@ -14,8 +14,8 @@ from pathlib import Path
 from typing import Any
 
 from ..deliver.scan import label_value
+from ..label.tree import Block, Value
 from ..missions import LabelFacts, detect_mission
-from ..validate.model import Block, Value
 
 # Label keywords shown for each product, in this order: (keyword, what the page calls it).
 MAP_KEYWORDS = (

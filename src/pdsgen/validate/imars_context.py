@@ -17,8 +17,8 @@ from pathlib import Path
 from typing import Any
 
 from ..formats.sniff import file_head
+from ..label.beside import DirectoryNames, directory_listing, resolve_beside
 from ..missions.imars import is_metadata_name
-from .context import DirectoryNames, directory_listing, resolve_beside
 
 _SNIFF_BYTES = 64 * 1024
 _OBJECT = re.compile(rb"(?im)^[ \t]*object[ \t]*=[ \t]*(productinfo|image)[ \t]*\r?$")

@@ -24,13 +24,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ...deliver import layout
+from ...label.read import read_pds3_label
+from ...label.tree import Block
 from ...pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
-from ..lexer import parse_label
-from ..model import Block, Finding
+from ..model import Finding
 from ..registry import Rule, register
 
 PDS_NS = "{http://pds.nasa.gov/pds4/pds/v1}"
-_END = re.compile(rb"(?:^|\n)[ \t]*END[ \t]*\r?(?:\n|$)")
 _FORMAT = re.compile(r"([AFIE])(\d+)(?:\.(\d+))?", re.IGNORECASE)
 _TEXT_FILES = (layout.VOLDESC, layout.AAREADME)
 
@@ -53,19 +53,8 @@ class _Found:
 
 def _read_pds3(path: Path) -> Block | None:
     """A PDS3 label's tree, reading no further than its END line; None when it is no PDS3 label."""
-    try:
-        with open(path, "rb") as stream:
-            data = stream.read(65536)
-            if not data.lstrip().upper().startswith((b"PDS_VERSION_ID", b"CCSD3")):
-                return None
-            while not _END.search(data) and len(data) < (4 << 20):
-                more = stream.read(65536)
-                if not more:
-                    break
-                data += more
-    except OSError:
-        return None
-    return parse_label(data.decode("latin-1")).root
+    label = read_pds3_label(path)
+    return label.root if label is not None else None
 
 
 def _first(root: Block, keyword: str) -> tuple[str | None, int | None]:

@@ -1,8 +1,9 @@
-"""A PDS3 (ODL) label reader that keeps line numbers and turns syntax problems into findings.
+"""The PDS3 (ODL) label reader: text -> `Label` tree, with line numbers and reading problems.
 
 pvl is both too lenient (it accepts an unquoted value with spaces) and too strict (one
 error stops it, with no line to show) for a validator, so labels are read here with a
-small hand-written scanner. It tolerates what real archives do (LF-only lines,
+small hand-written reader, the one every part of pdsgen that reads a PDS3 label uses
+(pvl stays for iMars PVL). It tolerates what real archives do (LF-only lines,
 `Object`/`End_Object`, unquoted `MEX-M-HRSC-3-RDR-V2.0`, `2575.0<KM>`, `0015`,
 `1737400.`, unnamed END_OBJECT, inline comments) and records each real problem as an
 `Issue` tagged with its SYNTAX/FILE rule id, then carries on with the next line, so
@@ -12,22 +13,15 @@ one bad statement never hides the rest of the label.
 from __future__ import annotations
 
 import re
-from itertools import accumulate, repeat
 
-from ..label.grammar import IDENTIFIER_RE
-from .model import Block, Issue, Label, Line, Statement, Value
-
-_WS = re.compile(r"[ \t\f\v\x00]+")
-_NEWLINE = re.compile(r"\r\n|\n|\r")
-_WORD = re.compile(r"(?:[^\s=(){},;\"'<>/]|/(?!\*))+")
-_UNIT = re.compile(r"<[^<>\r\n]*>")
-_SYMBOL = re.compile(r"'[^'\r\n]*'")
+from .grammar import IDENTIFIER_PATTERN
+from .lexer import ITEMS, NEWLINE, NOT_TEXT, Scanner, Token, count_lines, line_end, split_lines
+from .tree import Block, Issue, Label, Statement, Value
 
 # an integer (group 1) or a real
 _NUMBER = re.compile(r"[+-]?(?:(\d+)|(?:\d+\.\d*|\.\d+|\d+)(?:[eE][+-]?\d+)?)")
 _BASED = re.compile(r"([+-]?)(\d+)#([^#]*)#")
-_KEYWORD = re.compile(r"\^?(?:([A-Za-z][A-Za-z0-9_]*):)?([A-Za-z][A-Za-z0-9_]*)")
-_IDENT = IDENTIFIER_RE
+_KEYWORD = re.compile(rf"\^?(?:({IDENTIFIER_PATTERN}):)?({IDENTIFIER_PATTERN})")
 _DATE_START = re.compile(r"\d{1,4}-\d|\d{1,2}:\d")
 _DATE = re.compile(
     r"(?P<year>\d{4})(?:-(?P<doy>\d{3})|-(?P<month>\d{2})(?:-(?P<day>\d{2}))?)"
@@ -42,253 +36,16 @@ _TIME = re.compile(r"(?P<h>\d{2})(?::(?P<m>\d{2})(?::(?P<s>\d{2})(?:\.(?P<f>\d*)
 _SFDU_LABEL = re.compile(r"([A-Z0-9]{4})([1-3])([A-Z0-9])([A-Z0-9])0([A-Z0-9]{4})(\S{8})")
 _SFDU_DELIMITATIONS = {"A": "length in ASCII", "B": "binary length", "C": "marker", "S": "marker",
                        "E": "end of file", "F": "end of file"}
-_NOT_TEXT = re.compile(r"[^\x20-\x7e\t]")
 _DAYS = (31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31)
 _BASE_DIGITS = {2: "01", 8: "01234567", 16: "0123456789ABCDEFabcdef"}
 MAX_KEYWORD_LENGTH = 30
-
-
-class _Token:
-    __slots__ = ("kind", "text", "line", "end_line", "start", "end", "issues")
-
-    def __init__(self, kind: str, text: str, line: int, end_line: int, start: int, end: int,
-                 issues: list[Issue] | None = None) -> None:
-        self.kind = kind  # word, string, symbol, unit, punct, eof, bad
-        self.text = text
-        self.line = line
-        self.end_line = end_line  # the line (and `end` the offset) where reading goes on after it
-        self.start = start
-        self.end = end
-        self.issues = issues  # what scanning it found, reported each time the parser reads it
-
-
-_SKIP = re.compile(r"(?:[ \t\f\v\x00]+|\r\n|\n|\r|/\*.*?\*/)+", re.S)
-
-# One pattern reads the blanks, line ends and comments before a token and the token itself,
-# so a token costs one regex call. The alternatives after the skip part cover every
-# character (1-5 the tokens, 6 any other character, 7 the end of the text), so a match
-# never backtracks into the skip part: it skips exactly what _SKIP skips. Group 6 (an
-# unclosed quote, comment, symbol or unit, a character no token takes) goes to the
-# character-by-character path, which reports it.
-_TOKEN = re.compile(
-    r"(?:[ \t\f\v\x00\r\n]+|/\*.*?\*/)*"
-    r"(?:(\"[^\"]*\")"  # 1 string
-    r"|([=(){},;])"  # 2 punct
-    r"|('[^'\r\n]*')"  # 3 symbol
-    r"|(<[^<>\r\n]*>)"  # 4 unit
-    r"|((?:[^\s=(){},;\"'<>/]+|/(?!\*))+)"  # 5 word (as _WORD)
-    r"|(.)"  # 6 anything else: the careful path
-    r"|())",  # 7 end of text
-    re.S,
-)
-_KINDS = ("", "string", "punct", "symbol", "unit", "word", "", "eof")  # by _TOKEN group
-_BLANKS = r"[ \t\f\v\x00]*"
-_SPACE = r"[ \t\f\v\x00\r\n]*"
-_WORD_CHAR = r"[^\s=(){},;\"'<>/]"
-# A word as _WORD reads it, written `A*(/A*)*` so it matches a text one way only, and not
-# starting with NUL: NUL is a blank between tokens but part of a word (as _TOKEN reads it).
-_WORD_ONCE = r"(?=[^\s=(){},;\"'<>/\x00]|/(?!\*))" + _WORD_CHAR + r"*(?:/(?!\*)" + _WORD_CHAR + "*)*"
-_ITEM = r"(?:\"[^\"]*\"|'[^'\r\n]*'|" + _WORD_ONCE + ")"
-# A statement as most labels write nearly all of theirs: `KEYWORD = value [<unit>]` alone on
-# its line(s), maybe with closed comments after it, and no `<unit>` or comment starting the
-# next line; the value a word, a quoted text or symbol, or a sequence/set of those (no
-# comments, units or nesting inside). The parser takes such a statement in one match (see
-# _Parser._simple); anything else goes token by token. No part can match a text in two ways
-# (a comment cannot contain `*/`), so a failing match costs one pass, never backtracking
-# that grows with the text.
-_SIMPLE = re.compile(
-    _BLANKS  # only blanks before it: line ends and comments are skipped first (simple_statement)
-    + r"(?P<keyword>\^?(?:(?P<namespace>[A-Za-z][A-Za-z0-9_]*):)?(?P<name>[A-Za-z][A-Za-z0-9_]*))"
-    r"(?!\x00)"  # the whole word
-    + _BLANKS + "=" + _BLANKS
-    + r"(?:(?P<string>\"[^\"]*\")"
-    r"|(?P<symbol>'[^'\r\n]*')"
-    r"|(?P<word>" + _WORD_ONCE + ")"
-    r"|(?P<items>[({](?:" + _SPACE + _ITEM + _SPACE + ",)*" + _SPACE + _ITEM + _SPACE + "[)}]))"
-    + _BLANKS + r"(?:(?P<unit><[^<>\r\n]*>)"
-    + _BLANKS + r")?(?:/\*(?:[^*\r\n]|\*(?!/))*\*/" + _BLANKS + r")*"
-    r"(?P<eol>\r\n|\n|\r|\Z)(?![ \t\f\v\x00\r\n]*[</])"
-)
-_ITEMS = re.compile(_SPACE + "(" + _ITEM + ")" + _SPACE + "[,)}]")
-
-
-class _Scanner:
-    """Produces significant tokens on demand; whitespace, newlines and comments are skipped.
-
-    `pos`/`line` say where reading goes on after the last token read. The last peeked
-    token is remembered, so the parser's look-ahead costs one scan.
-    """
-
-    def __init__(self, text: str, issues: list[Issue]) -> None:
-        self.text = text
-        self.pos = 0
-        self.line = 1
-        self.issues = issues
-        self._ahead: _Token | None = None  # the token peeked at _ahead_from
-        self._ahead_from = -1
-
-    def mark(self) -> tuple[int, int]:
-        return self.pos, self.line
-
-    def reset(self, mark: tuple[int, int]) -> None:
-        self.pos, self.line = mark
-
-    def next(self) -> _Token:
-        tok = self._ahead
-        if tok is None or self._ahead_from != self.pos:
-            tok = self._scan()
-        self._ahead = None
-        self.pos, self.line = tok.end, tok.end_line
-        if tok.issues:
-            self.issues.extend(tok.issues)
-        return tok
-
-    def peek(self) -> _Token:
-        if self._ahead is None or self._ahead_from != self.pos:
-            self._ahead, self._ahead_from = self._scan(), self.pos
-        return self._ahead
-
-    def skip_line(self) -> None:
-        """Drop the rest of the current line (error recovery)."""
-        self.pos = _line_end(self.text, self.pos)
-        self._ahead = None
-
-    def simple_statement(self) -> tuple[re.Match[str], int] | None:
-        """The match of a simple statement (see _SIMPLE) starting at the next token, with
-        the line its keyword is on; nothing is read until `take` is called."""
-        text, pos = self.text, self.pos
-        m = _SIMPLE.match(text, pos)  # a statement at the start of the line the last one ended
-        if m is not None:
-            return m, self.line
-        skip = _SKIP.match(text, pos)
-        if skip is None:
-            return None
-        m = _SIMPLE.match(text, skip.end())
-        if m is None:
-            return None
-        return m, self.line + _count_lines(text, pos, skip.end())
-
-    def take(self, m: re.Match[str], line: int) -> None:
-        """Read past a simple statement matched on `line` and its line end."""
-        value = m.group("string") or m.group("items")
-        if value is not None and ("\n" in value or "\r" in value):  # they may span lines
-            line += _count_lines(value, 0, len(value))
-        if m.group("eol"):
-            line += 1
-        self.pos, self.line = m.end(), line
-
-    def _scan(self) -> _Token:
-        """The next token, by the one-pattern path when it applies."""
-        text, pos, line = self.text, self.pos, self.line
-        m = _TOKEN.match(text, pos)
-        if m is None or m.lastindex is None:  # never: some alternative matches anywhere
-            return self._scan_by_character(pos, line)
-        group = m.lastindex
-        start = m.start(group)
-        if start > pos:  # blanks, line ends or comments before the token
-            newlines = text.count("\n", pos, start)
-            returns = text.count("\r", pos, start)
-            if returns:
-                newlines += returns - text.count("\r\n", pos, start)
-            line += newlines
-        if group == 6:
-            return self._scan_by_character(start, line)
-        end = m.end()
-        if group == 1:  # a string may span lines
-            return _Token("string", m[1], line, line + _count_lines(text, start, end), start, end)
-        return _Token(_KINDS[group], m[group], line, line, start, end)
-
-    def _scan_by_character(self, pos: int, line: int) -> _Token:
-        """What _TOKEN does not take: unclosed quotes and comments, stray characters."""
-        text = self.text
-        issues: list[Issue] = []
-        m = _SKIP.match(text, pos)
-        if m:
-            end = m.end()
-            line += _count_lines(text, pos, end)
-            pos = end
-        if text.startswith("/*", pos):  # a comment that never closes
-            issues.append(Issue("SYNTAX-001", line, "comment '/*' is never closed"))
-            line += _count_lines(text, pos, len(text))
-            pos = len(text)
-        if pos >= len(text):
-            return _Token("eof", "", line, line, pos, pos, issues)
-        ch = text[pos]
-        if ch == '"':
-            end = text.find('"', pos + 1)
-            if end < 0:
-                issues.append(Issue("SYNTAX-001", line, 'quoted text is never closed (missing ")'))
-                end = _line_end(text, pos)
-                return _Token("bad", text[pos:end], line, line, pos, end, issues)
-            end_line = line + _count_lines(text, pos, end)
-            return _Token("string", text[pos : end + 1], line, end_line, pos, end + 1, issues)
-        if ch in "=(){},;":
-            return _Token("punct", ch, line, line, pos, pos + 1, issues)
-        m = None
-        if ch == "'":
-            m = _SYMBOL.match(text, pos)
-            kind = "symbol"
-        elif ch == "<":
-            m = _UNIT.match(text, pos)
-            kind = "unit"
-        if m is None:
-            m = _WORD.match(text, pos)
-            kind = "word"
-        if m:
-            return _Token(kind, m.group(), line, line, pos, m.end(), issues)
-        return _Token("bad", ch, line, line, pos, pos + 1, issues)
-
-
-def _count_lines(text: str, start: int, end: int) -> int:
-    chunk = text[start:end]
-    return chunk.count("\n") + chunk.count("\r") - chunk.count("\r\n")
-
-
-_EOL = re.compile(r"[\r\n]")
-
-
-def _line_end(text: str, pos: int) -> int:
-    m = _EOL.search(text, pos)
-    return m.start() if m else len(text)
-
-
-_ENDINGS = {"\r\n": "CRLF", "\n": "LF", "\r": "CR"}
-
-
-def split_lines(text: str, limit: int) -> list[Line]:
-    """Physical lines of text[:limit] with their byte offsets and terminator kind."""
-    body = text[:limit]
-    newline = "\n" if "\r" not in body else "\r\n" if body.count("\r") == body.count("\r\n") == body.count("\n") else ""
-    if not newline:  # mixed line ends: one at a time
-        return _split_mixed_lines(text, limit)
-    parts = body.split(newline)  # the last part follows the last line end
-    step = len(newline)
-    starts = list(accumulate((len(part) + step for part in parts), initial=0))
-    ends = [start + len(part) for start, part in zip(starts[:-1], parts, strict=True)]
-    count = len(parts) - 1
-    lines = list(map(Line, range(1, count + 1), starts, ends, repeat(_ENDINGS[newline], count)))
-    if parts[-1]:
-        lines.append(Line(count + 1, starts[count], limit, ""))
-    return lines
-
-
-def _split_mixed_lines(text: str, limit: int) -> list[Line]:
-    lines: list[Line] = []
-    append = lines.append
-    pos, number = 0, 1
-    for m in _NEWLINE.finditer(text, 0, limit):
-        append(Line(number, pos, m.start(), _ENDINGS[m.group()]))
-        pos, number = m.end(), number + 1
-    if pos < limit:
-        append(Line(number, pos, limit, ""))
-    return lines
 
 
 class _Parser:
     def __init__(self, text: str) -> None:
         self.text = text
         self.issues: list[Issue] = []
-        self.scan = _Scanner(text, self.issues)
+        self.scan = Scanner(text, self.issues)
         self.root = Block("ROOT", "", 1)
         self.stack: list[Block] = [self.root]
         self.end_found = False
@@ -329,7 +86,7 @@ class _Parser:
             self._statement(tok, upper)
         self._finish()
 
-    def _unglued_end(self, tok: _Token) -> _Token:
+    def _unglued_end(self, tok: Token) -> Token:
         """END itself when the scanner glued END and the binary data right after it into
         one word (`END\\xf8...`, `EndQ\\x0b...`: ISIS and several pipelines write no line
         end after END). It is END when binary bytes follow its three letters on the same
@@ -338,11 +95,11 @@ class _Parser:
         if len(word) <= 3 or word[:3].upper() != "END" or word[3] == "_":
             return tok
         after = tok.start + 3
-        binary = _NOT_TEXT.search(self.text, after, _line_end(self.text, after))
+        binary = NOT_TEXT.search(self.text, after, line_end(self.text, after))
         if binary is None or "=" in self.text[after : binary.start()]:
             return tok
         self.scan.reset((after, tok.line))
-        return _Token("word", word[:3], tok.line, tok.line, tok.start, after)
+        return Token("word", word[:3], tok.line, tok.line, tok.start, after)
 
     def _keyword_seen(self, word: str, line: int) -> str:
         """Note the first keyword and keywords not in upper case; the upper-case form."""
@@ -385,7 +142,7 @@ class _Parser:
         else:
             value = Value("symbol", m.group("symbol"), m.group("symbol")[1:-1], line)
         if unit is not None:  # on the line the value ends on
-            unit_line = line + _count_lines(items, 0, len(items)) if items else line
+            unit_line = line + count_lines(items, 0, len(items)) if items else line
             self._set_unit(value, unit, unit_line, unit_line, word)
         self._add(word, upper, line, value)
         return True
@@ -395,15 +152,15 @@ class _Parser:
         opened on `line`): its members read as _value reads them."""
         members: list[Value] = []
         pos, item_line = 1, line
-        for m in _ITEMS.finditer(text, 1):
+        for m in ITEMS.finditer(text, 1):
             start = m.start(1)
             if "\n" in text[pos:start] or "\r" in text[pos:start]:
-                item_line += _count_lines(text, pos, start)
+                item_line += count_lines(text, pos, start)
             item = m.group(1)
             if item[0] == '"':
                 members.append(self._string(item, item_line, keyword, True))
                 if "\n" in item or "\r" in item:
-                    item_line += _count_lines(item, 0, len(item))
+                    item_line += count_lines(item, 0, len(item))
             elif item[0] == "'":
                 members.append(Value("symbol", item, item[1:-1], item_line))
             else:
@@ -436,14 +193,14 @@ class _Parser:
                 self.scan.next()
                 self.scan.next()
 
-    def _end(self, tok: _Token) -> None:
+    def _end(self, tok: Token) -> None:
         self.end_found = True
         rest = self.scan.peek()
         if rest.kind == "punct" and rest.text == ";" and rest.line == tok.line:
             self.scan.next()
-        end = _line_end(self.text, tok.start)
+        end = line_end(self.text, tok.start)
         after = tok.start + len(tok.text)
-        binary = _NOT_TEXT.search(self.text, after, end)
+        binary = NOT_TEXT.search(self.text, after, end)
         if binary is not None:  # END followed by the data on its line: the label ends at END
             self.label_end = after
             # data right after END (see _unglued_end) are data, even where they start with a
@@ -451,13 +208,13 @@ class _Parser:
             # text the label has after END
             end = binary.start() if self.text[after] in " \t;/\x00" else after
         else:
-            m = _NEWLINE.match(self.text, end)
+            m = NEWLINE.match(self.text, end)
             self.label_end = m.end() if m else end
         tail = self.text[after:end].strip(" ;\x00")
         if tail and not tail.startswith("/*"):
             self.issue("SYNTAX-001", tok.line, f"unexpected text {tail[:20]!r} after END")
 
-    def _close(self, tok: _Token, kind: str) -> None:
+    def _close(self, tok: Token, kind: str) -> None:
         name = None
         nxt = self.scan.peek()
         if nxt.kind == "punct" and nxt.text == "=" and nxt.line == tok.line:
@@ -494,7 +251,7 @@ class _Parser:
         top.end_line = line
         self.stack.pop()
 
-    def _statement(self, tok: _Token, upper: str) -> None:
+    def _statement(self, tok: Token, upper: str) -> None:
         line = tok.line
         self._check_keyword(tok.text, line)
         eq = self.scan.peek()
@@ -622,7 +379,7 @@ class _Parser:
             for item in value.scalars():
                 item.unit = item.unit or value.unit
 
-    def _starts_statement(self, tok: _Token) -> bool:
+    def _starts_statement(self, tok: Token) -> bool:
         """True when a word on a later line is the next statement (so the value is missing)."""
         if tok.text.upper() in ("END", "END_OBJECT", "END_GROUP"):
             return True
@@ -631,7 +388,7 @@ class _Parser:
         self.scan.reset(mark)
         return nxt.kind == "punct" and nxt.text == "="
 
-    def _collection(self, open_tok: _Token, keyword: str) -> Value | None:
+    def _collection(self, open_tok: Token, keyword: str) -> Value | None:
         close = ")" if open_tok.text == "(" else "}"
         items: list[Value] = []
         while True:
