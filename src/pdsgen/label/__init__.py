@@ -1,1 +1,3 @@
-"""Writing PDS3 label text: value encoding, line layout and template rendering."""
+"""PDS3 labels both ways, on one grammar (grammar.py): reading (lexer.py, parser.py -> tree.py;
+read.py: the END rule and a file's label head; beside.py: files a label names) and writing
+(values.py, layout.py, render.py)."""

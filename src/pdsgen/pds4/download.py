@@ -8,7 +8,6 @@ URL it came from, so that a later run can tell a cached file was not altered.
 
 from __future__ import annotations
 
-import hashlib
 import os
 import urllib.error
 import urllib.request
@@ -16,6 +15,7 @@ from pathlib import Path
 
 from .. import __version__
 from ..errors import PdsgenError
+from ..formats.checksum import bytes_sha256
 from .catalog import SUMS_NAME, is_xml
 
 TIMEOUT_SECONDS = 30
@@ -41,7 +41,7 @@ def fetch_schema(url: str, cache_dir: Path, name: str) -> tuple[Path, str]:
         raise DownloadError(url, f"larger than {MAX_BYTES} bytes")
     if not is_xml(data):
         raise DownloadError(url, "the response is not XML")
-    digest = hashlib.sha256(data).hexdigest()
+    digest = bytes_sha256(data)
     try:
         cache_dir.mkdir(parents=True, exist_ok=True)
         target = cache_dir / name

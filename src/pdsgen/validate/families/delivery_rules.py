@@ -15,7 +15,6 @@ inventories with the csv module, and MD5s streamed here. Only names come from la
 from __future__ import annotations
 
 import csv
-import hashlib
 import io
 import os
 import re
@@ -24,6 +23,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ...deliver import layout
+from ...formats.checksum import file_md5
 from ...label.read import read_pds3_label
 from ...label.tree import Block
 from ...pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
@@ -445,21 +445,13 @@ def _check_manifest(root: Path, labels_only: bool, found: list[_Found]) -> None:
         path = root / name
         if not path.is_file():
             found.append(_Found("DLV-020", manifest, f"{name} is listed but does not exist", number))
-        elif not labels_only and _md5(path) != digest:
+        elif not labels_only and file_md5(path) != digest:
             found.append(_Found("DLV-020", path, f"MD5 differs from {layout.MANIFEST} line {number}: the file "
                                                  "changed after the manifest was written"))
     for path in _all_files(root):
         name = path.relative_to(root).as_posix()
         if name != layout.MANIFEST and not layout.is_review_page(name) and name not in listed:
             found.append(_Found("DLV-021", path, f"not listed in {layout.MANIFEST}"))
-
-
-def _md5(path: Path) -> str:
-    digest = hashlib.md5()
-    with open(path, "rb") as stream:
-        while chunk := stream.read(1 << 20):
-            digest.update(chunk)
-    return digest.hexdigest()
 
 
 # --- the runner hook ----------------------------------------------------------------------------
