@@ -3,7 +3,7 @@
 A product reaches us as a PDS3 `.IMG` with an attached label, a detached `.LBL`
 pointing at an `.IMG` or a `.JP2`, a bare `.JP2`/`.IMG` whose label sits beside it,
 or a GeoTIFF. GDAL (through rasterio) reads the pixels and the georeferencing of all
-of them; the label, when there is one, is read with pvl because it says things GDAL
+of them; the label, when there is one, is read (pdsgen.label) because it says things GDAL
 does not pass on reliably: the product ID, which DN means "no data" (MISSING_CONSTANT
 as a float bit pattern, CORE_NULL for a JP2 that carries no nodata of its own), the
 DN-to-physical mapping, VALID_MINIMUM/MAXIMUM, and whether the product is a DTM.
@@ -24,7 +24,6 @@ from typing import Any
 from xml.sax.saxutils import escape
 
 import numpy as np
-import pvl
 import rasterio
 from rasterio.enums import Resampling
 from rasterio.errors import NotGeoreferencedWarning, RasterioError
@@ -34,7 +33,9 @@ from ..errors import PdsgenError, param
 from ..geo.label_georef import LabelGeorefError, label_georeferencing
 from ..label.beside import find_beside
 from ..label.grammar import FLOAT_SAMPLE_TYPES
-from ..label.read import end_of_label
+from ..label.mapping import label_mapping
+from ..label.parser import parse_label
+from ..label.read import end_of_label, structure_problem
 from ..missions import LabelFacts, detect_mission
 from .heights import HeightReference, height_reference, mission_datum, radius_offset_m
 from .kind import DTM, KINDS, LENGTH_UNITS, ORTHO, KindDecision, decide_kind
@@ -266,11 +267,11 @@ def _read_head(path: Path) -> bytes:
 
 def _parse_label(path: Path, head: bytes) -> dict:
     end = end_of_label(head)
-    text = head[:end] if end is not None else head
-    try:
-        return pvl.loads(text.decode("latin-1"))
-    except Exception as exc:  # pvl raises several types for broken labels
-        raise PdsgenError(path, f"label cannot be parsed ({exc})") from None
+    label = parse_label((head[:end] if end is not None else head).decode("latin-1"))
+    broken = structure_problem(label)
+    if broken is not None:
+        raise PdsgenError(path, f"label cannot be parsed (line {broken.line}: {broken.message})")
+    return label_mapping(label)
 
 
 def _raster_path(path: Path, label_path: Path | None, label: dict) -> Path:
@@ -380,7 +381,7 @@ def _label_nodata(image: dict, dtype: str, gdal_nodata: float | None) -> float |
                 continue
             sample_type = str(image.get("SAMPLE_TYPE", "")).upper()
             # A REAL image's MISSING_CONSTANT is usually a based integer holding the
-            # float's bit pattern (16#FF7FFFFB#); pvl hands it over as a large int.
+            # float's bit pattern (16#FF7FFFFB#); the reader hands it over as a large int.
             # Small integers (-32768, 0) are plain values.
             if (dtype.startswith("float") and isinstance(value, int)
                     and sample_type in _FLOAT_TYPES | {""} and 2**23 <= value < 2**32):
@@ -404,7 +405,7 @@ def _scaling(image: dict, info: dict) -> tuple[float, float]:
 
 
 def _number(value: Any) -> int | float | None:
-    value = getattr(value, "value", value)  # pvl Quantity
+    value = getattr(value, "value", value)  # a Quantity (a value with a unit)
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         return None
     if isinstance(value, float) and not math.isfinite(value):

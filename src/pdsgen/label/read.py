@@ -12,7 +12,7 @@ import re
 from pathlib import Path
 
 from .parser import parse_label
-from .tree import Label
+from .tree import Issue, Label
 
 # END (any case: ODL keywords are) alone on its line, maybe with ';' and a comment after it,
 # or followed directly by binary data with no line end (ISIS and several pipelines write it
@@ -73,3 +73,15 @@ def read_pds3_label(path: str | os.PathLike[str], limit: int = 4 << 20) -> Label
     except OSError:
         return None
     return parse_label(head.decode("latin-1"))
+
+
+# The reader's rule ids for OBJECT/GROUP blocks that do not close (or close another block).
+_STRUCTURE_RULES = ("SYNTAX-005",)
+
+
+def structure_problem(label: Label) -> Issue | None:
+    """The first problem that leaves the label's structure unknown (an OBJECT or GROUP that
+    does not close, or closes another), or None. A reader of a label's values refuses such
+    a label rather than guess which block a keyword is in; a statement the reader could not
+    take (a symbol spanning lines, as some ISIS labels have) is only left out."""
+    return next((issue for issue in label.issues if issue.rule in _STRUCTURE_RULES), None)
