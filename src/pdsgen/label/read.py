@@ -35,6 +35,16 @@ def end_of_label(data: bytes) -> int | None:
     return found.end() if found is not None else None
 
 
+def label_length(data: bytes) -> int | None:
+    """The length of the label `data` starts with: up to and including END's line end, or None."""
+    end = end_of_label(data)
+    if end is None:
+        return None
+    if data.startswith(b"\r\n", end):
+        return end + 2
+    return end + 1 if data.startswith((b"\n", b"\r"), end) else end
+
+
 def is_pds3_head(head: bytes) -> bool:
     """True when a file's first bytes are those of a PDS3 label."""
     return head.lstrip().upper().startswith(PDS3_STARTS)

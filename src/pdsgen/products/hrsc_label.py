@@ -20,7 +20,7 @@ from ..formats.img import BandStatistics
 from ..geo.geometry import MapGeometry
 from ..label.mapping import label_mapping
 from ..label.parser import parse_label
-from ..label.read import read_label_head, structure_problem
+from ..label.read import label_length, read_label_head, structure_problem
 from ..label.values import Quantity, Symbol
 from ..missions import hrsc as hrsc_mission
 
@@ -235,5 +235,7 @@ def with_header(render: Callable[[HeaderedRecords], str], header: bytes, record_
 
 def pds_label_part(text: str) -> str:
     """The PDS3 label of a file's leading text (everything up to and including END)."""
-    end = text.index("\r\nEND\r\n") + len("\r\nEND\r\n")
+    end = label_length(text.encode("latin-1", errors="replace"))  # one byte per character
+    if end is None:
+        raise ValueError("the text holds no END line")
     return text[:end]

@@ -1,6 +1,6 @@
-"""What a reviewer checks in a PDS3 label, read with the validator's label reader.
+"""What a reviewer checks in a PDS3 label, read with the label reader (pdsgen.label).
 
-The label tree is the validator's (`validate.model.Block`, read up to END by
+The label tree is the reader's (`label.tree.Block`, read up to END by
 `deliver.scan.read_pds3_label`); the functions that need a label as a mapping
 (the Extras' label georeferencing and kind decision) get a read-only view of the
 same tree, so no second reader or grammar is involved.

@@ -8,8 +8,9 @@ with the files - so they run once per delivery (the runner hook `DeliveryChecks`
 their findings are reported beside each file's own.
 
 They read everything with their own code: the index through the columns INDEX.LBL
-declares (never the writer's layout), labels with the validator's lexer and lxml, CSV
-inventories with the csv module, and MD5s streamed here. Only names come from layout.
+declares (never the writer's layout), PDS3 labels with the label reader (pdsgen.label),
+PDS4 labels with lxml, CSV inventories with the csv module, and MD5s streamed by
+formats/checksum.py (hashlib's MD5, read in blocks). Only names come from layout.
 """
 
 from __future__ import annotations
