@@ -280,9 +280,9 @@ def test_a_rule_family_registered_at_run_time_is_listed_configured_and_run(tmp_p
 
 # -- one home each (issue 34): the label reader's END rule, file checksums, the file beside a label --
 
-# The label reader: label/read.py holds the END rule (a pattern on bytes), label/parser.py and
-# label/lexer.py read END as a token. Nowhere else may a pattern look for a label's END.
-LABEL_READER = {"label/read.py", "label/parser.py", "label/lexer.py"}
+# The label reader, label/parser.py, reads END as a token and holds the END rule (a pattern on
+# bytes) every reader of a label file stops at. Nowhere else may a pattern look for a label's END.
+LABEL_READER = {"label/parser.py"}
 _END_PATTERN = re.compile(r"(?:\\n|\\r|\n|\r|\^|\*|\\s|\])[ \t]*END(?![A-Za-z_])"
                           r"|(?<![A-Za-z_])END(?:\\r|\\n|\r|\n|\[|\\s|\$|\\b)")
 _SEARCHES = {"compile", "search", "match", "fullmatch", "finditer", "findall", "index", "rindex", "find",
@@ -397,8 +397,8 @@ def test_one_case_aware_look_up_of_a_file_beside_a_label():
 def test_the_validator_reads_labels_with_the_label_reader():
     """The parser is not in a lexer module, and validate/ has no reader of its own."""
     assert not (VALIDATE / "lexer.py").exists()
-    from pdsgen.label import lexer, parser, tree
+    from pdsgen.label import parser, tree
     from pdsgen.validate import context
 
     assert context.parse_label is parser.parse_label and context.Block is tree.Block
-    assert not hasattr(lexer, "parse_label") and hasattr(parser, "parse_label")
+    assert not list((SRC / "label").glob("lexer.py"))

@@ -34,8 +34,8 @@ from ..geo.label_georef import LabelGeorefError, label_georeferencing
 from ..label.beside import find_beside
 from ..label.grammar import FLOAT_SAMPLE_TYPES
 from ..label.mapping import label_mapping
-from ..label.parser import parse_label
-from ..label.read import end_of_label, structure_problem
+from ..label.parser import end_of_label, parse_label
+from ..label.read import structure_problem
 from ..missions import LabelFacts, detect_mission
 from .heights import HeightReference, height_reference, mission_datum, radius_offset_m
 from .kind import DTM, KINDS, LENGTH_UNITS, ORTHO, KindDecision, decide_kind

@@ -1,3 +1,3 @@
-"""PDS3 labels both ways, on one grammar (grammar.py): reading (lexer.py, parser.py -> tree.py;
-read.py: the END rule and a file's label head; beside.py: files a label names) and writing
-(values.py, layout.py, render.py)."""
+"""PDS3 labels both ways, on one grammar (grammar.py): reading (parser.py: text -> tree.py, and
+the END rule; read.py: a label file whole; beside.py: files a label names; mapping.py: the
+tree as plain values) and writing (values.py, layout.py, render.py)."""

@@ -19,8 +19,8 @@ from ..errors import InputError, ParamsError, param
 from ..formats.img import BandStatistics
 from ..geo.geometry import MapGeometry
 from ..label.mapping import label_mapping
-from ..label.parser import parse_label
-from ..label.read import label_length, read_label_head, structure_problem
+from ..label.parser import label_length, parse_label, read_label_head
+from ..label.read import structure_problem
 from ..label.values import Quantity, Symbol
 from ..missions import hrsc as hrsc_mission
 

@@ -10,13 +10,14 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from ..label.beside import DirectoryNames, directory_listing, resolve_beside
-from ..label.parser import parse_label
-from ..label.read import read_label_head
+from ..label.parser import parse_label, read_label_head
 from ..label.tree import Block, Label, Statement, Value
 from .dictionary import load as load_dictionary
+
+if TYPE_CHECKING:
+    from ..label.beside import DirectoryNames
 
 _FIRST_READ = 256 * 1024
 _MAX_LABEL = 16 * 1024 * 1024
@@ -202,10 +203,14 @@ class FileContext:
     @property
     def listing(self) -> DirectoryNames:
         """Names in the label's directory (listed once for all the labels in it, for case checks)."""
+        from ..label.beside import directory_listing  # a product's own label check lists nothing
+
         return directory_listing(self.path.parent)
 
     def resolve(self, file_name: str) -> tuple[Path | None, Path | None]:
         """(exact path, path differing only in case) of a file named in the label."""
+        from ..label.beside import resolve_beside
+
         return resolve_beside(self.path.parent, self.listing, file_name)
 
     def target_size(self, ptr: Pointer) -> int | None:

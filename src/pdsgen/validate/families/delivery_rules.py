@@ -24,8 +24,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ...deliver import layout
-from ...formats.checksum import file_md5
-from ...label.read import read_pds3_label
 from ...label.tree import Block
 from ...pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
 from ..model import Finding
@@ -54,6 +52,8 @@ class _Found:
 
 def _read_pds3(path: Path) -> Block | None:
     """A PDS3 label's tree, reading no further than its END line; None when it is no PDS3 label."""
+    from ...label.read import read_pds3_label  # start-up: loaded only when a delivery is checked
+
     label = read_pds3_label(path)
     return label.root if label is not None else None
 
@@ -433,6 +433,8 @@ def _check_inventory(root: Path, collection: _Pds4Label, labels: list[_Pds4Label
 # --- the manifest -------------------------------------------------------------------------------
 
 def _check_manifest(root: Path, labels_only: bool, found: list[_Found]) -> None:
+    from ...formats.checksum import file_md5  # start-up: loaded only when a delivery is checked
+
     manifest = root / layout.MANIFEST
     if not manifest.is_file():
         return

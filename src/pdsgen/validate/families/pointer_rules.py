@@ -10,7 +10,6 @@ from __future__ import annotations
 from collections.abc import Iterator
 from pathlib import Path
 
-from ...label.beside import find_beside
 from ...label.parser import parse_label
 from ...label.tree import Label
 from ..context import FileContext, Pointer
@@ -334,6 +333,8 @@ def _include_targets(label: Label) -> list[tuple[str, int]]:
 def check_include_loops(ctx: FileContext) -> Iterator[Hit]:
     """^STRUCTURE includes must not lead back to a file already being included."""
     def resolve(directory: Path, name: str) -> Path | None:
+        from ...label.beside import find_beside  # start-up: loaded only for a label with includes
+
         found = find_beside(directory, name)
         return found.resolve() if found is not None else None
 
