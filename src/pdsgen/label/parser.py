@@ -21,6 +21,7 @@ from __future__ import annotations
 import os
 import re
 from itertools import accumulate, repeat
+from typing import BinaryIO
 
 from .grammar import IDENTIFIER_PATTERN
 from .tree import Block, Issue, Label, Line, Statement, Value
@@ -866,17 +867,22 @@ def read_label_head(path: str | os.PathLike[str], first: int = 65536, step: int 
     read): `first` bytes, then `step` more at a time until END or `limit` bytes. The data
     after an attached label is read no further. OSError when the file cannot be read."""
     with open(path, "rb") as stream:
-        data = stream.read(first)
-        if len(data) < first or has_end(data):  # the whole file, or its label, read
-            return data
-        blocks = [data]
-        size = len(data)
-        while size < limit:
-            block = stream.read(min(step, limit - size))
-            if not block:
-                break
-            blocks.append(block)
-            size += len(block)
-            if has_end(blocks[-2] + block):  # END may straddle two blocks
-                break
+        return read_on_to_end(stream, stream.read(first), first, step, limit)
+
+
+def read_on_to_end(stream: BinaryIO, data: bytes, first: int = 65536, step: int = 65536,
+                   limit: int = 4 << 20) -> bytes:
+    """`data` (the first `first` bytes read from `stream`) and what follows, as read_label_head."""
+    if len(data) < first or has_end(data):  # the whole file, or its label, read
+        return data
+    blocks = [data]
+    size = len(data)
+    while size < limit:
+        block = stream.read(min(step, limit - size))
+        if not block:
+            break
+        blocks.append(block)
+        size += len(block)
+        if has_end(blocks[-2] + block):  # END may straddle two blocks
+            break
     return b"".join(blocks)

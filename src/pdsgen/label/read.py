@@ -9,13 +9,13 @@ label is and where it ends.
 from __future__ import annotations
 
 import os
-from pathlib import Path
 
-from .parser import parse_label, read_label_head
+from .parser import parse_label, read_on_to_end
 from .tree import Issue, Label
 
 # What a PDS3 label file starts with: its first keyword, or the SFDU label that wraps it.
 PDS3_STARTS = (b"PDS_VERSION_ID", b"CCSD3")
+_FIRST = 65536  # bytes read at a time
 
 
 def is_pds3_head(head: bytes) -> bool:
@@ -27,10 +27,11 @@ def read_pds3_label(path: str | os.PathLike[str], limit: int = 4 << 20) -> Label
     """The label of a PDS3 file (attached or detached), read up to its END line; None when
     the file is no PDS3 label or cannot be read."""
     try:
-        with open(path, "rb") as stream:
-            if not is_pds3_head(stream.read(64)):
+        with open(path, "rb") as stream:  # one open: most labels are read in their first block
+            data = stream.read(_FIRST)
+            if not is_pds3_head(data[:64]):
                 return None
-        head = read_label_head(Path(path), limit=limit)
+            head = read_on_to_end(stream, data, _FIRST, _FIRST, limit)
     except OSError:
         return None
     return parse_label(head.decode("latin-1"))
