@@ -4,6 +4,7 @@ and a new mission is one registration (README "Adding a mission")."""
 from __future__ import annotations
 
 import ast
+import re
 import sys
 from pathlib import Path
 
@@ -715,3 +716,127 @@ def test_the_folded_transverse_mercator_note_has_one_wording():
         assert not any("false northing" in s for s in strings), relative
     note = "\r\n".join(grid_note(0.9996, 500000.0, 10000000.0))
     assert transverse_mercator_grid(note) == TransverseMercatorGrid(0.9996, 500000.0, 10000000.0)
+# -- one home each (issue 34): the label reader's END rule, file checksums, the file beside a label --
+
+# The label reader, label/parser.py, reads END as a token and holds the END rule (a pattern on
+# bytes) every reader of a label file stops at. Nowhere else may a pattern look for a label's END.
+LABEL_READER = {"label/parser.py"}
+_END_PATTERN = re.compile(r"(?:\\n|\\r|\n|\r|\^|\*|\\s|\])[ \t]*END(?![A-Za-z_])"
+                          r"|(?<![A-Za-z_])END(?:\\r|\\n|\r|\n|\[|\\s|\$|\\b)")
+_SEARCHES = {"compile", "search", "match", "fullmatch", "finditer", "findall", "index", "rindex", "find",
+             "rfind", "split", "rsplit", "partition", "rpartition", "count", "startswith", "endswith"}
+
+
+def _texts_searched_for(tree: ast.AST) -> list[tuple[int, str]]:
+    """String and bytes literals a module looks for: patterns compiled or searched with, texts
+    found, split on or tested with `in`."""
+    found: list[ast.expr] = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Call) and isinstance(node.func, (ast.Attribute, ast.Name)):
+            name = node.func.attr if isinstance(node.func, ast.Attribute) else node.func.id
+            if name in _SEARCHES:
+                found += node.args
+        elif isinstance(node, ast.Compare) and any(isinstance(op, (ast.In, ast.NotIn)) for op in node.ops):
+            found.append(node.left)
+    texts = []
+    for expr in found:
+        for node in ast.walk(expr):
+            if isinstance(node, ast.Constant) and isinstance(node.value, (str, bytes)):
+                value = node.value.decode("latin-1") if isinstance(node.value, bytes) else node.value
+                texts.append((node.lineno, value))
+    return texts
+
+
+def test_one_end_rule_in_the_label_reader():
+    """Four END patterns once disagreed on `END;` and a trailing comment (issue 34)."""
+    offenders = []
+    for path in sorted(SRC.rglob("*.py")):
+        relative = path.relative_to(SRC).as_posix()
+        if relative in LABEL_READER:
+            continue
+        for line, text in _texts_searched_for(ast.parse(path.read_text())):
+            if _END_PATTERN.search(text):
+                offenders.append(f"{relative}:{line}")
+    assert offenders == []
+    old_patterns = ('_END = re.compile(rb"(?:^|\\n)[ \\t]*END[ \\t]*\\r?(?:\\n|$)")\n'
+                    'end = text.index("\\r\\nEND\\r\\n")\n')
+    assert [line for line, _ in _texts_searched_for(ast.parse(old_patterns))] == [1, 2]
+    assert not _END_PATTERN.search("END_OBJECT") and not _END_PATTERN.search("ENDING_LONGITUDE")
+
+
+# review/page.py hashes inline script text for the page's Content-Security-Policy: not a file checksum.
+CHECKSUM_HOME = "formats/checksum.py"
+HASHLIB_ELSEWHERE = {"review/page.py"}
+
+
+def _hashing(tree: ast.AST) -> list[int]:
+    """Lines where a module imports hashlib or calls one of its digests."""
+    lines = []
+    for node in ast.walk(tree):
+        imported = ([alias.name for alias in node.names] if isinstance(node, ast.Import)
+                    else [node.module or ""] if isinstance(node, ast.ImportFrom) else [])
+        if "hashlib" in imported or (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name)
+                                     and node.value.id == "hashlib"):
+            lines.append(node.lineno)
+    return lines
+
+
+def test_file_checksums_have_one_home():
+    """MD5 was computed in six places (issue 34); formats/checksum.py streams every file digest."""
+    offenders = [f"{path.relative_to(SRC).as_posix()}:{line}" for path in sorted(SRC.rglob("*.py"))
+                 if path.relative_to(SRC).as_posix() not in {CHECKSUM_HOME, *HASHLIB_ELSEWHERE}
+                 for line in _hashing(ast.parse(path.read_text()))]
+    assert offenders == []
+    assert _hashing(ast.parse("import hashlib\ndigest = hashlib.md5(data).hexdigest()")) == [1, 2]
+
+
+# label/beside.py lists a directory once while it is unchanged and tells an exact name from a
+# name differing only in case. No other module lists a directory to match names ignoring case.
+BESIDE_HOME = "label/beside.py"
+_LISTINGS = {"iterdir", "listdir", "scandir", "glob", "rglob"}
+_FOLDS = {"lower", "upper", "casefold"}
+
+
+def _case_folding_lookups(tree: ast.AST) -> list[int]:
+    """Lines where a function that lists a directory compares names ignoring case, or where the
+    listing's own folded index is built or asked."""
+    lines = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Call) and isinstance(node.func, (ast.Name, ast.Attribute)):
+            name = node.func.attr if isinstance(node.func, ast.Attribute) else node.func.id
+            if name in ("DirectoryNames", "same_but_case"):
+                lines.append(node.lineno)
+    for function in ast.walk(tree):
+        if not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            continue
+        calls = {node.func.attr for node in ast.walk(function)
+                 if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)}
+        if not calls & _LISTINGS:
+            continue
+        lines += [node.lineno for node in ast.walk(function) if isinstance(node, ast.Compare) and any(
+            isinstance(side, ast.Call) and isinstance(side.func, ast.Attribute) and side.func.attr in _FOLDS
+            for side in (node.left, *node.comparators))]
+    return lines
+
+
+def test_one_case_aware_look_up_of_a_file_beside_a_label():
+    """Three look-ups once differed (issue 34); label/beside.py keeps the per-run cached listing."""
+    offenders = [f"{path.relative_to(SRC).as_posix()}:{line}" for path in sorted(SRC.rglob("*.py"))
+                 if path.relative_to(SRC).as_posix() != BESIDE_HOME
+                 for line in _case_folding_lookups(ast.parse(path.read_text()))]
+    assert offenders == []
+    old_extras_look_up = ("def sibling(label, name):\n"
+                          "    for candidate in label.parent.iterdir():\n"
+                          "        if candidate.name.lower() == name.lower():\n"
+                          "            return candidate\n")
+    assert _case_folding_lookups(ast.parse(old_extras_look_up)) == [3]
+
+
+def test_the_validator_reads_labels_with_the_label_reader():
+    """The parser is not in a lexer module, and validate/ has no reader of its own."""
+    assert not (VALIDATE / "lexer.py").exists()
+    from pdsgen.label import parser, tree
+    from pdsgen.validate import context
+
+    assert context.parse_label is parser.parse_label and context.Block is tree.Block
+    assert not list((SRC / "label").glob("lexer.py"))

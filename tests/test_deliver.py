@@ -551,7 +551,7 @@ def test_a_pointer_to_several_files_brings_every_one_into_the_delivery(tmp_path)
     """^ASCII_DOCUMENT = {"NFREDR4.H", "NFREDR41.C"} (a Galileo Probe software label): both files
     belong to the product, as the validator reads the pointer."""
     from pdsgen.deliver.scan import pointed_files
-    from pdsgen.validate.lexer import parse_label
+    from pdsgen.label.parser import parse_label
 
     text = ('PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = STREAM\r\n^ASCII_DOCUMENT = {"NFREDR4.H", "NFREDR41.C"}\r\n'
             '^TABLE = ("NFR.TAB", 2)\r\nEND\r\n')

@@ -218,11 +218,11 @@ def test_a_cached_schema_is_hashed_once_per_run_not_once_per_label(product, serv
         copies[-1].write_bytes(label.read_bytes())
     cache = tmp_path / "cache"
     assert validate_paths([label], schema_cache=cache, download_schemas=True).exit_code == 0
-    from pdsgen.pds4 import catalog
+    from pdsgen.formats import checksum
 
     hashed = []
-    real = catalog.hashlib.sha256
-    monkeypatch.setattr(catalog.hashlib, "sha256", lambda data=b"": hashed.append(len(data)) or real(data))
+    real = checksum.hashlib.sha256
+    monkeypatch.setattr(checksum.hashlib, "sha256", lambda data=b"": hashed.append(len(data)) or real(data))
     report = validate_paths(copies, schema_cache=cache, download_schemas=False)
     assert len(report.files) == 3 and "PDS4-002" not in report.rule_ids()  # found in the cache, for each
     assert len(hashed) == 1

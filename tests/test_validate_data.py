@@ -68,7 +68,7 @@ def test_special_value_outside_the_bit_mask(tmp_path):
 
 
 def _image_block(storage: str, prefix: int = 0, suffix: int = 0):
-    from pdsgen.validate.lexer import parse_label
+    from pdsgen.label.parser import parse_label
 
     text = (f"PDS_VERSION_ID = PDS3\nOBJECT = IMAGE\nLINES = 5\nLINE_SAMPLES = 7\nBANDS = 3\n"
             f"SAMPLE_TYPE = MSB_INTEGER\nSAMPLE_BITS = 16\nBAND_STORAGE_TYPE = {storage}\n"

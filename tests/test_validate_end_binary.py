@@ -11,8 +11,8 @@ from __future__ import annotations
 import pytest
 
 from pdsgen.errors import PdsgenError
+from pdsgen.label.parser import parse_label
 from pdsgen.validate import validate_paths
-from pdsgen.validate.lexer import parse_label
 
 DATA = (b"\xf8\x0b(\x0bQ" * 40)[:128]  # 2 lines x 64 samples, 8-bit
 WORDLIKE_DATA = (b"Q\xf8\x0b(\x0b" * 40)[:128]  # the first data byte is itself a letter

@@ -8,8 +8,8 @@ from pathlib import Path
 import pvl
 import pytest
 
+from pdsgen.label.parser import parse_label, sfdu_problem
 from pdsgen.validate import validate_paths
-from pdsgen.validate.lexer import parse_label, sfdu_problem
 
 GENUINE = Path(__file__).parent / "data" / "genuine_pds3"
 BODY = "PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = STREAM\r\nEND\r\n"

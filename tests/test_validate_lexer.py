@@ -6,7 +6,7 @@ from __future__ import annotations
 import pvl
 import pytest
 
-from pdsgen.validate.lexer import date_problem, parse_label
+from pdsgen.label.parser import date_problem, parse_label
 
 TOLERATED = (
     "PDS_VERSION_ID = PDS3\n"  # LF-only line ends

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from pdsgen.validate.lexer import parse_label
+from pdsgen.label.parser import parse_label
 
 
 def _issues(text: str) -> set[tuple[str, int | None]]:

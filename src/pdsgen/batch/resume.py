@@ -17,13 +17,13 @@ overwrite of somebody else's file.
 
 from __future__ import annotations
 
-import hashlib
 import json
 import os
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
+from ..formats.checksum import bytes_sha256
 from ..storage import files
 
 STATE_DIR = ".pdsgen-batch"
@@ -33,7 +33,7 @@ MARKER_FORMAT = "pdsgen batch marker 1"
 def options_hash(kind: str, params: Mapping[str, Any], version: str) -> str:
     """Hash of what a job is asked to make: its kind, parameters and pdsgen's version."""
     text = json.dumps({"kind": kind, "params": params, "version": version}, sort_keys=True, default=str)
-    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+    return bytes_sha256(text.encode("utf-8"))
 
 
 def marker_path(outdir: Path, job_id: str) -> Path:

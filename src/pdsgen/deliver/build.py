@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import datetime
 import functools
-import hashlib
 import logging
 import os
 import re
@@ -22,8 +21,9 @@ from pathlib import Path
 
 from ..dialect import DIALECT_NAMES, Dialect
 from ..errors import InputError, OutputError, PdsgenError, param
+from ..formats.checksum import bytes_md5, file_md5
+from ..label.tree import Block
 from ..progress import advance
-from ..validate.model import Block
 from . import bundle, layout
 from .index import IndexWriter
 from .scan import DataProduct, SourceSet, is_pds3_label, label_value, read_pds3_label, scan
@@ -31,7 +31,6 @@ from .volume import VolumeFacts, aareadme_text, voldesc_text
 
 log = logging.getLogger(__name__)
 
-_CHUNK = 1 << 20
 
 
 @dataclass
@@ -54,14 +53,6 @@ class Delivery:
     bundle_version: str | None = None
 
 
-def md5_of(path: Path) -> str:
-    digest = hashlib.md5()
-    with open(path, "rb") as stream:
-        while chunk := stream.read(_CHUNK):
-            digest.update(chunk)
-    return digest.hexdigest()
-
-
 class _Tree:
     """The work directory being filled, with the MD5 of every file placed in it."""
 
@@ -81,7 +72,7 @@ class _Tree:
             os.link(source, target)
         except OSError:
             shutil.copy2(source, target)
-        self.md5[relative] = md5_of(target)
+        self.md5[relative] = file_md5(target)
         return self.md5[relative]
 
     def write(self, relative: str, data: str | bytes) -> bundle.FileFacts:
@@ -91,7 +82,7 @@ class _Tree:
         target.parent.mkdir(parents=True, exist_ok=True)
         raw = data.encode("utf-8") if isinstance(data, str) else data
         target.write_bytes(raw)
-        self.md5[relative] = hashlib.md5(raw).hexdigest()
+        self.md5[relative] = bytes_md5(raw)
         return bundle.FileFacts(target.name, len(raw), self.md5[relative])
 
     def facts(self, relative: str) -> bundle.FileFacts:
@@ -386,7 +377,7 @@ def _write_volume(tree: _Tree, previous: _Previous, index: _IndexRows, today: st
     (tree.root / layout.INDEX_DIR).mkdir(exist_ok=True)
     log.info("%s/%s: %d row(s)", layout.INDEX_DIR, layout.INDEX_TABLE, writer.rows)
     for path in writer.write(tree.root / layout.INDEX_DIR):
-        tree.md5[path.relative_to(tree.root).as_posix()] = md5_of(path)
+        tree.md5[path.relative_to(tree.root).as_posix()] = file_md5(path)
     version = previous.volume_version() or 1
     if previous.exists and _volume_changed(tree, previous):
         version += 1
@@ -559,7 +550,7 @@ def _write_manifest(tree: _Tree) -> int:
     lines = []
     for path in _files(tree.root):
         relative = path.relative_to(tree.root).as_posix()
-        lines.append(f"{tree.md5.get(relative) or md5_of(path)}  {relative}\n")
+        lines.append(f"{tree.md5.get(relative) or file_md5(path)}  {relative}\n")
     (tree.root / layout.MANIFEST).write_text("".join(lines), encoding="utf-8")
     log.info("%s: MD5 of %d file(s)", layout.MANIFEST, len(lines))
     return len(lines) + 1

@@ -21,15 +21,15 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..formats.sniff import file_head
+from ..label.beside import DirectoryNames, directory_listing, resolve_beside
+from ..label.read import is_pds3_head
+from ..label.read import read_pds3_label as read_label
+from ..label.tree import Block
 from ..missions.imars import is_metadata_name as is_imars_metadata
 from ..pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
-from ..validate.context import DirectoryNames, directory_listing, parse_pointer, resolve_beside
-from ..validate.lexer import parse_label
-from ..validate.model import Block
+from ..validate.context import parse_pointer
 from . import layout
 
-_END = re.compile(rb"(?:^|\n)[ \t]*END[ \t]*\r?(?:\n|$)")
-_LABEL_LIMIT = 4 << 20
 _PRODUCT_CLASS = re.compile(rb"<product_class>\s*(Product_\w+)\s*</product_class>")
 _FILE_NAME = re.compile(r"<file_name>\s*([^<]+?)\s*</file_name>")
 _MADE_CLASSES = {b"Product_Bundle", b"Product_Collection", b"Product_Browse", b"Product_Document"}
@@ -42,21 +42,8 @@ KEPT_KEYWORDS = tuple(name for name, _, _ in layout.INDEX_COLUMNS[2:]) + ("PRODU
 def read_pds3_label(path: Path) -> Block | None:
     """The label tree of a PDS3 label file (attached or detached), read up to its END line
     (the data after an attached label is never read); None when it is no PDS3 label."""
-    head = file_head(path, 64) or b""
-    if not head.lstrip().upper().startswith((b"PDS_VERSION_ID", b"CCSD3")):
-        return None
-    chunks: list[bytes] = []
-    with open(path, "rb") as stream:
-        size = 0
-        while size < _LABEL_LIMIT:
-            chunk = stream.read(65536)
-            if not chunk:
-                break
-            chunks.append(chunk)
-            size += len(chunk)
-            if _END.search(b"".join(chunks[-2:])):
-                break
-    return parse_label(b"".join(chunks).decode("latin-1")).root
+    label = read_label(path)
+    return label.root if label is not None else None
 
 
 def label_value(root: Block, keyword: str) -> str | None:
@@ -219,8 +206,7 @@ def scan(source: Path, on_pds3: LabelValues | None = None) -> SourceSet:
 
 def is_pds3_label(path: Path) -> bool:
     """A file that begins as a PDS3 label does (PDS_VERSION_ID, or an SFDU wrapper)."""
-    head = file_head(path, 64) or b""
-    return head.lstrip().upper().startswith((b"PDS_VERSION_ID", b"CCSD3"))
+    return is_pds3_head(file_head(path, 64) or b"")
 
 
 @dataclass

@@ -3,7 +3,7 @@
 A product reaches us as a PDS3 `.IMG` with an attached label, a detached `.LBL`
 pointing at an `.IMG` or a `.JP2`, a bare `.JP2`/`.IMG` whose label sits beside it,
 or a GeoTIFF. GDAL (through rasterio) reads the pixels and the georeferencing of all
-of them; the label, when there is one, is read with pvl because it says things GDAL
+of them; the label, when there is one, is read (pdsgen.label) because it says things GDAL
 does not pass on reliably: the product ID, which DN means "no data" (MISSING_CONSTANT
 as a float bit pattern, CORE_NULL for a JP2 that carries no nodata of its own), the
 DN-to-physical mapping, VALID_MINIMUM/MAXIMUM, and whether the product is a DTM.
@@ -24,7 +24,6 @@ from typing import Any
 from xml.sax.saxutils import escape
 
 import numpy as np
-import pvl
 import rasterio
 from rasterio.enums import Resampling
 from rasterio.errors import NotGeoreferencedWarning, RasterioError
@@ -32,7 +31,11 @@ from rasterio.transform import Affine
 
 from ..errors import PdsgenError, param
 from ..geo.label_georef import LabelGeorefError, label_georeferencing
+from ..label.beside import find_beside
 from ..label.grammar import FLOAT_SAMPLE_TYPES
+from ..label.mapping import label_mapping
+from ..label.parser import end_of_label, parse_label
+from ..label.read import structure_problem
 from ..missions import LabelFacts, detect_mission
 from .heights import HeightReference, height_reference, mission_datum, radius_offset_m
 from .kind import DTM, KINDS, LENGTH_UNITS, ORTHO, KindDecision, decide_kind
@@ -48,9 +51,6 @@ __all__ = ["DTM", "ORTHO", "KINDS", "ProductSource", "open_product", "quiet_gdal
 GDAL_ENV = {"GDAL_CACHEMAX": 16, "GDAL_PAM_ENABLED": "NO", "GDAL_NUM_THREADS": "1"}
 
 _LABEL_SCAN_BYTES = 4 * 1024 * 1024
-# END (any case: ODL is case-insensitive) alone on its line, or followed directly by the
-# binary data with no line end (ISIS and several pipelines write it so)
-_END_LINE = re.compile(rb"(?im)^[ \t]*END[ \t]*(?:\r?$|(?=[^\x20-\x7e\r\n]))")
 _FLOAT_TYPES = FLOAT_SAMPLE_TYPES
 # GDAL metadata items that describe a raster's content (searched for height words).
 _DESCRIPTIVE_TAGS = ("DESCRIPTION", "TIFFTAG_IMAGEDESCRIPTION", "PRODUCT_ID", "PRODUCT_TYPE")
@@ -251,9 +251,9 @@ def _find_label(path: Path) -> tuple[Path | None, dict]:
     if head.lstrip().upper().startswith((b"PDS_VERSION_ID", b"ODL_VERSION_ID")):
         return path, _parse_label(path, head)
     if path.suffix.lower() in (".img", ".jp2"):
-        for sibling in path.parent.iterdir():
-            if sibling.stem.lower() == path.stem.lower() and sibling.suffix.lower() == ".lbl":
-                return sibling, _parse_label(sibling, _read_head(sibling))
+        sibling = find_beside(path.parent, f"{path.stem}.lbl")
+        if sibling is not None:
+            return sibling, _parse_label(sibling, _read_head(sibling))
     return None, {}
 
 
@@ -266,12 +266,12 @@ def _read_head(path: Path) -> bytes:
 
 
 def _parse_label(path: Path, head: bytes) -> dict:
-    end = _END_LINE.search(head)
-    text = head[: end.end()] if end else head
-    try:
-        return pvl.loads(text.decode("latin-1"))
-    except Exception as exc:  # pvl raises several types for broken labels
-        raise PdsgenError(path, f"label cannot be parsed ({exc})") from None
+    end = end_of_label(head)
+    label = parse_label((head[:end] if end is not None else head).decode("latin-1"))
+    broken = structure_problem(label)
+    if broken is not None:
+        raise PdsgenError(path, f"label cannot be parsed (line {broken.line}: {broken.message})")
+    return label_mapping(label)
 
 
 def _raster_path(path: Path, label_path: Path | None, label: dict) -> Path:
@@ -288,9 +288,9 @@ def _raster_path(path: Path, label_path: Path | None, label: dict) -> Path:
 
 def _sibling(label_path: Path, name: str) -> Path:
     """A file the label names, found case-insensitively (archives mix cases)."""
-    for candidate in label_path.parent.iterdir():
-        if candidate.name.lower() == name.lower():
-            return candidate
+    found = find_beside(label_path.parent, name)
+    if found is not None:
+        return found
     raise PdsgenError(label_path, f"the file it names, {name!r}, is missing")
 
 
@@ -381,7 +381,7 @@ def _label_nodata(image: dict, dtype: str, gdal_nodata: float | None) -> float |
                 continue
             sample_type = str(image.get("SAMPLE_TYPE", "")).upper()
             # A REAL image's MISSING_CONSTANT is usually a based integer holding the
-            # float's bit pattern (16#FF7FFFFB#); pvl hands it over as a large int.
+            # float's bit pattern (16#FF7FFFFB#); the reader hands it over as a large int.
             # Small integers (-32768, 0) are plain values.
             if (dtype.startswith("float") and isinstance(value, int)
                     and sample_type in _FLOAT_TYPES | {""} and 2**23 <= value < 2**32):
@@ -405,7 +405,7 @@ def _scaling(image: dict, info: dict) -> tuple[float, float]:
 
 
 def _number(value: Any) -> int | float | None:
-    value = getattr(value, "value", value)  # pvl Quantity
+    value = getattr(value, "value", value)  # a Quantity (a value with a unit)
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         return None
     if isinstance(value, float) and not math.isfinite(value):

@@ -20,10 +20,10 @@ from ..errors import PdsgenError
 from ..geo.conventions import FULL_TURN, east_positive, wrap_360
 from ..geo.geometry import describe_geometry
 from ..geo.label_georef import PROJECTION_OBJECTS, LabelGeorefError, label_georeferencing
+from ..label.tree import Block, Value
 from ..pds4.label import Cartography, cartography
 from ..validate.context import FileContext
 from ..validate.families.map_rules import offset_convention_shift
-from ..validate.model import Block, Value
 from .objects import Refused
 
 

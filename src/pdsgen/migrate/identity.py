@@ -14,10 +14,10 @@ from datetime import datetime, timedelta
 from .. import __version__
 from ..errors import ParamsError, param
 from ..label.grammar import PLACEHOLDERS
+from ..label.tree import Block
 from ..missions import ContextReference, LabelFacts, detect_mission, get_mission
 from ..pds4.context import TARGETS, source_products
 from ..pds4.context_registry import is_registered
-from ..validate.model import Block
 from .mapping import PROCESSING_LEVELS
 
 _LID_PART = re.compile(r"[^a-z0-9._-]+")

@@ -14,11 +14,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import InputError
+from ..label.beside import find_beside
 from ..label.grammar import FLOAT_SAMPLE_TYPES, PLACEHOLDERS
+from ..label.parser import parse_label
+from ..label.tree import Block, Statement, Value
 from ..pds4.model import pds4_data_type
-from ..validate.context import FileContext, Pointer, directory_listing, resolve_beside
-from ..validate.lexer import parse_label
-from ..validate.model import Block, Statement, Value
+from ..validate.context import FileContext, Pointer
 from .mapping import (
     ASCII_TABLE_TYPES,
     BAND_STORAGE_AXES,
@@ -368,8 +369,7 @@ def _structure(ctx: FileContext, stmt: Statement) -> Block:
     path = exact or other
     volume_label_dir = ctx.path.parent.parent / "LABEL"  # a volume's format files (PDS3 Standards, 19.3)
     if path is None:
-        exact, other = resolve_beside(volume_label_dir, directory_listing(volume_label_dir), name)
-        path = exact or other
+        path = find_beside(volume_label_dir, name)
     if path is None:
         raise Refused(ctx.path, f"^STRUCTURE file {name} is missing")
     text = path.read_bytes().decode("latin-1")

@@ -17,7 +17,6 @@ They are looked up, first found wins:
 
 from __future__ import annotations
 
-import hashlib
 import itertools
 import json
 import logging
@@ -33,6 +32,7 @@ from urllib.parse import unquote, urlsplit
 from lxml import etree
 
 from ..errors import PdsgenError, param
+from ..formats.checksum import file_sha256
 from ..resources import schemas_dir
 from .download import SUMS_NAME, DownloadError, fetch_schema
 from .model import SCHEMATRON_NS, XSI_NS
@@ -178,7 +178,7 @@ class SchemaCatalog:
         if self._sums is None:
             self._sums = read_sums(self.cache_dir)
         expected = self._sums.get(found.name)
-        if expected is None or hashlib.sha256(found.read_bytes()).hexdigest() == expected:
+        if expected is None or file_sha256(found) == expected:
             self._intact.add(found.name)
             return True
         log.warning("cached schema %s does not match its recorded SHA-256; not used", found)

@@ -8,13 +8,13 @@ memory, nothing read back.
 
 from __future__ import annotations
 
-import hashlib
 import math
 from dataclasses import dataclass
 from typing import BinaryIO
 
 import numpy as np
 
+from ..formats import checksum
 from ..label.values import shortest_float32
 
 _SAMPLES_PER_STEP = 1 << 20  # statistics of at most this many samples at a time (8 MB of float64)
@@ -48,7 +48,7 @@ class ContentTap:
     def __init__(self, out: BinaryIO | None, dtype: str | None = None, special: tuple[float, ...] = (),
                  start: int = 0) -> None:
         self._out = out
-        self._md5 = hashlib.md5()
+        self._md5 = checksum.md5()
         self._size = 0
         self._dtype = np.dtype(dtype) if dtype else None
         # Special constants (missing, saturation) as stored samples: excluded from the statistics.
@@ -111,12 +111,6 @@ class ContentTap:
         return FileContent(self._size, self._md5.hexdigest())
 
 
-def digest_file(path, chunk: int = 8 * 1024 * 1024) -> FileContent:  # noqa: ANN001
-    """Size and MD5 of a finished file, read in chunks (for data written before its label)."""
-    md5 = hashlib.md5()
-    size = 0
-    with open(path, "rb") as handle:
-        while block := handle.read(chunk):
-            md5.update(block)
-            size += len(block)
-    return FileContent(size, md5.hexdigest())
+def digest_file(path) -> FileContent:  # noqa: ANN001
+    """Size and MD5 of a finished file, read in blocks (for data written before its label)."""
+    return FileContent(*checksum.size_and_md5(path))

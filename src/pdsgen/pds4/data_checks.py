@@ -7,7 +7,6 @@ validator's own (numpy over the bytes), independent of the writer's.
 
 from __future__ import annotations
 
-import hashlib
 import math
 from collections.abc import Iterator
 from pathlib import Path
@@ -15,6 +14,7 @@ from pathlib import Path
 import numpy as np
 from lxml import etree
 
+from ..formats import checksum
 from ..formats.nodata import ISIS_SPECIAL_LIMIT  # ISIS special pixels: float32 values at or below NULL
 from .label_tree import P, Pds4Hits, data_path, file_areas, number
 from .model import NUMPY_TYPES
@@ -37,14 +37,13 @@ def check_data(report: Pds4Hits, tree: etree._ElementTree) -> None:
                        size_element.sourceline, "file_size")
         arrays = [a for a in _area_arrays(area) if _fits(report, a, path, size)]
         md5_element = file.find(f"{P}md5_checksum")
-        md5 = hashlib.md5()
-        with open(path, "rb") as handle:
-            position = 0
-            while block := handle.read(_READ_BYTES):
-                md5.update(block)
-                for array in arrays:
-                    array.feed(position, block)
-                position += len(block)
+        md5 = checksum.md5()
+        position = 0
+        for block in checksum.blocks(path, _READ_BYTES):
+            md5.update(block)
+            for array in arrays:
+                array.feed(position, block)
+            position += len(block)
         if md5_element is not None and md5_element.text and md5.hexdigest() != md5_element.text.strip().lower():
             report.add("PDS4-012", f"md5_checksum = {md5_element.text.strip()} but {path.name} has MD5 "
                                    f"{md5.hexdigest()}", md5_element.sourceline, "md5_checksum")

@@ -12,7 +12,6 @@ urllib is imported on the first download: most runs never fetch.
 
 from __future__ import annotations
 
-import hashlib
 import io
 import os
 from pathlib import Path
@@ -21,6 +20,7 @@ from lxml import etree
 
 from .. import __version__
 from ..errors import PdsgenError
+from ..formats.checksum import bytes_sha256
 
 SUMS_NAME = "SHA256SUMS"  # in the cache: "<sha256>  <name>  <url>" per downloaded schema
 TIMEOUT_SECONDS = 30
@@ -49,7 +49,7 @@ def fetch_schema(url: str, cache_dir: Path, name: str) -> tuple[Path, str]:
         raise DownloadError(url, f"larger than {MAX_BYTES} bytes")
     if not is_xml(data):
         raise DownloadError(url, "the response is not XML")
-    digest = hashlib.sha256(data).hexdigest()
+    digest = bytes_sha256(data)
     try:
         cache_dir.mkdir(parents=True, exist_ok=True)
         target = cache_dir / name

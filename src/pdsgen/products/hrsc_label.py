@@ -18,6 +18,9 @@ import numpy as np
 from ..errors import InputError, ParamsError, param
 from ..formats.img import BandStatistics
 from ..geo.geometry import MapGeometry
+from ..label.mapping import label_mapping
+from ..label.parser import label_length, parse_label, read_label_head
+from ..label.read import structure_problem
 from ..label.values import Quantity, Symbol
 from ..missions import hrsc as hrsc_mission
 
@@ -78,15 +81,18 @@ def carried_context(
 
 
 def _read_source_label(path: Path) -> Mapping[str, Any]:
-    import pvl  # only products made with --source-label pay for the PVL reader
-
+    """The source label's keywords, read by the label reader up to END (pvl's value shapes)."""
     if not path.is_file():
         raise InputError(path, "source label not found")
     try:
-        return pvl.load(str(path))
-    except (pvl.exceptions.ParseError, pvl.exceptions.LexerError, UnicodeDecodeError, ValueError) as exc:
-        first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        raise InputError(path, f"is not a readable PDS3 label ({first})") from None
+        label = parse_label(read_label_head(path).decode("latin-1"))
+    except OSError as exc:
+        raise InputError(path, f"cannot be read ({exc.strerror})") from None
+    broken = structure_problem(label)
+    if broken is not None or not label.root.items:
+        why = f"line {broken.line}: {broken.message}" if broken is not None else "no statements"
+        raise InputError(path, f"is not a readable PDS3 label ({why})")
+    return label_mapping(label)
 
 
 def _time_key(value: object) -> str:
@@ -96,7 +102,8 @@ def _time_key(value: object) -> str:
 
 
 def _label_value(key: str, value: Any) -> object:
-    """A value read by pvl, as pdsgen's label writer writes it (identifiers stay bare)."""
+    """A value read from a source label (label_mapping's shapes), as pdsgen's label writer writes
+    it (identifiers stay bare)."""
     if hasattr(value, "value") and hasattr(value, "units"):
         return Quantity(value.value, str(value.units))
     if isinstance(value, (list, tuple)):
@@ -228,5 +235,7 @@ def with_header(render: Callable[[HeaderedRecords], str], header: bytes, record_
 
 def pds_label_part(text: str) -> str:
     """The PDS3 label of a file's leading text (everything up to and including END)."""
-    end = text.index("\r\nEND\r\n") + len("\r\nEND\r\n")
+    end = label_length(text.encode("latin-1", errors="replace"))  # one byte per character
+    if end is None:
+        raise ValueError("the text holds no END line")
     return text[:end]

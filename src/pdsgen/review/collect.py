@@ -18,7 +18,8 @@ from urllib.parse import quote
 from ..deliver import layout
 from ..deliver.scan import DataProduct, is_preview, label_value, pointed_files, read_pds3_label
 from ..extras.renderings import DTM_RENDERINGS, ORTHO_RENDERING
-from ..validate.model import SEVERITIES, Block, Finding
+from ..label.tree import Block
+from ..validate.model import SEVERITIES, Finding
 from ..validate.report import FileReport
 from .footprint import Outline, OutlineBatch
 from .index_table import IndexTable

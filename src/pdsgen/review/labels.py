@@ -1,6 +1,6 @@
-"""What a reviewer checks in a PDS3 label, read with the validator's label reader.
+"""What a reviewer checks in a PDS3 label, read with the label reader (pdsgen.label).
 
-The label tree is the validator's (`validate.model.Block`, read up to END by
+The label tree is the reader's (`label.tree.Block`, read up to END by
 `deliver.scan.read_pds3_label`); the functions that need a label as a mapping
 (the Extras' label georeferencing and kind decision) get a read-only view of the
 same tree, so no second reader or grammar is involved.
@@ -14,8 +14,8 @@ from pathlib import Path
 from typing import Any
 
 from ..deliver.scan import label_value
+from ..label.tree import Block, Value
 from ..missions import LabelFacts, detect_mission
-from ..validate.model import Block, Value
 
 # Label keywords shown for each product, in this order: (keyword, what the page calls it).
 MAP_KEYWORDS = (

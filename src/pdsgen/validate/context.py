@@ -6,19 +6,18 @@ files are never read here (only stat'ed), so label-only validation stays fast.
 
 from __future__ import annotations
 
-import os
-import re
-import time
-from collections import OrderedDict
 from collections.abc import Iterator
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
+from ..label.parser import parse_label, read_label_head
+from ..label.tree import Block, Label, Statement, Value
 from .dictionary import load as load_dictionary
-from .lexer import parse_label
-from .model import Block, Label, Statement, Value
+
+if TYPE_CHECKING:
+    from ..label.beside import DirectoryNames
 
 _FIRST_READ = 256 * 1024
 _MAX_LABEL = 16 * 1024 * 1024
@@ -130,11 +129,7 @@ class FileContext:
 
     def _read_head(self) -> bytes:
         """The label bytes (and a little after): enough to find END in any real label."""
-        with open(self.path, "rb") as fh:
-            data = fh.read(_FIRST_READ)
-            if len(data) < self.size and not _has_end(data):
-                data += fh.read(_MAX_LABEL - len(data))
-        return data
+        return read_label_head(self.path, first=_FIRST_READ, step=_MAX_LABEL, limit=_MAX_LABEL)
 
     @property
     def dictionary(self):
@@ -208,10 +203,14 @@ class FileContext:
     @property
     def listing(self) -> DirectoryNames:
         """Names in the label's directory (listed once for all the labels in it, for case checks)."""
+        from ..label.beside import directory_listing  # a product's own label check lists nothing
+
         return directory_listing(self.path.parent)
 
     def resolve(self, file_name: str) -> tuple[Path | None, Path | None]:
         """(exact path, path differing only in case) of a file named in the label."""
+        from ..label.beside import resolve_beside
+
         return resolve_beside(self.path.parent, self.listing, file_name)
 
     def target_size(self, ptr: Pointer) -> int | None:
@@ -231,91 +230,3 @@ class FileContext:
             return None
         exact, other = self.resolve(ptr.file_name)
         return exact or other
-
-
-# END on a line of its own, or followed directly by binary data (no line end)
-_END_LINE = re.compile(rb"(?im)^[ \t]*END[ \t]*;?[ \t]*(?:/\*.*)?(?:\r?$|(?=[^\x20-\x7e\r\n]))")
-
-
-def _has_end(data: bytes) -> bool:
-    return _END_LINE.search(data) is not None
-
-
-class DirectoryNames:
-    """The names in one directory, with their case-folded index, so a look-up is one hash.
-
-    A label's look-up of the file beside it used to scan the names; with N products in a
-    directory that is N^2 comparisons, on top of N listings."""
-
-    __slots__ = ("names", "_set", "_folded")
-
-    def __init__(self, names: list[str]) -> None:
-        self.names = names
-        self._set = frozenset(names)
-        self._folded: dict[str, list[str]] = {}
-        for name in names:
-            self._folded.setdefault(name.lower(), []).append(name)
-
-    def __contains__(self, name: object) -> bool:
-        return name in self._set
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(self.names)
-
-    def __len__(self) -> int:
-        return len(self.names)
-
-    def same_but_case(self, name: str) -> list[str]:
-        """The names equal to `name` ignoring case, in listing order (`name` itself included)."""
-        return self._folded.get(name.lower(), [])
-
-
-# Listings kept per process (each --jobs worker has its own), by directory, with the
-# directory's mtime when listed: every look-up stats the directory and lists it again when a
-# name was added, removed or renamed since, so a file that appears during a run is seen as
-# when each label listed its directory. A listing made less than _SETTLE_NS after the
-# directory's last change is not trusted (a change within the same timestamp tick would
-# leave the mtime as it was) and is made again at the next look-up.
-_LISTINGS: OrderedDict[str, tuple[int, int, DirectoryNames]] = OrderedDict()
-_MAX_LISTINGS = 256
-_SETTLE_NS = 1_000_000_000
-
-
-def directory_listing(directory: Path) -> DirectoryNames:
-    """The names in `directory` (none if it cannot be read), listed once while it is unchanged."""
-    key = os.fspath(directory)
-    try:
-        mtime = os.stat(key).st_mtime_ns
-    except OSError:
-        return DirectoryNames([])
-    cached = _LISTINGS.get(key)
-    if cached is not None and cached[0] == mtime and cached[1] - mtime >= _SETTLE_NS:
-        _LISTINGS.move_to_end(key)
-        return cached[2]
-    listed_at = time.time_ns()
-    try:
-        names = DirectoryNames(os.listdir(key))
-    except OSError:
-        return DirectoryNames([])
-    _LISTINGS[key] = (mtime, listed_at, names)
-    _LISTINGS.move_to_end(key)
-    while len(_LISTINGS) > _MAX_LISTINGS:
-        _LISTINGS.popitem(last=False)
-    return names
-
-
-def resolve_beside(directory: Path, listing: DirectoryNames, file_name: str) -> tuple[Path | None, Path | None]:
-    """(exact path, path differing only in case) of a file named by a label in `directory`.
-
-    PDS file names are case-sensitive on most systems an archive is served from,
-    so a near miss in case is reported rather than silently accepted.
-    """
-    if "/" in file_name or os.sep in file_name:
-        exact = directory / file_name
-        return (exact, None) if exact.is_file() else (None, None)
-    if file_name in listing and (directory / file_name).is_file():
-        return directory / file_name, None
-    for name in listing.same_but_case(file_name):
-        if (directory / name).is_file():
-            return None, directory / name
-    return None, None

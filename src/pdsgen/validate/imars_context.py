@@ -14,11 +14,13 @@ from __future__ import annotations
 import re
 from functools import cached_property
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..formats.sniff import file_head
 from ..missions.imars import is_metadata_name
-from .context import DirectoryNames, directory_listing, resolve_beside
+
+if TYPE_CHECKING:
+    from ..label.beside import DirectoryNames
 
 _SNIFF_BYTES = 64 * 1024
 _OBJECT = re.compile(rb"(?im)^[ \t]*object[ \t]*=[ \t]*(productinfo|image)[ \t]*\r?$")
@@ -103,10 +105,14 @@ class ImarsContext:
     # -- files beside it -------------------------------------------------------------
     @property
     def listing(self) -> DirectoryNames:
+        from ..label.beside import directory_listing  # start-up: loaded only when a file is looked up
+
         return directory_listing(self.path.parent)
 
     def resolve(self, name: str) -> tuple[Path | None, Path | None]:
         """(exact path, path differing only in case) of a file beside the metadata."""
+        from ..label.beside import resolve_beside
+
         return resolve_beside(self.path.parent, self.listing, name)
 
     @property

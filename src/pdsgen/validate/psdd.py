@@ -10,8 +10,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from .lexer import parse_label
-from .model import Value
+from ..label.parser import parse_label
+from ..label.tree import Value
 
 _ELEMENT = re.compile(r"^OBJECT = ELEMENT_DEFINITION\s*$(.*?)^END_OBJECT = ELEMENT_DEFINITION", re.M | re.S)
 _OBJECT = re.compile(r"^OBJECT = (?:GENERIC|SPECIFIC)_OBJECT_DEFINITION\s*$(.*?)^END_OBJECT", re.M | re.S)

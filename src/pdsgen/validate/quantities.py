@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from .model import Block
+from ..label.tree import Block
 
 _METRES = ("M", "METERS", "METER", "METRES", "METRE")
 

@@ -8,14 +8,14 @@ with the files - so they run once per delivery (the runner hook `DeliveryChecks`
 their findings are reported beside each file's own.
 
 They read everything with their own code: the index through the columns INDEX.LBL
-declares (never the writer's layout), labels with the validator's lexer and lxml, CSV
-inventories with the csv module, and MD5s streamed here. Only names come from layout.
+declares (never the writer's layout), PDS3 labels with the label reader (pdsgen.label),
+PDS4 labels with lxml, CSV inventories with the csv module, and MD5s streamed by
+formats/checksum.py (hashlib's MD5, read in blocks). Only names come from layout.
 """
 
 from __future__ import annotations
 
 import csv
-import hashlib
 import io
 import os
 import re
@@ -24,13 +24,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ...deliver import layout
+from ...label.tree import Block
 from ...pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
-from ..lexer import parse_label
-from ..model import Block, Finding
+from ..model import Finding
 from ..registry import Rule, register
 
 PDS_NS = "{http://pds.nasa.gov/pds4/pds/v1}"
-_END = re.compile(rb"(?:^|\n)[ \t]*END[ \t]*\r?(?:\n|$)")
 _FORMAT = re.compile(r"([AFIE])(\d+)(?:\.(\d+))?", re.IGNORECASE)
 _TEXT_FILES = (layout.VOLDESC, layout.AAREADME)
 
@@ -53,19 +52,10 @@ class _Found:
 
 def _read_pds3(path: Path) -> Block | None:
     """A PDS3 label's tree, reading no further than its END line; None when it is no PDS3 label."""
-    try:
-        with open(path, "rb") as stream:
-            data = stream.read(65536)
-            if not data.lstrip().upper().startswith((b"PDS_VERSION_ID", b"CCSD3")):
-                return None
-            while not _END.search(data) and len(data) < (4 << 20):
-                more = stream.read(65536)
-                if not more:
-                    break
-                data += more
-    except OSError:
-        return None
-    return parse_label(data.decode("latin-1")).root
+    from ...label.read import read_pds3_label  # start-up: loaded only when a delivery is checked
+
+    label = read_pds3_label(path)
+    return label.root if label is not None else None
 
 
 def _first(root: Block, keyword: str) -> tuple[str | None, int | None]:
@@ -443,6 +433,8 @@ def _check_inventory(root: Path, collection: _Pds4Label, labels: list[_Pds4Label
 # --- the manifest -------------------------------------------------------------------------------
 
 def _check_manifest(root: Path, labels_only: bool, found: list[_Found]) -> None:
+    from ...formats.checksum import file_md5  # start-up: loaded only when a delivery is checked
+
     manifest = root / layout.MANIFEST
     if not manifest.is_file():
         return
@@ -456,21 +448,13 @@ def _check_manifest(root: Path, labels_only: bool, found: list[_Found]) -> None:
         path = root / name
         if not path.is_file():
             found.append(_Found("DLV-020", manifest, f"{name} is listed but does not exist", number))
-        elif not labels_only and _md5(path) != digest:
+        elif not labels_only and file_md5(path) != digest:
             found.append(_Found("DLV-020", path, f"MD5 differs from {layout.MANIFEST} line {number}: the file "
                                                  "changed after the manifest was written"))
     for path in _all_files(root):
         name = path.relative_to(root).as_posix()
         if name != layout.MANIFEST and not layout.is_review_page(name) and name not in listed:
             found.append(_Found("DLV-021", path, f"not listed in {layout.MANIFEST}"))
-
-
-def _md5(path: Path) -> str:
-    digest = hashlib.md5()
-    with open(path, "rb") as stream:
-        while chunk := stream.read(1 << 20):
-            digest.update(chunk)
-    return digest.hexdigest()
 
 
 # --- the runner hook ----------------------------------------------------------------------------

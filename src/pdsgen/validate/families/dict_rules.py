@@ -10,10 +10,11 @@ import re
 from collections.abc import Iterator
 
 from ...label.grammar import DATA_TYPES
+from ...label.parser import date_problem
+from ...label.tree import Statement, Value
 from ..context import FileContext
 from ..dictionary import NUMERIC_PLACEHOLDERS, PLACEHOLDERS
-from ..lexer import date_problem
-from ..model import Hit, Statement, Value
+from ..model import Hit
 from ..registry import Rule, register
 
 _LETTERS = re.compile(r"[A-Za-z ]+")

@@ -13,6 +13,7 @@ import math
 from collections.abc import Iterator
 from pathlib import Path
 
+from ...label.tree import Block
 from ..context import FileContext
 from ..geojp2 import (
     CT_NAMES,
@@ -28,7 +29,7 @@ from ..geojp2 import (
     grid_terms,
     read_jp2,
 )
-from ..model import Block, Hit
+from ..model import Hit
 from ..projection import normalise, projection_radius_key
 from ..quantities import kilometres as _km
 from ..quantities import metres_per_pixel as _scale_m

@@ -19,9 +19,10 @@ import math
 from collections.abc import Iterator
 
 from ...label.grammar import PLACEHOLDERS
+from ...label.tree import Block, Statement
 from ...missions.hrsc import AREOID_DESC, NOT_APPLICABLE, POLAR_LIMIT_DEG, SPHERE_DESC, SPHERE_KM
 from ..context import FileContext
-from ..model import Block, Hit, Statement
+from ..model import Hit
 from ..profiles import hrsc_kind, is_hrsc
 from ..projection import normalise
 from ..quantities import kilometres as _km

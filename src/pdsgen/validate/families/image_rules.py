@@ -16,9 +16,10 @@ from collections.abc import Iterator
 import numpy as np
 
 from ...label.grammar import DATA_TYPES, SAMPLE_TYPES, SPECIAL_CONSTANTS
+from ...label.tree import Block, Value
 from ..context import FileContext
 from ..datastats import SampleLayout, Stats, image_stats
-from ..model import Block, Hit, Value
+from ..model import Hit
 from ..registry import Rule, register
 
 _TYPES = SAMPLE_TYPES

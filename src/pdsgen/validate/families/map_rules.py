@@ -16,8 +16,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...label.tree import Block, Statement
 from ..context import FileContext
-from ..model import Block, Hit, Statement
+from ..model import Hit
 from ..profiles import is_hrsc
 from ..projection import (
     GDAL_PROJECTIONS,

@@ -10,9 +10,10 @@ from __future__ import annotations
 from collections.abc import Iterator
 from pathlib import Path
 
-from ..context import FileContext, Pointer, directory_listing
-from ..lexer import parse_label
-from ..model import Hit, Label
+from ...label.parser import parse_label
+from ...label.tree import Label
+from ..context import FileContext, Pointer
+from ..model import Hit
 from ..registry import Rule, register
 from .file_rules import padding_bytes
 from .image_rules import object_bytes
@@ -332,11 +333,10 @@ def _include_targets(label: Label) -> list[tuple[str, int]]:
 def check_include_loops(ctx: FileContext) -> Iterator[Hit]:
     """^STRUCTURE includes must not lead back to a file already being included."""
     def resolve(directory: Path, name: str) -> Path | None:
-        exact = directory / name
-        if exact.is_file():
-            return exact.resolve()
-        match = next(iter(directory_listing(directory).same_but_case(name)), None)
-        return (directory / match).resolve() if match else None
+        from ...label.beside import find_beside  # start-up: loaded only for a label with includes
+
+        found = find_beside(directory, name)
+        return found.resolve() if found is not None else None
 
     reported: set[str] = set()
 

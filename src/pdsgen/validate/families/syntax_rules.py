@@ -1,7 +1,7 @@
 """SYNTAX family: problems the label reader found, plus duplicate keywords.
 
-The reader (lexer.py) tags what it sees with rule ids as it parses; these checks hand
-those on, so every syntax finding goes through the one rule table.
+The label reader (label/parser.py) tags what it sees with rule ids as it parses; these
+checks hand those on, so every syntax finding goes through the one rule table.
 """
 
 from __future__ import annotations

@@ -1,54 +1,39 @@
-"""A PDS3 (ODL) label reader that keeps line numbers and turns syntax problems into findings.
+"""The PDS3 (ODL) label reader: text -> `Label` tree, with line numbers and reading problems.
 
 pvl is both too lenient (it accepts an unquoted value with spaces) and too strict (one
 error stops it, with no line to show) for a validator, so labels are read here with a
-small hand-written scanner. It tolerates what real archives do (LF-only lines,
+small hand-written reader, the one every part of pdsgen that reads a PDS3 label uses
+(pvl stays for iMars PVL). It tolerates what real archives do (LF-only lines,
 `Object`/`End_Object`, unquoted `MEX-M-HRSC-3-RDR-V2.0`, `2575.0<KM>`, `0015`,
 `1737400.`, unnamed END_OBJECT, inline comments) and records each real problem as an
 `Issue` tagged with its SYNTAX/FILE rule id, then carries on with the next line, so
 one bad statement never hides the rest of the label.
+
+Three parts: the scanner (the tokens of label text and its physical lines), the parser
+(tokens -> `Label` tree, tree.py), and the one END rule on bytes with the reading of a
+file's label head that stops at it - what every reader of a label file uses, so all agree
+on where a label ends. (One module: writing a product loads the reader, and each module
+is start-up time, see tests/test_cli_startup.py.)
 """
 
 from __future__ import annotations
 
+import os
 import re
 from itertools import accumulate, repeat
+from typing import BinaryIO
 
-from ..label.grammar import IDENTIFIER_RE
-from .model import Block, Issue, Label, Line, Statement, Value
+from .grammar import IDENTIFIER_PATTERN
+from .tree import Block, Issue, Label, Line, Statement, Value
 
-_WS = re.compile(r"[ \t\f\v\x00]+")
-_NEWLINE = re.compile(r"\r\n|\n|\r")
+# -- the scanner ----------------------------------------------------------------------
+
+NEWLINE = re.compile(r"\r\n|\n|\r")
 _WORD = re.compile(r"(?:[^\s=(){},;\"'<>/]|/(?!\*))+")
 _UNIT = re.compile(r"<[^<>\r\n]*>")
 _SYMBOL = re.compile(r"'[^'\r\n]*'")
-
-# an integer (group 1) or a real
-_NUMBER = re.compile(r"[+-]?(?:(\d+)|(?:\d+\.\d*|\.\d+|\d+)(?:[eE][+-]?\d+)?)")
-_BASED = re.compile(r"([+-]?)(\d+)#([^#]*)#")
-_KEYWORD = re.compile(r"\^?(?:([A-Za-z][A-Za-z0-9_]*):)?([A-Za-z][A-Za-z0-9_]*)")
-_IDENT = IDENTIFIER_RE
-_DATE_START = re.compile(r"\d{1,4}-\d|\d{1,2}:\d")
-_DATE = re.compile(
-    r"(?P<year>\d{4})(?:-(?P<doy>\d{3})|-(?P<month>\d{2})(?:-(?P<day>\d{2}))?)"
-    r"(?:T(?P<time>.*))?"
-)
-_TIME = re.compile(r"(?P<h>\d{2})(?::(?P<m>\d{2})(?::(?P<s>\d{2})(?:\.(?P<f>\d*))?)?)?(?P<z>Z)?")
-# A CCSDS SFDU label (CCSDS 620.0-B-2; PDS Standards Reference chapter 16) is 20 characters:
-# control authority (4), version (1), class (1), delimitation (1; a spare '0' in version 1),
-# a spare '0', the description data unit id (4), and the length - or, for an SFDU delimited
-# by a marker, the marker (8). PDS wraps a label in a CCSD Z-class SFDU followed by the
-# label's own (NJPL3IF0PDS2..., or NJPL3KS0PDSX##mark## delimited by a marker).
-_SFDU_LABEL = re.compile(r"([A-Z0-9]{4})([1-3])([A-Z0-9])([A-Z0-9])0([A-Z0-9]{4})(\S{8})")
-_SFDU_DELIMITATIONS = {"A": "length in ASCII", "B": "binary length", "C": "marker", "S": "marker",
-                       "E": "end of file", "F": "end of file"}
-_NOT_TEXT = re.compile(r"[^\x20-\x7e\t]")
-_DAYS = (31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31)
-_BASE_DIGITS = {2: "01", 8: "01234567", 16: "0123456789ABCDEFabcdef"}
-MAX_KEYWORD_LENGTH = 30
-
-
-class _Token:
+NOT_TEXT = re.compile(r"[^\x20-\x7e\t]")
+class Token:
     __slots__ = ("kind", "text", "line", "end_line", "start", "end", "issues")
 
     def __init__(self, kind: str, text: str, line: int, end_line: int, start: int, end: int,
@@ -109,10 +94,10 @@ _SIMPLE = re.compile(
     + _BLANKS + r")?(?:/\*(?:[^*\r\n]|\*(?!/))*\*/" + _BLANKS + r")*"
     r"(?P<eol>\r\n|\n|\r|\Z)(?![ \t\f\v\x00\r\n]*[</])"
 )
-_ITEMS = re.compile(_SPACE + "(" + _ITEM + ")" + _SPACE + "[,)}]")
+ITEMS = re.compile(_SPACE + "(" + _ITEM + ")" + _SPACE + "[,)}]")
 
 
-class _Scanner:
+class Scanner:
     """Produces significant tokens on demand; whitespace, newlines and comments are skipped.
 
     `pos`/`line` say where reading goes on after the last token read. The last peeked
@@ -124,7 +109,7 @@ class _Scanner:
         self.pos = 0
         self.line = 1
         self.issues = issues
-        self._ahead: _Token | None = None  # the token peeked at _ahead_from
+        self._ahead: Token | None = None  # the token peeked at _ahead_from
         self._ahead_from = -1
 
     def mark(self) -> tuple[int, int]:
@@ -133,7 +118,7 @@ class _Scanner:
     def reset(self, mark: tuple[int, int]) -> None:
         self.pos, self.line = mark
 
-    def next(self) -> _Token:
+    def next(self) -> Token:
         tok = self._ahead
         if tok is None or self._ahead_from != self.pos:
             tok = self._scan()
@@ -143,14 +128,14 @@ class _Scanner:
             self.issues.extend(tok.issues)
         return tok
 
-    def peek(self) -> _Token:
+    def peek(self) -> Token:
         if self._ahead is None or self._ahead_from != self.pos:
             self._ahead, self._ahead_from = self._scan(), self.pos
         return self._ahead
 
     def skip_line(self) -> None:
         """Drop the rest of the current line (error recovery)."""
-        self.pos = _line_end(self.text, self.pos)
+        self.pos = line_end(self.text, self.pos)
         self._ahead = None
 
     def simple_statement(self) -> tuple[re.Match[str], int] | None:
@@ -166,18 +151,18 @@ class _Scanner:
         m = _SIMPLE.match(text, skip.end())
         if m is None:
             return None
-        return m, self.line + _count_lines(text, pos, skip.end())
+        return m, self.line + count_lines(text, pos, skip.end())
 
     def take(self, m: re.Match[str], line: int) -> None:
         """Read past a simple statement matched on `line` and its line end."""
         value = m.group("string") or m.group("items")
         if value is not None and ("\n" in value or "\r" in value):  # they may span lines
-            line += _count_lines(value, 0, len(value))
+            line += count_lines(value, 0, len(value))
         if m.group("eol"):
             line += 1
         self.pos, self.line = m.end(), line
 
-    def _scan(self) -> _Token:
+    def _scan(self) -> Token:
         """The next token, by the one-pattern path when it applies."""
         text, pos, line = self.text, self.pos, self.line
         m = _TOKEN.match(text, pos)
@@ -195,35 +180,35 @@ class _Scanner:
             return self._scan_by_character(start, line)
         end = m.end()
         if group == 1:  # a string may span lines
-            return _Token("string", m[1], line, line + _count_lines(text, start, end), start, end)
-        return _Token(_KINDS[group], m[group], line, line, start, end)
+            return Token("string", m[1], line, line + count_lines(text, start, end), start, end)
+        return Token(_KINDS[group], m[group], line, line, start, end)
 
-    def _scan_by_character(self, pos: int, line: int) -> _Token:
+    def _scan_by_character(self, pos: int, line: int) -> Token:
         """What _TOKEN does not take: unclosed quotes and comments, stray characters."""
         text = self.text
         issues: list[Issue] = []
         m = _SKIP.match(text, pos)
         if m:
             end = m.end()
-            line += _count_lines(text, pos, end)
+            line += count_lines(text, pos, end)
             pos = end
         if text.startswith("/*", pos):  # a comment that never closes
             issues.append(Issue("SYNTAX-001", line, "comment '/*' is never closed"))
-            line += _count_lines(text, pos, len(text))
+            line += count_lines(text, pos, len(text))
             pos = len(text)
         if pos >= len(text):
-            return _Token("eof", "", line, line, pos, pos, issues)
+            return Token("eof", "", line, line, pos, pos, issues)
         ch = text[pos]
         if ch == '"':
             end = text.find('"', pos + 1)
             if end < 0:
                 issues.append(Issue("SYNTAX-001", line, 'quoted text is never closed (missing ")'))
-                end = _line_end(text, pos)
-                return _Token("bad", text[pos:end], line, line, pos, end, issues)
-            end_line = line + _count_lines(text, pos, end)
-            return _Token("string", text[pos : end + 1], line, end_line, pos, end + 1, issues)
+                end = line_end(text, pos)
+                return Token("bad", text[pos:end], line, line, pos, end, issues)
+            end_line = line + count_lines(text, pos, end)
+            return Token("string", text[pos : end + 1], line, end_line, pos, end + 1, issues)
         if ch in "=(){},;":
-            return _Token("punct", ch, line, line, pos, pos + 1, issues)
+            return Token("punct", ch, line, line, pos, pos + 1, issues)
         m = None
         if ch == "'":
             m = _SYMBOL.match(text, pos)
@@ -235,11 +220,11 @@ class _Scanner:
             m = _WORD.match(text, pos)
             kind = "word"
         if m:
-            return _Token(kind, m.group(), line, line, pos, m.end(), issues)
-        return _Token("bad", ch, line, line, pos, pos + 1, issues)
+            return Token(kind, m.group(), line, line, pos, m.end(), issues)
+        return Token("bad", ch, line, line, pos, pos + 1, issues)
 
 
-def _count_lines(text: str, start: int, end: int) -> int:
+def count_lines(text: str, start: int, end: int) -> int:
     chunk = text[start:end]
     return chunk.count("\n") + chunk.count("\r") - chunk.count("\r\n")
 
@@ -247,7 +232,7 @@ def _count_lines(text: str, start: int, end: int) -> int:
 _EOL = re.compile(r"[\r\n]")
 
 
-def _line_end(text: str, pos: int) -> int:
+def line_end(text: str, pos: int) -> int:
     m = _EOL.search(text, pos)
     return m.start() if m else len(text)
 
@@ -276,7 +261,7 @@ def _split_mixed_lines(text: str, limit: int) -> list[Line]:
     lines: list[Line] = []
     append = lines.append
     pos, number = 0, 1
-    for m in _NEWLINE.finditer(text, 0, limit):
+    for m in NEWLINE.finditer(text, 0, limit):
         append(Line(number, pos, m.start(), _ENDINGS[m.group()]))
         pos, number = m.end(), number + 1
     if pos < limit:
@@ -284,11 +269,36 @@ def _split_mixed_lines(text: str, limit: int) -> list[Line]:
     return lines
 
 
+# -- the parser -----------------------------------------------------------------------
+
+# an integer (group 1) or a real
+_NUMBER = re.compile(r"[+-]?(?:(\d+)|(?:\d+\.\d*|\.\d+|\d+)(?:[eE][+-]?\d+)?)")
+_BASED = re.compile(r"([+-]?)(\d+)#([^#]*)#")
+_KEYWORD = re.compile(rf"\^?(?:({IDENTIFIER_PATTERN}):)?({IDENTIFIER_PATTERN})")
+_DATE_START = re.compile(r"\d{1,4}-\d|\d{1,2}:\d")
+_DATE = re.compile(
+    r"(?P<year>\d{4})(?:-(?P<doy>\d{3})|-(?P<month>\d{2})(?:-(?P<day>\d{2}))?)"
+    r"(?:T(?P<time>.*))?"
+)
+_TIME = re.compile(r"(?P<h>\d{2})(?::(?P<m>\d{2})(?::(?P<s>\d{2})(?:\.(?P<f>\d*))?)?)?(?P<z>Z)?")
+# A CCSDS SFDU label (CCSDS 620.0-B-2; PDS Standards Reference chapter 16) is 20 characters:
+# control authority (4), version (1), class (1), delimitation (1; a spare '0' in version 1),
+# a spare '0', the description data unit id (4), and the length - or, for an SFDU delimited
+# by a marker, the marker (8). PDS wraps a label in a CCSD Z-class SFDU followed by the
+# label's own (NJPL3IF0PDS2..., or NJPL3KS0PDSX##mark## delimited by a marker).
+_SFDU_LABEL = re.compile(r"([A-Z0-9]{4})([1-3])([A-Z0-9])([A-Z0-9])0([A-Z0-9]{4})(\S{8})")
+_SFDU_DELIMITATIONS = {"A": "length in ASCII", "B": "binary length", "C": "marker", "S": "marker",
+                       "E": "end of file", "F": "end of file"}
+_DAYS = (31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31)
+_BASE_DIGITS = {2: "01", 8: "01234567", 16: "0123456789ABCDEFabcdef"}
+MAX_KEYWORD_LENGTH = 30
+
+
 class _Parser:
     def __init__(self, text: str) -> None:
         self.text = text
         self.issues: list[Issue] = []
-        self.scan = _Scanner(text, self.issues)
+        self.scan = Scanner(text, self.issues)
         self.root = Block("ROOT", "", 1)
         self.stack: list[Block] = [self.root]
         self.end_found = False
@@ -329,7 +339,7 @@ class _Parser:
             self._statement(tok, upper)
         self._finish()
 
-    def _unglued_end(self, tok: _Token) -> _Token:
+    def _unglued_end(self, tok: Token) -> Token:
         """END itself when the scanner glued END and the binary data right after it into
         one word (`END\\xf8...`, `EndQ\\x0b...`: ISIS and several pipelines write no line
         end after END). It is END when binary bytes follow its three letters on the same
@@ -338,11 +348,11 @@ class _Parser:
         if len(word) <= 3 or word[:3].upper() != "END" or word[3] == "_":
             return tok
         after = tok.start + 3
-        binary = _NOT_TEXT.search(self.text, after, _line_end(self.text, after))
+        binary = NOT_TEXT.search(self.text, after, line_end(self.text, after))
         if binary is None or "=" in self.text[after : binary.start()]:
             return tok
         self.scan.reset((after, tok.line))
-        return _Token("word", word[:3], tok.line, tok.line, tok.start, after)
+        return Token("word", word[:3], tok.line, tok.line, tok.start, after)
 
     def _keyword_seen(self, word: str, line: int) -> str:
         """Note the first keyword and keywords not in upper case; the upper-case form."""
@@ -385,7 +395,7 @@ class _Parser:
         else:
             value = Value("symbol", m.group("symbol"), m.group("symbol")[1:-1], line)
         if unit is not None:  # on the line the value ends on
-            unit_line = line + _count_lines(items, 0, len(items)) if items else line
+            unit_line = line + count_lines(items, 0, len(items)) if items else line
             self._set_unit(value, unit, unit_line, unit_line, word)
         self._add(word, upper, line, value)
         return True
@@ -395,15 +405,15 @@ class _Parser:
         opened on `line`): its members read as _value reads them."""
         members: list[Value] = []
         pos, item_line = 1, line
-        for m in _ITEMS.finditer(text, 1):
+        for m in ITEMS.finditer(text, 1):
             start = m.start(1)
             if "\n" in text[pos:start] or "\r" in text[pos:start]:
-                item_line += _count_lines(text, pos, start)
+                item_line += count_lines(text, pos, start)
             item = m.group(1)
             if item[0] == '"':
                 members.append(self._string(item, item_line, keyword, True))
                 if "\n" in item or "\r" in item:
-                    item_line += _count_lines(item, 0, len(item))
+                    item_line += count_lines(item, 0, len(item))
             elif item[0] == "'":
                 members.append(Value("symbol", item, item[1:-1], item_line))
             else:
@@ -436,14 +446,14 @@ class _Parser:
                 self.scan.next()
                 self.scan.next()
 
-    def _end(self, tok: _Token) -> None:
+    def _end(self, tok: Token) -> None:
         self.end_found = True
         rest = self.scan.peek()
         if rest.kind == "punct" and rest.text == ";" and rest.line == tok.line:
             self.scan.next()
-        end = _line_end(self.text, tok.start)
+        end = line_end(self.text, tok.start)
         after = tok.start + len(tok.text)
-        binary = _NOT_TEXT.search(self.text, after, end)
+        binary = NOT_TEXT.search(self.text, after, end)
         if binary is not None:  # END followed by the data on its line: the label ends at END
             self.label_end = after
             # data right after END (see _unglued_end) are data, even where they start with a
@@ -451,13 +461,13 @@ class _Parser:
             # text the label has after END
             end = binary.start() if self.text[after] in " \t;/\x00" else after
         else:
-            m = _NEWLINE.match(self.text, end)
+            m = NEWLINE.match(self.text, end)
             self.label_end = m.end() if m else end
         tail = self.text[after:end].strip(" ;\x00")
         if tail and not tail.startswith("/*"):
             self.issue("SYNTAX-001", tok.line, f"unexpected text {tail[:20]!r} after END")
 
-    def _close(self, tok: _Token, kind: str) -> None:
+    def _close(self, tok: Token, kind: str) -> None:
         name = None
         nxt = self.scan.peek()
         if nxt.kind == "punct" and nxt.text == "=" and nxt.line == tok.line:
@@ -494,7 +504,7 @@ class _Parser:
         top.end_line = line
         self.stack.pop()
 
-    def _statement(self, tok: _Token, upper: str) -> None:
+    def _statement(self, tok: Token, upper: str) -> None:
         line = tok.line
         self._check_keyword(tok.text, line)
         eq = self.scan.peek()
@@ -622,7 +632,7 @@ class _Parser:
             for item in value.scalars():
                 item.unit = item.unit or value.unit
 
-    def _starts_statement(self, tok: _Token) -> bool:
+    def _starts_statement(self, tok: Token) -> bool:
         """True when a word on a later line is the next statement (so the value is missing)."""
         if tok.text.upper() in ("END", "END_OBJECT", "END_GROUP"):
             return True
@@ -631,7 +641,7 @@ class _Parser:
         self.scan.reset(mark)
         return nxt.kind == "punct" and nxt.text == "="
 
-    def _collection(self, open_tok: _Token, keyword: str) -> Value | None:
+    def _collection(self, open_tok: Token, keyword: str) -> Value | None:
         close = ")" if open_tok.text == "(" else "}"
         items: list[Value] = []
         while True:
@@ -820,3 +830,59 @@ def parse_label(text: str) -> Label:
         first_line=parser.first_line,
         sfdu=parser.sfdu,
     )
+
+
+# -- the END rule and a file's label head ---------------------------------------------
+
+# END (any case: ODL keywords are) alone on its line, maybe with ';' and a comment after it,
+# or followed directly by binary data with no line end (ISIS and several pipelines write it
+# so). What the parser takes for END, as a pattern on bytes: the reading of a label's head
+# stops where it matches.
+END_LINE = re.compile(rb"(?im)^[ \t]*END[ \t]*;?[ \t]*(?:/\*.*)?(?:\r?$|(?=[^\x20-\x7e\r\n]))")
+
+def has_end(data: bytes) -> bool:
+    """True when `data` holds a label's END line."""
+    return END_LINE.search(data) is not None
+
+
+def end_of_label(data: bytes) -> int | None:
+    """The offset just past END and what follows it on its line (before the line end), or None."""
+    found = END_LINE.search(data)
+    return found.end() if found is not None else None
+
+
+def label_length(data: bytes) -> int | None:
+    """The length of the label `data` starts with: up to and including END's line end, or None."""
+    end = end_of_label(data)
+    if end is None:
+        return None
+    if data.startswith(b"\r\n", end):
+        return end + 2
+    return end + 1 if data.startswith((b"\n", b"\r"), end) else end
+
+
+def read_label_head(path: str | os.PathLike[str], first: int = 65536, step: int = 65536,
+                    limit: int = 4 << 20) -> bytes:
+    """The file's first bytes up to its label's END line (and the rest of the last block
+    read): `first` bytes, then `step` more at a time until END or `limit` bytes. The data
+    after an attached label is read no further. OSError when the file cannot be read."""
+    with open(path, "rb") as stream:
+        return read_on_to_end(stream, stream.read(first), first, step, limit)
+
+
+def read_on_to_end(stream: BinaryIO, data: bytes, first: int = 65536, step: int = 65536,
+                   limit: int = 4 << 20) -> bytes:
+    """`data` (the first `first` bytes read from `stream`) and what follows, as read_label_head."""
+    if len(data) < first or has_end(data):  # the whole file, or its label, read
+        return data
+    blocks = [data]
+    size = len(data)
+    while size < limit:
+        block = stream.read(min(step, limit - size))
+        if not block:
+            break
+        blocks.append(block)
+        size += len(block)
+        if has_end(blocks[-2] + block):  # END may straddle two blocks
+            break
+    return b"".join(blocks)

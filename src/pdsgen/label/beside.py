@@ -1,0 +1,101 @@
+"""Finding a file a PDS3 label names, beside the label, with the PDS case rules.
+
+PDS file names are case-sensitive on most systems an archive is served from, so a look-up
+tells the exact name from a name differing only in case (the validator reports the near
+miss; readers use it). Each directory is listed once while it is unchanged, for all the
+labels in it: the validator, deliver, migration and Extras all look files up here.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections import OrderedDict
+from collections.abc import Iterator
+from pathlib import Path
+
+
+class DirectoryNames:
+    """The names in one directory, with their case-folded index, so a look-up is one hash.
+
+    A label's look-up of the file beside it used to scan the names; with N products in a
+    directory that is N^2 comparisons, on top of N listings."""
+
+    __slots__ = ("names", "_set", "_folded")
+
+    def __init__(self, names: list[str]) -> None:
+        self.names = names
+        self._set = frozenset(names)
+        self._folded: dict[str, list[str]] = {}
+        for name in names:
+            self._folded.setdefault(name.lower(), []).append(name)
+
+    def __contains__(self, name: object) -> bool:
+        return name in self._set
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self.names)
+
+    def __len__(self) -> int:
+        return len(self.names)
+
+    def same_but_case(self, name: str) -> list[str]:
+        """The names equal to `name` ignoring case, in listing order (`name` itself included)."""
+        return self._folded.get(name.lower(), [])
+
+
+# Listings kept per process (each --jobs worker has its own), by directory, with the
+# directory's mtime when listed: every look-up stats the directory and lists it again when a
+# name was added, removed or renamed since, so a file that appears during a run is seen as
+# when each label listed its directory. A listing made less than _SETTLE_NS after the
+# directory's last change is not trusted (a change within the same timestamp tick would
+# leave the mtime as it was) and is made again at the next look-up.
+_LISTINGS: OrderedDict[str, tuple[int, int, DirectoryNames]] = OrderedDict()
+_MAX_LISTINGS = 256
+_SETTLE_NS = 1_000_000_000
+
+
+def directory_listing(directory: Path) -> DirectoryNames:
+    """The names in `directory` (none if it cannot be read), listed once while it is unchanged."""
+    key = os.fspath(directory)
+    try:
+        mtime = os.stat(key).st_mtime_ns
+    except OSError:
+        return DirectoryNames([])
+    cached = _LISTINGS.get(key)
+    if cached is not None and cached[0] == mtime and cached[1] - mtime >= _SETTLE_NS:
+        _LISTINGS.move_to_end(key)
+        return cached[2]
+    listed_at = time.time_ns()
+    try:
+        names = DirectoryNames(os.listdir(key))
+    except OSError:
+        return DirectoryNames([])
+    _LISTINGS[key] = (mtime, listed_at, names)
+    _LISTINGS.move_to_end(key)
+    while len(_LISTINGS) > _MAX_LISTINGS:
+        _LISTINGS.popitem(last=False)
+    return names
+
+
+def resolve_beside(directory: Path, listing: DirectoryNames, file_name: str) -> tuple[Path | None, Path | None]:
+    """(exact path, path differing only in case) of a file named by a label in `directory`.
+
+    PDS file names are case-sensitive on most systems an archive is served from,
+    so a near miss in case is reported rather than silently accepted.
+    """
+    if "/" in file_name or os.sep in file_name:
+        exact = directory / file_name
+        return (exact, None) if exact.is_file() else (None, None)
+    if file_name in listing and (directory / file_name).is_file():
+        return directory / file_name, None
+    for name in listing.same_but_case(file_name):
+        if (directory / name).is_file():
+            return None, directory / name
+    return None, None
+
+
+def find_beside(directory: Path, file_name: str) -> Path | None:
+    """The file a label in `directory` names: the exact name, else one differing only in case."""
+    exact, other = resolve_beside(directory, directory_listing(directory), file_name)
+    return exact or other

@@ -1,0 +1,115 @@
+"""A label tree as plain Python values, in the shape pvl gives a PDS3 label.
+
+Code that reads a label as a mapping of keywords (the Extras' product description, the
+HRSC writer's source labels, the label georeferencing they share) takes this mapping of
+the one reader's tree, so it needs no second reader and agrees with the validator on
+what the label says. The values are what pvl would return, so that code reads the same
+numbers and texts it read before: int, float, str (a quoted text's blanks and line ends
+collapsed to single spaces, a word broken with '-' at a line end joined), None for NULL,
+bool for TRUE/FALSE, inf/nan, datetime/date/time (UTC), a list for a sequence, a
+frozenset for a set, and `Quantity(value, units)` for a value with a unit.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import math
+import re
+from typing import Any, NamedTuple
+
+from .tree import Block, Label, Statement, Value
+
+
+class Quantity(NamedTuple):
+    """A value with its unit (`2575.0 <KM>`), with pvl's field names."""
+
+    value: Any
+    units: str
+
+
+_DATE_TIME = re.compile(
+    r"(?P<year>\d{4})-(?:(?P<doy>\d{3})|(?P<month>\d{1,2})-(?P<day>\d{1,2}))"
+    r"(?:T(?P<time>.*))?"
+)
+_TIME = re.compile(r"(?P<h>\d{1,2}):(?P<m>\d{1,2})(?::(?P<s>\d{1,2})(?:\.(?P<f>\d*))?)?Z?")
+_WORDS: dict[str, Any] = {"NULL": None, "TRUE": True, "FALSE": False, "INF": math.inf, "+INF": math.inf,
+                          "-INF": -math.inf, "NAN": math.nan}
+_BROKEN_WORD = re.compile(r"-(?:\r\n|\n|\r)\s*")
+
+
+def label_mapping(label: Label) -> dict[str, Any]:
+    """The whole label as a mapping (see as_mapping), with the SFDU label that wraps it first."""
+    found: dict[str, Any] = {label.sfdu: "SFDU_LABEL"} if label.sfdu else {}
+    for key, value in as_mapping(label.root).items():
+        found.setdefault(key, value)
+    return found
+
+
+def as_mapping(block: Block) -> dict[str, Any]:
+    """The block's keywords (pointers with their caret) and OBJECT/GROUP names, as written,
+    to their values and nested mappings; of a repeated keyword, the first."""
+    found: dict[str, Any] = {}
+    for item in block.items:
+        if isinstance(item, Statement):
+            found.setdefault(("^" if item.pointer else "") + item.keyword, python_value(item.value))
+        else:
+            found.setdefault(item.name, as_mapping(item))
+    return found
+
+
+def python_value(value: Value) -> Any:
+    """One value as pvl returns it (see the module's docstring)."""
+    if value.items is None:
+        return _scalar(value, with_unit=True)
+    if value.kind == "set":
+        return frozenset(python_value(item) for item in value.items)
+    if value.unit:  # `(1, 2) <M>`: the unit belongs to the sequence
+        return Quantity([_scalar(item, with_unit=item.unit != value.unit) if item.items is None
+                         else python_value(item) for item in value.items], value.unit)
+    return [python_value(item) for item in value.items]
+
+
+def _scalar(value: Value, with_unit: bool) -> Any:
+    plain = _plain(value)
+    return Quantity(plain, value.unit) if with_unit and value.unit else plain
+
+
+def _plain(value: Value) -> Any:
+    kind = value.kind
+    if kind in ("int", "real", "based"):
+        return value.py
+    if kind == "string":
+        return " ".join(_BROKEN_WORD.sub("", value.text).split())
+    if kind == "ident":
+        upper = value.text.upper()
+        return _WORDS[upper] if upper in _WORDS else value.text
+    if kind in ("date", "bad"):  # pvl reads a date with one-digit fields too (10:28:2)
+        return _date_time(value.text)
+    return value.text  # symbol, or a malformed number or date, as written
+
+
+def _date_time(text: str) -> dt.datetime | dt.date | dt.time | str:
+    """A PDS3 date/time (CCYY-MM-DDThh:mm:ss.fff, CCYY-DDDThh..., or a time alone) in UTC."""
+    date_part = _DATE_TIME.fullmatch(text)
+    try:
+        if date_part is None:
+            time_part = _TIME.fullmatch(text)
+            return _clock(time_part) if time_part is not None else text
+        year = int(date_part["year"])
+        if date_part["doy"]:
+            day = dt.date(year, 1, 1) + dt.timedelta(days=int(date_part["doy"]) - 1)
+        else:
+            day = dt.date(year, int(date_part["month"]), int(date_part["day"]))
+        if date_part["time"] is None:
+            return day
+        time_part = _TIME.fullmatch(date_part["time"])
+        if time_part is None:
+            return text
+        return dt.datetime.combine(day, _clock(time_part))
+    except ValueError:
+        return text
+
+
+def _clock(m: re.Match[str]) -> dt.time:
+    fraction = (m["f"] or "")[:6].ljust(6, "0")
+    return dt.time(int(m["h"]), int(m["m"]), int(m["s"] or 0), int(fraction), tzinfo=dt.timezone.utc)

@@ -1,0 +1,177 @@
+"""The PDS3 label tree: what the label reader (parser.py) builds and every reader of a label uses.
+
+One `Label` per file: a root `Block` holding `Statement`s and nested OBJECT/GROUP
+`Block`s, each with its 1-based line number, so a finding can point a person at the
+exact line to fix, and where the label's text ends.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+
+
+@dataclass(slots=True)
+class Value:
+    """One parsed value: its kind, the text as written, the Python value and its unit.
+
+    kind is one of: int, real, based, string (double-quoted), symbol (single-quoted),
+    ident (unquoted word), date, seq, set, or bad (a malformed number or date that the
+    reader has already reported). `items` holds the members of seq/set.
+    """
+
+    kind: str
+    raw: str
+    py: object
+    line: int
+    unit: str | None = None
+    items: list[Value] | None = None
+
+    def scalars(self) -> Iterator[Value]:
+        """Every scalar member, flattening nested sequences and sets."""
+        if self.items is None:
+            return iter((self,))  # most values: no generator to start
+        return self._members()
+
+    def _members(self) -> Iterator[Value]:
+        for item in self.items or ():
+            yield from item.scalars()
+
+    @property
+    def is_number(self) -> bool:
+        return self.kind in ("int", "real", "based")
+
+    @property
+    def number(self) -> int | float:
+        """The value of an int, real or based value (checks test `is_number` first)."""
+        if self.is_number and isinstance(self.py, (int, float)):
+            return self.py
+        raise ValueError(f"{self.raw} is not a number")
+
+    @property
+    def text(self) -> str:
+        """The value as a string (quotes removed), for comparisons of names."""
+        return self.py if isinstance(self.py, str) else self.raw
+
+
+@dataclass(slots=True)
+class Statement:
+    """`KEYWORD = value` (or `^KEYWORD = value` when pointer is true)."""
+
+    keyword: str
+    value: Value
+    line: int
+    pointer: bool = False
+
+    @property
+    def key(self) -> str:
+        """Upper-case keyword, with the pointer caret, as used for look-ups."""
+        return ("^" if self.pointer else "") + self.keyword.upper()
+
+
+@dataclass(slots=True)
+class Block:
+    """An OBJECT or GROUP (or the label root) with its statements and children."""
+
+    kind: str  # ROOT, OBJECT or GROUP
+    name: str
+    line: int
+    end_line: int | None = None
+    items: list[Statement | Block] = field(default_factory=list)
+    # Look-up tables built on first use: rules read the tree only once the label is read, and
+    # every rule family walks it again (a label's blocks are walked ~400 times per file).
+    _index: dict[str, Statement] | None = field(default=None, repr=False, compare=False)
+    _statements: list[Statement] | None = field(default=None, repr=False, compare=False)
+    _children: list[Block] | None = field(default=None, repr=False, compare=False)
+    _tree: list[Block] | None = field(default=None, repr=False, compare=False)
+
+    def statements(self) -> Iterator[Statement]:
+        if self._statements is None:
+            self._statements = [item for item in self.items if isinstance(item, Statement)]
+        return iter(self._statements)
+
+    def blocks(self, name: str | None = None) -> Iterator[Block]:
+        """Direct child blocks, optionally only those whose name is `name`."""
+        if self._children is None:
+            self._children = [item for item in self.items if isinstance(item, Block)]
+        if name is None:
+            return iter(self._children)
+        return (child for child in self._children if child.name.upper() == name)
+
+    def walk(self) -> Iterator[Block]:
+        """This block and every block nested in it, depth first."""
+        if self._tree is None:
+            tree = [self]
+            for child in self.blocks():
+                tree.extend(child.walk())
+            self._tree = tree
+        return iter(self._tree)
+
+    def find(self, name: str) -> Iterator[Block]:
+        """Every block at any depth named `name` (upper case)."""
+        for block in self.walk():
+            if block is not self and block.name.upper() == name:
+                yield block
+
+    def get(self, key: str) -> Statement | None:
+        """The first statement with this upper-case key (`^IMAGE` for pointers).
+
+        Indexed on first use: rules look keywords up only once the label is read."""
+        if self._index is None:
+            index: dict[str, Statement] = {}
+            for stmt in self.statements():
+                index.setdefault(stmt.key, stmt)
+            self._index = index
+        return self._index.get(key)
+
+    def value(self, key: str) -> Value | None:
+        stmt = self.get(key)
+        return stmt.value if stmt is not None else None
+
+    def number(self, key: str) -> float | None:
+        """The numeric value of a scalar keyword, or None if absent or not a number."""
+        val = self.value(key)
+        if val is None or not val.is_number:
+            return None
+        return val.number
+
+    def text(self, key: str) -> str | None:
+        val = self.value(key)
+        if val is None or val.items is not None:
+            return None
+        return val.text
+
+
+@dataclass(slots=True)
+class Issue:
+    """A problem found while reading the label text, before any rule runs."""
+
+    rule: str
+    line: int | None
+    message: str
+    keyword: str | None = None
+
+
+@dataclass(slots=True)
+class Line:
+    """One physical line of label text: byte offsets and how it ended."""
+
+    number: int
+    start: int
+    end: int  # offset of the first byte of the line terminator (or end of text)
+    ending: str  # "CRLF", "LF", "CR" or "" (no terminator, end of file)
+
+
+@dataclass(slots=True)
+class Label:
+    """A parsed label: the tree, where its text ends, and what the reader noticed."""
+
+    root: Block
+    text: str  # label text decoded as Latin-1 (one character per byte)
+    label_end: int  # byte offset just past the END statement's line terminator
+    end_found: bool
+    lines: list[Line]
+    issues: list[Issue]
+    first_keyword: str | None = None
+    first_line: int | None = None
+    sfdu: str | None = None
