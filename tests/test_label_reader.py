@@ -13,7 +13,8 @@ import pytest
 
 from pdsgen.deliver.scan import read_pds3_label as deliver_reads
 from pdsgen.label.beside import find_beside
-from pdsgen.label.mapping import Quantity, label_mapping
+from pdsgen.label.mapping import MappedQuantity as Quantity
+from pdsgen.label.mapping import label_mapping
 from pdsgen.label.parser import end_of_label, has_end, parse_label, read_label_head
 from pdsgen.label.read import read_pds3_label
 from pdsgen.validate.context import FileContext

@@ -16,12 +16,14 @@ import time
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 
-from ..products.result import ProductResult
 from ..progress import terminal_bar, wanted
+
+if TYPE_CHECKING:  # an annotation only: `pdsgen validate` loads no product module
+    from ..products.result import ProductResult
 
 # click parameter names of these options: every profile uses them.
 OUTPUT_OPTIONS = frozenset({"quiet", "verbose", "as_json"})

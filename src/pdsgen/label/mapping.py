@@ -7,7 +7,7 @@ what the label says. The values are what pvl would return, so that code reads th
 numbers and texts it read before: int, float, str (a quoted text's blanks and line ends
 collapsed to single spaces, a word broken with '-' at a line end joined), None for NULL,
 bool for TRUE/FALSE, inf/nan, datetime/date/time (UTC), a list for a sequence, a
-frozenset for a set, and `Quantity(value, units)` for a value with a unit.
+frozenset for a set, and `MappedQuantity(value, units)` for a value with a unit.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from typing import Any, NamedTuple
 from .tree import Block, Label, Statement, Value
 
 
-class Quantity(NamedTuple):
+class MappedQuantity(NamedTuple):
     """A value with its unit (`2575.0 <KM>`), with pvl's field names."""
 
     value: Any
@@ -64,14 +64,14 @@ def python_value(value: Value) -> Any:
     if value.kind == "set":
         return frozenset(python_value(item) for item in value.items)
     if value.unit:  # `(1, 2) <M>`: the unit belongs to the sequence
-        return Quantity([_scalar(item, with_unit=item.unit != value.unit) if item.items is None
+        return MappedQuantity([_scalar(item, with_unit=item.unit != value.unit) if item.items is None
                          else python_value(item) for item in value.items], value.unit)
     return [python_value(item) for item in value.items]
 
 
 def _scalar(value: Value, with_unit: bool) -> Any:
     plain = _plain(value)
-    return Quantity(plain, value.unit) if with_unit and value.unit else plain
+    return MappedQuantity(plain, value.unit) if with_unit and value.unit else plain
 
 
 def _plain(value: Value) -> Any:
