@@ -36,7 +36,7 @@ def preview_range(path: Path) -> tuple[float, float]:
 def test_imars_dtm_geotiff_is_a_dtm_in_metres(heights_tif, tmp_path: Path, precision):
     source, z = heights_tif
     product = write_dtm(source, tmp_path / "o", profile="imars", product_id="h1234_0000",
-                              precision=precision)
+                        precision=precision)
     tif = product.tiff_path
     assert tif.name == "h1234_0000_da4_ucl.tif"
     with rasterio.open(tif) as ds:

@@ -120,7 +120,7 @@ def test_hrsc_labels_are_checked_too(tmp_path):
         write_dtm(source, tmp_path / "out", profile="hrsc", product_id="h0010_0023", params=params)
     assert not list((tmp_path / "out").iterdir())
     kept = write_dtm(source, tmp_path / "out", profile="hrsc", product_id="h0010_0023", params=params,
-                          allow_dictionary_deviations=True)
+                     allow_dictionary_deviations=True)
     assert len(kept.warnings) == 1 and "PRODUCER_FULL_NAME" in kept.warnings[0]
 
 

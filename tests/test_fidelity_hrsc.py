@@ -90,7 +90,7 @@ def test_without_a_source_label_the_keywords_are_left_out(tmp_path, heights):
 def test_a_source_label_of_another_orbit_is_refused(tmp_path, heights, corpus_dir):
     with pytest.raises(InputError, match="orbit 10.*orbit 1234"):
         write_dtm(heights, tmp_path / "out", profile="hrsc", product_id="h1234_0000",
-                       source_labels=[corpus_dir / SOURCE_LABEL])
+                  source_labels=[corpus_dir / SOURCE_LABEL])
     assert not (tmp_path / "out").exists() or not list((tmp_path / "out").iterdir())
 
 
@@ -205,7 +205,7 @@ def test_reproject_converts_heights_between_reference_surfaces(tmp_path):
     data = np.full((40, 40), height, dtype="float32")
     source = write_raster(tmp_path / "ell.tif", data, ellipsoid, Affine(500.0, 0, 0.0, 0, -500.0, 2400000.0))
     product = write_dtm(source, tmp_path / "out", profile="hrsc", product_id="h0010_0023", reproject_input=True,
-                             precision=0.1)
+                        precision=0.1)
     with rasterio.open(product.path) as out:
         stored = out.read(1, masked=True)
         rows, cols = np.nonzero(~np.ma.getmaskarray(stored))
@@ -247,7 +247,7 @@ def test_vicar2_header_is_read_by_gdals_vicar_driver(tmp_path, heights):
 
 def test_da4_note_keeps_the_acronyms_case(tmp_path, heights):
     product = write_dtm(heights, tmp_path / "out", profile="hrsc", product_id="h0010_0023", kind="da4",
-                             vertical_datum="areoid")
+                        vertical_datum="areoid")
     label = pvl.loads(product.label_text)
     assert "GM3 areoid" in label["IMAGE"]["NOTE"] and "gm3" not in label["IMAGE"]["NOTE"]
     assert label["MEX:DTM"]["MEX:DTM_DESC"] == "HEIGHT ABOVE GM3-AREOID"

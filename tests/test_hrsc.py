@@ -82,7 +82,7 @@ def test_da4_differs_from_dt4_by_the_areoid(tmp_path):
     areoid = _areoid_grid(tmp_path, (lons.min() - 0.5, lons.max() + 0.5), (lats.min() - 0.5, lats.max() + 0.5))
     dt4 = write_dtm(source, tmp_path / "out", profile="hrsc", kind="dt4", precision=0.05, product_id="h0001_0000")
     da4 = write_dtm(source, tmp_path / "out", profile="hrsc", kind="da4", areoid=areoid, precision=0.05,
-                         product_id="h0001_0000")
+                    product_id="h0001_0000")
     assert da4.path.name == "h0001_0000_da4.img"
     with rasterio.open(dt4.path) as a, rasterio.open(da4.path) as b:
         sphere = a.read(1) * a.scales[0] + a.offsets[0]
@@ -122,7 +122,7 @@ def test_wrong_projection_is_refused_then_reprojected(tmp_path):
     refused = run_cli("dtm", source, "-o", tmp_path / "out", "--profile", "hrsc", "--product-id", "h0002_0001")
     assert refused.returncode == 2 and "--reproject" in refused.stderr
     product = write_dtm(source, tmp_path / "out", profile="hrsc", product_id="h0002_0001", reproject_input=True,
-                             precision=0.1)
+                        precision=0.1)
     with rasterio.open(product.path) as out:
         params = out.crs.to_dict()
         assert params["proj"] == "sinu" and float(params.get("R", params.get("a"))) == 3396000.0

@@ -71,7 +71,7 @@ def test_hrsc_dt4_products_are_clean(tmp_path, grid, order):
     heights[3:6, 4:9] = np.nan
     source = write_raster(tmp_path / "in.tif", heights, crs, Affine(*transform))
     product = write_dtm(source, tmp_path / "out", profile="hrsc", precision=0.05, byte_order=order,
-                             source_product_ids=["H1234_0000_ND3"])
+                        source_product_ids=["H1234_0000_ND3"])
     report = validate_paths([product.path], strict=True)
     assert [f"{f.rule} {f.message}" for f in report.findings if f.severity != "info"] == []
     assert "MAP-004" in report.rule_ids("info")

@@ -35,7 +35,7 @@ def _heights(tmp_path, grid: str):
 def _dtm(tmp_path, grid: str = "sinusoidal", kind: str = "dt4", outdir: str = "out"):
     datum = "sphere" if kind == "dt4" else "areoid"
     return write_dtm(_heights(tmp_path, grid), tmp_path / outdir, profile="hrsc", kind=kind, vertical_datum=datum,
-                          precision=0.05, source_product_ids=["H1234_0000_ND3"]).path
+                     precision=0.05, source_product_ids=["H1234_0000_ND3"]).path
 
 
 def _not_info(report) -> list[str]:
