@@ -340,7 +340,7 @@ def test_every_result_class_states_its_summary_line_and_files():
 
 
 def test_a_mission_writer_that_breaks_the_contract_is_refused(tmp_path, inputs):
-    def untyped_writer(input_path, outdir):
+    def untyped_writer(input_path, outdir, options):
         return {"product_id": "LOOSE"}
 
     register_mission(Mission(name="loose", dtm_keywords=get_mission("generic").dtm_keywords, dtm_note="",
@@ -442,11 +442,13 @@ def test_a_mission_declaring_an_option_gets_the_flag_and_the_refusal_with_no_cli
 
 def test_every_declared_option_is_one_the_missions_writer_takes():
     """A declaration naming an option the writer lacks would pass the CLI's check and then fail
-    in the writer: every declared option is a parameter of the writer the mission's products use."""
+    in the writer: every declared option is one the writers' options object carries, and the
+    writers take that object (`writer(input_path, outdir, options)`)."""
+    import dataclasses
     import inspect
 
     from pdsgen.products.dtm import write_pds3_dtm
-    from pdsgen.products.options import DTM_OPTIONS, ORTHO_OPTIONS, library_keywords
+    from pdsgen.products.options import DTM_OPTIONS, ORTHO_OPTIONS, ProductOptions, library_keywords
     from pdsgen.products.ortho import write_jp2_ortho
 
     standard = {"dtm": write_pds3_dtm, "ortho": write_jp2_ortho}
@@ -454,7 +456,8 @@ def test_every_declared_option_is_one_the_missions_writer_takes():
         mission = get_mission(name)
         for kind, vocabulary in (("dtm", DTM_OPTIONS), ("ortho", ORTHO_OPTIONS)):
             writer = mission.writer(kind) or standard[kind]
-            takes = set(inspect.signature(writer).parameters) - {"input_path", "outdir", "mission"}
+            assert list(inspect.signature(writer).parameters)[:3] == ["input_path", "outdir", "options"], name
+            takes = {field.name for field in dataclasses.fields(ProductOptions)}
             declared = library_keywords(kind, mission, vocabulary)
             # bits: write_ortho itself checks a mission's own 8-bit forms; threads, mosaic_statement: library-only
             assert declared - takes - {"bits", "threads", "mosaic_statement"} == set(), (name, kind)

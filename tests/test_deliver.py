@@ -377,12 +377,12 @@ def test_cli_deliver_and_bad_input(demo_products, tmp_path):
 
 def test_imars_products_refused_with_the_reason(tmp_path):
     """iMars products (GeoTIFF + PVL + GeoJSON) carry no PDS3 or PDS4 label: refused, nothing written."""
-    from pdsgen.products.imars import write_imars_dtm
+    from pdsgen.products.dtm import write_dtm
 
     south_polar = "+proj=stere +lat_0=-90 +lon_0=0 +k=1 +R=3396000 +units=m +no_defs"
     heights = write_raster(tmp_path / "in.tif", elevation_array(40, 30, seed=11), south_polar,
                            Affine(100.0, 0, -20000.0, 0, -100.0, 150000.0))
-    product = write_imars_dtm(heights, tmp_path / "imars", product_id="h0022_0000")
+    product = write_dtm(heights, tmp_path / "imars", profile="imars", product_id="h0022_0000")
     refused = run_cli("deliver", str(tmp_path / "imars"), "-o", str(tmp_path / "out"), "--both",
                       "--volume-id", "IMARS_0001", "--bundle-lid", "urn:nasa:pds:imars")
     assert refused.returncode == 2 and refused.stderr.count("\n") == 1

@@ -12,7 +12,8 @@ import rasterio
 from pdsgen.extras import make_extras
 from pdsgen.extras.product_source import DTM, ORTHO, open_product
 from pdsgen.extras.renderings import render_product
-from pdsgen.products.imars import write_imars_dtm, write_imars_ori
+from pdsgen.products.dtm import write_dtm
+from pdsgen.products.ortho import write_ortho
 from test_extras_helpers import crater_field, write_geotiff
 
 DTM_CODES = ("br", "ab", "th", "sb", "sa", "st", "cb", "ca", "ct")
@@ -34,8 +35,8 @@ def preview_range(path: Path) -> tuple[float, float]:
 @pytest.mark.parametrize("precision", [1.0, 0.1])
 def test_imars_dtm_geotiff_is_a_dtm_in_metres(heights_tif, tmp_path: Path, precision):
     source, z = heights_tif
-    product = write_imars_dtm(source, tmp_path / "o", product_id="h1234_0000",
-                              precision=precision)
+    product = write_dtm(source, tmp_path / "o", profile="imars", product_id="h1234_0000",
+                        precision=precision)
     tif = product.tiff_path
     assert tif.name == "h1234_0000_da4_ucl.tif"
     with rasterio.open(tif) as ds:
@@ -89,13 +90,13 @@ def test_hrsc_dtm_names_make_a_dtm_and_orthoimages_stay_orthoimages(tmp_path: Pa
         assert open_product(write_geotiff(tmp_path / "in" / name, dn)).kind == ORTHO, name
     byte = (np.arange(60 * 80).reshape(60, 80) % 250 + 1).astype(np.uint8)
     source = write_geotiff(tmp_path / "in" / "ori.tif", byte)
-    ori = write_imars_ori(source, tmp_path / "o", product_id="h1234_0000")
+    ori = write_ortho(source, tmp_path / "o", profile="imars", product_id="h1234_0000")
     assert open_product(ori.tiff_path).kind == ORTHO
 
 
 def test_kind_option_still_overrides_detection(heights_tif, tmp_path: Path):
     source, _ = heights_tif
-    tif = write_imars_dtm(source, tmp_path / "o", product_id="h1234_0000").tiff_path
+    tif = write_dtm(source, tmp_path / "o", profile="imars", product_id="h1234_0000").tiff_path
     assert open_product(tif, "ortho").kind == ORTHO
 
 

@@ -109,7 +109,7 @@ def test_allowed_deviation_is_written_and_warned_once(tmp_path, inputs):
 
 
 def test_hrsc_labels_are_checked_too(tmp_path):
-    from pdsgen.products.hrsc import write_hrsc_dtm
+    from pdsgen.products.dtm import write_dtm
 
     from helpers import elevation_array, write_raster
 
@@ -117,10 +117,10 @@ def test_hrsc_labels_are_checked_too(tmp_path):
                           Affine(50.0, 0, -10000.0, 0, -50.0, -1000000.0))
     params = {"PRODUCER_FULL_NAME": LONG_NAME}
     with pytest.raises(ParamsError, match="^PRODUCER_FULL_NAME"):
-        write_hrsc_dtm(source, tmp_path / "out", product_id="h0010_0023", params=params)
+        write_dtm(source, tmp_path / "out", profile="hrsc", product_id="h0010_0023", params=params)
     assert not list((tmp_path / "out").iterdir())
-    kept = write_hrsc_dtm(source, tmp_path / "out", product_id="h0010_0023", params=params,
-                          allow_dictionary_deviations=True)
+    kept = write_dtm(source, tmp_path / "out", profile="hrsc", product_id="h0010_0023", params=params,
+                     allow_dictionary_deviations=True)
     assert len(kept.warnings) == 1 and "PRODUCER_FULL_NAME" in kept.warnings[0]
 
 

@@ -22,7 +22,8 @@ from rasterio.crs import CRS
 from rasterio.warp import transform as warp_transform
 
 from pdsgen.errors import InputError
-from pdsgen.products.hrsc import write_hrsc_dtm, write_hrsc_nd4
+from pdsgen.products.dtm import write_dtm
+from pdsgen.products.ortho import write_ortho
 from pdsgen.validate import validate_paths
 from test_fidelity_hirise import keyword_sequence
 
@@ -63,7 +64,7 @@ def test_dt4_carries_identification_and_orbit_keywords_of_a_real_level2_label(tm
     source = corpus_dir / SOURCE_LABEL
     (tmp_path / "out").mkdir()
     (tmp_path / "out" / "MEX_POINTING_DESC.TXT").write_text("pointing modes\r\n")  # as the volume holds it
-    product = write_hrsc_dtm(heights, tmp_path / "out", product_id="h0010_0023", source_labels=[source])
+    product = write_dtm(heights, tmp_path / "out", profile="hrsc", product_id="h0010_0023", source_labels=[source])
     label, real = pvl.load(str(product.path)), pvl.load(str(source))
     for key in CARRIED:
         assert label[key] == real[key], key
@@ -80,7 +81,7 @@ def test_dt4_carries_identification_and_orbit_keywords_of_a_real_level2_label(tm
 
 
 def test_without_a_source_label_the_keywords_are_left_out(tmp_path, heights):
-    product = write_hrsc_dtm(heights, tmp_path / "out", product_id="h0010_0023")
+    product = write_dtm(heights, tmp_path / "out", profile="hrsc", product_id="h0010_0023")
     sequence, _ = keyword_sequence(product.label_text)
     assert not set(CARRIED) & set(sequence)
     assert "ORBIT_NUMBER" in sequence  # from the product name, a fact rather than a placeholder
@@ -88,13 +89,13 @@ def test_without_a_source_label_the_keywords_are_left_out(tmp_path, heights):
 
 def test_a_source_label_of_another_orbit_is_refused(tmp_path, heights, corpus_dir):
     with pytest.raises(InputError, match="orbit 10.*orbit 1234"):
-        write_hrsc_dtm(heights, tmp_path / "out", product_id="h1234_0000",
-                       source_labels=[corpus_dir / SOURCE_LABEL])
+        write_dtm(heights, tmp_path / "out", profile="hrsc", product_id="h1234_0000",
+                  source_labels=[corpus_dir / SOURCE_LABEL])
     assert not (tmp_path / "out").exists() or not list((tmp_path / "out").iterdir())
 
 
 def test_image_object_statistics_and_dlr_projection(tmp_path, heights):
-    product = write_hrsc_dtm(heights, tmp_path / "out", product_id="h0010_0023", precision=0.5)
+    product = write_dtm(heights, tmp_path / "out", profile="hrsc", product_id="h0010_0023", precision=0.5)
     sequence, values = keyword_sequence(product.label_text)
     assert not set(HIRISE_ONLY) & set(sequence)
     start = sequence.index("OBJECT=IMAGE_MAP_PROJECTION") + 1
@@ -122,7 +123,7 @@ def test_projection_object_has_the_keywords_of_a_genuine_dlr_level4_label_in_its
     """The same keys, in the same order, as a DLR level-4 label kept in tests/data (ISIS3's
     hrsc2isis test file; PROVENANCE.md), pointer name included."""
     genuine = pvl.load(str(GENUINE_LEVEL4))["IMAGE_MAP_PROJECTION"]
-    product = write_hrsc_dtm(heights, tmp_path / "out", product_id="h0010_0023")
+    product = write_dtm(heights, tmp_path / "out", profile="hrsc", product_id="h0010_0023")
     written = pvl.load(str(product.path))["IMAGE_MAP_PROJECTION"]
     assert list(written.keys()) == list(genuine.keys())
     assert "^DATA_SET_MAP_PROJECTION_CATALOG" in written and written["^DATA_SET_MAP_PROJECTION_CATALOG"] == "DSMAP.CAT"
@@ -146,7 +147,7 @@ def test_mean_is_of_the_valid_dns_only_over_many_strips(tmp_path, monkeypatch):
     values[::3, :] = -99999.0  # every third line missing, spread across all strips
     values[5:600, 7] = -99999.0
     source = write_raster(tmp_path / "holes.tif", values, SINUSOIDAL, GRID, nodata=-99999.0)
-    product = write_hrsc_dtm(source, tmp_path / "out", product_id="h0010_0023", precision=0.5)
+    product = write_dtm(source, tmp_path / "out", profile="hrsc", product_id="h0010_0023", precision=0.5)
     image = pvl.load(str(product.path))["IMAGE"]
     with rasterio.open(product.path) as stored:
         assert stored.height == 700
@@ -164,7 +165,7 @@ def test_mean_is_of_the_valid_dns_only_over_many_strips(tmp_path, monkeypatch):
 def test_nd4_is_in_the_dtm_data_set_with_its_statistics(tmp_path):
     nadir = (np.arange(30 * 24).reshape(30, 24) % 200 + 20).astype("uint8")
     source = write_raster(tmp_path / "nadir.tif", nadir, SINUSOIDAL, GRID)
-    product = write_hrsc_nd4(source, tmp_path / "out", product_id="h0010_0023")
+    product = write_ortho(source, tmp_path / "out", profile="hrsc", product_id="h0010_0023")
     label = pvl.load(str(product.path))
     assert label["DATA_SET_ID"] == "MEX-M-HRSC-5-REFDR-DTM-V1.0"
     assert label["IMAGE"]["MEAN"] == pytest.approx(nadir.mean(), rel=1e-5)
@@ -173,7 +174,7 @@ def test_nd4_is_in_the_dtm_data_set_with_its_statistics(tmp_path):
 
 
 def test_dlr_offset_convention_is_one_pixel_apart_and_recognised(tmp_path, heights):
-    standard = write_hrsc_dtm(heights, tmp_path / "std", product_id="h0010_0023")
+    standard = write_dtm(heights, tmp_path / "std", profile="hrsc", product_id="h0010_0023")
     result = run_cli("dtm", heights, "-o", tmp_path / "dlr", "--profile", "hrsc", "--product-id", "h0010_0023",
                      "--offset-convention", "dlr")
     assert result.returncode == 0, result.stderr
@@ -203,8 +204,8 @@ def test_reproject_converts_heights_between_reference_surfaces(tmp_path):
     height = 1000.0  # metres above the ellipsoid everywhere: the radius is R(lat) + 1000 m
     data = np.full((40, 40), height, dtype="float32")
     source = write_raster(tmp_path / "ell.tif", data, ellipsoid, Affine(500.0, 0, 0.0, 0, -500.0, 2400000.0))
-    product = write_hrsc_dtm(source, tmp_path / "out", product_id="h0010_0023", reproject_input=True,
-                             precision=0.1)
+    product = write_dtm(source, tmp_path / "out", profile="hrsc", product_id="h0010_0023", reproject_input=True,
+                        precision=0.1)
     with rasterio.open(product.path) as out:
         stored = out.read(1, masked=True)
         rows, cols = np.nonzero(~np.ma.getmaskarray(stored))
@@ -220,7 +221,7 @@ def test_reproject_converts_heights_between_reference_surfaces(tmp_path):
 
 @pytest.mark.filterwarnings("ignore::rasterio.errors.NotGeoreferencedWarning")  # the VICAR part alone
 def test_vicar2_header_is_read_by_gdals_vicar_driver(tmp_path, heights):
-    product = write_hrsc_dtm(heights, tmp_path / "out", product_id="h0010_0023", precision=0.5)
+    product = write_dtm(heights, tmp_path / "out", profile="hrsc", product_id="h0010_0023", precision=0.5)
     label = pvl.loads(product.label_text)
     header = label["IMAGE_HEADER"]
     assert (header["HEADER_TYPE"], header["INTERCHANGE_FORMAT"]) == ("VICAR2", "ASCII")
@@ -245,8 +246,8 @@ def test_vicar2_header_is_read_by_gdals_vicar_driver(tmp_path, heights):
 
 
 def test_da4_note_keeps_the_acronyms_case(tmp_path, heights):
-    product = write_hrsc_dtm(heights, tmp_path / "out", product_id="h0010_0023", kind="da4",
-                             vertical_datum="areoid")
+    product = write_dtm(heights, tmp_path / "out", profile="hrsc", product_id="h0010_0023", kind="da4",
+                        vertical_datum="areoid")
     label = pvl.loads(product.label_text)
     assert "GM3 areoid" in label["IMAGE"]["NOTE"] and "gm3" not in label["IMAGE"]["NOTE"]
     assert label["MEX:DTM"]["MEX:DTM_DESC"] == "HEIGHT ABOVE GM3-AREOID"

@@ -17,7 +17,7 @@ import rasterio
 import shapefile
 from affine import Affine
 
-from pdsgen.products.imars import write_imars_dtm
+from pdsgen.products.dtm import write_dtm
 
 from helpers import elevation_array, write_raster
 
@@ -51,7 +51,7 @@ def delivery(tmp_path):
     source = write_raster(tmp_path / "in.tif", heights, SOUTH_POLAR, Affine(100.0, 0, -20000.0, 0, -100.0, 150000.0))
     params = tmp_path / "p.toml"
     params.write_text('technical_contact = "J. Doe"\n[matcher_parameters]\nwindow = 11\nthreshold = 0.6\n')
-    return write_imars_dtm(source, tmp_path / "out", product_id="h0022_0000", precision=0.1, params=params)
+    return write_dtm(source, tmp_path / "out", profile="imars", product_id="h0022_0000", precision=0.1, params=params)
 
 
 def _at(label, path):

@@ -20,8 +20,6 @@ from affine import Affine
 
 from pdsgen import write_dtm, write_ortho
 from pdsgen.extras import make_extras
-from pdsgen.products.hrsc import write_hrsc_dtm, write_hrsc_nd4
-from pdsgen.products.imars import write_imars_dtm
 
 from helpers import CRS_EQUIRECTANGULAR, elevation_array, write_raster
 
@@ -95,11 +93,11 @@ def test_hrsc_dt4_and_nd4_labels(tmp_path):
     heights[2:4, 5:9] = np.nan
     transform = Affine(50.0, 0, -10000.0, 0, -50.0, -1000000.0)
     source = write_raster(tmp_path / "heights.tif", heights, SINUSOIDAL_HRSC, transform)
-    dt4 = write_hrsc_dtm(source, tmp_path / "out", precision=0.5, source_product_ids=["H1234_0000_ND3"])
+    dt4 = write_dtm(source, tmp_path / "out", profile="hrsc", precision=0.5, source_product_ids=["H1234_0000_ND3"])
     check_golden("hrsc_dt4.lbl", attached_label(dt4.path))
     image = np.linspace(3, 250, 30 * 24).reshape(30, 24).astype(np.uint8)
     nadir = write_raster(tmp_path / "nadir.tif", image, SINUSOIDAL_HRSC, transform)
-    nd4 = write_hrsc_nd4(nadir, tmp_path / "out", source_product_ids=["H1234_0000_ND3"])
+    nd4 = write_ortho(nadir, tmp_path / "out", profile="hrsc", source_product_ids=["H1234_0000_ND3"])
     check_golden("hrsc_nd4.lbl", attached_label(nd4.path))
 
 
@@ -109,5 +107,5 @@ def test_imars_pvl(tmp_path, monkeypatch):
     heights[:3, :] = np.nan
     transform = Affine(100.0, 0, -20000.0, 0, -100.0, 150000.0)
     source = write_raster(tmp_path / "heights.tif", heights, SOUTH_POLAR_HRSC, transform)
-    product = write_imars_dtm(source, tmp_path / "out", product_id="h0022_0000", precision=0.1)
+    product = write_dtm(source, tmp_path / "out", profile="imars", product_id="h0022_0000", precision=0.1)
     check_golden("imars_da4_ucl.pvl", product.pvl_path.read_bytes())

@@ -11,7 +11,7 @@ from rasterio.crs import CRS
 from rasterio.warp import transform as warp_transform
 
 from pdsgen.errors import PdsgenError
-from pdsgen.products.hrsc import write_hrsc_dtm
+from pdsgen.products.dtm import write_dtm
 
 from helpers import elevation_array, run_cli, write_raster
 
@@ -50,7 +50,7 @@ def test_dt4_heights_round_trip_through_scaling_and_gdal_reads_grid(tmp_path, gr
     heights = elevation_array(120, 100, seed=7)
     heights[10:14, 20:30] = np.nan
     source = write_raster(tmp_path / "in.tif", heights, crs, transform)
-    product = write_hrsc_dtm(source, tmp_path / "out", precision=0.05, source_product_ids=["H1234_0000_ND3"])
+    product = write_dtm(source, tmp_path / "out", profile="hrsc", precision=0.05, source_product_ids=["H1234_0000_ND3"])
     assert product.path.name == "h1234_0000_dt4.img"
     with rasterio.open(source) as src, rasterio.open(product.path) as out:
         assert out.dtypes[0] == "int16"
@@ -80,9 +80,9 @@ def test_da4_differs_from_dt4_by_the_areoid(tmp_path):
     with rasterio.open(source) as src:
         lons, lats = _pixel_lonlat(src)
     areoid = _areoid_grid(tmp_path, (lons.min() - 0.5, lons.max() + 0.5), (lats.min() - 0.5, lats.max() + 0.5))
-    dt4 = write_hrsc_dtm(source, tmp_path / "out", kind="dt4", precision=0.05, product_id="h0001_0000")
-    da4 = write_hrsc_dtm(source, tmp_path / "out", kind="da4", areoid=areoid, precision=0.05,
-                         product_id="h0001_0000")
+    dt4 = write_dtm(source, tmp_path / "out", profile="hrsc", kind="dt4", precision=0.05, product_id="h0001_0000")
+    da4 = write_dtm(source, tmp_path / "out", profile="hrsc", kind="da4", areoid=areoid, precision=0.05,
+                    product_id="h0001_0000")
     assert da4.path.name == "h0001_0000_da4.img"
     with rasterio.open(dt4.path) as a, rasterio.open(da4.path) as b:
         sphere = a.read(1) * a.scales[0] + a.offsets[0]
@@ -98,7 +98,7 @@ def test_datum_conversion_needs_an_areoid(tmp_path):
     crs, transform = GRIDS["sinusoidal"]
     source = write_raster(tmp_path / "in.tif", elevation_array(10, 10), crs, transform)
     with pytest.raises(PdsgenError, match="`areoid`"):
-        write_hrsc_dtm(source, tmp_path / "out", kind="da4", product_id="h0001_0000")
+        write_dtm(source, tmp_path / "out", profile="hrsc", kind="da4", product_id="h0001_0000")
 
 
 def test_range_that_cannot_fit_16_bits_is_refused(tmp_path):
@@ -121,8 +121,8 @@ def test_wrong_projection_is_refused_then_reprojected(tmp_path):
                           Affine(100.0, 0, 4000000.0, 0, -100.0, -1200000.0))
     refused = run_cli("dtm", source, "-o", tmp_path / "out", "--profile", "hrsc", "--product-id", "h0002_0001")
     assert refused.returncode == 2 and "--reproject" in refused.stderr
-    product = write_hrsc_dtm(source, tmp_path / "out", product_id="h0002_0001", reproject_input=True,
-                             precision=0.1)
+    product = write_dtm(source, tmp_path / "out", profile="hrsc", product_id="h0002_0001", reproject_input=True,
+                        precision=0.1)
     with rasterio.open(product.path) as out:
         params = out.crs.to_dict()
         assert params["proj"] == "sinu" and float(params.get("R", params.get("a"))) == 3396000.0
@@ -139,7 +139,7 @@ def test_polar_product_near_the_pole_must_be_polar_stereographic(tmp_path):
     source = write_raster(tmp_path / "in.tif", elevation_array(10, 10), near_pole_sinusoidal,
                           Affine(50.0, 0, 0.0, 0, -50.0, -5200000.0))
     with pytest.raises(PdsgenError, match="polar stereographic"):
-        write_hrsc_dtm(source, tmp_path / "out", product_id="h0003_0000")
+        write_dtm(source, tmp_path / "out", profile="hrsc", product_id="h0003_0000")
 
 
 def test_vicar_earth_input_from_hrsc_ax(tmp_path):
@@ -189,7 +189,7 @@ def test_extras_of_hrsc_products_use_hrsc_names_and_credit(tmp_path):
 
     crs, transform = GRIDS["sinusoidal"]
     source = write_raster(tmp_path / "in.tif", elevation_array(120, 100, seed=4), crs, transform)
-    product = write_hrsc_dtm(source, tmp_path / "out", product_id="h1234_0000")
+    product = write_dtm(source, tmp_path / "out", profile="hrsc", product_id="h1234_0000")
     assert open_product(product.path).mission == "hrsc"
     written = make_extras([product.path], tmp_path / "extras")
     names = {path.name for path in written}

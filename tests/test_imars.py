@@ -10,7 +10,7 @@ import pytest
 import rasterio
 from affine import Affine
 
-from pdsgen.products.imars import write_imars_dtm
+from pdsgen.products.dtm import write_dtm
 
 from helpers import elevation_array, run_cli, write_raster
 
@@ -29,7 +29,8 @@ def test_geotiff_has_nodata_scaling_and_processing_tags(tmp_path, polar_dtm):
     source, heights = polar_dtm
     params = tmp_path / "params.toml"
     params.write_text('extraction_method = "CASP-GO"\n[matcher_parameters]\nwindow = 15\nthreshold = 0.2\n')
-    product = write_imars_dtm(source, tmp_path / "out", product_id="h0022_0000", precision=0.1, params=params)
+    product = write_dtm(source, tmp_path / "out", profile="imars", product_id="h0022_0000", precision=0.1,
+                        params=params)
     assert product.tiff_path.name == "h0022_0000_da4_ucl.tif"
     with rasterio.open(product.tiff_path) as out:
         assert out.nodata == -32768
@@ -51,7 +52,7 @@ def test_pvl_metadata_matches_the_geotiff(tmp_path, polar_dtm):
     params = tmp_path / "params.pvl"
     params.write_text('EXTRACTION_METHOD = "CASP-GO"\nGROUP = MATCHER_PARAMETERS\n  WINDOW = 15\n'
                       'END_GROUP = MATCHER_PARAMETERS\nEND\n')
-    product = write_imars_dtm(source, tmp_path / "out", product_id="h0022_0000", params=params)
+    product = write_dtm(source, tmp_path / "out", profile="imars", product_id="h0022_0000", params=params)
     assert product.pvl_path.name == "h0022_0000_da4_ucl.pvl"
     label = pvl.load(str(product.pvl_path))
     assert set(label.keys()) >= {"ProductInfo", "Image", "DataProduct", "MapProjection", "Algorithm"}
@@ -74,7 +75,7 @@ def test_pvl_metadata_matches_the_geotiff(tmp_path, polar_dtm):
 
 def test_footprint_is_geojson_around_the_valid_data(tmp_path, polar_dtm):
     source, _ = polar_dtm
-    product = write_imars_dtm(source, tmp_path / "out", product_id="h0022_0000")
+    product = write_dtm(source, tmp_path / "out", profile="imars", product_id="h0022_0000")
     collection = json.loads(product.footprint_path.read_text())
     assert product.footprint_path.name == "h0022_0000.geojson"
     assert collection["type"] == "FeatureCollection"
@@ -82,7 +83,7 @@ def test_footprint_is_geojson_around_the_valid_data(tmp_path, polar_dtm):
     assert feature["id"] == "h0022_0000_da4" and feature["geometry"]["type"] == "Polygon"
     ring = np.array(feature["geometry"]["coordinates"][0])
     assert np.all(ring[:, 1] < -80)  # a south-polar product
-    again = write_imars_dtm(source, tmp_path / "out", product_id="h0022_0000", kind="dt", overwrite=True)
+    again = write_dtm(source, tmp_path / "out", profile="imars", product_id="h0022_0000", kind="dt", overwrite=True)
     ids = [f["id"] for f in json.loads(again.footprint_path.read_text())["features"]]
     assert ids == ["h0022_0000_da4", "h0022_0000_dt4"]
 
@@ -102,10 +103,10 @@ def test_ori_is_byte_geotiff_with_nodata_zero_and_shares_the_footprint(tmp_path,
     image[:, :3] = np.nan
     with rasterio.open(dtm_source) as src:
         ori_source = write_raster(tmp_path / "ori.tif", image, src.crs.to_proj4(), src.transform)
-    from pdsgen.products.imars import write_imars_ori
+    from pdsgen.products.ortho import write_ortho
 
-    write_imars_dtm(dtm_source, tmp_path / "out", product_id="h0022_0000")
-    ori = write_imars_ori(ori_source, tmp_path / "out", product_id="h0022_0000")
+    write_dtm(dtm_source, tmp_path / "out", profile="imars", product_id="h0022_0000")
+    ori = write_ortho(ori_source, tmp_path / "out", profile="imars", product_id="h0022_0000")
     assert ori.tiff_path.name == "h0022_0000_nd4_ucl.tif"
     with rasterio.open(ori.tiff_path) as out:
         assert out.nodata == 0 and out.dtypes[0] == "uint8"

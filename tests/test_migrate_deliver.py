@@ -14,7 +14,6 @@ from pdsgen.extras import make_extras
 from pdsgen.pds4 import schematron
 from pdsgen.pds4.validate import validate_pds4
 from pdsgen.products.dtm import write_dtm
-from pdsgen.products.hrsc import write_hrsc_dtm
 from pdsgen.products.ortho import write_ortho
 from pdsgen.synthetic import make_scene, write_geotiff
 
@@ -40,7 +39,7 @@ def pds3_only(tmp_path_factory) -> Path:
     hrsc_in = write_raster(root / "in" / "hrsc.tif", elevation_array(40, 30, seed=2),
                            "+proj=sinu +lon_0=70 +R=3396000 +units=m +no_defs",
                            Affine(50.0, 0, -10000.0, 0, -50.0, -1000000.0))
-    write_hrsc_dtm(hrsc_in, products, precision=0.05, product_id="h1234_0000")
+    write_dtm(hrsc_in, products, profile="hrsc", precision=0.05, product_id="h1234_0000")
     assert not list(products.glob("*.xml"))  # PDS3 only
     return products
 

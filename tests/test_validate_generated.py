@@ -62,7 +62,7 @@ def test_hrsc_dt4_products_are_clean(tmp_path, grid, order):
     import numpy as np
     from affine import Affine
 
-    from pdsgen.products.hrsc import write_hrsc_dtm
+    from pdsgen.products.dtm import write_dtm
 
     from helpers import elevation_array, write_raster
 
@@ -70,8 +70,8 @@ def test_hrsc_dt4_products_are_clean(tmp_path, grid, order):
     heights = elevation_array(45, 38, seed=11)
     heights[3:6, 4:9] = np.nan
     source = write_raster(tmp_path / "in.tif", heights, crs, Affine(*transform))
-    product = write_hrsc_dtm(source, tmp_path / "out", precision=0.05, byte_order=order,
-                             source_product_ids=["H1234_0000_ND3"])
+    product = write_dtm(source, tmp_path / "out", profile="hrsc", precision=0.05, byte_order=order,
+                        source_product_ids=["H1234_0000_ND3"])
     report = validate_paths([product.path], strict=True)
     assert [f"{f.rule} {f.message}" for f in report.findings if f.severity != "info"] == []
     assert "MAP-004" in report.rule_ids("info")
@@ -82,7 +82,7 @@ def test_hrsc_nd4_orthoimages_are_clean(tmp_path, dtype):
     import numpy as np
     from affine import Affine
 
-    from pdsgen.products.hrsc import write_hrsc_nd4
+    from pdsgen.products.ortho import write_ortho
 
     from helpers import write_raster
 
@@ -91,7 +91,7 @@ def test_hrsc_nd4_orthoimages_are_clean(tmp_path, dtype):
     image[0, :3] = 0
     crs, transform = HRSC_GRIDS["sinusoidal"]
     source = write_raster(tmp_path / "nd.tif", image, crs, Affine(*transform), nodata=0)
-    product = write_hrsc_nd4(source, tmp_path / "out", source_product_ids=["H1234_0000_ND3"])
+    product = write_ortho(source, tmp_path / "out", profile="hrsc", source_product_ids=["H1234_0000_ND3"])
     report = validate_paths([product.path], strict=True)
     assert [f"{f.rule} {f.message}" for f in report.findings if f.severity != "info"] == []
 

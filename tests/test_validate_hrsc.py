@@ -10,7 +10,8 @@ from affine import Affine
 from click.testing import CliRunner
 
 from pdsgen.cli import main
-from pdsgen.products.hrsc import write_hrsc_dtm, write_hrsc_nd4
+from pdsgen.products.dtm import write_dtm
+from pdsgen.products.ortho import write_ortho
 from pdsgen.validate import validate_paths
 from test_validate_support import label_end, make_dtm, replace_in_label, resize_label_text
 
@@ -33,8 +34,8 @@ def _heights(tmp_path, grid: str):
 
 def _dtm(tmp_path, grid: str = "sinusoidal", kind: str = "dt4", outdir: str = "out"):
     datum = "sphere" if kind == "dt4" else "areoid"
-    return write_hrsc_dtm(_heights(tmp_path, grid), tmp_path / outdir, kind=kind, vertical_datum=datum,
-                          precision=0.05, source_product_ids=["H1234_0000_ND3"]).path
+    return write_dtm(_heights(tmp_path, grid), tmp_path / outdir, profile="hrsc", kind=kind, vertical_datum=datum,
+                     precision=0.05, source_product_ids=["H1234_0000_ND3"]).path
 
 
 def _not_info(report) -> list[str]:
@@ -95,7 +96,7 @@ def test_nd4_validates_clean_strict(tmp_path, dtype):
     image[0, :3] = 0
     crs, transform = GRIDS["south_polar"]
     source = write_raster(tmp_path / "nd.tif", image, crs, transform, nodata=0)
-    product = write_hrsc_nd4(source, tmp_path / "out", source_product_ids=["H1234_0000_ND3"])
+    product = write_ortho(source, tmp_path / "out", profile="hrsc", source_product_ids=["H1234_0000_ND3"])
     report = validate_paths([product.path], strict=True)
     assert _not_info(report) == []
     assert not report.rule_ids() & {"HRSC-001", "HRSC-002", "HRSC-003", "HRSC-004", "HRSC-005", "HRSC-006"}

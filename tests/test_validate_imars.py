@@ -13,7 +13,8 @@ from affine import Affine
 from click.testing import CliRunner
 
 from pdsgen.cli import main
-from pdsgen.products.imars import write_imars_dtm, write_imars_ori
+from pdsgen.products.dtm import write_dtm
+from pdsgen.products.ortho import write_ortho
 from pdsgen.validate import discover, validate_paths
 
 from helpers import elevation_array, write_raster
@@ -36,8 +37,8 @@ def _delivery(tmp_path, grid: str = "south_polar"):
     image[:, :3] = np.nan
     ori_source = write_raster(tmp_path / "ori_in.tif", image, crs, transform)
     out = tmp_path / "out"
-    dtm = write_imars_dtm(dtm_source, out, product_id="h0022_0000", precision=0.1)
-    ori = write_imars_ori(ori_source, out, product_id="h0022_0000")
+    dtm = write_dtm(dtm_source, out, profile="imars", product_id="h0022_0000", precision=0.1)
+    ori = write_ortho(ori_source, out, profile="imars", product_id="h0022_0000")
     return dtm, ori
 
 

@@ -188,10 +188,11 @@ MISSION = Mission(
     options=OptionUse(
         dtm=frozenset({"source_product_ids", "source_labels", "offset_convention", "byte_order", "kind",
                        "vertical_datum", "areoid", "precision", "reproject_input", "label",
-                       "allow_dictionary_deviations"}),
+                       "allow_dictionary_deviations", "mosaic_statement"}),
         ortho=frozenset({"source_product_ids", "source_labels", "offset_convention", "bits", "reproject_input",
-                         "label", "allow_dictionary_deviations"}),
+                         "label", "allow_dictionary_deviations", "mosaic_statement"}),
         mosaic=frozenset({"precision", "reproject_input", "label", "allow_dictionary_deviations"}),
+        defaults={"byte_order": "msb", "vertical_datum": "sphere"},  # DLR's products are big-endian
     ),
     mosaic_product_id=mosaic_name_refusal,
 )

@@ -83,6 +83,7 @@ MISSION = Mission(
         dtm=frozenset({"source_product_ids", "kind", "vertical_datum", "areoid", "precision"}),
         ortho=frozenset({"source_product_ids", "bits"}),
         mosaic=frozenset({"precision"}),
+        defaults={"kind": "da"},  # areoid heights: iMars's DTMs are DA4
     ),
     mosaic_writer="pdsgen.mosaic.imars:write_imars_mosaic",  # <ID>_dtm.tif/_ori.tif, a polygon per strip
 )

@@ -15,6 +15,7 @@ from typing import Any
 
 from ..missions.imars import MISSION
 from ..products.dispatch import call_mission_writer
+from ..products.options import ProductOptions
 from ..products.result import ProductResult
 from .plan import MosaicPlan, source_ids
 
@@ -28,7 +29,8 @@ def write_imars_mosaic(plan: MosaicPlan, vrt: Path, outdir: Path, product_id: st
         options = {"precision": plan.scale, **options}
     mosaic = ImarsMosaic(product_id, tuple(_outlines(plan)), statement)
     writer = functools.partial(write_imars_dtm if plan.kind == "dtm" else write_imars_ori, mosaic=mosaic)
-    return call_mission_writer(writer, MISSION.name, vrt, outdir, {"source_product_ids": source_ids(plan), **options})
+    built = ProductOptions.build(plan.kind, MISSION, {"source_product_ids": source_ids(plan), **options})
+    return call_mission_writer(writer, vrt, outdir, built)
 
 
 def _outlines(plan: MosaicPlan) -> Iterator[tuple[str, list[dict[str, Any]], dict[str, Any]]]:

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-import inspect
 import os
 from collections.abc import Callable, Mapping, Sequence
 from contextlib import ExitStack
@@ -22,6 +21,7 @@ from ..errors import InputError, ParamsError, param
 from ..missions import Mission, get_mission
 from ..missions.base import resolve
 from ..products.dispatch import call_mission_writer
+from ..products.options import ProductOptions
 from ..products.result import ProductResult
 from .plan import MosaicPlan, describe_input, plan_mosaic, source_ids
 from .vrt import mosaic_vrt
@@ -134,7 +134,7 @@ def _write(plan: MosaicPlan, vrt: Path, outdir: Path, mission: Mission, product_
             return write_dtm(vrt, outdir, profile=profile, **_stated(mission, "dtm", options, statement))
         note = f"{mission.dtm_note} {statement}".strip()
         writer = functools.partial(write_pds3_dtm, mission=dataclasses.replace(mission, dtm_note=note))
-        return call_mission_writer(writer, profile, vrt, outdir, options)
+        return call_mission_writer(writer, vrt, outdir, ProductOptions.build("dtm", mission, options))
     from ..products.ortho import write_jp2_ortho, write_ortho
 
     if _own_form(mission, "ortho"):
@@ -142,7 +142,7 @@ def _write(plan: MosaicPlan, vrt: Path, outdir: Path, mission: Mission, product_
     description = f"{mission.ortho_description} {statement}".strip()
     jp2_writer = functools.partial(write_jp2_ortho,
                                    mission=dataclasses.replace(mission, ortho_description=description))
-    return call_mission_writer(jp2_writer, profile, vrt, outdir, options)
+    return call_mission_writer(jp2_writer, vrt, outdir, ProductOptions.build("ortho", mission, options))
 
 
 def _own_form(mission: Mission, kind: str) -> bool:
@@ -153,10 +153,9 @@ def _own_form(mission: Mission, kind: str) -> bool:
 
 
 def _stated(mission: Mission, kind: str, options: Mapping[str, Any], statement: str) -> dict[str, Any]:
-    """A profile's own writer that takes a `mosaic_statement` (HRSC's) gets the mosaic's, for its
-    label to say what the standard writers' NOTE/DESCRIPTION say."""
-    writer = mission.writer(kind)
-    takes = writer is not None and "mosaic_statement" in inspect.signature(writer).parameters
+    """A profile whose writer uses a `mosaic_statement` (HRSC's, as its declaration says) gets the
+    mosaic's, for its label to say what the standard writers' NOTE/DESCRIPTION say."""
+    takes = "mosaic_statement" in mission.options.of(kind)
     return {**options, "mosaic_statement": statement} if takes else dict(options)
 
 

@@ -6,8 +6,8 @@ keywords (profile + params) -> render the label -> stream the image.
 
 from __future__ import annotations
 
+import functools
 import os
-from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from decimal import ROUND_CEILING, ROUND_FLOOR, Decimal, localcontext
 from pathlib import Path
@@ -35,8 +35,8 @@ from ..progress import is_large
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords, source_id_values
-from .options import DTM_OPTIONS, refuse_undeclared
-from .params import ParamValue, check_version, resolve_params, source_ids
+from .options import ProductOptions
+from .params import check_version, resolve_params, source_ids
 from .result import ProductResult, pds4_name
 
 BYTE_ORDERS = ("lsb", "msb")
@@ -82,41 +82,33 @@ def write_dtm(
     keywords. An option the profile does not use (its mission's declaration) is refused.
     """
     mission = get_mission(profile)
-    refuse_undeclared("dtm", profile, options, DTM_OPTIONS)
+    built = ProductOptions.build("dtm", mission, options)
     own = mission.writer("dtm")
     if own is not None:
-        return call_mission_writer(own, profile, input_path, outdir, options)
-    return call_mission_writer(write_pds3_dtm, profile, input_path, outdir, {**options, "mission": mission})
+        return call_mission_writer(own, input_path, outdir, built)
+    return call_mission_writer(functools.partial(write_pds3_dtm, mission=mission), input_path, outdir, built)
 
 
 def write_pds3_dtm(
     input_path: str | os.PathLike[str],
     outdir: str | os.PathLike[str],
+    options: ProductOptions,
     *,
     mission: Mission,
-    product_id: str | None = None,
-    source_product_ids: Sequence[str] = (),
-    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
-    byte_order: str | None = None,
-    institution: str | None = None,
-    version: str = "1.0",
-    overwrite: bool = False,
-    label: str | Dialect = Dialect.PDS3,
-    allow_dictionary_deviations: bool | None = None,
 ) -> DtmProduct:
     """Convert a single-band elevation raster into `OUTDIR/<PRODUCT_ID>.IMG` (float32).
 
     label: "pds3" the .IMG with its attached label; "pds4" `<PRODUCT_ID>.img` (raw samples)
     + `<PRODUCT_ID>.xml`; "both" the PDS3 .IMG and a PDS4 `.xml` describing that same file.
     """
-    byte_order = byte_order or "lsb"
+    product_id, byte_order, overwrite = options.product_id, options.byte_order, options.overwrite
     if byte_order not in BYTE_ORDERS:
         raise PdsgenError(None, f"byte order must be one of {', '.join(BYTE_ORDERS)}")
-    dialect = Dialect.of(label)
+    dialect = Dialect.of(options.label)
     chosen = mission
-    version = check_version(version)
-    keywords = resolve_params(params)
-    allow = allows_deviations(allow_dictionary_deviations, keywords)
+    version = check_version(options.version)
+    keywords = resolve_params(options.params)
+    allow = allows_deviations(options.allow_dictionary_deviations, keywords)
     keywords = label_keywords(keywords)
     input_path = Path(input_path)
     with open_raster(input_path) as dataset:
@@ -126,10 +118,10 @@ def write_pds3_dtm(
         geometry = describe_geometry(
             dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path)
         )
-        sources = source_ids(source_product_ids, keywords)
+        sources = source_ids(options.source_product_ids, keywords)
         ident = identification_keywords(chosen.dtm_keywords, keywords, geometry, version)
         product_id = choose_product_id(product_id, chosen.dtm_product_id, ProductIdRequest(
-                input_path.stem, geometry, sources, institution, str(ident["PRODUCT_VERSION_ID"])
+                input_path.stem, geometry, sources, options.institution, str(ident["PRODUCT_VERSION_ID"])
             ),
         )
         context = {

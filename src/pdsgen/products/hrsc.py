@@ -64,6 +64,7 @@ from .int16_heights import (
     source_body,
     sphere_change,
 )
+from .options import ProductOptions
 from .params import ParamValue, check_version, resolve_params, source_ids
 from .result import ProductResult, pds4_name
 
@@ -156,23 +157,7 @@ def hrsc_grid(dataset: DatasetReader, reproject_input: bool) -> Iterator[Dataset
 def write_hrsc_dtm(
     input_path: str | os.PathLike[str],
     outdir: str | os.PathLike[str],
-    *,
-    kind: str = "dt4",
-    vertical_datum: str = "sphere",
-    areoid: str | os.PathLike[str] | None = None,
-    precision: float = 1.0,
-    reproject_input: bool = False,
-    product_id: str | None = None,
-    source_product_ids: Sequence[str] = (),
-    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
-    byte_order: str | None = "msb",
-    version: str = "1.0",
-    overwrite: bool = False,
-    source_labels: Sequence[str | os.PathLike[str]] = (),
-    offset_convention: str = "standard",
-    allow_dictionary_deviations: bool | None = None,
-    label: str | Dialect = Dialect.PDS3,
-    mosaic_statement: str = "",
+    options: ProductOptions,
 ) -> HrscDtmProduct:
     """Write `OUTDIR/hOOOO_NNNN_<kind>.img` from a single-band height raster.
 
@@ -184,12 +169,19 @@ def write_hrsc_dtm(
     label "both" adds `hOOOO_NNNN_<kind>.xml`, a PDS4 label of the same .img (see
     `_pds4_beside`). `mosaic_statement`: how a mosaic's sources were put together, for NOTE.
     """
+    kind, vertical_datum, areoid, precision = options.kind, options.vertical_datum, options.areoid, options.precision
+    product_id, source_product_ids, params, byte_order = (options.product_id, options.source_product_ids,
+                                                          options.params, options.byte_order)
+    version, overwrite, source_labels, offset_convention, allow_dictionary_deviations, label = (
+        options.version, options.overwrite, options.source_labels, options.offset_convention,
+        options.allow_dictionary_deviations, options.label)
+    reproject_input, mosaic_statement = options.reproject_input, options.mosaic_statement
     _check_hrsc_label(label)
-    byte_order = byte_order or "msb"
     check_offset_convention(offset_convention)
     if kind not in DTM_KINDS:
         raise PdsgenError(None, f"HRSC DTM kind must be one of {', '.join(DTM_KINDS)}")
     output_datum, description = DTM_KINDS[kind]
+    vertical_datum = vertical_datum or output_datum  # unset: the kind's (HRSC's declaration says "sphere")
     check_datum_conversion(kind, output_datum, vertical_datum, areoid)
     version = check_version(version)
     keywords = resolve_params(params)
@@ -324,19 +316,7 @@ class HrscImageProduct(HrscProduct):
 def write_hrsc_nd4(
     input_path: str | os.PathLike[str],
     outdir: str | os.PathLike[str],
-    *,
-    value_range: tuple[float, float] | None = None,
-    reproject_input: bool = False,
-    product_id: str | None = None,
-    source_product_ids: Sequence[str] = (),
-    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
-    version: str = "1.0",
-    overwrite: bool = False,
-    source_labels: Sequence[str | os.PathLike[str]] = (),
-    offset_convention: str = "standard",
-    allow_dictionary_deviations: bool | None = None,
-    label: str | Dialect = Dialect.PDS3,
-    mosaic_statement: str = "",
+    options: ProductOptions,
 ) -> HrscImageProduct:
     """Write the nadir orthoimage `OUTDIR/hOOOO_NNNN_nd4.img`: 8-bit DNs, 0 = no data.
 
@@ -346,9 +326,15 @@ def write_hrsc_nd4(
     `hOOOO_NNNN_nd4.xml`, a PDS4 label of the same .img (see `_pds4_beside`).
     `mosaic_statement`: how a mosaic's sources were put together, for NOTE.
     """
+    value_range, reproject_input, product_id, source_product_ids = (options.value_range, options.reproject_input,
+                                                                    options.product_id, options.source_product_ids)
+    version, overwrite, source_labels, offset_convention, allow_dictionary_deviations, label = (
+        options.version, options.overwrite, options.source_labels, options.offset_convention,
+        options.allow_dictionary_deviations, options.label)
+    mosaic_statement = options.mosaic_statement
     _check_hrsc_label(label)
     check_offset_convention(offset_convention)
-    keywords = resolve_params(params)
+    keywords = resolve_params(options.params)
     input_path = Path(input_path)
     special = SPECIAL_DNS[8]
     with hrsc_input(input_path, reproject_input, "an HRSC nadir image") as (grid, geometry, _):

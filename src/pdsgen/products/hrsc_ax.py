@@ -31,7 +31,7 @@ from ..formats.raster import temporary_vrt
 from ..formats.vicar import VicarLabel, VicarValue, group_number, read_map_group, read_vicar_label
 from ..geo.label_georef import LabelGeorefError, vicar_map_georeferencing
 from ..missions import hrsc_ax
-from .params import ParamValue
+from .options import ProductOptions
 
 if TYPE_CHECKING:  # the writers import them on first use
     from .dtm import DtmProduct
@@ -275,16 +275,7 @@ def ortho_description(tile: Tile) -> str:
 def write_hrsc_ax_dtm(
     input_path: str | os.PathLike[str],
     outdir: str | os.PathLike[str],
-    *,
-    product_id: str | None = None,
-    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
-    source_labels: Sequence[str | os.PathLike[str]] = (),
-    vicar_offsets: str = "standard",
-    byte_order: str | None = None,
-    version: str = "1.0",
-    overwrite: bool = False,
-    label: str = "pds3",
-    allow_dictionary_deviations: bool | None = None,
+    options: ProductOptions,
 ) -> DtmProduct:
     """The DEM of an HRSC-AX tile (`TILE.dsm`) as `<PRODUCT_ID>.IMG`: float32 ellipsoid heights.
 
@@ -293,31 +284,18 @@ def write_hrsc_ax_dtm(
     """
     from .dtm import write_pds3_dtm
 
-    tile = read_tile(input_path, source_labels, vicar_offsets)
-    product_id = product_id or hrsc_ax.tile_product_id(tile.stem, tile.kind)
+    tile = read_tile(input_path, options.source_labels, options.vicar_offsets)
+    product_id = options.product_id or hrsc_ax.tile_product_id(tile.stem, tile.kind)
     mission = dataclasses.replace(hrsc_ax.MISSION, dtm_note=dtm_note(tile),
-                                  map_projection_note=hrsc_ax.VICAR_OFFSET_NOTES[vicar_offsets])
+                                  map_projection_note=hrsc_ax.VICAR_OFFSET_NOTES[options.vicar_offsets])
     with tile_vrt(tile, product_id) as vrt:
-        return write_pds3_dtm(vrt, outdir, mission=mission, product_id=product_id, params=params,
-                              byte_order=byte_order, version=version, overwrite=overwrite, label=label,
-                              allow_dictionary_deviations=allow_dictionary_deviations)
+        return write_pds3_dtm(vrt, outdir, options.replace(product_id=product_id), mission=mission)
 
 
 def write_hrsc_ax_ortho(
     input_path: str | os.PathLike[str] | Sequence[str | os.PathLike[str]],
     outdir: str | os.PathLike[str],
-    *,
-    product_id: str | None = None,
-    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
-    source_labels: Sequence[str | os.PathLike[str]] = (),
-    vicar_offsets: str = "standard",
-    value_range: tuple[float, float] | None = None,
-    gmljp2: bool = False,
-    version: str = "1.0",
-    overwrite: bool = False,
-    label: str = "pds3",
-    allow_dictionary_deviations: bool | None = None,
-    threads: int | None = None,
+    options: ProductOptions,
 ) -> OrthoProduct:
     """The panchromatic, RGB or CIR image of an HRSC-AX tile as `<PRODUCT_ID>.JP2` + `.LBL`.
 
@@ -327,14 +305,12 @@ def write_hrsc_ax_ortho(
     """
     from .ortho import write_jp2_ortho
 
-    tile = read_tile(input_path, source_labels, vicar_offsets)
+    tile = read_tile(input_path, options.source_labels, options.vicar_offsets)
     if tile.kind == "DEM":
         raise PdsgenError(tile.paths[0], "is an HRSC-AX DEM; make it with `pdsgen dtm`")
-    product_id = product_id or hrsc_ax.tile_product_id(tile.stem, tile.kind)
+    product_id = options.product_id or hrsc_ax.tile_product_id(tile.stem, tile.kind)
     mission = dataclasses.replace(hrsc_ax.MISSION, ortho_description=ortho_description(tile),
-                                  map_projection_note=hrsc_ax.VICAR_OFFSET_NOTES[vicar_offsets])
+                                  map_projection_note=hrsc_ax.VICAR_OFFSET_NOTES[options.vicar_offsets])
     with tile_vrt(tile, product_id) as vrt:
-        return write_jp2_ortho(vrt, outdir, mission=mission, product_id=product_id, params=params,
-                               value_range=value_range, gmljp2=gmljp2, version=version, overwrite=overwrite,
-                               label=label, allow_dictionary_deviations=allow_dictionary_deviations,
-                               threads=threads, filter_names=tuple(c.band_name for c in tile.channels))
+        return write_jp2_ortho(vrt, outdir, options.replace(product_id=product_id), mission=mission,
+                               filter_names=tuple(c.band_name for c in tile.channels))

@@ -33,7 +33,8 @@ from ..missions import imars as imars_mission
 from ..missions.hrsc import MISSING_DN
 from ..missions.hrsc import base_name as hrsc_base_name
 from .int16_heights import Int16Encoding, areoid_adjustment, check_datum_conversion, choose_encoding
-from .params import ParamValue, check_version, resolve_params, source_ids
+from .options import ProductOptions
+from .params import check_version, resolve_params, source_ids
 from .result import ProductResult
 
 IMARS_INSTITUTION = imars_mission.INSTITUTION
@@ -103,16 +104,8 @@ def _footprint_features(mosaic: ImarsMosaic | None, product_id: str, polygons, p
 def write_imars_dtm(
     input_path: str | os.PathLike[str],
     outdir: str | os.PathLike[str],
+    options: ProductOptions,
     *,
-    product_id: str | None = None,
-    source_product_ids: tuple[str, ...] | list[str] = (),
-    kind: str = "da",
-    vertical_datum: str | None = None,
-    areoid: str | os.PathLike[str] | None = None,
-    precision: float = 1.0,
-    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
-    version: str = "1.0",
-    overwrite: bool = False,
     mosaic: ImarsMosaic | None = None,
 ) -> ImarsProduct:
     """Write `<ID>_<kind>4_ucl.tif` (int16), its `.pvl` and the scene footprint
@@ -121,6 +114,10 @@ def write_imars_dtm(
     `vertical_datum` says what the input heights are measured from (default: the
     datum of `kind`); when it differs from the kind's, `areoid` converts, as for HRSC.
     """
+    product_id, source_product_ids, kind, vertical_datum = (options.product_id, options.source_product_ids,
+                                                            options.kind, options.vertical_datum)
+    areoid, precision, params, version, overwrite = (options.areoid, options.precision, options.params,
+                                                     options.version, options.overwrite)
     kind = kind[:2] if kind in ("dt4", "da4") else kind  # the CLI's --kind dt4/da4 names them too
     if kind not in _DTM_DESCRIPTIONS:
         raise PdsgenError(None, "iMars DTM kind must be da (areoid heights) or dt (sphere heights)")
@@ -218,19 +215,16 @@ def _processing_tags(product: str, description: str, scale: float, offset: float
 def write_imars_ori(
     input_path: str | os.PathLike[str],
     outdir: str | os.PathLike[str],
+    options: ProductOptions,
     *,
-    product_id: str | None = None,
-    source_product_ids: tuple[str, ...] | list[str] = (),
-    value_range: tuple[float, float] | None = None,
-    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
-    version: str = "1.0",
-    overwrite: bool = False,
     mosaic: ImarsMosaic | None = None,
 ) -> ImarsProduct:
     """Write the orthoimage `<ID>_nd4_ucl.tif` (byte, nodata 0), its `.pvl` and the scene footprint
     (a mosaic: `<ID>_ori.tif`, its `.pvl` and its sources' footprints)."""
-    version = check_version(version)
-    keywords = resolve_params(params)
+    product_id, source_product_ids, value_range, overwrite = (options.product_id, options.source_product_ids,
+                                                              options.value_range, options.overwrite)
+    version = check_version(options.version)
+    keywords = resolve_params(options.params)
     sources = source_ids(source_product_ids, keywords)
     if mosaic is None:
         base, _ = hrsc_base_name(product_id, sources)

@@ -13,13 +13,16 @@ Plain data, no click: the CLI turns each entry into a click option (cli/_profile
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Mapping
+import dataclasses
+import os
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 from ..dialect import DIALECT_NAMES, Dialect
 from ..errors import ParamsError
 from ..missions import Mission, get_mission
+from .params import ParamValue
 
 
 class _NotGiven:
@@ -185,10 +188,9 @@ ORTHO_HELP = """Convert the 1-band (RED) or 3-band (IRB) orthoimage INPUT (any G
     (TILE.re TILE.gr TILE.bl, TILE.cir_re TILE.cir_gr TILE.cir_bl)."""
 
 # Keywords the library takes that are no command-line option of the product (a batch sets them).
-# `threads`: cores for the JPEG 2000 encoder; `mosaic_statement`: what a mosaic's label says of its sources
-# (write_mosaic gives it to the writers that take it; the others refuse it by their signature).
-LIBRARY_ONLY = {"dtm": frozenset({"mosaic_statement"}), "ortho": frozenset({"threads", "mosaic_statement"}),
-                "mosaic": frozenset()}
+# `threads`: cores for the JPEG 2000 encoder (writers using one core anyway leave it unused).
+# `mosaic_statement` (what a mosaic's label says of its sources) is one a mission declares it uses.
+LIBRARY_ONLY = {"dtm": frozenset[str](), "ortho": frozenset({"threads"}), "mosaic": frozenset[str]()}
 
 
 def used_options(kind: str, mission: Mission, vocabulary: Iterable[OptionSpec]) -> list[OptionSpec]:
@@ -199,7 +201,8 @@ def used_options(kind: str, mission: Mission, vocabulary: Iterable[OptionSpec]) 
 
 def library_keywords(kind: str, mission: Mission, vocabulary: Iterable[OptionSpec]) -> frozenset[str]:
     """Every keyword a library call making the mission's `kind` product may be given."""
-    return frozenset(spec.library_keyword for spec in used_options(kind, mission, vocabulary)) | LIBRARY_ONLY[kind]
+    used = frozenset(spec.library_keyword for spec in used_options(kind, mission, vocabulary))
+    return used | mission.options.of(kind) | LIBRARY_ONLY[kind]
 
 
 def refuse_undeclared(kind: str, profile: str, options: Mapping[str, Any],
@@ -208,7 +211,79 @@ def refuse_undeclared(kind: str, profile: str, options: Mapping[str, Any],
 
     A keyword given as None is not given, as an option left at its default on the command line
     is not (the writer itself still refuses a keyword it has no parameter for)."""
+    _refuse_unused(kind, get_mission(profile), profile, options, vocabulary)
+
+
+def _refuse_unused(kind: str, mission: Mission, profile: str, options: Mapping[str, Any],
+                   vocabulary: Iterable[OptionSpec]) -> None:
     given = {name for name, value in options.items() if value is not None}
-    unused = sorted(given - library_keywords(kind, get_mission(profile), vocabulary))
+    unused = sorted(given - library_keywords(kind, mission, vocabulary))
     if unused:
         raise ParamsError(None, f"the {profile} profile does not use {', '.join(unused)}")
+
+
+_VOCABULARIES = {"dtm": DTM_OPTIONS, "ortho": ORTHO_OPTIONS}
+
+
+@dataclass(frozen=True)
+class ProductOptions:
+    """Every option a DTM or orthoimage writer may be given, by library keyword: what a mission's
+    writer takes as `writer(input_path, outdir, options)`.
+
+    Built once, by `build`, from a caller's keywords: the defaults here are the vocabulary's, a
+    mission's own (HRSC's big-endian heights) come from its declaration (`OptionUse.defaults`).
+    A writer reads the fields its product uses; `build` has refused a keyword the mission does not use.
+    """
+
+    product_id: str | None = None
+    source_product_ids: Sequence[str] = ()
+    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None
+    version: str = "1.0"
+    overwrite: bool = False
+    label: str | Dialect = Dialect.PDS3
+    allow_dictionary_deviations: bool | None = None
+    source_labels: Sequence[str | os.PathLike[str]] = ()
+    offset_convention: str = "standard"  # hrsc: "standard" or "dlr" projection offsets
+    vicar_offsets: str = "standard"  # hrsc-ax: how a tile's VICAR MAP offsets count
+    reproject_input: bool = False
+    # DTMs
+    byte_order: str = "lsb"
+    institution: str | None = None
+    kind: str = "dt4"
+    vertical_datum: str | None = None  # None: the datum of `kind`
+    areoid: str | os.PathLike[str] | None = None
+    precision: float = 1.0
+    # orthoimages
+    bits: int | None = None  # None: from the input's sample type
+    value_range: tuple[float, float] | None = None
+    source_dtm_id: str | None = None
+    observation_id: str | None = None
+    sequence: int = 1
+    gmljp2: bool = False
+    # library-only (LIBRARY_ONLY): no command-line option sets them
+    threads: int | None = None  # cores for the JPEG 2000 encoder (None: all)
+    mosaic_statement: str = ""  # how a mosaic's sources were put together, for the label to say
+
+    @classmethod
+    def build(cls, kind: str, mission: Mission, keywords: Mapping[str, Any],
+              profile: str | None = None) -> ProductOptions:
+        """The options of a `kind` ("dtm"/"ortho") product of `mission` from a caller's keywords.
+
+        A keyword given as None is not given (the default applies, as for an option left unset on
+        the command line); one the mission does not use, or no writer knows, is refused in one line
+        naming `profile` (default: the mission's name), never dropped silently."""
+        profile = profile or mission.name
+        unknown = sorted(set(keywords) - _FIELD_NAMES)
+        if unknown:
+            raise ParamsError(None, f"the {profile} profile does not use {', '.join(unknown)}")
+        _refuse_unused(kind, mission, profile, keywords, _VOCABULARIES[kind])
+        given = {name: value for name, value in keywords.items() if value is not None}
+        defaults = {name: value for name, value in mission.options.defaults.items() if name in _FIELD_NAMES}
+        return cls(**{**defaults, **given})
+
+    def replace(self, **changes: Any) -> ProductOptions:
+        """These options with some changed (a mosaic's product ID and sources, a tile's own ID)."""
+        return dataclasses.replace(self, **changes)
+
+
+_FIELD_NAMES = frozenset(field.name for field in dataclasses.fields(ProductOptions))

@@ -9,7 +9,7 @@ together, so either both appear or neither does.
 
 from __future__ import annotations
 
-import inspect
+import functools
 import logging
 import os
 from collections.abc import Callable, Mapping, Sequence
@@ -48,7 +48,7 @@ from ..missions import Mission, ProductIdRequest, get_mission
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords, source_id_values
-from .options import ORTHO_OPTIONS, refuse_undeclared
+from .options import ProductOptions
 from .params import ParamValue, check_source_id, check_version, resolve_params, source_ids
 from .result import ProductResult, pds4_name
 
@@ -106,39 +106,24 @@ def write_ortho(
     profile does not use (its mission's declaration) is refused.
     """
     mission = get_mission(profile)
-    refuse_undeclared("ortho", profile, options, ORTHO_OPTIONS)
+    built = ProductOptions.build("ortho", mission, options)
     own = mission.writer("ortho")
     if own is None:
         if not isinstance(input_path, (str, os.PathLike)):
             raise PdsgenError(None, f"the {profile} profile takes one input file")
-        return call_mission_writer(write_jp2_ortho, profile, input_path, outdir, {**options, "mission": mission})
-    if "threads" not in inspect.signature(own).parameters:
-        options.pop("threads", None)  # a limit on cores, not a product option: these writers use one
-    bits = options.pop("bits", None)
-    if bits not in (None, 8):
+        return call_mission_writer(functools.partial(write_jp2_ortho, mission=mission), input_path, outdir, built)
+    if built.bits not in (None, 8):
         raise ParamsError(None, f"{param('profile', profile)} orthoimages are 8-bit; "
-                                f"{param('bits', bits)} does not apply")
-    return call_mission_writer(own, profile, input_path, outdir, options)
+                                f"{param('bits', built.bits)} does not apply")
+    return call_mission_writer(own, input_path, outdir, built)
 
 
 def write_jp2_ortho(
     input_path: str | os.PathLike[str],
     outdir: str | os.PathLike[str],
+    options: ProductOptions,
     *,
     mission: Mission,
-    product_id: str | None = None,
-    bits: int | None = None,
-    value_range: tuple[float, float] | None = None,
-    source_dtm_id: str | None = None,
-    observation_id: str | None = None,
-    sequence: int = 1,
-    params: str | os.PathLike[str] | Mapping[str, ParamValue] | None = None,
-    gmljp2: bool = False,
-    version: str = "1.0",
-    overwrite: bool = False,
-    label: str | Dialect = Dialect.PDS3,
-    allow_dictionary_deviations: bool | None = None,
-    threads: int | None = None,
     filter_names: Sequence[str] | None = None,
 ) -> OrthoProduct:
     """Convert a 1-band (RED) or 3-band (IRB) orthoimage into `<PRODUCT_ID>.JP2` + `.LBL`.
@@ -151,16 +136,18 @@ def write_jp2_ortho(
     `filter_names`: the bands' FILTER_NAMEs in band order, for missions whose bands are not
     HiRISE's (default: RED, or NEAR-INFRARED, RED, BLUE-GREEN).
     """
-    dialect = Dialect.of(label)
+    product_id, bits, value_range, gmljp2 = options.product_id, options.bits, options.value_range, options.gmljp2
+    observation_id, sequence, source_dtm_id = options.observation_id, options.sequence, options.source_dtm_id
+    dialect = Dialect.of(options.label)
     if bits is not None and bits not in BIT_DEPTHS:
         raise PdsgenError(None, f"{param('bits')} must be one of {', '.join(map(str, BIT_DEPTHS))}, not {bits}")
     chosen = mission
     if chosen.ortho_keywords is None:
         raise PdsgenError(None, f"the {chosen.name} profile writes orthoimages in its own form, not as JP2 + LBL")
-    version = check_version(version)
-    keywords = resolve_params(params)
+    version = check_version(options.version)
+    keywords = resolve_params(options.params)
     require_openjpeg()
-    allow = allows_deviations(allow_dictionary_deviations, keywords)
+    allow = allows_deviations(options.allow_dictionary_deviations, keywords)
     keywords = label_keywords(keywords)
     input_path = Path(input_path)
     with open_raster(input_path) as dataset:
@@ -186,7 +173,7 @@ def write_jp2_ortho(
         info_final = outdir / JP2INFO_NAME
         finals = [jp2_final] + ([label_final] if dialect.pds3 else []) + (
             [img_final, xml_final] if dialect.pds4 else [])
-        with StagedOutputs(finals, overwrite, shared=[info_final]) as staged, ExitStack() as files, \
+        with StagedOutputs(finals, options.overwrite, shared=[info_final]) as staged, ExitStack() as files, \
                 ThreadPoolExecutor(1, "pdsgen-label-check") as checker:
             # The label is rendered and checked (the validator's first use loads it: a fifth of
             # a second) while the first tiles are encoded; a refusal stops the encoding at the
@@ -202,7 +189,7 @@ def write_jp2_ortho(
                 rows = tap = ArrayRowTap(reader, array_file, mapping.special)
             settings = write_jp2(
                 staged.path(jp2_final), dataset.height, dataset.width, dataset.count,
-                mapping.special.bits, _until_refused(rows, label_check), boxes, threads=threads,
+                mapping.special.bits, _until_refused(rows, label_check), boxes, threads=options.threads,
             )
             text, warnings = label_check.result()
             if not reader.any_valid:
