@@ -79,17 +79,33 @@ def _label_text(path: Path) -> str:
     return (head[:end] if end is not None else head).decode("latin-1")
 
 
-@pytest.mark.parametrize("path", GENUINE, ids=lambda p: p.relative_to(DATA).as_posix())
-def test_the_label_mapping_holds_what_pvl_reads_from_genuine_labels(path):
+def _differs_by_design(path: Path) -> str | None:
+    """Why a genuine label cannot be compared with pvl's reading, or None when it can: pvl
+    refuses it, or it breaks the standard (SYNTAX-001/005) or nests SFDU segments, where pvl
+    stops at the first END."""
     text = _label_text(path)
     try:
-        expected = pvl.loads(text)
-    except Exception:  # pvl refuses it: nothing to compare with
-        pytest.skip("pvl cannot read this label")
+        pvl.loads(text)
+    except Exception:
+        return "pvl cannot read it"
     label = parse_label(text)
     if any(issue.rule in ("SYNTAX-001", "SYNTAX-005") for issue in label.issues) or "SFDU_LABEL" in text[200:]:
-        pytest.skip("a label the standard does not allow (or nested SFDU segments): the readers differ by design")
-    assert _pvl_shape(label_mapping(label)) == _pvl_shape(expected)
+        return "not a standard label"
+    return None
+
+
+UNCOMPARED = {path: why for path in GENUINE if (why := _differs_by_design(path))}
+
+
+def test_nearly_every_genuine_label_is_compared_with_pvl():
+    assert len(GENUINE) - len(UNCOMPARED) >= 130 and len(UNCOMPARED) <= 7
+
+
+@pytest.mark.parametrize("path", [p for p in GENUINE if p not in UNCOMPARED],
+                         ids=lambda p: p.relative_to(DATA).as_posix())
+def test_the_label_mapping_holds_what_pvl_reads_from_genuine_labels(path):
+    text = _label_text(path)
+    assert _pvl_shape(label_mapping(parse_label(text))) == _pvl_shape(pvl.loads(text))
 
 
 def test_label_mapping_values_have_pvls_shapes():
