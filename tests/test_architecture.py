@@ -400,6 +400,8 @@ def test_the_top_level_re_export_modules_are_gone():
         assert not hasattr(importlib.import_module("pdsgen.profiles"), "Profile")
     for name in pdsgen.__all__:  # the public API itself resolves
         assert getattr(pdsgen, name) is not None
+
+
 # -- one option vocabulary: a mission declares its options; cli/ derives flags, tables and refusals ---
 
 
@@ -606,6 +608,8 @@ def test_packages_import_each_other_one_way_with_at_most_one_module_reaching_bac
                  for pair in importers if pair[::-1] in importers}
     assert {"deliver", "review"} in [set(pair) for pair in both_ways]  # the check sees folders
     assert {pair for pair, back in both_ways.items() if back > 1} <= TWO_WAY_PACKAGES
+
+
 # -- geometry: geo/ owns both directions and the facts they rest on (issue 34 item 2) ------------
 
 # The validator's own formulas, independent of geo/ on purpose (a check must not share the
@@ -719,6 +723,8 @@ def test_the_folded_transverse_mercator_note_has_one_wording():
         assert not any("false northing" in s for s in strings), relative
     note = "\r\n".join(grid_note(0.9996, 500000.0, 10000000.0))
     assert transverse_mercator_grid(note) == TransverseMercatorGrid(0.9996, 500000.0, 10000000.0)
+
+
 # -- one home each (issue 34): the label reader's END rule, file checksums, the file beside a label --
 
 # The label reader, label/parser.py, reads END as a token and holds the END rule (a pattern on
