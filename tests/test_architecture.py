@@ -74,14 +74,15 @@ def test_mission_facts_live_only_in_missions():
     assert set(offenders) - KNOWN_EXCEPTIONS == set()
 
 
-def _imports(path: Path, module: str, modules: set[str]) -> set[str]:
-    """Modules a module imports at import time (not under TYPE_CHECKING, not inside functions)."""
+def _imports(path: Path, module: str, modules: set[str], everywhere: bool = False) -> set[str]:
+    """Modules a module imports at import time (not under TYPE_CHECKING, not inside functions),
+    or with `everywhere` also those inside functions and under TYPE_CHECKING."""
     tree = ast.parse(path.read_text())
     package = module if path.name == "__init__.py" else module.rpartition(".")[0]
     names: set[str] = set()
-    for node in tree.body:
-        if isinstance(node, ast.If):  # `if TYPE_CHECKING:` blocks do not run
-            continue
+    # `if TYPE_CHECKING:` blocks do not run
+    nodes = ast.walk(tree) if everywhere else (node for node in tree.body if not isinstance(node, ast.If))
+    for node in nodes:
         if isinstance(node, ast.ImportFrom):
             base = node.module or ""
             if node.level:
@@ -503,21 +504,7 @@ def _every_import(path: Path, module: str, modules: set[str]) -> set[str]:
     """Modules a module imports anywhere: at the top, inside functions (made on first call, to
     keep start-up light) and under `if TYPE_CHECKING:` (read by mypy). A circle through any of
     them is still a circle: the two modules cannot be understood, tested or moved apart."""
-    tree = ast.parse(path.read_text())
-    package = module if path.name == "__init__.py" else module.rpartition(".")[0]
-    names: set[str] = set()
-    for node in ast.walk(tree):
-        if isinstance(node, ast.ImportFrom):
-            base = node.module or ""
-            if node.level:
-                parts = package.split(".")
-                parts = parts[: len(parts) - node.level + 1]
-                base = ".".join(parts + ([base] if base else []))
-            for alias in node.names:
-                names.add(f"{base}.{alias.name}" if f"{base}.{alias.name}" in modules else base)
-        elif isinstance(node, ast.Import):
-            names.update(alias.name for alias in node.names)
-    return {n for n in names if n in modules and n != module}
+    return {n for n in _imports(path, module, modules, everywhere=True) if n in modules and n != module}
 
 
 def _full_module_graph() -> dict[str, set[str]]:

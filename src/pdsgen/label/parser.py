@@ -312,6 +312,11 @@ class _Parser:
     def issue(self, rule: str, line: int | None, message: str, keyword: str | None = None) -> None:
         self.issues.append(Issue(rule, line, message, keyword))
 
+    def _unclosed(self, open_tok: Token, close: str, keyword: str) -> None:
+        """A sequence or set whose closing bracket never comes (the next statement began)."""
+        self.issue("SYNTAX-001", open_tok.line,
+                   f"{open_tok.text} opened at line {open_tok.line} is never closed with {close}", keyword)
+
     # -- statements -------------------------------------------------------------
     def parse(self) -> None:
         self._sfdu()
@@ -652,24 +657,14 @@ class _Parser:
                     self.issue("SYNTAX-013", open_tok.line, f"{keyword} = (): an empty sequence", keyword)
                 break
             if nxt.kind == "eof" or (nxt.kind == "word" and self._starts_statement(nxt)):
-                self.issue(
-                    "SYNTAX-001",
-                    open_tok.line,
-                    f"{open_tok.text} opened at line {open_tok.line} is never closed with {close}",
-                    keyword,
-                )
+                self._unclosed(open_tok, close, keyword)
                 break
             item = self._value(open_tok.line, keyword, nested=True)
             if item is not None:
                 items.append(item)
             ahead = self.scan.peek()
             if ahead.kind == "word" and self._starts_statement(ahead):
-                self.issue(
-                    "SYNTAX-001",
-                    open_tok.line,
-                    f"{open_tok.text} opened at line {open_tok.line} is never closed with {close}",
-                    keyword,
-                )
+                self._unclosed(open_tok, close, keyword)
                 break
             sep = self.scan.next()
             if sep.kind == "punct" and sep.text == close:
