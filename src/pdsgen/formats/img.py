@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from collections import deque
 from collections.abc import Callable, Iterator
-from concurrent.futures import Future, ThreadPoolExecutor
+from concurrent.futures import Future
 from dataclasses import dataclass
 from typing import BinaryIO, Literal
 
@@ -27,6 +27,7 @@ from ..label.values import shortest_float32
 from ..progress import advance, is_large
 from .nodata import invalid_mask, nodata_sample, valid_samples
 from .raster import row_strips
+from .staging import InterruptSafeExecutor
 
 # ISIS special pixels (NULL, LRS, LIS, HIS, HRS) are the five most negative float32
 # values; NULL (16#FF7FFFFB#) is the one PDS DTMs use as MISSING_CONSTANT.
@@ -252,7 +253,7 @@ class StripWriter:
     def __init__(self, out: BinaryIO, depth: int = 2) -> None:
         self._out = out
         self._depth = depth
-        self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="pdsgen-write")
+        self._pool = InterruptSafeExecutor(max_workers=1, thread_name_prefix="pdsgen-write")
         self._pending: deque[Future] = deque()
 
     def submit(self, array: np.ndarray) -> Future:
@@ -299,7 +300,7 @@ class StripReader:
         rows = max(window.height for window in self._windows)
         self._buffers = [np.empty((rows, dataset.width), np.float32) for _ in range(min(slots, len(self._windows)))]
         self._writes: list[Future | None] = [None] * len(self._buffers)
-        self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="pdsgen-read")
+        self._pool = InterruptSafeExecutor(max_workers=1, thread_name_prefix="pdsgen-read")
         self._current = 0
 
     def _read(self, index: int) -> np.ndarray:

@@ -29,7 +29,7 @@ import struct
 import tempfile
 from collections import deque
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import Future, ThreadPoolExecutor
+from concurrent.futures import Future
 from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO
@@ -38,6 +38,7 @@ import numpy as np
 
 from ..errors import PdsgenError
 from ..progress import advance, is_large
+from .staging import InterruptSafeExecutor
 
 TILE_SIZE = 512  # an OpenJPEG tile encoder needs ~17 bytes per tile pixel; 512 keeps memory low
 CODE_BLOCK = (64, 64)
@@ -421,8 +422,8 @@ def encode_jp2(
             add(index, future.result())
 
     workers = encoder_threads(threads)
-    with ThreadPoolExecutor(1, "pdsgen-read") as reader, \
-            ThreadPoolExecutor(workers, "pdsgen-jp2") as encoders:
+    with InterruptSafeExecutor(1, "pdsgen-read") as reader, \
+            InterruptSafeExecutor(workers, "pdsgen-jp2") as encoders:
         next_row = reader.submit(read_row, 0)
         read_ahead = max(workers, grid_cols // 2)  # tiles left when the next row is read
         try:

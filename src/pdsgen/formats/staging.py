@@ -15,6 +15,7 @@ import signal
 import tempfile
 import threading
 from collections.abc import Callable, Iterable, Iterator
+from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
 from contextvars import ContextVar
 from dataclasses import dataclass, field
@@ -150,6 +151,23 @@ def _interruption_deferred() -> Iterator[None]:
         signal.signal(signal.SIGINT, previous)
     if received and callable(previous):
         previous(signal.SIGINT, None)
+
+
+class InterruptSafeExecutor(ThreadPoolExecutor):
+    """A ThreadPoolExecutor whose shutdown(wait=True) waits for every thread it started, even
+    when Ctrl-C arrives while one is starting.
+
+    ThreadPoolExecutor starts a worker thread in submit() and records it only after
+    Thread.start() has returned; start() waits for the thread to run, and that wait is where a
+    SIGINT becomes a KeyboardInterrupt. The thread then runs its task unrecorded, shutdown does
+    not wait for it, and it reads a GDAL dataset the interrupted command has already closed (a
+    crash at exit, seen as `pdsgen dtm` killed by SIGSEGV after "interrupted"). Starting the
+    thread with Ctrl-C held back (and raised right after) keeps the record whole.
+    """
+
+    def _adjust_thread_count(self) -> None:
+        with _interruption_deferred():
+            super()._adjust_thread_count()
 
 
 def _make_temp(final: Path) -> Path:

@@ -13,7 +13,7 @@ import functools
 import logging
 import os
 from collections.abc import Callable, Mapping, Sequence
-from concurrent.futures import Future, ThreadPoolExecutor
+from concurrent.futures import Future
 from contextlib import ExitStack
 from dataclasses import dataclass
 from pathlib import Path
@@ -40,7 +40,7 @@ from ..formats.scale_dn import (
     to_dns,
     valid_range,
 )
-from ..formats.staging import StagedOutputs, prepare_output_dir
+from ..formats.staging import InterruptSafeExecutor, StagedOutputs, prepare_output_dir
 from ..geo.geometry import MapGeometry, describe_geometry
 from ..label.render import render_label
 from ..label.values import Based, Quantity, Symbol
@@ -174,7 +174,7 @@ def write_jp2_ortho(
         finals = [jp2_final] + ([label_final] if dialect.pds3 else []) + (
             [img_final, xml_final] if dialect.pds4 else [])
         with StagedOutputs(finals, options.overwrite, shared=[info_final]) as staged, ExitStack() as files, \
-                ThreadPoolExecutor(1, "pdsgen-label-check") as checker:
+                InterruptSafeExecutor(1, "pdsgen-label-check") as checker:
             # The label is rendered and checked (the validator's first use loads it: a fifth of
             # a second) while the first tiles are encoded; a refusal stops the encoding at the
             # next row of tiles.
