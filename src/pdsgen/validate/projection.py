@@ -9,6 +9,7 @@ equations 8-9 to 8-25; geodetic latitudes; scale factor 1, as a PDS3 label state
 from __future__ import annotations
 
 import math
+from abc import ABC, abstractmethod
 
 import numpy as np
 
@@ -47,7 +48,7 @@ def projection_radius_key(name: str) -> str:
     return "C_AXIS_RADIUS" if name == "POLAR_STEREOGRAPHIC" else "A_AXIS_RADIUS"
 
 
-class Projection:
+class Projection(ABC):
     """A label's map projection: its name, centre and the forward and inverse formulas.
 
     Sphere and TransverseMercator (on an ellipsoid) are the two kinds; the MAP rules and the
@@ -60,13 +61,13 @@ class Projection:
         self.lon0 = center_lon
         self.north = center_lat >= 0
 
+    @abstractmethod
     def forward(self, lat, lon):
         """(x, y) in metres of latitude/longitude in degrees (arrays welcome)."""
-        raise NotImplementedError
 
+    @abstractmethod
     def inverse(self, x, y):
         """(latitude, longitude) in degrees of x, y in metres; longitude relative-unwrapped."""
-        raise NotImplementedError
 
     def contains_pole(self, x0: float, x1: float, y0: float, y1: float) -> bool:
         """Whether the rectangle [x0, x1] x [y0, y1] of projection metres holds a pole."""
