@@ -21,7 +21,7 @@ from typing import Any
 
 from ..dialect import DIALECT_NAMES, Dialect
 from ..errors import ParamsError
-from ..missions import Mission, get_mission
+from ..missions import Mission
 from .params import ParamValue
 
 
@@ -205,17 +205,11 @@ def library_keywords(kind: str, mission: Mission, vocabulary: Iterable[OptionSpe
     return used | mission.options.of(kind) | LIBRARY_ONLY[kind]
 
 
-def refuse_undeclared(kind: str, profile: str, options: Mapping[str, Any],
-                      vocabulary: Iterable[OptionSpec]) -> None:
-    """ParamsError naming the keywords given that the profile does not use (never silently dropped).
-
-    A keyword given as None is not given, as an option left at its default on the command line
-    is not (the writer itself still refuses a keyword it has no parameter for)."""
-    _refuse_unused(kind, get_mission(profile), profile, options, vocabulary)
-
-
 def _refuse_unused(kind: str, mission: Mission, profile: str, options: Mapping[str, Any],
                    vocabulary: Iterable[OptionSpec]) -> None:
+    """ParamsError naming the keywords given that the profile does not use (never silently
+    dropped). A keyword given as None is not given, as an option left at its default on the
+    command line is not."""
     given = {name for name, value in options.items() if value is not None}
     unused = sorted(given - library_keywords(kind, mission, vocabulary))
     if unused:

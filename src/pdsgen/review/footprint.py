@@ -98,12 +98,3 @@ def _outline(lons: np.ndarray, lats: np.ndarray, polar: bool, lat0: float) -> tu
         return None, "the grid's edges do not all fall on the body"
     north = lat0 > 0 if polar else bool(np.mean(lats) >= 0)
     return Outline(lons, lats, polar, north), ""
-
-
-def product_outline(label: LabelView, lines: int | None, samples: int | None) -> tuple[Outline | None, str]:
-    """One product's outline, or None and why it cannot be drawn."""
-    result: list[tuple[Outline | None, str]] = []
-    batch = OutlineBatch()
-    batch.add(label, lines, samples, lambda outline, why: result.append((outline, why)))
-    batch.run()
-    return result[0]

@@ -27,7 +27,6 @@ MAP_KEYWORDS = (
     ("WESTERNMOST_LONGITUDE", "westernmost longitude"),
     ("EASTERNMOST_LONGITUDE", "easternmost longitude"),
 )
-_IMAGE_OBJECTS = ("IMAGE", "UNCOMPRESSED_FILE")
 
 
 @dataclass(frozen=True)
