@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import logging
-import os
 import sys
 import time
 from collections.abc import Callable, Iterable, Iterator
@@ -79,19 +78,16 @@ def _output(path: str | None):
     if not path:
         yield sys.stdout
         return
+    from ..formats.staging import staged_file  # only for a report file: not on every validate's start-up
+
     target = Path(path)
-    tmp = target.with_name(f".{target.name}.partial")
-    try:
-        fh: IO[str] = open(tmp, "w", encoding="utf-8")
-    except OSError as exc:
-        raise PdsgenError(path, f"cannot write the report: {exc.strerror}") from None
-    try:
+    with staged_file(target, target.with_name(f".{target.name}.partial")) as tmp:
+        try:
+            fh: IO[str] = open(tmp, "w", encoding="utf-8")
+        except OSError as exc:
+            raise PdsgenError(path, f"cannot write the report: {exc.strerror}") from None
         with fh:
             yield fh
-        os.replace(tmp, target)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
 
 
 @click.command(short_help=COMMANDS["validate"])

@@ -22,6 +22,7 @@ from pathlib import Path
 from ..dialect import DIALECT_NAMES, Dialect
 from ..errors import InputError, OutputError, PdsgenError, param
 from ..formats.checksum import bytes_md5, file_md5
+from ..formats.staging import replace_directory
 from ..label.tree import Block
 from ..progress import advance
 from . import bundle, layout
@@ -176,7 +177,7 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
         from ..review import write_review  # the review page, after (and outside) the manifest
 
         write_review(work, labels_only=True, shown_as=shown_as or str(target))
-        _swap(work, target)
+        replace_directory(work, target)
         log.info("delivery built in %s and moved to %s", work, target)
     except BaseException as exc:
         shutil.rmtree(work, ignore_errors=True)
@@ -266,22 +267,6 @@ def _check_dialects(found: SourceSet, pds3: bool, pds4: bool) -> None:
         if pds3 and product.pds3_label is None:
             raise InputError(product.pds4_label, "has no PDS3 label, which a PDS3 volume needs "
                                                  f"(make the product with {param('label', 'both')})")
-
-
-def _swap(work: Path, target: Path) -> None:
-    """The finished tree takes the target's place; the previous one is removed after (and put
-    back if the new one cannot take its place)."""
-    if target.exists():
-        old = target.parent / f".{target.name}.old-{os.getpid()}"
-        os.rename(target, old)
-        try:
-            os.rename(work, target)
-        except OSError:
-            os.rename(old, target)
-            raise
-        shutil.rmtree(old)
-    else:
-        os.rename(work, target)
 
 
 def _build(found: SourceSet, tree: _Tree, previous: _Previous, source: Path, in_place: bool, dialect: Dialect,

@@ -11,6 +11,7 @@ import errno
 import functools
 import logging
 import os
+import shutil
 import signal
 import tempfile
 import threading
@@ -168,6 +169,72 @@ class InterruptSafeExecutor(ThreadPoolExecutor):
     def _adjust_thread_count(self) -> None:
         with _interruption_deferred():
             super()._adjust_thread_count()
+
+
+@contextmanager
+def staged_file(final: str | os.PathLike[str], temporary: str | os.PathLike[str] | None = None) -> Iterator[Path]:
+    """Write one file under a temporary name beside FINAL and rename it into place when the
+    block completes, so a reader sees the old file or the new one, never a part.
+
+    Yields the temporary path (TEMPORARY if given - callers whose temporaries others look
+    for keep their own names - else `.NAME.PID.part`); the caller creates and writes it.
+    If the block raises (Ctrl-C included) the temporary is removed and FINAL is untouched.
+    """
+    with staged_files() as stage:
+        yield stage(final, temporary)
+
+
+@contextmanager
+def staged_files() -> Iterator[Callable[[str | os.PathLike[str], str | os.PathLike[str] | None], Path]]:
+    """Several files written under temporary names, renamed into place together at the end.
+
+    Yields `stage(final, temporary=None)`, which records a pair and returns the temporary
+    path to write (see `staged_file` for its name). When the block completes, each is renamed
+    onto its final name in the order staged, with Ctrl-C held back until all are; if the
+    block or a rename fails, the temporaries still there are removed.
+    """
+    staged: list[tuple[Path, Path]] = []
+
+    def stage(final: str | os.PathLike[str], temporary: str | os.PathLike[str] | None = None) -> Path:
+        final_path = Path(final)
+        temporary_path = Path(temporary) if temporary is not None else _temporary_name(final_path)
+        staged.append((temporary_path, final_path))
+        return temporary_path
+
+    try:
+        yield stage
+        with _interruption_deferred():
+            for temporary, final in staged:
+                os.replace(temporary, final)
+    except BaseException:
+        for temporary, _ in staged:
+            temporary.unlink(missing_ok=True)
+        raise
+
+
+def _temporary_name(final: Path) -> Path:
+    """`.NAME.PID.part` beside FINAL: hidden, unique to this process, and recognised by the
+    clean-up of killed runs (their PID no longer runs)."""
+    return final.with_name(f".{final.name}.{os.getpid()}.part")
+
+
+def replace_directory(work: str | os.PathLike[str], target: str | os.PathLike[str]) -> None:
+    """The finished tree WORK takes TARGET's place; the previous tree is moved aside to
+    `.NAME.old-PID`, removed after, and put back if WORK cannot take its place. Ctrl-C is
+    held back while the names change, so TARGET is never left missing."""
+    work, target = Path(work), Path(target)
+    with _interruption_deferred():
+        if not target.exists():
+            os.rename(work, target)
+            return
+        old = target.parent / f".{target.name}.old-{os.getpid()}"
+        os.rename(target, old)
+        try:
+            os.rename(work, target)
+        except OSError:
+            os.rename(old, target)
+            raise
+    shutil.rmtree(old)
 
 
 def _make_temp(final: Path) -> Path:

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import InputError, OutputError, PdsgenError
+from ..formats.staging import staged_files
 from ..pds4.content import digest_file
 from ..pds4.label import render_pds4
 from ..validate.context import FileContext
@@ -149,8 +150,7 @@ def _write(files: list[DataFile], text: str, label_out: Path, target_dir: Path, 
            overwrite: bool) -> tuple[Path, ...]:
     """Copies (temporary names, then renamed) and the label; on any failure nothing remains."""
     target_dir.mkdir(parents=True, exist_ok=True)
-    staged: list[tuple[Path, Path]] = []
-    try:
+    with staged_files() as stage:
         if copy:
             for data in files:
                 final = target_dir / data.name
@@ -158,16 +158,6 @@ def _write(files: list[DataFile], text: str, label_out: Path, target_dir: Path, 
                     continue
                 if final.exists() and not overwrite:
                     raise OutputError(final, "exists (give overwrite to replace it)")
-                temporary = final.with_name(f".{final.name}.migrating")
-                shutil.copyfile(data.path, temporary)
-                staged.append((temporary, final))
-        temporary = label_out.with_name(f".{label_out.name}.migrating")
-        temporary.write_text(text, encoding="utf-8")
-        staged.append((temporary, label_out))
-    except BaseException:
-        for temporary, _ in staged:
-            temporary.unlink(missing_ok=True)
-        raise
-    for temporary, final in staged:
-        os.replace(temporary, final)
+                shutil.copyfile(data.path, stage(final, final.with_name(f".{final.name}.migrating")))
+        stage(label_out, label_out.with_name(f".{label_out.name}.migrating")).write_text(text, encoding="utf-8")
     return tuple((target_dir / data.name) if copy else data.path for data in files)

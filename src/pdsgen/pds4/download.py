@@ -13,7 +13,6 @@ urllib is imported on the first download: most runs never fetch.
 from __future__ import annotations
 
 import io
-import os
 from pathlib import Path
 
 from lxml import etree
@@ -21,6 +20,7 @@ from lxml import etree
 from .. import __version__
 from ..errors import PdsgenError
 from ..formats.checksum import bytes_sha256
+from ..formats.staging import staged_file
 
 SUMS_NAME = "SHA256SUMS"  # in the cache: "<sha256>  <name>  <url>" per downloaded schema
 TIMEOUT_SECONDS = 30
@@ -53,9 +53,8 @@ def fetch_schema(url: str, cache_dir: Path, name: str) -> tuple[Path, str]:
     try:
         cache_dir.mkdir(parents=True, exist_ok=True)
         target = cache_dir / name
-        part = cache_dir / f".{name}.{os.getpid()}.part"
-        part.write_bytes(data)
-        os.replace(part, target)
+        with staged_file(target) as part:  # .NAME.PID.part
+            part.write_bytes(data)
         with open(cache_dir / SUMS_NAME, "a", encoding="utf-8") as sums:
             sums.write(f"{digest}  {name}  {url}\n")
     except OSError as exc:

@@ -16,6 +16,7 @@ from pathlib import Path
 from ..deliver.layout import MANIFEST, REVIEW_PAGE
 from ..deliver.scan import scan, walk
 from ..errors import InputError, OutputError
+from ..formats.staging import staged_files
 from ..validate.runner import iter_reports
 from .collect import review_directory
 from .page import INLINE_THUMBNAILS, PRODUCTS_PER_PAGE, HtmlWriter, render_pages
@@ -92,17 +93,11 @@ def _page_pattern(first: str) -> re.Pattern[str]:
 def _write_pages(directory: Path, pages: list[tuple[str, str]]) -> list[Path]:
     """Every page under a temporary name, then each renamed; later pages of an earlier review
     that this one no longer has are removed (their links would lead to old products)."""
-    partials: list[Path] = []
     try:
-        for name, text in pages:
-            partial = directory / f".{name}.partial"
-            partials.append(partial)
-            partial.write_text(text, encoding="utf-8")
-        for partial, (name, _) in zip(partials, pages, strict=True):
-            os.replace(partial, directory / name)
+        with staged_files() as stage:
+            for name, text in pages:
+                stage(directory / name, directory / f".{name}.partial").write_text(text, encoding="utf-8")
     except OSError as exc:
-        for partial in partials:
-            partial.unlink(missing_ok=True)
         raise OutputError(directory / pages[0][0], f"cannot write the page ({exc.strerror or exc})") from None
     written = [directory / name for name, _ in pages]
     pattern = _page_pattern(pages[0][0])

@@ -221,12 +221,13 @@ def write_baseline(path: str | os.PathLike[str], findings: Iterable[Finding]) ->
     counts = Counter(fingerprint(f) for f in findings)
     entries = [dict(zip(("file", "rule", "keyword", "message"), key.split("\x1f"), strict=True), count=n)
                for key, n in sorted(counts.items())]
+    from ..formats.staging import staged_file  # only when a baseline is written
+
     target = Path(path)
-    tmp = target.with_name(target.name + ".tmp")
     try:
-        tmp.write_text(json.dumps({"pdsgen_baseline": BASELINE_VERSION, "findings": entries}, indent=1) + "\n",
-                       encoding="utf-8")
-        os.replace(tmp, target)
+        with staged_file(target, target.with_name(target.name + ".tmp")) as tmp:
+            tmp.write_text(json.dumps({"pdsgen_baseline": BASELINE_VERSION, "findings": entries}, indent=1) + "\n",
+                           encoding="utf-8")
     except OSError as exc:
         raise PdsgenError(path, f"cannot write the baseline: {exc.strerror or exc}") from None
     return sum(counts.values())
