@@ -166,3 +166,54 @@ def test_the_previous_directory_is_put_back_when_the_new_one_cannot_take_its_pla
         replace_directory(work, target)
     assert (target / "f.txt").read_text() == "old"
     assert sorted(p.name for p in tmp_path.iterdir()) == [".work", "delivery"]  # no .delivery.old-PID left
+
+
+# -- process-wide state ------------------------------------------------------------------------------
+
+# module -> what it may change for the whole process, and why: the command's entry point sets
+# OPENBLAS_NUM_THREADS for its own process; the S3 client's module keeps boto3 from rasterio
+# while a pdsgen command or batch job runs.
+PROCESS_STATE_HOMES = {"cli/__init__.py": "os.environ", "storage/objects.py": "sys.modules"}
+_MUTATORS = {"setdefault", "update", "pop", "popitem", "clear", "__setitem__", "__delitem__"}
+
+
+def _process_state_changes(tree: ast.AST) -> set[str]:
+    """'os.environ' / 'sys.modules' for each that the code assigns, deletes or mutates an entry of
+    (os.putenv/os.unsetenv count as os.environ)."""
+    def named(node: ast.AST) -> str | None:
+        if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name):
+            name = f"{node.value.id}.{node.attr}"
+            return name if name in ("os.environ", "sys.modules") else None
+        return None
+
+    changed = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Subscript) and isinstance(node.ctx, ast.Store | ast.Del) and named(node.value):
+            changed.add(named(node.value))
+        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
+            if node.func.attr in _MUTATORS and named(node.func.value):
+                changed.add(named(node.func.value))
+            elif named(node.func) is None and isinstance(node.func.value, ast.Name) and node.func.value.id == "os" \
+                    and node.func.attr in ("putenv", "unsetenv"):
+                changed.add("os.environ")
+    return {name for name in changed if name is not None}
+
+
+def test_only_the_entry_point_and_the_s3_client_change_process_wide_state():
+    found = {}
+    for path in sorted(SRC.rglob("*.py")):
+        changes = _process_state_changes(ast.parse(path.read_text(encoding="utf-8")))
+        if changes:
+            found[path.relative_to(SRC).as_posix()] = changes
+    assert found == {module: {state} for module, state in PROCESS_STATE_HOMES.items()}, (
+        f"process-wide state changed outside its homes: {found}")
+
+
+def test_the_process_state_check_sees_each_kind_of_change():
+    for code in ('os.environ["X"] = "1"', 'os.environ.setdefault("X", "1")', 'del os.environ["X"]',
+                 'os.putenv("X", "1")', 'os.environ.update(X="1")'):
+        assert _process_state_changes(ast.parse(code)) == {"os.environ"}, code
+    for code in ('sys.modules["boto3"] = None', 'del sys.modules["boto3"]', 'sys.modules.pop("boto3")'):
+        assert _process_state_changes(ast.parse(code)) == {"sys.modules"}, code
+    for code in ('os.environ.get("X")', '{**os.environ, "X": "1"}', '"boto3" in sys.modules'):
+        assert _process_state_changes(ast.parse(code)) == set(), code

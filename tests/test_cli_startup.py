@@ -79,7 +79,8 @@ def test_an_orthoimage_is_checked_without_the_pvl_reader_or_the_pds4_validator(t
 
 def test_numpy_blas_threads_default_to_one_and_a_users_setting_wins():
     """pdsgen does no linear algebra; OpenBLAS's spinning threads would take CPU from the encoders."""
-    code = "import os, pdsgen.cli; print(os.environ['OPENBLAS_NUM_THREADS'])"
+    code = ("import os, pdsgen.cli as cli; cli.main = lambda **_: print(os.environ['OPENBLAS_NUM_THREADS']); "
+            "cli.run()")  # the command's process sets it (importing pdsgen.cli does not)
     env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"}
     unset = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, check=True)
     chosen = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,

@@ -127,13 +127,13 @@ def _reply(replies: TextIO, data: dict[str, Any]) -> None:
 def main() -> int:
     """Replies go on the pipe the worker gave as stdout; fd 1 itself then points at stderr,
     so nothing a library prints outside a job can be taken for a reply."""
-    from ..cli import keep_boto3_from_rasterio
+    from ..storage.objects import boto3_kept_from_rasterio
 
-    keep_boto3_from_rasterio()  # as the command does: rasterio would import boto3 for every job process
     replies = os.fdopen(os.dup(1), "w", encoding="utf-8")
     os.dup2(2, 1)
     requests = os.fdopen(0, "r", encoding="utf-8", closefd=False)
-    return serve(requests, replies)
+    with boto3_kept_from_rasterio():  # as the command does: rasterio would import boto3 for every job process
+        return serve(requests, replies)
 
 
 if __name__ == "__main__":

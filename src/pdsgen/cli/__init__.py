@@ -9,6 +9,7 @@ can fix (`PdsgenError`) become one line on stderr and exit code 2.
 from __future__ import annotations
 
 import atexit
+import contextlib
 import gc
 import importlib
 import os
@@ -16,12 +17,6 @@ import sys
 import threading
 import warnings
 from typing import NoReturn
-
-# numpy's OpenBLAS starts a thread per core on import, which spins after each call;
-# pdsgen does no linear algebra, and on a busy encoder those threads only take CPU
-# from it (0.1 s per orthoimage measured). Set before any command imports numpy;
-# a value the user exported wins.
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import click
 from click.shell_completion import CompletionItem
@@ -99,7 +94,8 @@ class _Group(click.Group):
 
     def invoke(self, ctx: click.Context):
         try:
-            return super().invoke(ctx)
+            with _rasterio_without_boto3():
+                return super().invoke(ctx)
         except PdsgenError as exc:
             from ..storage.locations import display_text
             from ._messages import in_cli_words
@@ -139,8 +135,9 @@ def run(args: list[str] | None = None, prog_name: str | None = None) -> NoReturn
     process end. A live non-daemon thread, or a stream that cannot be flushed, takes Python's
     ordinary exit instead, which waits for the thread or reports the stream as it always does.
     """
+    _keep_blas_to_one_thread()
     _start_up_begins()
-    keep_boto3_from_rasterio()  # rasterio would import boto3 on every command (see pdsgen.storage)
+    _START_UP["own_process"] = True  # rasterio would import boto3 on every command: see _Group.invoke
     try:
         main(args=args, prog_name=prog_name)
         code: str | int | None = 0
@@ -149,7 +146,7 @@ def run(args: list[str] | None = None, prog_name: str | None = None) -> NoReturn
     _end(code)
 
 
-_START_UP = {"collector_paused": False}
+_START_UP = {"collector_paused": False, "own_process": False}
 
 
 def _start_up_begins() -> None:
@@ -163,17 +160,25 @@ def _start_up_begins() -> None:
         _START_UP["collector_paused"] = True
 
 
-def keep_boto3_from_rasterio() -> None:
-    """In pdsgen's own processes (the command, a batch job's process), before rasterio is
-    imported: keep rasterio from importing boto3.
+def _keep_blas_to_one_thread() -> None:
+    """numpy's OpenBLAS starts a thread per core on import, which spins after each call;
+    pdsgen does no linear algebra, and on a busy encoder those threads only take CPU from it
+    (0.1 s per orthoimage measured). Set by the command's process before any command imports
+    numpy (not on importing this module: a program using the library keeps its own
+    environment); a value the user exported wins."""
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-    rasterio imports boto3 whenever it is installed (the s3 extra; moto brings it into a
-    test environment too) to offer its AWSSession: some 230 modules and a sixth of a second
-    on every command, even a local one. pdsgen does not need it: GDAL reads the AWS
-    variables itself (pdsgen.storage adds the endpoint), which is rasterio's own fallback.
-    pdsgen.storage's client lifts this when a command first talks to a bucket."""
-    if "rasterio" not in sys.modules and "boto3" not in sys.modules:
-        sys.modules["boto3"] = None  # type: ignore[assignment]  # `import boto3` raises ImportError
+
+def _rasterio_without_boto3() -> contextlib.AbstractContextManager[None]:
+    """In the command's own process (started by `run`), keep rasterio from importing boto3
+    while the command is imported and runs (storage.objects.boto3_kept_from_rasterio);
+    a program calling `main` keeps its modules as they are. Entered after --help and
+    --version are answered, so they do not import pdsgen.storage."""
+    if not _START_UP["own_process"]:
+        return contextlib.nullcontext()
+    from ..storage.objects import boto3_kept_from_rasterio
+
+    return boto3_kept_from_rasterio()
 
 
 def _start_up_done() -> None:

@@ -22,7 +22,7 @@ from rasterio.io import DatasetReader
 from rasterio.windows import Window
 
 from ..errors import PdsgenError
-from ..storage import display, explain_unreadable, is_remote, raster_input
+from ..storage import display, explain_unreadable, gdal_environment, is_remote, raster_input
 
 STRIP_BYTES = 16 * 1024 * 1024  # working-set size of one strip of input
 # GDAL's block cache defaults to 5 % of RAM and would keep every block we stream
@@ -39,7 +39,15 @@ def open_raster(path: str | os.PathLike[str]) -> Iterator[DatasetReader]:
     """Open a raster with GDAL, turning every failure into a one-line PdsgenError.
 
     An object in a bucket (s3://, /vsis3/) or on the web is read in place by GDAL;
-    pdsgen.storage says why one cannot be opened and names it by its URL in messages."""
+    pdsgen.storage says why one cannot be opened and names it by its URL in messages.
+    GDAL's S3 configuration holds while the raster is open (a local VRT's sources may be
+    objects too), and only then."""
+    with gdal_environment(), _opened_raster(path) as dataset:
+        yield dataset
+
+
+@contextmanager
+def _opened_raster(path: str | os.PathLike[str]) -> Iterator[DatasetReader]:
     if is_remote(path):
         path = raster_input(path)
         shown: str | Path = display(path)

@@ -19,8 +19,8 @@ an s3:// input or OUTDIR is three lines::
 from __future__ import annotations
 
 from .areas import OutputArea, explain_unreadable, local_inputs, output_area, raster_input, tree_area
-from .locations import S3Location, configure_gdal, display, display_text, internal, is_remote, is_s3
+from .locations import S3Location, display, display_text, gdal_environment, internal, is_remote, is_s3
 
-__all__ = ["OutputArea", "S3Location", "configure_gdal", "display", "display_text", "explain_unreadable", "internal",
+__all__ = ["OutputArea", "S3Location", "display", "display_text", "explain_unreadable", "gdal_environment", "internal",
            "is_remote",
            "is_s3", "local_inputs", "output_area", "raster_input", "tree_area"]

@@ -26,7 +26,7 @@ from typing import Any
 
 from ..errors import InputError, OutputError, PdsgenError, param
 from . import objects
-from .locations import S3Location, configure_gdal, display, internal, is_remote, is_s3
+from .locations import S3Location, display, internal, is_s3
 
 log = logging.getLogger(__name__)
 # Temporaries of formats/staging.py (".NAME.PID.part") and other hidden work files never leave the staging area.
@@ -266,12 +266,9 @@ def relative_name(target: S3Location, base: S3Location) -> str:
 
 
 def raster_input(path: str | os.PathLike[str]) -> str:
-    """What to give GDAL for an input: a local path unchanged, an object as /vsis3/ (GDAL's
-    configuration set from the AWS variables), a web URL as /vsicurl/."""
-    text = internal(path)
-    if is_remote(text):
-        configure_gdal()
-    return text
+    """What to give GDAL for an input: a local path unchanged, an object as /vsis3/, a web
+    URL as /vsicurl/ (read inside `gdal_environment`, which formats.raster.open_raster enters)."""
+    return internal(path)
 
 
 def explain_unreadable(path: str | os.PathLike[str]) -> None:

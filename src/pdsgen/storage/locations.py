@@ -8,14 +8,16 @@ show `s3://` again. HTTP(S) URLs are read-only and go to GDAL as `/vsicurl/URL`.
 
 Credentials and endpoints come as AWS's own tools take them (AWS_ACCESS_KEY_ID,
 AWS_SECRET_ACCESS_KEY, AWS_SESSION_TOKEN, AWS_PROFILE, AWS_DEFAULT_REGION,
-AWS_ENDPOINT_URL_S3 / AWS_ENDPOINT_URL); `configure_gdal` passes the endpoint on in
-GDAL's words. This module imports no S3 client: the base install reads through GDAL.
+AWS_ENDPOINT_URL_S3 / AWS_ENDPOINT_URL); `gdal_environment` passes the endpoint on in
+GDAL's words, for the block that reads. This module imports no S3 client: the base install reads through GDAL.
 """
 
 from __future__ import annotations
 
 import os
 import re
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import PurePosixPath
 from urllib.parse import urlsplit
@@ -123,12 +125,22 @@ def gdal_options(environ: dict[str, str] | None = None) -> dict[str, str]:
     return {name: value for name, value in options.items() if name not in env}
 
 
-def configure_gdal() -> None:
-    """Put `gdal_options` into this process's environment, where GDAL (and every child
-    process, e.g. a batch job's) reads its configuration from. Idempotent."""
-    for name, value in gdal_options().items():
-        os.environ.setdefault(name, value)
+@contextmanager
+def gdal_environment() -> Iterator[None]:
+    """GDAL configured with `gdal_options` inside the block only (rasterio.Env), so a
+    program calling pdsgen finds its environment and GDAL's configuration as they were.
+
+    Read from the AWS variables each time, in this process or a batch job's (which
+    inherits them); with none set there is nothing to configure and no Env is entered."""
+    options = gdal_options()
+    if not options:
+        yield
+        return
+    import rasterio  # the remote case only: the base commands and --version do not pay for it
+
+    with rasterio.Env(**options):
+        yield
 
 
-__all__ = ["S3Location", "configure_gdal", "display", "display_text", "endpoint_url", "gdal_options",
+__all__ = ["S3Location", "display", "display_text", "endpoint_url", "gdal_environment", "gdal_options",
            "internal", "is_remote", "is_s3"]

@@ -17,12 +17,14 @@ import functools
 import os
 import sys
 from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
+from types import ModuleType
 from typing import Any
 
 from ..errors import InputError, OutputError, PdsgenError
-from .locations import S3Location, configure_gdal, endpoint_url
+from .locations import S3Location, endpoint_url
 
 MISSING_CLIENT = "reading and writing s3:// needs boto3: pip install 'pdsgen[s3]'"
 # Files above this size are uploaded in parts of this size (S3 allows at most 10,000 parts).
@@ -38,13 +40,42 @@ class ObjectInfo:
     mtime_ns: int
 
 
+@contextmanager
+def boto3_kept_from_rasterio() -> Iterator[None]:
+    """Inside the block (a pdsgen command in its own process, a batch job's process), a first
+    `import rasterio` finds no boto3; on leaving, the process's modules are as they were (but
+    for what was imported). Nothing is hidden if rasterio or boto3 is loaded already.
+
+    rasterio imports boto3 whenever it is installed (the s3 extra; moto brings it into a test
+    environment too) to offer its AWSSession: some 230 modules and a sixth of a second on every
+    command, even a local one. pdsgen does not need it: GDAL reads the AWS variables itself
+    (locations.gdal_environment adds the endpoint), which is rasterio's own fallback. rasterio
+    decides once, when its `session` module is imported. The client below imports boto3 all
+    the same (`_import_boto3`). This module is the only one that touches sys.modules for it."""
+    hidden = "rasterio" not in sys.modules and "boto3" not in sys.modules
+    if hidden:
+        sys.modules["boto3"] = None  # type: ignore[assignment]  # `import boto3` raises ImportError
+    try:
+        yield
+    finally:
+        if hidden and "boto3" in sys.modules and sys.modules["boto3"] is None:
+            del sys.modules["boto3"]
+
+
+def _import_boto3() -> ModuleType:
+    """boto3 itself, also inside `boto3_kept_from_rasterio` (rasterio has chosen by then)."""
+    if "boto3" in sys.modules and sys.modules["boto3"] is None:
+        del sys.modules["boto3"]
+    import boto3
+
+    return boto3
+
+
 @functools.lru_cache(maxsize=8)
 def _client(endpoint: str | None, profile: str | None, identity: tuple[str | None, ...]) -> Any:
     """One boto3 client per endpoint and identity (they are thread-safe and slow to make)."""
-    if "boto3" in sys.modules and sys.modules["boto3"] is None:  # kept from rasterio (cli.keep_boto3_from_rasterio)
-        del sys.modules["boto3"]
     try:
-        import boto3
+        boto3 = _import_boto3()
         from botocore.config import Config
     except ImportError:
         raise PdsgenError(None, MISSING_CLIENT) from None
@@ -54,8 +85,7 @@ def _client(endpoint: str | None, profile: str | None, identity: tuple[str | Non
 
 
 def client() -> Any:
-    """The S3 client for the AWS variables now set (GDAL is configured from them too)."""
-    configure_gdal()
+    """The S3 client for the AWS variables now set."""
     identity = tuple(os.environ.get(f"AWS_{name}") for name in ("ACCESS_KEY_ID", "SECRET_ACCESS_KEY", "SESSION_TOKEN"))
     return _client(endpoint_url(), os.environ.get("AWS_PROFILE") or None, identity)
 
