@@ -3,6 +3,12 @@
 A product is several files (an .IMG, or a .JP2 with its .LBL); either all of them
 appear or none does, so an interrupted or failed run never leaves a half-written
 product that a later delivery step might pick up.
+
+The one module that renames files (tests/test_architecture_staging.py): a product's files
+(StagedOutputs), any other single file or set of files (staged_file, staged_files: a
+report, a baseline, review pages, a schema download) and a whole tree (replace_directory:
+a delivery) all appear here, so removing temporaries on failure and holding Ctrl-C back
+while names change are written once.
 """
 
 from __future__ import annotations
