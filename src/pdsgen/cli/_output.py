@@ -38,7 +38,7 @@ class Outcome:
     """What a command has to tell: lines for people, a summary for scripts, its exit code."""
 
     lines: list[str]
-    summary: dict[str, Any]
+    summary: dict[str, Any]  # the --json document (made under --json only: it sizes every file)
     warnings: tuple[str, ...] = ()
     exit_code: int = 0
     refused: tuple[str, ...] = ()  # what the command refused and went on after, in the command line's words
