@@ -10,12 +10,14 @@ import os
 import shlex
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from .extras import make_extras
 from .formats.jp2 import require_openjpeg
 from .formats.staging import prepare_output_dir
 from .products.dtm import DtmProduct, write_dtm
 from .products.ortho import OrthoProduct, write_ortho
+from .results import CommandResult, files_json
 from .synthetic import make_scene, write_geotiff
 from .validate import validate_paths
 from .validate.report import ValidationReport
@@ -26,20 +28,43 @@ DEMO_ORTHO_OBSERVATION = "PSP_008669_1705"
 
 
 @dataclass
-class DemoResult:
+class DemoResult(CommandResult):
+    """The inputs and products the demo wrote, a line on each product, and the validator's report
+    on them: the demo's own products must validate, so its exit status is the validator's."""
+
     inputs: list[Path] = field(default_factory=list)
     products: list[Path] = field(default_factory=list)
     lines: list[str] = field(default_factory=list)
     validation: ValidationReport | None = None
+    named_as: str = "."  # OUTDIR as the caller named it
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def files(self) -> tuple[Path, ...]:
+        return tuple(self.products)
+
+    @property
+    def summary_lines(self) -> tuple[str, ...]:
+        return (f"inputs in {self.named_as}/input: " + ", ".join(p.name for p in self.inputs), *self.lines)
+
+    @property
+    def exit_code(self) -> int:
+        return self.validation.exit_code if self.validation else 0
+
+    def details(self) -> dict[str, Any]:
+        validation = self.validation
+        return {"inputs": files_json(self.inputs),
+                "checks": {"validate": validation.summary_line() if validation else "not run",
+                           "exit_code": validation.exit_code if validation else None}}
 
 
 def run_demo(outdir: str | os.PathLike[str], overwrite: bool = True) -> DemoResult:
     """Generate the synthetic inputs and every product from them into OUTDIR."""
     require_openjpeg()  # the orthoimage needs it: refuse before anything is written
-    outdir = prepare_output_dir(outdir)
+    named_as, outdir = os.fspath(outdir), prepare_output_dir(outdir)
     input_dir = prepare_output_dir(outdir / "input")
     scene = make_scene()
-    result = DemoResult()
+    result = DemoResult(named_as=named_as)
     dtm_input = write_geotiff(input_dir / "demo_dtm.tif", scene.elevation, scene.transform, scene.crs, None)
     ortho_input = write_geotiff(
         input_dir / "demo_ortho_red.tif", scene.reflectance, scene.transform, scene.crs, None

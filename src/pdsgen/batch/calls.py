@@ -14,7 +14,7 @@ from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from ..products.result import ProductResult
+from ..results import CommandResult
 from ..storage import OutputArea, local_inputs, output_area
 
 Outputs = dict[str, list[str]]
@@ -49,18 +49,16 @@ def run_mosaic(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
         return _product(write_mosaic(inputs.paths, area.directory, **options), area)
 
 
-def _product(product: ProductResult, area: OutputArea) -> Outputs:
-    """Every file of a product; the one later jobs read is its label (or, for iMars, its GeoTIFF).
-    The product's warnings go to the job's log, as the command prints them."""
-    for warning in product.warnings:
-        print(f"warning: {warning}")
+def _product(product: CommandResult, area: OutputArea) -> Outputs:
+    """Every file of a product; the one later jobs read is its label (or, for iMars, its GeoTIFF)."""
     labels = [f for f in product.files if f.suffix.lower() in LABEL_SUFFIXES]
-    return _written(list(product.files), labels[:1] or list(product.files[:1]), area=area)
+    return _reported(product, labels[:1] or list(product.files[:1]), area=area)
 
 
 def run_extras(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
     from ..extras import make_extras
     from ..extras.readme_txt import README_NAME
+    from ..extras.result import ExtrasResult
 
     with local_inputs(p["products"]) as inputs, output_area(p["outdir"], overwrite, shared=(README_NAME,)) as area:
         written = make_extras(inputs.paths, area.directory, credit=p["credit"], params=p["params_file"],
@@ -68,22 +66,18 @@ def run_extras(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
                               altitude=p["altitude"], exaggeration=p["exaggeration"], kind=p["kind"],
                               profile=p["profile"], product_id=p["product_id"], overwrite=overwrite,
                               report=lambda line: print(inputs.shown(line)))  # notes into the log
-        directory_files = [w for w in written if w.name == README_NAME]
-        return _written([w for w in written if w not in directory_files], [], shared=directory_files, area=area)
+        extras = ExtrasResult.of(written)
+        return _reported(extras, [], shared=extras.directory_files, area=area)
 
 
 def run_migrate(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
     """`pdsgen migrate`: each product's PDS4 label beside unchanged copies of its files; a refused
     product fails the job (one line each) after the others are written."""
-    from ..errors import PdsgenError
     from ..migrate import migrate_products, product_labels
 
     run = migrate_products(product_labels(p["products"]), p["outdir"], bundle_lid=p["bundle_lid"],
                            collection=p["collection"], in_place=p["in_place"], overwrite=overwrite)
-    if run.failed:
-        raise PdsgenError(None, "; ".join(str(f) for f in run.failed))
-    return _written([f for m in run.migrated for f in (m.label_path, *m.files) if not p["in_place"] or
-                     f == m.label_path], [m.label_path for m in run.migrated])
+    return _reported(run, list(run.labels))
 
 
 class ProblemsFound(Exception):
@@ -108,6 +102,20 @@ def run_validate(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs
     if report.exit_code != 0:
         raise ProblemsFound(report.summary_line())
     return {"outputs": written, "products": [], "shared": []}
+
+
+def _reported(result: CommandResult, products: list[Path], shared: Sequence[Path] = (),
+              area: OutputArea | None = None) -> Outputs:
+    """What any job's result says, read through the result contract only: its warnings go to the
+    job's log (as the command prints them), what it refused fails the job (one line each, after the
+    others were written), and its files are the job's outputs - `shared` ones apart."""
+    for warning in result.warnings:
+        print(f"warning: {warning}")
+    if result.refused:
+        from ..errors import PdsgenError
+
+        raise PdsgenError(None, "; ".join(result.refused))
+    return _written([f for f in result.files if f not in shared], products, shared, area)
 
 
 def _written(outputs: list[Path], products: list[Path], shared: Sequence[Path] = (),

@@ -1,8 +1,10 @@
-"""--quiet, --verbose and --json: how much a product command says, and in which form.
+"""--quiet, --verbose and --json: how much a command says, and in which form.
 
-Every product command (dtm, ortho, extras, demo) returns an `Outcome` - its lines
-for people and its summary for scripts - and `output_options` prints the one the
-user asked for. Verbose mode shows the library's own log records ("pdsgen" logger:
+Every command's library call returns a `CommandResult` (pdsgen/results.py): its files,
+its lines for people, its warnings and its facts for scripts. `told` turns any result
+into the command's `Outcome` and `output_options` prints the one the user asked for -
+the lines, or the one JSON shape of `CommandResult.as_json` - with no code of the
+command's own. Verbose mode shows the library's own log records ("pdsgen" logger:
 what was read, chosen and written) on stderr, each with the seconds since start,
 so a script reading --json on stdout is never disturbed by it.
 """
@@ -13,20 +15,22 @@ import functools
 import json
 import logging
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import click
 
 from ..progress import terminal_bar, wanted
 
-if TYPE_CHECKING:  # an annotation only: `pdsgen validate` loads no product module
-    from ..products.result import ProductResult
+if TYPE_CHECKING:  # an annotation only: `pdsgen validate` loads no command result
+    from ..results import CommandResult
 
 # click parameter names of these options: every profile uses them.
 OUTPUT_OPTIONS = frozenset({"quiet", "verbose", "as_json"})
+# Where output_options leaves --json for `told` (the command itself never sees the flag).
+_JSON_WANTED = "pdsgen.as_json"
 
 
 @dataclass
@@ -34,9 +38,59 @@ class Outcome:
     """What a command has to tell: lines for people, a summary for scripts, its exit code."""
 
     lines: list[str]
-    summary: dict[str, Any]
+    summary: dict[str, Any]  # the --json document (made under --json only: it sizes every file)
     warnings: tuple[str, ...] = ()
     exit_code: int = 0
+    refused: tuple[str, ...] = ()  # what the command refused and went on after, in the command line's words
+
+
+class ShowsPaths(Protocol):
+    """An input or output area: `shown(text)` names its local copies as the user named them."""
+
+    def shown(self, text: str) -> str: ...
+
+
+def told(result: CommandResult, *places: ShowsPaths) -> Outcome:
+    """What a command tells of its result, whichever command it is: the result's lines,
+    warnings and refusals, and (under --json only: it sizes every file) its JSON document.
+
+    Called inside the command's input and output areas (`places`, innermost first: an
+    s3:// input's local copy, an s3:// OUTDIR's staging directory), whose paths are shown
+    as the user named them; the files are sized before the staging directory goes.
+    """
+    context = click.get_current_context()
+    show = _showing(places)
+    summary = show(result.as_json(context.command.name or "")) if context.meta.get(_JSON_WANTED) else {}
+    return Outcome(show(list(result.summary_lines)), summary, show(tuple(result.warnings)), result.exit_code,
+                   show(_in_cli_words(result.refused)))
+
+
+def _in_cli_words(messages: tuple[str, ...]) -> tuple[str, ...]:
+    """Library messages naming options as the command line spells them (loaded only when there are any)."""
+    if not messages:
+        return ()
+    from ._messages import in_cli_words
+
+    return tuple(in_cli_words(message) for message in messages)
+
+
+def _showing(places: tuple[ShowsPaths, ...]) -> Callable[[Any], Any]:
+    """Every string in a value (lines, a JSON document), each place's `shown` applied in turn."""
+
+    def show(value: Any) -> Any:
+        if isinstance(value, Path):
+            value = str(value)
+        if isinstance(value, str):
+            for place in places:
+                value = place.shown(value)
+            return value
+        if isinstance(value, dict):
+            return {key: show(item) for key, item in value.items()}
+        if isinstance(value, list | tuple):
+            return type(value)(show(item) for item in value)
+        return value
+
+    return show
 
 
 def output_options(command: Callable[..., Outcome]) -> Callable[..., None]:
@@ -53,8 +107,11 @@ def output_options(command: Callable[..., Outcome]) -> Callable[..., None]:
             raise click.UsageError("--quiet and --verbose exclude each other")
         if verbose:
             log_to_stderr()
+        click.get_current_context().meta[_JSON_WANTED] = as_json
         with terminal_bar(wanted(quiet, as_json)):  # large DTM/JP2 writes draw a bar on a terminal
             outcome = command(*args, **kwargs)
+        for error in outcome.refused:
+            click.echo(f"pdsgen: error: {error}", err=True)
         for warning in outcome.warnings:
             click.echo(f"warning: {warning}", err=True)
         if as_json:
@@ -66,31 +123,6 @@ def output_options(command: Callable[..., Outcome]) -> Callable[..., None]:
             raise SystemExit(outcome.exit_code)
 
     return wrapper
-
-
-def files_summary(paths: Iterable[Path]) -> list[dict[str, Any]]:
-    """Each written file as {"path", "bytes"}: what a script needs to pick the files up."""
-    return [{"path": str(path), "bytes": path.stat().st_size} for path in paths]
-
-
-def product_summary(command: str, product: ProductResult) -> dict[str, Any]:
-    """The --json summary of one product a writer returned.
-
-    `checks.label_rules` is "passed" for products whose label the writer checked
-    with the validator's rules before publishing (it refuses them otherwise); the
-    deviations it was told to keep are listed under `warnings`.
-    """
-    return {
-        "command": command,
-        "product_id": product.product_id,
-        "lines": product.geometry.lines,
-        "samples": product.geometry.samples,
-        "files": files_summary(product.files),
-        "checks": {
-            "label_rules": "passed" if product.label_checked else "not run",
-            "warnings": list(product.warnings),
-        },
-    }
 
 
 class _ElapsedFormatter(logging.Formatter):

@@ -5,12 +5,11 @@ from __future__ import annotations
 import click
 
 from ..deliver import make_delivery
-from ..deliver.build import Delivery
-from ..deliver.layout import REVIEW_PAGE, publication_rank
+from ..deliver.layout import publication_rank
 from ..dialect import Dialect
 from ..storage import local_inputs, tree_area
 from . import COMMANDS
-from ._output import Outcome, output_options
+from ._output import Outcome, output_options, told
 
 
 @click.command(short_help=COMMANDS["deliver"])
@@ -39,28 +38,4 @@ def deliver(directory, dialect, out, volume_id, bundle_lid) -> Outcome:
         source = inputs.paths[0] if out is not None else area.directory
         result = make_delivery(source, area.directory, dialect=dialect, volume_id=volume_id, bundle_lid=bundle_lid,
                                shown_as=area.shown(str(area.directory)))
-        outcome = _outcome(result)
-    return Outcome(area.shown([inputs.shown(line) for line in outcome.lines]), area.shown(outcome.summary),
-                   tuple(area.shown(inputs.shown(line)) for line in outcome.warnings))
-
-
-def _outcome(result: Delivery) -> Outcome:
-    lines = [f"DELIVERY {result.path}: {result.products} data product(s), {result.previews} preview(s), "
-             f"{result.documents} document(s), {result.files} file(s) in {result.path / 'MD5SUMS.TXT'}"]
-    if result.volume_id:
-        lines.append(f"PDS3     volume {result.volume_id}: INDEX/INDEX.TAB + INDEX.LBL, VOLDESC.CAT, AAREADME.TXT "
-                     "(fill in their [TO BE WRITTEN: ...] text)")
-    if result.bundle_lid:
-        lines.append(f"PDS4     bundle {result.bundle_lid}::{result.bundle_version}, "
-                     f"{len(result.changed)} product(s) new or with a new version")
-    lines.append(f"CHECK    pdsgen validate {result.path}")
-    lines.append(f"REVIEW   {result.path / REVIEW_PAGE} (open it in a browser; not in the manifest)")
-    summary = {"command": "deliver", "path": str(result.path), "dialect": str(result.dialect),
-               "products": result.products, "previews": result.previews, "documents": result.documents,
-               "files": result.files, "volume_id": result.volume_id, "bundle_lid": result.bundle_lid,
-               "bundle_version": result.bundle_version, "changed": result.changed,
-               "skipped": [str(p) for p in result.skipped]}
-    where = "left where it is, outside the layout" if result.in_place else "not delivered"
-    unclaimed = tuple(f"{path}: no label names it and no Extras rule claims it; {where}"
-                      for path in result.skipped)
-    return Outcome(lines, summary, unclaimed)
+        return told(result, inputs, area)

@@ -6,7 +6,7 @@ import click
 
 from ..demo import run_demo
 from . import COMMANDS
-from ._output import Outcome, files_summary, output_options
+from ._output import Outcome, output_options, told
 
 
 @click.command(short_help=COMMANDS["demo"])
@@ -15,15 +15,4 @@ from ._output import Outcome, files_summary, output_options
 def demo(outdir: str) -> Outcome:
     """Write a synthetic Mars DTM and orthoimage under OUTDIR/input/, then every
     product pdsgen can make from them into OUTDIR."""
-    result = run_demo(outdir)
-    lines = [f"inputs in {outdir}/input: " + ", ".join(p.name for p in result.inputs), *result.lines]
-    validation = result.validation
-    summary = {
-        "command": "demo",
-        "inputs": files_summary(result.inputs),
-        "files": files_summary(result.products),
-        "checks": {"validate": validation.summary_line() if validation else "not run",
-                   "exit_code": validation.exit_code if validation else None},
-    }
-    # the demo's own products must validate: its exit code is the validator's
-    return Outcome(lines, summary, exit_code=validation.exit_code if validation else 0)
+    return told(run_demo(outdir))  # the demo's own products must validate: its exit code is the validator's

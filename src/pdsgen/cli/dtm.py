@@ -9,10 +9,9 @@ import click
 
 from ..products.dtm import write_dtm
 from ..products.options import DTM_HELP, DTM_OPTIONS
-from ..products.result import ProductResult
 from ..storage import internal, output_area
 from . import COMMANDS
-from ._output import Outcome, output_options, product_summary
+from ._output import Outcome, output_options, told
 from ._profile_options import UsedByProfile, profile_option, refuse_unused_options, vocabulary_options
 
 # Each profile's options: the vocabulary's entries its mission declares for its DTMs.
@@ -30,8 +29,7 @@ def dtm(ctx, input_path, outdir, profile, overwrite, **_options) -> Outcome:
     refuse_unused_options(ctx, profile, USED_BY_PROFILE.of(profile))
     with output_area(outdir, overwrite) as area:  # an s3:// OUTDIR: staged here, uploaded when complete
         product = write_dtm(internal(input_path), area.directory, profile=profile, **library_options(ctx.params))
-        lines, summary = area.shown([_summary(product)]), area.shown(product_summary("dtm", product))
-    return Outcome(lines, summary, product.warnings)
+        return told(product, area)
 
 
 def library_options(params: Mapping[str, Any]) -> dict[str, object]:
@@ -40,8 +38,3 @@ def library_options(params: Mapping[str, Any]) -> dict[str, object]:
     `pdsgen batch` calls it too, so a manifest's job and the command make the same call.
     """
     return USED_BY_PROFILE.library_options(params)
-
-
-def _summary(product: ProductResult) -> str:
-    """The one line `pdsgen dtm` prints: the product's own, in the form its profile made."""
-    return product.summary_line

@@ -8,10 +8,11 @@ import click
 
 from ..extras import KINDS, NOMAP, make_extras
 from ..extras.readme_txt import README_NAME
+from ..extras.result import ExtrasResult
 from ..storage import local_inputs, output_area
 from . import COMMANDS
 from ._messages import in_cli_words
-from ._output import Outcome, files_summary, output_options
+from ._output import Outcome, output_options, told
 from ._profile_options import profile_option
 
 
@@ -62,6 +63,4 @@ def extras(products, outdir, credit, params_file, browse_width, thumb_width, azi
                               altitude=altitude, exaggeration=exaggeration, kind=kind,
                               profile=profile, product_id=product_id, overwrite=overwrite,
                               report=lambda line: click.echo(f"pdsgen: {inputs.shown(in_cli_words(line))}", err=True))
-        summary = area.shown({"command": "extras", "files": files_summary(written)})
-        lines = area.shown([str(path) for path in written])
-    return Outcome(lines, summary)
+        return told(ExtrasResult.of(written), area)

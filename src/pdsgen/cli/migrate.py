@@ -6,8 +6,7 @@ import click
 
 from ..migrate import migrate_products, product_labels
 from . import COMMANDS
-from ._messages import in_cli_words
-from ._output import Outcome, output_options
+from ._output import Outcome, output_options, told
 
 
 @click.command(short_help=COMMANDS["migrate"])
@@ -31,12 +30,4 @@ def migrate(products, outdir, in_place, bundle_lid, collection, overwrite) -> Ou
         raise click.UsageError("give either -o/--outdir or --in-place")
     run = migrate_products(product_labels(products), outdir, bundle_lid=bundle_lid, collection=collection,
                            in_place=in_place, overwrite=overwrite)
-    for failure in run.failed:
-        click.echo(f"pdsgen: error: {in_cli_words(str(failure))}", err=True)
-    lines = [f"PDS4     {product.summary_line}" for product in run.migrated]
-    lines.append(f"{len(run.migrated)} product(s) migrated, {len(run.failed)} refused")
-    summary = {"command": "migrate",
-               "migrated": [{"product_id": p.product_id, "lid": p.lid, "label": str(p.label_path),
-                             "files": [str(f) for f in p.files]} for p in run.migrated],
-               "refused": [str(f) for f in run.failed]}
-    return Outcome(lines, summary, exit_code=0 if run.ok else 2)
+    return told(run)  # a refused product: one error line each, the others migrated, exit status 2

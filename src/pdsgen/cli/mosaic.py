@@ -9,10 +9,10 @@ import click
 
 from ..mosaic import write_mosaic
 from ..mosaic.options import MOSAIC_HELP, MOSAIC_OPTIONS
-from ..products.result import ProductResult
+from ..products.result import ListedProduct
 from ..storage import local_inputs, output_area
 from . import COMMANDS
-from ._output import Outcome, product_summary
+from ._output import Outcome, told
 from ._output import output_options as _output_options
 from ._profile_options import UsedByProfile, profile_option, refuse_unused_options, vocabulary_options
 
@@ -35,8 +35,7 @@ def mosaic(ctx, inputs, outdir, profile, overwrite, **_options) -> Outcome:
     # pixel of every input anyway. An s3:// OUTDIR: staged here, uploaded when complete.
     with local_inputs(inputs) as sources, output_area(outdir, overwrite) as area:
         product = write_mosaic(sources.paths, area.directory, **options)
-        lines, summary = area.shown([sources.shown(_summary(product))]), area.shown(product_summary("mosaic", product))
-    return Outcome(lines, summary, product.warnings)
+        return told(ListedProduct(product), sources, area)  # told by its directory and files
 
 
 def library_options(params: Mapping[str, Any]) -> dict[str, Any]:
@@ -44,9 +43,3 @@ def library_options(params: Mapping[str, Any]) -> dict[str, Any]:
 
     `pdsgen batch` calls it too, so a manifest's [[mosaic]] job and the command make the same call."""
     return {"profile": params["profile"], **USED_BY_PROFILE.library_options(params)}
-
-
-def _summary(product: ProductResult) -> str:
-    """The one line `pdsgen mosaic` prints: the directory, every file written, the mosaic's size."""
-    files = "  ".join(path.name for path in product.files)
-    return f"{product.files[0].parent}/  {files}  {product.geometry.lines} x {product.geometry.samples}"

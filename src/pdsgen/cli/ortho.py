@@ -12,10 +12,9 @@ from ..formats.jp2 import JP2INFO_NAME
 from ..missions import get_mission
 from ..products.options import ORTHO_HELP, ORTHO_OPTIONS
 from ..products.ortho import write_ortho
-from ..products.result import ProductResult
 from ..storage import internal, output_area
 from . import COMMANDS
-from ._output import Outcome, output_options, product_summary
+from ._output import Outcome, output_options, told
 from ._profile_options import UsedByProfile, profile_option, refuse_unused_options, vocabulary_options
 
 # Each profile's options: the vocabulary's entries its mission declares for its orthoimages.
@@ -37,8 +36,7 @@ def ortho(ctx, outdir, profile, overwrite, **_options) -> Outcome:
     refuse_unused_options(ctx, profile, USED_BY_PROFILE.of(profile))
     with output_area(outdir, overwrite, shared=SHARED_FILES) as area:  # s3:// OUTDIR: uploaded when complete
         product = write_ortho(ortho_inputs(ctx.params), area.directory, profile=profile, **library_options(ctx.params))
-        lines, summary = area.shown([_summary(product)]), area.shown(product_summary("ortho", product))
-    return Outcome(lines, summary, product.warnings)
+        return told(product, area)
 
 
 def ortho_inputs(params: Mapping[str, Any]) -> str | tuple[str, ...]:
@@ -58,8 +56,3 @@ def library_options(params: Mapping[str, Any]) -> dict[str, object]:
     `pdsgen batch` calls it too, so a manifest's job and the command make the same call.
     """
     return USED_BY_PROFILE.library_options(params)
-
-
-def _summary(product: ProductResult) -> str:
-    """The one line `pdsgen ortho` prints: the product's own, in the form its profile made."""
-    return product.summary_line

@@ -5,7 +5,7 @@ from __future__ import annotations
 import click
 
 from . import COMMANDS
-from ._output import Outcome, output_options
+from ._output import Outcome, output_options, told
 
 
 @click.command(short_help=COMMANDS["review"])
@@ -25,14 +25,4 @@ def review(directory, page, labels_only, jobs) -> Outcome:
     """
     from ..review import write_review
 
-    result = write_review(directory, page, labels_only=labels_only, jobs=jobs)
-    lines = [f"REVIEW   {result.path}: {result.products} product(s), {result.outlines} footprint(s); "
-             f"{result.errors} error(s), {result.warnings} warning(s), {result.info} info"]
-    if len(result.pages) > 1:
-        lines.append(f"PAGES    {len(result.pages)}: {result.pages[0].name}, then {result.pages[1].name} ... "
-                     f"{result.pages[-1].name} beside it")
-    summary = {"command": "review", "path": str(result.path), "pages": [str(p) for p in result.pages],
-               "products": result.products,
-               "footprints": result.outlines, "errors": result.errors, "warnings": result.warnings,
-               "info": result.info}
-    return Outcome(lines, summary)
+    return told(write_review(directory, page, labels_only=labels_only, jobs=jobs))

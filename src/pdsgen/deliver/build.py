@@ -16,7 +16,6 @@ import os
 import re
 import shutil
 from collections.abc import Iterator
-from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..dialect import DIALECT_NAMES, Dialect
@@ -27,31 +26,12 @@ from ..label.tree import Block
 from ..progress import advance
 from . import bundle, layout
 from .index import IndexWriter
+from .result import Delivery
 from .scan import DataProduct, SourceSet, is_pds3_label, label_value, read_pds3_label, scan
 from .volume import VolumeFacts, aareadme_text, voldesc_text
 
 log = logging.getLogger(__name__)
 
-
-
-@dataclass
-class Delivery:
-    """What `make_delivery` made: where, how many of each, and what it left out."""
-
-    path: Path
-    dialect: Dialect
-    products: int = 0
-    previews: int = 0
-    documents: int = 0
-    files: int = 0
-    changed: list[str] = field(default_factory=list)  # PDS4 LIDVIDs new or re-versioned by this run
-    # Source files no label names and no Extras rule claims: not delivered, or (in place) left
-    # where they are; each is reported, never placed silently.
-    skipped: list[Path] = field(default_factory=list)
-    in_place: bool = False
-    volume_id: str | None = None
-    bundle_lid: str | None = None
-    bundle_version: str | None = None
 
 
 class _Tree:
@@ -307,7 +287,7 @@ def _build(found: SourceSet, tree: _Tree, previous: _Previous, source: Path, in_
         _carry_pds4_labels(tree, data_members)
     if index is not None:
         _write_volume(tree, previous, index, today, result)
-    result.files = _write_manifest(tree)
+    result.file_count = _write_manifest(tree)
     return result
 
 

@@ -14,11 +14,13 @@ import shutil
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from ..errors import InputError, OutputError, PdsgenError
 from ..formats.staging import staged_files
 from ..pds4.content import digest_file
 from ..pds4.label import render_pds4
+from ..results import CommandResult
 from ..validate.context import FileContext
 from .geometry import migrated_cartography
 from .identity import (
@@ -42,24 +44,55 @@ class MigratedProduct:
     product_id: str
     lid: str
     label_path: Path
-    files: tuple[Path, ...]
+    files: tuple[Path, ...]  # the files the label describes
+    copied: bool = True  # `files` are copies written beside the label (not the originals, in place)
 
     @property
     def summary_line(self) -> str:
         """What was written, in one line (as product results say it: `ProductResult.summary_line`)."""
         return f"{self.label_path} ({self.lid}; {len(self.files)} file(s) described unchanged)"
 
+    @property
+    def written(self) -> tuple[Path, ...]:
+        """The files this migration wrote: the PDS4 label, then the copies."""
+        return (self.label_path, *self.files) if self.copied else (self.label_path,)
+
 
 @dataclass
-class MigrationRun:
-    """Several products migrated in one run: what was written and what was refused."""
+class MigrationRun(CommandResult):
+    """Several products migrated in one run: what was written and what was refused
+    (`pdsgen migrate`'s result: a refusal is told in one line and the others go on)."""
 
     migrated: list[MigratedProduct] = field(default_factory=list)
     failed: list[PdsgenError] = field(default_factory=list)
+    warnings: tuple[str, ...] = ()  # a migration keeps none: what PDS4 cannot describe is refused
 
     @property
     def ok(self) -> bool:
         return not self.failed
+
+    @property
+    def files(self) -> tuple[Path, ...]:
+        return tuple(path for product in self.migrated for path in product.written)
+
+    @property
+    def labels(self) -> tuple[Path, ...]:
+        """The PDS4 labels written, one per product migrated."""
+        return tuple(product.label_path for product in self.migrated)
+
+    @property
+    def refused(self) -> tuple[str, ...]:
+        return tuple(str(failure) for failure in self.failed)
+
+    @property
+    def summary_lines(self) -> tuple[str, ...]:
+        return (*(f"PDS4     {product.summary_line}" for product in self.migrated),
+                f"{len(self.migrated)} product(s) migrated, {len(self.failed)} refused")
+
+    def details(self) -> dict[str, Any]:
+        return {"migrated": [{"product_id": p.product_id, "lid": p.lid, "label": str(p.label_path),
+                              "files": [str(f) for f in p.files]} for p in self.migrated],
+                "refused": list(self.refused)}
 
 
 def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLike[str] | None = None, *,
@@ -102,7 +135,7 @@ def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLik
         "files": [_file_context(data) for data in files],
     })
     written = _write(files, text, label_out, target_dir, copy and not in_place, overwrite)
-    return MigratedProduct(pid, str(ident["lid"]), label_out, written)
+    return MigratedProduct(pid, str(ident["lid"]), label_out, written, copied=copy and not in_place)
 
 
 def migrate_products(labels: Iterable[str | os.PathLike[str]], outdir: str | os.PathLike[str] | None = None,

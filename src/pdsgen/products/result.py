@@ -3,20 +3,23 @@
 A writer returns a `ProductResult`: its product ID, the files it wrote, the map geometry,
 the dictionary deviations it kept (`warnings`), whether its label was checked with the
 validator's rules, and the one line that says what was written (`summary_line`, the line
-`pdsgen dtm` and `pdsgen ortho` print). The CLI and `pdsgen batch` read only these, so a
+`pdsgen dtm` and `pdsgen ortho` print). It is a `CommandResult` (pdsgen/results.py), the
+result every command returns: the CLI and `pdsgen batch` read only that contract, so a
 new mission's result needs no edit there, and nothing asks a result which class it is.
 """
 
 from __future__ import annotations
 
-from abc import ABC, abstractmethod
+from abc import abstractmethod
+from dataclasses import dataclass
 from pathlib import Path
-from typing import ClassVar
+from typing import Any, ClassVar
 
 from ..geo.geometry import MapGeometry
+from ..results import CommandResult
 
 
-class ProductResult(ABC):
+class ProductResult(CommandResult):
     """What a writer returns. Each mission's result is a frozen dataclass deriving from it,
     with fields of its own (paths, DN ranges, scaling) beside these."""
 
@@ -37,6 +40,49 @@ class ProductResult(ABC):
     def summary_line(self) -> str:
         """What was written, in one line: the line `pdsgen dtm` / `pdsgen ortho` print."""
 
+    @property
+    def summary_lines(self) -> tuple[str, ...]:
+        return (self.summary_line,)
+
+    def details(self) -> dict[str, Any]:
+        """`checks.label_rules` is "passed" for products whose label the writer checked with the
+        validator's rules before publishing (it refuses them otherwise); the deviations it was
+        told to keep are listed under `checks.warnings` too (as before the common `warnings`)."""
+        return {
+            "product_id": self.product_id,
+            "lines": self.geometry.lines,
+            "samples": self.geometry.samples,
+            "checks": {
+                "label_rules": "passed" if self.label_checked else "not run",
+                "warnings": list(self.warnings),
+            },
+        }
+
+
+@dataclass(frozen=True)
+class ListedProduct(CommandResult):
+    """A product told by the files it wrote rather than by its own line: what `pdsgen mosaic`
+    prints (one directory, every file written, the size), its JSON the product's own."""
+
+    product: ProductResult
+
+    @property
+    def files(self) -> tuple[Path, ...]:
+        return self.product.files
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        return self.product.warnings
+
+    @property
+    def summary_lines(self) -> tuple[str, ...]:
+        files = "  ".join(path.name for path in self.files)
+        geometry = self.product.geometry
+        return (f"{self.files[0].parent}/  {files}  {geometry.lines} x {geometry.samples}",)
+
+    def details(self) -> dict[str, Any]:
+        return self.product.details()
+
 
 def pds4_name(path: Path | None) -> str:
     """The PDS4 label a product also wrote, as a summary line names it (empty if none)."""
@@ -55,4 +101,4 @@ def checked_result(value: object, writer: object) -> ProductResult:
     return value
 
 
-__all__ = ["ProductResult", "checked_result", "pds4_name"]
+__all__ = ["ListedProduct", "ProductResult", "checked_result", "pds4_name"]

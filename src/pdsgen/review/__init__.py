@@ -12,11 +12,13 @@ import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from ..deliver.layout import MANIFEST, REVIEW_PAGE
 from ..deliver.scan import scan, walk
 from ..errors import InputError, OutputError
 from ..formats.staging import staged_files
+from ..results import CommandResult
 from ..validate.runner import iter_reports
 from .collect import review_directory
 from .page import INLINE_THUMBNAILS, PRODUCTS_PER_PAGE, HtmlWriter, render_pages
@@ -25,14 +27,36 @@ __all__ = ["HtmlWriter", "ReviewResult", "write_review"]
 
 
 @dataclass
-class ReviewResult:
+class ReviewResult(CommandResult):
+    """The page(s) written and what they show; `errors`, `warning_findings` and `info` count the
+    findings by severity (the page lists them; the command tells no warning of its own)."""
+
     path: Path
     products: int
     outlines: int
     errors: int
-    warnings: int
+    warning_findings: int
     info: int
     pages: list[Path] = field(default_factory=list)  # every page written, the first (`path`) first
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def files(self) -> tuple[Path, ...]:
+        return tuple(self.pages)
+
+    @property
+    def summary_lines(self) -> tuple[str, ...]:
+        lines = [f"REVIEW   {self.path}: {self.products} product(s), {self.outlines} footprint(s); "
+                 f"{self.errors} error(s), {self.warning_findings} warning(s), {self.info} info"]
+        if len(self.pages) > 1:
+            lines.append(f"PAGES    {len(self.pages)}: {self.pages[0].name}, then {self.pages[1].name} ... "
+                         f"{self.pages[-1].name} beside it")
+        return tuple(lines)
+
+    def details(self) -> dict[str, Any]:
+        return {"path": str(self.path), "pages": [str(p) for p in self.pages], "products": self.products,
+                "footprints": self.outlines, "errors": self.errors, "info": self.info,
+                "findings": {"errors": self.errors, "warnings": self.warning_findings, "info": self.info}}
 
 
 def write_review(directory: str | os.PathLike[str], page: str | os.PathLike[str] | None = None,
