@@ -20,8 +20,9 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..dialect import DIALECT_NAMES, Dialect
-from ..errors import ParamsError
-from ..missions import Mission
+from ..errors import ParamsError, PdsgenError, param
+from ..missions import DEFAULT_PROFILE, Mission, get_mission, mission_names
+from ..storage.locations import internal
 from .params import ParamValue
 
 
@@ -217,6 +218,47 @@ def _refuse_unused(kind: str, mission: Mission, profile: str, options: Mapping[s
 
 
 _VOCABULARIES = {"dtm": DTM_OPTIONS, "ortho": ORTHO_OPTIONS}
+
+
+# -- the library call a product command makes from its parsed parameters (the CLI's and a batch job's) --
+
+def library_options(kind: str, vocabulary: Iterable[OptionSpec], params: Mapping[str, Any]) -> dict[str, Any]:
+    """The library keywords (with their values) of the options the parameters' profile uses.
+
+    `params` are a command's parsed parameters under their click names (a batch job's too), so
+    `pdsgen KIND` and a manifest's [[KIND]] job make the same call."""
+    profile = params["profile"]
+    mission = get_mission(profile if profile in mission_names() else DEFAULT_PROFILE)
+    options: dict[str, Any] = {}
+    for spec in used_options(kind, mission, vocabulary):
+        value = params[spec.param]
+        if spec.omit_unset and value is None:
+            continue  # the writer's own default
+        if spec.stored:
+            value = value and internal(value)
+        elif spec.convert is not None:
+            value = spec.convert(value)
+        options[spec.library_keyword] = value
+    return options
+
+
+def ortho_inputs(params: Mapping[str, Any]) -> str | tuple[str, ...]:
+    """The input of write_ortho: one file, or (profiles that compose bands) the files in band order."""
+    more = tuple(params.get("more_inputs") or ())
+    if not more:
+        return internal(params["input_path"])
+    if not get_mission(params["profile"]).composes_ortho_bands:
+        raise PdsgenError(None, f"{param('profile', params['profile'])} takes one INPUT; "
+                                f"{len(more) + 1} were given")
+    return (internal(params["input_path"]), *(internal(path) for path in more))
+
+
+def ortho_shared_files() -> tuple[str, ...]:
+    """Files one orthoimage updates for its whole directory (fetched from, and written back to,
+    an s3:// OUTDIR). Read when asked: formats.jp2 is no import of a DTM conversion."""
+    from ..formats.jp2 import JP2INFO_NAME
+
+    return (JP2INFO_NAME,)
 
 
 @dataclass(frozen=True)
