@@ -93,6 +93,8 @@ class OptionUse:
     # The mission's own defaults of options it uses, where they differ from the vocabulary's
     # (HRSC: big-endian heights); a writer's options object is built with them.
     defaults: Mapping[str, Any] = field(default_factory=dict)
+    # Values the mission accepts for an option besides the vocabulary's `choices` (iMars: da, dt).
+    choices: Mapping[str, tuple[Any, ...]] = field(default_factory=dict)
 
     def of(self, kind: str) -> frozenset[str]:
         """The declared options of product kind "dtm", "ortho" or "mosaic"."""
@@ -101,7 +103,8 @@ class OptionUse:
     def adding(self, *, dtm: Iterable[str] = (), ortho: Iterable[str] = (),
                mosaic: Iterable[str] = ()) -> OptionUse:
         """These options and more: a mission that takes the standard ones plus its own."""
-        return OptionUse(self.dtm | set(dtm), self.ortho | set(ortho), self.mosaic | set(mosaic), self.defaults)
+        return OptionUse(self.dtm | set(dtm), self.ortho | set(ortho), self.mosaic | set(mosaic), self.defaults,
+                         self.choices)
 
 
 # What the standard writers (float32 PDS3 DTM, JP2 + LBL orthoimage) use: a mission that

@@ -220,6 +220,27 @@ def _refuse_unused(kind: str, mission: Mission, profile: str, options: Mapping[s
 _VOCABULARIES = {"dtm": DTM_OPTIONS, "ortho": ORTHO_OPTIONS}
 
 
+def library_choices(spec: OptionSpec) -> tuple[Any, ...]:
+    """An entry's choices as the library takes them (--bits 8 is the library's 8)."""
+    choices = spec.choices or ()
+    return tuple(spec.convert(choice) for choice in choices) if spec.convert else choices
+
+
+def check_choices(vocabulary: Iterable[OptionSpec], options: Mapping[str, Any],
+                  own_choices: Mapping[str, Sequence[Any]] | None = None) -> None:
+    """ParamsError for an option given a value its entry does not offer - the one check of `choices`,
+    in one wording, for every writer. `own_choices`: values a mission accepts besides (iMars: da, dt).
+    None is not given (the default applies)."""
+    for spec in vocabulary:
+        value = options.get(spec.library_keyword)
+        if spec.choices is None or value is None:
+            continue
+        allowed = (*library_choices(spec), *(own_choices or {}).get(spec.library_keyword, ()))
+        if value not in allowed:
+            raise ParamsError(None, f"{param(spec.library_keyword)} must be one of "
+                                    f"{', '.join(map(str, allowed))}, not {value!r}")
+
+
 # -- the library call a product command makes from its parsed parameters (the CLI's and a batch job's) --
 
 def library_options(kind: str, vocabulary: Iterable[OptionSpec], params: Mapping[str, Any]) -> dict[str, Any]:
@@ -315,7 +336,9 @@ class ProductOptions:
         _refuse_unused(kind, mission, profile, keywords, _VOCABULARIES[kind])
         given = {name: value for name, value in keywords.items() if value is not None}
         defaults = {name: value for name, value in mission.options.defaults.items() if name in _FIELD_NAMES}
-        return cls(**{**defaults, **given})
+        chosen = {**defaults, **given}
+        check_choices(_VOCABULARIES[kind], chosen, mission.options.choices)
+        return cls(**chosen)
 
     def replace(self, **changes: Any) -> ProductOptions:
         """These options with some changed (a mosaic's product ID and sources, a tile's own ID)."""
