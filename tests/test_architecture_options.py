@@ -184,3 +184,23 @@ def test_choices_are_checked_once_in_one_wording():
     elsewhere = {path.relative_to(SRC).as_posix() for path in SRC.rglob("*.py")
                  if wording.search(path.read_text()) and path.name != "options.py"}
     assert elsewhere <= CHOICE_CHECKS_LEFT, elsewhere - CHOICE_CHECKS_LEFT
+
+
+# -- the product kind: one type ---------------------------------------------------------------------
+
+def test_the_product_kind_is_one_type_that_every_list_of_kinds_agrees_with():
+    """dtm/ortho is ProductKind; the lists of kinds still written in extras/ and mosaic/ name the
+    same kinds in the same order (until those modules take PRODUCT_KINDS), and the options take it."""
+    from pdsgen.extras.kind import KINDS as EXTRAS_KINDS
+    from pdsgen.extras.options import KIND
+    from pdsgen.missions import PRODUCT_KINDS, ProductKind, get_mission
+    from pdsgen.mosaic.options import MOSAIC_OPTIONS
+    from pdsgen.mosaic.write import KINDS as MOSAIC_KINDS
+    from pdsgen.products.options import ProductOptions
+
+    assert PRODUCT_KINDS == ("dtm", "ortho") == EXTRAS_KINDS == MOSAIC_KINDS
+    assert next(spec for spec in MOSAIC_OPTIONS if spec.param == "kind").choices == PRODUCT_KINDS
+    assert KIND.choices is not None and KIND.choices[:2] == PRODUCT_KINDS
+    for kind in ProductKind:
+        assert ProductOptions.build(kind, get_mission("generic"), {}) == ProductOptions.build(
+            kind.value, get_mission("generic"), {})

@@ -25,7 +25,8 @@ from .._compat import tomllib
 from ..errors import PdsgenError
 from ..storage.locations import internal, is_remote
 
-KINDS = ("dtm", "ortho", "mosaic", "extras", "validate", "migrate")
+# The commands a manifest's tables run (a job's `kind`), in the order their jobs are listed.
+JOB_COMMANDS = ("dtm", "ortho", "mosaic", "extras", "validate", "migrate")
 # Keys that only the batch knows: how to schedule a job, not what it makes.
 JOB_KEYS = ("id", "after", "memory", "threads", "timeout", "retries")
 BATCH_KEYS = ("outdir", "memory", "threads", "timeout", "retries")
@@ -150,13 +151,13 @@ class _Checker:
 
     def manifest(self) -> Manifest:
         for key in self.data:
-            if key not in ("batch", "defaults", *KINDS):
+            if key not in ("batch", "defaults", *JOB_COMMANDS):
                 self.problems.append(f"unknown table [{key}] (expected [batch], [defaults.KIND], "
-                                     + ", ".join(f"[[{k}]]" for k in KINDS) + ")")
+                                     + ", ".join(f"[[{k}]]" for k in JOB_COMMANDS) + ")")
         for kind in self.defaults:
-            if kind not in KINDS:
-                self.problems.append(f"unknown table [defaults.{kind}] (kinds: {', '.join(KINDS)})")
-        jobs = [job for kind in KINDS for job in self._jobs(kind)]
+            if kind not in JOB_COMMANDS:
+                self.problems.append(f"unknown table [defaults.{kind}] (kinds: {', '.join(JOB_COMMANDS)})")
+        jobs = [job for kind in JOB_COMMANDS for job in self._jobs(kind)]
         self._check_graph(jobs)
         if not jobs and not self.problems:
             self.problems.append("no jobs: add [[dtm]], [[ortho]], [[mosaic]], [[extras]] or [[validate]] entries")

@@ -10,13 +10,14 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+from ..missions import PRODUCT_KINDS
 from ..products.options import OptionSpec
-from .kind import KINDS, NOMAP
+from .kind import NOMAP
 
 # The command's own option between these and --overwrite on --help (its choices are the missions
 # registered when the command line is parsed); help texts name options by their entries' flags.
 PROFILE_FLAG = "profile"
-KIND = OptionSpec("kind", "kind", choices=(*KINDS, NOMAP),
+KIND = OptionSpec("kind", "kind", choices=(*PRODUCT_KINDS, NOMAP),
                   help="Treat every PRODUCT as this kind [default: from the label, metadata or "
                        "values; refused when they do not say]. nomap: PRODUCTs are one HiRISE "
                        "observation's RED and/or IRB NOMAP mosaics (not map-projected).")

@@ -5,16 +5,16 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+from ..missions import PRODUCT_KINDS
 from ..missions.imars import METADATA_SUFFIX
 from ..products import options as product_options
 from ..products.options import ALLOW_DEVIATIONS, OVERWRITE, PARAMS, VICAR_OFFSETS, OptionSpec, label_option
 from .plan import ORDERS, RESAMPLING_METHODS
-from .write import KINDS
 
 MOSAIC_OPTIONS: tuple[OptionSpec, ...] = (
     OptionSpec("product_id", "product-id", required=True, always=True,
                help="Product ID of the mosaic (imars: <ID>_dtm.tif / <ID>_ori.tif; hrsc: hOOOO_NNNN)."),
-    OptionSpec("kind", "kind", choices=KINDS, default=None, always=True,
+    OptionSpec("kind", "kind", choices=PRODUCT_KINDS, default=None, always=True,
                help="Heights or images [default: decided from each input as `pdsgen extras` decides it]."),
     OptionSpec("order", "order", choices=ORDERS, default="given", show_default=True, always=True,
                help="given: later inputs lie on top (as gdal_merge.py); reverse: earlier ones do."),
