@@ -2,8 +2,9 @@
 
 A job's parameters are those its click command parsed (see manifest.py), under the
 click parameter names; each function here passes them to the library function
-behind the command - through the command's own `library_options` where it has
-one, so the keywords are chosen in one place - and returns what the job wrote:
+behind the command - through the vocabulary's `library_options` (products/options.py,
+mosaic/options.py), the one the command calls too, so the keywords are chosen in one
+place - and returns what the job wrote:
 `outputs` (the files it made), `shared` (directory-wide files it updated) and
 `products` (the files a later job reads: a DTM's .IMG, an orthoimage's .LBL).
 """
@@ -23,26 +24,26 @@ LABEL_SUFFIXES = (".img", ".lbl")
 
 
 def run_dtm(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
-    from ..cli.dtm import library_options
     from ..products.dtm import write_dtm
+    from ..products.options import DTM_OPTIONS, library_options
 
-    options = {**library_options(p), "overwrite": overwrite}
+    options = {**library_options("dtm", DTM_OPTIONS, p), "overwrite": overwrite}
     with output_area(p["outdir"], overwrite) as area:  # the worker writes into the bucket itself (s3:// OUTDIR)
         return _product(write_dtm(p["input_path"], area.directory, profile=p["profile"], **options), area)
 
 
 def run_ortho(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
-    from ..cli.ortho import SHARED_FILES, library_options, ortho_inputs
+    from ..products.options import ORTHO_OPTIONS, library_options, ortho_inputs, ortho_shared_files
     from ..products.ortho import write_ortho
 
-    options = {**library_options(p), "overwrite": overwrite, "threads": threads}
-    with output_area(p["outdir"], overwrite, shared=SHARED_FILES) as area:
+    options = {**library_options("ortho", ORTHO_OPTIONS, p), "overwrite": overwrite, "threads": threads}
+    with output_area(p["outdir"], overwrite, shared=ortho_shared_files()) as area:
         return _product(write_ortho(ortho_inputs(p), area.directory, profile=p["profile"], **options), area)
 
 
 def run_mosaic(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
-    from ..cli.mosaic import library_options
     from ..mosaic import write_mosaic
+    from ..mosaic.options import library_options
 
     options = {**library_options(p), "overwrite": overwrite}
     with local_inputs(p["inputs"]) as inputs, output_area(p["outdir"], overwrite) as area:  # as `pdsgen mosaic`
@@ -57,14 +58,12 @@ def _product(product: CommandResult, area: OutputArea) -> Outputs:
 
 def run_extras(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
     from ..extras import make_extras
+    from ..extras.options import library_options
     from ..extras.readme_txt import README_NAME
     from ..extras.result import ExtrasResult
 
     with local_inputs(p["products"]) as inputs, output_area(p["outdir"], overwrite, shared=(README_NAME,)) as area:
-        written = make_extras(inputs.paths, area.directory, credit=p["credit"], params=p["params_file"],
-                              browse_width=p["browse_width"], thumb_width=p["thumb_width"], azimuth=p["azimuth"],
-                              altitude=p["altitude"], exaggeration=p["exaggeration"], kind=p["kind"],
-                              profile=p["profile"], product_id=p["product_id"], overwrite=overwrite,
+        written = make_extras(inputs.paths, area.directory, **{**library_options(p), "overwrite": overwrite},
                               report=lambda line: print(inputs.shown(line)))  # notes into the log
         extras = ExtrasResult.of(written)
         return _reported(extras, [], shared=extras.directory_files, area=area)

@@ -26,7 +26,7 @@ from typing import Any, TextIO
 
 # What every kind of job imports, loaded once when the child starts instead of per job.
 PRELOAD = ("numpy", "rasterio", "glymur", "pdsgen.batch.calls", "pdsgen.products.dtm", "pdsgen.products.ortho",
-           "pdsgen.extras", "pdsgen.validate", "pdsgen.cli.dtm", "pdsgen.cli.ortho")
+           "pdsgen.extras", "pdsgen.validate", "pdsgen.products.options")
 
 
 def run(task: dict[str, Any]) -> dict[str, Any]:

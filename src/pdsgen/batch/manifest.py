@@ -12,6 +12,7 @@ collected, so a user sees every mistake of a manifest in one run.
 
 from __future__ import annotations
 
+import importlib
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -24,7 +25,8 @@ from .._compat import tomllib
 from ..errors import PdsgenError
 from ..storage.locations import internal, is_remote
 
-KINDS = ("dtm", "ortho", "mosaic", "extras", "validate", "migrate")
+# The commands a manifest's tables run (a job's `kind`), in the order their jobs are listed.
+JOB_COMMANDS = ("dtm", "ortho", "mosaic", "extras", "validate", "migrate")
 # Keys that only the batch knows: how to schedule a job, not what it makes.
 JOB_KEYS = ("id", "after", "memory", "threads", "timeout", "retries")
 BATCH_KEYS = ("outdir", "memory", "threads", "timeout", "retries")
@@ -78,24 +80,27 @@ class Manifest:
 
 
 def command(kind: str) -> click.Command:
-    """The click command behind `pdsgen KIND`, found the way the CLI finds it."""
-    from ..cli import main
+    """The click command behind `pdsgen KIND`: `pdsgen.cli.KIND`'s, the module the CLI loads for it.
 
-    found = main.get_command(click.Context(main), kind)
-    assert found is not None, kind
+    Named, not imported, as a mission names its writers: the CLI runs batch, so batch/ sits
+    below cli/ in the import graph; the commands parse a manifest's entries at run time."""
+    found = getattr(importlib.import_module(f"pdsgen.cli.{kind}"), kind)
+    assert isinstance(found, click.Command), kind
     return found
 
 
-def manifest_key(param: click.Parameter) -> str:
-    """The manifest key of a command parameter: `input`/`inputs` or the long option name."""
+def manifest_keys(param: click.Parameter) -> list[str]:
+    """The manifest keys of a command parameter: `input`/`inputs`, or each long option name, the
+    longest first (`output`, then the older `outdir` or `out`: manifests written with them still work)."""
     if isinstance(param, click.Argument):
-        return "input" if param.nargs == 1 else "inputs"
-    return max(param.opts, key=len).lstrip("-").replace("-", "_")
+        return ["input" if param.nargs == 1 else "inputs"]
+    long_names = sorted((opt for opt in param.opts if opt.startswith("--")), key=len, reverse=True)
+    return [opt.lstrip("-").replace("-", "_") for opt in long_names or [max(param.opts, key=len)]]
 
 
 def command_keys(kind: str) -> dict[str, click.Parameter]:
     """Manifest key -> parameter for every option a job of KIND may set."""
-    return {manifest_key(p): p for p in command(kind).params if p.name not in REFUSED_OPTIONS}
+    return {key: p for p in command(kind).params if p.name not in REFUSED_OPTIONS for key in manifest_keys(p)}
 
 
 def load_manifest(path: str | Path, outdir: str | Path | None = None,
@@ -146,13 +151,13 @@ class _Checker:
 
     def manifest(self) -> Manifest:
         for key in self.data:
-            if key not in ("batch", "defaults", *KINDS):
+            if key not in ("batch", "defaults", *JOB_COMMANDS):
                 self.problems.append(f"unknown table [{key}] (expected [batch], [defaults.KIND], "
-                                     + ", ".join(f"[[{k}]]" for k in KINDS) + ")")
+                                     + ", ".join(f"[[{k}]]" for k in JOB_COMMANDS) + ")")
         for kind in self.defaults:
-            if kind not in KINDS:
-                self.problems.append(f"unknown table [defaults.{kind}] (kinds: {', '.join(KINDS)})")
-        jobs = [job for kind in KINDS for job in self._jobs(kind)]
+            if kind not in JOB_COMMANDS:
+                self.problems.append(f"unknown table [defaults.{kind}] (kinds: {', '.join(JOB_COMMANDS)})")
+        jobs = [job for kind in JOB_COMMANDS for job in self._jobs(kind)]
         self._check_graph(jobs)
         if not jobs and not self.problems:
             self.problems.append("no jobs: add [[dtm]], [[ortho]], [[mosaic]], [[extras]] or [[validate]] entries")
@@ -224,8 +229,9 @@ class _Checker:
                where: str) -> dict[str, Any] | None:
         """The command's own parse of the entry, as if its values were typed on the command line."""
         entry = dict(entry)
-        if "outdir" in keys:
-            entry.setdefault("outdir", ".")
+        outdir_keys = [key for key, param in keys.items() if param.name == "outdir"]
+        if "outdir" in keys and not any(key in entry for key in outdir_keys):
+            entry["outdir"] = "."
         args: list[str] = []
         positional: list[str] = []
         for key, value in entry.items():
@@ -241,8 +247,7 @@ class _Checker:
                 args += words
         cmd = command(kind)
         try:
-            ctx = cmd.make_context(kind, [*args, "--", *positional])
-            _refuse_unused(kind, ctx)
+            ctx = cmd.make_context(kind, [*args, "--", *positional])  # refuses an option the profile does not use
         except click.UsageError as exc:
             self.problems.append(f"{where}: {_usage_message(exc, keys)}")
             return None
@@ -357,18 +362,6 @@ def parse_size(text: str) -> int | None:
         return int(parse_bytes(text))
     except ValueError:
         return None
-
-
-def _refuse_unused(kind: str, ctx: click.Context) -> None:
-    """The command's own check that every option given applies to the chosen profile."""
-    import importlib
-
-    from ..cli._profile_options import refuse_unused_options
-
-    used_by_profile = getattr(importlib.import_module(f"pdsgen.cli.{kind}"), "USED_BY_PROFILE", None)
-    if used_by_profile is not None:
-        profile = ctx.params["profile"]
-        refuse_unused_options(ctx, profile, used_by_profile.of(profile))
 
 
 def _usage_message(exc: click.UsageError, keys: Mapping[str, click.Parameter]) -> str:

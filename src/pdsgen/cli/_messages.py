@@ -3,48 +3,48 @@
 Library messages name a parameter as Python code spells it (`product_id`,
 `kind='dtm'`, `overwrite=True`: pdsgen.errors.param). On the command line the
 same reference becomes the option a user types (--product-id, --kind dtm,
---overwrite). This table is the one place that knows which option sets which
-library parameter where the names differ in more than '_' for '-'.
+--overwrite). The option vocabularies are the one place that knows which option sets which
+library parameter; the table here is made from them.
 """
 
 from __future__ import annotations
 
 import ast
 import re
+from functools import cache
+from typing import Any
 
-# library parameter -> command-line option, for every parameter a message may name
-LIBRARY_TO_OPTION: dict[str, str] = {
-    "product_id": "--product-id",
-    "source_product_ids": "--source-product-id",
-    "observation_id": "--observation-id",
-    "source_dtm_id": "--source-dtm-id",
-    "institution": "--institution",
-    "params": "--params",
+# Library parameters that are no entry of an option vocabulary: the commands' own (--profile)
+# and those of deliver and validate, whose options are written in their commands.
+COMMAND_OWN_OPTIONS: dict[str, str] = {
     "profile": "--profile",
-    "kind": "--kind",
-    "label": "--label",
-    "bits": "--bits",
-    "value_range": "--range",
-    "vertical_datum": "--vertical-datum",
-    "areoid": "--areoid",
-    "precision": "--precision",
-    "reproject_input": "--reproject",
-    "source_labels": "--source-label",
-    "offset_convention": "--offset-convention",
-    "vicar_offsets": "--vicar-offsets",
-    "allow_dictionary_deviations": "--allow-dictionary-deviations",
-    "overwrite": "--overwrite",
     "schemas": "--schemas",
-    "thumb_width": "--thumb-width",
-    "azimuth": "--azimuth",
-    "altitude": "--altitude",
-    "exaggeration": "--exaggeration",
     "volume_id": "--volume-id",
     "bundle_lid": "--bundle-lid",
-    "order": "--order",
-    "resampling": "--resampling",
-    "nodata": "--nodata",
 }
+
+
+@cache
+def library_to_option() -> dict[str, str]:
+    """Library parameter -> command-line option, for every parameter a message may name: each
+    vocabulary entry's own flag (products/options.py, mosaic/options.py, extras/options.py), read
+    when a message is first translated (a conversion that succeeds loads no other vocabulary)."""
+    from ..extras.options import EXTRAS_OPTIONS
+    from ..mosaic.options import MOSAIC_OPTIONS
+    from ..products.options import DTM_OPTIONS, ORTHO_OPTIONS
+
+    table = dict(COMMAND_OWN_OPTIONS)
+    for spec in (*DTM_OPTIONS, *ORTHO_OPTIONS, *MOSAIC_OPTIONS, *EXTRAS_OPTIONS):
+        table.setdefault(spec.library_keyword, f"--{spec.flag}")
+    return table
+
+
+def __getattr__(name: str) -> Any:
+    """`LIBRARY_TO_OPTION`: the table of `library_to_option`, made when first asked for."""
+    if name == "LIBRARY_TO_OPTION":
+        return library_to_option()
+    raise AttributeError(name)
+
 
 _REFERENCE = re.compile(r"`([a-z][a-z0-9_]*)(?:=([^`]*))?`")
 
@@ -56,7 +56,7 @@ def in_cli_words(message: str) -> str:
 
 def _as_option(match: re.Match[str]) -> str:
     name, value = match.group(1), match.group(2)
-    option = LIBRARY_TO_OPTION.get(name)
+    option = library_to_option().get(name)
     if option is None:
         return match.group(0)  # not a parameter the command line has: left as written
     if value is None:

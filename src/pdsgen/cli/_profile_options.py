@@ -9,6 +9,7 @@ a mission registered later needs no edit here, and no profile is named in cli/.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from typing import Any, TypeVar
 
 import click
@@ -16,8 +17,7 @@ from click.core import ParameterSource
 
 from ..errors import PdsgenError
 from ..missions import DEFAULT_PROFILE, get_mission, mission_names
-from ..products.options import DTM_OPTIONS, NOT_GIVEN, ORTHO_OPTIONS, OptionSpec, used_options
-from ..storage import internal
+from ..products.options import DTM_OPTIONS, NOT_GIVEN, ORTHO_OPTIONS, OptionSpec, library_options, used_options
 from ._output import OUTPUT_OPTIONS
 
 F = TypeVar("F", bound=Callable[..., Any])
@@ -61,22 +61,26 @@ class UsedByProfile(Mapping[str, frozenset[str]]):
         return self.get(profile) or self[DEFAULT_PROFILE]
 
     def library_options(self, params: Mapping[str, Any]) -> dict[str, Any]:
-        """The library keywords (with their values) of the options the command's profile uses.
+        """The library keywords (with their values) of the options the command's profile uses
+        (products.options.library_options, which a batch job calls too)."""
+        return library_options(self.kind, self.vocabulary, params)
 
-        `pdsgen batch` calls it too, so a manifest's job and the command make the same call."""
-        profile = params["profile"]
-        mission = get_mission(profile if profile in mission_names() else DEFAULT_PROFILE)
-        options: dict[str, Any] = {}
-        for spec in used_options(self.kind, mission, self.vocabulary):
-            value = params[spec.param]
-            if spec.omit_unset and value is None:
-                continue  # the writer's own default
-            if spec.stored:
-                value = value and internal(value)
-            elif spec.convert is not None:
-                value = spec.convert(value)
-            options[spec.library_keyword] = value
-        return options
+
+class ProfileCommand(click.Command):
+    """A product command that refuses, as it parses its command line, an option its --profile
+    does not use: so a batch manifest's entry, which the command parses (`make_context`), is
+    refused alike without batch/ asking cli/ for the check."""
+
+    def __init__(self, *args: Any, used_by_profile: UsedByProfile, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self.used_by_profile = used_by_profile
+
+    def parse_args(self, ctx: click.Context, args: list[str]) -> list[str]:
+        rest = super().parse_args(ctx, args)
+        if not ctx.resilient_parsing:  # shell completion parses half a command line
+            profile = ctx.params["profile"]
+            refuse_unused_options(ctx, profile, self.used_by_profile.of(profile))
+        return rest
 
 
 def __getattr__(name: str) -> Any:
@@ -145,3 +149,43 @@ def vocabulary_options(vocabulary: Sequence[OptionSpec]) -> Callable[[F], F]:
             command = click_option(spec)(command)
         return command
     return decorate
+
+
+# -- -o/--output: one flag name for "where the command writes", in every command ----------------------
+# The commands once spelled it --outdir, --out or --output; the old spellings still work (scripts and
+# shell histories use them) but --help and error messages show only -o/--output. The click parameter
+# keeps its name (outdir, out, page), so a command's body, a batch job's parameters and a manifest's
+# old keys are unchanged.
+
+OUTPUT_FLAGS = ("-o", "--output")
+
+
+class AliasedOption(click.Option):
+    """An option whose older long names are accepted on the command line but not shown."""
+
+    def __init__(self, *args: Any, hidden_aliases: Sequence[str] = (), **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self.hidden_aliases = tuple(hidden_aliases)
+
+    @contextmanager
+    def _shown_names(self) -> Iterator[None]:
+        """self.opts without the aliases, while click writes help or an error hint from them."""
+        every = self.opts
+        self.opts = [opt for opt in every if opt not in self.hidden_aliases]
+        try:
+            yield
+        finally:
+            self.opts = every
+
+    def get_help_record(self, ctx: click.Context) -> tuple[str, str] | None:
+        with self._shown_names():
+            return super().get_help_record(ctx)
+
+    def get_error_hint(self, ctx: click.Context | None) -> str:
+        with self._shown_names():
+            return super().get_error_hint(ctx)
+
+
+def output_option(name: str, old_flag: str, **attrs: Any) -> Callable[[F], F]:
+    """-o/--output with the click parameter `name`, still accepting `old_flag` (--outdir, --out)."""
+    return click.option(*OUTPUT_FLAGS, old_flag, name, cls=AliasedOption, hidden_aliases=(old_flag,), **attrs)

@@ -17,13 +17,14 @@ from ..progress import wanted as progress_wanted
 from ..storage import display
 from . import COMMANDS
 from ._output import log_to_stderr
+from ._profile_options import output_option
 
 log = logging.getLogger("pdsgen.batch")
 
 
 @click.command(short_help=COMMANDS["batch"])
 @click.argument("manifest", required=False, type=click.Path(dir_okay=False))
-@click.option("-o", "--outdir", type=click.Path(file_okay=False),
+@output_option("outdir", "--outdir", type=click.Path(file_okay=False),
               help="Batch output directory [default: the manifest's [batch] outdir].")
 @click.option("--scheduler", metavar="ADDRESS",
               help="Run on this Dask scheduler (e.g. tcp://10.0.0.5:8786) [default: a local cluster].")

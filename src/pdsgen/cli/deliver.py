@@ -10,6 +10,7 @@ from ..dialect import Dialect
 from ..storage import local_inputs, tree_area
 from . import COMMANDS
 from ._output import Outcome, output_options, told
+from ._profile_options import output_option
 
 
 @click.command(short_help=COMMANDS["deliver"])
@@ -21,7 +22,7 @@ from ._output import Outcome, output_options, told
               help="A PDS4 bundle: bundle, data/browse/document collections with inventories, browse "
                    "and document labels.")
 @click.option("--both", "dialect", flag_value=Dialect.BOTH, help="The PDS3 volume and the PDS4 bundle in one tree.")
-@click.option("-o", "--out", type=click.Path(file_okay=False),
+@output_option("out", "--out", type=click.Path(file_okay=False),
               help="Delivery directory [default: DIRECTORY itself, its products moved into the layout].")
 @click.option("--volume-id", help="PDS3 VOLUME_ID (up to 11 characters) [default: the previous delivery's].")
 @click.option("--bundle-lid", help="PDS4 bundle LID, urn:nasa:pds:NAME [default: the previous delivery's].")

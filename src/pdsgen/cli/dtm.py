@@ -12,21 +12,21 @@ from ..products.options import DTM_HELP, DTM_OPTIONS
 from ..storage import internal, output_area
 from . import COMMANDS
 from ._output import Outcome, output_options, told
-from ._profile_options import UsedByProfile, profile_option, refuse_unused_options, vocabulary_options
+from ._profile_options import ProfileCommand, UsedByProfile, output_option, profile_option, vocabulary_options
 
 # Each profile's options: the vocabulary's entries its mission declares for its DTMs.
 USED_BY_PROFILE = UsedByProfile("dtm", DTM_OPTIONS, structural={"input_path", "outdir"})
 
 
-@click.command(short_help=COMMANDS["dtm"], help=DTM_HELP)
+@click.command(cls=ProfileCommand, used_by_profile=USED_BY_PROFILE, short_help=COMMANDS["dtm"],
+               help=DTM_HELP)
 @output_options
 @click.argument("input_path", metavar="INPUT", type=click.Path(dir_okay=False))
-@click.option("-o", "--outdir", required=True, type=click.Path(file_okay=False), help="Output directory.")
+@output_option("outdir", "--outdir", required=True, type=click.Path(file_okay=False), help="Output directory.")
 @profile_option("Mission profile: names and keywords.")
 @vocabulary_options(DTM_OPTIONS)
 @click.pass_context
 def dtm(ctx, input_path, outdir, profile, overwrite, **_options) -> Outcome:
-    refuse_unused_options(ctx, profile, USED_BY_PROFILE.of(profile))
     with output_area(outdir, overwrite) as area:  # an s3:// OUTDIR: staged here, uploaded when complete
         product = write_dtm(internal(input_path), area.directory, profile=profile, **library_options(ctx.params))
         return told(product, area)

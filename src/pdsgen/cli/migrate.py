@@ -7,12 +7,13 @@ import click
 from ..migrate import migrate_products, product_labels
 from . import COMMANDS
 from ._output import Outcome, output_options, told
+from ._profile_options import output_option
 
 
 @click.command(short_help=COMMANDS["migrate"])
 @output_options
 @click.argument("products", nargs=-1, required=True, type=click.Path(dir_okay=False))
-@click.option("-o", "--outdir", type=click.Path(file_okay=False),
+@output_option("outdir", "--outdir", type=click.Path(file_okay=False),
               help="Directory for the PDS4 labels and unchanged copies of the products' files.")
 @click.option("--in-place", is_flag=True, help="Write each PDS4 label beside its PDS3 product; copy nothing.")
 @click.option("--bundle-lid", help="Bundle LID the products' LIDs start with, urn:nasa:pds:NAME "
@@ -27,7 +28,7 @@ def migrate(products, outdir, in_place, bundle_lid, collection, overwrite) -> Ou
     exactly is refused in one line and the others go on; the exit status is then 2.
     """
     if bool(outdir) == in_place:
-        raise click.UsageError("give either -o/--outdir or --in-place")
+        raise click.UsageError("give either -o/--output or --in-place")
     run = migrate_products(product_labels(products), outdir, bundle_lid=bundle_lid, collection=collection,
                            in_place=in_place, overwrite=overwrite)
     return told(run)  # a refused product: one error line each, the others migrated, exit status 2

@@ -7,47 +7,33 @@ from typing import Any
 
 import click
 
-from ..errors import PdsgenError
-from ..formats.jp2 import JP2INFO_NAME
-from ..missions import get_mission
-from ..products.options import ORTHO_HELP, ORTHO_OPTIONS
+from ..products.options import ORTHO_HELP, ORTHO_OPTIONS, ortho_inputs, ortho_shared_files
 from ..products.ortho import write_ortho
-from ..storage import internal, output_area
+from ..storage import output_area
 from . import COMMANDS
 from ._output import Outcome, output_options, told
-from ._profile_options import UsedByProfile, profile_option, refuse_unused_options, vocabulary_options
+from ._profile_options import ProfileCommand, UsedByProfile, output_option, profile_option, vocabulary_options
 
 # Each profile's options: the vocabulary's entries its mission declares for its orthoimages.
 USED_BY_PROFILE = UsedByProfile("ortho", ORTHO_OPTIONS, structural={"input_path", "outdir"})
 
 # Files one orthoimage updates for its whole directory: fetched from, and written back to, an s3:// OUTDIR.
-SHARED_FILES = (JP2INFO_NAME,)
+SHARED_FILES = ortho_shared_files()
 
 
-@click.command(short_help=COMMANDS["ortho"], help=ORTHO_HELP)
+@click.command(cls=ProfileCommand, used_by_profile=USED_BY_PROFILE, short_help=COMMANDS["ortho"],
+               help=ORTHO_HELP)
 @output_options
 @click.argument("input_path", metavar="INPUT", type=click.Path(dir_okay=False))
 @click.argument("more_inputs", metavar="[INPUT]...", nargs=-1, type=click.Path(dir_okay=False))
-@click.option("-o", "--outdir", required=True, type=click.Path(file_okay=False), help="Output directory.")
+@output_option("outdir", "--outdir", required=True, type=click.Path(file_okay=False), help="Output directory.")
 @profile_option("Mission profile: names and keywords.")
 @vocabulary_options(ORTHO_OPTIONS)
 @click.pass_context
 def ortho(ctx, outdir, profile, overwrite, **_options) -> Outcome:
-    refuse_unused_options(ctx, profile, USED_BY_PROFILE.of(profile))
     with output_area(outdir, overwrite, shared=SHARED_FILES) as area:  # s3:// OUTDIR: uploaded when complete
         product = write_ortho(ortho_inputs(ctx.params), area.directory, profile=profile, **library_options(ctx.params))
         return told(product, area)
-
-
-def ortho_inputs(params: Mapping[str, Any]) -> str | tuple[str, ...]:
-    """The input of write_ortho: one file, or (profiles that compose bands) the files in band order."""
-    more = tuple(params.get("more_inputs") or ())
-    if not more:
-        return internal(params["input_path"])
-    if not get_mission(params["profile"]).composes_ortho_bands:
-        raise PdsgenError(None, f"--profile {params['profile']} takes one INPUT; "
-                                f"{len(more) + 1} were given")
-    return (internal(params["input_path"]), *(internal(path) for path in more))
 
 
 def library_options(params: Mapping[str, Any]) -> dict[str, object]:

@@ -6,12 +6,13 @@ import click
 
 from . import COMMANDS
 from ._output import Outcome, output_options, told
+from ._profile_options import output_option
 
 
 @click.command(short_help=COMMANDS["review"])
 @output_options
 @click.argument("directory", type=click.Path(file_okay=False))
-@click.option("-o", "--out", "page", type=click.Path(dir_okay=False),
+@output_option("page", "--out", type=click.Path(dir_okay=False),
               help="The page to write [default: DIRECTORY/REVIEW.html].")
 @click.option("--labels-only", is_flag=True, help="Check label text only; do not open the data files.")
 @click.option("--jobs", "-j", type=click.IntRange(min=1), default=1, show_default=True,

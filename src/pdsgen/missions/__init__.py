@@ -10,6 +10,7 @@ from __future__ import annotations
 from . import generic, hirise, hrsc, hrsc_ax, imars
 from .base import (
     DEFAULT_PROFILE,
+    PRODUCT_KINDS,
     STANDARD_OPTIONS,
     ContextReference,
     LabelFacts,
@@ -17,6 +18,7 @@ from .base import (
     OptionUse,
     Pds4Facts,
     ProductIdRequest,
+    ProductKind,
     detect_mission,
     get_mission,
     mission_names,
@@ -29,6 +31,7 @@ for _module in (generic, hirise, hrsc, imars, hrsc_ax):
 
 __all__ = [
     "DEFAULT_PROFILE",
+    "PRODUCT_KINDS",
     "STANDARD_OPTIONS",
     "ContextReference",
     "LabelFacts",
@@ -36,6 +39,7 @@ __all__ = [
     "OptionUse",
     "Pds4Facts",
     "ProductIdRequest",
+    "ProductKind",
     "detect_mission",
     "get_mission",
     "mission_names",

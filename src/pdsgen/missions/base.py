@@ -13,6 +13,7 @@ from __future__ import annotations
 import importlib
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
+from enum import Enum
 from typing import TYPE_CHECKING, Any
 
 from ..errors import PdsgenError
@@ -21,6 +22,31 @@ if TYPE_CHECKING:
     from ..geo.geometry import MapGeometry
 
 Writer = Callable[..., Any]
+
+
+class ProductKind(str, Enum):
+    """What a product holds: heights (a DTM) or an image (an orthoimage).
+
+    "kind" names other things in pdsgen too - HRSC's height kinds dt4/da4 (`ProductOptions.kind`),
+    the command of a batch job, the kind Extras are asked to treat products as (a product kind, or
+    nomap for HiRISE NOMAP mosaics), the class of a label token - so the product kind is this one
+    type, not text.
+    It is a `str` (`ProductKind.DTM == "dtm"`), so options, manifests and results that hold the
+    text keep working.
+    """
+
+    DTM = "dtm"
+    ORTHO = "ortho"
+
+    def __str__(self) -> str:
+        return self.value
+
+    def __format__(self, spec: str) -> str:
+        return format(self.value, spec)
+
+
+# The product kinds' names, in the order --help lists them.
+PRODUCT_KINDS = tuple(kind.value for kind in ProductKind)
 
 
 @dataclass(frozen=True)
@@ -93,15 +119,19 @@ class OptionUse:
     # The mission's own defaults of options it uses, where they differ from the vocabulary's
     # (HRSC: big-endian heights); a writer's options object is built with them.
     defaults: Mapping[str, Any] = field(default_factory=dict)
+    # Values the mission accepts for an option besides the vocabulary's `choices` (iMars: da, dt).
+    choices: Mapping[str, tuple[Any, ...]] = field(default_factory=dict)
 
-    def of(self, kind: str) -> frozenset[str]:
-        """The declared options of product kind "dtm", "ortho" or "mosaic"."""
-        return {"dtm": self.dtm, "ortho": self.ortho, "mosaic": self.mosaic}[kind]
+    def of(self, command: str) -> frozenset[str]:
+        """The declared options of the products `command` makes: "dtm", "ortho" (a ProductKind's
+        name) or "mosaic"."""
+        return {"dtm": self.dtm, "ortho": self.ortho, "mosaic": self.mosaic}[command]
 
     def adding(self, *, dtm: Iterable[str] = (), ortho: Iterable[str] = (),
                mosaic: Iterable[str] = ()) -> OptionUse:
         """These options and more: a mission that takes the standard ones plus its own."""
-        return OptionUse(self.dtm | set(dtm), self.ortho | set(ortho), self.mosaic | set(mosaic), self.defaults)
+        return OptionUse(self.dtm | set(dtm), self.ortho | set(ortho), self.mosaic | set(mosaic), self.defaults,
+                         self.choices)
 
 
 # What the standard writers (float32 PDS3 DTM, JP2 + LBL orthoimage) use: a mission that
@@ -150,9 +180,9 @@ class Mission:
     mosaic_writer: str | None = None
     mosaic_product_id: Callable[[str], str | None] | None = None
 
-    def writer(self, which: str) -> Writer | None:
-        """The mission's own DTM or ortho writer ("dtm"/"ortho"), imported on first use."""
-        named = self.dtm_writer if which == "dtm" else self.ortho_writer
+    def writer(self, kind: ProductKind | str) -> Writer | None:
+        """The mission's own writer of its `kind` products (DTM or ortho), imported on first use."""
+        named = self.dtm_writer if kind == ProductKind.DTM else self.ortho_writer
         if named is None or callable(named):
             return named
         return resolve(named)

@@ -2,15 +2,19 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import Any
+
+from ..missions import PRODUCT_KINDS
 from ..missions.imars import METADATA_SUFFIX
+from ..products import options as product_options
 from ..products.options import ALLOW_DEVIATIONS, OVERWRITE, PARAMS, VICAR_OFFSETS, OptionSpec, label_option
 from .plan import ORDERS, RESAMPLING_METHODS
-from .write import KINDS
 
 MOSAIC_OPTIONS: tuple[OptionSpec, ...] = (
     OptionSpec("product_id", "product-id", required=True, always=True,
                help="Product ID of the mosaic (imars: <ID>_dtm.tif / <ID>_ori.tif; hrsc: hOOOO_NNNN)."),
-    OptionSpec("kind", "kind", choices=KINDS, default=None, always=True,
+    OptionSpec("kind", "kind", choices=PRODUCT_KINDS, default=None, always=True,
                help="Heights or images [default: decided from each input as `pdsgen extras` decides it]."),
     OptionSpec("order", "order", choices=ORDERS, default="given", show_default=True, always=True,
                help="given: later inputs lie on top (as gdal_merge.py); reverse: earlier ones do."),
@@ -44,3 +48,9 @@ MOSAIC_HELP = f"""Mosaic the rasters INPUT... (DTMs or orthoimages, any GDAL for
     --label) naming its sources; imars: <ID>_dtm.tif or <ID>_ori.tif with its {METADATA_SUFFIX} and a
     footprint (<ID>.geojson + Shapefile) of every source; hrsc-ax: VICAR tiles (.dsm or .pan)
     as one area product."""
+
+
+def library_options(params: Mapping[str, Any]) -> dict[str, Any]:
+    """write_mosaic's keywords from `pdsgen mosaic`'s parsed parameters (a manifest's [[mosaic]]
+    job's too): the profile and the options it uses."""
+    return {"profile": params["profile"], **product_options.library_options("mosaic", MOSAIC_OPTIONS, params)}

@@ -102,8 +102,6 @@ def write_pds3_dtm(
     + `<PRODUCT_ID>.xml`; "both" the PDS3 .IMG and a PDS4 `.xml` describing that same file.
     """
     product_id, byte_order, overwrite = options.product_id, options.byte_order, options.overwrite
-    if byte_order not in BYTE_ORDERS:
-        raise PdsgenError(None, f"byte order must be one of {', '.join(BYTE_ORDERS)}")
     dialect = Dialect.of(options.label)
     chosen = mission
     version = check_version(options.version)

@@ -49,7 +49,6 @@ from .hrsc_label import (
     VICAR_DESCRIPTION_NAME,
     DnMoments,
     carried_context,
-    check_offset_convention,
     offset_context,
     pds_label_part,
     with_header,
@@ -177,9 +176,6 @@ def write_hrsc_dtm(
         options.allow_dictionary_deviations, options.label)
     reproject_input, mosaic_statement = options.reproject_input, options.mosaic_statement
     _check_hrsc_label(label)
-    check_offset_convention(offset_convention)
-    if kind not in DTM_KINDS:
-        raise PdsgenError(None, f"HRSC DTM kind must be one of {', '.join(DTM_KINDS)}")
     output_datum, description = DTM_KINDS[kind]
     vertical_datum = vertical_datum or output_datum  # unset: the kind's (HRSC's declaration says "sphere")
     check_datum_conversion(kind, output_datum, vertical_datum, areoid)
@@ -333,7 +329,6 @@ def write_hrsc_nd4(
         options.allow_dictionary_deviations, options.label)
     mosaic_statement = options.mosaic_statement
     _check_hrsc_label(label)
-    check_offset_convention(offset_convention)
     keywords = resolve_params(options.params)
     input_path = Path(input_path)
     special = SPECIAL_DNS[8]

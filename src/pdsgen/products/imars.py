@@ -119,8 +119,6 @@ def write_imars_dtm(
     areoid, precision, params, version, overwrite = (options.areoid, options.precision, options.params,
                                                      options.version, options.overwrite)
     kind = kind[:2] if kind in ("dt4", "da4") else kind  # the CLI's --kind dt4/da4 names them too
-    if kind not in _DTM_DESCRIPTIONS:
-        raise PdsgenError(None, "iMars DTM kind must be da (areoid heights) or dt (sphere heights)")
     version = check_version(version)
     output_datum = "areoid" if kind == "da" else "sphere"
     check_datum_conversion(f"{kind}4", output_datum, vertical_datum or output_datum, areoid)

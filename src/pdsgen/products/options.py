@@ -20,8 +20,9 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..dialect import DIALECT_NAMES, Dialect
-from ..errors import ParamsError
-from ..missions import Mission
+from ..errors import ParamsError, PdsgenError, param
+from ..missions import DEFAULT_PROFILE, Mission, ProductKind, get_mission, mission_names
+from ..storage.locations import internal
 from .params import ParamValue
 
 
@@ -190,33 +191,98 @@ ORTHO_HELP = """Convert the 1-band (RED) or 3-band (IRB) orthoimage INPUT (any G
 # Keywords the library takes that are no command-line option of the product (a batch sets them).
 # `threads`: cores for the JPEG 2000 encoder (writers using one core anyway leave it unused).
 # `mosaic_statement` (what a mosaic's label says of its sources) is one a mission declares it uses.
-LIBRARY_ONLY = {"dtm": frozenset[str](), "ortho": frozenset({"threads"}), "mosaic": frozenset[str]()}
+# By the command making the products: a product kind's, or the mosaic's.
+LIBRARY_ONLY = {ProductKind.DTM: frozenset[str](), ProductKind.ORTHO: frozenset({"threads"}),
+                "mosaic": frozenset[str]()}
 
 
-def used_options(kind: str, mission: Mission, vocabulary: Iterable[OptionSpec]) -> list[OptionSpec]:
-    """The entries of `vocabulary` the mission's products of `kind` use."""
-    declared = mission.options.of(kind)
+def used_options(command: str, mission: Mission, vocabulary: Iterable[OptionSpec]) -> list[OptionSpec]:
+    """The entries of `vocabulary` the mission's products use when `command` (a ProductKind, or
+    "mosaic") makes them."""
+    declared = mission.options.of(command)
     return [spec for spec in vocabulary if spec.always or spec.library_keyword in declared]
 
 
-def library_keywords(kind: str, mission: Mission, vocabulary: Iterable[OptionSpec]) -> frozenset[str]:
-    """Every keyword a library call making the mission's `kind` product may be given."""
-    used = frozenset(spec.library_keyword for spec in used_options(kind, mission, vocabulary))
-    return used | mission.options.of(kind) | LIBRARY_ONLY[kind]
+def library_keywords(command: str, mission: Mission, vocabulary: Iterable[OptionSpec]) -> frozenset[str]:
+    """Every keyword a library call of `command` making the mission's product may be given."""
+    used = frozenset(spec.library_keyword for spec in used_options(command, mission, vocabulary))
+    return used | mission.options.of(command) | LIBRARY_ONLY[command]
 
 
-def _refuse_unused(kind: str, mission: Mission, profile: str, options: Mapping[str, Any],
+def _refuse_unused(command: str, mission: Mission, profile: str, options: Mapping[str, Any],
                    vocabulary: Iterable[OptionSpec]) -> None:
     """ParamsError naming the keywords given that the profile does not use (never silently
     dropped). A keyword given as None is not given, as an option left at its default on the
     command line is not."""
     given = {name for name, value in options.items() if value is not None}
-    unused = sorted(given - library_keywords(kind, mission, vocabulary))
+    unused = sorted(given - library_keywords(command, mission, vocabulary))
     if unused:
         raise ParamsError(None, f"the {profile} profile does not use {', '.join(unused)}")
 
 
-_VOCABULARIES = {"dtm": DTM_OPTIONS, "ortho": ORTHO_OPTIONS}
+_VOCABULARIES = {ProductKind.DTM: DTM_OPTIONS, ProductKind.ORTHO: ORTHO_OPTIONS}
+
+
+def library_choices(spec: OptionSpec) -> tuple[Any, ...]:
+    """An entry's choices as the library takes them (--bits 8 is the library's 8)."""
+    choices = spec.choices or ()
+    return tuple(spec.convert(choice) for choice in choices) if spec.convert else choices
+
+
+def check_choices(vocabulary: Iterable[OptionSpec], options: Mapping[str, Any],
+                  own_choices: Mapping[str, Sequence[Any]] | None = None) -> None:
+    """ParamsError for an option given a value its entry does not offer - the one check of `choices`,
+    in one wording, for every writer. `own_choices`: values a mission accepts besides (iMars: da, dt).
+    None is not given (the default applies)."""
+    for spec in vocabulary:
+        value = options.get(spec.library_keyword)
+        if spec.choices is None or value is None:
+            continue
+        allowed = (*library_choices(spec), *(own_choices or {}).get(spec.library_keyword, ()))
+        if value not in allowed:
+            raise ParamsError(None, f"{param(spec.library_keyword)} must be one of "
+                                    f"{', '.join(map(str, allowed))}, not {value!r}")
+
+
+# -- the library call a product command makes from its parsed parameters (the CLI's and a batch job's) --
+
+def library_options(command: str, vocabulary: Iterable[OptionSpec], params: Mapping[str, Any]) -> dict[str, Any]:
+    """The library keywords (with their values) of the options the parameters' profile uses.
+
+    `params` are a command's parsed parameters under their click names (a batch job's too), so
+    `pdsgen COMMAND` and a manifest's [[COMMAND]] job make the same call."""
+    profile = params["profile"]
+    mission = get_mission(profile if profile in mission_names() else DEFAULT_PROFILE)
+    options: dict[str, Any] = {}
+    for spec in used_options(command, mission, vocabulary):
+        value = params[spec.param]
+        if spec.omit_unset and value is None:
+            continue  # the writer's own default
+        if spec.stored:
+            value = value and internal(value)
+        elif spec.convert is not None:
+            value = spec.convert(value)
+        options[spec.library_keyword] = value
+    return options
+
+
+def ortho_inputs(params: Mapping[str, Any]) -> str | tuple[str, ...]:
+    """The input of write_ortho: one file, or (profiles that compose bands) the files in band order."""
+    more = tuple(params.get("more_inputs") or ())
+    if not more:
+        return internal(params["input_path"])
+    if not get_mission(params["profile"]).composes_ortho_bands:
+        raise PdsgenError(None, f"{param('profile', params['profile'])} takes one INPUT; "
+                                f"{len(more) + 1} were given")
+    return (internal(params["input_path"]), *(internal(path) for path in more))
+
+
+def ortho_shared_files() -> tuple[str, ...]:
+    """Files one orthoimage updates for its whole directory (fetched from, and written back to,
+    an s3:// OUTDIR). Read when asked: formats.jp2 is no import of a DTM conversion."""
+    from ..formats.jp2 import JP2INFO_NAME
+
+    return (JP2INFO_NAME,)
 
 
 @dataclass(frozen=True)
@@ -259,9 +325,9 @@ class ProductOptions:
     mosaic_statement: str = ""  # how a mosaic's sources were put together, for the label to say
 
     @classmethod
-    def build(cls, kind: str, mission: Mission, keywords: Mapping[str, Any],
+    def build(cls, product: ProductKind | str, mission: Mission, keywords: Mapping[str, Any],
               profile: str | None = None) -> ProductOptions:
-        """The options of a `kind` ("dtm"/"ortho") product of `mission` from a caller's keywords.
+        """The options of a `product` (ProductKind, or its name) of `mission` from a caller's keywords.
 
         A keyword given as None is not given (the default applies, as for an option left unset on
         the command line); one the mission does not use, or no writer knows, is refused in one line
@@ -270,10 +336,13 @@ class ProductOptions:
         unknown = sorted(set(keywords) - _FIELD_NAMES)
         if unknown:
             raise ParamsError(None, f"the {profile} profile does not use {', '.join(unknown)}")
-        _refuse_unused(kind, mission, profile, keywords, _VOCABULARIES[kind])
+        product = ProductKind(product)
+        _refuse_unused(product, mission, profile, keywords, _VOCABULARIES[product])
         given = {name: value for name, value in keywords.items() if value is not None}
         defaults = {name: value for name, value in mission.options.defaults.items() if name in _FIELD_NAMES}
-        return cls(**{**defaults, **given})
+        chosen = {**defaults, **given}
+        check_choices(_VOCABULARIES[product], chosen, mission.options.choices)
+        return cls(**chosen)
 
     def replace(self, **changes: Any) -> ProductOptions:
         """These options with some changed (a mosaic's product ID and sources, a tile's own ID)."""

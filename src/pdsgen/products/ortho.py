@@ -29,7 +29,6 @@ from ..formats.geojp2 import geojp2_box, gmljp2_box
 from ..formats.jp2 import JP2INFO_NAME, TILE_SIZE, describe_jp2, jp2info_text, require_openjpeg, write_jp2
 from ..formats.raster import open_raster, row_strips
 from ..formats.scale_dn import (
-    BIT_DEPTHS,
     SPECIAL_DNS,
     DnMapping,
     default_bits,
@@ -139,8 +138,6 @@ def write_jp2_ortho(
     product_id, bits, value_range, gmljp2 = options.product_id, options.bits, options.value_range, options.gmljp2
     observation_id, sequence, source_dtm_id = options.observation_id, options.sequence, options.source_dtm_id
     dialect = Dialect.of(options.label)
-    if bits is not None and bits not in BIT_DEPTHS:
-        raise PdsgenError(None, f"{param('bits')} must be one of {', '.join(map(str, BIT_DEPTHS))}, not {bits}")
     chosen = mission
     if chosen.ortho_keywords is None:
         raise PdsgenError(None, f"the {chosen.name} profile writes orthoimages in its own form, not as JP2 + LBL")
