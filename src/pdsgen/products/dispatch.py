@@ -2,15 +2,26 @@
 
 from __future__ import annotations
 
+import functools
 import os
 from collections.abc import Callable, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .options import ProductOptions
 from .result import ProductResult, checked_result
 
-# A mission's writer: `writer(input_path, outdir, options)` (its product's result).
+if TYPE_CHECKING:
+    from .statement import ProductStatement
+
+# A mission's writer: `writer(input_path, outdir, options)` (its product's result); a writer a
+# mosaic uses also takes `statement=` (products/statement.py: what its label says of the sources).
 MissionWriter = Callable[..., Any]
+
+
+def stating(writer: MissionWriter, statement: ProductStatement | None) -> MissionWriter:
+    """`writer` with the `statement` its label makes, the one way a statement reaches a writer
+    (None: the writer as it is, its label in the mission's own words)."""
+    return writer if statement is None else functools.partial(writer, statement=statement)
 
 
 def call_mission_writer(
