@@ -86,8 +86,13 @@ class ProductInput:
 def require_valid(stats: BandStatistics, path: str | os.PathLike[str]) -> BandStatistics:
     """`stats`, or the refusal of an input whose every pixel is no data."""
     if stats.valid_count == 0:
-        raise PdsgenError(path, "has no valid pixels (all nodata)")
+        raise no_valid_pixels(path)
     return stats
+
+
+def no_valid_pixels(path: str | os.PathLike[str]) -> PdsgenError:
+    """The refusal of an input whose every pixel is no data, in every writer's words."""
+    return PdsgenError(path, "has no valid pixels (all nodata)")
 
 
 @contextmanager
@@ -101,5 +106,5 @@ def open_product_input(input_path: str | os.PathLike[str], opening: Opening = Op
             yield ProductInput(path, source, grid, opening.describe(grid, path))
 
 
-__all__ = ["Opening", "ProductInput", "as_opened", "map_geometry", "open_product_input", "require_valid",
-           "single_band"]
+__all__ = ["Opening", "ProductInput", "as_opened", "map_geometry", "no_valid_pixels", "open_product_input",
+           "require_valid", "single_band"]

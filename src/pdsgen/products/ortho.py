@@ -48,7 +48,7 @@ from ..missions import Mission, ProductIdRequest, get_mission
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import MissionWriter, call_mission_writer, stating
 from .identification import choose_product_id, identification_keywords, source_id_values
-from .opening import Opening, open_product_input
+from .opening import Opening, no_valid_pixels, open_product_input
 from .options import ProductOptions
 from .params import ParamValue, check_source_id, check_version, resolve_params, source_ids
 from .result import ProductResult, pds4_name
@@ -205,7 +205,7 @@ def write_jp2_ortho(
             )
             text, warnings = label_check.result()
             if not reader.any_valid:
-                raise PdsgenError(input_path, "has no valid pixels (all nodata)")
+                raise no_valid_pixels(input_path)
             files.close()
             if dialect.pds3:
                 staged.path(label_final).write_bytes(text.encode("ascii"))
@@ -274,7 +274,7 @@ def _choose_mapping(
         return identity_mapping(special)
     found = valid_range(dataset, row_strips(dataset))
     if found is None:
-        raise PdsgenError(path, "has no valid pixels (all nodata)")
+        raise no_valid_pixels(path)
     low, high = found
     if dtype.kind in "iu" and low >= 0 and high <= special.max_dn:
         return identity_mapping(special)
