@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import inspect
 import os
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any
@@ -13,15 +14,18 @@ from .result import ProductResult, checked_result
 if TYPE_CHECKING:
     from .statement import ProductStatement
 
-# A mission's writer: `writer(input_path, outdir, options)` (its product's result); a writer a
-# mosaic uses also takes `statement=` (products/statement.py: what its label says of the sources).
+# A mission's writer: `writer(input_path, outdir, options)` (its product's result); one whose label
+# can say how a mosaic's sources were put together also takes `statement=` (products/statement.py).
 MissionWriter = Callable[..., Any]
 
 
 def stating(writer: MissionWriter, statement: ProductStatement | None) -> MissionWriter:
     """`writer` with the `statement` its label makes, the one way a statement reaches a writer
-    (None: the writer as it is, its label in the mission's own words)."""
-    return writer if statement is None else functools.partial(writer, statement=statement)
+    (None: the writer as it is, its label in the mission's own words). A mission's writer without
+    a `statement` parameter writes its label in its own words, as it did before writers took one."""
+    if statement is None or "statement" not in inspect.signature(writer).parameters:
+        return writer
+    return functools.partial(writer, statement=statement)
 
 
 def call_mission_writer(
