@@ -97,7 +97,7 @@ LIBRARIES = {"numpy", "rasterio", "glymur", "jinja2", "lxml.etree", "pvl", "dist
 BUDGETS = {
     "--version": (8, 135, LIBRARIES | {"pdsgen.validate"}),
     "--help": (8, 140, LIBRARIES | {"pdsgen.validate"}),
-    "dtm {dtm} -o {out} -q": (52, 430, {"pdsgen.pds4.products", "lxml.etree", "glymur", "pvl", "distributed"}
+    "dtm {dtm} -o {out} -q": (53, 430, {"pdsgen.pds4.products", "lxml.etree", "glymur", "pvl", "distributed"}
                               | VALIDATOR_BEYOND_DICTIONARY),
     "validate {out}/DTM.IMG -q": (56, 430, {"jinja2", "glymur", "pdsgen.products.dtm", "distributed"}),
 }

@@ -1,13 +1,12 @@
-"""A label's statement (products/statement.py) and how it reaches a writer (products/dispatch.stating)."""
+"""A label's statement (products/dispatch.ProductStatement) and how it reaches a writer (dispatch.stating)."""
 
 from __future__ import annotations
 
 import functools
 
 from pdsgen.missions import get_mission
-from pdsgen.products.dispatch import stating
+from pdsgen.products.dispatch import NO_STATEMENT, ProductStatement, stating
 from pdsgen.products.hrsc import write_hrsc_dtm
-from pdsgen.products.statement import NO_STATEMENT, ProductStatement
 
 
 def test_a_product_of_one_input_says_its_missions_words():

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, ParamsError, param
-from ..products.statement import ProductStatement
+from ..products.dispatch import ProductStatement
 from .plan import MosaicInput, describe_input
 
 

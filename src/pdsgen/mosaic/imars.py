@@ -14,10 +14,9 @@ from pathlib import Path
 from typing import Any
 
 from ..missions.imars import MISSION
-from ..products.dispatch import call_mission_writer
+from ..products.dispatch import ProductStatement, call_mission_writer
 from ..products.options import ProductOptions
 from ..products.result import ProductResult
-from ..products.statement import ProductStatement
 from .plan import MosaicPlan, source_ids
 
 

@@ -20,10 +20,9 @@ from typing import Any
 from ..errors import InputError, ParamsError, param
 from ..missions import Mission, get_mission
 from ..missions.base import resolve
-from ..products.dispatch import call_mission_writer
+from ..products.dispatch import NO_STATEMENT, ProductStatement, call_mission_writer
 from ..products.options import ProductOptions
 from ..products.result import ProductResult
-from ..products.statement import NO_STATEMENT, ProductStatement
 from .plan import MosaicPlan, describe_input, plan_mosaic, source_ids
 from .vrt import mosaic_vrt
 

@@ -44,6 +44,7 @@ from ..missions.hrsc import base_name as hrsc_base_name
 from ..pds4.model import DATA_TYPES
 from ..pds4.products import FileHeader, ProductDescription, StoredArray, pds3_label_header, write_image_pds4_label
 from .agreement import allows_deviations, check_label
+from .dispatch import NO_STATEMENT, ProductStatement
 from .hrsc_label import (
     VICAR_DESCRIPTION,
     VICAR_DESCRIPTION_NAME,
@@ -68,7 +69,6 @@ from .opening import Opening, ProductInput, map_geometry, open_product_input, re
 from .options import ProductOptions
 from .params import ParamValue, check_version, resolve_params, source_ids
 from .result import ProductResult, pds4_name
-from .statement import NO_STATEMENT, ProductStatement
 
 HRSC_SPHERE_M = hrsc_mission.SPHERE_M
 

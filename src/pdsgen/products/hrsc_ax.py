@@ -30,8 +30,8 @@ from ..formats.raster import temporary_vrt
 from ..formats.vicar import VicarLabel, VicarValue, group_number, read_map_group, read_vicar_label
 from ..geo.label_georef import LabelGeorefError, vicar_map_georeferencing
 from ..missions import hrsc_ax
+from .dispatch import ProductStatement
 from .options import ProductOptions
-from .statement import ProductStatement
 
 if TYPE_CHECKING:  # the writers import them on first use
     from .dtm import DtmProduct

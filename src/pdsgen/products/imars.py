@@ -30,12 +30,12 @@ from ..missions import hrsc as hrsc_mission
 from ..missions import imars as imars_mission
 from ..missions.hrsc import MISSING_DN
 from ..missions.hrsc import base_name as hrsc_base_name
+from .dispatch import NO_STATEMENT, ProductStatement
 from .int16_heights import Int16Encoding, areoid_adjustment, check_datum_conversion, choose_encoding
 from .opening import Opening, open_product_input, single_band
 from .options import ProductOptions
 from .params import check_version, resolve_params, source_ids
 from .result import ProductResult
-from .statement import NO_STATEMENT, ProductStatement
 
 IMARS_INSTITUTION = imars_mission.INSTITUTION
 _DTM_DESCRIPTIONS = imars_mission.DTM_DESCRIPTIONS
