@@ -172,8 +172,8 @@ class Mission:
     options: OptionUse = STANDARD_OPTIONS  # the options its products use (the CLI's and the library's)
     composes_ortho_bands: bool = False  # an orthoimage may be made of several single-band input files
     # Mosaics (`pdsgen mosaic`), each "module:function" imported on first use: a reader of the
-    # mission's own inputs (HRSC-AX tiles: the inputs as the mosaic plans them, and the mission as
-    # their labels describe it) with the options that reader takes rather than the writers; a form
+    # mission's own inputs (HRSC-AX tiles: the inputs as the mosaic plans them, and the ProductStatement
+    # their labels make) with the options that reader takes rather than the writers; a form
     # of its own (iMars); and a check of a mosaic's product ID (the refusal, or None when it is fine).
     mosaic_reader: str | None = None
     mosaic_reader_options: frozenset[str] = frozenset()

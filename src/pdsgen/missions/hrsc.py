@@ -188,9 +188,9 @@ MISSION = Mission(
     options=OptionUse(
         dtm=frozenset({"source_product_ids", "source_labels", "offset_convention", "byte_order", "kind",
                        "vertical_datum", "areoid", "precision", "reproject_input", "label",
-                       "allow_dictionary_deviations", "mosaic_statement"}),
+                       "allow_dictionary_deviations"}),
         ortho=frozenset({"source_product_ids", "source_labels", "offset_convention", "bits", "reproject_input",
-                         "label", "allow_dictionary_deviations", "mosaic_statement"}),
+                         "label", "allow_dictionary_deviations"}),
         mosaic=frozenset({"precision", "reproject_input", "label", "allow_dictionary_deviations"}),
         defaults={"byte_order": "msb", "vertical_datum": "sphere"},  # DLR's products are big-endian
     ),

@@ -16,14 +16,14 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, ParamsError, param
-from ..missions import Mission
+from ..products.dispatch import ProductStatement
 from .plan import MosaicInput, describe_input
 
 
 def tile_inputs(inputs: Sequence[str | os.PathLike[str]], options: Mapping[str, Any],
-                stack: ExitStack) -> tuple[list[MosaicInput], Mission]:
+                stack: ExitStack) -> tuple[list[MosaicInput], ProductStatement]:
     """HRSC-AX tiles read by the HRSC-AX reader (its grid and height scaling), each as its VRT;
-    and the HRSC-AX mission saying in the label what a single tile's product says: what the
+    and the statement the label makes of them, as a single tile's product does: what the
     heights or bands are (each distinct statement of the tiles once) and how the offsets were read."""
     from ..missions import hrsc_ax
     from ..products.hrsc_ax import dtm_note, ortho_description, read_tile, vrt_text
@@ -44,12 +44,12 @@ def tile_inputs(inputs: Sequence[str | os.PathLike[str]], options: Mapping[str, 
                                              shown=str(path)))
         tiles.append(tile)
     dems = [tile for tile in tiles if tile.kind == "DEM"]
-    mission = dataclasses.replace(
-        hrsc_ax.MISSION, map_projection_note=hrsc_ax.VICAR_OFFSET_NOTES[vicar_offsets],
-        dtm_note=" ".join(dict.fromkeys(dtm_note(tile) for tile in dems)) or hrsc_ax.MISSION.dtm_note,
+    statement = ProductStatement(
+        map_projection_note=hrsc_ax.VICAR_OFFSET_NOTES[vicar_offsets],
+        dtm_note=" ".join(dict.fromkeys(dtm_note(tile) for tile in dems)) or None,
         ortho_description=" ".join(dict.fromkeys(ortho_description(tile) for tile in tiles if tile.kind != "DEM"))
-        or hrsc_ax.MISSION.ortho_description)
-    return described, mission
+        or None)
+    return described, statement
 
 
 def _labels_per_tile(inputs: Sequence[str | os.PathLike[str]],

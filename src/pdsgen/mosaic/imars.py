@@ -14,21 +14,23 @@ from pathlib import Path
 from typing import Any
 
 from ..missions.imars import MISSION
-from ..products.dispatch import call_mission_writer
+from ..products.dispatch import ProductStatement, call_mission_writer
 from ..products.options import ProductOptions
 from ..products.result import ProductResult
 from .plan import MosaicPlan, source_ids
 
 
-def write_imars_mosaic(plan: MosaicPlan, vrt: Path, outdir: Path, product_id: str, statement: str,
-                 options: Mapping[str, Any]) -> ProductResult:
-    """`<ID>_dtm.tif` / `<ID>_ori.tif` with the PVL naming the strips and their footprints."""
+def write_imars_mosaic(plan: MosaicPlan, vrt: Path, outdir: Path, product_id: str, statement: ProductStatement,
+                       options: Mapping[str, Any]) -> ProductResult:
+    """`<ID>_dtm.tif` / `<ID>_ori.tif` with the PVL naming the strips and how they were put
+    together (`statement`), and their footprints."""
     from ..products.imars import ImarsMosaic, write_imars_dtm, write_imars_ori
 
     if plan.kind == "dtm" and plan.scale != 1.0:  # the strips' own precision unless told otherwise
         options = {"precision": plan.scale, **options}
-    mosaic = ImarsMosaic(product_id, tuple(_outlines(plan)), statement)
-    writer = functools.partial(write_imars_dtm if plan.kind == "dtm" else write_imars_ori, mosaic=mosaic)
+    mosaic = ImarsMosaic(product_id, tuple(_outlines(plan)))
+    writer = functools.partial(write_imars_dtm if plan.kind == "dtm" else write_imars_ori, mosaic=mosaic,
+                               statement=statement)
     built = ProductOptions.build(plan.kind, MISSION, {"source_product_ids": source_ids(plan), **options})
     return call_mission_writer(writer, vrt, outdir, built)
 

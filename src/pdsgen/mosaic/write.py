@@ -20,7 +20,7 @@ from typing import Any
 from ..errors import InputError, ParamsError, param
 from ..missions import Mission, get_mission
 from ..missions.base import resolve
-from ..products.dispatch import call_mission_writer
+from ..products.dispatch import NO_STATEMENT, ProductStatement, call_mission_writer
 from ..products.options import ProductOptions
 from ..products.result import ProductResult
 from .plan import MosaicPlan, describe_input, plan_mosaic, source_ids
@@ -59,13 +59,15 @@ def write_mosaic(
     if refusal:
         raise ParamsError(None, refusal)
     with ExitStack() as stack:
+        inputs_say = NO_STATEMENT
         if mission.mosaic_reader:  # the mission's own inputs (HRSC-AX tiles), read by its reader
-            described, mission = resolve(mission.mosaic_reader)(inputs, options, stack)
+            described, inputs_say = resolve(mission.mosaic_reader)(inputs, options, stack)
         else:
             described = [describe_input(path, kind) for path in inputs]
         plan = plan_mosaic(described, order, resampling)
         fill = _nodata(plan, nodata)
-        statement = _statement(plan, order, bool(options.get("reproject_input")))
+        statement = dataclasses.replace(inputs_say, mosaic=_statement(plan, order,
+                                                                      bool(options.get("reproject_input"))))
         # without --nodata, each input's own no-data value is no data in it (a no-data pixel never
         # covers data); a given ND is the one value for all inputs, as gdal_merge.py's -n ND
         vrt = stack.enter_context(mosaic_vrt(plan, fill, product_id, _presented_dtype(plan, mission),
@@ -118,31 +120,30 @@ def _statement(plan: MosaicPlan, order: str, warped: bool = False) -> str:
 
 
 
-def _write(plan: MosaicPlan, vrt: Path, outdir: Path, mission: Mission, product_id: str, statement: str,
+def _write(plan: MosaicPlan, vrt: Path, outdir: Path, mission: Mission, product_id: str, statement: ProductStatement,
            options: Mapping[str, Any]) -> ProductResult:
-    """The profile's writer, reading the mosaic's VRT; `mission` the profile's (for HRSC-AX,
-    with what its tiles' labels say about their heights, images and offsets)."""
+    """The profile's writer, reading the mosaic's VRT, given the `statement` its label makes: how
+    the sources were put together (and, for HRSC-AX, what its tiles' labels say about their
+    heights, images and offsets)."""
     profile = mission.name
     if mission.mosaic_writer:  # a mosaic form of its own (iMars)
         own_form: Callable[..., ProductResult] = resolve(mission.mosaic_writer)
         return own_form(plan, vrt, outdir, product_id, statement, options)
     options = {**options, "product_id": product_id, "params": _with_sources(plan, options.get("params"))}
+    built = ProductOptions.build(plan.kind, mission, options)
     if plan.kind == "dtm":
-        from ..products.dtm import write_dtm, write_pds3_dtm
+        from ..products.dtm import dtm_writer, write_pds3_dtm
 
         if _own_form(mission, "dtm"):  # hrsc: its own DT4/DA4 form
-            return write_dtm(vrt, outdir, profile=profile, **_stated(mission, "dtm", options, statement))
-        note = f"{mission.dtm_note} {statement}".strip()
-        writer = functools.partial(write_pds3_dtm, mission=dataclasses.replace(mission, dtm_note=note))
-        return call_mission_writer(writer, vrt, outdir, ProductOptions.build("dtm", mission, options))
-    from ..products.ortho import write_jp2_ortho, write_ortho
+            return call_mission_writer(dtm_writer(mission, statement), vrt, outdir, built)
+        writer = functools.partial(write_pds3_dtm, mission=mission, statement=statement)
+        return call_mission_writer(writer, vrt, outdir, built)
+    from ..products.ortho import ortho_writer, write_jp2_ortho
 
     if _own_form(mission, "ortho"):
-        return write_ortho(vrt, outdir, profile=profile, **_stated(mission, "ortho", options, statement))
-    description = f"{mission.ortho_description} {statement}".strip()
-    jp2_writer = functools.partial(write_jp2_ortho,
-                                   mission=dataclasses.replace(mission, ortho_description=description))
-    return call_mission_writer(jp2_writer, vrt, outdir, ProductOptions.build("ortho", mission, options))
+        return call_mission_writer(ortho_writer(mission, built, profile, statement), vrt, outdir, built)
+    jp2_writer = functools.partial(write_jp2_ortho, mission=mission, statement=statement)
+    return call_mission_writer(jp2_writer, vrt, outdir, built)
 
 
 def _own_form(mission: Mission, kind: str) -> bool:
@@ -150,13 +151,6 @@ def _own_form(mission: Mission, kind: str) -> bool:
     DT4/DA4, ND4): a mission whose own writer only reads its inputs (HRSC-AX tiles), and whose
     mosaic reader does that instead, is written in the standard forms."""
     return mission.writer(kind) is not None and mission.mosaic_reader is None
-
-
-def _stated(mission: Mission, kind: str, options: Mapping[str, Any], statement: str) -> dict[str, Any]:
-    """A profile whose writer uses a `mosaic_statement` (HRSC's, as its declaration says) gets the
-    mosaic's, for its label to say what the standard writers' NOTE/DESCRIPTION say."""
-    takes = "mosaic_statement" in mission.options.of(kind)
-    return {**options, "mosaic_statement": statement} if takes else dict(options)
 
 
 def _with_sources(plan: MosaicPlan, params: Any) -> dict[str, Any]:

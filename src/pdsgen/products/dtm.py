@@ -11,7 +11,7 @@ import os
 from dataclasses import dataclass
 from decimal import ROUND_CEILING, ROUND_FLOOR, Decimal, localcontext
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -24,20 +24,23 @@ from ..formats.img import (
     stream_float32_band,
     write_attached_product,
 )
-from ..formats.raster import open_raster, require_single_band
-from ..formats.staging import StagedOutputs, prepare_output_dir
-from ..geo.geometry import MapGeometry, describe_geometry
+from ..formats.raster import require_single_band
+from ..geo.geometry import MapGeometry
 from ..label.grammar import sample_type
 from ..label.render import RecordLayout, render_label, settle_attached_label
 from ..label.values import Based, Fixed, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
 from ..progress import is_large
 from .agreement import allows_deviations, check_label, label_keywords
-from .dispatch import call_mission_writer
+from .dispatch import NO_STATEMENT, MissionWriter, ProductStatement, call_mission_writer, stating
 from .identification import choose_product_id, identification_keywords, source_id_values
+from .opening import Opening, open_product_input, require_valid
 from .options import ProductOptions
 from .params import check_version, resolve_params, source_ids
 from .result import ProductResult, pds4_name
+
+if TYPE_CHECKING:
+    from rasterio.io import DatasetReader
 
 BYTE_ORDERS = ("lsb", "msb")
 
@@ -82,11 +85,14 @@ def write_dtm(
     keywords. An option the profile does not use (its mission's declaration) is refused.
     """
     mission = get_mission(profile)
-    built = ProductOptions.build("dtm", mission, options)
+    return call_mission_writer(dtm_writer(mission), input_path, outdir, ProductOptions.build("dtm", mission, options))
+
+
+def dtm_writer(mission: Mission, statement: ProductStatement | None = None) -> MissionWriter:
+    """The writer of the mission's DTMs: its own, or the standard float32 PDS3 .IMG in its words;
+    given the `statement` its label makes (a mosaic's: how its sources were put together)."""
     own = mission.writer("dtm")
-    if own is not None:
-        return call_mission_writer(own, input_path, outdir, built)
-    return call_mission_writer(functools.partial(write_pds3_dtm, mission=mission), input_path, outdir, built)
+    return stating(own if own is not None else functools.partial(write_pds3_dtm, mission=mission), statement)
 
 
 def write_pds3_dtm(
@@ -95,8 +101,12 @@ def write_pds3_dtm(
     options: ProductOptions,
     *,
     mission: Mission,
+    statement: ProductStatement = NO_STATEMENT,
 ) -> DtmProduct:
     """Convert a single-band elevation raster into `OUTDIR/<PRODUCT_ID>.IMG` (float32).
+
+    `statement`: what the label says beyond the mission's own words (a mosaic's sources, an
+    HRSC-AX tile's heights and offsets).
 
     label: "pds3" the .IMG with its attached label; "pds4" `<PRODUCT_ID>.img` (raw samples)
     + `<PRODUCT_ID>.xml`; "both" the PDS3 .IMG and a PDS4 `.xml` describing that same file.
@@ -109,13 +119,8 @@ def write_pds3_dtm(
     allow = allows_deviations(options.allow_dictionary_deviations, keywords)
     keywords = label_keywords(keywords)
     input_path = Path(input_path)
-    with open_raster(input_path) as dataset:
-        require_single_band(dataset)
-        if np.dtype(dataset.dtypes[0]).kind not in "iuf":
-            raise PdsgenError(input_path, f"sample type {dataset.dtypes[0]} is not a real number type")
-        geometry = describe_geometry(
-            dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path)
-        )
+    with open_product_input(input_path, DTM_OPENING) as opened:
+        dataset, geometry = opened.dataset, opened.geometry
         sources = source_ids(options.source_product_ids, keywords)
         ident = identification_keywords(chosen.dtm_keywords, keywords, geometry, version)
         product_id = choose_product_id(product_id, chosen.dtm_product_id, ProductIdRequest(
@@ -127,8 +132,8 @@ def write_pds3_dtm(
             "ident": ident,
             "source_product_id": source_id_values(sources),
             "geometry": geometry,
-            "note": str(keywords.get("DTM_NOTE", chosen.dtm_note)),
-            "map_projection_note": chosen.map_projection_note,
+            "note": str(keywords.get("DTM_NOTE", statement.note(chosen))),
+            "map_projection_note": statement.projection_note(chosen),
             "bit_mask": Based(0xFFFFFFFF, 2, 32),
             "sample_type": Symbol(sample_type(byte_order == "msb", "f")),
             "missing_constant": Based(MISSING_BITS, 16, 8),
@@ -146,12 +151,9 @@ def write_pds3_dtm(
             )
 
         def write_data(handle) -> BandStatistics:
-            stats = stream_float32_band(dataset, handle, big_endian=byte_order == "msb")
-            if stats.valid_count == 0:
-                raise PdsgenError(input_path, "has no valid pixels (all nodata)")
-            return stats
+            return require_valid(stream_float32_band(dataset, handle, big_endian=byte_order == "msb"), input_path)
 
-        outdir = prepare_output_dir(outdir)
+        outdir = opened.output_dir(outdir)
         if dialect.pds4:  # the PDS4 writer (lxml, its templates) is loaded only for a PDS4 label
             from ..pds4.products import (
                 ProductDescription,
@@ -167,7 +169,7 @@ def write_pds3_dtm(
         warnings: tuple[str, ...] = ()
         if not dialect.pds3:
             final = outdir / f"{product_id}.img"
-            with StagedOutputs([final, xml_final], overwrite) as staged:
+            with opened.stage([final, xml_final], overwrite) as staged:
                 stats, pds4 = write_pds4_dtm(description, staged.path(final), staged.path(xml_final), final.name,
                                              big_endian)
             records, text = RecordLayout(dataset.width * 4, 0, dataset.height), pds4.text
@@ -180,7 +182,7 @@ def write_pds3_dtm(
                     lambda records: render(records, BandStatistics(0, 0.0, 0.0)), dataset.width * 4, dataset.height
                 )
                 check_label(provisional, final.name, allow_deviations=allow)
-            with StagedOutputs([final] + ([xml_final] if dialect.pds4 else []), overwrite) as staged:
+            with opened.stage([final] + ([xml_final] if dialect.pds4 else []), overwrite) as staged:
                 records, text, stats = write_attached_product(
                     staged.path(final), render, dataset.width * 4, dataset.height, write_data
                 )
@@ -201,6 +203,16 @@ def write_pds3_dtm(
     )
 
 
+def _check_heights(dataset: DatasetReader, path: Path) -> None:
+    """One band of real numbers: heights."""
+    require_single_band(dataset)
+    if np.dtype(dataset.dtypes[0]).kind not in "iuf":
+        raise PdsgenError(path, f"sample type {dataset.dtypes[0]} is not a real number type")
+
+
+DTM_OPENING = Opening(check=_check_heights)
+
+
 def valid_bound(value: float, decimals: int | None, bound: str) -> float | Fixed:
     """VALID_MINIMUM/MAXIMUM (`bound` "minimum" or "maximum") as the mission writes them.
 
@@ -219,4 +231,4 @@ def valid_bound(value: float, decimals: int | None, bound: str) -> float | Fixed
     return Fixed(float(stated) + 0.0, decimals)  # + 0.0: a zero is written "0.00", not "-0.00"
 
 
-__all__ = ["DtmProduct", "write_dtm", "write_pds3_dtm"]
+__all__ = ["DtmProduct", "dtm_writer", "write_dtm", "write_pds3_dtm"]

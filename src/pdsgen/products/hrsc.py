@@ -10,6 +10,7 @@ is read strip by strip like any other input.
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 from collections.abc import Iterator, Mapping, Sequence
@@ -29,12 +30,11 @@ from rasterio.warp import transform as warp_transform
 from .. import __version__
 from ..dialect import Dialect
 from ..errors import ParamsError, PdsgenError, param
-from ..formats.img import BandStatistics, scan_band, stream_band, write_attached_product
-from ..formats.raster import open_raster, require_single_band
+from ..formats.img import BandStatistics, stream_band, write_attached_product
 from ..formats.scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
-from ..formats.staging import StagedOutputs, prepare_output_dir
+from ..formats.staging import StagedOutputs
 from ..formats.vicar import vicar_label
-from ..geo.geometry import POLAR_STEREOGRAPHIC, SINUSOIDAL, MapGeometry, describe_geometry
+from ..geo.geometry import POLAR_STEREOGRAPHIC, SINUSOIDAL, MapGeometry
 from ..label.grammar import sample_type
 from ..label.render import RecordLayout, render_label
 from ..label.values import Based, Symbol
@@ -44,6 +44,7 @@ from ..missions.hrsc import base_name as hrsc_base_name
 from ..pds4.model import DATA_TYPES
 from ..pds4.products import FileHeader, ProductDescription, StoredArray, pds3_label_header, write_image_pds4_label
 from .agreement import allows_deviations, check_label
+from .dispatch import NO_STATEMENT, ProductStatement
 from .hrsc_label import (
     VICAR_DESCRIPTION,
     VICAR_DESCRIPTION_NAME,
@@ -63,6 +64,7 @@ from .int16_heights import (
     source_body,
     sphere_change,
 )
+from .opening import Opening, ProductInput, map_geometry, open_product_input, require_valid, single_band
 from .options import ProductOptions
 from .params import ParamValue, check_version, resolve_params, source_ids
 from .result import ProductResult, pds4_name
@@ -157,6 +159,8 @@ def write_hrsc_dtm(
     input_path: str | os.PathLike[str],
     outdir: str | os.PathLike[str],
     options: ProductOptions,
+    *,
+    statement: ProductStatement = NO_STATEMENT,
 ) -> HrscDtmProduct:
     """Write `OUTDIR/hOOOO_NNNN_<kind>.img` from a single-band height raster.
 
@@ -166,7 +170,7 @@ def write_hrsc_dtm(
     With `reproject_input`, heights above the input's own reference surface are
     converted to the 3396.0 km sphere (radius = R_in + h, h' = radius - 3396.0 km).
     label "both" adds `hOOOO_NNNN_<kind>.xml`, a PDS4 label of the same .img (see
-    `_pds4_beside`). `mosaic_statement`: how a mosaic's sources were put together, for NOTE.
+    `_pds4_beside`). `statement`: how a mosaic's sources were put together, for NOTE.
     """
     kind, vertical_datum, areoid, precision = options.kind, options.vertical_datum, options.areoid, options.precision
     product_id, source_product_ids, params, byte_order = (options.product_id, options.source_product_ids,
@@ -174,7 +178,7 @@ def write_hrsc_dtm(
     version, overwrite, source_labels, offset_convention, allow_dictionary_deviations, label = (
         options.version, options.overwrite, options.source_labels, options.offset_convention,
         options.allow_dictionary_deviations, options.label)
-    reproject_input, mosaic_statement = options.reproject_input, options.mosaic_statement
+    reproject_input = options.reproject_input
     _check_hrsc_label(label)
     output_datum, description = DTM_KINDS[kind]
     vertical_datum = vertical_datum or output_datum  # unset: the kind's (HRSC's declaration says "sphere")
@@ -182,17 +186,15 @@ def write_hrsc_dtm(
     version = check_version(version)
     keywords = resolve_params(params)
     input_path = Path(input_path)
-    with hrsc_input(input_path, reproject_input) as (grid, geometry, source_body):
+    with hrsc_input(input_path, reproject_input) as (opened, source_body):
+        grid, geometry = opened.dataset, opened.geometry
         adjusts = []
         if vertical_datum == "sphere" and source_body is not None:
             adjusts.append(sphere_change(source_body, grid))
         if output_datum != vertical_datum:
             adjusts.append(areoid_adjustment(areoid, grid, +1.0 if output_datum == "sphere" else -1.0))
         adjust = chain_adjustments(adjusts)
-        physical = scan_band(grid, adjust)
-        if physical.valid_count == 0:
-            raise PdsgenError(input_path, "has no valid pixels (all nodata)")
-        encoding = choose_encoding(physical, precision, str(input_path))
+        encoding = choose_encoding(opened.scan(adjust), precision, str(input_path))
         context = hrsc_identification(hrsc_mission.KEYWORDS, keywords, product_id, source_product_ids, kind, version)
         file_name, final_id = context["file_name"], context["product_id"]
         context |= carried_context(source_labels, context["orbit"], Path(outdir))
@@ -207,10 +209,9 @@ def write_hrsc_dtm(
             "missing_dn": MISSING_DN,
             "dtm_radius_km": hrsc_mission.SPHERE_KM if kind == "dt4" else NOT_APPLICABLE,
             "dtm_desc": description,
-            "note": _with_statement(
+            "note": statement.after(
                 f"Heights in meters {hrsc_mission.DTM_NOTE_DATUMS[kind]} = DN * SCALING_FACTOR "
-                f"+ OFFSET, quantised to {encoding.scaling_factor:g} m. DN {MISSING_DN} marks missing data.",
-                mosaic_statement),
+                f"+ OFFSET, quantised to {encoding.scaling_factor:g} m. DN {MISSING_DN} marks missing data."),
         }
 
         big_endian = byte_order == "msb"
@@ -225,10 +226,10 @@ def write_hrsc_dtm(
         def write_data(handle) -> BandStatistics:
             return stream_band(grid, handle, big_endian, moments.counting(encoding.encode), adjust)
 
-        final = prepare_output_dir(outdir) / file_name
+        final = opened.output_dir(outdir) / file_name
         xml_final = final.with_suffix(".xml") if Dialect.of(label).pds4 else None
-        with StagedOutputs([final, *_vicar_description(final), *([xml_final] if xml_final else [])],
-                           overwrite) as staged:
+        with opened.stage([final, *_vicar_description(final), *([xml_final] if xml_final else [])],
+                          overwrite) as staged:
             records, text, stats = write_attached_product(
                 staged.path(final), render, grid.width * 2, grid.height, write_data
             )
@@ -252,21 +253,22 @@ def write_hrsc_dtm(
 @contextmanager
 def hrsc_input(
     input_path: Path, reproject_input: bool, what: str = "a DTM"
-) -> Iterator[tuple[DatasetReader, MapGeometry, tuple[float, float] | None]]:
-    """Open a single-band input on the HRSC grid (as is, or warped) and check its geometry.
+) -> Iterator[tuple[ProductInput, tuple[float, float] | None]]:
+    """Open a single-band input on the HRSC grid (as is, or warped) and check its geometry:
+    HRSC's hooks of the writers' common opening.
 
     Also yields the input's reference body (a, c in metres) when the grid was warped
     from another body, so heights above it can be converted (None otherwise).
     """
-    with open_raster(input_path) as dataset:
-        require_single_band(dataset, what)
-        with hrsc_grid(dataset, reproject_input) as grid:
-            body = source_body(dataset) if reproject_input else None
-            yield grid, _checked_hrsc_geometry(grid, input_path), body
+    opening = Opening(check=single_band(what), grid=functools.partial(hrsc_grid, reproject_input=reproject_input),
+                      describe=_checked_hrsc_geometry)
+    with open_product_input(input_path, opening) as opened:
+        yield opened, source_body(opened.source) if reproject_input else None
 
 
 def _checked_hrsc_geometry(grid: DatasetReader, input_path: Path) -> MapGeometry:
-    geometry = describe_geometry(grid.crs, grid.transform, grid.width, grid.height, str(input_path))
+    """The grid's geometry, refused unless it is HRSC's projection and sphere."""
+    geometry = map_geometry(grid, input_path)
     _, centre_lat = _centre_lonlat(grid.crs, grid.transform, grid.width, grid.height)
     check_hrsc_geometry(geometry, centre_lat, str(input_path))
     return geometry
@@ -295,10 +297,6 @@ def hrsc_identification(
     }
 
 
-def _with_statement(note: str, statement: str) -> str:
-    return f"{note} {statement}".strip()
-
-
 @dataclass(frozen=True, kw_only=True)
 class HrscImageProduct(HrscProduct):
     scaling_factor: float
@@ -313,6 +311,8 @@ def write_hrsc_nd4(
     input_path: str | os.PathLike[str],
     outdir: str | os.PathLike[str],
     options: ProductOptions,
+    *,
+    statement: ProductStatement = NO_STATEMENT,
 ) -> HrscImageProduct:
     """Write the nadir orthoimage `OUTDIR/hOOOO_NNNN_nd4.img`: 8-bit DNs, 0 = no data.
 
@@ -320,19 +320,19 @@ def write_hrsc_nd4(
     mapped linearly from its valid range (or `value_range`) onto DNs 1..254,
     with SCALING_FACTOR and OFFSET giving the input values back. label "both" adds
     `hOOOO_NNNN_nd4.xml`, a PDS4 label of the same .img (see `_pds4_beside`).
-    `mosaic_statement`: how a mosaic's sources were put together, for NOTE.
+    `statement`: how a mosaic's sources were put together, for NOTE.
     """
     value_range, reproject_input, product_id, source_product_ids = (options.value_range, options.reproject_input,
                                                                     options.product_id, options.source_product_ids)
     version, overwrite, source_labels, offset_convention, allow_dictionary_deviations, label = (
         options.version, options.overwrite, options.source_labels, options.offset_convention,
         options.allow_dictionary_deviations, options.label)
-    mosaic_statement = options.mosaic_statement
     _check_hrsc_label(label)
     keywords = resolve_params(options.params)
     input_path = Path(input_path)
     special = SPECIAL_DNS[8]
-    with hrsc_input(input_path, reproject_input, "an HRSC nadir image") as (grid, geometry, _):
+    with hrsc_input(input_path, reproject_input, "an HRSC nadir image") as (opened, _):
+        grid, geometry = opened.dataset, opened.geometry
         mapping = null_zero_byte_mapping(grid, value_range, str(input_path))
         context = hrsc_identification(
             hrsc_mission.ND4_KEYWORDS, keywords, product_id, source_product_ids, "nd4", version
@@ -346,8 +346,8 @@ def write_hrsc_nd4(
             "offset": mapping.offset,
             "scaling_factor": mapping.scaling_factor,
             "missing_dn": special.null,
-            "note": _with_statement("Nadir orthoimage. Value = DN * SCALING_FACTOR + OFFSET; DN 0 marks "
-                                    "missing data.", mosaic_statement),
+            "note": statement.after("Nadir orthoimage. Value = DN * SCALING_FACTOR + OFFSET; DN 0 marks "
+                                    "missing data."),
         }
 
         encode = moments.counting(dn_encoder(mapping, str(input_path)))
@@ -361,15 +361,12 @@ def write_hrsc_nd4(
             }), header, grid.width)(records)
 
         def write_data(handle) -> BandStatistics:
-            stats = stream_band(grid, handle, True, encode)
-            if stats.valid_count == 0:
-                raise PdsgenError(input_path, "has no valid pixels (all nodata)")
-            return stats
+            return require_valid(stream_band(grid, handle, True, encode), input_path)
 
-        final = prepare_output_dir(outdir) / context["file_name"]
+        final = opened.output_dir(outdir) / context["file_name"]
         xml_final = final.with_suffix(".xml") if Dialect.of(label).pds4 else None
-        with StagedOutputs([final, *_vicar_description(final), *([xml_final] if xml_final else [])],
-                           overwrite) as staged:
+        with opened.stage([final, *_vicar_description(final), *([xml_final] if xml_final else [])],
+                          overwrite) as staged:
             records, text, stats = write_attached_product(
                 staged.path(final), render, grid.width, grid.height, write_data)
             _write_vicar_description(staged, final)

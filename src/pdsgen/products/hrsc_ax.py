@@ -14,7 +14,6 @@ label checks and Extras are the standard ones.
 
 from __future__ import annotations
 
-import dataclasses
 import os
 from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
@@ -31,6 +30,7 @@ from ..formats.raster import temporary_vrt
 from ..formats.vicar import VicarLabel, VicarValue, group_number, read_map_group, read_vicar_label
 from ..geo.label_georef import LabelGeorefError, vicar_map_georeferencing
 from ..missions import hrsc_ax
+from .dispatch import ProductStatement
 from .options import ProductOptions
 
 if TYPE_CHECKING:  # the writers import them on first use
@@ -286,10 +286,11 @@ def write_hrsc_ax_dtm(
 
     tile = read_tile(input_path, options.source_labels, options.vicar_offsets)
     product_id = options.product_id or hrsc_ax.tile_product_id(tile.stem, tile.kind)
-    mission = dataclasses.replace(hrsc_ax.MISSION, dtm_note=dtm_note(tile),
-                                  map_projection_note=hrsc_ax.VICAR_OFFSET_NOTES[options.vicar_offsets])
+    statement = ProductStatement(dtm_note=dtm_note(tile),
+                          map_projection_note=hrsc_ax.VICAR_OFFSET_NOTES[options.vicar_offsets])
     with tile_vrt(tile, product_id) as vrt:
-        return write_pds3_dtm(vrt, outdir, options.replace(product_id=product_id), mission=mission)
+        return write_pds3_dtm(vrt, outdir, options.replace(product_id=product_id), mission=hrsc_ax.MISSION,
+                              statement=statement)
 
 
 def write_hrsc_ax_ortho(
@@ -309,8 +310,8 @@ def write_hrsc_ax_ortho(
     if tile.kind == "DEM":
         raise PdsgenError(tile.paths[0], "is an HRSC-AX DEM; make it with `pdsgen dtm`")
     product_id = options.product_id or hrsc_ax.tile_product_id(tile.stem, tile.kind)
-    mission = dataclasses.replace(hrsc_ax.MISSION, ortho_description=ortho_description(tile),
-                                  map_projection_note=hrsc_ax.VICAR_OFFSET_NOTES[options.vicar_offsets])
+    statement = ProductStatement(ortho_description=ortho_description(tile),
+                          map_projection_note=hrsc_ax.VICAR_OFFSET_NOTES[options.vicar_offsets])
     with tile_vrt(tile, product_id) as vrt:
-        return write_jp2_ortho(vrt, outdir, options.replace(product_id=product_id), mission=mission,
-                               filter_names=tuple(c.band_name for c in tile.channels))
+        return write_jp2_ortho(vrt, outdir, options.replace(product_id=product_id), mission=hrsc_ax.MISSION,
+                               filter_names=tuple(c.band_name for c in tile.channels), statement=statement)

@@ -23,22 +23,23 @@ import rasterio
 from .. import __version__
 from ..errors import PdsgenError
 from ..formats.footprint import footprint_wkt, valid_data_outline, write_footprints, write_shapefile
-from ..formats.img import Adjust, physical_strips, scan_band, valid_extremes
-from ..formats.raster import open_raster, require_single_band
+from ..formats.img import Adjust, physical_strips, valid_extremes
 from ..formats.scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
-from ..formats.staging import StagedOutputs, prepare_output_dir
-from ..geo.geometry import MapGeometry, describe_geometry
+from ..geo.geometry import MapGeometry
 from ..missions import hrsc as hrsc_mission
 from ..missions import imars as imars_mission
 from ..missions.hrsc import MISSING_DN
 from ..missions.hrsc import base_name as hrsc_base_name
+from .dispatch import NO_STATEMENT, ProductStatement
 from .int16_heights import Int16Encoding, areoid_adjustment, check_datum_conversion, choose_encoding
+from .opening import Opening, open_product_input, single_band
 from .options import ProductOptions
 from .params import check_version, resolve_params, source_ids
 from .result import ProductResult
 
 IMARS_INSTITUTION = imars_mission.INSTITUTION
 _DTM_DESCRIPTIONS = imars_mission.DTM_DESCRIPTIONS
+ORI_OPENING = Opening(check=single_band("an iMars orthoimage"))
 
 
 @dataclass(frozen=True)
@@ -75,22 +76,22 @@ Feature = tuple[str, list[dict[str, Any]], dict[str, Any]]
 @dataclass(frozen=True)
 class ImarsMosaic:
     """How a mosaic of strips differs from a strip: `<ID>_dtm.tif` / `<ID>_ori.tif`, the
-    sources and how they were put together in the PVL, and a footprint whose features are
-    the source strips (each outlining its own valid data, with its own product ID)."""
+    number of sources in the PVL (how they were put together is the writer's `statement`),
+    and a footprint whose features are the source strips (each outlining its own valid data,
+    with its own product ID)."""
 
     product_id: str
     features: tuple[Feature, ...]
-    statement: str  # how the sources were put together (order, resampling)
 
     def stem(self, product_type: str) -> str:
         return imars_mission.mosaic_stem(self.product_id, product_type)
 
 
-def _pvl_mosaic(mosaic: ImarsMosaic | None) -> dict[str, Any]:
-    """The Image keywords that say a product is a mosaic, and of what."""
+def _pvl_mosaic(mosaic: ImarsMosaic | None, statement: ProductStatement) -> dict[str, Any]:
+    """The Image keywords that say a product is a mosaic, of what and how it was put together."""
     if mosaic is None:
         return {}
-    return {imars_mission.MOSAIC_KEYWORD: len(mosaic.features), "MosaicMethod": mosaic.statement}
+    return {imars_mission.MOSAIC_KEYWORD: len(mosaic.features), "MosaicMethod": statement.mosaic}
 
 
 def _footprint_features(mosaic: ImarsMosaic | None, product_id: str, polygons, properties) -> list[Feature]:
@@ -107,9 +108,11 @@ def write_imars_dtm(
     options: ProductOptions,
     *,
     mosaic: ImarsMosaic | None = None,
+    statement: ProductStatement = NO_STATEMENT,
 ) -> ImarsProduct:
     """Write `<ID>_<kind>4_ucl.tif` (int16), its `.pvl` and the scene footprint
-    (a mosaic: `<ID>_dtm.tif`, its `.pvl` and its sources' footprints).
+    (a mosaic: `<ID>_dtm.tif`, its `.pvl` and its sources' footprints; `statement`: how
+    they were put together).
 
     `vertical_datum` says what the input heights are measured from (default: the
     datum of `kind`); when it differs from the kind's, `areoid` converts, as for HRSC.
@@ -131,24 +134,20 @@ def write_imars_dtm(
         base, stem = mosaic.product_id, mosaic.stem("DTM")
         ident = stem
     input_path = Path(input_path)
-    with open_raster(input_path) as dataset:
-        require_single_band(dataset)
-        geometry = describe_geometry(dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path))
+    with open_product_input(input_path) as opened:
+        dataset, geometry = opened.dataset, opened.geometry
         adjust = None
         if vertical_datum is not None and vertical_datum != output_datum:
             adjust = areoid_adjustment(areoid, dataset, +1.0 if output_datum == "sphere" else -1.0)
-        physical = scan_band(dataset, adjust)
-        if physical.valid_count == 0:
-            raise PdsgenError(input_path, "has no valid pixels (all nodata)")
-        encoding = choose_encoding(physical, precision, str(input_path))
-        out = prepare_output_dir(outdir)
+        encoding = choose_encoding(opened.scan(adjust), precision, str(input_path))
+        out = opened.output_dir(outdir)
         tiff, metadata = out / f"{stem}.tif", out / imars_mission.metadata_name(ident)
         facts = imars_facts(ident, "DTM", keywords, geometry.target_name or "MARS")
         tags = _processing_tags(ident, _DTM_DESCRIPTIONS[kind], encoding.scaling_factor,
                                 encoding.offset, MISSING_DN, keywords, sources, facts)
         footprint = out / imars_mission.footprint_name(base)
         shapes = {part: out / name for part, name in imars_mission.footprint_shapefile_names(base).items()}
-        with StagedOutputs([tiff, metadata], overwrite, shared=[footprint, *shapes.values()]) as staged:
+        with opened.stage([tiff, metadata], overwrite, shared=[footprint, *shapes.values()]) as staged:
             low, high = _write_geotiff(dataset, staged.path(tiff), "int16", MISSING_DN, encoding.encode,
                                        encoding.scaling_factor, encoding.offset, tags, adjust)
             with rasterio.open(staged.path(tiff)) as written:
@@ -157,7 +156,7 @@ def write_imars_dtm(
                                       version, {"ValidMinimum": low, "ValidMaximum": high,
                                                 "HeightReference": _DTM_DESCRIPTIONS[kind],
                                                 "Precision": pvl.Quantity(encoding.scaling_factor, "m"),
-                                                **_pvl_mosaic(mosaic)},
+                                                **_pvl_mosaic(mosaic, statement)},
                                       facts)
                 features = _footprint_features(
                     mosaic, ident, lambda: valid_data_outline(written, lambda a: a != MISSING_DN),
@@ -216,9 +215,11 @@ def write_imars_ori(
     options: ProductOptions,
     *,
     mosaic: ImarsMosaic | None = None,
+    statement: ProductStatement = NO_STATEMENT,
 ) -> ImarsProduct:
     """Write the orthoimage `<ID>_nd4_ucl.tif` (byte, nodata 0), its `.pvl` and the scene footprint
-    (a mosaic: `<ID>_ori.tif`, its `.pvl` and its sources' footprints)."""
+    (a mosaic: `<ID>_ori.tif`, its `.pvl` and its sources' footprints; `statement`: how they
+    were put together)."""
     product_id, source_product_ids, value_range, overwrite = (options.product_id, options.source_product_ids,
                                                               options.value_range, options.overwrite)
     version = check_version(options.version)
@@ -232,26 +233,26 @@ def write_imars_ori(
         ident = stem
     input_path = Path(input_path)
     special = SPECIAL_DNS[8]
-    with open_raster(input_path) as dataset:
-        require_single_band(dataset, "an iMars orthoimage")
-        geometry = describe_geometry(dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path))
+    with open_product_input(input_path, ORI_OPENING) as opened:
+        dataset, geometry = opened.dataset, opened.geometry
         mapping = null_zero_byte_mapping(dataset, value_range, str(input_path))
 
         encode = dn_encoder(mapping, str(input_path))
-        out = prepare_output_dir(outdir)
+        out = opened.output_dir(outdir)
         tiff, metadata = out / f"{stem}.tif", out / imars_mission.metadata_name(ident)
         facts = imars_facts(ident, "ORI", keywords, geometry.target_name or "MARS")
         tags = _processing_tags(ident, "ORTHOIMAGE", mapping.scaling_factor, mapping.offset,
                                 special.null, keywords, sources, facts)
         footprint = out / imars_mission.footprint_name(base)
         shapes = {part: out / name for part, name in imars_mission.footprint_shapefile_names(base).items()}
-        with StagedOutputs([tiff, metadata], overwrite, shared=[footprint, *shapes.values()]) as staged:
+        with opened.stage([tiff, metadata], overwrite, shared=[footprint, *shapes.values()]) as staged:
             low, high = _write_geotiff(dataset, staged.path(tiff), "uint8", special.null, encode,
                                        mapping.scaling_factor, mapping.offset, tags)
             with rasterio.open(staged.path(tiff)) as written:
                 written_crs = written.crs
                 text = imars_pvl_text(written, tiff.name, ident, "ORI", geometry, keywords, sources,
-                                      version, {"ValidMinimum": low, "ValidMaximum": high, **_pvl_mosaic(mosaic)},
+                                      version, {"ValidMinimum": low, "ValidMaximum": high,
+                                                **_pvl_mosaic(mosaic, statement)},
                                       facts)
                 features = _footprint_features(
                     mosaic, ident, lambda: valid_data_outline(written, lambda a: a != special.null),

@@ -27,7 +27,7 @@ from ..dialect import Dialect
 from ..errors import ParamsError, PdsgenError, param
 from ..formats.geojp2 import geojp2_box, gmljp2_box
 from ..formats.jp2 import JP2INFO_NAME, TILE_SIZE, describe_jp2, jp2info_text, require_openjpeg, write_jp2
-from ..formats.raster import open_raster, row_strips
+from ..formats.raster import row_strips
 from ..formats.scale_dn import (
     SPECIAL_DNS,
     DnMapping,
@@ -39,14 +39,15 @@ from ..formats.scale_dn import (
     to_dns,
     valid_range,
 )
-from ..formats.staging import InterruptSafeExecutor, StagedOutputs, prepare_output_dir
-from ..geo.geometry import MapGeometry, describe_geometry
+from ..formats.staging import InterruptSafeExecutor
+from ..geo.geometry import MapGeometry
 from ..label.render import render_label
 from ..label.values import Based, Quantity, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
 from .agreement import allows_deviations, check_label, label_keywords
-from .dispatch import call_mission_writer
+from .dispatch import NO_STATEMENT, MissionWriter, ProductStatement, call_mission_writer, stating
 from .identification import choose_product_id, identification_keywords, source_id_values
+from .opening import Opening, no_valid_pixels, open_product_input
 from .options import ProductOptions
 from .params import ParamValue, check_source_id, check_version, resolve_params, source_ids
 from .result import ProductResult, pds4_name
@@ -106,15 +107,23 @@ def write_ortho(
     """
     mission = get_mission(profile)
     built = ProductOptions.build("ortho", mission, options)
+    if mission.writer("ortho") is None and not isinstance(input_path, (str, os.PathLike)):
+        raise PdsgenError(None, f"the {profile} profile takes one input file")
+    return call_mission_writer(ortho_writer(mission, built, profile), input_path, outdir, built)
+
+
+def ortho_writer(mission: Mission, built: ProductOptions, profile: str,
+                 statement: ProductStatement | None = None) -> MissionWriter:
+    """The writer of the mission's orthoimages: its own (8-bit: `bits` other than 8 refused,
+    naming `profile`), or the standard JP2 + .LBL in its words; given the `statement` its label
+    makes (a mosaic's: how its sources were put together)."""
     own = mission.writer("ortho")
     if own is None:
-        if not isinstance(input_path, (str, os.PathLike)):
-            raise PdsgenError(None, f"the {profile} profile takes one input file")
-        return call_mission_writer(functools.partial(write_jp2_ortho, mission=mission), input_path, outdir, built)
+        return stating(functools.partial(write_jp2_ortho, mission=mission), statement)
     if built.bits not in (None, 8):
         raise ParamsError(None, f"{param('profile', profile)} orthoimages are 8-bit; "
                                 f"{param('bits', built.bits)} does not apply")
-    return call_mission_writer(own, input_path, outdir, built)
+    return stating(own, statement)
 
 
 def write_jp2_ortho(
@@ -124,6 +133,7 @@ def write_jp2_ortho(
     *,
     mission: Mission,
     filter_names: Sequence[str] | None = None,
+    statement: ProductStatement = NO_STATEMENT,
 ) -> OrthoProduct:
     """Convert a 1-band (RED) or 3-band (IRB) orthoimage into `<PRODUCT_ID>.JP2` + `.LBL`.
 
@@ -134,6 +144,8 @@ def write_jp2_ortho(
     `<PRODUCT_ID>.xml`; "both" writes the .LBL and the PDS4 form.
     `filter_names`: the bands' FILTER_NAMEs in band order, for missions whose bands are not
     HiRISE's (default: RED, or NEAR-INFRARED, RED, BLUE-GREEN).
+    `statement`: what the label says beyond the mission's own words (a mosaic's sources, an
+    HRSC-AX tile's bands and offsets).
     """
     product_id, bits, value_range, gmljp2 = options.product_id, options.bits, options.value_range, options.gmljp2
     observation_id, sequence, source_dtm_id = options.observation_id, options.sequence, options.source_dtm_id
@@ -147,9 +159,8 @@ def write_jp2_ortho(
     allow = allows_deviations(options.allow_dictionary_deviations, keywords)
     keywords = label_keywords(keywords)
     input_path = Path(input_path)
-    with open_raster(input_path) as dataset:
-        _check_input(dataset, input_path)
-        geometry = describe_geometry(dataset.crs, dataset.transform, dataset.width, dataset.height, str(input_path))
+    with open_product_input(input_path, ORTHO_OPENING) as opened:
+        dataset, geometry = opened.dataset, opened.geometry
         bits = bits or _default_bits(dataset, chosen)
         mapping = _choose_mapping(dataset, input_path, bits, value_range)
         log.info("DNs: %d-bit, value = DN * %.6g + %.6g%s", bits, mapping.scaling_factor, mapping.offset,
@@ -159,18 +170,18 @@ def write_jp2_ortho(
         product_id = choose_product_id(product_id, chosen.ortho_product_id, ProductIdRequest(
             input_path.stem, geometry, sources, None, version, dataset.count, observation_id, sequence,
         ))
-        outdir = prepare_output_dir(outdir)
+        outdir = opened.output_dir(outdir)
         jp2_final, label_final = outdir / f"{product_id}.JP2", outdir / f"{product_id}.LBL"
         img_final, xml_final = outdir / f"{product_id}.img", outdir / f"{product_id}.xml"
         context = _label_context(chosen, product_id, ident, sources, geometry, dataset.count, mapping,
-                                 jp2_final.name, filter_names)
+                                 jp2_final.name, filter_names, statement)
         boxes = [geojp2_box(dataset.crs, dataset.transform)]
         if gmljp2:
             boxes.append(gmljp2_box(dataset.crs, dataset.transform, dataset.height, dataset.width))
         info_final = outdir / JP2INFO_NAME
         finals = [jp2_final] + ([label_final] if dialect.pds3 else []) + (
             [img_final, xml_final] if dialect.pds4 else [])
-        with StagedOutputs(finals, options.overwrite, shared=[info_final]) as staged, ExitStack() as files, \
+        with opened.stage(finals, options.overwrite, shared=[info_final]) as staged, ExitStack() as files, \
                 InterruptSafeExecutor(1, "pdsgen-label-check") as checker:
             # The label is rendered and checked (the validator's first use loads it: a fifth of
             # a second) while the first tiles are encoded; a refusal stops the encoding at the
@@ -190,7 +201,7 @@ def write_jp2_ortho(
             )
             text, warnings = label_check.result()
             if not reader.any_valid:
-                raise PdsgenError(input_path, "has no valid pixels (all nodata)")
+                raise no_valid_pixels(input_path)
             files.close()
             if dialect.pds3:
                 staged.path(label_final).write_bytes(text.encode("ascii"))
@@ -224,6 +235,7 @@ def write_jp2_ortho(
 
 
 def _check_input(dataset: DatasetReader, path: Path) -> None:
+    """1 or 3 bands of one real number type."""
     if dataset.count not in ORTHO_FILTER_NAMES:
         raise PdsgenError(
             path, f"has {dataset.count} bands; an orthoimage has 1 (RED) or 3 (near-infrared, red, blue-green)"
@@ -231,6 +243,9 @@ def _check_input(dataset: DatasetReader, path: Path) -> None:
     kinds = {np.dtype(dt).kind for dt in dataset.dtypes}
     if not kinds <= set("iuf") or len(set(dataset.dtypes)) != 1:
         raise PdsgenError(path, f"sample types {', '.join(dataset.dtypes)} are not one real number type")
+
+
+ORTHO_OPENING = Opening(check=_check_input)
 
 
 def _default_bits(dataset: DatasetReader, mission: Mission) -> int:
@@ -255,7 +270,7 @@ def _choose_mapping(
         return identity_mapping(special)
     found = valid_range(dataset, row_strips(dataset))
     if found is None:
-        raise PdsgenError(path, "has no valid pixels (all nodata)")
+        raise no_valid_pixels(path)
     low, high = found
     if dtype.kind in "iu" and low >= 0 and high <= special.max_dn:
         return identity_mapping(special)
@@ -341,6 +356,7 @@ def _label_context(
     mapping: DnMapping,
     jp2_name: str,
     filter_names: Sequence[str] | None = None,
+    statement: ProductStatement = NO_STATEMENT,
 ) -> dict[str, object]:
     special = mapping.special
     sample_bits = 8 if special.bits == 8 else 16
@@ -360,7 +376,7 @@ def _label_context(
         "record_bytes": record_bytes,
         "file_records": file_records,
         "required_storage_bytes": record_bytes * file_records,
-        "description": mission.ortho_description,
+        "description": statement.description(mission),
         "bands": bands,
         "sample_type": Symbol("UNSIGNED_INTEGER" if sample_bits == 8 else "MSB_UNSIGNED_INTEGER"),
         "sample_bits": sample_bits,
@@ -371,7 +387,7 @@ def _label_context(
         "filter_name": filters[0] if bands == 1 else list(filters),
         "center_wavelength": _wavelengths(wavelengths, bands),
         "standard_parallels_na": mission.ortho_standard_parallels_na,
-        "map_projection_note": mission.map_projection_note,
+        "map_projection_note": statement.projection_note(mission),
         "stretch_namespace": mission.ortho_stretch_namespace,
         # The linear display stretch of the valid DNs (the release: 3 and 1021 for 10-bit data).
         "minimum_stretch": special.valid_min if bands == 1 else [special.valid_min] * bands,
@@ -386,4 +402,4 @@ def _wavelengths(wavelengths: tuple[int, ...] | None, bands: int) -> object:
     return quantities[0] if bands == 1 else quantities
 
 
-__all__ = ["OrthoProduct", "write_jp2_ortho", "write_ortho"]
+__all__ = ["OrthoProduct", "ortho_writer", "write_jp2_ortho", "write_ortho"]
