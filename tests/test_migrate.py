@@ -21,9 +21,9 @@ from lxml import etree
 from conftest import CORPUS_DIR, REPO_ROOT
 from pdsgen.migrate import MigratedProduct, Refused, migrate_product
 from pdsgen.migrate.mapping import KEYWORD_TABLE
-from pdsgen.pds4 import schematron
-from pdsgen.pds4.validate import validate_pds4
 from pdsgen.validate import validate_paths
+from pdsgen.validate.pds4 import schematron
+from pdsgen.validate.pds4.label_checks import validate_pds4
 
 from helpers import run_cli
 

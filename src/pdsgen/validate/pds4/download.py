@@ -18,9 +18,9 @@ from pathlib import Path
 
 from lxml import etree
 
-from .. import __version__
-from ..errors import PdsgenError
-from ..formats.checksum import bytes_sha256
+from ... import __version__
+from ...errors import PdsgenError
+from ...formats.checksum import bytes_sha256
 
 SUMS_NAME = "SHA256SUMS"  # in the cache: "<sha256>  <name>  <url>" per downloaded schema
 TIMEOUT_SECONDS = 30
