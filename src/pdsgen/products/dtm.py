@@ -31,12 +31,12 @@ from ..label.grammar import sample_type
 from ..label.render import RecordLayout, render_label, settle_attached_label
 from ..label.values import Based, Fixed, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
+from ..params import check_version, resolve_params, source_ids
 from ..progress import is_large
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import call_mission_writer
 from .identification import choose_product_id, identification_keywords, source_id_values
 from .options import ProductOptions
-from .params import check_version, resolve_params, source_ids
 from .result import ProductResult, pds4_name
 
 BYTE_ORDERS = ("lsb", "msb")

@@ -32,9 +32,9 @@ from ..missions import hrsc as hrsc_mission
 from ..missions import imars as imars_mission
 from ..missions.hrsc import MISSING_DN
 from ..missions.hrsc import base_name as hrsc_base_name
+from ..params import check_version, resolve_params, source_ids
 from .int16_heights import Int16Encoding, areoid_adjustment, check_datum_conversion, choose_encoding
 from .options import ProductOptions
-from .params import check_version, resolve_params, source_ids
 from .result import ProductResult
 
 IMARS_INSTITUTION = imars_mission.INSTITUTION

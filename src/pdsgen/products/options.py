@@ -22,7 +22,7 @@ from typing import Any
 from ..dialect import DIALECT_NAMES, Dialect
 from ..errors import ParamsError
 from ..missions import Mission
-from .params import ParamValue
+from ..params import ParamValue
 
 
 class _NotGiven:
