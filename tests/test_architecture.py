@@ -603,11 +603,11 @@ def test_packages_import_each_other_one_way_with_at_most_one_module_reaching_bac
 # The validator's own formulas, independent of geo/ on purpose (a check must not share the
 # computation it checks); each entry must still hold what it is excused for (so the list
 # cannot outlive the code).
-VALIDATOR_OWN_OFFSET_INVERSE = {"validate/families/map_rules.py", "validate/families/geo_rules.py",
+VALIDATOR_OWN_OFFSET_INVERSE = {"validate/map_offsets.py", "validate/families/geo_rules.py",
                                 "validate/families/hrsc_rules.py"}
-VALIDATOR_OWN_LONGITUDE_WRAP = {"validate/projection.py", "validate/families/map_rules.py",
+VALIDATOR_OWN_LONGITUDE_WRAP = {"validate/projection.py", "validate/map_offsets.py",
                                 "validate/families/geo_rules.py", "validate/pds4/cart_checks.py"}
-VALIDATOR_OWN_WEST_FLIP = {"validate/families/map_rules.py", "validate/families/geo_rules.py"}
+VALIDATOR_OWN_WEST_FLIP = {"validate/map_offsets.py", "validate/families/geo_rules.py"}
 _OFFSET_NAMES = ("offset", "spo", "lpo")
 
 
