@@ -70,7 +70,7 @@ if mode.startswith("pdsgen"):
 elif mode == "pds4-suite":
     from pdsgen.validate import validate_paths
 elif mode.startswith("pds4"):
-    from pdsgen.pds4 import schematron
+    from pdsgen.validate.pds4 import schematron
     from pdsgen.validate import validate_paths
     if mode.startswith("pds4-schema-only"):
         schematron.available = lambda: False  # what a machine without saxonche gets

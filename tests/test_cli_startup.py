@@ -74,7 +74,7 @@ def test_an_orthoimage_is_checked_without_the_pvl_reader_or_the_pds4_validator(t
     loaded = ast.literal_eval(result.stdout.strip().splitlines()[-1])
     assert [p.name for p in sorted((tmp_path / "out").iterdir())] == ["IN.JP2", "IN.LBL", "JP2INFO.TXT"]
     assert "pdsgen.validate.families.dict_rules" in loaded  # the label was checked
-    assert not {"pvl", "pdsgen.pds4.validate", "pdsgen.pds4.schematron"} & set(loaded)
+    assert not {"pvl", "pdsgen.validate.pds4.label_checks", "pdsgen.validate.pds4.schematron"} & set(loaded)
 
 
 def test_numpy_blas_threads_default_to_one_and_a_users_setting_wins():

@@ -17,11 +17,11 @@ from lxml import etree
 
 from pdsgen.deliver import make_delivery
 from pdsgen.extras import make_extras
-from pdsgen.pds4.validate import validate_label
 from pdsgen.products.dtm import write_dtm
 from pdsgen.products.ortho import write_ortho
 from pdsgen.synthetic import make_scene, write_geotiff
 from pdsgen.validate import validate_paths
+from pdsgen.validate.pds4.label_checks import validate_label
 
 from helpers import elevation_array, run_cli, stderr_on_a_terminal, write_raster
 

@@ -168,8 +168,8 @@ def test_tile_names_make_legal_pds_identifiers():
 
 @pytest.mark.parametrize("dialect", ["pds4", "both"])
 def test_pds4_transverse_mercator_with_scale_factor_read_by_gdal_and_pds4_tools(tmp_path, dialect):
-    from pdsgen.pds4 import schematron
-    from pdsgen.pds4.validate import validate_pds4
+    from pdsgen.validate.pds4 import schematron
+    from pdsgen.validate.pds4.label_checks import validate_pds4
 
     pds4_tools = pytest.importorskip("pds4_tools")
     product = write_dtm(_dem(tmp_path), tmp_path / "out", profile="hrsc-ax", label=dialect)

@@ -130,8 +130,8 @@ def test_the_table_covers_every_parameter_a_message_names_and_each_option_exists
 # Text that rightly names options: the validator's findings and rule notes (reports
 # read alike by both interfaces, about `pdsgen validate`), the shell command the demo
 # prints for the user to run, and a Dask worker's own --resources option.
-NAMES_OPTIONS_ON_PURPOSE = ("cli", "validate", "pds4/rules.py", "pds4/validate.py", "pds4/catalog.py", "demo.py",
-                            "batch/cluster.py")
+NAMES_OPTIONS_ON_PURPOSE = ("cli", "validate", "pds4/rules.py", "validate/pds4/label_checks.py",
+                            "validate/pds4/catalog.py", "demo.py", "batch/cluster.py")
 
 
 def test_library_messages_name_no_command_line_options():

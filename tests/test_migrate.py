@@ -21,9 +21,9 @@ from lxml import etree
 from conftest import CORPUS_DIR, REPO_ROOT
 from pdsgen.migrate import MigratedProduct, Refused, migrate_product
 from pdsgen.migrate.mapping import KEYWORD_TABLE
-from pdsgen.pds4 import schematron
-from pdsgen.pds4.validate import validate_pds4
 from pdsgen.validate import validate_paths
+from pdsgen.validate.pds4 import schematron
+from pdsgen.validate.pds4.label_checks import validate_pds4
 
 from helpers import run_cli
 
@@ -164,7 +164,7 @@ def test_magellan_cart_grid_puts_pixel_centres_on_the_label_bounds(migrated):
     are pixel centres): latitudes -18.1813 .. -17.4548, longitudes 141.6269 .. 142.4009. The cart:
     grid, evaluated with PROJ from its own values alone, puts the extreme pixel centres there to
     half a pixel. (Read with the label's A_AXIS_RADIUS 6051.92 km instead of the 6051.0 km sphere
-    of the catalog's SCALE equation, the latitudes were 3.4 and 3.6 px off; missions/magellan.py.)"""
+    of the catalog's SCALE equation, the latitudes were 3.4 and 3.6 px off; geo/magellan.py.)"""
     from rasterio.crs import CRS
     from rasterio.warp import transform as warp_transform
 

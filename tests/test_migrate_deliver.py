@@ -11,11 +11,11 @@ import pytest
 from affine import Affine
 
 from pdsgen.extras import make_extras
-from pdsgen.pds4 import schematron
-from pdsgen.pds4.validate import validate_pds4
 from pdsgen.products.dtm import write_dtm
 from pdsgen.products.ortho import write_ortho
 from pdsgen.synthetic import make_scene, write_geotiff
+from pdsgen.validate.pds4 import schematron
+from pdsgen.validate.pds4.label_checks import validate_pds4
 
 from helpers import elevation_array, run_cli, write_raster
 

@@ -22,9 +22,9 @@ from rasterio.crs import CRS
 
 from pdsgen.geo.label_georef import label_georeferencing, transverse_mercator_grid
 from pdsgen.migrate import migrate_product
-from pdsgen.pds4 import schematron
-from pdsgen.pds4.validate import validate_pds4
 from pdsgen.validate import validate_paths
+from pdsgen.validate.pds4 import schematron
+from pdsgen.validate.pds4.label_checks import validate_pds4
 from test_hrsc_ax_offsets import _ground_m, _header_grid_positions, _make, _tiles
 
 from hrsc_ax_tiles import K0

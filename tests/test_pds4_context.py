@@ -10,9 +10,9 @@ from pathlib import Path
 import pytest
 
 from pdsgen.missions import hirise, hrsc
-from pdsgen.pds4.context_registry import is_registered
-from pdsgen.pds4.validate import validate_pds4
 from pdsgen.resources import schemas_dir
+from pdsgen.validate.pds4.context_registry import is_registered
+from pdsgen.validate.pds4.label_checks import validate_pds4
 
 CASES = Path(__file__).parent / "data" / "nasa_validate"
 

@@ -16,9 +16,9 @@ from pathlib import Path
 import pytest
 
 from conftest import PDS4_EXAMPLES_DIR
-from pdsgen.pds4 import schematron
-from pdsgen.pds4.catalog import SchemaCatalog
-from pdsgen.pds4.validate import validate_pds4
+from pdsgen.validate.pds4 import schematron
+from pdsgen.validate.pds4.catalog import SchemaCatalog
+from pdsgen.validate.pds4.label_checks import validate_pds4
 
 EXAMPLES = PDS4_EXAMPLES_DIR
 ARCHIVES = Path(__file__).parent / "data" / "pds4_schemas"

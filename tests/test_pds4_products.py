@@ -12,9 +12,9 @@ import rasterio
 from lxml import etree
 
 from pdsgen import write_dtm, write_ortho
-from pdsgen.pds4 import schematron
-from pdsgen.pds4.validate import validate_pds4
 from pdsgen.validate import validate_paths
+from pdsgen.validate.pds4 import schematron
+from pdsgen.validate.pds4.label_checks import validate_pds4
 
 from helpers import ORIGINS, elevation_array, run_cli, write_raster
 

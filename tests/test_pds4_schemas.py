@@ -18,10 +18,10 @@ from types import SimpleNamespace
 import pytest
 
 from pdsgen import write_dtm
-from pdsgen.pds4 import schematron
-from pdsgen.pds4.catalog import packed_dir, packed_index, shipped_schema_dir
-from pdsgen.pds4.validate import validate_pds4
 from pdsgen.validate import validate_paths
+from pdsgen.validate.pds4 import schematron
+from pdsgen.validate.pds4.catalog import packed_dir, packed_index, shipped_schema_dir
+from pdsgen.validate.pds4.label_checks import validate_pds4
 
 from helpers import ORIGINS, elevation_array, run_cli, write_raster
 

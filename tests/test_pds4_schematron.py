@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from pdsgen.pds4 import schematron
+from pdsgen.validate.pds4 import schematron
 
 pytestmark = pytest.mark.skipif(not schematron.available(), reason="saxonche (pdsgen[pds4]) is not installed")
 

@@ -15,8 +15,8 @@ from lxml import etree
 from pdsgen import write_dtm
 from pdsgen.migrate import migrate_product
 from pdsgen.mosaic import write_mosaic
-from pdsgen.pds4 import schematron
-from pdsgen.pds4.validate import validate_pds4
+from pdsgen.validate.pds4 import schematron
+from pdsgen.validate.pds4.label_checks import validate_pds4
 from test_mosaic import make_strips
 
 from helpers import ORIGINS, elevation_array, run_cli, write_raster

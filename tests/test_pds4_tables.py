@@ -10,9 +10,9 @@ from pathlib import Path
 
 import pytest
 
-from pdsgen.pds4.table_checks import PATTERNS, _split
-from pdsgen.pds4.validate import validate_pds4
 from pdsgen.validate import validate_paths
+from pdsgen.validate.pds4.label_checks import validate_pds4
+from pdsgen.validate.pds4.table_checks import PATTERNS, _split
 
 from helpers import run_cli
 

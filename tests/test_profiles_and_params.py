@@ -13,7 +13,7 @@ from pdsgen.missions.generic import generic_product_id
 from pdsgen.missions.hirise import dtm_product_id
 from pdsgen.missions.hirise import scale_letter as hirise_scale_letter
 from pdsgen.missions.hirise import version_code as hirise_version_code
-from pdsgen.products.params import load_params
+from pdsgen.params import load_params
 
 
 def hirise_dtm_product_id(geometry: MapGeometry, source_ids: list[str], institution: str | None, version: str) -> str:

@@ -10,9 +10,9 @@ from pathlib import Path
 
 import pytest
 
-from pdsgen.pds4 import schematron
-from pdsgen.pds4.validate import validate_pds4
 from pdsgen.validate import RuleSettings, ValidationJob, rules, validate_file, validate_paths
+from pdsgen.validate.pds4 import schematron
+from pdsgen.validate.pds4.label_checks import validate_pds4
 from pdsgen.validate.registry import Rule
 
 CASES = Path(__file__).parent / "data" / "nasa_validate"

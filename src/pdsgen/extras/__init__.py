@@ -23,7 +23,7 @@ from PIL import Image
 from ..errors import ParamsError, PdsgenError, param
 from ..formats.staging import StagedOutputs, prepare_output_dir, publishes_together
 from ..geo.conventions import wrap_360
-from ..products.params import ParamValue, resolve_params
+from ..params import ParamValue, resolve_params
 from ..progress import advance, is_large
 from .credit import product_credit
 from .kind import NOMAP

@@ -16,7 +16,7 @@ from collections.abc import Mapping
 
 from ..errors import PdsgenError
 from ..missions import get_mission, mission_names
-from ..products.params import ParamValue
+from ..params import ParamValue
 from .product_source import ProductSource
 
 _MISSION_KEYS = ("MISSION_NAME", "INSTRUMENT_HOST_NAME", "SPACECRAFT_NAME")

@@ -27,7 +27,7 @@ from PIL import Image
 from ..geo.conventions import wrap_360
 from ..label.grammar import MAX_LINE_BYTES as GRAMMAR_MAX_LINE_BYTES
 from ..missions.hirise import SYNTHETIC_BLUE_BG, SYNTHETIC_BLUE_RED, rdr_extras_line
-from ..products.params import ParamValue
+from ..params import ParamValue
 from ..resources import templates_dir
 from .colour_ramp import RAMP_NAME
 from .decimate import valid_range

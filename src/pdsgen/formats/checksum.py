@@ -3,7 +3,7 @@
 One home for every digest pdsgen computes of a file's bytes, read in blocks so memory
 stays flat whatever the file's size. Writers that digest bytes as they write them
 (pds4/content.py's ContentTap) and readers that look at each block for something else
-too (pds4/data_checks.py) take a digest object from here and feed it themselves.
+too (validate/pds4/data_checks.py) take a digest object from here and feed it themselves.
 """
 
 from __future__ import annotations

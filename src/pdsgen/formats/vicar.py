@@ -14,8 +14,9 @@ little-endian) and reals (REALFMT IEEE = big-endian, RIEEE = little-endian).
 that group until the next PROPERTY or TASK item), and where the image's bytes are.
 pdsgen reads the map and terrain-model groups itself: GDAL's VICAR reader ignores
 some of their keywords (SCALE_FACTOR) and knows few projections. `read_map_group` turns
-a MAP group into numbers in the label's own units and counting (`VicarMap`); what they
-mean on the ground (the CRS and grid) is geo/label_georef.py's `vicar_map_georeferencing`.
+a MAP group into numbers in the label's own units and counting (`VicarMap`, defined in
+geo/label_georef.py beside `vicar_map_georeferencing`, which says what they mean on the
+ground: the CRS and grid).
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..geo.label_georef import VicarMap
 
 # numpy sample kind and size -> VICAR FORMAT
 _FORMATS = {("u", 1): "BYTE", ("i", 2): "HALF", ("i", 4): "FULL", ("f", 4): "REAL", ("f", 8): "DOUB"}
@@ -279,25 +281,6 @@ def _group(items: list[tuple[str, VicarValue]]) -> tuple[dict[str, VicarValue], 
 # -- the MAP property group ------------------------------------------------------------------
 _REQUIRED_MAP = ("A_AXIS_RADIUS", "C_AXIS_RADIUS", "CENTER_LATITUDE", "CENTER_LONGITUDE",
                  "LINE_PROJECTION_OFFSET", "SAMPLE_PROJECTION_OFFSET", "MAP_PROJECTION_TYPE", "MAP_SCALE")
-
-
-@dataclass(frozen=True)
-class VicarMap:
-    """A VICAR MAP group's map projection as the label states it: its units, its counting."""
-
-    projection_type: str  # upper case, words joined by "_" (TRANSVERSE_MERCATOR)
-    a_axis_km: float
-    c_axis_km: float
-    center_latitude: float  # degrees, of the latitude type below
-    center_longitude: float  # degrees, in the positive direction below
-    latitude_type: str  # COORDINATE_SYSTEM_NAME: PLANETOGRAPHIC when absent
-    positive_longitude_direction: str  # EAST when absent
-    map_scale_km: float  # MAP_SCALE, kilometres of the grid per pixel
-    line_projection_offset: float  # pixels, as the label counts them
-    sample_projection_offset: float
-    scale_factor: float  # SCALE_FACTOR, 1 when absent
-    false_easting_m: float | None  # FALSE_EASTING / FALSE_NORTHING (metres) when the label gives either
-    false_northing_m: float | None
 
 
 def group_number(group: Mapping[str, VicarValue], key: str, path: str | os.PathLike[str],

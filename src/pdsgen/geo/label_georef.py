@@ -35,7 +35,7 @@ geotransform are the grid itself (scale factor, false origin, grid spacing) and 
 pixels land on the same ground positions.
 
 Magellan MIDR framelets are placed by their data set's own equations (a 6051.0 km sphere,
-sample centres half a pixel out; missions/magellan.py), not by their A_AXIS_RADIUS.
+sample centres half a pixel out; magellan.py), not by their A_AXIS_RADIUS.
 
 West-positive labels give their longitudes west; the projection's central
 meridian is turned east-positive (conventions.py), as PROJ expects, and x still grows to
@@ -47,15 +47,14 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Mapping
+from dataclasses import dataclass
 from typing import Any
 
 from rasterio.crs import CRS
 from rasterio.errors import CRSError
 from rasterio.transform import Affine
 
-from ..formats.vicar import VicarMap
-from ..missions import magellan
-from . import utm
+from . import magellan, utm
 from .conventions import east_positive, upper_left_corner, wrap_180
 from .transverse_mercator import UNFOLDED, GridNoteError, TransverseMercatorGrid, read_grid_note
 
@@ -115,7 +114,7 @@ def label_georeferencing(label: Mapping[str, Any], label_text: str | None = None
     crs = _crs(block, grid, magellan.MIDR_PROJECTION_RADIUS_M if midr else None)
     scale = _map_scale_m(block)
     line_offset, sample_offset = _offsets(block)
-    if midr:  # the data set's own equations (missions/magellan.py), not the label's radius
+    if midr:  # the data set's own equations (magellan.py), not the label's radius
         sample_offset -= magellan.MIDR_SAMPLE_SHIFT
     ulx, uly = upper_left_corner(sample_offset, line_offset, scale)
     k = grid.scale_factor
@@ -186,6 +185,26 @@ def _geodetic(block: Mapping[str, Any], latitude: float, a: float, c: float) -> 
 
 
 # -- a VICAR MAP group (formats/vicar.py reads it) ----------------------------------------------
+@dataclass(frozen=True)
+class VicarMap:
+    """A VICAR MAP group's map projection as the label states it: its units, its counting
+    (formats/vicar.py's read_map_group fills it in; here so that geo imports nothing of formats)."""
+
+    projection_type: str  # upper case, words joined by "_" (TRANSVERSE_MERCATOR)
+    a_axis_km: float
+    c_axis_km: float
+    center_latitude: float  # degrees, of the latitude type below
+    center_longitude: float  # degrees, in the positive direction below
+    latitude_type: str  # COORDINATE_SYSTEM_NAME: PLANETOGRAPHIC when absent
+    positive_longitude_direction: str  # EAST when absent
+    map_scale_km: float  # MAP_SCALE, kilometres of the grid per pixel
+    line_projection_offset: float  # pixels, as the label counts them
+    sample_projection_offset: float
+    scale_factor: float  # SCALE_FACTOR, 1 when absent
+    false_easting_m: float | None  # FALSE_EASTING / FALSE_NORTHING (metres) when the label gives either
+    false_northing_m: float | None
+
+
 def vicar_map_georeferencing(projection: VicarMap, offset_shift: float = 0.0) -> tuple[CRS, Affine]:
     """(CRS, geotransform in grid metres) of a Transverse Mercator VICAR MAP group.
 

@@ -23,7 +23,7 @@ from ..geo.label_georef import PROJECTION_OBJECTS, LabelGeorefError, label_geore
 from ..label.tree import Block, Value
 from ..pds4.label import Cartography, cartography
 from ..validate.context import FileContext
-from ..validate.families.map_rules import offset_convention_shift
+from ..validate.map_offsets import offset_convention_shift
 from .objects import Refused
 
 

@@ -17,7 +17,7 @@ from ..label.grammar import PLACEHOLDERS
 from ..label.tree import Block
 from ..missions import ContextReference, LabelFacts, detect_mission, get_mission
 from ..pds4.context import TARGETS, source_products
-from ..pds4.context_registry import is_registered
+from ..validate.pds4.context_registry import is_registered
 from .mapping import PROCESSING_LEVELS
 
 _LID_PART = re.compile(r"[^a-z0-9._-]+")

@@ -157,7 +157,7 @@ def _with_sources(plan: MosaicPlan, params: Any) -> dict[str, Any]:
     """The params keywords with the mosaic's sources first in SOURCE_PRODUCT_ID: the PDS3
     labels of DTMs and orthoimages take their sources from it, and a PDS4 label of the same
     product (`label="both"`/`"pds4"`) names the same ones in its Reference_List."""
-    from ..products.params import resolve_params
+    from ..params import resolve_params
 
     keywords = resolve_params(params)
     given = keywords.get("SOURCE_PRODUCT_ID") or []

@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping
 
 from ..missions import ContextReference, Mission
-from ..products.params import ParamValue
+from ..params import ParamValue
 
 # Bodies pdsgen recognises from a CRS (geometry.target_name) -> (PDS4 name, type, context LID).
 TARGETS = {

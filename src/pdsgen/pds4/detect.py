@@ -1,8 +1,8 @@
 """Whether a file is a PDS4 label, decided from its first bytes.
 
-Kept apart from `validate` so that telling PDS4 labels from PDS3 ones (done for
-every file a validation run meets) does not load lxml and the PDS4 checks; a run
-over PDS3 labels never imports them.
+Kept apart from the PDS4 checks (validate/pds4/) so that telling PDS4 labels from PDS3
+ones (done for every file a validation run meets) does not load lxml and the PDS4 checks;
+a run over PDS3 labels never imports them.
 
 Decided by content, not by extension: PDS4 labels are .xml by custom but .lblx
 by the standard's own recommendation for new archives, and either may be met.

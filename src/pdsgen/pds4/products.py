@@ -26,7 +26,7 @@ from ..formats.img import MISSING_CONSTANT, BandStatistics, stream_float32_band
 from ..formats.scale_dn import SpecialDns
 from ..geo.geometry import MapGeometry
 from ..missions import Mission
-from ..products.params import ParamValue
+from ..params import ParamValue
 from .content import ArrayStatistics, ContentTap, FileContent
 from .context import logical_identifier, observation, source_products
 from .label import cartography, render_pds4

@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..errors import ParamsError, param
-from .params import ParamValue
+from ..params import ParamValue
 
 if TYPE_CHECKING:
     from ..validate.model import Hit

@@ -30,13 +30,13 @@ from ..label.grammar import sample_type
 from ..label.render import RecordLayout, render_label, settle_attached_label
 from ..label.values import Based, Fixed, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
+from ..params import check_version, resolve_params, source_ids
 from ..progress import is_large
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import NO_STATEMENT, MissionWriter, ProductStatement, call_mission_writer, stating
 from .identification import choose_product_id, identification_keywords, source_id_values
 from .opening import Opening, open_product_input, require_valid
 from .options import ProductOptions
-from .params import check_version, resolve_params, source_ids
 from .result import ProductResult, pds4_name
 
 if TYPE_CHECKING:

@@ -41,6 +41,7 @@ from ..label.values import Based, Symbol
 from ..missions import hrsc as hrsc_mission
 from ..missions.hrsc import DTM_KINDS, MISSING_DN, NOT_APPLICABLE, POLAR_LIMIT_DEG
 from ..missions.hrsc import base_name as hrsc_base_name
+from ..params import ParamValue, check_version, resolve_params, source_ids
 from ..pds4.model import DATA_TYPES
 from ..pds4.products import FileHeader, ProductDescription, StoredArray, pds3_label_header, write_image_pds4_label
 from .agreement import allows_deviations, check_label
@@ -66,7 +67,6 @@ from .int16_heights import (
 )
 from .opening import Opening, ProductInput, map_geometry, open_product_input, require_valid, single_band
 from .options import ProductOptions
-from .params import ParamValue, check_version, resolve_params, source_ids
 from .result import ProductResult, pds4_name
 
 HRSC_SPHERE_M = hrsc_mission.SPHERE_M

@@ -11,7 +11,7 @@ from ..label.grammar import IDENTIFIER_RE
 from ..label.values import Symbol
 from ..missions import ProductIdRequest
 from ..missions.generic import check_product_id, generic_product_id
-from .params import ParamValue
+from ..params import ParamValue
 
 log = logging.getLogger(__name__)
 

@@ -21,7 +21,6 @@ import pvl
 import rasterio
 
 from .. import __version__
-from ..errors import PdsgenError
 from ..formats.footprint import footprint_wkt, valid_data_outline, write_footprints, write_shapefile
 from ..formats.img import Adjust, physical_strips, valid_extremes
 from ..formats.scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
@@ -30,11 +29,11 @@ from ..missions import hrsc as hrsc_mission
 from ..missions import imars as imars_mission
 from ..missions.hrsc import MISSING_DN
 from ..missions.hrsc import base_name as hrsc_base_name
+from ..params import check_version, resolve_params, source_ids
 from .dispatch import NO_STATEMENT, ProductStatement
 from .int16_heights import Int16Encoding, areoid_adjustment, check_datum_conversion, choose_encoding
 from .opening import Opening, open_product_input, single_band
 from .options import ProductOptions
-from .params import check_version, resolve_params, source_ids
 from .result import ProductResult
 
 IMARS_INSTITUTION = imars_mission.INSTITUTION

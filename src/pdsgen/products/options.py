@@ -22,8 +22,8 @@ from typing import Any
 from ..dialect import DIALECT_NAMES, Dialect
 from ..errors import ParamsError, PdsgenError, param
 from ..missions import DEFAULT_PROFILE, Mission, ProductKind, get_mission, mission_names
+from ..params import ParamValue
 from ..storage.locations import internal
-from .params import ParamValue
 
 
 class _NotGiven:

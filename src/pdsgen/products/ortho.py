@@ -44,12 +44,12 @@ from ..geo.geometry import MapGeometry
 from ..label.render import render_label
 from ..label.values import Based, Quantity, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
+from ..params import ParamValue, check_source_id, check_version, resolve_params, source_ids
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import NO_STATEMENT, MissionWriter, ProductStatement, call_mission_writer, stating
 from .identification import choose_product_id, identification_keywords, source_id_values
 from .opening import Opening, no_valid_pixels, open_product_input
 from .options import ProductOptions
-from .params import ParamValue, check_source_id, check_version, resolve_params, source_ids
 from .result import ProductResult, pds4_name
 
 log = logging.getLogger(__name__)

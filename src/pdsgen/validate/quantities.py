@@ -1,4 +1,5 @@
-"""Numbers out of label keywords, in the units the checks compute in (km, m/pixel)."""
+"""Numbers out of label keywords, in the units the checks compute in (km, m/pixel), and the
+IMAGE objects that hold an image's size (LINES, LINE_SAMPLES)."""
 
 from __future__ import annotations
 
@@ -32,3 +33,11 @@ def metres_per_pixel(block: Block) -> float | None:
         return None
     unit = (val.unit or "KM/PIXEL").upper().replace(" ", "")
     return value * 1000.0 if unit.startswith("KM") else value
+
+
+def is_image(block: Block) -> bool:
+    """An IMAGE object (any *IMAGE) stating its size. Here, in a plain module, so that the rule
+    families and the offset fit (map_offsets.py) share it without importing one another."""
+    return block.kind == "OBJECT" and block.name.upper().endswith("IMAGE") and (
+        block.get("LINES") is not None or block.get("LINE_SAMPLES") is not None
+    )

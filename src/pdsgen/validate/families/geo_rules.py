@@ -31,11 +31,11 @@ from ..geojp2 import (
 )
 from ..model import Hit
 from ..projection import normalise, projection_radius_key
+from ..quantities import is_image
 from ..quantities import kilometres as _km
 from ..quantities import metres_per_pixel as _scale_m
 from ..quantities import number as _num
 from ..registry import Rule, register
-from .image_rules import is_image
 
 GEOTRANSFORM_TOLERANCE_PX = 1e-3
 

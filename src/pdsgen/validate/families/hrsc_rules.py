@@ -22,13 +22,13 @@ from ...label.grammar import PLACEHOLDERS
 from ...label.tree import Block, Statement
 from ...missions.hrsc import AREOID_DESC, NOT_APPLICABLE, POLAR_LIMIT_DEG, SPHERE_DESC, SPHERE_KM
 from ..context import FileContext
+from ..map_offsets import geometry
 from ..model import Hit
 from ..profiles import hrsc_kind, is_hrsc
 from ..projection import normalise
+from ..quantities import is_image
 from ..quantities import kilometres as _km
 from ..registry import Rule, register
-from .image_rules import is_image
-from .map_rules import geometry
 
 HRSC_SPHERE_KM = SPHERE_KM
 NOT_SET = NOT_APPLICABLE  # HRSC's "not applicable" number

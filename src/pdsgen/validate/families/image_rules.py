@@ -20,18 +20,13 @@ from ...label.tree import Block, Value
 from ..context import FileContext
 from ..datastats import SampleLayout, Stats, image_stats
 from ..model import Hit
+from ..quantities import is_image
 from ..registry import Rule, register
 
 _TYPES = SAMPLE_TYPES
 _EXCLUDED = SPECIAL_CONSTANTS  # values left out of the statistics
 _REQUIRED = ("LINES", "LINE_SAMPLES", "SAMPLE_TYPE", "SAMPLE_BITS")
 _STORAGE = ("BAND_SEQUENTIAL", "LINE_INTERLEAVED", "SAMPLE_INTERLEAVED")
-
-
-def is_image(block: Block) -> bool:
-    return block.kind == "OBJECT" and block.name.upper().endswith("IMAGE") and (
-        block.get("LINES") is not None or block.get("LINE_SAMPLES") is not None
-    )
 
 
 def sample_dtype(block: Block) -> np.dtype | None:

@@ -2,7 +2,7 @@
 
 A family like every other: one `Rule` per id in the registry (one severity each), checks
 that take a context and yield `Hit`s, findings made by the runner. Its context is a
-`Pds4LabelContext` (pdsgen.pds4.validate), which the runner opens for a file that is a PDS4 label
+`Pds4LabelContext` (pdsgen.validate.pds4.label_checks), which the runner opens for a file that is a PDS4 label
 (`open_label`). The PDS4 checks do not map one function to one rule: parsing, the XML
 Schema pass, Schematron and a content check each find problems of several rules at once.
 So the label is checked once, on the first rule's call, and each rule takes its own hits.
@@ -25,13 +25,13 @@ from ..model import Hit
 from ..registry import Rule, register
 
 if TYPE_CHECKING:
-    from ...pds4.validate import Pds4LabelContext
+    from ..pds4.label_checks import Pds4LabelContext
 
 
 def open_label(path: Path, labels_only: bool, schemas: tuple[str, ...], schema_cache: str | None,
                download_schemas: bool) -> Pds4LabelContext:
     """The context the PDS4 rules take (nothing is read until the first rule asks)."""
-    from ...pds4.validate import Pds4LabelContext, catalog_for
+    from ..pds4.label_checks import Pds4LabelContext, catalog_for
 
     return Pds4LabelContext(path, catalog_for(schemas, schema_cache, download_schemas), labels_only)
 
@@ -40,7 +40,7 @@ def check_schema_dirs(directories: tuple[str, ...]) -> tuple[str, ...]:
     """`--schemas` directories, refused before the run (a usage error) if one is not a directory."""
     if not directories:
         return ()
-    from ...pds4.validate import check_schema_dirs as checked
+    from ..pds4.label_checks import check_schema_dirs as checked
 
     return checked(directories)
 
@@ -63,7 +63,7 @@ def schematron_note() -> Callable[[str], list[Hit]]:
         if told:
             return []
         told.append(True)
-        from ...pds4 import schematron
+        from ..pds4 import schematron
 
         if schematron.available():
             return []
@@ -75,7 +75,7 @@ def schematron_note() -> Callable[[str], list[Hit]]:
 
 def shared_data_files() -> Callable[[str], list[Hit]]:
     """PDS4-060 across the run: the labels' data files, and which label named each first."""
-    from ...pds4.document_checks import DataFileRegister
+    from ..pds4.document_checks import DataFileRegister
 
     return DataFileRegister().add
 

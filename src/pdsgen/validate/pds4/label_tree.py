@@ -12,8 +12,8 @@ from pathlib import Path
 
 from lxml import etree
 
-from ..validate.model import Hit
-from .model import CART_NS, PDS_NS
+from ...pds4.model import CART_NS, PDS_NS
+from ..model import Hit
 
 P = f"{{{PDS_NS}}}"
 C = f"{{{CART_NS}}}"

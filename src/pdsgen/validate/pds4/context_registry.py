@@ -24,7 +24,7 @@ from functools import cache
 
 from lxml import etree
 
-from ..resources import schemas_dir
+from ...resources import schemas_dir
 from .label_tree import P, Pds4Hits
 
 CONTEXT_SUFFIXES = ("_to_target", "_to_investigation", "_to_instrument", "_to_instrument_host", "_to_other",

@@ -22,8 +22,8 @@ from dataclasses import dataclass
 
 from lxml import etree
 
+from ...pds4.model import SCHEMATRON_NS
 from .catalog import SchemaFile
-from .model import SCHEMATRON_NS
 
 _XSL = "http://www.w3.org/1999/XSL/Transform"
 _S = f"{{{SCHEMATRON_NS}}}"

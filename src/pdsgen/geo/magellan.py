@@ -16,6 +16,11 @@ follow the standard). Read with the label's radius, an F-MIDR framelet 17 degree
 the equator lands 3.5 pixels north of its label's own MINIMUM/MAXIMUM_LATITUDE; with the
 catalog's equations the bounds of FF01 (F-MIDR.20S145) agree to 0.01 px in longitude and
 0.34 px in latitude (tests/test_migrate.py).
+
+Here in geo/, beside the offset conventions it departs from, and not in missions/: it is a
+source data set's grid, no profile pdsgen writes (no Mission is registered for it), and its one
+reader is label_georef.py, which missions/ (importing geo for MapGeometry and the projection
+names) must not be imported by.
 """
 
 from __future__ import annotations

@@ -14,10 +14,10 @@ from pathlib import Path
 import numpy as np
 from lxml import etree
 
-from ..formats import checksum
-from ..formats.nodata import ISIS_SPECIAL_LIMIT  # ISIS special pixels: float32 values at or below NULL
+from ...formats import checksum
+from ...formats.nodata import ISIS_SPECIAL_LIMIT  # ISIS special pixels: float32 values at or below NULL
+from ...pds4.model import NUMPY_TYPES
 from .label_tree import P, Pds4Hits, data_path, file_areas, number
-from .model import NUMPY_TYPES
 
 _READ_BYTES = 8 * 1024 * 1024  # one read of a data file
 _SAMPLES_PER_STEP = 1 << 20  # samples whose statistics are taken at a time (8 MB of float64)

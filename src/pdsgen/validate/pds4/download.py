@@ -17,10 +17,10 @@ from pathlib import Path
 
 from lxml import etree
 
-from .. import __version__
-from ..errors import PdsgenError
-from ..formats.checksum import bytes_sha256
-from ..formats.staging import staged_file
+from ... import __version__
+from ...errors import PdsgenError
+from ...formats.checksum import bytes_sha256
+from ...formats.staging import staged_file
 
 SUMS_NAME = "SHA256SUMS"  # in the cache: "<sha256>  <name>  <url>" per downloaded schema
 TIMEOUT_SECONDS = 30

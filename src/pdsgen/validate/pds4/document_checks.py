@@ -20,7 +20,7 @@ from pathlib import Path
 
 from lxml import etree
 
-from ..validate.model import Hit
+from ..model import Hit
 from .label_tree import P, Pds4Hits
 
 _PDFA_MARK = b"pdfaid:part"

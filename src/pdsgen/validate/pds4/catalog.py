@@ -31,11 +31,11 @@ from urllib.parse import unquote, urlsplit
 
 from lxml import etree
 
-from ..errors import PdsgenError, param
-from ..formats.checksum import file_sha256
-from ..resources import schemas_dir
+from ...errors import PdsgenError, param
+from ...formats.checksum import file_sha256
+from ...pds4.model import SCHEMATRON_NS, XSI_NS
+from ...resources import schemas_dir
 from .download import SUMS_NAME, DownloadError, fetch_schema
-from .model import SCHEMATRON_NS, XSI_NS
 
 SCHEMA_SUFFIXES = (".xsd", ".sch")
 log = logging.getLogger("pdsgen.validate")

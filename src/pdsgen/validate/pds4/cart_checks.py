@@ -13,8 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 from lxml import etree
 
-from ..validate.geojp2 import Jp2Error, grid_terms, read_jp2
-from ..validate.projection import Sphere, boundary
+from ..geojp2 import Jp2Error, grid_terms, read_jp2
+from ..projection import Sphere, boundary
 from .label_tree import C, P, Pds4Hits, data_path, file_areas, number
 
 _SPHERE_NAMES = {"Equirectangular": "EQUIRECTANGULAR", "Polar Stereographic": "POLAR_STEREOGRAPHIC",

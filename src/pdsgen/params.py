@@ -14,8 +14,8 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
-from ..errors import PdsgenError, param
-from ..resources import schemas_dir
+from .errors import PdsgenError, param
+from .resources import schemas_dir
 
 ParamValue = str | list[str] | dict[str, str | int | float]
 
@@ -30,7 +30,7 @@ _IDENTIFIER_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.\-]*$")
 @cache
 def params_schema() -> dict[str, dict[str, Any]]:
     """The keyword table of schemas/params.toml."""
-    from .._compat import tomllib  # only where a TOML file is read: the parser is start-up time
+    from ._compat import tomllib  # only where a TOML file is read: the parser is start-up time
 
     with open(schemas_dir() / "params.toml", "rb") as handle:
         return tomllib.load(handle)
@@ -80,7 +80,7 @@ def load_params(path: str | os.PathLike[str] | None) -> dict[str, ParamValue]:
 
 
 def _read_toml(path: Path) -> dict[str, Any]:
-    from .._compat import tomllib
+    from ._compat import tomllib
 
     try:
         with open(path, "rb") as handle:

@@ -22,8 +22,9 @@ from pathlib import Path
 
 from lxml import etree
 
-from ..validate.model import Finding, Hit
-from ..validate.registry import rules
+from ...pds4.model import PDS_NS
+from ..model import Finding, Hit
+from ..registry import rules
 from . import schematron
 from .cart_checks import check_cartography, check_encoded_jp2
 from .catalog import SchemaCatalog, schema_references
@@ -31,7 +32,6 @@ from .context_registry import check_context_references
 from .data_checks import check_data, check_special_constants
 from .document_checks import check_file_names, check_pdf_a
 from .label_tree import P, Pds4Hits
-from .model import PDS_NS
 from .table_checks import check_members, check_object_layout, check_tables
 from .xsd import SchemaImportError, build_schema, xsd_errors
 

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from lxml import etree
 
-from ..errors import PdsgenError
+from ...errors import PdsgenError
 from .catalog import SchemaCatalog, SchemaFile
 
 _XS = "http://www.w3.org/2001/XMLSchema"
