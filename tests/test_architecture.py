@@ -600,8 +600,6 @@ TWO_WAY_PENDING = {
     frozenset({"deliver", "review"}): "label track: review reads labels through label/, not deliver/scan.py",
     frozenset({"deliver", "validate"}): "label track: deliver/scan.py opens labels with label/, not "
                                         "validate/context.py",
-    frozenset({"batch", "cli"}): "options track: batch/calls.py, child.py and manifest.py read the one option "
-                                 "declaration, not cli/",
 }
 # The one import allowed to run back up a floor (importer, imported), and why.
 BACK_UP = {
