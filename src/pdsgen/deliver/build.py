@@ -22,11 +22,11 @@ from pathlib import Path
 from ..dialect import DIALECT_NAMES, Dialect
 from ..errors import InputError, OutputError, PdsgenError, param
 from ..formats.checksum import bytes_md5, file_md5
-from ..label.tree import Block
+from ..label.read import LabelCache, LabelFile, read_pds3_label
 from ..progress import advance
 from . import bundle, layout
 from .index import IndexWriter
-from .scan import DataProduct, SourceSet, is_pds3_label, label_value, read_pds3_label, scan
+from .scan import DataProduct, SourceSet, is_pds3_label, scan
 from .volume import VolumeFacts, aareadme_text, voldesc_text
 
 log = logging.getLogger(__name__)
@@ -105,16 +105,16 @@ class _Previous:
         self.exists = manifest.is_file()
 
     @functools.cached_property
-    def _voldesc(self) -> Block | None:
+    def _voldesc(self) -> LabelFile | None:
         """The previous run's VOLDESC.CAT, read once (None when there is none)."""
         path = self.root / layout.VOLDESC
         return read_pds3_label(path) if path.is_file() else None
 
     def volume_id(self) -> str | None:
-        return label_value(self._voldesc, "VOLUME_ID") if self._voldesc is not None else None
+        return self._voldesc.first("VOLUME_ID") if self._voldesc is not None else None
 
     def volume_version(self) -> int:
-        text = label_value(self._voldesc, "VOLUME_VERSION_ID") if self._voldesc is not None else None
+        text = self._voldesc.first("VOLUME_VERSION_ID") if self._voldesc is not None else None
         number = (text or "").rsplit(" ", 1)[-1]
         return int(number) if number.isdigit() else 0
 
@@ -149,7 +149,8 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
     volume_id = _volume_id(volume_id or (previous.volume_id() if pds3 else None), pds3)
     bundle_lid = _bundle_lid(bundle_lid or (_previous_bundle_lid(previous) if pds4 else None), pds4)
     index = _IndexRows(volume_id) if pds3 else None
-    found = scan(source_dir, on_pds3=index.add if index else None)
+    labels = LabelCache()  # each label is read once for the scan, the checks and the review page
+    found = scan(source_dir, on_pds3=index.add if index else None, labels=labels)
     if found.imars:
         raise InputError(found.imars[0], "an iMars product (GeoTIFF + PVL metadata) has neither a PDS3 nor a "
                                          "PDS4 label, so no PDS volume or bundle can hold it; make the HRSC "
@@ -175,7 +176,7 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
         result = _build(found, _Tree(work), previous, source_dir, in_place, chosen, index, bundle_lid)
         from ..review import write_review  # the review page, after (and outside) the manifest
 
-        write_review(work, labels_only=True, shown_as=shown_as or str(target))
+        write_review(work, labels_only=True, shown_as=shown_as or str(target), labels=labels)
         _swap(work, target)
         log.info("delivery built in %s and moved to %s", work, target)
     except BaseException as exc:

@@ -1,7 +1,7 @@
 """What a reviewer checks in a PDS3 label, read with the label reader (pdsgen.label).
 
-The label tree is the reader's (`label.tree.Block`, read up to END by
-`deliver.scan.read_pds3_label`); the functions that need a label as a mapping
+The label is the reader's (`label.read.LabelFile`, read up to END by
+`label.read.read_pds3_label`); the functions that need a label as a mapping
 (the Extras' label georeferencing and kind decision) get a read-only view of the
 same tree, so no second reader or grammar is involved.
 """
@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..deliver.scan import label_value
+from ..label.read import LabelFile
 from ..label.tree import Block, Value
 from ..missions import LabelFacts, detect_mission
 
@@ -86,19 +86,6 @@ class LabelFactsShown:
     samples: int | None = None
 
 
-def image_block(root: Block) -> Block | None:
-    """The label's IMAGE object (at the top, or the uncompressed file's of a JP2 label)."""
-    for block in root.walk():
-        if block is not root and block.name.upper() == "IMAGE" and block.kind == "OBJECT":
-            return block
-    return None
-
-
-def projection_block(root: Block) -> Block | None:
-    return next(iter(root.find("IMAGE_MAP_PROJECTION")), None) or next(
-        iter(root.find("IMAGE_MAP_PROJECTION_CATALOG")), None)
-
-
 def _written(value: Value | None) -> str | None:
     if value is None:
         return None
@@ -106,11 +93,12 @@ def _written(value: Value | None) -> str | None:
     return f"{text} <{value.unit}>" if value.unit else text
 
 
-def read_facts(root: Block, path: Path) -> LabelFactsShown:
+def read_facts(label: LabelFile) -> LabelFactsShown:
     """The facts a reviewer checks: id, size, projection, scale, bounds, extremes, creation time,
     data set; the profile (mission) as pdsgen's mission detection names it; DTM or image."""
-    facts = LabelFactsShown(label_value(root, "PRODUCT_ID") or path.stem)
-    image = image_block(root)
+    root, path, label_value = label.root, label.path, label.first
+    facts = LabelFactsShown(label_value("PRODUCT_ID") or path.stem)
+    image = label.image()
     if image is not None:
         lines, samples = image.number("LINES"), image.number("LINE_SAMPLES")
         facts.lines = int(lines) if isinstance(lines, int) else None
@@ -119,7 +107,7 @@ def read_facts(root: Block, path: Path) -> LabelFactsShown:
             bands = image.number("BANDS")
             facts.rows.append(("lines x samples", f"{facts.lines} x {facts.samples}"
                                + (f" x {int(bands)} bands" if isinstance(bands, int) and bands > 1 else "")))
-    projection = projection_block(root)
+    projection = label.projection()
     if projection is not None:
         for keyword, what in MAP_KEYWORDS:
             written = _written(projection.value(keyword))
@@ -134,13 +122,13 @@ def read_facts(root: Block, path: Path) -> LabelFactsShown:
                 break
     for keyword, what in (("PRODUCT_CREATION_TIME", "created"), ("DATA_SET_ID", "data set"),
                           ("TARGET_NAME", "target")):
-        text = label_value(root, keyword)
+        text = label_value(keyword)
         if text is not None:
             facts.rows.append((what, text))
-    facts.target = (label_value(root, "TARGET_NAME") or "").upper() or None
+    facts.target = (label_value("TARGET_NAME") or "").upper() or None
     facts.profile = detect_mission(LabelFacts(
-        instrument_id=(label_value(root, "INSTRUMENT_ID") or "").upper(),
-        data_set_id=(label_value(root, "DATA_SET_ID") or "").upper(),
+        instrument_id=(label_value("INSTRUMENT_ID") or "").upper(),
+        data_set_id=(label_value("DATA_SET_ID") or "").upper(),
         group_names=frozenset(b.name.upper() for b in root.walk() if b is not root),
         file_name=path.name)) or "generic"
     facts.kind = _kind(root, image, path)

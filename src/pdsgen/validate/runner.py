@@ -22,6 +22,7 @@ from typing import Any
 
 from ..errors import PdsgenError
 from ..formats.sniff import file_head
+from ..label.read import LabelCache
 from ..pds4.detect import is_pds4_label
 from .config import Baseline, RuleSettings
 from .context import FileContext
@@ -159,6 +160,7 @@ class ValidationJob:
     skip_non_labels: bool = False
     schema_cache: str | None = None
     download_schemas: bool = False
+    labels: LabelCache | None = field(default=None, compare=False)  # a run's labels, read once (deliver)
 
     def __post_init__(self) -> None:
         # paths of any kind become strings (the job is sent to worker processes); None: defaults
@@ -228,7 +230,8 @@ def _open(path: Path, target: str, job: ValidationJob) -> Any:
         return pds4_rules.open_label(path, job.labels_only, job.schemas, job.schema_cache, job.download_schemas)
     if target == "imars":
         return ImarsContext(path, job.labels_only)
-    return FileContext(path, labels_only=job.labels_only, dictionaries=job.dictionaries, strict=job.strict)
+    file = job.labels.open(path) if job.labels is not None else None
+    return FileContext(path, labels_only=job.labels_only, dictionaries=job.dictionaries, strict=job.strict, file=file)
 
 
 def _severity(rule_id: str) -> str:
@@ -304,7 +307,7 @@ def iter_reports(paths: Iterable[str | os.PathLike[str]], job: ValidationJob | N
     if first is None:  # a CI job pointed at the wrong directory must not pass
         raise PdsgenError(None, "no PDS3 or PDS4 label found under " + ", ".join(os.fspath(p) for p in paths))
     files = itertools.chain([first], found)
-    deliveries = DeliveryChecks(paths, job.labels_only)  # a delivery directory is also checked whole
+    deliveries = DeliveryChecks(paths, job.labels_only, job.labels)  # a delivery directory is also checked whole
     return _with_run_checks(_with_deliveries(_stream(files, job, progress), deliveries, job), job)
 
 
