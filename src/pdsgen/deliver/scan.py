@@ -22,9 +22,8 @@ from pathlib import Path
 from ..errors import InputError
 from ..formats.sniff import file_head
 from ..label.beside import DirectoryNames, directory_listing, resolve_beside
-from ..label.pointers import parse_pointer
 from ..label.read import LabelCache, LabelFile, is_pds3_head, read_pds3_label
-from ..label.tree import Block
+from ..label.tree import Block, parse_pointer
 from ..missions.imars import is_metadata_name as is_imars_metadata
 from ..pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
 from . import layout

@@ -23,7 +23,7 @@ from ..validate.model import SEVERITIES, Finding
 from ..validate.report import FileReport
 from .footprint import Outline, OutlineBatch
 from .index_table import IndexTable
-from .labels import LabelView, read_facts
+from .labels import label_view, read_facts
 
 # The delivery checks the summary reports, by the validator's DLV rule ids.
 DELIVERY_CHECKS = (
@@ -185,7 +185,7 @@ def _fill_from_label(entry: ProductEntry, label: LabelFile, outlines: OutlineBat
     def done(outline: Outline | None, why_not: str) -> None:
         entry.outline, entry.no_outline = outline, why_not
 
-    outlines.add(LabelView(label.root), facts.lines, facts.samples, done)
+    outlines.add(label_view(label.root), facts.lines, facts.samples, done)
 
 
 def attach_findings(entries: list[ProductEntry], reports: Iterable[FileReport], linker: Linker) -> list[OtherFile]:

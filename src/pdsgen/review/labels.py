@@ -8,11 +8,12 @@ same tree, so no second reader or grammar is involved.
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ..label.mapping import BlockView, numbers_as_quantities
 from ..label.read import LabelFile
 from ..label.tree import Block, Value
 from ..missions import LabelFacts, detect_mission
@@ -29,47 +30,10 @@ MAP_KEYWORDS = (
 )
 
 
-@dataclass(frozen=True)
-class PvlQuantity:
-    """A number with its unit, as the label mappings of extras/ expect (pvl's shape)."""
-
-    value: float
-    units: str | None
-
-
-class LabelView(Mapping[str, Any]):
-    """A block of the validator's label tree as a read-only mapping: keywords to values
-    (numbers as PvlQuantity, text as str), OBJECT/GROUP names to nested views."""
-
-    def __init__(self, block: Block) -> None:
-        self._block = block
-
-    def _keys(self) -> list[str]:
-        keys = [s.keyword.upper() for s in self._block.statements() if not s.pointer]
-        return keys + [b.name.upper() for b in self._block.blocks()]
-
-    def __getitem__(self, key: str) -> Any:
-        value = self._block.value(key)
-        if value is not None:
-            return _plain(value)
-        child = next(self._block.blocks(key), None)
-        if child is None:
-            raise KeyError(key)
-        return LabelView(child)
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(dict.fromkeys(self._keys()))
-
-    def __len__(self) -> int:
-        return len(dict.fromkeys(self._keys()))
-
-
-def _plain(value: Value) -> Any:
-    if value.items is not None:
-        return [_plain(item) for item in value.items]
-    if value.is_number:
-        return PvlQuantity(float(value.number), value.unit)
-    return value.text
+def label_view(block: Block) -> Mapping[str, Any]:
+    """A block as the mapping the Extras' label georeferencing and kind decision read: every
+    number a LabelQuantity (a float, with its unit or None), text as str, a sequence a list."""
+    return BlockView(block, numbers_as_quantities())
 
 
 @dataclass
@@ -140,7 +104,7 @@ def _kind(root: Block, image: Block | None, path: Path) -> str:
     from ..extras.kind import DTM, decide_kind
 
     try:
-        decision = decide_kind(LabelView(root), LabelView(image) if image is not None else {}, {}, path,
+        decision = decide_kind(label_view(root), label_view(image) if image is not None else {}, {}, path,
                                lambda: None)
     except Exception:  # a label the decision cannot place is shown as a plain product
         return "product"

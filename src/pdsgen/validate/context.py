@@ -11,17 +11,16 @@ from functools import cached_property
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..label.pointers import REFERENCE_POINTERS, Pointer, parse_pointer
-from ..label.read import LabelFile
+from ..label.parser import LabelFile, parse_label
 from ..label.tree import Block, Label
 from .dictionary import load as load_dictionary
 
 if TYPE_CHECKING:
     from ..label.beside import DirectoryNames
+    from ..label.tree import Pointer
 
-# Pointers are classified in label/pointers.py; named here too for the rule families that take
-# them with the context.
-__all__ = ["REFERENCE_POINTERS", "FileContext", "Pointer", "parse_pointer"]
+# The label is read and parsed by the label reader (label/parser.py), never by code of validate/.
+__all__ = ["FileContext", "parse_label"]
 
 class FileContext:
     """One label file being validated, with lazy helpers the rule families share."""

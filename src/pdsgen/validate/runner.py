@@ -18,11 +18,11 @@ import sys
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..errors import PdsgenError
 from ..formats.sniff import file_head
-from ..label.read import LabelCache
+from ..label.parser import is_pds3_head
 from ..pds4.detect import is_pds4_label
 from .config import Baseline, RuleSettings
 from .context import FileContext
@@ -37,8 +37,10 @@ from .registry import rules
 from .report import FileReport, ValidationReport
 from .summary import LabelSummary
 
+if TYPE_CHECKING:
+    from ..label.read import LabelCache
+
 LABEL_SUFFIXES = (".lbl",)
-_SNIFF = (b"PDS_VERSION_ID", b"CCSD3")
 
 
 def is_label_file(path: Path) -> bool:
@@ -46,8 +48,7 @@ def is_label_file(path: Path) -> bool:
     they start with a PDS3 label."""
     if path.suffix.lower() in LABEL_SUFFIXES or is_imars_metadata(path) or is_pds4_label(path):
         return True
-    head = file_head(path, 64) or b""
-    return head.lstrip().upper().startswith(_SNIFF)
+    return is_pds3_head(file_head(path, 64) or b"")
 
 
 _SPECIAL_KINDS = ((stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),

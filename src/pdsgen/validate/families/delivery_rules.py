@@ -22,13 +22,17 @@ import re
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ...deliver import layout
-from ...label.read import LabelCache, first_statement, is_pds3_head, read_pds3_label
-from ...label.tree import Block
+from ...label.parser import is_pds3_head
+from ...label.tree import Block, first_statement
 from ...pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
 from ..model import Finding
 from ..registry import Rule, register
+
+if TYPE_CHECKING:
+    from ...label.read import LabelCache
 
 PDS_NS = "{http://pds.nasa.gov/pds4/pds/v1}"
 _FORMAT = re.compile(r"([AFIE])(\d+)(?:\.(\d+))?", re.IGNORECASE)
@@ -53,6 +57,8 @@ class _Found:
 
 def _read_pds3(path: Path, labels: LabelCache | None) -> Block | None:
     """A PDS3 label's tree, reading no further than its END line; None when it is no PDS3 label."""
+    from ...label.read import read_pds3_label  # start-up: loaded only when a delivery is checked
+
     label = read_pds3_label(path, labels)
     return label.root if label is not None else None
 

@@ -11,8 +11,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from ...label.parser import parse_label
-from ...label.pointers import Pointer
-from ...label.tree import Label
+from ...label.tree import Label, Pointer
 from ..context import FileContext
 from ..model import Hit
 from ..registry import Rule, register
