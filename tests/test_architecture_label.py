@@ -3,8 +3,7 @@
 Counted over src/pdsgen with the AST (function-level imports included): one function named
 read_pds3_label; no label mapping (a Mapping subclass) and no quantity class outside label/;
 pointers classified in label/ only; the first-bytes test of a PDS3 label written once; and
-deliver imports neither review nor validate back (deliver -> review, validate -> deliver, one
-way each)."""
+deliver, review and validate import each other one way (what all three read is archive/)."""
 
 from __future__ import annotations
 
@@ -95,6 +94,11 @@ def _folder_imports(folder: str) -> set[str]:
 
 
 def test_deliver_review_and_validate_import_one_way():
-    assert "review" in _folder_imports("deliver") and "deliver" in _folder_imports("validate")
-    assert "deliver" not in _folder_imports("review")
-    assert "validate" not in _folder_imports("deliver")
+    """deliver -> review (the page a delivery carries), review -> validate (its findings); the
+    layout's names and the grouping of files into products, which all three read, are archive/,
+    below them."""
+    deliver, review, validate = (_folder_imports(f) for f in ("deliver", "review", "validate"))
+    assert "review" in deliver and "validate" in review
+    assert "deliver" not in review and "deliver" not in validate and "validate" not in deliver
+    assert {"archive"} <= deliver & review & validate
+    assert not _folder_imports("archive") & {"deliver", "review", "validate"}

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import click
 
+from ..archive.layout import REVIEW_PAGE, publication_rank
 from ..deliver import make_delivery
 from ..deliver.build import Delivery
-from ..deliver.layout import REVIEW_PAGE, publication_rank
 from ..dialect import Dialect
 from ..storage import local_inputs, tree_area
 from . import COMMANDS

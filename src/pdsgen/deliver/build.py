@@ -19,14 +19,15 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..archive import layout
+from ..archive.scan import DataProduct, SourceSet, is_pds3_label, scan
 from ..dialect import DIALECT_NAMES, Dialect
 from ..errors import InputError, OutputError, PdsgenError, param
 from ..formats.checksum import bytes_md5, file_md5
 from ..label.read import LabelCache, LabelFile, read_pds3_label
 from ..progress import advance
-from . import bundle, layout
+from . import bundle
 from .index import IndexWriter
-from .scan import DataProduct, SourceSet, is_pds3_label, scan
 from .volume import VolumeFacts, aareadme_text, voldesc_text
 
 log = logging.getLogger(__name__)

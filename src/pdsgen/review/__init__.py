@@ -13,8 +13,8 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..deliver.layout import MANIFEST, REVIEW_PAGE
-from ..deliver.scan import scan, walk
+from ..archive.layout import MANIFEST, REVIEW_PAGE
+from ..archive.scan import scan, walk
 from ..errors import InputError, OutputError
 from ..label.read import LabelCache
 from ..validate.runner import iter_reports

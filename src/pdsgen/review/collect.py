@@ -2,7 +2,7 @@
 findings), other files' findings, and the summary.
 
 Two sources feed it: a directory reviewed whole (`pdsgen review`, `pdsgen deliver`:
-the delivery's own grouping of files into products, deliver/scan.py) and the file
+the delivery's own grouping of files into products, archive/scan.py) and the file
 reports of a validation run (`pdsgen validate --format html`: each label a product).
 """
 
@@ -15,8 +15,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from urllib.parse import quote
 
-from ..deliver import layout
-from ..deliver.scan import DataProduct, is_preview, pointed_files
+from ..archive import layout
+from ..archive.scan import DataProduct, is_preview, pointed_files
 from ..extras.renderings import DTM_RENDERINGS, ORTHO_RENDERING
 from ..label.read import LabelCache, LabelFile, read_pds3_label
 from ..validate.model import SEVERITIES, Finding

@@ -1,7 +1,7 @@
 """DLV family: a delivery (a PDS3 volume, a PDS4 bundle, its MD5 manifest) checked as a whole.
 
 `pdsgen validate DIR` recognises a delivery by the files `pdsgen deliver` writes at its
-root (deliver/layout.py: MD5SUMS.TXT, INDEX/INDEX.LBL, bundle_*.xml). These checks
+root (archive/layout.py: MD5SUMS.TXT, INDEX/INDEX.LBL, bundle_*.xml). These checks
 compare files with each other - the index table with its label and with every product
 label, inventories with the labels present, references with their targets, the manifest
 with the files - so they run once per delivery (the runner hook `DeliveryChecks`), and
@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ...deliver import layout
+from ...archive import layout
 from ...label.parser import is_pds3_head
 from ...label.tree import Block, first_statement
 from ...pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
