@@ -2,10 +2,12 @@
 
 Every reader of a PDS3 label file in pdsgen (the validator's FileContext, deliver's grouping
 of files into products, the review page, Extras, the HRSC writer's source labels, migration)
-opens it here, so they agree on how much of a file may be label (one limit, LABEL_LIMIT),
-on what a label starts with (one head test, `is_pds3_head`) and on the questions they ask
-of it: the first value of a keyword anywhere (`first`), the IMAGE object (`image`), the map
-projection object (`projection`) and the pointers (`pointers`).
+opens it as a `LabelFile` (defined in parser.py, beside the END rule, so that a product
+writer's check of its own label loads no more modules), so they agree on how much of a
+file may be label (one limit, LABEL_LIMIT), on what a label starts with (one head test,
+`is_pds3_head`) and on the questions they ask of it: the first value of a keyword anywhere
+(`first`), the IMAGE object (`image`), the map projection object (`projection`) and the
+pointers (`pointers`).
 
 `LabelCache` keeps the labels of one run (a `pdsgen deliver`), so a label that the scan,
 the validation and the review page all read is read and parsed once.
