@@ -550,7 +550,7 @@ def test_file_checks_and_their_progress_start_before_the_delivery_checks(deliver
 def test_a_pointer_to_several_files_brings_every_one_into_the_delivery(tmp_path):
     """^ASCII_DOCUMENT = {"NFREDR4.H", "NFREDR41.C"} (a Galileo Probe software label): both files
     belong to the product, as the validator reads the pointer."""
-    from pdsgen.deliver.scan import pointed_files
+    from pdsgen.archive.scan import pointed_files
     from pdsgen.label.parser import parse_label
 
     text = ('PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = STREAM\r\n^ASCII_DOCUMENT = {"NFREDR4.H", "NFREDR41.C"}\r\n'
@@ -564,7 +564,7 @@ def test_a_pointer_to_several_files_brings_every_one_into_the_delivery(tmp_path)
 def test_browse_and_collection_labels_a_delivery_makes_are_never_taken_as_products(tmp_path):
     """A delivery remakes its own Product_Browse/Collection/Bundle/Document labels, whichever of
     the two PDS4 label names they have in the source."""
-    from pdsgen.deliver.scan import is_made_by_delivery
+    from pdsgen.archive.scan import is_made_by_delivery
 
     head = ('<?xml version="1.0" encoding="UTF-8"?>\n<Product_Browse xmlns="http://pds.nasa.gov/pds4/pds/v1">\n'
             '<Identification_Area><product_class>Product_Browse</product_class></Identification_Area>\n'

@@ -200,7 +200,7 @@ def test_a_directory_of_many_products_is_listed_once_not_once_per_label(tmp_path
     """Finding the files each label names lists the products' directory once for the whole scan:
     once per label made a delivery of N products in one directory take N^2 steps (4,000 tables:
     44 s instead of 3 s)."""
-    import pdsgen.deliver.scan as scan_module
+    import pdsgen.archive.scan as scan_module
 
     listed: list[Path] = []
     real = scan_module.directory_listing

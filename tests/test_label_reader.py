@@ -11,7 +11,7 @@ from pathlib import Path
 import pvl
 import pytest
 
-from pdsgen.deliver.scan import read_pds3_label as deliver_reads
+from pdsgen.archive.scan import label_root as deliver_reads
 from pdsgen.label.beside import find_beside
 from pdsgen.label.mapping import MappedQuantity as Quantity
 from pdsgen.label.mapping import label_mapping

@@ -472,7 +472,7 @@ def test_a_large_delivery_is_reviewed_in_pages_each_product_on_exactly_one(tmp_p
     footprint's link on the first page reaches an entry on the page it names, every finding's rule
     is on some page; the delivery's manifest check takes every page as the delivery's own, and a
     review in fewer pages removes the pages it no longer has."""
-    from pdsgen.deliver.scan import scan
+    from pdsgen.archive.scan import scan
     from pdsgen.review import write_review
 
     products = tmp_path / "products"

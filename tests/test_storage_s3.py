@@ -241,7 +241,7 @@ def test_deliver_from_and_into_a_bucket_equals_the_local_delivery(s3_server, tmp
 
 
 def test_a_delivery_publishes_its_index_and_manifest_last():
-    from pdsgen.deliver.layout import publication_rank
+    from pdsgen.archive.layout import publication_rank
 
     names = ["MD5SUMS.TXT", "INDEX/INDEX.TAB", "DATA/DTM_A.IMG", "bundle_x.xml", "EXTRAS/DTM_A.browse.jpg",
              "VOLDESC.CAT", "DATA/collection_data_inventory.csv"]

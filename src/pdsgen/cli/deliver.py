@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import click
 
+from ..archive.layout import publication_rank
 from ..deliver import make_delivery
-from ..deliver.layout import publication_rank
 from ..dialect import Dialect
 from ..storage import local_inputs, tree_area
 from . import COMMANDS

@@ -1,9 +1,9 @@
 """Deliveries: a PDS3 volume (index, volume description) and/or a PDS4 bundle (collections,
 inventories, browse and document labels) around pdsgen's products, with an MD5 manifest.
 
-`make_delivery` is the API behind `pdsgen deliver`; `layout` holds the names and rules the
-validator's delivery checks read (importing it loads nothing else: the builder is loaded on
-first use)."""
+`make_delivery` is the API behind `pdsgen deliver` (the builder is loaded on first use); the
+names and rules of a delivery's layout, which the validator's delivery checks and the review
+page read too, are archive/layout.py."""
 
 from __future__ import annotations
 

@@ -18,16 +18,17 @@ import shutil
 from collections.abc import Iterator
 from pathlib import Path
 
+from ..archive import layout
+from ..archive.scan import DataProduct, SourceSet, is_pds3_label, scan
 from ..dialect import DIALECT_NAMES, Dialect
 from ..errors import InputError, OutputError, PdsgenError, param
 from ..formats.checksum import bytes_md5, file_md5
 from ..formats.staging import replace_directory
-from ..label.tree import Block
+from ..label.read import LabelCache, LabelFile, read_pds3_label
 from ..progress import advance
-from . import bundle, layout
+from . import bundle
 from .index import IndexWriter
 from .result import Delivery
-from .scan import DataProduct, SourceSet, is_pds3_label, label_value, read_pds3_label, scan
 from .volume import VolumeFacts, aareadme_text, voldesc_text
 
 log = logging.getLogger(__name__)
@@ -86,16 +87,16 @@ class _Previous:
         self.exists = manifest.is_file()
 
     @functools.cached_property
-    def _voldesc(self) -> Block | None:
+    def _voldesc(self) -> LabelFile | None:
         """The previous run's VOLDESC.CAT, read once (None when there is none)."""
         path = self.root / layout.VOLDESC
         return read_pds3_label(path) if path.is_file() else None
 
     def volume_id(self) -> str | None:
-        return label_value(self._voldesc, "VOLUME_ID") if self._voldesc is not None else None
+        return self._voldesc.first("VOLUME_ID") if self._voldesc is not None else None
 
     def volume_version(self) -> int:
-        text = label_value(self._voldesc, "VOLUME_VERSION_ID") if self._voldesc is not None else None
+        text = self._voldesc.first("VOLUME_VERSION_ID") if self._voldesc is not None else None
         number = (text or "").rsplit(" ", 1)[-1]
         return int(number) if number.isdigit() else 0
 
@@ -130,7 +131,8 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
     volume_id = _volume_id(volume_id or (previous.volume_id() if pds3 else None), pds3)
     bundle_lid = _bundle_lid(bundle_lid or (_previous_bundle_lid(previous) if pds4 else None), pds4)
     index = _IndexRows(volume_id) if pds3 else None
-    found = scan(source_dir, on_pds3=index.add if index else None)
+    labels = LabelCache()  # each label is read once for the scan, the checks and the review page
+    found = scan(source_dir, on_pds3=index.add if index else None, labels=labels)
     if found.imars:
         raise InputError(found.imars[0], "an iMars product (GeoTIFF + PVL metadata) has neither a PDS3 nor a "
                                          "PDS4 label, so no PDS volume or bundle can hold it; make the HRSC "
@@ -152,11 +154,11 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
     migrated = target.parent / f".{target.name}.migrate-{os.getpid()}"  # PDS4 labels of PDS3-only products
     try:
         if pds4:
-            _migrate_pds3_only(found, migrated, bundle_lid)
+            _migrate_pds3_only(found, migrated, bundle_lid, labels)
         result = _build(found, _Tree(work), previous, source_dir, in_place, chosen, index, bundle_lid)
         from ..review import write_review  # the review page, after (and outside) the manifest
 
-        write_review(work, labels_only=True, shown_as=shown_as or str(target))
+        write_review(work, labels_only=True, shown_as=shown_as or str(target), labels=labels)
         replace_directory(work, target)
         log.info("delivery built in %s and moved to %s", work, target)
     except BaseException as exc:
@@ -171,13 +173,13 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
     return result
 
 
-def _migrate_pds3_only(found: SourceSet, staging: Path, bundle_lid: str | None) -> None:
+def _migrate_pds3_only(found: SourceSet, staging: Path, bundle_lid: str | None, labels: LabelCache) -> None:
     """A PDS3-only product gets the PDS4 label `pdsgen migrate` writes (its files unchanged)."""
     from ..migrate import migrate_product  # on first use: a PDS3 volume never needs it
 
     for product in found.products:
         if product.pds4_label is None and product.pds3_label is not None:
-            migrated = migrate_product(product.pds3_label, staging, bundle_lid=bundle_lid, copy=False)
+            migrated = migrate_product(product.pds3_label, staging, bundle_lid=bundle_lid, copy=False, labels=labels)
             product.pds4_label = migrated.label_path
             for path in migrated.files:  # every file the PDS4 label describes travels with it
                 if path not in product.files:

@@ -10,7 +10,7 @@ from __future__ import annotations
 import textwrap
 from dataclasses import dataclass
 
-from . import layout
+from ..archive import layout
 
 
 def _todo(what: str) -> str:

@@ -34,8 +34,7 @@ from ..geo.label_georef import LabelGeorefError, label_georeferencing
 from ..label.beside import find_beside
 from ..label.grammar import FLOAT_SAMPLE_TYPES
 from ..label.mapping import label_mapping
-from ..label.parser import end_of_label, parse_label
-from ..label.read import structure_problem
+from ..label.read import LabelFile, structure_problem
 from ..missions import LabelFacts, detect_mission
 from .heights import HeightReference, height_reference, mission_datum, radius_offset_m
 from .kind import DTM, KINDS, LENGTH_UNITS, ORTHO, KindDecision, decide_kind
@@ -50,7 +49,6 @@ __all__ = ["DTM", "ORTHO", "KINDS", "ProductSource", "open_product", "quiet_gdal
 # reach rasterio as an exception we turn into one line.
 GDAL_ENV = {"GDAL_CACHEMAX": 16, "GDAL_PAM_ENABLED": "NO", "GDAL_NUM_THREADS": "1"}
 
-_LABEL_SCAN_BYTES = 4 * 1024 * 1024
 _FLOAT_TYPES = FLOAT_SAMPLE_TYPES
 # GDAL metadata items that describe a raster's content (searched for height words).
 _DESCRIPTIVE_TAGS = ("DESCRIPTION", "TIFFTAG_IMAGEDESCRIPTION", "PRODUCT_ID", "PRODUCT_TYPE")
@@ -247,27 +245,28 @@ def _check_band_count(src: ProductSource) -> None:
 
 def _find_label(path: Path) -> tuple[Path | None, dict]:
     """The product's PDS3 label (attached, the file itself, or a sibling), or none."""
-    head = _read_head(path)
-    if head.lstrip().upper().startswith((b"PDS_VERSION_ID", b"ODL_VERSION_ID")):
-        return path, _parse_label(path, head)
+    with _told_unreadable(path):
+        own = LabelFile.read_pds3(path)
+    if own is not None:
+        return path, _label_values(own)
     if path.suffix.lower() in (".img", ".jp2"):
         sibling = find_beside(path.parent, f"{path.stem}.lbl")
         if sibling is not None:
-            return sibling, _parse_label(sibling, _read_head(sibling))
+            with _told_unreadable(sibling):
+                return sibling, _label_values(LabelFile.read(sibling))
     return None, {}
 
 
-def _read_head(path: Path) -> bytes:
+@contextmanager
+def _told_unreadable(path: Path) -> Iterator[None]:
     try:
-        with open(path, "rb") as f:
-            return f.read(_LABEL_SCAN_BYTES)
+        yield
     except OSError as exc:
         raise PdsgenError(path, f"cannot read ({exc.strerror})") from None
 
 
-def _parse_label(path: Path, head: bytes) -> dict:
-    end = end_of_label(head)
-    label = parse_label((head[:end] if end is not None else head).decode("latin-1"))
+def _label_values(found: LabelFile) -> dict:
+    path, label = found.path, found.label
     broken = structure_problem(label)
     if broken is not None:
         raise PdsgenError(path, f"label cannot be parsed (line {broken.line}: {broken.message})")

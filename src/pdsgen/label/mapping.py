@@ -8,6 +8,13 @@ numbers and texts it read before: int, float, str (a quoted text's blanks and li
 collapsed to single spaces, a word broken with '-' at a line end joined), None for NULL,
 bool for TRUE/FALSE, inf/nan, datetime/date/time (UTC), a list for a sequence, a
 frozenset for a set, and `MappedQuantity(value, units)` for a value with a unit.
+
+`BlockView` is the other shape: a block read lazily as a mapping (upper-case keywords and
+OBJECT/GROUP names), its values decoded by a decoder the caller chooses with the quantity
+class it reads (as pvl's decoder model lets a caller choose): `numbers_as_quantities`
+(every number a quantity, a float; the review page's label facts and kind decision) or
+`units_as_quantities` (a number with a unit a quantity, other numbers as written; the
+georeferencing of a migrated product).
 """
 
 from __future__ import annotations
@@ -15,6 +22,8 @@ from __future__ import annotations
 import datetime as dt
 import math
 import re
+from collections.abc import Callable, Iterator, Mapping
+from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 from .tree import Block, Label, Statement, Value
@@ -25,6 +34,71 @@ class MappedQuantity(NamedTuple):
 
     value: Any
     units: str
+
+
+@dataclass(frozen=True)
+class LabelQuantity:
+    """A number with its unit (None when the label gives none), read through a BlockView."""
+
+    value: float | int
+    units: str | None
+
+
+Decoder = Callable[[Value], Any]
+
+
+class BlockView(Mapping[str, Any]):
+    """A block of the label tree as a read-only mapping: its keywords (pointers are looked up
+    by `^NAME` but are not among the keys) and OBJECT/GROUP names, upper case, to values as
+    `decode` makes them and to nested views. A keyword is found before an object of its name."""
+
+    def __init__(self, block: Block, decode: Decoder) -> None:
+        self._block = block
+        self._decode = decode
+
+    def _keys(self) -> dict[str, None]:
+        keys = [s.keyword.upper() for s in self._block.statements() if not s.pointer]
+        return dict.fromkeys(keys + [b.name.upper() for b in self._block.blocks()])
+
+    def __getitem__(self, key: str) -> Any:
+        value = self._block.value(key)
+        if value is not None:
+            return self._decode(value)
+        child = next(self._block.blocks(key), None)
+        if child is None:
+            raise KeyError(key)
+        return BlockView(child, self._decode)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._keys())
+
+    def __len__(self) -> int:
+        return len(self._keys())
+
+
+def numbers_as_quantities(quantity: Callable[[float, str | None], Any] = LabelQuantity) -> Decoder:
+    """Every number a `quantity(float, unit or None)`, a sequence a list, anything else its text."""
+
+    def decode(value: Value) -> Any:
+        if value.items is not None:
+            return [decode(item) for item in value.items]
+        if value.is_number:
+            return quantity(float(value.number), value.unit)
+        return value.text
+
+    return decode
+
+
+def units_as_quantities(quantity: Callable[[float | int, str], Any] = LabelQuantity) -> Decoder:
+    """A number with a unit a `quantity(number, unit)`, other numbers as written (int or float),
+    anything else (a sequence too) its text."""
+
+    def decode(value: Value) -> Any:
+        if value.is_number:
+            return quantity(value.number, value.unit) if value.unit else value.number
+        return value.text
+
+    return decode
 
 
 _DATE_TIME = re.compile(

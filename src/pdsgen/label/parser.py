@@ -20,11 +20,27 @@ from __future__ import annotations
 
 import os
 import re
+from dataclasses import dataclass, replace
+from functools import cached_property
 from itertools import accumulate, repeat
+from pathlib import Path
 from typing import BinaryIO
 
 from .grammar import IDENTIFIER_PATTERN
-from .tree import Block, Issue, Label, Line, Statement, Value
+from .tree import (
+    Block,
+    Issue,
+    Label,
+    Line,
+    Pointer,
+    Statement,
+    Value,
+    first_statement,
+    first_text,
+    image_object,
+    label_pointers,
+    projection_object,
+)
 
 # -- the scanner ----------------------------------------------------------------------
 
@@ -881,3 +897,100 @@ def read_on_to_end(stream: BinaryIO, data: bytes, first: int = 65536, step: int 
         if has_end(blocks[-2] + block):  # END may straddle two blocks
             break
     return b"".join(blocks)
+
+
+# -- a label file, read once ------------------------------------------------------------------
+
+FIRST_READ = 256 * 1024  # most labels (and small attached products) are read in one block
+LABEL_LIMIT = 16 * 1024 * 1024  # no real label is larger; the head of a file is read no further
+
+# What a PDS3 label file starts with: its first keyword (ODL_VERSION_ID in some PDS version 2
+# labels), or the SFDU label that wraps it; blanks before it are allowed, case is not asked.
+_PDS3_START = re.compile(rb"\s*(?:PDS_VERSION_ID|ODL_VERSION_ID|CCSD3)", re.IGNORECASE)
+
+
+
+def is_pds3_head(head: bytes) -> bool:
+    """True when a file's first bytes are those of a PDS3 label."""
+    return _PDS3_START.match(head) is not None
+
+
+@dataclass(eq=False)
+class LabelFile:
+    """One PDS3 label file (attached or detached) as read: the bytes up to its END line (and
+    the rest of the last block read), the parsed label and the file's size."""
+
+    path: Path
+    size: int
+    head: bytes
+    label: Label
+    # The file is its label alone (all of it read, nothing but blanks after END): an attached
+    # label whose data are absent. Known when read, so a kept copy may drop the bytes after END.
+    label_only: bool = False
+
+    @classmethod
+    def read(cls, path: str | os.PathLike[str]) -> LabelFile:
+        """The file's label, whatever its first bytes (the validator reports a file that is no
+        PDS3 label itself; `is_pds3` says whether it looks like one). OSError when unreadable."""
+        found = cls._read(Path(path), pds3_only=False)
+        assert found is not None
+        return found
+
+    @classmethod
+    def read_pds3(cls, path: str | os.PathLike[str]) -> LabelFile | None:
+        """The file's label, or None when its first bytes are no PDS3 label's (then nothing
+        more of the file is read). OSError when unreadable."""
+        return cls._read(Path(path), pds3_only=True)
+
+    @classmethod
+    def _read(cls, path: Path, pds3_only: bool) -> LabelFile | None:
+        with open(path, "rb") as stream:
+            size = os.fstat(stream.fileno()).st_size
+            first = stream.read(FIRST_READ)
+            if pds3_only and not is_pds3_head(first):
+                return None
+            head = read_on_to_end(stream, first, FIRST_READ, LABEL_LIMIT, LABEL_LIMIT)
+        label = parse_label(head.decode("latin-1"))
+        rest = head[label.label_end:]
+        return cls(path, size, head, label, len(head) >= size and not rest.strip(b" \r\n\x00\x1a"))
+
+    @property
+    def is_pds3(self) -> bool:
+        return is_pds3_head(self.head)
+
+    @property
+    def root(self) -> Block:
+        return self.label.root
+
+    @property
+    def end_found(self) -> bool:
+        return self.label.end_found
+
+    def first_statement(self, key: str) -> Statement | None:
+        return first_statement(self.root, key)
+
+    def first(self, key: str) -> str | None:
+        """`key`'s value as written (a string unquoted), at the top or in the first block that
+        has it as a single value; None when no block has."""
+        return first_text(self.root, key)
+
+    def image(self) -> Block | None:
+        return image_object(self.root)
+
+    def projection(self) -> Block | None:
+        return projection_object(self.root)
+
+    @cached_property
+    def pointers(self) -> list[Pointer]:
+        """The pointers of the label's top level, classified (tree.py's parse_pointer)."""
+        return label_pointers(self.root)
+
+    def at(self, path: Path) -> LabelFile:
+        """The same label as read through another name of the file (a hard link)."""
+        return self if path == self.path else replace(self, path=path)
+
+    def kept(self) -> LabelFile:
+        """This label without the bytes after its END line (what a cache holds: an attached
+        label's data are not kept in memory)."""
+        end = label_length(self.head)
+        return self if end is None or end >= len(self.head) else replace(self, head=self.head[:end])

@@ -10,77 +10,29 @@ from the same geometry code as pdsgen's own PDS4 products (`describe_geometry`,
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
-from dataclasses import dataclass
-
 from affine import Affine
 from rasterio.crs import CRS
 
 from ..errors import PdsgenError
 from ..geo.conventions import FULL_TURN, east_positive, wrap_360
 from ..geo.geometry import describe_geometry
-from ..geo.label_georef import PROJECTION_OBJECTS, LabelGeorefError, label_georeferencing
-from ..label.tree import Block, Value
+from ..geo.label_georef import LabelGeorefError, label_georeferencing
+from ..label.mapping import BlockView, units_as_quantities
+from ..label.tree import Block
 from ..pds4.label import Cartography, cartography
 from ..validate.context import FileContext
 from ..validate.map_offsets import offset_convention_shift
 from .objects import Refused
 
 
-@dataclass(frozen=True)
-class _Quantity:
-    """A number with its unit, as label_georeferencing reads label values."""
-
-    value: float | int
-    units: str | None
-
-
-class _BlockMapping(Mapping[str, object]):
-    """A label block as the mapping label_georeferencing reads (keyword -> value)."""
-
-    def __init__(self, block: Block) -> None:
-        self._block = block
-        self._keys = [s.keyword.upper() for s in block.statements() if not s.pointer]
-        self._keys += [b.name.upper() for b in block.blocks()]
-
-    def __getitem__(self, key: str) -> object:
-        child = next(self._block.blocks(key), None)
-        if child is not None:
-            return _BlockMapping(child)
-        value = self._block.value(key)
-        if value is None:
-            raise KeyError(key)
-        return _plain(value)
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(self._keys)
-
-    def __len__(self) -> int:
-        return len(self._keys)
-
-
-def _plain(value: Value) -> object:
-    if value.is_number:
-        return _Quantity(value.number, value.unit) if value.unit else value.number
-    return value.text
-
-
-def map_projection(ctx: FileContext) -> Block | None:
-    for name in PROJECTION_OBJECTS:
-        found = next(ctx.root.find(name), None)
-        if found is not None:
-            return found
-    return None
-
-
 def migrated_cartography(ctx: FileContext, lines: int, samples: int, target: str) -> Cartography | None:
     """cart: values of the label's map projection, or None when it has none."""
-    block = map_projection(ctx)
+    block = ctx.file.projection()
     if block is None:
         return None
     try:
         # The label's text too: a folded Transverse Mercator grid is unfolded from pdsgen's note.
-        placed = label_georeferencing({block.name.upper(): _BlockMapping(block)},
+        placed = label_georeferencing({block.name.upper(): BlockView(block, units_as_quantities())},
                                       ctx.head.decode("latin-1"))
     except LabelGeorefError as exc:
         raise Refused(ctx.path, f"OBJECT = {block.name}: {exc}") from None

@@ -17,9 +17,9 @@ from ..errors import InputError
 from ..label.beside import find_beside
 from ..label.grammar import FLOAT_SAMPLE_TYPES, PLACEHOLDERS
 from ..label.parser import parse_label
-from ..label.tree import Block, Statement, Value
+from ..label.tree import Block, Pointer, Statement, Value
 from ..pds4.model import pds4_data_type
-from ..validate.context import FileContext, Pointer
+from ..validate.context import FileContext
 from .mapping import (
     ASCII_TABLE_TYPES,
     BAND_STORAGE_AXES,

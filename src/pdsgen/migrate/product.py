@@ -18,6 +18,7 @@ from typing import Any
 
 from ..errors import InputError, OutputError, PdsgenError
 from ..formats.staging import staged_files
+from ..label.read import LabelCache
 from ..pds4.content import digest_file
 from ..pds4.label import render_pds4
 from ..results import CommandResult
@@ -97,7 +98,8 @@ class MigrationRun(CommandResult):
 
 def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLike[str] | None = None, *,
                     bundle_lid: str | None = None, collection: str = COLLECTION, lid: str | None = None,
-                    in_place: bool = False, overwrite: bool = False, copy: bool = True) -> MigratedProduct:
+                    in_place: bool = False, overwrite: bool = False, copy: bool = True,
+                    labels: LabelCache | None = None) -> MigratedProduct:
     """Write the PDS4 label of the PDS3 product whose label is `label_path` (attached or detached).
 
     The product's files are copied unchanged into `outdir` and the label written beside them
@@ -112,7 +114,7 @@ def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLik
         raise InputError(source, "no such file")
     if not in_place and outdir is None:
         raise OutputError(None, "give an output directory, or migrate in place")
-    ctx = _read(source)
+    ctx = _read(source, labels)
     files, image_id = describe_objects(ctx)
     pid, keyword = product_id(ctx.root, source.stem)
     ident = identification(ctx.root, check_bundle_lid(bundle_lid or default_bundle_lid(ctx.root)), collection,
@@ -161,9 +163,10 @@ def product_labels(paths: Iterable[str | os.PathLike[str]]) -> Iterator[Path]:
         yield path
 
 
-def _read(source: Path) -> FileContext:
+def _read(source: Path, labels: LabelCache | None = None) -> FileContext:
+    """The label as the validator reads it; `labels`: the run's cache (a delivery's)."""
     try:
-        ctx = FileContext(source)
+        ctx = FileContext(source, file=labels.open(source) if labels is not None else None)
     except OSError as exc:
         raise InputError(source, f"cannot be read ({exc.strerror})") from None
     if not ctx.label.end_found:

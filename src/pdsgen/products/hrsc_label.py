@@ -19,8 +19,8 @@ from ..errors import InputError, ParamsError, param
 from ..formats.img import BandStatistics
 from ..geo.geometry import MapGeometry
 from ..label.mapping import label_mapping
-from ..label.parser import label_length, parse_label, read_label_head
-from ..label.read import structure_problem
+from ..label.parser import label_length
+from ..label.read import LabelFile, structure_problem
 from ..label.values import Quantity, Symbol
 from ..missions import hrsc as hrsc_mission
 
@@ -85,7 +85,7 @@ def _read_source_label(path: Path) -> Mapping[str, Any]:
     if not path.is_file():
         raise InputError(path, "source label not found")
     try:
-        label = parse_label(read_label_head(path).decode("latin-1"))
+        label = LabelFile.read(path).label
     except OSError as exc:
         raise InputError(path, f"cannot be read ({exc.strerror})") from None
     broken = structure_problem(label)

@@ -14,10 +14,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..deliver.layout import MANIFEST, REVIEW_PAGE
-from ..deliver.scan import scan, walk
+from ..archive.layout import MANIFEST, REVIEW_PAGE
+from ..archive.scan import scan, walk
 from ..errors import InputError, OutputError
 from ..formats.staging import staged_files
+from ..label.read import LabelCache
 from ..results import CommandResult
 from ..validate.runner import iter_reports
 from .collect import review_directory
@@ -61,7 +62,8 @@ class ReviewResult(CommandResult):
 
 def write_review(directory: str | os.PathLike[str], page: str | os.PathLike[str] | None = None,
                  labels_only: bool = False, jobs: int = 1, shown_as: str | None = None,
-                 inline_thumbnails: int = INLINE_THUMBNAILS, per_page: int | None = PRODUCTS_PER_PAGE) -> ReviewResult:
+                 inline_thumbnails: int = INLINE_THUMBNAILS, per_page: int | None = PRODUCTS_PER_PAGE,
+                 labels: LabelCache | None = None) -> ReviewResult:
     """Check the products of `directory` (as `pdsgen validate` does, the delivery's index,
     inventories and manifest too) and write the review page (default DIRECTORY/REVIEW.html).
 
@@ -71,7 +73,9 @@ def write_review(directory: str | os.PathLike[str], page: str | os.PathLike[str]
     are built as their entries are scrolled near). per_page: products per page (more are reviewed in
     pages beside the first: REVIEW-2.html ...; None: one page). shown_as: the directory's name on the page (a
     delivery is reviewed before it is moved into place). The page is written under a temporary
-    name and renamed when complete; pages of an earlier, larger review are removed."""
+    name and renamed when complete; pages of an earlier, larger review are removed.
+    labels: the run's label cache (`pdsgen deliver` hands its own, so that the scan, the checks
+    and the page read each label once with the delivery's own steps)."""
     root = Path(directory)
     if not root.is_dir():
         raise InputError(root, "not a directory of products")
@@ -80,13 +84,14 @@ def write_review(directory: str | os.PathLike[str], page: str | os.PathLike[str]
         raise OutputError(target, "is a directory; give the page's file name")
     if not target.parent.is_dir():
         raise OutputError(target, "its directory does not exist")
-    found = scan(root)
+    labels = labels if labels is not None else LabelCache()  # the scan, the checks and the page share it
+    found = scan(root, labels=labels)
     if not found.products:
         raise InputError(root, "holds no data product (no PDS3 or PDS4 product label)")
-    reports = list(iter_reports([root], labels_only=labels_only, jobs=jobs))
+    reports = list(iter_reports([root], labels_only=labels_only, jobs=jobs, labels=labels))
     shown = shown_as or str(root)
     title = Path(shown).resolve().name + (" (delivery)" if (root / MANIFEST).is_file() else "")
-    review = review_directory(root, found.products, found.previews, reports, target.parent, title)
+    review = review_directory(root, found.products, found.previews, reports, target.parent, title, labels)
     review.source, review.labels_only = shown, labels_only
     for path in walk(root):
         if not _is_page_of(path, target):

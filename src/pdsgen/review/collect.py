@@ -2,7 +2,7 @@
 findings), other files' findings, and the summary.
 
 Two sources feed it: a directory reviewed whole (`pdsgen review`, `pdsgen deliver`:
-the delivery's own grouping of files into products, deliver/scan.py) and the file
+the delivery's own grouping of files into products, archive/scan.py) and the file
 reports of a validation run (`pdsgen validate --format html`: each label a product).
 """
 
@@ -15,15 +15,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from urllib.parse import quote
 
-from ..deliver import layout
-from ..deliver.scan import DataProduct, is_preview, label_value, pointed_files, read_pds3_label
+from ..archive import layout
+from ..archive.scan import DataProduct, is_preview, pointed_files
 from ..extras.renderings import DTM_RENDERINGS, ORTHO_RENDERING
-from ..label.tree import Block
+from ..label.read import LabelCache, LabelFile, read_pds3_label
 from ..validate.model import SEVERITIES, Finding
 from ..validate.report import FileReport
 from .footprint import Outline, OutlineBatch
 from .index_table import IndexTable
-from .labels import LabelView, read_facts
+from .labels import label_view, read_facts
 
 # The delivery checks the summary reports, by the validator's DLV rule ids.
 DELIVERY_CHECKS = (
@@ -158,13 +158,13 @@ def _previews(images: list[Path], linker: Linker) -> list[PreviewLink]:
 
 
 def product_entry(product_id: str, label: Path | None, files: list[Path], linker: Linker,
-                  taken: set[str], outlines: OutlineBatch) -> ProductEntry:
+                  taken: set[str], outlines: OutlineBatch, labels: LabelCache | None = None) -> ProductEntry:
     """One product's entry from its PDS3 label (facts; its outline queued in `outlines`) and
     files (sizes)."""
     entry = ProductEntry(product_id, anchor_of(product_id, taken), linker.shown(label or files[0]))
-    root = read_pds3_label(label) if label is not None else None
-    if root is not None and label is not None:
-        _fill_from_label(entry, root, label, outlines)
+    found = read_pds3_label(label, labels) if label is not None else None
+    if found is not None and label is not None:
+        _fill_from_label(entry, found, outlines)
     elif label is None:
         entry.no_outline = "a PDS4 label only (facts and outline are read from PDS3 labels)"
     for path in files:
@@ -176,16 +176,16 @@ def product_entry(product_id: str, label: Path | None, files: list[Path], linker
     return entry
 
 
-def _fill_from_label(entry: ProductEntry, root: Block, label: Path, outlines: OutlineBatch) -> None:
-    facts = read_facts(root, label)
-    entry.product_id = facts.product_id if entry.product_id == label.stem else entry.product_id
+def _fill_from_label(entry: ProductEntry, label: LabelFile, outlines: OutlineBatch) -> None:
+    facts = read_facts(label)
+    entry.product_id = facts.product_id if entry.product_id == label.path.stem else entry.product_id
     entry.kind, entry.profile, entry.target = facts.kind, facts.profile, facts.target
     entry.rows = facts.rows
 
     def done(outline: Outline | None, why_not: str) -> None:
         entry.outline, entry.no_outline = outline, why_not
 
-    outlines.add(LabelView(root), facts.lines, facts.samples, done)
+    outlines.add(label_view(label.root), facts.lines, facts.samples, done)
 
 
 def attach_findings(entries: list[ProductEntry], reports: Iterable[FileReport], linker: Linker) -> list[OtherFile]:
@@ -223,10 +223,10 @@ def delivery_checks(root: Path, findings: Iterable[Finding]) -> list[tuple[str, 
     return result
 
 
-def add_index_rows(entries: list[ProductEntry], root: Path) -> str:
+def add_index_rows(entries: list[ProductEntry], root: Path, labels: LabelCache | None = None) -> str:
     """Each product's row of INDEX/INDEX.TAB, matched by label path or PRODUCT_ID; returns the
     columns' names placed over a row (empty without an index)."""
-    table = IndexTable.read(root / layout.INDEX_DIR / layout.INDEX_LABEL)
+    table = IndexTable.read(root / layout.INDEX_DIR / layout.INDEX_LABEL, labels)
     if table is None:
         return ""
     for entry in entries:
@@ -237,19 +237,19 @@ def add_index_rows(entries: list[ProductEntry], root: Path) -> str:
 
 
 def review_directory(root: Path, products: list[DataProduct], previews: list[Path],
-                     reports: list[FileReport], page_dir: Path, title: str) -> Review:
-    """The review of a directory of products (a delivery or not)."""
+                     reports: list[FileReport], page_dir: Path, title: str, labels: LabelCache | None = None) -> Review:
+    """The review of a directory of products (a delivery or not); `labels`: the run's label cache."""
     linker = Linker(root, page_dir)
     taken: set[str] = set()
     by_id = previews_by_product(previews)
     entries = []
     outlines = OutlineBatch()
     for product in products:
-        entry = product_entry(product.product_id, product.pds3_label, product.files, linker, taken, outlines)
+        entry = product_entry(product.product_id, product.pds3_label, product.files, linker, taken, outlines, labels)
         entry.previews = _previews(by_id.get(product.product_id.upper(), []), linker)
         entries.append(entry)
     outlines.run()
-    header = add_index_rows(entries, root)
+    header = add_index_rows(entries, root, labels)
     review = Review(title, root, entries, index_header=header)
     review.others = attach_findings(entries, reports, linker)
     review.checks = delivery_checks(root, (f for r in reports for f in r.findings))
@@ -267,10 +267,10 @@ def review_reports(reports: list[FileReport], page_dir: Path, title: str) -> Rev
     extras: dict[Path, dict[str, list[Path]]] = {}  # each directory's previews, listed once
     for path in paths:
         label = read_pds3_label(path) if path.is_file() else None
-        product_id = label_value(label, "PRODUCT_ID") if label is not None else None
+        product_id = label.first("PRODUCT_ID") if label is not None else None
         if label is None or product_id is None:
             continue
-        files = [path] + [path.parent / n for n in pointed_files(label, path.parent) if path.parent / n != path]
+        files = [path] + [path.parent / n for n in pointed_files(label.root, path.parent) if path.parent / n != path]
         entry = product_entry(product_id, path, files, linker, taken, outlines)
         entry.previews = _previews(_nearby_previews(path, product_id, extras), linker)
         entries.append(entry)

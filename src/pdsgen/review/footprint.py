@@ -13,8 +13,9 @@ CRS: a delivery of 10,000 products in one projection costs one transformation.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from rasterio.crs import CRS
@@ -22,7 +23,6 @@ from rasterio.warp import transform as warp_transform
 
 from ..geo.geometry import ellipsoid_axes, geographic_crs
 from ..geo.label_georef import LabelGeorefError, label_georeferencing
-from .labels import LabelView
 
 # points per edge before simplification: enough for a sinusoidal or polar edge to curve
 EDGE_POINTS = 33
@@ -57,7 +57,7 @@ class OutlineBatch:
     def __init__(self) -> None:
         self._groups: dict[str, list[tuple[CRS, np.ndarray, np.ndarray, Callable[[Outline | None, str], None]]]] = {}
 
-    def add(self, label: LabelView, lines: int | None, samples: int | None,
+    def add(self, label: Mapping[str, Any], lines: int | None, samples: int | None,
             done: Callable[[Outline | None, str], None]) -> None:
         """Queue a product's outline; `done(outline, why_not)` is called by `run` (or now, when
         the label places no grid)."""

@@ -7,7 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..deliver.scan import read_pds3_label
+from ..label.read import LabelCache, read_pds3_label
 
 
 @dataclass
@@ -17,14 +17,12 @@ class IndexTable:
     by_id: dict[str, str]  # PRODUCT_ID (upper case) -> the row
 
     @classmethod
-    def read(cls, label_path: Path) -> IndexTable | None:
+    def read(cls, label_path: Path, labels: LabelCache | None = None) -> IndexTable | None:
         """The table, or None when there is none or it cannot be read as labelled."""
-        try:
-            root = read_pds3_label(label_path) if label_path.is_file() else None
-        except OSError:
+        label = read_pds3_label(label_path, labels) if label_path.is_file() else None
+        if label is None:
             return None
-        if root is None:
-            return None
+        root = label.root
         table = next((b for b in root.walk() if b.kind == "OBJECT" and b.name.upper().endswith("TABLE")), None)
         if table is None:
             return None

@@ -1,19 +1,20 @@
 """What a reviewer checks in a PDS3 label, read with the label reader (pdsgen.label).
 
-The label tree is the reader's (`label.tree.Block`, read up to END by
-`deliver.scan.read_pds3_label`); the functions that need a label as a mapping
+The label is the reader's (`label.read.LabelFile`, read up to END by
+`label.read.read_pds3_label`); the functions that need a label as a mapping
 (the Extras' label georeferencing and kind decision) get a read-only view of the
 same tree, so no second reader or grammar is involved.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..deliver.scan import label_value
+from ..label.mapping import BlockView, numbers_as_quantities
+from ..label.read import LabelFile
 from ..label.tree import Block, Value
 from ..missions import LabelFacts, detect_mission
 
@@ -29,47 +30,10 @@ MAP_KEYWORDS = (
 )
 
 
-@dataclass(frozen=True)
-class PvlQuantity:
-    """A number with its unit, as the label mappings of extras/ expect (pvl's shape)."""
-
-    value: float
-    units: str | None
-
-
-class LabelView(Mapping[str, Any]):
-    """A block of the validator's label tree as a read-only mapping: keywords to values
-    (numbers as PvlQuantity, text as str), OBJECT/GROUP names to nested views."""
-
-    def __init__(self, block: Block) -> None:
-        self._block = block
-
-    def _keys(self) -> list[str]:
-        keys = [s.keyword.upper() for s in self._block.statements() if not s.pointer]
-        return keys + [b.name.upper() for b in self._block.blocks()]
-
-    def __getitem__(self, key: str) -> Any:
-        value = self._block.value(key)
-        if value is not None:
-            return _plain(value)
-        child = next(self._block.blocks(key), None)
-        if child is None:
-            raise KeyError(key)
-        return LabelView(child)
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(dict.fromkeys(self._keys()))
-
-    def __len__(self) -> int:
-        return len(dict.fromkeys(self._keys()))
-
-
-def _plain(value: Value) -> Any:
-    if value.items is not None:
-        return [_plain(item) for item in value.items]
-    if value.is_number:
-        return PvlQuantity(float(value.number), value.unit)
-    return value.text
+def label_view(block: Block) -> Mapping[str, Any]:
+    """A block as the mapping the Extras' label georeferencing and kind decision read: every
+    number a LabelQuantity (a float, with its unit or None), text as str, a sequence a list."""
+    return BlockView(block, numbers_as_quantities())
 
 
 @dataclass
@@ -86,19 +50,6 @@ class LabelFactsShown:
     samples: int | None = None
 
 
-def image_block(root: Block) -> Block | None:
-    """The label's IMAGE object (at the top, or the uncompressed file's of a JP2 label)."""
-    for block in root.walk():
-        if block is not root and block.name.upper() == "IMAGE" and block.kind == "OBJECT":
-            return block
-    return None
-
-
-def projection_block(root: Block) -> Block | None:
-    return next(iter(root.find("IMAGE_MAP_PROJECTION")), None) or next(
-        iter(root.find("IMAGE_MAP_PROJECTION_CATALOG")), None)
-
-
 def _written(value: Value | None) -> str | None:
     if value is None:
         return None
@@ -106,11 +57,12 @@ def _written(value: Value | None) -> str | None:
     return f"{text} <{value.unit}>" if value.unit else text
 
 
-def read_facts(root: Block, path: Path) -> LabelFactsShown:
+def read_facts(label: LabelFile) -> LabelFactsShown:
     """The facts a reviewer checks: id, size, projection, scale, bounds, extremes, creation time,
     data set; the profile (mission) as pdsgen's mission detection names it; DTM or image."""
-    facts = LabelFactsShown(label_value(root, "PRODUCT_ID") or path.stem)
-    image = image_block(root)
+    root, path, label_value = label.root, label.path, label.first
+    facts = LabelFactsShown(label_value("PRODUCT_ID") or path.stem)
+    image = label.image()
     if image is not None:
         lines, samples = image.number("LINES"), image.number("LINE_SAMPLES")
         facts.lines = int(lines) if isinstance(lines, int) else None
@@ -119,7 +71,7 @@ def read_facts(root: Block, path: Path) -> LabelFactsShown:
             bands = image.number("BANDS")
             facts.rows.append(("lines x samples", f"{facts.lines} x {facts.samples}"
                                + (f" x {int(bands)} bands" if isinstance(bands, int) and bands > 1 else "")))
-    projection = projection_block(root)
+    projection = label.projection()
     if projection is not None:
         for keyword, what in MAP_KEYWORDS:
             written = _written(projection.value(keyword))
@@ -134,13 +86,13 @@ def read_facts(root: Block, path: Path) -> LabelFactsShown:
                 break
     for keyword, what in (("PRODUCT_CREATION_TIME", "created"), ("DATA_SET_ID", "data set"),
                           ("TARGET_NAME", "target")):
-        text = label_value(root, keyword)
+        text = label_value(keyword)
         if text is not None:
             facts.rows.append((what, text))
-    facts.target = (label_value(root, "TARGET_NAME") or "").upper() or None
+    facts.target = (label_value("TARGET_NAME") or "").upper() or None
     facts.profile = detect_mission(LabelFacts(
-        instrument_id=(label_value(root, "INSTRUMENT_ID") or "").upper(),
-        data_set_id=(label_value(root, "DATA_SET_ID") or "").upper(),
+        instrument_id=(label_value("INSTRUMENT_ID") or "").upper(),
+        data_set_id=(label_value("DATA_SET_ID") or "").upper(),
         group_names=frozenset(b.name.upper() for b in root.walk() if b is not root),
         file_name=path.name)) or "generic"
     facts.kind = _kind(root, image, path)
@@ -152,7 +104,7 @@ def _kind(root: Block, image: Block | None, path: Path) -> str:
     from ..extras.kind import DTM, decide_kind
 
     try:
-        decision = decide_kind(LabelView(root), LabelView(image) if image is not None else {}, {}, path,
+        decision = decide_kind(label_view(root), label_view(image) if image is not None else {}, {}, path,
                                lambda: None)
     except Exception:  # a label the decision cannot place is shown as a plain product
         return "product"

@@ -7,114 +7,27 @@ files are never read here (only stat'ed), so label-only validation stays fast.
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..label.parser import parse_label, read_label_head
-from ..label.tree import Block, Label, Statement, Value
+from ..label.parser import LabelFile, parse_label
+from ..label.tree import Block, Label
 from .dictionary import load as load_dictionary
 
 if TYPE_CHECKING:
     from ..label.beside import DirectoryNames
+    from ..label.tree import Pointer
 
-_FIRST_READ = 256 * 1024
-_MAX_LABEL = 16 * 1024 * 1024
-
-# Pointers that name documentation or format files kept elsewhere in an archive
-# (CATALOG/, DOCUMENT/, LABEL/), not data objects in this product.
-REFERENCE_POINTERS = frozenset(
-    {
-        "DATA_SET_MAP_PROJECTION",
-        "DATA_SET_MAP_PROJECTION_CATALOG",
-        "DESCRIPTION",
-        "STRUCTURE",
-        "CATALOG",
-        "DATA_SET_CATALOG",
-        "INSTRUMENT_CATALOG",
-        "MISSION_CATALOG",
-        "TARGET_CATALOG",
-        "SOFTWARE_CATALOG",
-        "PERSONNEL_CATALOG",
-        "REFERENCE_CATALOG",
-        "INSTRUMENT_HOST_CATALOG",
-        "SPICE_KERNEL",
-        "TEXT",
-        "LABEL",
-    }
-)
-
-
-@dataclass(slots=True)
-class Pointer:
-    """A data pointer, resolved: which file, which byte the object starts at (0-based)."""
-
-    name: str  # object name without the caret, upper case
-    statement: Statement
-    form: str  # "record", "bytes", "file", "file+record", "file+bytes", "files", "invalid"
-    file_name: str | None  # as written in the label; None for an attached object
-    record: int | None  # 1-based record number as written
-    byte: int | None  # 1-based byte number as written (<BYTES> forms)
-    file_names: tuple[str, ...] = ()  # the "files" form: each file named
-
-    @property
-    def targets(self) -> tuple[str, ...]:
-        """Every file the pointer names (none for an attached object)."""
-        return (self.file_name,) if self.file_name is not None else self.file_names
-
-    @property
-    def attached(self) -> bool:
-        return self.file_name is None and self.form != "files"
-
-    @property
-    def is_reference(self) -> bool:
-        return self.name in REFERENCE_POINTERS or self.name.endswith("_CATALOG")
-
-
-# A file name in a pointer: "quoted", bare, or 'single-quoted' (Cassini ISS and NEAR labels
-# as ISIS writes them; GDAL and pvl read all three).
-_NAME_KINDS = ("string", "ident", "symbol")
-
-
-def parse_pointer(stmt: Statement) -> Pointer:
-    """Classify a pointer value into one of the PDS3 forms (or "invalid")."""
-    val = stmt.value
-    name = stmt.keyword.upper()
-
-    def loc(v: Value) -> tuple[str, int | None, int | None]:
-        if v.kind != "int":
-            return "invalid", None, None
-        if v.unit is None:
-            return "record", int(v.number), None
-        if v.unit.upper() == "BYTES":
-            return "bytes", None, int(v.number)
-        return "invalid", None, None
-
-    if val.kind in _NAME_KINDS and val.items is None:
-        return Pointer(name, stmt, "file", val.text, None, None)
-    if val.kind == "int":
-        form, record, byte = loc(val)
-        return Pointer(name, stmt, form, None, record, byte)
-    if val.kind == "seq" and val.items and len(val.items) == 2:
-        first, second = val.items
-        if first.kind in _NAME_KINDS and first.items is None:
-            form, record, byte = loc(second)
-            if form != "invalid":
-                return Pointer(name, stmt, "file+" + form, first.text, record, byte)
-    if val.kind in ("seq", "set") and val.items and all(v.kind in _NAME_KINDS for v in val.items):
-        # several files, each holding a part (a document in a header and a source file):
-        # {"A.H", "B.C"} in the Galileo Probe archive; NASA's PDS3 label tools read a set of
-        # file names as one pointer to each
-        return Pointer(name, stmt, "files", None, None, None, tuple(v.text for v in val.items))
-    return Pointer(name, stmt, "invalid", None, None, None)
-
+# The label is read and parsed by the label reader (label/parser.py), never by code of validate/.
+__all__ = ["FileContext", "parse_label"]
 
 class FileContext:
     """One label file being validated, with lazy helpers the rule families share."""
 
     def __init__(self, path: Path, labels_only: bool = False, dictionaries: tuple[str, ...] = (),
-                 strict: bool = False) -> None:
+                 strict: bool = False, file: LabelFile | None = None) -> None:
+        """`file`: the label as read already (a run's LabelCache); else the file is read here."""
         self.path = path
         self.labels_only = labels_only
         self.dictionaries = dictionaries
@@ -123,13 +36,10 @@ class FileContext:
         # "_dict_statements"/"_dict_defined" (DICT), "_img_stats" (IMG), "_map_offsets" (MAP),
         # "_jp2" (GEO). Declared here so no family sets attributes of its own on the context.
         self.cache: dict[str, Any] = {}
-        self.size = path.stat().st_size
-        self.head = self._read_head()
-        self.label: Label = parse_label(self.head.decode("latin-1"))
-
-    def _read_head(self) -> bytes:
-        """The label bytes (and a little after): enough to find END in any real label."""
-        return read_label_head(self.path, first=_FIRST_READ, step=_MAX_LABEL, limit=_MAX_LABEL)
+        self.file = file if file is not None else LabelFile.read(path)
+        self.size = self.file.size
+        self.head = self.file.head  # the label bytes (and, unless kept by a cache, a little after)
+        self.label: Label = self.file.label
 
     @property
     def dictionary(self):
@@ -141,9 +51,9 @@ class FileContext:
     def root(self) -> Block:
         return self.label.root
 
-    @cached_property
+    @property
     def pointers(self) -> list[Pointer]:
-        return [parse_pointer(s) for s in self.root.statements() if s.pointer]
+        return self.file.pointers
 
     def data_pointers(self) -> Iterator[Pointer]:
         for ptr in self.pointers:
@@ -172,8 +82,7 @@ class FileContext:
         first = min((s for s in starts if s is not None), default=None)
         if first is None or first >= self.size:
             return True
-        rest = self.head[self.label.label_end:]
-        return len(self.head) >= self.size and not rest.strip(b" \r\n\x00\x1a")
+        return self.file.label_only
 
     @property
     def record_bytes(self) -> int | None:

@@ -18,10 +18,11 @@ import sys
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..errors import PdsgenError
 from ..formats.sniff import file_head
+from ..label.parser import is_pds3_head
 from ..pds4.detect import is_pds4_label
 from .config import Baseline, RuleSettings
 from .context import FileContext
@@ -36,8 +37,10 @@ from .registry import rules
 from .report import FileReport, ValidationReport
 from .summary import LabelSummary
 
+if TYPE_CHECKING:
+    from ..label.read import LabelCache
+
 LABEL_SUFFIXES = (".lbl",)
-_SNIFF = (b"PDS_VERSION_ID", b"CCSD3")
 
 
 def is_label_file(path: Path) -> bool:
@@ -45,8 +48,7 @@ def is_label_file(path: Path) -> bool:
     they start with a PDS3 label."""
     if path.suffix.lower() in LABEL_SUFFIXES or is_imars_metadata(path) or is_pds4_label(path):
         return True
-    head = file_head(path, 64) or b""
-    return head.lstrip().upper().startswith(_SNIFF)
+    return is_pds3_head(file_head(path, 64) or b"")
 
 
 _SPECIAL_KINDS = ((stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
@@ -159,6 +161,7 @@ class ValidationJob:
     skip_non_labels: bool = False
     schema_cache: str | None = None
     download_schemas: bool = False
+    labels: LabelCache | None = field(default=None, compare=False)  # a run's labels, read once (deliver)
 
     def __post_init__(self) -> None:
         # paths of any kind become strings (the job is sent to worker processes); None: defaults
@@ -228,7 +231,8 @@ def _open(path: Path, target: str, job: ValidationJob) -> Any:
         return pds4_rules.open_label(path, job.labels_only, job.schemas, job.schema_cache, job.download_schemas)
     if target == "imars":
         return ImarsContext(path, job.labels_only)
-    return FileContext(path, labels_only=job.labels_only, dictionaries=job.dictionaries, strict=job.strict)
+    file = job.labels.open(path) if job.labels is not None else None
+    return FileContext(path, labels_only=job.labels_only, dictionaries=job.dictionaries, strict=job.strict, file=file)
 
 
 def _severity(rule_id: str) -> str:
@@ -304,7 +308,7 @@ def iter_reports(paths: Iterable[str | os.PathLike[str]], job: ValidationJob | N
     if first is None:  # a CI job pointed at the wrong directory must not pass
         raise PdsgenError(None, "no PDS3 or PDS4 label found under " + ", ".join(os.fspath(p) for p in paths))
     files = itertools.chain([first], found)
-    deliveries = DeliveryChecks(paths, job.labels_only)  # a delivery directory is also checked whole
+    deliveries = DeliveryChecks(paths, job.labels_only, job.labels)  # a delivery directory is also checked whole
     return _with_run_checks(_with_deliveries(_stream(files, job, progress), deliveries, job), job)
 
 

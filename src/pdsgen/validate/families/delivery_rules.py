@@ -1,7 +1,7 @@
 """DLV family: a delivery (a PDS3 volume, a PDS4 bundle, its MD5 manifest) checked as a whole.
 
 `pdsgen validate DIR` recognises a delivery by the files `pdsgen deliver` writes at its
-root (deliver/layout.py: MD5SUMS.TXT, INDEX/INDEX.LBL, bundle_*.xml). These checks
+root (archive/layout.py: MD5SUMS.TXT, INDEX/INDEX.LBL, bundle_*.xml). These checks
 compare files with each other - the index table with its label and with every product
 label, inventories with the labels present, references with their targets, the manifest
 with the files - so they run once per delivery (the runner hook `DeliveryChecks`), and
@@ -22,12 +22,17 @@ import re
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from ...deliver import layout
-from ...label.tree import Block
+from ...archive import layout
+from ...label.parser import is_pds3_head
+from ...label.tree import Block, first_statement
 from ...pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
 from ..model import Finding
 from ..registry import Rule, register
+
+if TYPE_CHECKING:
+    from ...label.read import LabelCache
 
 PDS_NS = "{http://pds.nasa.gov/pds4/pds/v1}"
 _FORMAT = re.compile(r"([AFIE])(\d+)(?:\.(\d+))?", re.IGNORECASE)
@@ -50,20 +55,17 @@ class _Found:
     keyword: str | None = None
 
 
-def _read_pds3(path: Path) -> Block | None:
+def _read_pds3(path: Path, labels: LabelCache | None) -> Block | None:
     """A PDS3 label's tree, reading no further than its END line; None when it is no PDS3 label."""
     from ...label.read import read_pds3_label  # start-up: loaded only when a delivery is checked
 
-    label = read_pds3_label(path)
+    label = read_pds3_label(path, labels)
     return label.root if label is not None else None
 
 
 def _first(root: Block, keyword: str) -> tuple[str | None, int | None]:
-    for block in root.walk():
-        stmt = block.get(keyword)
-        if stmt is not None and stmt.value.items is None:
-            return stmt.value.text, stmt.line
-    return None, None
+    stmt = first_statement(root, keyword)
+    return (stmt.value.text, stmt.line) if stmt is not None else (None, None)
 
 
 def _all_files(root: Path) -> Iterator[Path]:
@@ -157,7 +159,7 @@ def _number_equal(a: str, b: str, decimals: int) -> bool:
         return False
 
 
-def _check_index(root: Path, found: list[_Found]) -> None:
+def _check_index(root: Path, found: list[_Found], labels: LabelCache | None) -> None:
     label_path = root / layout.INDEX_DIR / layout.INDEX_LABEL
     table_path = root / layout.INDEX_DIR / layout.INDEX_TABLE
     # one string per product (not a Path): memory stays small for 10,000 products
@@ -167,7 +169,7 @@ def _check_index(root: Path, found: list[_Found]) -> None:
             found.append(_Found("DLV-002", root / layout.VOLDESC,
                                 f"a PDS3 volume without {layout.INDEX_DIR}/{layout.INDEX_LABEL}"))
         return
-    label = _read_pds3(label_path)
+    label = _read_pds3(label_path, labels)
     if label is None:
         found.append(_Found("DLV-001", label_path, "not a PDS3 label"))
         return
@@ -176,7 +178,7 @@ def _check_index(root: Path, found: list[_Found]) -> None:
         return
     table_path = _table_file(label, label_path) or table_path
     row_bytes, rows = table.number("ROW_BYTES"), table.number("ROWS")
-    volume_ids = {label.text("VOLUME_ID")} | {_text_value(root / layout.VOLDESC, "VOLUME_ID")}
+    volume_ids = {label.text("VOLUME_ID")} | {_text_value(root / layout.VOLDESC, "VOLUME_ID", labels)}
     seen: dict[str, int] = {}
     count = 0
     try:
@@ -191,7 +193,7 @@ def _check_index(root: Path, found: list[_Found]) -> None:
                                                                f"CR LF, ROW_BYTES = {row_bytes}", count))
                     continue
                 values = {c.name: _field(raw, c, count, table_path, found) for c in columns}
-                _check_row(root, table_path, count, values, columns, seen, volume_ids, found)
+                _check_row(root, table_path, count, values, columns, seen, volume_ids, found, labels)
     except OSError as exc:
         found.append(_Found("DLV-001", table_path, f"cannot read the index table: {exc.strerror or exc}"))
         return
@@ -202,12 +204,12 @@ def _check_index(root: Path, found: list[_Found]) -> None:
         if key not in seen:
             found.append(_Found("DLV-002", root / name, f"this data product is not in {layout.INDEX_DIR}/"
                                                  f"{layout.INDEX_TABLE}"))
-    _check_data_sets(root, label, table_path, found)
+    _check_data_sets(root, label, table_path, found, labels)
 
 
 def _check_row(root: Path, table_path: Path, number: int, values: dict[str, str | None], columns: list[_Column],
                seen: dict[str, int], volume_ids: set[str | None],
-               found: list[_Found]) -> None:
+               found: list[_Found], labels: LabelCache | None) -> None:
     spec = values.get("FILE_SPECIFICATION_NAME")
     if spec is None:
         return
@@ -224,7 +226,7 @@ def _check_row(root: Path, table_path: Path, number: int, values: dict[str, str 
                                                    f"{seen[key]})", number))
         return
     seen[key] = number
-    product = _read_pds3(root / spec)
+    product = _read_pds3(root / spec, labels)
     if product is None:
         found.append(_Found("DLV-003", table_path, f"row {number} names {spec}, which is not a PDS3 label", number))
         return
@@ -241,10 +243,11 @@ def _check_row(root: Path, table_path: Path, number: int, values: dict[str, str 
                                                        + (f" (line {line})" if line else ""), number, column.name))
 
 
-def _check_data_sets(root: Path, index_label: Block, table_path: Path, found: list[_Found]) -> None:
+def _check_data_sets(root: Path, index_label: Block, table_path: Path, found: list[_Found],
+                     labels: LabelCache | None) -> None:
     """DATA_SET_ID of INDEX.LBL and VOLDESC.CAT name the same data sets."""
     index_sets = _set_of(index_label, "DATA_SET_ID")
-    voldesc = _read_pds3(root / layout.VOLDESC)
+    voldesc = _read_pds3(root / layout.VOLDESC, labels)
     if voldesc is None:
         return
     volume = next(voldesc.find("VOLUME"), voldesc)
@@ -259,8 +262,8 @@ def _set_of(block: Block, keyword: str) -> set[str]:
     return {v.text for v in value.scalars()} if value is not None else set()
 
 
-def _text_value(path: Path, keyword: str) -> str | None:
-    label = _read_pds3(path)
+def _text_value(path: Path, keyword: str, labels: LabelCache | None) -> str | None:
+    label = _read_pds3(path, labels)
     if label is None:
         return None
     return _first(label, keyword)[0]
@@ -274,7 +277,7 @@ def _pds3_products(root: Path) -> Iterator[Path]:
     for path in _all_files(data):
         if path.suffix.lower() in (*PDS4_LABEL_SUFFIXES, ".txt", ".csv", ".jp2", ".jpg"):
             continue
-        if path.suffix.lower() == ".lbl" or _read_head(path).lstrip().upper().startswith(b"PDS_VERSION_ID"):
+        if path.suffix.lower() == ".lbl" or is_pds3_head(_read_head(path)):
             yield path
 
 
@@ -459,12 +462,14 @@ def _check_manifest(root: Path, labels_only: bool, found: list[_Found]) -> None:
 
 # --- the runner hook ----------------------------------------------------------------------------
 
-def check_delivery(root: Path, labels_only: bool = False) -> list[Finding]:
-    """Every DLV finding for the delivery at `root` (severities as registered)."""
+def check_delivery(root: Path, labels_only: bool = False, labels: LabelCache | None = None) -> list[Finding]:
+    """Every DLV finding for the delivery at `root` (severities as registered). `labels`: the
+    run's label cache (`pdsgen deliver` reads each label once for all its steps)."""
     from ..registry import rules
 
     found: list[_Found] = []
-    for check in (_check_index, _check_placeholders, _check_bundle):
+    _check_index(root, found, labels)
+    for check in (_check_placeholders, _check_bundle):
         check(root, found)
     _check_manifest(root, labels_only, found)
     table = rules()
@@ -490,9 +495,11 @@ class DeliveryChecks:
     starts: the per-file checks (and their progress count) begin at once, and with several
     jobs the workers go on checking files while the delivery is checked here."""
 
-    def __init__(self, paths: Iterable[str | os.PathLike[str]], labels_only: bool) -> None:
+    def __init__(self, paths: Iterable[str | os.PathLike[str]], labels_only: bool,
+                 labels: LabelCache | None = None) -> None:
         self._paths = [Path(raw) for raw in paths]
         self._labels_only = labels_only
+        self._labels = labels
         self._pending: dict[str, list[Finding]] | None = None
 
     @property
@@ -501,9 +508,14 @@ class DeliveryChecks:
             self._pending = {}
             for path in self._paths:
                 for root in _deliveries(path):
-                    for finding in check_delivery(root, self._labels_only):
+                    for finding in self._check(root):
                         self._pending.setdefault(os.path.normpath(finding.file), []).append(finding)
         return self._pending
+
+    def _check(self, root: Path) -> list[Finding]:
+        if self._labels is None:  # a plain validation run: no cache to share
+            return check_delivery(root, self._labels_only)
+        return check_delivery(root, self._labels_only, self._labels)
 
     def take(self, path: str) -> list[Finding]:
         return self.pending.pop(os.path.normpath(path), [])

@@ -11,8 +11,8 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from ...label.parser import parse_label
-from ...label.tree import Label
-from ..context import FileContext, Pointer
+from ...label.tree import Label, Pointer
+from ..context import FileContext
 from ..model import Hit
 from ..registry import Rule, register
 from .file_rules import padding_bytes

@@ -14,7 +14,8 @@ import re
 from collections.abc import Iterator
 from pathlib import Path
 
-from ..context import REFERENCE_POINTERS, FileContext
+from ...label.tree import REFERENCE_POINTERS
+from ..context import FileContext
 from ..model import Hit
 from ..profiles import hrsc_orbit, is_hirise, is_hrsc
 from ..projection import normalise

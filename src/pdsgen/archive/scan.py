@@ -22,12 +22,10 @@ from pathlib import Path
 from ..errors import InputError
 from ..formats.sniff import file_head
 from ..label.beside import DirectoryNames, directory_listing, resolve_beside
-from ..label.read import is_pds3_head
-from ..label.read import read_pds3_label as read_label
-from ..label.tree import Block
+from ..label.read import LabelCache, LabelFile, is_pds3_head, read_pds3_label
+from ..label.tree import Block, parse_pointer
 from ..missions.imars import is_metadata_name as is_imars_metadata
 from ..pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
-from ..validate.context import parse_pointer
 from . import layout
 
 _PRODUCT_CLASS = re.compile(rb"<product_class>\s*(Product_\w+)\s*</product_class>")
@@ -37,22 +35,6 @@ _MADE_NAMES = {layout.VOLDESC, layout.AAREADME, layout.MANIFEST}
 _DOCUMENTS = {"README.TXT", "JP2INFO.TXT"}
 # The keywords a delivery takes from a PDS3 label: the index columns' and the volume's producer.
 KEPT_KEYWORDS = tuple(name for name, _, _ in layout.INDEX_COLUMNS[2:]) + ("PRODUCER_INSTITUTION_NAME",)
-
-
-def read_pds3_label(path: Path) -> Block | None:
-    """The label tree of a PDS3 label file (attached or detached), read up to its END line
-    (the data after an attached label is never read); None when it is no PDS3 label."""
-    label = read_label(path)
-    return label.root if label is not None else None
-
-
-def label_value(root: Block, keyword: str) -> str | None:
-    """A keyword's value as written (strings unquoted), at the root or the first block that has it."""
-    for block in root.walk():
-        value = block.value(keyword)
-        if value is not None and value.items is None:
-            return value.text
-    return None
 
 
 # Objects that name a file of the product by FILE_NAME rather than by a pointer (a HiRISE
@@ -105,6 +87,12 @@ def named_files(root: Block, directory: Path, catalog: Path | None = None,
             add(file_name, named.data)
     named.support = [path for path in named.support if path not in named.data]
     return named
+
+
+def label_root(path: Path, labels: LabelCache | None = None) -> Block | None:
+    """The label tree of a PDS3 label file; None when it is none or cannot be read."""
+    found = read_pds3_label(path, labels)
+    return found.root if found is not None else None
 
 
 def pointed_files(root: Block, directory: Path) -> list[str]:
@@ -172,11 +160,12 @@ def walk(root: Path) -> Iterator[Path]:
 LabelValues = Callable[["DataProduct", dict[str, str | None]], None]
 
 
-def scan(source: Path, on_pds3: LabelValues | None = None) -> SourceSet:
+def scan(source: Path, on_pds3: LabelValues | None = None, labels: LabelCache | None = None) -> SourceSet:
     """The products, previews, documents and other files of `source` (recursively).
 
     `on_pds3` receives each PDS3 product's label values as the label is read; nothing of the
-    label is kept here, so memory does not grow with the labels' size."""
+    label is kept here (unless in `labels`, the run's cache, for the steps after), so memory
+    does not grow with the labels' size."""
     result = SourceSet()
     pds3: list[Path] = []
     pds4: list[Path] = []
@@ -198,7 +187,7 @@ def scan(source: Path, on_pds3: LabelValues | None = None) -> SourceSet:
             pds3.append(path)
         else:
             candidates.append(path)
-    result.products = _group(pds3, pds4, on_pds3, source / layout.CATALOG_DIR)
+    result.products = _group(pds3, pds4, on_pds3, source / layout.CATALOG_DIR, labels)
     owned = {f for p in result.products for f in (*p.files, *p.support)}
     result.others = [p for p in candidates if p not in owned]
     return result
@@ -219,24 +208,30 @@ class _Pds3Label:
     named: NamedFiles
 
 
-def _read_pds3(label: Path, catalog: Path, listings: dict[Path, DirectoryNames]) -> _Pds3Label:
-    root = read_pds3_label(label)
-    if root is None:
+def _read_pds3(label: Path, catalog: Path, listings: dict[Path, DirectoryNames],
+               labels: LabelCache | None) -> _Pds3Label:
+    try:
+        found = labels.open_pds3(label) if labels is not None else LabelFile.read_pds3(label)
+    except OSError as exc:
+        raise InputError(label, f"cannot be read ({exc.strerror or exc})") from None
+    if found is None:
         raise InputError(label, "a .LBL file that is not a PDS3 label (no PDS_VERSION_ID)")
+    root = found.root
     named = named_files(root, label.parent, catalog, listings)
     # ^DESCRIPTION = "JP2INFO.TXT", README.TXT: documents, delivered as such
     named.data = [p for p in named.data if p != label and p.name.upper() not in _DOCUMENTS]
     named.support = [p for p in named.support if p != label and p.name.upper() not in _DOCUMENTS]
-    return _Pds3Label(label, label_value(root, "PRODUCT_ID") or label.stem,
-                      {name: label_value(root, name) for name in KEPT_KEYWORDS}, named)
+    return _Pds3Label(label, found.first("PRODUCT_ID") or label.stem,
+                      {name: found.first(name) for name in KEPT_KEYWORDS}, named)
 
 
-def _group(pds3: list[Path], pds4: list[Path], on_pds3: LabelValues | None, catalog: Path) -> list[DataProduct]:
+def _group(pds3: list[Path], pds4: list[Path], on_pds3: LabelValues | None, catalog: Path,
+           labels: LabelCache | None) -> list[DataProduct]:
     products: list[DataProduct] = []
     by_file: dict[Path, DataProduct] = {}
     by_stem: dict[tuple[Path, str], DataProduct] = {}
     listings: dict[Path, DirectoryNames] = {}  # each directory listed once for all the labels in it
-    read = [_read_pds3(path, catalog, listings) for path in pds3]
+    read = [_read_pds3(path, catalog, listings, labels) for path in pds3]
     # A catalog or description file another label points to (DSMAP.CAT) is that label's
     # support, even where it has a PDS3 label of its own: not a data product.
     support = {path for one in read for path in one.named.support}
