@@ -11,7 +11,7 @@ from typing import Any
 
 from ..dialect import Dialect
 from ..results import CommandResult
-from .layout import MANIFEST, REVIEW_PAGE, is_review_page
+from ..archive.layout import MANIFEST, REVIEW_PAGE, is_review_page
 
 
 @dataclass
