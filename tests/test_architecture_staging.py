@@ -1,7 +1,7 @@
-"""One home for write-then-rename (formats/staging.py), and its helpers' promises.
+"""One home for write-then-rename (storage/staging.py), and its helpers' promises.
 
 A file that appears under its final name must be complete: every module that writes one
-does so through formats/staging.py, so the temporary's clean-up on failure and on Ctrl-C
+does so through storage/staging.py, so the temporary's clean-up on failure and on Ctrl-C
 is written (and tested) once.
 """
 
@@ -14,14 +14,10 @@ from pathlib import Path
 import pytest
 
 import pdsgen
-from pdsgen.formats.staging import replace_directory, staged_file, staged_files
+from pdsgen.storage.staging import replace_directory, staged_file, staged_files
 
 SRC = Path(pdsgen.__file__).parent
-RENAMING_HOME = "formats/staging.py"
-# Renames that cannot use the home yet, each with why (the entry must still rename, so the list
-# cannot outlive the code): storage/ sits below formats/ (formats/raster.py imports storage),
-# so storage/files.py importing formats/staging.py would make the two folders import each other.
-RENAMING_ELSEWHERE = {"storage/files.py"}
+RENAMING_HOME = "storage/staging.py"
 _RENAMES = {"rename", "replace", "renames"}
 
 
@@ -59,12 +55,11 @@ def _renaming_modules() -> dict[str, list[int]]:
     return found
 
 
-def test_files_are_renamed_into_place_only_by_formats_staging():
+def test_files_are_renamed_into_place_only_by_storage_staging():
     found = _renaming_modules()
     assert RENAMING_HOME in found  # the check sees renames
     elsewhere = {module: lines for module, lines in found.items() if module != RENAMING_HOME}
-    assert set(elsewhere) <= RENAMING_ELSEWHERE, f"rename files through formats.staging: {elsewhere}"
-    assert RENAMING_ELSEWHERE <= set(elsewhere), "an excused module no longer renames: drop it from the list"
+    assert elsewhere == {}, f"rename files through storage.staging: {elsewhere}"
 
 
 def test_the_rename_check_tells_paths_from_text():

@@ -14,10 +14,10 @@ from typing import Any
 
 from .extras import make_extras
 from .formats.jp2 import require_openjpeg
-from .formats.staging import prepare_output_dir
 from .products.dtm import DtmProduct, write_dtm
 from .products.ortho import OrthoProduct, write_ortho
 from .results import CommandResult, files_json
+from .storage.staging import prepare_output_dir
 from .synthetic import make_scene, write_geotiff
 from .validate import validate_paths
 from .validate.report import ValidationReport

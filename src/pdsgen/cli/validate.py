@@ -78,7 +78,7 @@ def _output(path: str | None):
     if not path:
         yield sys.stdout
         return
-    from ..formats.staging import staged_file  # only for a report file: not on every validate's start-up
+    from ..storage.staging import staged_file  # only for a report file: not on every validate's start-up
 
     target = Path(path)
     with staged_file(target, target.with_name(f".{target.name}.partial")) as tmp:

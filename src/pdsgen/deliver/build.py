@@ -23,9 +23,9 @@ from ..archive.scan import DataProduct, SourceSet, is_pds3_label, scan
 from ..dialect import DIALECT_NAMES, Dialect
 from ..errors import InputError, OutputError, PdsgenError, param
 from ..formats.checksum import bytes_md5, file_md5
-from ..formats.staging import replace_directory
 from ..label.read import LabelCache, LabelFile, read_pds3_label
 from ..progress import advance
+from ..storage.staging import replace_directory
 from . import bundle
 from .index import IndexWriter
 from .result import Delivery

@@ -21,10 +21,10 @@ from pathlib import Path
 from PIL import Image
 
 from ..errors import ParamsError, PdsgenError, param
-from ..formats.staging import StagedOutputs, prepare_output_dir, publishes_together
 from ..geo.conventions import wrap_360
 from ..params import ParamValue, resolve_params
 from ..progress import advance, is_large
+from ..storage.staging import StagedOutputs, prepare_output_dir, publishes_together
 from .credit import product_credit
 from .kind import NOMAP
 from .nomap import make_nomap_extras

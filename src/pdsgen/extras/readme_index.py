@@ -23,7 +23,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from ..errors import PdsgenError
-from ..formats.staging import StagedOutputs, on_rollback
+from ..storage.staging import StagedOutputs, on_rollback
 from .readme_txt import (
     DIRECTORY_FIELDS,
     ENTRY_FIELDS,

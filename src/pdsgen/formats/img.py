@@ -25,9 +25,9 @@ from ..label.grammar import ISIS_NULL_BITS
 from ..label.render import RecordLayout, pad_label, settle_attached_label
 from ..label.values import shortest_float32
 from ..progress import advance, is_large
+from ..storage.staging import InterruptSafeExecutor
 from .nodata import invalid_mask, nodata_sample, valid_samples
 from .raster import row_strips
-from .staging import InterruptSafeExecutor
 
 # ISIS special pixels (NULL, LRS, LIS, HIS, HRS) are the five most negative float32
 # values; NULL (16#FF7FFFFB#) is the one PDS DTMs use as MISSING_CONSTANT.

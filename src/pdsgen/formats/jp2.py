@@ -38,7 +38,7 @@ import numpy as np
 
 from ..errors import PdsgenError
 from ..progress import advance, is_large
-from .staging import InterruptSafeExecutor
+from ..storage.staging import InterruptSafeExecutor
 
 TILE_SIZE = 512  # an OpenJPEG tile encoder needs ~17 bytes per tile pixel; 512 keeps memory low
 CODE_BLOCK = (64, 64)

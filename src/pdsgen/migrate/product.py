@@ -17,11 +17,11 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, OutputError, PdsgenError
-from ..formats.staging import staged_files
 from ..label.read import LabelCache
 from ..pds4.content import digest_file
 from ..pds4.label import render_pds4
 from ..results import CommandResult
+from ..storage.staging import staged_files
 from ..validate.context import FileContext
 from .geometry import migrated_cartography
 from .identity import (

@@ -32,7 +32,6 @@ from ..dialect import Dialect
 from ..errors import ParamsError, PdsgenError, param
 from ..formats.img import BandStatistics, stream_band, write_attached_product
 from ..formats.scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
-from ..formats.staging import StagedOutputs
 from ..formats.vicar import vicar_label
 from ..geo.geometry import POLAR_STEREOGRAPHIC, SINUSOIDAL, MapGeometry
 from ..label.grammar import sample_type
@@ -44,6 +43,7 @@ from ..missions.hrsc import base_name as hrsc_base_name
 from ..params import ParamValue, check_version, resolve_params, source_ids
 from ..pds4.model import DATA_TYPES
 from ..pds4.products import FileHeader, ProductDescription, StoredArray, pds3_label_header, write_image_pds4_label
+from ..storage.staging import StagedOutputs
 from .agreement import allows_deviations, check_label
 from .dispatch import NO_STATEMENT, ProductStatement
 from .hrsc_label import (

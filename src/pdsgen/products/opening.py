@@ -21,8 +21,8 @@ from rasterio.io import DatasetReader
 from ..errors import PdsgenError
 from ..formats.img import Adjust, BandStatistics, scan_band
 from ..formats.raster import open_raster, require_single_band
-from ..formats.staging import StagedOutputs, prepare_output_dir
 from ..geo.geometry import MapGeometry, describe_geometry
+from ..storage.staging import StagedOutputs, prepare_output_dir
 
 # The hooks: check the opened file; the grid the writer reads from it; that grid's geometry.
 Check = Callable[[DatasetReader, Path], None]

@@ -39,12 +39,12 @@ from ..formats.scale_dn import (
     to_dns,
     valid_range,
 )
-from ..formats.staging import InterruptSafeExecutor
 from ..geo.geometry import MapGeometry
 from ..label.render import render_label
 from ..label.values import Based, Quantity, Symbol
 from ..missions import Mission, ProductIdRequest, get_mission
 from ..params import ParamValue, check_source_id, check_version, resolve_params, source_ids
+from ..storage.staging import InterruptSafeExecutor
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import NO_STATEMENT, MissionWriter, ProductStatement, call_mission_writer, stating
 from .identification import choose_product_id, identification_keywords, source_id_values

@@ -17,9 +17,9 @@ from typing import Any
 from ..archive.layout import MANIFEST, REVIEW_PAGE
 from ..archive.scan import scan, walk
 from ..errors import InputError, OutputError
-from ..formats.staging import staged_files
 from ..label.read import LabelCache
 from ..results import CommandResult
+from ..storage.staging import staged_files
 from ..validate.runner import iter_reports
 from .collect import review_directory
 from .page import INLINE_THUMBNAILS, PRODUCTS_PER_PAGE, HtmlWriter, render_pages

@@ -1,7 +1,7 @@
 """A command's boundary with object storage: inputs in, complete products out.
 
 An object store has no rename, so a product cannot appear there "all at once" the way
-formats/staging.py makes it appear on disk. Instead the writer works in a local staging
+storage/staging.py makes it appear on disk. Instead the writer works in a local staging
 directory exactly as it would in a real OUTDIR, and only when it has finished without an
 error are its files uploaded; if anything fails before or during the upload, the objects
 already uploaded are deleted again and nothing else is left in the bucket.
@@ -29,7 +29,7 @@ from . import objects
 from .locations import S3Location, display, internal, is_s3
 
 log = logging.getLogger(__name__)
-# Temporaries of formats/staging.py (".NAME.PID.part") and other hidden work files never leave the staging area.
+# Temporaries of storage/staging.py (".NAME.PID.part") and other hidden work files never leave the staging area.
 _HIDDEN = "."
 
 

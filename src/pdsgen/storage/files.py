@@ -13,6 +13,7 @@ from pathlib import Path
 
 from . import objects
 from .locations import S3Location, is_s3
+from .staging import staged_file
 
 
 def read_text(path: str | os.PathLike[str]) -> str | None:
@@ -33,9 +34,8 @@ def write_text_whole(path: str | os.PathLike[str], text: str) -> None:
         return
     local = Path(path)
     local.parent.mkdir(parents=True, exist_ok=True)
-    temporary = local.with_name(f".{local.name}.{os.getpid()}.part")
-    temporary.write_text(text, encoding="utf-8")
-    os.replace(temporary, local)
+    with staged_file(local) as temporary:
+        temporary.write_text(text, encoding="utf-8")
 
 
 def remove(path: str | os.PathLike[str]) -> None:

@@ -221,7 +221,7 @@ def write_baseline(path: str | os.PathLike[str], findings: Iterable[Finding]) ->
     counts = Counter(fingerprint(f) for f in findings)
     entries = [dict(zip(("file", "rule", "keyword", "message"), key.split("\x1f"), strict=True), count=n)
                for key, n in sorted(counts.items())]
-    from ..formats.staging import staged_file  # only when a baseline is written
+    from ..storage.staging import staged_file  # only when a baseline is written
 
     target = Path(path)
     try:

@@ -20,7 +20,7 @@ from lxml import etree
 from ... import __version__
 from ...errors import PdsgenError
 from ...formats.checksum import bytes_sha256
-from ...formats.staging import staged_file
+from ...storage.staging import staged_file
 
 SUMS_NAME = "SHA256SUMS"  # in the cache: "<sha256>  <name>  <url>" per downloaded schema
 TIMEOUT_SECONDS = 30
