@@ -91,6 +91,8 @@ def test_numpy_blas_threads_default_to_one_and_a_users_setting_wins():
 # command line -> (most pdsgen modules, most modules in all, modules it must not import).
 # Measured when set (pdsgen modules / all): --version 6/114, --help 6/121, a 64 x 64
 # DTM conversion 47/393, validate of one .IMG 48/381 (Python 3.11, numpy 2, rasterio 1.4).
+# The DTM path grew from 52 to 54 on purpose (issue 42): pdsgen.results (the one result
+# protocol every command returns) and pdsgen.products.opening (the writers' shared opening steps).
 VALIDATOR_BEYOND_DICTIONARY = {"pdsgen.validate.runner", "pdsgen.validate.report", "pdsgen.validate.config",
                                "pdsgen.validate.families.map_rules", "pdsgen.validate.families.geo_rules",
                                "pdsgen.validate.families.image_rules", "pdsgen.validate.families.set_rules"}
@@ -98,7 +100,7 @@ LIBRARIES = {"numpy", "rasterio", "glymur", "jinja2", "lxml.etree", "pvl", "dist
 BUDGETS = {
     "--version": (8, 135, LIBRARIES | {"pdsgen.validate"}),
     "--help": (8, 140, LIBRARIES | {"pdsgen.validate"}),
-    "dtm {dtm} -o {out} -q": (53, 430, {"pdsgen.pds4.products", "lxml.etree", "glymur", "pvl", "distributed"}
+    "dtm {dtm} -o {out} -q": (54, 430, {"pdsgen.pds4.products", "lxml.etree", "glymur", "pvl", "distributed"}
                               | VALIDATOR_BEYOND_DICTIONARY),
     "validate {out}/DTM.IMG -q": (56, 430, {"jinja2", "glymur", "pdsgen.products.dtm", "distributed"}),
 }
