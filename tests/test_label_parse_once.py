@@ -73,3 +73,20 @@ def test_each_label_is_parsed_once_in_one_deliver_run(products, tmp_path, monkey
         texts = [text for text in parsed if text.lstrip().startswith("PDS_VERSION_ID") and own.search(text)]
         assert texts, product_id
         assert sum(parsed[text] for text in texts) == 1, product_id
+
+
+def test_the_cache_keeps_labels_only_up_to_its_bound(tmp_path):
+    """Memory stays bounded whatever the number of labels: past the bound a label is read again
+    by each step that asks, and what was kept is still read once."""
+    from pdsgen.label.read import LabelCache
+
+    text = "PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = STREAM\r\nEND\r\n"
+    paths = []
+    for n in range(3):
+        paths.append(tmp_path / f"L{n}.LBL")
+        paths[-1].write_text(text)
+    cache = LabelCache(text_bytes=2 * len(text))  # room for two labels' text
+    for _ in range(2):
+        for path in paths:
+            assert cache.open_pds3(path) is not None
+    assert cache.parses == {paths[0]: 1, paths[1]: 1, paths[2]: 2}
