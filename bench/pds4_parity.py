@@ -25,13 +25,16 @@ are set aside. NASA's options map onto pdsgen's configuration:
 Not comparable, and counted apart with the reason: runs configured by files pdsgen does
 not read (-c, -M, --target-manifest, --alternate_file_paths, -e with real patterns),
 --skip-product-validation runs, integrity runs whose directory holds other bundle or
-collection labels than the one named (NASA checks that one, pdsgen the directory), runs on a
+collection labels than the one named (NASA checks that one, pdsgen the directory; other
+versions of the same LID are no such rivals: NASA skips them as not the latest version, and
+pdsgen checks each version against its own members), runs on a
 directory where pdsgen finds labels by content that NASA's extension filter leaves out
 (.lblx, PDS3 .lbl: a different input, not a different verdict; NASA's no_products_found
 on a directory of .lblx labels is one of these), cases whose data files are absent from
 the checkout (--absent lists them, one path per line relative to the checkout), and cases
 where a schema a label names was not found (PDS4-002: the verdict would be on a partial
-check). Findings on files NASA's run does not look at are set aside. Each comparable case
+check). Findings on files NASA's run does not look at are set aside, the bundle and
+collection versions an integrity run skips included (_superseded). Each comparable case
 is run a second time from another working directory (unless --no-cwd-check) and must give
 the same findings.
 """
@@ -229,26 +232,91 @@ def _found_beyond(given: list[Path], scope: list[Path], discover: Callable[[list
     return ", ".join(sorted(beyond))
 
 
-def _in_nasa_run(case: Case, rule: str, file: str, checked: set[str]) -> bool:
+def _in_nasa_run(case: Case, rule: str, file: str, checked: set[str], skipped: frozenset[Path] = frozenset()) -> bool:
     """Whether a finding is on what NASA's run checks: the labels it selects (not, say, the
     PDS3 labels pdsgen also finds in a directory), the run as a whole, and in integrity runs
-    the delivery checks' findings on any file of the directory."""
+    the delivery checks' findings on any file of the directory but the bundle and collection
+    versions the run skips (a superseded version's own members are not looked at)."""
     if rule.startswith("DLV-"):
-        return case.integrity
+        return case.integrity and not (file and Path(file).resolve() in skipped)
     return not file or rule == "USAGE" or os.path.normpath(Path(file).resolve()) in checked
 
 
 def _rivals(case: Case) -> bool:
     """Whether an integrity run's directory holds another label of the kind named (a second
-    bundle, or another collection), which pdsgen would check with it."""
+    bundle, or another collection), which pdsgen would check with it. Other versions of the
+    one named are no rivals: NASA skips them (_superseded) and pdsgen checks each version
+    against its own members."""
     for target in case.targets:
         if target.is_file():
-            kind = _product_class(target)
-            if any(_product_class(p) == kind for p in target.parent.rglob(_pattern(case)) if p != target):
+            named = _aggregate(target)
+            if named is None:
+                continue
+            others = (_aggregate(p) for p in target.parent.rglob(_pattern(case)) if p != target)
+            if any(other is not None and other.kind == named.kind and other.lid != named.lid for other in others):
                 return True
-        elif sum(_product_class(p) == b"Bundle" for p in target.glob(_pattern(case))) > 1:
+        elif len({a.lid for a in map(_aggregate, target.glob(_pattern(case))) if a and a.kind == "Bundle"}) > 1:
             return True
     return False
+
+
+@dataclass
+class _Aggregate:
+    """A bundle or collection label as NASA's integrity run selects among versions."""
+    path: Path
+    kind: str  # Bundle or Collection
+    lid: str
+    version: str
+    members: list[str]  # a bundle's Bundle_Member_Entry references (LIDVID or LID)
+
+    @property
+    def order(self) -> tuple[int, ...]:
+        return tuple(int(n) for n in re.findall(r"\d+", self.version))
+
+
+def _aggregate(path: Path) -> _Aggregate | None:
+    """The identity of a bundle or collection label; None for any other file."""
+    from lxml import etree
+
+    kind = _product_class(path)
+    if kind is None:
+        return None
+    ns = "{http://pds.nasa.gov/pds4/pds/v1}"
+    try:
+        root = etree.parse(str(path), etree.XMLParser(no_network=True, resolve_entities=False)).getroot()
+    except (OSError, etree.XMLSyntaxError):
+        return None
+    lid = (root.findtext(f"{ns}Identification_Area/{ns}logical_identifier") or "").strip()
+    version = (root.findtext(f"{ns}Identification_Area/{ns}version_id") or "").strip()
+    members = [(e.text or "").strip() for tag in ("lidvid_reference", "lid_reference")
+               for e in root.iterfind(f"{ns}Bundle_Member_Entry/{ns}{tag}")]
+    return _Aggregate(path.resolve(), kind.decode(), lid, version, members)
+
+
+def _superseded(case: Case, scope: list[Path]) -> set[Path]:
+    """Bundle and collection labels an integrity run skips as 'not latest version'
+    (AggregateManager @ df054fd: of the bundle labels, the one named or else the latest
+    version; of each collection LID, the one named, else the version that bundle lists, else
+    the latest). pdsgen checks every version, each against its own members; findings on the
+    labels NASA skips are set aside like those on any file its run does not look at."""
+    if not case.integrity:
+        return set()
+    named = {t.resolve() for t in case.targets if t.is_file()}
+    groups: dict[tuple[str, str], list[_Aggregate]] = {}
+    for aggregate in filter(None, map(_aggregate, scope)):
+        groups.setdefault((aggregate.kind, aggregate.lid if aggregate.kind == "Collection" else ""),
+                          []).append(aggregate)
+    bundles = groups.get(("Bundle", ""), [])
+    bundle = next((b for b in bundles if b.path in named), None) or max(bundles, key=lambda b: b.order, default=None)
+    listed = set(bundle.members) if bundle is not None else set()
+    skipped: set[Path] = set()
+    for (kind, lid), versions in groups.items():
+        keep = (next((v for v in versions if v.path in named), None)
+                or next((v for v in versions if kind == "Bundle" and v is bundle), None)
+                or next((v for v in versions if f"{lid}::{v.version}" in listed), None)
+                or max(versions, key=lambda v: v.order))
+        skipped |= {v.path for v in versions if v is not keep}
+    return skipped
 
 
 def _product_class(path: Path) -> bytes | None:
@@ -300,7 +368,8 @@ def run_case(case: Case, extra_schemas: list[str], absent: set[Path], cwd_check:
     if case.integrity and _rivals(case):
         return Outcome(case, "not-comparable", "other bundle/collection labels beside the one named (NASA "
                                                "checks the one named, pdsgen the directory)")
-    checked = {os.path.normpath(p.resolve()) for p in scope}
+    skipped = _superseded(case, scope)
+    checked = {os.path.normpath(p.resolve()) for p in scope if p.resolve() not in skipped}
     settings = RuleSettings(severity=LENIENT_MEMBERSHIP if case.lenient_membership else {},
                         ignore=frozenset({"PDS4-063"} if case.skip_context else set()))
     runs = []
@@ -310,7 +379,7 @@ def run_case(case: Case, extra_schemas: list[str], absent: set[Path], cwd_check:
         try:
             report = validate_paths(given, labels_only=case.labels_only, schemas=schemas, settings=settings)
             findings = [(f.rule, f.severity, f.file, f.line, f.message) for f in report.findings
-                        if _in_nasa_run(case, f.rule, f.file, checked)]
+                        if _in_nasa_run(case, f.rule, f.file, checked, frozenset(skipped))]
         except PdsgenError as exc:
             findings = [("USAGE", "error", "", None, str(exc))]
         except Exception:  # noqa: BLE001 - a crash is what the harness must count, not stop on

@@ -60,3 +60,44 @@ def test_harness_without_a_checkout_says_so(tmp_path):
     result = subprocess.run([sys.executable, str(HARNESS), str(tmp_path)], capture_output=True, text=True,
                             timeout=120)
     assert result.returncode == 2 and "give a checkout of NASA-PDS/validate" in result.stderr
+
+
+def _aggregate_label(kind: str, lid: str, version: str, members: tuple[str, ...] = ()) -> str:
+    entries = "".join(f"<Bundle_Member_Entry><lidvid_reference>{m}</lidvid_reference>"
+                      "<member_status>Primary</member_status></Bundle_Member_Entry>" for m in members)
+    return (f'<Product_{kind} xmlns="http://pds.nasa.gov/pds4/pds/v1"><Identification_Area>'
+            f"<logical_identifier>{lid}</logical_identifier><version_id>{version}</version_id>"
+            f"</Identification_Area>{entries}</Product_{kind}>")
+
+
+def test_versions_of_the_bundle_named_are_what_nasa_skips_not_rivals(tmp_path):
+    """NASA's integrity run on a directory keeping a bundle's release history (suite case
+    github597) checks the latest bundle version and the collection version it lists, and skips
+    the others as 'not latest version': no rivals, and their own findings are set aside."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("pds4_parity", HARNESS)
+    assert spec is not None and spec.loader is not None
+    harness = importlib.util.module_from_spec(spec)
+    sys.modules["pds4_parity"] = harness  # dataclasses look their module up
+    spec.loader.exec_module(harness)
+    lid = "urn:nasa:pds:history"
+    (tmp_path / "data").mkdir()
+    labels = {
+        "bundle_v001.xml": _aggregate_label("Bundle", lid, "1.0", (f"{lid}:data::1.0",)),
+        "bundle_v010.xml": _aggregate_label("Bundle", lid, "10.0", (f"{lid}:data::2.0",)),
+        "bundle_v002.xml": _aggregate_label("Bundle", lid, "2.0", (f"{lid}:data::2.0",)),
+        "data/collection_v001.xml": _aggregate_label("Collection", f"{lid}:data", "1.0"),
+        "data/collection_v002.xml": _aggregate_label("Collection", f"{lid}:data", "2.0"),
+        "data/collection_v003.xml": _aggregate_label("Collection", f"{lid}:data", "3.0"),
+    }
+    for name, text in labels.items():
+        (tmp_path / name).write_text(text)
+    case = harness._parse(harness.Case("597-1", "f", tmp_path, ["-R", "pds4.bundle", "-t", str(tmp_path)], {}))
+    assert not harness._rivals(case)
+    skipped = harness._superseded(case, harness._scope(case, harness.pdsgen_paths(case)))
+    # bundle 10.0 is the latest (10 after 2), and names collection 2.0 (not the highest version)
+    assert sorted(p.relative_to(tmp_path).as_posix() for p in skipped) == [
+        "bundle_v001.xml", "bundle_v002.xml", "data/collection_v001.xml", "data/collection_v003.xml"]
+    (tmp_path / "bundle_other.xml").write_text(_aggregate_label("Bundle", "urn:nasa:pds:other", "1.0"))
+    assert harness._rivals(case)  # another bundle's label: NASA checks one, pdsgen both

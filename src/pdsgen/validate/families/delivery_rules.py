@@ -368,17 +368,19 @@ def _check_bundle(root: Path, found: list[_Found]) -> None:
                                                        f"{other.path.relative_to(root)}"))
         by_lidvid.setdefault(label.lidvid, label)
         by_lid.setdefault(label.lid, []).append(label)
-    bundle = bundles[0]
+    versions = _versions([b for b in bundles if b.lid == bundles[0].lid])  # a bundle may keep its release history
+    bundle = versions[-1]
     collections = [label for label in labels if label.product_class == "Product_Collection"]
-    listed = {ref for ref, _, _ in bundle.members}
-    for collection in collections:
+    listed = {ref for version in versions for ref, _, _ in version.members}
+    for collection in collections:  # a collection version belongs to the bundle versions that list it
         if collection.lidvid not in listed and collection.lid not in listed:
-            found.append(_Found("DLV-015", bundle.path, f"the bundle does not list collection {collection.lidvid} "
+            found.append(_Found("DLV-015", bundle.path, f"{_which_bundle(versions)} collection {collection.lidvid} "
                                                         f"({collection.path.relative_to(root)})"))
-    for ref, status, line in bundle.members:  # a secondary member is another bundle's: not looked for
-        if status.lower() == "primary" and ref not in by_lidvid and ref not in by_lid:
-            found.append(_Found("DLV-015", bundle.path, f"primary member {ref} is no collection of this delivery",
-                                line))
+    for version in versions:  # each version against its own members
+        for ref, status, line in version.members:  # a secondary member is another bundle's: not looked for
+            if status.lower() == "primary" and ref not in by_lidvid and ref not in by_lid:
+                found.append(_Found("DLV-015", version.path, f"primary member {ref} is no collection of this "
+                                                             "delivery", line))
     owned = bundle.lid + ":"
     for label in labels:
         for ref, line in label.references:
@@ -386,21 +388,65 @@ def _check_bundle(root: Path, found: list[_Found]) -> None:
                 found.append(_Found("DLV-014", label.path, f"{ref} is no product of this delivery (one "
                                                            "delivered apart, or a mistyped LID)", line))
     members: dict[str, Path] = {}
+    listed_by_lid: dict[str, set[str] | None] = {}
     for collection in collections:
-        _check_inventory(root, collection, labels, by_lidvid, by_lid, members, found)
+        inventoried = _check_inventory(root, collection, by_lidvid, members, found)
+        known = listed_by_lid.get(collection.lid, set())
+        listed_by_lid[collection.lid] = None if inventoried is None or known is None else known | inventoried
+    for lid, listed_in_any in listed_by_lid.items():
+        if listed_in_any is not None:
+            _check_unlisted(_versions([c for c in collections if c.lid == lid]), listed_in_any, labels, found)
 
 
-def _check_inventory(root: Path, collection: _Pds4Label, labels: list[_Pds4Label],
-                     by_lidvid: dict[str, _Pds4Label], by_lid: dict[str, list[_Pds4Label]],
-                     members: dict[str, Path], found: list[_Found]) -> None:
+def _version_key(label: _Pds4Label) -> tuple[int, ...]:
+    """version_id M.N compared as numbers (1.10 after 1.9); one not of that form sorts first."""
+    try:
+        return tuple(int(part) for part in label.version.split("."))
+    except ValueError:
+        return ()
+
+
+def _versions(labels: list[_Pds4Label]) -> list[_Pds4Label]:
+    """The versions of one LID, oldest first: a bundle directory may keep its release history
+    (SPICE archives keep every version of the bundle and of each collection)."""
+    return sorted(labels, key=_version_key)
+
+
+def _which_bundle(versions: list[_Pds4Label]) -> str:
+    """The subject of DLV-015's 'does not list': the bundle, or each of its versions."""
+    if len(versions) == 1:
+        return "the bundle does not list"
+    return f"no version of the bundle ({', '.join(v.version for v in versions)}) lists"
+
+
+def _check_unlisted(versions: list[_Pds4Label], listed: set[str], labels: list[_Pds4Label],
+                    found: list[_Found]) -> None:
+    """DLV-011: a product under the collection's LID is in the inventory of a version of the
+    collection. A newer version need not list an older one's product again: a product's
+    membership follows the latest version that lists it (older versions' inventories are
+    complete for their own release only, so they are not asked for newer products)."""
+    collection = versions[-1]
+    prefix = collection.lid + ":"
+    names = ", ".join(v.inventory.name for v in versions if v.inventory is not None)
+    where = "the inventory" if len(versions) == 1 else "any inventory"
+    for label in labels:
+        if label.lid.startswith(prefix) and label.lidvid not in listed and label.lid not in listed:
+            found.append(_Found("DLV-011", label.path, f"{label.lidvid} is not in {where} of "
+                                                       f"{collection.lid} ({names})"))
+
+
+def _check_inventory(root: Path, collection: _Pds4Label, by_lidvid: dict[str, _Pds4Label],
+                     members: dict[str, Path], found: list[_Found]) -> set[str] | None:
+    """The inventory of one version of a collection, checked against its own members: what
+    it lists (for DLV-011 across the versions), or None when it has none to read."""
     if collection.inventory is None:
-        return
+        return None
     try:
         text = collection.inventory.read_text(encoding="ascii", errors="replace")
     except OSError as exc:
         found.append(_Found("DLV-010", collection.path, f"cannot read its inventory {collection.inventory.name}: "
                                                         f"{exc.strerror or exc}"))
-        return
+        return None
     prefix = collection.lid + ":"
     listed: set[str] = set()
     for number, row in enumerate(csv.reader(io.StringIO(text)), 1):
@@ -427,10 +473,7 @@ def _check_inventory(root: Path, collection: _Pds4Label, labels: list[_Pds4Label
         elif not present:
             found.append(_Found("DLV-010", collection.inventory, f"primary member {entry} is listed, but no label "
                                                                  "in the delivery has that LIDVID", number))
-    for label in labels:
-        if label.lid.startswith(prefix) and label.lidvid not in listed and label.lid not in listed:
-            found.append(_Found("DLV-011", label.path, f"{label.lidvid} is not in the inventory of "
-                                                       f"{collection.lid} ({collection.inventory.name})"))
+    return listed
 
 
 # --- the manifest -------------------------------------------------------------------------------
