@@ -25,7 +25,9 @@ every disagreement is printed with its reason: a MAPPING row's (a severity the p
 sets otherwise), BY_DESIGN's (a check NASA's library does not make), or REASONS' for
 the case; a disagreement without a reason is a defect to fix.
 `--strict` runs pdsgen as `pdsgen validate --strict` does (ranges, lengths and
-over-long lines then errors), for comparison.
+over-long lines then errors), and `--nasa-severities` with the severity settings of
+NASA_LEVELS (what a user gets with `--severity DICT-001=error` ...), for comparison: what
+remains then is not a matter of severity.
 """
 
 from __future__ import annotations
@@ -132,6 +134,12 @@ BY_DESIGN = {
     "PTR-004": "pdsgen checks that attached data do not start inside the label",
 }
 
+# --nasa-severities: pdsgen's own severity settings (`pdsgen validate --severity RULE=LEVEL`)
+# that give the problems NASA's tools rate otherwise NASA's severity, to show what remains
+# when only the severity policy is set aside.
+NASA_LEVELS = {"DICT-001": "error", "DICT-003": "error", "DICT-006": "error", "DICT-007": "error",
+               "DICT-009": "error", "DICT-010": "warning", "SYNTAX-009": "warning", "PTR-006": "warning"}
+
 # Where NASA and pdsgen place the same problem on different lines, by design: (label, NASA's
 # line) -> (pdsgen's line, why).
 LINE_SHIFTS: dict[tuple[str, int], tuple[int, str]] = {
@@ -176,13 +184,16 @@ class Finding:
     message: str
 
 
-def run_pdsgen(label: Path, run: str, dictionaries: tuple[str, ...], strict: bool = False) -> list[Finding]:
-    """pdsgen's findings on one label for one kind of NASA run, minus those set aside."""
+def run_pdsgen(label: Path, run: str, dictionaries: tuple[str, ...], strict: bool = False,
+               levels: dict[str, str] | None = None) -> list[Finding]:
+    """pdsgen's findings on one label for one kind of NASA run, minus those set aside;
+    `levels` are severity settings (rule -> severity) as --severity gives them."""
     from pdsgen.errors import PdsgenError
-    from pdsgen.validate import validate_paths
+    from pdsgen.validate import RuleSettings, validate_paths
 
     try:
-        report = validate_paths([label], dictionaries=dictionaries if run == "validate" else (), strict=strict)
+        report = validate_paths([label], dictionaries=dictionaries if run == "validate" else (), strict=strict,
+                                settings=RuleSettings(severity=levels or {}))
     except PdsgenError as exc:
         return [Finding("USAGE", "error", None, str(exc))]
     kept = []
@@ -288,12 +299,12 @@ def line_agreement(cases: list[Case], findings: dict[tuple[str, str], list[Findi
     return rows
 
 
-def run_all(checkout: Path, cases: list[Case], strict: bool = False) -> tuple[list[Outcome], list[tuple],
-                                                                                dict[tuple[str, str], list[Finding]]]:
+def run_all(checkout: Path, cases: list[Case], strict: bool = False, levels: dict[str, str] | None = None
+            ) -> tuple[list[Outcome], list[tuple], dict[tuple[str, str], list[Finding]]]:
     """Every case compared; pdsgen runs once per (label, run kind)."""
     labels = checkout / TEST_DATA / "labels"
     dictionaries = tuple(str(checkout / TEST_DATA / name) for name in ("pdsdd.full", "testdd.full"))
-    findings = {key: run_pdsgen(labels / key[0], key[1], dictionaries, strict)
+    findings = {key: run_pdsgen(labels / key[0], key[1], dictionaries, strict, levels)
                 for key in dict.fromkeys((c.label, c.run) for c in cases)}
     on_label = label_problems(cases)
     outcomes = [compare(c, findings[(c.label, c.run)], on_label[(c.label, c.run)]) for c in cases]
@@ -368,6 +379,8 @@ def main() -> int:
     parser.add_argument("--json", type=Path, help="write every case's outcome here")
     parser.add_argument("--only", default="", help="comma-separated case ids (Class.method) or label names")
     parser.add_argument("--strict", action="store_true", help="run pdsgen as --strict does")
+    parser.add_argument("--nasa-severities", action="store_true",
+                        help="give the rules of NASA_LEVELS NASA's severity (pdsgen's --severity settings)")
     options = parser.parse_args()
     checkout = options.checkout.resolve()
     if not (checkout / TEST_DATA / "labels").is_dir():
@@ -381,7 +394,8 @@ def main() -> int:
         wanted = set(options.only.split(","))
         cases = [c for c in cases if c.id in wanted or c.label in wanted]
     started = time.monotonic()
-    outcomes, lines, findings = run_all(checkout, cases, options.strict)
+    levels = NASA_LEVELS if options.nasa_severities else None
+    outcomes, lines, findings = run_all(checkout, cases, options.strict, levels)
     report(outcomes, lines, label_verdicts(cases, findings), time.monotonic() - started)
     if options.json:
         options.json.write_text(json.dumps([{

@@ -12,7 +12,8 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = Path(__file__).parent / "data" / "pds3_product_tools"
-LABELS = ("numberExceedsMax.lbl", "real.lbl", "SFDULabel.lbl", "attachedPadded.lbl")
+LABELS = ("numberExceedsMax.lbl", "real.lbl", "SFDULabel.lbl", "attachedPadded.lbl", "sequenceValue.lbl",
+          "manipulatedValue.lbl")
 
 
 @pytest.fixture(scope="module")
@@ -72,9 +73,23 @@ def test_a_known_disagreement_is_classified_by_design(bench, checkout):
 
 
 def test_cases_agree_and_checks_of_the_data_are_by_design(bench, checkout):
-    outcomes, _ = _outcomes(bench, checkout, set(LABELS))
-    assert outcomes["RealCheckerTest.testTypeMismatch"].status == "agree"
-    padded = outcomes["LineLengthTest.testAttachedPadded"]
-    assert padded.status in ("agree", "false-error")
-    if padded.status == "false-error":
-        assert {f.rule for f in padded.ours} - {"FILE-005"} == {"REC-002"}
+    outcomes, lines = _outcomes(bench, checkout, set(LABELS))
+    for case in ("RealCheckerTest.testBadReal", "RealCheckerTest.testNumErrors", "DefaultLabelParserTest.testSFDU",
+                 "ElementValidatorTest.testSequence", "ElementValidatorTest.testManipulatedValue"):
+        assert outcomes[case].status == "agree", (case, outcomes[case])
+    padded = outcomes["LineLengthTest.testAttachedPadded"]  # FILE_RECORDS 2 x 81 bytes; the file has 729
+    assert padded.status == "false-error" and [f.rule for f in padded.ours] == ["REC-002"]
+    assert padded.reason.startswith("by design: pdsgen checks RECORD_BYTES x FILE_RECORDS")
+    # the 59-digit integer: NASA's line 5 (the statement's), pdsgen's line 6 (the number's)
+    assert ("sequenceValue.lbl", "INVALID_TYPE", 5, "error", "error") in lines
+    assert all(row[4] is not None for row in lines), lines
+
+
+def test_nasa_severities_are_pdsgen_severity_settings(bench, checkout):
+    from pdsgen.validate import rules
+
+    assert set(bench.NASA_LEVELS) <= set(rules())
+    _, cases = bench.read_cases()
+    chosen = [c for c in cases if c.label == "numberExceedsMax.lbl"]
+    outcomes, _, _ = bench.run_all(checkout, chosen, levels=bench.NASA_LEVELS)
+    assert [o.status for o in outcomes] == ["agree"]
