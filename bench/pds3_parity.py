@@ -97,7 +97,7 @@ MAPPING: dict[str, tuple[tuple[str, ...], frozenset[str], str]] = {
     "INVALID_VALUE": (("DICT-004",), WARN,
                       "a value outside a closed value set; a standard value written with a space for the underscore "
                       "(\"ASCII INTEGER\") is pdsgen's warning (NASA: error): it is recognisable, and genuine "
-                      "archives write data types so"),
+                      "archives write layout values so (Kaguya MI/TC: BAND_STORAGE_TYPE = \"BAND SEQUENTIAL\")"),
     "MANIPULATED_VALUE": (("DICT-004",), frozenset(), "a standard value written in another case"),
     "TYPE_MISMATCH": (("DICT-002", "DICT-009", "SYNTAX-007", "SYNTAX-008"), INFO,
                       "a value of another type than the keyword's: an unquoted number for a text keyword is "
