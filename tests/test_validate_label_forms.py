@@ -38,7 +38,7 @@ def test_ccsds_sfdu_label_forms_are_accepted(tmp_path, sfdu):
     ("CCSD2ZF0000100000001NJPL3KS0PDSX##mark##", "binary length"),
     ("CCSD3ZF00001000000010JPL3KS0PDSX##mark##"[:20] + "NJPL3KS1PDSX##mark##", "not an SFDU label"),
     ("CCSD3KS0PDSX##mark##CCSD3ZF0000100000001", "Z-class"),
-    ("CCSD3ZF0000l0000000lNJPL3IF0PDSX0000000l", "not an SFDU label"),  # 'l' for '1' (NASA's test)
+    ("CCSD3ZF0000l0000000lNJPL3IF0PDSX0000000m", "not an SFDU label"),  # 'l' for '1', and a length 'm'
 ])
 def test_malformed_sfdu_labels_are_file_006_errors(tmp_path, sfdu, problem):
     assert problem in (sfdu_problem(sfdu) or "")

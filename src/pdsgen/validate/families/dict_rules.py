@@ -72,15 +72,21 @@ def check_unknown(ctx: FileContext) -> Iterator[Hit]:
                       "namespace", stmt.line, stmt.keyword)
 
 
+# The integers a reader holds: 64 bits, signed or not. A longer one overflows every reader.
+_INT_RANGE = (-(2**63), 2**64 - 1)
+
+
 def _type_problem(kind: str, value: Value) -> str | None:
     if kind in ("INTEGER", "ASCII_INTEGER"):
+        if value.kind == "int" and not _INT_RANGE[0] <= int(value.py) <= _INT_RANGE[1]:  # type: ignore[call-overload]
+            return f"{_shown(value)} has {len(value.raw.lstrip('+-'))} digits: no reader holds an integer past 64 bits"
         if value.kind in ("int", "based"):
             return None
         if value.kind == "real":
             return f"{value.raw} is a real number, the keyword takes integers"
         return f"{value.raw!r} is not an integer"
     if kind in ("REAL", "DOUBLE"):
-        return None if value.is_number else f"{value.raw!r} is not a number"
+        return _real_problem(value)
     if kind in ("NONDECIMAL", "NON_DECIMAL"):
         return None if value.kind in ("based", "int") else f"{value.raw!r} is not a based integer"
     if kind == "ALPHABET" and not value.is_number and not _LETTERS.fullmatch(str(value.py).strip()):
@@ -98,6 +104,14 @@ def _type_problem(kind: str, value: Value) -> str | None:
             return None
         return f"{value.raw!r} is not a date/time"
     return None
+
+
+def _real_problem(value: Value) -> str | None:
+    """A REAL keyword takes decimal numbers, integers among them; a based integer (2#10001#)
+    is for NONDECIMAL keywords - the standard has no based real, and NASA's tools reject it."""
+    if value.kind == "based":
+        return f"{value.raw} is a based integer, the keyword takes decimal (real) numbers"
+    return None if value.is_number else f"{value.raw!r} is not a number"
 
 
 def check_type(ctx: FileContext) -> Iterator[Hit]:
@@ -229,12 +243,25 @@ LAYOUT_KEYWORDS = frozenset({
 })
 
 
+def _in_lower_case(entry: dict, value: Value) -> bool:
+    """A standard value, all capitals in the dictionary, written with small letters (`yes` for
+    YES): a warning, as NASA's tools give - readers that compare as written miss it."""
+    if value.is_number or not isinstance(value.py, str) or value.py == value.py.upper():
+        return False
+    written = " ".join(value.py.split())
+    return written not in entry.get("values", ()) and _standard(entry, value) and _norm(value) in entry["values"]
+
+
 def check_static_values(ctx: FileContext) -> Iterator[Hit]:
     """An error where the keyword says how to read the data; a warning for descriptive
-    keywords, and for a standard value written with spaces for underscores (NOT POSSIBLE)."""
+    keywords, for a standard value written with spaces for underscores (NOT POSSIBLE), and
+    for one written in small letters (yes)."""
     for stmt, entry, value in _defined(ctx):
         if stmt.keyword.upper() in IDENTITY_KEYWORDS or _is_data_type(entry, value):
             continue
+        if entry.get("values_type") == "STATIC" and _in_lower_case(entry, value):
+            yield Hit(f"{stmt.keyword} = {_shown(value)} is the standard value {_norm(value)} written in lower "
+                      "case", value.line, stmt.keyword, severity="warning")
         if entry.get("values_type") == "STATIC" and not _standard(entry, value):
             shown = ", ".join(entry["values"][:8]) + (" ..." if len(entry["values"]) > 8 else "")
             spelled = "_".join(_norm(value).split())

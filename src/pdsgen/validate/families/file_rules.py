@@ -12,6 +12,7 @@ import re
 from collections.abc import Iterator
 
 from ...label.grammar import MAX_LINE_CHARS
+from ...label.parser import sfdu_problem
 from ..context import FileContext
 from ..model import Hit
 from ..registry import Rule, register
@@ -109,15 +110,19 @@ def check_line_length(ctx: FileContext) -> Iterator[Hit]:
 
 
 def check_padded_lines(ctx: FileContext) -> Iterator[Hit]:
+    """An error in labels pdsgen writes (and under --strict); a warning elsewhere, as NASA's
+    PDS3 tools rate it: the pointer, not the padding, says where the data start, so a reader
+    does not misread them, and the label still fits its LABEL_RECORDS (REC-003 checks that)."""
     width = _padded_width(ctx)
     if width is None:
         return
+    level = None if ctx.strict or ctx.written_by_pdsgen else "warning"
     for n, c, _ in _content_lengths(ctx):
         if c != width:
             yield Hit(
                 f"line has {c} characters; the other lines are padded to {width} "
                 f"(RECORD_BYTES {width + 2} with CR LF)",
-                n,
+                n, severity=level,
             )
 
 
@@ -139,7 +144,17 @@ def check_first_statement(ctx: FileContext) -> Iterator[Hit]:
             )
     for issue in label.issues:
         if issue.rule == "FILE-006":
-            yield Hit(issue.message, issue.line, issue.keyword)
+            yield _sfdu_hit(issue.message, issue.line, issue.keyword, label.sfdu)
+
+
+def _sfdu_hit(message: str, line: int | None, keyword: str | None, sfdu: str | None) -> Hit:
+    """A malformed SFDU head is an error, except where it is a well-formed one with the
+    letter l typed for the digit 1 (a Rings Node label of 2003, NASA's SFDULabel.lbl): a
+    warning, as NASA's parser accepts it and every reader still finds the label after it."""
+    if sfdu and "l" in sfdu and sfdu_problem(sfdu.replace("l", "1")) is None:
+        return Hit(f"{message} (the letter l typed for the digit 1: read as the SFDU it spells)", line,
+                   keyword, severity="warning")
+    return Hit(message, line, keyword)
 
 
 def check_version(ctx: FileContext) -> Iterator[Hit]:
@@ -211,10 +226,12 @@ register(
          check_line_length, note="warning for labels pdsgen did not write, unless --strict: "
          "NASA's PDS3 tools rate it so, and released HiRISE DTM labels have 91-character lines"),
     Rule("FILE-005", "error", "a label padded to its records pads every line to RECORD_BYTES",
-         check_padded_lines),
+         check_padded_lines, note="warning for labels pdsgen did not write, unless --strict: NASA's PDS3 "
+         "tools rate it so, and the pointer, not the padding, says where the data start"),
     Rule("FILE-006", "error", "PDS_VERSION_ID is the first statement (after a valid SFDU)",
          check_first_statement, note="warning for SFDU-wrapped PDS version 2 labels (Voyager, "
-         "Galileo, Magellan volumes), which have no PDS_VERSION_ID"),
+         "Galileo, Magellan volumes), which have no PDS_VERSION_ID, and for an SFDU head with the letter l "
+         "typed for the digit 1"),
     Rule("FILE-007", "error", "an END statement closes the label", check_end),
     Rule("FILE-008", "warning", "the label is padded with spaces (not NUL)", check_padding),
     Rule("FILE-009", "warning", "label lines contain no tab characters", check_tabs),
