@@ -9,9 +9,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ..archive.layout import MANIFEST, REVIEW_PAGE, is_review_page
 from ..dialect import Dialect
 from ..results import CommandResult
-from ..archive.layout import MANIFEST, REVIEW_PAGE, is_review_page
 
 
 @dataclass
