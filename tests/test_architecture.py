@@ -462,8 +462,8 @@ def test_every_declared_option_is_one_the_missions_writer_takes():
             assert list(inspect.signature(writer).parameters)[:3] == ["input_path", "outdir", "options"], name
             takes = {field.name for field in dataclasses.fields(ProductOptions)}
             declared = library_keywords(kind, mission, vocabulary)
-            # bits: write_ortho itself checks a mission's own 8-bit forms; threads, mosaic_statement: library-only
-            assert declared - takes - {"bits", "threads", "mosaic_statement"} == set(), (name, kind)
+            # bits: write_ortho itself checks a mission's own 8-bit forms; threads: library-only
+            assert declared - takes - {"bits", "threads"} == set(), (name, kind)
 
 
 def test_no_profile_name_in_cli():

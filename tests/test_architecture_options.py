@@ -153,10 +153,9 @@ def test_mission_defaults_name_options_of_the_vocabulary():
 # -- choices: checked once, where ProductOptions is built, in one wording --------------------------
 
 # Checks of choices still written elsewhere, each with why: the mosaic's own keywords (kind, order,
-# resampling) and an HRSC-AX tile read for a mosaic reach no ProductOptions.build; check_offset_convention
-# is left in the HRSC label module (no writer calls it any more) for the label change to remove;
+# resampling) and an HRSC-AX tile read for a mosaic reach no ProductOptions.build;
 # Dialect.of and make_delivery's dialect are no product command's option.
-CHOICE_CHECKS_LEFT = {"products/hrsc_label.py", "products/hrsc_ax.py", "mosaic/plan.py", "mosaic/write.py",
+CHOICE_CHECKS_LEFT = {"products/hrsc_ax.py", "mosaic/plan.py", "mosaic/write.py",
                       "dialect.py", "deliver/build.py"}
 
 

@@ -42,8 +42,6 @@ from .result import ProductResult, pds4_name
 if TYPE_CHECKING:
     from rasterio.io import DatasetReader
 
-BYTE_ORDERS = ("lsb", "msb")
-
 
 @dataclass(frozen=True)
 class DtmProduct(ProductResult):

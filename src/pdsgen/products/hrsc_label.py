@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputError, ParamsError, param
+from ..errors import InputError
 from ..formats.img import BandStatistics
 from ..geo.geometry import MapGeometry
 from ..label.mapping import label_mapping
@@ -25,12 +25,6 @@ from ..label.values import Quantity, Symbol
 from ..missions import hrsc as hrsc_mission
 
 Encode = Callable[[np.ndarray, "np.ndarray | None"], np.ndarray]
-
-
-def check_offset_convention(convention: str) -> None:
-    if convention not in hrsc_mission.OFFSET_CONVENTIONS:
-        raise ParamsError(None, f"{param('offset_convention')} must be one of "
-                                f"{', '.join(hrsc_mission.OFFSET_CONVENTIONS)}, not {convention!r}")
 
 
 def offset_context(geometry: MapGeometry, convention: str) -> dict[str, object]:

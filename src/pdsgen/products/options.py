@@ -190,7 +190,6 @@ ORTHO_HELP = """Convert the 1-band (RED) or 3-band (IRB) orthoimage INPUT (any G
 
 # Keywords the library takes that are no command-line option of the product (a batch sets them).
 # `threads`: cores for the JPEG 2000 encoder (writers using one core anyway leave it unused).
-# `mosaic_statement` (what a mosaic's label says of its sources) is one a mission declares it uses.
 # By the command making the products: a product kind's, or the mosaic's.
 LIBRARY_ONLY = {ProductKind.DTM: frozenset[str](), ProductKind.ORTHO: frozenset({"threads"}),
                 "mosaic": frozenset[str]()}
@@ -322,7 +321,6 @@ class ProductOptions:
     gmljp2: bool = False
     # library-only (LIBRARY_ONLY): no command-line option sets them
     threads: int | None = None  # cores for the JPEG 2000 encoder (None: all)
-    mosaic_statement: str = ""  # how a mosaic's sources were put together, for the label to say
 
     @classmethod
     def build(cls, product: ProductKind | str, mission: Mission, keywords: Mapping[str, Any],
