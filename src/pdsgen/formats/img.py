@@ -132,6 +132,12 @@ def scan_band(dataset: DatasetReader, adjust: Adjust | None = None) -> BandStati
     return _statistics(count, low, high)
 
 
+def band_statistics(count: int, low: float, high: float) -> BandStatistics:
+    """`count` valid values between `low` and `high` stated as scan_band states them, for a writer
+    that gathers them while it writes instead of in a pass of their own."""
+    return _statistics(count, low, high)
+
+
 def encode_float32(values: np.ndarray, invalid: np.ndarray | None) -> np.ndarray:
     """PC_REAL/IEEE_REAL DTM samples: the values, missing set to MISSING_CONSTANT."""
     if invalid is not None:
