@@ -134,3 +134,26 @@ def test_compression_threads_give_the_bytes_of_one_thread(tmp_path):
                                 precision=0.1)
         sums.append(hashlib.sha256(product.tiff_path.read_bytes()).hexdigest())
     assert sums[0] == sums[1] == sums[2]
+
+
+def test_a_strip_encoded_in_parts_is_the_strip_encoded_whole(tmp_path, monkeypatch):
+    """The writer converts and encodes a strip a few lines at a time (products.imars.PART_PIXELS):
+    the DTM and the orthoimage mosaics are the bytes of the whole strip at once."""
+    dtm_strips = strips(tmp_path, scale=0.5)
+    rng = np.random.default_rng(5)
+    images = []
+    for index, path in enumerate(dtm_strips):
+        with rasterio.open(path) as dataset:
+            image = rng.integers(1, 256, (dataset.height, dataset.width)).astype(np.uint8)
+            image[dataset.read(1) == -32768] = 0
+            images.append(write_raster(tmp_path / f"h{1000 + index}_0000_nd4.tif", image, CRS_SOUTH_POLAR,
+                                       dataset.transform, nodata=0))
+    made = []
+    for part in (2**30, 1000):  # a strip in one part; parts of two lines (the mosaic is 460 wide)
+        monkeypatch.setattr(imars, "PART_PIXELS", part)
+        out = tmp_path / f"out{part}"
+        write_mosaic(dtm_strips, out, profile="imars", product_id="m", kind="dtm")
+        write_mosaic(images, out, profile="imars", product_id="m", kind="ortho")
+        made.append(contents(out))
+    assert {"m_dtm.tif", "m_ori.tif"} <= made[0].keys()
+    assert made[0] == made[1]

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -29,7 +29,7 @@ def write_imars_mosaic(plan: MosaicPlan, vrt: Path, outdir: Path, product_id: st
 
     if plan.kind == "dtm" and plan.scale != 1.0:  # the strips' own precision unless told otherwise
         options = {"precision": plan.scale, **options}
-    mosaic = ImarsMosaic(product_id, tuple(_outlines(plan)), _heights_within(plan, vrt))
+    mosaic = ImarsMosaic(product_id, _Outlines(plan), _heights_within(plan, vrt))
     writer = functools.partial(write_imars_dtm if plan.kind == "dtm" else write_imars_ori, mosaic=mosaic,
                                statement=statement)
     built = ProductOptions.build(plan.kind, MISSION, {"source_product_ids": source_ids(plan), **options})
@@ -64,6 +64,26 @@ def _heights_within(plan: MosaicPlan, vrt: Path) -> tuple[float, float] | None:
         highs.append(high)
     ends = np.array([min(lows) * plan.scale + plan.offset, max(highs) * plan.scale + plan.offset], np.float32)
     return float(ends.min()), float(ends.max())
+
+
+class _Outlines(Sequence[tuple[str, list[dict[str, Any]], dict[str, Any]]]):
+    """The sources' footprint features, traced when first asked for: the writer asks after the
+    GeoTIFF is written, so their polygons are not held in memory while it is."""
+
+    def __init__(self, plan: MosaicPlan) -> None:
+        self._plan = plan
+        self._traced: tuple[tuple[str, list[dict[str, Any]], dict[str, Any]], ...] | None = None
+
+    def _features(self) -> tuple[tuple[str, list[dict[str, Any]], dict[str, Any]], ...]:
+        if self._traced is None:
+            self._traced = tuple(_outlines(self._plan))
+        return self._traced
+
+    def __getitem__(self, index):
+        return self._features()[index]
+
+    def __len__(self) -> int:
+        return len(self._features())
 
 
 def _outlines(plan: MosaicPlan) -> Iterator[tuple[str, list[dict[str, Any]], dict[str, Any]]]:

@@ -12,7 +12,7 @@ from __future__ import annotations
 import datetime as dt
 import math
 import os
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
@@ -22,11 +22,21 @@ import numpy as np
 import pvl
 import rasterio
 from rasterio.env import get_gdal_config
+from rasterio.windows import Window
 
 from .. import __version__
 from ..errors import PdsgenError
 from ..formats.footprint import footprint_wkt, valid_data_outline, write_footprints, write_shapefile
-from ..formats.img import Adjust, BandStatistics, Encode, band_statistics, physical_strips, valid_extremes
+from ..formats.img import (
+    Adjust,
+    BandStatistics,
+    Encode,
+    band_statistics,
+    native_strips,
+    physical_strips,
+    physical_values,
+    valid_extremes,
+)
 from ..formats.scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
 from ..geo.geometry import MapGeometry
 from ..missions import hrsc as hrsc_mission
@@ -83,10 +93,11 @@ class ImarsMosaic:
     and a footprint whose features are the source strips (each outlining its own valid data,
     with its own product ID). `heights_within`: bounds of every valid height the sources' sample
     type and scaling can present (None: not known), which may decide the 16-bit encoding
-    without a statistics pass (_known_encoding)."""
+    without a statistics pass (_known_encoding). The features are first asked for after the
+    GeoTIFF is written, so a sequence that traces them then keeps them out of its memory."""
 
     product_id: str
-    features: tuple[Feature, ...]
+    features: Sequence[Feature]
     heights_within: tuple[float, float] | None = None
 
     def stem(self, product_type: str) -> str:
@@ -281,13 +292,47 @@ def _write_geotiff(dataset, path: Path, dtype: str, nodata: int, encode, scale: 
         out.scales = (scale,)
         out.offsets = (offset,)
         out.update_tags(**tags)
-        for values, invalid, window in physical_strips(dataset, adjust):
-            stored = encode(values, invalid)
-            count, lo, hi = valid_extremes(stored, invalid)
+        for stored, count, lo, hi, window in _encoded_strips(dataset, dtype, encode, adjust):
             if count:
                 low, high = min(low, int(lo)), max(high, int(hi))
             out.write(stored, 1, window=window)
+            del stored  # not held while the next strip is read
     return low, high
+
+
+# Pixels of a strip converted and encoded at a time (whole lines): 4 MB of float32 values and a few
+# temporaries of that size, whatever the width, instead of several times the strip. Measured on a
+# mosaic 17,800 wide: peak 168 MB; 2**18 gave 174-184 MB (more small blocks kept by the allocator).
+PART_PIXELS = 2**20
+
+
+def _encoded_strips(dataset, dtype: str, encode: Encode, adjust: Adjust | None,
+                    ) -> Iterator[tuple[np.ndarray, int, float, float, Window]]:
+    """Each strip physical_strips reads, encoded, with the count and extremes of its valid samples.
+
+    Without `adjust`, a strip is converted and encoded a part of its lines at a time into one
+    array of stored samples: every conversion and encoding is pixel by pixel, so the samples
+    are the same, and GDAL reads and writes the same strips (the file's bytes depend on
+    that), while the float32 values, masks and temporaries of a whole strip - most of the
+    writer's memory - are never held at once. An `adjust` (areoid resampled onto the strip)
+    takes the whole strip, as GDAL's warp of a part may differ."""
+    if adjust is not None:
+        for values, invalid, window in physical_strips(dataset, adjust):
+            stored = encode(values, invalid)
+            yield (stored, *valid_extremes(stored, invalid), window)
+        return
+    for native, window in native_strips(dataset):
+        stored = np.empty(native.shape, dtype)
+        count, low, high = 0, math.inf, -math.inf
+        step = max(1, PART_PIXELS // max(1, native.shape[1]))
+        for row in range(0, native.shape[0], step):
+            values, invalid = physical_values(dataset, native[row:row + step])
+            part = stored[row:row + step]
+            part[...] = encode(values, invalid)
+            n, lo, hi = valid_extremes(part, invalid)
+            count, low, high = count + n, min(low, lo), max(high, hi)
+        yield stored, count, low, high, window
+        del native, stored  # not held while the next strip is read
 
 
 def _processing_tags(product: str, description: str, scale: float, offset: float, missing: int, keywords,
