@@ -157,3 +157,21 @@ def test_a_strip_encoded_in_parts_is_the_strip_encoded_whole(tmp_path, monkeypat
         made.append(contents(out))
     assert {"m_dtm.tif", "m_ori.tif"} <= made[0].keys()
     assert made[0] == made[1]
+
+
+def test_heights_stored_as_read_are_the_float32_encoding_s_bytes(tmp_path, monkeypatch):
+    """int16 heights at scale 1 are stored as read, no-data set to -32768 (products.imars._KeptDns),
+    without converting them to float32 and back: the same bytes as the conversion, with and
+    without the statistics pass."""
+    inputs = strips(tmp_path)
+    made = []
+    for kept in (True, False):
+        if not kept:
+            monkeypatch.setattr(imars, "SAME_DNS", Int16Encoding(-1.0, 0.0))  # never the encoding: converted
+        for trust in (True, False):
+            monkeypatch.setattr(imars, "TRUST_SOURCE_RANGE", trust)
+            out = tmp_path / f"out{kept}{trust}"
+            write_mosaic(inputs, out, profile="imars", product_id="m", kind="dtm")
+            made.append(contents(out))
+    assert "m_dtm.tif" in made[0]
+    assert all(files == made[0] for files in made[1:])

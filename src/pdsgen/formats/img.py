@@ -84,12 +84,22 @@ def physical_strips(
         yield values, invalid, window
 
 
-def native_strips(dataset: DatasetReader) -> Iterator[tuple[np.ndarray, Window]]:
+def native_strips(dataset: DatasetReader, reuse: bool = False) -> Iterator[tuple[np.ndarray, Window]]:
     """Band 1 as stored, in the strips physical_strips reads (progress reported as they pass):
-    a writer converting a strip a part at a time (physical_values) reads what it does."""
+    a writer converting a strip a part at a time (physical_values) reads what it does.
+
+    `reuse`: every strip is read into the first one's array, for a consumer done with a strip
+    before it asks for the next; the allocator then never sees a strip freed and another
+    asked for (glibc kept such memory: a higher peak than the strips themselves)."""
     large = is_large(dataset.width * dataset.height)
+    buffer: np.ndarray | None = None
     for window in row_strips(dataset):
-        yield dataset.read(1, window=window), window
+        if reuse:
+            if buffer is None:
+                buffer = np.empty((window.height, window.width), dataset.dtypes[0])
+            yield dataset.read(1, window=window, out=buffer[:window.height]), window
+        else:
+            yield dataset.read(1, window=window), window
         if large:
             advance(window.row_off + window.height, dataset.height, "lines")
 

@@ -37,6 +37,7 @@ from ..formats.img import (
     physical_values,
     valid_extremes,
 )
+from ..formats.nodata import invalid_mask
 from ..formats.scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
 from ..geo.geometry import MapGeometry
 from ..missions import hrsc as hrsc_mission
@@ -230,12 +231,38 @@ class _GatheringEncoder:
         self._count, self._low, self._high = 0, math.inf, -math.inf
 
     def __call__(self, values: np.ndarray, invalid: np.ndarray | None) -> np.ndarray:
-        count, low, high = valid_extremes(values, invalid)
-        self._count, self._low, self._high = self._count + count, min(self._low, low), max(self._high, high)
+        self.add(*valid_extremes(values, invalid))
         return self._encode(values, invalid)
+
+    def add(self, count: int, low: float, high: float) -> None:
+        """Count and extremes of more valid values (_KeptDns: the samples' own)."""
+        self._count, self._low, self._high = self._count + count, min(self._low, low), max(self._high, high)
 
     def statistics(self) -> BandStatistics:
         return band_statistics(self._count, self._low, self._high)
+
+
+# The encoding of heights stored as they are read: DN = rint((height - 0) / 1) = height.
+SAME_DNS = Int16Encoding(1.0, 0.0)
+
+
+class _KeptDns:
+    """The encoding SAME_DNS of int16 samples: rint((float32(DN) - 0) / 1) is DN, so the stored
+    samples are the samples read with no-data set to MISSING_DN (`keep`), without float32 values
+    or their temporaries; the heights' statistics are the stored DNs', exactly (`gathering`). As
+    an encoder of float32 values (with an `adjust`) it is SAME_DNS's own."""
+
+    def __init__(self, gathering: _GatheringEncoder | None) -> None:
+        self.gathering = gathering
+
+    def __call__(self, values: np.ndarray, invalid: np.ndarray | None) -> np.ndarray:
+        return self.gathering(values, invalid) if self.gathering else SAME_DNS.encode(values, invalid)
+
+    @staticmethod
+    def keep(native: np.ndarray, invalid: np.ndarray | None, stored: np.ndarray) -> None:
+        np.copyto(stored, native)
+        if invalid is not None:
+            np.copyto(stored, MISSING_DN, where=invalid)
 
 
 def _write_heights(dataset, path: Path, encoding: Int16Encoding, tags: Callable[[Int16Encoding], dict[str, str]],
@@ -247,12 +274,15 @@ def _write_heights(dataset, path: Path, encoding: Int16Encoding, tags: Callable[
     statistics the pass would have given and chooses from them as it does - raising its
     refusals, and writing again should it choose another encoding (which _known_encoding rules
     out), so the file is always the one the pass would have made."""
-    encode = _GatheringEncoder(encoding.encode) if verify else encoding.encode
+    gathering = _GatheringEncoder(encoding.encode) if verify else None
+    encode: Encode = gathering or encoding.encode
+    if encoding == SAME_DNS and np.dtype(dataset.dtypes[0]) == np.int16:
+        encode = _KeptDns(gathering)
     low, high = _write_geotiff(dataset, path, "int16", MISSING_DN, encode, encoding.scaling_factor,
                                encoding.offset, tags(encoding), adjust)
-    if verify is None or not isinstance(encode, _GatheringEncoder):
+    if verify is None or gathering is None:
         return encoding, low, high
-    chosen = verify(encode.statistics())
+    chosen = verify(gathering.statistics())
     if chosen == encoding:
         return encoding, low, high
     return _write_heights(dataset, path, chosen, tags, adjust, None)
@@ -296,7 +326,6 @@ def _write_geotiff(dataset, path: Path, dtype: str, nodata: int, encode, scale: 
             if count:
                 low, high = min(low, int(lo)), max(high, int(hi))
             out.write(stored, 1, window=window)
-            del stored  # not held while the next strip is read
     return low, high
 
 
@@ -321,18 +350,26 @@ def _encoded_strips(dataset, dtype: str, encode: Encode, adjust: Adjust | None,
             stored = encode(values, invalid)
             yield (stored, *valid_extremes(stored, invalid), window)
         return
-    for native, window in native_strips(dataset):
-        stored = np.empty(native.shape, dtype)
+    buffer: np.ndarray | None = None  # the stored samples of every strip, as native_strips' `reuse`
+    for native, window in native_strips(dataset, reuse=True):
+        if buffer is None:
+            buffer = np.empty(native.shape, dtype)
+        stored = buffer[:native.shape[0]]
         count, low, high = 0, math.inf, -math.inf
         step = max(1, PART_PIXELS // max(1, native.shape[1]))
         for row in range(0, native.shape[0], step):
-            values, invalid = physical_values(dataset, native[row:row + step])
             part = stored[row:row + step]
-            part[...] = encode(values, invalid)
+            if isinstance(encode, _KeptDns):
+                invalid = invalid_mask(native[row:row + step], dataset.nodata)  # as physical_values
+                encode.keep(native[row:row + step], invalid, part)
+            else:
+                values, invalid = physical_values(dataset, native[row:row + step])
+                part[...] = encode(values, invalid)
             n, lo, hi = valid_extremes(part, invalid)
             count, low, high = count + n, min(low, lo), max(high, hi)
-        yield stored, count, low, high, window
-        del native, stored  # not held while the next strip is read
+            if isinstance(encode, _KeptDns) and encode.gathering:
+                encode.gathering.add(n, lo, hi)
+        yield stored, count, low, high, window  # written before the next strip is asked for
 
 
 def _processing_tags(product: str, description: str, scale: float, offset: float, missing: int, keywords,
