@@ -76,7 +76,9 @@ def write_footprints(
              "geometry": geometry}
         )
     collection["features"].sort(key=lambda feature: str(feature.get("id")))
-    Path(staged_path).write_text(json.dumps(collection, indent=1) + "\n")
+    with open(staged_path, "w") as handle:  # streamed: a mosaic's many outlines never held as one text
+        json.dump(collection, handle, indent=1)
+        handle.write("\n")
     return collection
 
 

@@ -74,25 +74,46 @@ def physical_strips(
     pixels. `adjust` may change the physical values (e.g. add an areoid), and
     pixels it turns into NaN become missing too.
     """
-    nodata = dataset.nodata
-    native_type = np.dtype(dataset.dtypes[0])
-    is_wide_float = native_type.kind == "f" and native_type.itemsize > 4
-    large = is_large(dataset.width * dataset.height)
-    for window in row_strips(dataset):
-        native = dataset.read(1, window=window)
-        with np.errstate(over="ignore"):
-            values = native.astype(np.float32, copy=False)
-        invalid = invalid_mask(native, nodata)
-        if is_wide_float:
-            _refuse_float32_overflow(dataset, native, values, invalid)
+    for native, window in native_strips(dataset):
+        values, invalid = physical_values(dataset, native)
         if adjust is not None:
             values = adjust(values, window).astype(np.float32, copy=False)
             lost = ~np.isfinite(values)
             if lost.any():
                 invalid = lost if invalid is None else (invalid | lost)
         yield values, invalid, window
+
+
+def native_strips(dataset: DatasetReader, reuse: bool = False) -> Iterator[tuple[np.ndarray, Window]]:
+    """Band 1 as stored, in the strips physical_strips reads (progress reported as they pass):
+    a writer converting a strip a part at a time (physical_values) reads what it does.
+
+    `reuse`: every strip is read into the first one's array, for a consumer done with a strip
+    before it asks for the next; the allocator then never sees a strip freed and another
+    asked for (glibc kept such memory: a higher peak than the strips themselves)."""
+    large = is_large(dataset.width * dataset.height)
+    buffer: np.ndarray | None = None
+    for window in row_strips(dataset):
+        if reuse:
+            if buffer is None:
+                buffer = np.empty((window.height, window.width), dataset.dtypes[0])
+            yield dataset.read(1, window=window, out=buffer[:window.height]), window
+        else:
+            yield dataset.read(1, window=window), window
         if large:
             advance(window.row_off + window.height, dataset.height, "lines")
+
+
+def physical_values(dataset: DatasetReader, native: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+    """Samples of `dataset` as read (a strip or any part of one) as float32 values with the mask of
+    missing ones: physical_strips' conversion, pixel by pixel, so a part converts as the whole."""
+    native_type = np.dtype(dataset.dtypes[0])
+    with np.errstate(over="ignore"):
+        values = native.astype(np.float32, copy=False)
+    invalid = invalid_mask(native, dataset.nodata)
+    if native_type.kind == "f" and native_type.itemsize > 4:
+        _refuse_float32_overflow(dataset, native, values, invalid)
+    return values, invalid
 
 
 def _refuse_float32_overflow(dataset, native: np.ndarray, values: np.ndarray, invalid) -> None:
@@ -129,6 +150,12 @@ def scan_band(dataset: DatasetReader, adjust: Adjust | None = None) -> BandStati
     for values, invalid, _ in physical_strips(dataset, adjust):
         n, lo, hi = valid_extremes(values, invalid)
         count, low, high = count + n, min(low, lo), max(high, hi)
+    return _statistics(count, low, high)
+
+
+def band_statistics(count: int, low: float, high: float) -> BandStatistics:
+    """`count` valid values between `low` and `high` stated as scan_band states them, for a writer
+    that gathers them while it writes instead of in a pass of their own."""
     return _statistics(count, low, high)
 
 

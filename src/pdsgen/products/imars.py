@@ -10,8 +10,10 @@ DataProduct, MapProjection, Algorithm), and a GIS footprint `<ID>.geojson`.
 from __future__ import annotations
 
 import datetime as dt
+import math
 import os
-from collections.abc import Mapping
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, ClassVar
@@ -19,10 +21,22 @@ from typing import Any, ClassVar
 import numpy as np
 import pvl
 import rasterio
+from rasterio.env import get_gdal_config
+from rasterio.windows import Window
 
 from .. import __version__
 from ..formats.footprint import footprint_wkt, valid_data_outline, write_footprints, write_shapefile
-from ..formats.img import Adjust, physical_strips, valid_extremes
+from ..formats.img import (
+    Adjust,
+    BandStatistics,
+    Encode,
+    band_statistics,
+    native_strips,
+    physical_strips,
+    physical_values,
+    valid_extremes,
+)
+from ..formats.nodata import invalid_mask
 from ..formats.scale_dn import SPECIAL_DNS, dn_encoder, null_zero_byte_mapping
 from ..geo.geometry import MapGeometry
 from ..missions import hrsc as hrsc_mission
@@ -32,7 +46,7 @@ from ..missions.hrsc import base_name as hrsc_base_name
 from ..params import check_version, resolve_params, source_ids
 from .dispatch import NO_STATEMENT, ProductStatement
 from .int16_heights import Int16Encoding, areoid_adjustment, check_datum_conversion, choose_encoding
-from .opening import Opening, open_product_input, single_band
+from .opening import Opening, open_product_input, require_valid, single_band
 from .options import ProductOptions
 from .result import ProductResult
 
@@ -77,10 +91,14 @@ class ImarsMosaic:
     """How a mosaic of strips differs from a strip: `<ID>_dtm.tif` / `<ID>_ori.tif`, the
     number of sources in the PVL (how they were put together is the writer's `statement`),
     and a footprint whose features are the source strips (each outlining its own valid data,
-    with its own product ID)."""
+    with its own product ID). `heights_within`: bounds of every valid height the sources' sample
+    type and scaling can present (None: not known), which may decide the 16-bit encoding
+    without a statistics pass (_known_encoding). The features are first asked for after the
+    GeoTIFF is written, so a sequence that traces them then keeps them out of its memory."""
 
     product_id: str
-    features: tuple[Feature, ...]
+    features: Sequence[Feature]
+    heights_within: tuple[float, float] | None = None
 
     def stem(self, product_type: str) -> str:
         return imars_mission.mosaic_stem(self.product_id, product_type)
@@ -138,17 +156,26 @@ def write_imars_dtm(
         adjust = None
         if vertical_datum is not None and vertical_datum != output_datum:
             adjust = areoid_adjustment(areoid, dataset, +1.0 if output_datum == "sphere" else -1.0)
-        encoding = choose_encoding(opened.scan(adjust), precision, str(input_path))
+        known = _known_encoding(mosaic, precision, adjust)
+        encoding = known or choose_encoding(opened.scan(adjust), precision, str(input_path))
+        existed = Path(outdir).is_dir()
         out = opened.output_dir(outdir)
         tiff, metadata = out / f"{stem}.tif", out / imars_mission.metadata_name(ident)
         facts = imars_facts(ident, "DTM", keywords, geometry.target_name or "MARS")
-        tags = _processing_tags(ident, _DTM_DESCRIPTIONS[kind], encoding.scaling_factor,
-                                encoding.offset, MISSING_DN, keywords, sources, facts)
+
+        def tags(encoding: Int16Encoding) -> dict[str, str]:
+            return _processing_tags(ident, _DTM_DESCRIPTIONS[kind], encoding.scaling_factor,
+                                    encoding.offset, MISSING_DN, keywords, sources, facts)
+
+        def choose(stats: BandStatistics) -> Int16Encoding:  # as the statistics pass chooses
+            return choose_encoding(require_valid(stats, input_path), precision, str(input_path))
+
         footprint = out / imars_mission.footprint_name(base)
         shapes = {part: out / name for part, name in imars_mission.footprint_shapefile_names(base).items()}
-        with opened.stage([tiff, metadata], overwrite, shared=[footprint, *shapes.values()]) as staged:
-            low, high = _write_geotiff(dataset, staged.path(tiff), "int16", MISSING_DN, encoding.encode,
-                                       encoding.scaling_factor, encoding.offset, tags, adjust)
+        with _no_directory_if_refused(out, existed or known is None), \
+                opened.stage([tiff, metadata], overwrite, shared=[footprint, *shapes.values()]) as staged:
+            encoding, low, high = _write_heights(dataset, staged.path(tiff), encoding, tags, adjust,
+                                                 choose if known else None)
             with rasterio.open(staged.path(tiff)) as written:
                 written_crs = written.crs
                 text = imars_pvl_text(written, tiff.name, ident, "DTM", geometry, keywords, sources,
@@ -169,6 +196,115 @@ def write_imars_dtm(
                         tuple(shapes.values()))
 
 
+# Checked by the tests that write a mosaic both ways; False: every mosaic takes the statistics pass.
+TRUST_SOURCE_RANGE = True
+
+
+def _known_encoding(mosaic: ImarsMosaic | None, precision: float, adjust: Adjust | None) -> Int16Encoding | None:
+    """The encoding the statistics pass would choose, when the sources already decide it (None: not known).
+
+    choose_encoding takes offset 0 whenever every valid height fits 16 bits at `precision` from
+    0; when the bounds of what the sources can hold (their sample type and scaling: strips of
+    one release) fit so, every height they hold does, and the pass can only choose that. Its
+    refusals (no valid heights, too coarse a precision) are judged after the write on the same
+    statistics, gathered as it writes (_write_heights). Heights changed on the way (`adjust`:
+    a datum conversion) are not bounded by the sources'."""
+    if mosaic is None or mosaic.heights_within is None or adjust is not None or not TRUST_SOURCE_RANGE:
+        return None
+    low, high = mosaic.heights_within
+    try:
+        guess = choose_encoding(BandStatistics(2, low, high), precision, "")
+    except PdsgenError:  # a precision the pass refuses, or bounds that do not fit: the pass says why
+        return None
+    return guess if guess.offset == 0.0 else None
+
+
+class _GatheringEncoder:
+    """An encoder that gathers, as it encodes, the statistics scan_band would give of the same
+    physical values: the write is then the statistics pass too."""
+
+    def __init__(self, encode: Encode) -> None:
+        self._encode = encode
+        self._count, self._low, self._high = 0, math.inf, -math.inf
+
+    def __call__(self, values: np.ndarray, invalid: np.ndarray | None) -> np.ndarray:
+        self.add(*valid_extremes(values, invalid))
+        return self._encode(values, invalid)
+
+    def add(self, count: int, low: float, high: float) -> None:
+        """Count and extremes of more valid values (_KeptDns: the samples' own)."""
+        self._count, self._low, self._high = self._count + count, min(self._low, low), max(self._high, high)
+
+    def statistics(self) -> BandStatistics:
+        return band_statistics(self._count, self._low, self._high)
+
+
+# The encoding of heights stored as they are read: DN = rint((height - 0) / 1) = height.
+SAME_DNS = Int16Encoding(1.0, 0.0)
+
+
+class _KeptDns:
+    """The encoding SAME_DNS of int16 samples: rint((float32(DN) - 0) / 1) is DN, so the stored
+    samples are the samples read with no-data set to MISSING_DN (`keep`), without float32 values
+    or their temporaries; the heights' statistics are the stored DNs', exactly (`gathering`). As
+    an encoder of float32 values (with an `adjust`) it is SAME_DNS's own."""
+
+    def __init__(self, gathering: _GatheringEncoder | None) -> None:
+        self.gathering = gathering
+
+    def __call__(self, values: np.ndarray, invalid: np.ndarray | None) -> np.ndarray:
+        return self.gathering(values, invalid) if self.gathering else SAME_DNS.encode(values, invalid)
+
+    @staticmethod
+    def keep(native: np.ndarray, invalid: np.ndarray | None, stored: np.ndarray) -> None:
+        np.copyto(stored, native)
+        if invalid is not None:
+            np.copyto(stored, MISSING_DN, where=invalid)
+
+
+def _write_heights(dataset, path: Path, encoding: Int16Encoding, tags: Callable[[Int16Encoding], dict[str, str]],
+                   adjust: Adjust | None, verify: Callable[[BandStatistics], Int16Encoding] | None,
+                   ) -> tuple[Int16Encoding, int, int]:
+    """Write the heights with `encoding`; return it with the valid DN range.
+
+    `verify`: the encoding was known without a statistics pass, so the write gathers the
+    statistics the pass would have given and chooses from them as it does - raising its
+    refusals, and writing again should it choose another encoding (which _known_encoding rules
+    out), so the file is always the one the pass would have made."""
+    gathering = _GatheringEncoder(encoding.encode) if verify else None
+    encode: Encode = gathering or encoding.encode
+    if encoding == SAME_DNS and np.dtype(dataset.dtypes[0]) == np.int16:
+        encode = _KeptDns(gathering)
+    low, high = _write_geotiff(dataset, path, "int16", MISSING_DN, encode, encoding.scaling_factor,
+                               encoding.offset, tags(encoding), adjust)
+    if verify is None or gathering is None:
+        return encoding, low, high
+    chosen = verify(gathering.statistics())
+    if chosen == encoding:
+        return encoding, low, high
+    return _write_heights(dataset, path, chosen, tags, adjust, None)
+
+
+@contextmanager
+def _no_directory_if_refused(out: Path, keep: bool) -> Iterator[None]:
+    """OUTDIR made for a product refused after it was opened (a refusal judged during the write)
+    is removed again when empty, as if the refusal had come first (`keep`: it existed, or any
+    refusal did come first)."""
+    try:
+        yield
+    except PdsgenError:
+        if not keep and out.is_dir() and not any(out.iterdir()):
+            out.rmdir()
+        raise
+
+
+def _compression_threads() -> str:
+    """Threads GDAL compresses the GeoTIFF's blocks on: GDAL_NUM_THREADS when configured (a batch
+    job's share of the machine), else every core. GDAL writes the blocks in order whatever the
+    count, so the file's bytes do not depend on it."""
+    return str(get_gdal_config("GDAL_NUM_THREADS", normalize=False) or "ALL_CPUS")
+
+
 def _write_geotiff(dataset, path: Path, dtype: str, nodata: int, encode, scale: float, offset: float,
                    tags: dict[str, str], adjust: Adjust | None = None) -> tuple[int, int]:
     """Stream encoded samples into a tiled, compressed GeoTIFF; return the valid DN range."""
@@ -176,19 +312,61 @@ def _write_geotiff(dataset, path: Path, dtype: str, nodata: int, encode, scale: 
         "driver": "GTiff", "width": dataset.width, "height": dataset.height, "count": 1, "dtype": dtype,
         "crs": dataset.crs, "transform": dataset.transform, "nodata": nodata, "tiled": True,
         "blockxsize": 256, "blockysize": 256, "compress": "deflate", "predictor": 2, "BIGTIFF": "IF_SAFER",
+        "NUM_THREADS": _compression_threads(),
     }
     low, high = np.iinfo(dtype).max, np.iinfo(dtype).min
     with rasterio.open(path, "w", **profile) as out:
         out.scales = (scale,)
         out.offsets = (offset,)
         out.update_tags(**tags)
-        for values, invalid, window in physical_strips(dataset, adjust):
-            stored = encode(values, invalid)
-            count, lo, hi = valid_extremes(stored, invalid)
+        for stored, count, lo, hi, window in _encoded_strips(dataset, dtype, encode, adjust):
             if count:
                 low, high = min(low, int(lo)), max(high, int(hi))
             out.write(stored, 1, window=window)
     return low, high
+
+
+# Pixels of a strip converted and encoded at a time (whole lines): 4 MB of float32 values and a few
+# temporaries of that size, whatever the width, instead of several times the strip. Measured on a
+# mosaic 17,800 wide: peak 168 MB; 2**18 gave 174-184 MB (more small blocks kept by the allocator).
+PART_PIXELS = 2**20
+
+
+def _encoded_strips(dataset, dtype: str, encode: Encode, adjust: Adjust | None,
+                    ) -> Iterator[tuple[np.ndarray, int, float, float, Window]]:
+    """Each strip physical_strips reads, encoded, with the count and extremes of its valid samples.
+
+    Without `adjust`, a strip is converted and encoded a part of its lines at a time into one
+    array of stored samples: every conversion and encoding is pixel by pixel, so the samples
+    are the same, and GDAL reads and writes the same strips (the file's bytes depend on
+    that), while the float32 values, masks and temporaries of a whole strip - most of the
+    writer's memory - are never held at once. An `adjust` (areoid resampled onto the strip)
+    takes the whole strip, as GDAL's warp of a part may differ."""
+    if adjust is not None:
+        for values, invalid, window in physical_strips(dataset, adjust):
+            stored = encode(values, invalid)
+            yield (stored, *valid_extremes(stored, invalid), window)
+        return
+    buffer: np.ndarray | None = None  # the stored samples of every strip, as native_strips' `reuse`
+    for native, window in native_strips(dataset, reuse=True):
+        if buffer is None:
+            buffer = np.empty(native.shape, dtype)
+        stored = buffer[:native.shape[0]]
+        count, low, high = 0, math.inf, -math.inf
+        step = max(1, PART_PIXELS // max(1, native.shape[1]))
+        for row in range(0, native.shape[0], step):
+            part = stored[row:row + step]
+            if isinstance(encode, _KeptDns):
+                invalid = invalid_mask(native[row:row + step], dataset.nodata)  # as physical_values
+                encode.keep(native[row:row + step], invalid, part)
+            else:
+                values, invalid = physical_values(dataset, native[row:row + step])
+                part[...] = encode(values, invalid)
+            n, lo, hi = valid_extremes(part, invalid)
+            count, low, high = count + n, min(low, lo), max(high, hi)
+            if isinstance(encode, _KeptDns) and encode.gathering:
+                encode.gathering.add(n, lo, hi)
+        yield stored, count, low, high, window  # written before the next strip is asked for
 
 
 def _processing_tags(product: str, description: str, scale: float, offset: float, missing: int, keywords,
