@@ -25,6 +25,7 @@ from rasterio.env import get_gdal_config
 from rasterio.windows import Window
 
 from .. import __version__
+from ..errors import PdsgenError
 from ..formats.footprint import footprint_wkt, valid_data_outline, write_footprints, write_shapefile
 from ..formats.img import (
     Adjust,
