@@ -1,0 +1,164 @@
+"""Hostile inputs that try to exhaust pdsgen (issue 38, items 6 and 7's reports and batches).
+
+Each case is made at test time and run as a user would run it, in a fresh process whose time
+and peak memory are measured from outside: the run ends within its bound, holds under 1 GB,
+shows no traceback, and one bad file is a finding (or a one-line refusal) while the run goes
+on with the others.
+"""
+
+from __future__ import annotations
+
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+SECONDS = 60
+PEAK_BYTES = 1 << 30
+# A ceiling on the child's address space, so a case that does blow up fails its test (with a
+# MemoryError) instead of taking the shared machine down with it.
+ADDRESS_SPACE = 6 << 30
+
+
+@dataclass
+class Run:
+    returncode: int
+    stdout: str
+    stderr: str
+    seconds: float
+    peak_bytes: int
+
+
+def _limit_child() -> None:
+    resource.setrlimit(resource.RLIMIT_AS, (ADDRESS_SPACE, ADDRESS_SPACE))
+
+
+def run_bounded(*args: object, cwd: Path | None = None, seconds: float = SECONDS) -> Run:
+    """`python -m pdsgen ARGS` in a fresh process, killed after `seconds`: what it printed,
+    its exit status, how long it ran and its peak resident memory (from wait4)."""
+    with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
+        start = time.perf_counter()
+        process = subprocess.Popen([sys.executable, "-m", "pdsgen", *map(str, args)], stdout=out,
+                                   stderr=err, stdin=subprocess.DEVNULL, cwd=cwd,
+                                   preexec_fn=_limit_child)
+        timer = threading.Timer(seconds, process.kill)
+        timer.start()
+        try:
+            _, status, usage = os.wait4(process.pid, 0)
+        finally:
+            timer.cancel()
+        process.returncode = os.waitstatus_to_exitcode(status)
+        elapsed = time.perf_counter() - start
+        out.seek(0)
+        err.seek(0)
+        return Run(process.returncode, out.read().decode("utf-8", "replace"),
+                   err.read().decode("utf-8", "replace"), elapsed, usage.ru_maxrss * 1024)
+
+
+def assert_bounded(run: Run, seconds: float = SECONDS) -> None:
+    """The run ended by itself, in time, under the memory bound, without a traceback."""
+    assert run.returncode >= 0, f"killed (signal {-run.returncode}) after {run.seconds:.1f} s"
+    assert run.seconds < seconds, run.seconds
+    assert run.peak_bytes < PEAK_BYTES, f"peak {run.peak_bytes / 2**20:.0f} MiB"
+    assert "Traceback" not in run.stderr + run.stdout, run.stderr[-3000:]
+    assert "RecursionError" not in run.stderr + run.stdout
+    assert "ValueError" not in run.stderr + run.stdout
+
+
+def image_label(**overrides: str) -> str:
+    """A small detached PDS3 image label; `overrides` replace or add top-level statements."""
+    top = {"PDS_VERSION_ID": "PDS3", "RECORD_TYPE": "FIXED_LENGTH", "RECORD_BYTES": "4",
+           "FILE_RECORDS": "4", "^IMAGE": '"IMAGE.IMG"', "PRODUCT_ID": '"P1"'}
+    top.update(overrides)
+    lines = [f"{key} = {value}" for key, value in top.items()]
+    lines += ["OBJECT = IMAGE", "  LINES = 4", "  LINE_SAMPLES = 4", "  SAMPLE_BITS = 8",
+              "  SAMPLE_TYPE = UNSIGNED_INTEGER", "END_OBJECT = IMAGE", "END", ""]
+    return "\r\n".join(lines)
+
+
+def two_products(root: Path, hostile_text: str) -> tuple[Path, Path]:
+    """A directory with one hostile label and one plain one beside it (each with its data)."""
+    good = image_label(PRODUCT_ID='"GOOD"')
+    for name, text in (("BAD", hostile_text), ("GOOD", good)):
+        product = root / name
+        product.mkdir(parents=True)
+        text = text.replace('"IMAGE.IMG"', f'"{name}.IMG"')
+        (product / f"{name}.LBL").write_text(text, encoding="latin-1", newline="")
+        (product / f"{name}.IMG").write_bytes(bytes(range(16)))
+    return root / "BAD" / "BAD.LBL", root / "GOOD" / "GOOD.LBL"
+
+
+# -- integers longer than Python's int-string limit ------------------------------------------
+
+LONG_INTEGER = "7" * 5000
+
+
+def test_a_5000_digit_integer_is_a_finding_in_validate(tmp_path):
+    bad, good = two_products(tmp_path / "d", image_label(RECORD_BYTES=LONG_INTEGER))
+    run = run_bounded("validate", "--no-config", tmp_path / "d")
+    assert_bounded(run)
+    assert run.returncode == 1, run.stderr
+    assert "BAD.LBL" in run.stdout and "2 file(s) checked" in run.stdout
+    assert "5000 digits" in run.stdout
+
+
+def test_a_5000_digit_integer_anywhere_is_a_finding(tmp_path):
+    for name, label in (("based", image_label(PRODUCT_ID="16#" + "F" * 5000 + "#")),
+                        ("seq", image_label(PRODUCT_ID=f"(1, {LONG_INTEGER})")),
+                        ("negative", image_label(FILE_RECORDS="-" + LONG_INTEGER))):
+        two_products(tmp_path / name, label)
+        run = run_bounded("validate", "--no-config", tmp_path / name)
+        assert_bounded(run)
+        assert run.returncode == 1, (name, run.stderr)
+
+
+def test_a_5000_digit_integer_does_not_stop_migrate(tmp_path):
+    bad, good = two_products(tmp_path / "d", image_label(RECORD_BYTES=LONG_INTEGER))
+    run = run_bounded("migrate", bad, good, "-o", tmp_path / "out")
+    assert_bounded(run)
+    assert run.returncode in (0, 1, 2), run.stderr
+    assert any(path.name.upper().startswith("GOOD") and path.suffix == ".xml"
+               for path in (tmp_path / "out").rglob("*")), run.stderr
+
+
+def test_a_5000_digit_integer_does_not_stop_review(tmp_path):
+    two_products(tmp_path / "d", image_label(RECORD_BYTES=LONG_INTEGER))
+    page = tmp_path / "review.html"
+    run = run_bounded("review", tmp_path / "d", "-o", page)
+    assert_bounded(run)
+    assert page.is_file(), run.stderr
+
+
+# -- nesting ------------------------------------------------------------------------------------
+
+DEPTH = 100_000
+
+
+def test_a_value_nested_100000_parentheses_deep_is_a_finding(tmp_path):
+    deep = "(" * DEPTH + "1" + ")" * DEPTH
+    two_products(tmp_path / "d", image_label(PRODUCT_ID=deep))
+    run = run_bounded("validate", "--no-config", tmp_path / "d")
+    assert_bounded(run)
+    assert run.returncode == 1
+    assert "2 file(s) checked" in run.stdout and "nested" in run.stdout
+    assert len(run.stdout) < 100_000  # one finding, not one per bracket
+
+
+def test_objects_nested_100000_deep_are_a_finding_in_validate_and_review(tmp_path):
+    opening = "".join("OBJECT = O\r\n" for _ in range(DEPTH))
+    closing = "".join("END_OBJECT = O\r\n" for _ in range(DEPTH))
+    label = image_label().replace("END\r\n", opening + closing + "END\r\n")
+    two_products(tmp_path / "d", label)
+    run = run_bounded("validate", "--no-config", tmp_path / "d")
+    assert_bounded(run)
+    assert run.returncode == 1
+    assert "2 file(s) checked" in run.stdout and "nested" in run.stdout
+    page = tmp_path / "review.html"
+    run = run_bounded("review", tmp_path / "d", "-o", page)
+    assert_bounded(run)
+    assert page.is_file(), run.stderr
