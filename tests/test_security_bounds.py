@@ -162,3 +162,56 @@ def test_objects_nested_100000_deep_are_a_finding_in_validate_and_review(tmp_pat
     run = run_bounded("review", tmp_path / "d", "-o", page)
     assert_bounded(run)
     assert page.is_file(), run.stderr
+
+
+# -- ^STRUCTURE includes ---------------------------------------------------------------------
+
+TABLE_LABEL = "\r\n".join([
+    "PDS_VERSION_ID = PDS3", "RECORD_TYPE = FIXED_LENGTH", "RECORD_BYTES = 8", "FILE_RECORDS = 2",
+    '^TABLE = "T.DAT"', 'PRODUCT_ID = "T"', "OBJECT = TABLE", "  INTERCHANGE_FORMAT = BINARY",
+    "  ROWS = 2", "  ROW_BYTES = 8", "  COLUMNS = 1", '  ^STRUCTURE = "F0.FMT"', "END_OBJECT = TABLE",
+    "END", ""])
+COLUMN = "\r\n".join(["OBJECT = COLUMN", "  NAME = X", "  DATA_TYPE = MSB_INTEGER", "  START_BYTE = 1",
+                      "  BYTES = 4", "END_OBJECT = COLUMN", ""])
+
+
+def include_fan_out(root: Path, levels: int = 20, fan: int = 4) -> Path:
+    """A table whose format files each include the next `fan` times: fan**(levels-1) paths."""
+    root.mkdir()
+    (root / "T.LBL").write_text(TABLE_LABEL, newline="")
+    (root / "T.DAT").write_bytes(bytes(16))
+    for level in range(levels):
+        body = COLUMN if level == levels - 1 else f'^STRUCTURE = "F{level + 1}.FMT"\r\n' * fan
+        (root / f"F{level}.FMT").write_text(body + "END\r\n", newline="")
+    return root / "T.LBL"
+
+
+def test_an_include_fan_out_is_walked_once_per_file_in_validate(tmp_path):
+    label = include_fan_out(tmp_path / "d")
+    run = run_bounded("validate", "--no-config", label, seconds=30)
+    assert_bounded(run, seconds=30)
+    assert run.returncode in (0, 1), run.stderr
+
+
+def test_an_include_fan_out_is_refused_or_bounded_in_migrate(tmp_path):
+    label = include_fan_out(tmp_path / "d")
+    run = run_bounded("migrate", label, "-o", tmp_path / "out", seconds=30)
+    assert_bounded(run, seconds=30)
+    assert run.returncode == 2 and "T.LBL" in run.stderr, run.stderr
+    assert len(run.stderr.strip().splitlines()) == 1, run.stderr
+
+
+def test_a_structure_including_itself_is_refused_in_migrate(tmp_path):
+    label = include_fan_out(tmp_path / "d", levels=2, fan=1)
+    (tmp_path / "d" / "F1.FMT").write_text('^STRUCTURE = "F0.FMT"\r\nEND\r\n', newline="")
+    run = run_bounded("migrate", label, "-o", tmp_path / "out", seconds=30)
+    assert_bounded(run, seconds=30)
+    assert run.returncode == 2 and "includes itself" in run.stderr, run.stderr
+
+
+def test_an_include_loop_is_still_reported_once_walked_once(tmp_path):
+    label = include_fan_out(tmp_path / "d", levels=3, fan=2)
+    (tmp_path / "d" / "F2.FMT").write_text('^STRUCTURE = "F1.FMT"\r\nEND\r\n', newline="")
+    run = run_bounded("validate", "--no-config", label, seconds=30)
+    assert_bounded(run, seconds=30)
+    assert "include loop: T.LBL -> F0.FMT -> F1.FMT -> F2.FMT -> F1.FMT" in run.stdout, run.stdout

@@ -18,8 +18,10 @@ is start-up time, see tests/test_cli_startup.py.)
 
 from __future__ import annotations
 
+import errno
 import os
 import re
+import stat
 from dataclasses import dataclass, replace
 from functools import cached_property
 from itertools import accumulate, repeat
@@ -932,12 +934,30 @@ def label_length(data: bytes) -> int | None:
     return end + 1 if data.startswith((b"\n", b"\r"), end) else end
 
 
+def open_regular(path: str | os.PathLike[str]) -> BinaryIO:
+    """`path` opened for reading in binary, when it is a regular file; OSError otherwise. A
+    FIFO named like a label would block a reader for ever and a device would never end: the
+    file is opened without blocking, checked, and only then read as usual."""
+    descriptor = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+    try:
+        mode = os.fstat(descriptor).st_mode
+        if stat.S_ISDIR(mode):
+            raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), os.fspath(path))
+        if not stat.S_ISREG(mode):
+            raise OSError(errno.EINVAL, "not a regular file", os.fspath(path))
+        os.set_blocking(descriptor, True)
+        return os.fdopen(descriptor, "rb")
+    except BaseException:
+        os.close(descriptor)
+        raise
+
+
 def read_label_head(path: str | os.PathLike[str], first: int = 65536, step: int = 65536,
                     limit: int = 4 << 20) -> bytes:
     """The file's first bytes up to its label's END line (and the rest of the last block
     read): `first` bytes, then `step` more at a time until END or `limit` bytes. The data
     after an attached label is read no further. OSError when the file cannot be read."""
-    with open(path, "rb") as stream:
+    with open_regular(path) as stream:
         return read_on_to_end(stream, stream.read(first), first, step, limit)
 
 
@@ -1004,7 +1024,7 @@ class LabelFile:
 
     @classmethod
     def _read(cls, path: Path, pds3_only: bool) -> LabelFile | None:
-        with open(path, "rb") as stream:
+        with open_regular(path) as stream:
             size = os.fstat(stream.fileno()).st_size
             first = stream.read(FIRST_READ)
             if pds3_only and not is_pds3_head(first):
