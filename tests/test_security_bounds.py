@@ -215,3 +215,45 @@ def test_an_include_loop_is_still_reported_once_walked_once(tmp_path):
     run = run_bounded("validate", "--no-config", label, seconds=30)
     assert_bounded(run, seconds=30)
     assert "include loop: T.LBL -> F0.FMT -> F1.FMT -> F2.FMT -> F1.FMT" in run.stdout, run.stdout
+
+
+# -- files that are no regular files -----------------------------------------------------------
+
+def test_a_fifo_named_like_a_label_is_refused_by_extras(tmp_path):
+    fifo = tmp_path / "DTM.LBL"
+    os.mkfifo(fifo)
+    run = run_bounded("extras", fifo, "-o", tmp_path / "out", seconds=30)
+    assert_bounded(run, seconds=30)
+    assert run.returncode == 2, run.stderr
+    lines = run.stderr.strip().splitlines()
+    assert len(lines) == 1 and "DTM.LBL" in lines[0] and "regular file" in lines[0], run.stderr
+
+
+def test_a_fifo_named_like_an_image_is_refused_by_extras(tmp_path):
+    fifo = tmp_path / "DTM.IMG"
+    os.mkfifo(fifo)
+    run = run_bounded("extras", fifo, "-o", tmp_path / "out", seconds=30)
+    assert_bounded(run, seconds=30)
+    assert run.returncode == 2, run.stderr
+    assert "DTM.IMG" in run.stderr and len(run.stderr.strip().splitlines()) == 1, run.stderr
+
+
+def test_a_fifo_in_a_delivery_does_not_block_validate_or_review(tmp_path):
+    two_products(tmp_path / "d", image_label())
+    os.mkfifo(tmp_path / "d" / "BAD" / "PIPE.LBL")
+    run = run_bounded("validate", "--no-config", tmp_path / "d", seconds=30)
+    assert_bounded(run, seconds=30)
+    assert "2 file(s) checked" in run.stdout or "3 file(s) checked" in run.stdout, run.stdout
+    run = run_bounded("review", tmp_path / "d", "-o", tmp_path / "review.html", seconds=30)
+    assert_bounded(run, seconds=30)
+    assert (tmp_path / "review.html").is_file(), run.stderr
+
+
+def test_a_fifo_named_by_a_label_as_its_data_is_refused_by_extras(tmp_path):
+    label = tmp_path / "P.LBL"
+    label.write_text(image_label(**{"^IMAGE": '"DATA.IMG"'}), newline="")
+    os.mkfifo(tmp_path / "DATA.IMG")
+    run = run_bounded("extras", label, "-o", tmp_path / "out", seconds=30)
+    assert_bounded(run, seconds=30)
+    assert run.returncode == 2, run.stderr
+    assert "DATA.IMG" in run.stderr and "regular file" in run.stderr, run.stderr
