@@ -257,3 +257,48 @@ def test_a_fifo_named_by_a_label_as_its_data_is_refused_by_extras(tmp_path):
     assert_bounded(run, seconds=30)
     assert run.returncode == 2, run.stderr
     assert "DATA.IMG" in run.stderr and "regular file" in run.stderr, run.stderr
+
+
+# -- reports: file names holding control characters -------------------------------------------
+
+FORGED = "::error file=FORGED.LBL,line=1::forged"
+
+
+def forged_delivery(root: Path) -> Path:
+    """A delivery holding a label with findings whose file name holds a line break and a forged
+    workflow command (and an escape sequence that would recolour a terminal)."""
+    root.mkdir()
+    label = root / f"A\n{FORGED}\n\x1b[31mB.LBL"
+    label.write_text(image_label(PRODUCT_ID="", **{"^IMAGE": '"NONE.IMG"'}), newline="")
+    return label
+
+
+def test_a_file_name_cannot_forge_report_lines_in_any_format(tmp_path):
+    import json
+
+    from lxml import etree
+
+    forged_delivery(tmp_path / "d")
+    for fmt in ("text", "github", "json", "sarif", "junit"):
+        run = run_bounded("validate", "--no-config", "--format", fmt, tmp_path / "d")
+        assert_bounded(run)
+        assert run.returncode == 1, (fmt, run.stderr)
+        lines = run.stdout.splitlines()
+        assert not any(line.startswith(("::error file=FORGED", "\x1b")) for line in lines), (fmt, run.stdout)
+        assert "\x1b" not in run.stdout and "\x1b" not in run.stderr, fmt
+        if fmt == "text":
+            assert all(line.startswith(str(tmp_path)) for line in lines[:-1]), run.stdout
+        if fmt in ("json", "sarif"):
+            json.loads(run.stdout)
+        if fmt == "junit":
+            etree.fromstring(run.stdout.encode())
+
+
+def test_a_file_name_cannot_forge_lines_of_a_refusal(tmp_path):
+    label = forged_delivery(tmp_path / "d")
+    for command in (("extras", label, "-o", tmp_path / "x"), ("migrate", label, "-o", tmp_path / "m")):
+        run = run_bounded(*command)
+        assert_bounded(run)
+        assert run.returncode == 2, run.stderr
+        assert not any(line.startswith("::") for line in run.stderr.splitlines()), run.stderr
+        assert "\x1b" not in run.stderr

@@ -98,9 +98,9 @@ class _Group(click.Group):
                 return super().invoke(ctx)
         except PdsgenError as exc:
             from ..storage.locations import display_text
-            from ._messages import in_cli_words
+            from ._messages import in_cli_words, one_line
 
-            click.echo(f"pdsgen: error: {display_text(in_cli_words(str(exc)))}", err=True)
+            click.echo(f"pdsgen: error: {one_line(display_text(in_cli_words(str(exc))))}", err=True)
             sys.exit(2)
         except KeyboardInterrupt:
             # the writers' staging has already removed its temporary files on the way out
