@@ -302,3 +302,34 @@ def test_a_file_name_cannot_forge_lines_of_a_refusal(tmp_path):
         assert run.returncode == 2, run.stderr
         assert not any(line.startswith("::") for line in run.stderr.splitlines()), run.stderr
         assert "\x1b" not in run.stderr
+
+
+# -- batch: a job's output stays inside the batch's -o ----------------------------------------
+
+def test_a_batch_job_writing_outside_its_outdir_is_refused(tmp_path):
+    escaped = tmp_path / "X"
+    base = tmp_path / "a" / "b" / "c"
+    base.mkdir(parents=True)
+    jobs = [('[[validate]]\nid = "v{n}"\ninputs = ["in"]\noutput = "{where}/report.json"\n', where)
+            for where in ("../../../X", str(escaped), "ok/../../X")]
+    jobs += [('[[extras]]\nid = "e{n}"\ninputs = ["in/P.LBL"]\noutdir = "{where}"\n', "../../../X")]
+    text = "".join(job.format(n=n, where=where) for n, (job, where) in enumerate(jobs))
+    (base / "in").mkdir()
+    (base / "in" / "P.LBL").write_text(image_label(), newline="")
+    manifest = base / "release.toml"
+    manifest.write_text(text)
+    run = run_bounded("batch", manifest, "-o", base / "out", "--dry-run")
+    assert_bounded(run)
+    assert run.returncode == 2, run.stdout + run.stderr
+    lines = run.stderr.strip().splitlines()
+    assert len(lines) == 4 and all("outside" in line for line in lines), run.stderr
+    assert not escaped.exists() and not (base / "out").exists()
+
+
+def test_a_batch_job_writing_inside_its_outdir_is_taken(tmp_path):
+    from pdsgen.batch.manifest import load_manifest
+
+    manifest = tmp_path / "release.toml"
+    manifest.write_text('[[validate]]\nid = "v"\ninputs = ["in"]\noutput = "sub/../reports/v.json"\n')
+    (job,) = load_manifest(manifest, tmp_path / "out").jobs
+    assert Path(job.params["output"]) == tmp_path / "out" / "reports" / "v.json"
