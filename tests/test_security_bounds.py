@@ -333,3 +333,38 @@ def test_a_batch_job_writing_inside_its_outdir_is_taken(tmp_path):
     manifest.write_text('[[validate]]\nid = "v"\ninputs = ["in"]\noutput = "sub/../reports/v.json"\n')
     (job,) = load_manifest(manifest, tmp_path / "out").jobs
     assert Path(job.params["output"]) == tmp_path / "out" / "reports" / "v.json"
+
+
+# -- JPEG 2000 headers declaring more than memory holds ---------------------------------------
+
+def huge_tile_jp2(path: Path, side: int = 10**6) -> Path:
+    """A valid 8 x 8 JP2 whose header is then made to declare one `side` x `side` tile."""
+    import struct
+
+    import numpy as np
+    import rasterio
+
+    small = path.with_name("small.jp2")
+    with rasterio.open(small, "w", driver="JP2OpenJPEG", width=8, height=8, count=1, dtype="uint8",
+                       QUALITY=100, REVERSIBLE=True, RESOLUTIONS=1) as dataset:
+        dataset.write(np.arange(64, dtype="uint8").reshape(1, 8, 8))
+    data = bytearray(small.read_bytes())
+    small.unlink()
+    siz = data.find(b"\xff\x4f\xff\x51")
+    for offset in (8, 12, 24, 28):  # Xsiz, Ysiz, XTsiz, YTsiz
+        struct.pack_into(">I", data, siz + offset, side)
+    ihdr = data.find(b"ihdr")
+    struct.pack_into(">II", data, ihdr + 4, side, side)
+    path.write_bytes(bytes(data))
+    assert len(data) < 400
+    return path
+
+
+def test_a_jp2_declaring_a_huge_tile_is_refused_by_extras_before_decoding(tmp_path):
+    jp2 = huge_tile_jp2(tmp_path / "PSP_005000_1000_RED.NOMAP.JP2")
+    for command in (("extras", "--kind", "nomap", jp2, "-o", tmp_path / "n"), ("extras", jp2, "-o", tmp_path / "m")):
+        run = run_bounded(*command)
+        assert_bounded(run)
+        assert run.returncode == 2, run.stderr
+        lines = run.stderr.strip().splitlines()
+        assert len(lines) == 1 and "JPEG 2000" in lines[0] and jp2.name in lines[0], run.stderr
