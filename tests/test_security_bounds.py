@@ -368,3 +368,16 @@ def test_a_jp2_declaring_a_huge_tile_is_refused_by_extras_before_decoding(tmp_pa
         assert run.returncode == 2, run.stderr
         lines = run.stderr.strip().splitlines()
         assert len(lines) == 1 and "JPEG 2000" in lines[0] and jp2.name in lines[0], run.stderr
+
+
+# -- review: memory per label ------------------------------------------------------------------
+
+def test_review_of_a_label_of_500000_keywords_stays_bounded(tmp_path):
+    keywords = "".join(f"K{n:07d} = {n}\r\n" for n in range(500_000))
+    two_products(tmp_path / "d", image_label().replace("END\r\n", keywords + "END\r\n"))
+    assert (tmp_path / "d" / "BAD" / "BAD.LBL").stat().st_size > 8_000_000
+    page = tmp_path / "review.html"
+    run = run_bounded("review", tmp_path / "d", "-o", page)
+    assert_bounded(run)
+    assert page.is_file(), run.stderr
+    assert page.stat().st_size < 50_000_000
