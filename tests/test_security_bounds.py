@@ -20,9 +20,10 @@ from pathlib import Path
 
 SECONDS = 60
 PEAK_BYTES = 1 << 30
-# A ceiling on the child's address space, so a case that does blow up fails its test (with a
-# MemoryError) instead of taking the shared machine down with it.
-ADDRESS_SPACE = 6 << 30
+# A ceiling on the child's data (not its address space: the Schematron engine reserves tens of
+# gigabytes it never uses), so a case that does blow up fails its test (with a MemoryError)
+# instead of taking the shared machine down with it.
+DATA_LIMIT = 6 << 30
 
 
 @dataclass
@@ -35,7 +36,7 @@ class Run:
 
 
 def _limit_child() -> None:
-    resource.setrlimit(resource.RLIMIT_AS, (ADDRESS_SPACE, ADDRESS_SPACE))
+    resource.setrlimit(resource.RLIMIT_DATA, (DATA_LIMIT, DATA_LIMIT))
 
 
 def run_bounded(*args: object, cwd: Path | None = None, seconds: float = SECONDS) -> Run:
@@ -381,3 +382,27 @@ def test_review_of_a_label_of_500000_keywords_stays_bounded(tmp_path):
     assert_bounded(run)
     assert page.is_file(), run.stderr
     assert page.stat().st_size < 50_000_000
+
+
+# -- PDS4 labels: long integers and deep nesting (held by the XML reader) ---------------------
+
+PDS4_TABLE = Path(__file__).resolve().parent / "data" / "nasa_validate" / "github480" / "test_success.xml"
+
+
+def test_pds4_labels_with_long_integers_or_deep_nesting_are_findings(tmp_path):
+    import re
+
+    text = PDS4_TABLE.read_text()
+    long_records = re.sub(r"<records>\d+</records>", f"<records>{LONG_INTEGER}</records>", text)
+    at = text.index("</Identification_Area>")
+    deep = text[:at] + "<a>" * DEPTH + "x" + "</a>" * DEPTH + text[at:]
+    for name, label in (("long", long_records), ("deep", deep)):
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "label.xml").write_text(label)
+        (tmp_path / name / "test.tab").write_bytes(b"1,2\r\n3,4\r\n")
+        run = run_bounded("validate", "--no-config", "--offline", tmp_path / name)
+        assert_bounded(run)
+        assert run.returncode == 1 and "label.xml" in run.stdout, (name, run.stdout, run.stderr)
+        run = run_bounded("review", tmp_path / name, "-o", tmp_path / f"{name}.html")
+        assert_bounded(run)
+        assert (tmp_path / f"{name}.html").is_file(), (name, run.stderr)
