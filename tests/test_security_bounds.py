@@ -406,3 +406,13 @@ def test_pds4_labels_with_long_integers_or_deep_nesting_are_findings(tmp_path):
         run = run_bounded("review", tmp_path / name, "-o", tmp_path / f"{name}.html")
         assert_bounded(run)
         assert (tmp_path / f"{name}.html").is_file(), (name, run.stderr)
+
+
+def test_a_value_typed_on_the_command_line_cannot_forge_lines_of_an_error(tmp_path):
+    for command in (("validate", "--config", f"nope\n{FORGED}", tmp_path),
+                    ("validate", "--format", f"text\n{FORGED}", tmp_path),
+                    ("review", tmp_path / f"nope\n{FORGED}")):
+        run = run_bounded(*command)
+        assert_bounded(run)
+        assert run.returncode == 2, run.stderr
+        assert len(run.stderr.strip().splitlines()) == 1, run.stderr
