@@ -779,7 +779,7 @@ class _Parser:
         sign, base_text, digits = m.groups()
         base = int(base_text) if len(base_text) <= 2 else 0  # a longer base is none of 2, 8, 16
         if base not in _BASE_DIGITS:
-            self.issue("SYNTAX-007", line, f"{text}: base {base} is not 2, 8 or 16", keyword)
+            self.issue("SYNTAX-007", line, f"{text[:40]}: base {base_text[:20]} is not 2, 8 or 16", keyword)
             return Value("bad", text, text, line)
         if not digits or any(ch not in _BASE_DIGITS[base] for ch in digits):
             self.issue("SYNTAX-007", line, f"{text}: {digits!r} are not base-{base} digits", keyword)
