@@ -13,6 +13,7 @@ collected, so a user sees every mistake of a manifest in one run.
 from __future__ import annotations
 
 import importlib
+import os
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -297,9 +298,21 @@ class _Checker:
         if isinstance(param.type, click.Path):
             if is_remote(str(item)):  # an object or prefix (s3://, /vsis3/, https://) is where it says
                 return internal(str(item))
-            base = self.outdir if param.name in OUTPUT_OPTIONS else self.base
-            return str(base / str(item))
+            if param.name in OUTPUT_OPTIONS:
+                return self._output_word(key, str(item), where)
+            return str(self.base / str(item))
         return str(item)
+
+    def _output_word(self, key: str, item: str, where: str) -> str | None:
+        """A job's output `item`, inside the batch's output directory (-o or [batch] outdir),
+        or None (problem recorded): as a job id cannot name a path, a job's output cannot
+        leave the directory the batch was given (`../../X`, an absolute path, s3://)."""
+        relative = os.path.normpath(item)
+        if is_remote(item) or os.path.isabs(relative) or relative.split(os.sep)[0] == os.pardir:
+            self.problems.append(f"{where}: {key} {item!r} is outside the batch's output directory "
+                                 f"{self.outdir} (give a path inside it)")
+            return None
+        return os.path.normpath(self.outdir / relative)
 
     def _scheduling(self, entry: Mapping[str, Any], where: str) -> dict[str, Any] | None:
         """memory, threads, timeout and retries of one job: its own, else [batch]'s, else defaults."""

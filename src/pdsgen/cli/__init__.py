@@ -81,11 +81,15 @@ class _Group(click.Group):
             click.echo(exc.ctx.get_help() if exc.ctx else str(exc))
             sys.exit(0)
         except click.UsageError as exc:
+            from ._messages import one_line  # a value typed may hold a line break
+
             where = f" (see '{exc.ctx.command_path} --help')" if exc.ctx else ""
-            click.echo(f"pdsgen: error: {exc.format_message()}{where}", err=True)
+            click.echo(f"pdsgen: error: {one_line(exc.format_message())}{where}", err=True)
             sys.exit(2)
         except click.ClickException as exc:
-            click.echo(f"pdsgen: error: {exc.format_message()}", err=True)
+            from ._messages import one_line
+
+            click.echo(f"pdsgen: error: {one_line(exc.format_message())}", err=True)
             sys.exit(exc.exit_code)
         except click.Abort:
             click.echo("pdsgen: aborted", err=True)
@@ -98,9 +102,9 @@ class _Group(click.Group):
                 return super().invoke(ctx)
         except PdsgenError as exc:
             from ..storage.locations import display_text
-            from ._messages import in_cli_words
+            from ._messages import in_cli_words, one_line
 
-            click.echo(f"pdsgen: error: {display_text(in_cli_words(str(exc)))}", err=True)
+            click.echo(f"pdsgen: error: {one_line(display_text(in_cli_words(str(exc))))}", err=True)
             sys.exit(2)
         except KeyboardInterrupt:
             # the writers' staging has already removed its temporary files on the way out

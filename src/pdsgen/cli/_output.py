@@ -110,10 +110,13 @@ def output_options(command: Callable[..., Outcome]) -> Callable[..., None]:
         click.get_current_context().meta[_JSON_WANTED] = as_json
         with terminal_bar(wanted(quiet, as_json)):  # large DTM/JP2 writes draw a bar on a terminal
             outcome = command(*args, **kwargs)
-        for error in outcome.refused:
-            click.echo(f"pdsgen: error: {error}", err=True)
-        for warning in outcome.warnings:
-            click.echo(f"warning: {warning}", err=True)
+        if outcome.refused or outcome.warnings:
+            from ._messages import one_line  # start-up: loaded only when there is one to write
+
+            for error in outcome.refused:
+                click.echo(f"pdsgen: error: {one_line(str(error))}", err=True)
+            for warning in outcome.warnings:
+                click.echo(f"warning: {one_line(str(warning))}", err=True)
         if as_json:
             click.echo(json.dumps(outcome.summary, indent=2))
         elif not quiet:

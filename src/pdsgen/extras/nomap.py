@@ -198,6 +198,13 @@ def _observation(paths: list[Path], product_id: str | None) -> str:
 def _open_input(path: Path, observation: str) -> tuple[str, ProductSource]:
     if not path.exists():
         raise InputError(path, "no such file")
+    if not path.is_file():  # a FIFO would block GDAL for ever
+        raise InputError(path, "cannot read (not a regular file)")
+    from ..formats.jp2_header import decode_problem
+
+    problem = decode_problem(path)
+    if problem is not None:
+        raise InputError(path, problem)
     try:
         with rasterio.open(path) as ds:
             count, dtype, nodata = ds.count, ds.dtypes[0], ds.nodata

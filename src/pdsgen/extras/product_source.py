@@ -172,6 +172,7 @@ def open_product(path: str | os.PathLike[str], kind: str | None = None) -> Produ
         raise PdsgenError(path, f"unknown product kind {kind!r} (use dtm or ortho)")
     label_path, label = _find_label(path)
     raster_path = _raster_path(path, label_path, label)
+    _refuse_unreadable(raster_path, label_path, label)
     try:
         with quiet_gdal(), rasterio.open(raster_path) as ds:
             info = _dataset_info(ds)
@@ -283,6 +284,26 @@ def _raster_path(path: Path, label_path: Path | None, label: dict) -> Path:
     if path.suffix.lower() == ".img" and label_path != path:
         return label_path  # GDAL opens a detached .IMG through its label
     return path
+
+
+def _refuse_unreadable(raster_path: Path, label_path: Path | None, label: dict) -> None:
+    """PdsgenError when the raster or a file the label's pointers name is no regular file
+    (GDAL would block for ever on a FIFO named like the data, or read a device without end),
+    or is a JPEG 2000 file whose tiles would not fit in memory (formats/jp2_header.py)."""
+    from ..formats.jp2_header import decode_problem
+
+    named = [raster_path]
+    if label_path is not None:  # find_beside passes over what is no regular file; GDAL does not
+        names = [value[0] if isinstance(value, (list, tuple)) and value else value
+                 for key, value in label.items() if key.startswith("^")]
+        named += [label_path.parent / variant for name in names if isinstance(name, str) and name
+                  for variant in {name, name.upper(), name.lower()}]  # as GDAL looks a name up
+    for path in named:
+        if path.exists() and not path.is_file():
+            raise PdsgenError(path, "cannot read (not a regular file)")
+        problem = decode_problem(path)
+        if problem is not None:
+            raise PdsgenError(path, problem)
 
 
 def _sibling(label_path: Path, name: str) -> Path:

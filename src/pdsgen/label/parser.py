@@ -18,8 +18,10 @@ is start-up time, see tests/test_cli_startup.py.)
 
 from __future__ import annotations
 
+import errno
 import os
 import re
+import stat
 from dataclasses import dataclass, replace
 from functools import cached_property
 from itertools import accumulate, repeat
@@ -308,6 +310,18 @@ _SFDU_DELIMITATIONS = {"A": "length in ASCII", "B": "binary length", "C": "marke
 _DAYS = (31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31)
 _BASE_DIGITS = {2: "01", 8: "01234567", 16: "0123456789ABCDEFabcdef"}
 MAX_KEYWORD_LENGTH = 30
+# No reader holds an integer of more digits (a 128-bit one has 39); a longer one is reported
+# and kept as text, never converted: Python refuses to convert more than 4,300 digits (its
+# int-string limit) and arithmetic on the product of such numbers would be unbounded.
+MAX_INTEGER_DIGITS = 100
+# ODL sequences have one or two dimensions and sets one; OBJECT/GROUP nesting in real labels
+# is a handful deep. Deeper nesting is reported, so that no reader or walker of the tree
+# recurses without bound (a RecursionError on a hostile label).
+MAX_NESTING = 32
+
+
+class _TooDeep(Exception):
+    """A value nested deeper than MAX_NESTING: the statement is dropped (reported once)."""
 
 
 class _Parser:
@@ -324,6 +338,8 @@ class _Parser:
         self.sfdu: str | None = None
         self.lowercase: list[tuple[str, int]] = []
         self.segments = 0  # nested SFDU segments open (see _another_segment)
+        self.depth = 0  # sequences and sets open in the value being read
+        self.too_deep: Block | None = None  # the first OBJECT/GROUP nested too deep
 
     def issue(self, rule: str, line: int | None, message: str, keyword: str | None = None) -> None:
         self.issues.append(Issue(rule, line, message, keyword))
@@ -534,11 +550,23 @@ class _Parser:
             self.scan.skip_line()
             return
         self.scan.next()
-        value = self._value(line, tok.text)
+        try:
+            value = self._value(line, tok.text)
+        except _TooDeep:
+            self._skip_value()
+            return
         if value is None:
             return
         self._end_of_statement(self.scan.line)
         self._add(tok.text, upper, line, value)
+
+    def _skip_value(self) -> None:
+        """Read on to the next statement (or the end): what is left of a value too deep."""
+        while True:
+            tok = self.scan.peek()
+            if tok.kind == "eof" or (tok.kind == "word" and self._starts_statement(tok)):
+                return
+            self.scan.next()
 
     def _add(self, word: str, upper: str, line: int, value: Value) -> None:
         """A statement read: into the current block, or opening an OBJECT/GROUP."""
@@ -551,10 +579,22 @@ class _Parser:
             if value.kind not in ("ident", "string") or not value.text.strip():
                 self.issue("SYNTAX-001", line, f"{upper} needs a name, found {value.raw[:20]!r}")
             block = Block(upper, value.text.strip(), line)
-            self.stack[-1].items.append(block)
+            if self._nests_within_bound(block):
+                self.stack[-1].items.append(block)
             self.stack.append(block)
             return
         self.stack[-1].items.append(Statement(keyword, value, line, pointer))
+
+    def _nests_within_bound(self, block: Block) -> bool:
+        """True when `block` opens at most MAX_NESTING deep. A deeper one is read (its END_
+        still closes it) but left out of the tree, reported at the first such block."""
+        if len(self.stack) <= MAX_NESTING:
+            return True
+        if self.too_deep is None:
+            self.too_deep = block
+            self.issue("SYNTAX-005", block.line, f"{block.kind} = {block.name} nested more than "
+                       f"{MAX_NESTING} deep: it and what it holds are not read", block.name)
+        return False
 
     def _end_of_statement(self, line: int) -> None:
         nxt = self.scan.peek()
@@ -663,6 +703,18 @@ class _Parser:
         return nxt.kind == "punct" and nxt.text == "="
 
     def _collection(self, open_tok: Token, keyword: str) -> Value | None:
+        if self.depth >= MAX_NESTING:
+            self.issue("SYNTAX-001", open_tok.line, f"{keyword}: a value nested more than {MAX_NESTING} "
+                       "deep (sequences have one or two dimensions)", keyword)
+            raise _TooDeep
+        self.depth += 1
+        try:
+            return self._members(open_tok, keyword)
+        finally:
+            self.depth -= 1
+
+    def _members(self, open_tok: Token, keyword: str) -> Value | None:
+        """A sequence or set opened by `open_tok`: its members up to the closing bracket."""
         close = ")" if open_tok.text == "(" else "}"
         items: list[Value] = []
         while True:
@@ -707,7 +759,7 @@ class _Parser:
         number = _NUMBER.fullmatch(text)
         if number:
             if number.group(1):
-                return Value("int", text, int(text), line)
+                return self._integer(text, 10, text, line, keyword)
             if "." not in text:  # 1e+30: ODL real numbers have a decimal point
                 mantissa, e, exponent = text.partition("e" if "e" in text else "E")
                 self.issue("SYNTAX-016", line, f"{keyword} = {text}: a real number without a decimal "
@@ -725,15 +777,25 @@ class _Parser:
             self.issue("SYNTAX-007", line, f"{text!r} is not a based integer (form: 16#FF7FFFFB#)", keyword)
             return Value("bad", text, text, line)
         sign, base_text, digits = m.groups()
-        base = int(base_text)
+        base = int(base_text) if len(base_text) <= 2 else 0  # a longer base is none of 2, 8, 16
         if base not in _BASE_DIGITS:
-            self.issue("SYNTAX-007", line, f"{text}: base {base} is not 2, 8 or 16", keyword)
+            self.issue("SYNTAX-007", line, f"{text[:40]}: base {base_text[:20]} is not 2, 8 or 16", keyword)
             return Value("bad", text, text, line)
         if not digits or any(ch not in _BASE_DIGITS[base] for ch in digits):
             self.issue("SYNTAX-007", line, f"{text}: {digits!r} are not base-{base} digits", keyword)
             return Value("bad", text, text, line)
-        value = int(digits, base)
-        return Value("based", text, -value if sign == "-" else value, line)
+        return self._integer(f"{sign or ''}{digits}", base, text, line, keyword)
+
+    def _integer(self, digits: str, base: int, text: str, line: int, keyword: str) -> Value:
+        """The integer `digits` (a sign maybe, then digits in `base`) written as `text`; one
+        longer than MAX_INTEGER_DIGITS is a finding and kept as text (see there)."""
+        count = len(digits.lstrip("+-"))
+        if count > MAX_INTEGER_DIGITS:
+            self.issue("SYNTAX-001", line, f"{keyword}: an integer of {count} digits (at most "
+                       f"{MAX_INTEGER_DIGITS} are read)", keyword)
+            return Value("bad", text, text, line)
+        kind = "int" if base == 10 else "based"
+        return Value(kind, text, int(digits, base), line)
 
     def _date(self, text: str, line: int, keyword: str) -> Value:
         problem = date_problem(text)
@@ -872,12 +934,30 @@ def label_length(data: bytes) -> int | None:
     return end + 1 if data.startswith((b"\n", b"\r"), end) else end
 
 
+def open_regular(path: str | os.PathLike[str]) -> BinaryIO:
+    """`path` opened for reading in binary, when it is a regular file; OSError otherwise. A
+    FIFO named like a label would block a reader for ever and a device would never end: the
+    file is opened without blocking, checked, and only then read as usual."""
+    descriptor = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+    try:
+        mode = os.fstat(descriptor).st_mode
+        if stat.S_ISDIR(mode):
+            raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), os.fspath(path))
+        if not stat.S_ISREG(mode):
+            raise OSError(errno.EINVAL, "not a regular file", os.fspath(path))
+        os.set_blocking(descriptor, True)
+        return os.fdopen(descriptor, "rb")
+    except BaseException:
+        os.close(descriptor)
+        raise
+
+
 def read_label_head(path: str | os.PathLike[str], first: int = 65536, step: int = 65536,
                     limit: int = 4 << 20) -> bytes:
     """The file's first bytes up to its label's END line (and the rest of the last block
     read): `first` bytes, then `step` more at a time until END or `limit` bytes. The data
     after an attached label is read no further. OSError when the file cannot be read."""
-    with open(path, "rb") as stream:
+    with open_regular(path) as stream:
         return read_on_to_end(stream, stream.read(first), first, step, limit)
 
 
@@ -944,7 +1024,7 @@ class LabelFile:
 
     @classmethod
     def _read(cls, path: Path, pds3_only: bool) -> LabelFile | None:
-        with open(path, "rb") as stream:
+        with open_regular(path) as stream:
             size = os.fstat(stream.fileno()).st_size
             first = stream.read(FIRST_READ)
             if pds3_only and not is_pds3_head(first):

@@ -16,7 +16,7 @@ from pathlib import Path
 from ..errors import InputError
 from ..label.beside import find_beside
 from ..label.grammar import FLOAT_SAMPLE_TYPES, PLACEHOLDERS
-from ..label.parser import parse_label
+from ..label.parser import LabelFile
 from ..label.tree import Block, Pointer, Statement, Value
 from ..pds4.model import pds4_data_type
 from ..validate.context import FileContext
@@ -347,23 +347,40 @@ def _record_delimiter(ctx: FileContext, block: Block, path: Path, offset: int, r
                             "ROW_BYTES, as a PDS4 character table must")
 
 
-def _column_blocks(ctx: FileContext, block: Block) -> list[Block]:
-    """COLUMN and CONTAINER objects in order, a ^STRUCTURE file's in its place."""
+# Bounds on what ^STRUCTURE files may expand to: no genuine table nests format files more than
+# a few deep or has anywhere near this many columns, and a hostile fan-out (files including each
+# other four times over) would otherwise expand to 4^19 columns.
+_MAX_INCLUDE_DEPTH = 20
+_MAX_COLUMNS = 100_000
+
+
+def _column_blocks(ctx: FileContext, block: Block, expanded: dict[Path, list[Block]] | None = None,
+                   chain: tuple[Path, ...] = ()) -> list[Block]:
+    """COLUMN and CONTAINER objects in order, a ^STRUCTURE file's in its place: each file
+    expanded once (`expanded`), through the files that include it (`chain`)."""
+    expanded = {} if expanded is None else expanded
     found: list[Block] = []
     for item in block.items:
         if isinstance(item, Statement) and item.pointer and item.keyword.upper() == "STRUCTURE":
-            found.extend(_column_blocks(ctx, _structure(ctx, item)))
+            path, root = _structure(ctx, item, chain)
+            if path not in expanded:
+                expanded[path] = _column_blocks(ctx, root, expanded, (*chain, path))
+            found.extend(expanded[path])
         elif isinstance(item, Block):
             name = item.name.upper()
             if name == "COLUMN":
                 found.append(item)
             elif name in ("BIT_COLUMN", "CONTAINER"):
                 raise Refused(ctx.path, f"OBJECT = {block.name}: {name} objects are not described by migrate yet")
+        if len(found) > _MAX_COLUMNS:
+            raise Refused(ctx.path, f"OBJECT = {block.name}: more than {_MAX_COLUMNS} columns")
     return found
 
 
-def _structure(ctx: FileContext, stmt: Statement) -> Block:
-    """The format file a ^STRUCTURE names, found beside the label (or in a LABEL directory)."""
+def _structure(ctx: FileContext, stmt: Statement, chain: tuple[Path, ...] = ()) -> tuple[Path, Block]:
+    """The format file a ^STRUCTURE names, found beside the label (or in a LABEL directory),
+    and its parsed contents, included through the files of `chain`: one that includes itself or
+    lies more than _MAX_INCLUDE_DEPTH files deep is refused."""
     name = stmt.value.text
     exact, other = ctx.resolve(name)
     path = exact or other
@@ -372,8 +389,15 @@ def _structure(ctx: FileContext, stmt: Statement) -> Block:
         path = find_beside(volume_label_dir, name)
     if path is None:
         raise Refused(ctx.path, f"^STRUCTURE file {name} is missing")
-    text = path.read_bytes().decode("latin-1")
-    return parse_label(text).root
+    path = path.resolve()
+    if path in chain:
+        raise Refused(ctx.path, f"^STRUCTURE file {name} includes itself")
+    if len(chain) >= _MAX_INCLUDE_DEPTH:
+        raise Refused(ctx.path, f"^STRUCTURE files included more than {_MAX_INCLUDE_DEPTH} deep")
+    try:
+        return path, LabelFile.read(path).root
+    except OSError as error:
+        raise Refused(ctx.path, f"^STRUCTURE file {name}: {error.strerror or error}") from None
 
 
 def _columns(ctx: FileContext, block: Block, prefix: int, character: bool) -> list[dict[str, object]]:

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import os
 import re
-from dataclasses import dataclass, field
+from collections import Counter
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -20,6 +21,7 @@ from ..errors import InputError, OutputError
 from ..label.read import LabelCache
 from ..results import CommandResult
 from ..storage.staging import staged_files
+from ..validate.report import FileReport
 from ..validate.runner import iter_reports
 from .collect import review_directory
 from .page import INLINE_THUMBNAILS, PRODUCTS_PER_PAGE, HtmlWriter, render_pages
@@ -88,7 +90,9 @@ def write_review(directory: str | os.PathLike[str], page: str | os.PathLike[str]
     found = scan(root, labels=labels)
     if not found.products:
         raise InputError(root, "holds no data product (no PDS3 or PDS4 product label)")
-    reports = list(iter_reports([root], labels_only=labels_only, jobs=jobs, labels=labels))
+    shown_findings = _ShownFindings()
+    reports = [shown_findings.trim(report)
+               for report in iter_reports([root], labels_only=labels_only, jobs=jobs, labels=labels)]
     shown = shown_as or str(root)
     title = Path(shown).resolve().name + (" (delivery)" if (root / MANIFEST).is_file() else "")
     review = review_directory(root, found.products, found.previews, reports, target.parent, title, labels)
@@ -98,12 +102,37 @@ def write_review(directory: str | os.PathLike[str], page: str | os.PathLike[str]
             review.files += 1
             review.total_bytes += path.stat().st_size
     counts = review.counts()
+    for severity, hidden in shown_findings.hidden.items():
+        counts[severity] = counts.get(severity, 0) + hidden
     review.verdict = (f"{len(reports)} file(s) checked: {counts['error']} error(s), {counts['warning']} "
                       f"warning(s), {counts['info']} info - {'FAILED' if counts['error'] else 'OK'}")
     pages = render_pages(review, target.name, inline_thumbnails, per_page)
     written = _write_pages(target.parent, pages)
     return ReviewResult(target, len(review.products), sum(p.outline is not None for p in review.products),
                         counts["error"], counts["warning"], counts["info"], written)
+
+
+# A label can hold any number of statements and so of findings (500,000 keywords no dictionary
+# has); the page shows a file's first findings and says how many more there are - pdsgen
+# validate lists them all - so that a page's memory and size stay bounded per label.
+MAX_FINDINGS_SHOWN = 1000
+
+
+@dataclass
+class _ShownFindings:
+    """Trims each file's findings to MAX_FINDINGS_SHOWN, counting those left out by severity
+    (the verdict still counts every finding)."""
+
+    hidden: Counter[str] = field(default_factory=Counter)
+
+    def trim(self, report: FileReport) -> FileReport:
+        if len(report.findings) <= MAX_FINDINGS_SHOWN:
+            return report
+        last, rest = report.findings[MAX_FINDINGS_SHOWN], report.findings[MAX_FINDINGS_SHOWN + 1:]
+        self.hidden.update(f.severity for f in rest)
+        note = replace(last, message=f"{last.message} (and {len(rest)} more finding(s) of this file, "
+                                     "not shown here: pdsgen validate lists them all)")
+        return FileReport(report.path, [*report.findings[:MAX_FINDINGS_SHOWN], note])
 
 
 def _is_page_of(path: Path, target: Path) -> bool:

@@ -162,7 +162,9 @@ def finding_line(f: Finding) -> str:
 
 # -- escaping ---------------------------------------------------------------------------
 _XML_FORBIDDEN = re.compile("[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
-_TERMINAL_CONTROL = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f]")
+# Control characters but the tab: a line break too, so that a file name or label text cannot
+# start a line of its own (a forged finding, or a CI workflow command such as ::error).
+_TERMINAL_CONTROL = re.compile("[\x00-\x08\x0a-\x1f\x7f-\x9f]")
 
 
 def _escape_code(m: re.Match[str]) -> str:
@@ -175,7 +177,8 @@ def xml_safe(text: str) -> str:
 
 
 def terminal_safe(text: str) -> str:
-    """Text a terminal shows as written: control characters written as \\xNN."""
+    """Text a terminal shows as written, on one line: control characters (line breaks
+    included, tabs not) written as \\xNN."""
     return _TERMINAL_CONTROL.sub(_escape_code, text)
 
 
@@ -280,11 +283,11 @@ class JunitWriter(Writer):
                 case, "failure", type=failing[0].rule,
                 message=xml_safe(f"{len(failing)} problem(s), first [{failing[0].rule}] {failing[0].message}"[:500]),
             )
-            failure.text = xml_safe("\n".join(finding_line(f) for f in failing))
+            failure.text = xml_safe("\n".join(terminal_safe(finding_line(f)) for f in failing))
         others = [f for f in report.findings if f not in failing]
         if others:
             out = etree.SubElement(case, "system-out")
-            out.text = xml_safe("\n".join(finding_line(f) for f in others))
+            out.text = xml_safe("\n".join(terminal_safe(finding_line(f)) for f in others))
         self.spool.write("    " + etree.tostring(case, encoding="unicode").rstrip() + "\n")
 
     fail_on_warning = False
