@@ -1,0 +1,244 @@
+"""Hostile schemas (issue 38, items 1, 4 and 5): a label under review must not turn the
+validator against its host through the schemas it names, the downloads it asks for, or
+a prolog long enough to hide its root.
+
+Every case is made at test time: a canary file outside the delivery holding a unique
+string, a secret in an environment variable, a listener on 127.0.0.1 that records every
+request (a bounded server that stops by itself). Each asserts the observable: the canary
+and the secret nowhere in any report format or stream, no request, no traceback.
+"""
+
+from __future__ import annotations
+
+import http.server
+import os
+import shutil
+import subprocess
+import sys
+import threading
+import uuid
+from pathlib import Path
+from types import SimpleNamespace
+
+import pytest
+
+from pdsgen import write_dtm
+from pdsgen.validate.pds4 import schematron
+from pdsgen.validate.pds4.catalog import SchemaCatalog, shipped_schema_dir
+from pdsgen.validate.pds4.label_checks import validate_pds4
+
+from helpers import ORIGINS, elevation_array, write_raster
+
+pytestmark = pytest.mark.skipif(not schematron.available(), reason="needs saxonche")
+
+SCH_NS = "http://purl.oclc.org/dsdl/schematron"
+CORE_URL = "https://pds.nasa.gov/pds4/pds/v1/PDS4_PDS_1O00.xsd"
+FORMATS = ("text", "json", "sarif", "github", "html")
+
+
+@pytest.fixture(scope="module")
+def product(tmp_path_factory):
+    root = tmp_path_factory.mktemp("security_schemas")
+    crs, transform = ORIGINS["equirectangular"]
+    source = write_raster(root / "dtm.tif", elevation_array(12, 16, seed=4), crs, transform, nodata=-9999.0)
+    written = write_dtm(source, root / "good", product_id="SECURITY", label="pds4")
+    return SimpleNamespace(path=written.pds4_label_path, text=written.label_text)
+
+
+@pytest.fixture
+def canary(tmp_path):
+    """A file outside every delivery, holding a unique string; and a secret in the environment."""
+    secret = f"CANARY{uuid.uuid4().hex}"
+    outside = tmp_path / "outside"
+    outside.mkdir()
+    path = outside / "secret.txt"
+    path.write_text(secret + "\n")
+    return SimpleNamespace(path=path, text=secret, env_name="PDSGEN_TEST_SECRET", env_value=f"ENV{secret}")
+
+
+class _Recorder(http.server.BaseHTTPRequestHandler):
+    """Records every request; answers a schema (the core one) to any GET, or a redirect."""
+
+    def do_GET(self) -> None:  # noqa: N802 - http.server's name
+        self.server.requests.append(self.path)
+        if self.server.redirect_to:
+            self.send_response(302)
+            self.send_header("Location", self.server.redirect_to + self.path)
+            self.end_headers()
+            return
+        body = (shipped_schema_dir() / "1O00" / "PDS4_PDS_1O00.xsd").read_bytes()
+        self.send_response(200)
+        self.send_header("Content-Length", str(len(body)))
+        self.end_headers()
+        self.wfile.write(body)
+
+    def log_message(self, *args) -> None:  # noqa: ANN002 - quiet
+        pass
+
+
+def _listener(redirect_to: str = ""):
+    """A server on 127.0.0.1 that stops by itself after a minute, whatever the test does."""
+    httpd = http.server.ThreadingHTTPServer(("127.0.0.1", 0), _Recorder)
+    httpd.requests = []
+    httpd.redirect_to = redirect_to
+    threading.Thread(target=httpd.serve_forever, daemon=True).start()
+    stop = threading.Timer(60, httpd.shutdown)
+    stop.daemon = True
+    stop.start()
+    httpd.url = f"http://127.0.0.1:{httpd.server_address[1]}"
+    return httpd
+
+
+@pytest.fixture
+def listener():
+    httpd = _listener()
+    yield httpd
+    httpd.shutdown()
+    httpd.server_close()
+
+
+def _place(product, directory: Path, text: str) -> Path:
+    directory.mkdir(parents=True, exist_ok=True)
+    shutil.copy(product.path.with_suffix(".img"), directory / product.path.with_suffix(".img").name)
+    label = directory / product.path.name
+    label.write_text(text, encoding="utf-8")
+    return label
+
+
+def _with_schematron(text: str, href: str) -> str:
+    """The label with one more xml-model instruction naming a Schematron at `href`."""
+    model = f'<?xml-model href="{href}" schematypens="{SCH_NS}"?>\n'
+    return text.replace("<Product_", model + "<Product_", 1)
+
+
+def _schematron(expression: str, context: str = "pds:Identification_Area") -> str:
+    """A Schematron whose one assertion fails and quotes `expression` in its message."""
+    return (f'<sch:schema xmlns:sch="{SCH_NS}" queryBinding="xslt2">'
+            '<sch:ns prefix="pds" uri="http://pds.nasa.gov/pds4/pds/v1"/>'
+            f'<sch:pattern><sch:rule context="{context}">'
+            f'<sch:assert test="false()">QUOTED <sch:value-of select="{expression}"/></sch:assert>'
+            '</sch:rule></sch:pattern></sch:schema>')
+
+
+def _validate(*args, env_extra: dict | None = None, cwd: Path | None = None) -> list[subprocess.CompletedProcess]:
+    """`pdsgen validate ARGS` in a fresh process, once per report format."""
+    env = {**os.environ, **(env_extra or {})}
+    return [subprocess.run([sys.executable, "-m", "pdsgen", "validate", "--format", fmt, *map(str, args)],
+                           capture_output=True, text=True, timeout=120, env=env, cwd=cwd)
+            for fmt in FORMATS]
+
+
+def _assert_nothing_leaked(results, canary) -> None:
+    for result in results:
+        streams = result.stdout + result.stderr
+        assert canary.text not in streams, streams[-2000:]
+        assert "Traceback" not in streams, streams[-2000:]
+        assert result.returncode in (0, 1), streams[-2000:]
+
+
+# --- item 1: any Schematron that runs reaches nothing outside the label ---------------------
+
+HOSTILE_EXPRESSIONS = {
+    "unparsed-text": "unparsed-text('{uri}')",
+    "prefixed": "fn:unparsed-text('{uri}')",
+    "comment before the parenthesis": "unparsed-text (: x :) ('{uri}')",
+    "EQName": "Q{{http://www.w3.org/2005/xpath-functions}}unparsed-text('{uri}')",
+    "function reference": "unparsed-text#1('{uri}')",
+    "unparsed-text-lines": "string-join(unparsed-text-lines('{uri}'), ' ')",
+    "doc of a text": "string(doc('{uri}'))",
+    "function-lookup": "function-lookup(xs:QName('fn:unparsed-text'), 1)('{uri}')",
+    "after a minus": "string(0 -unparsed-text-available('{uri}'))",
+    "environment variable": "environment-variable('PDSGEN_TEST_SECRET')",
+    "all environment variables": "string-join(available-environment-variables(), ' ')",
+    "nested transform": "transform(map{{'stylesheet-location': '{uri}'}})?output",
+    "json-doc": "string(json-doc('{uri}'))",
+    "parse-xml with an entity": ("parse-xml('&lt;!DOCTYPE x [&lt;!ENTITY e SYSTEM \"{uri}\"&gt;]&gt;"
+                                 "&lt;x&gt;&amp;e;&lt;/x&gt;')"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(HOSTILE_EXPRESSIONS))
+def test_a_schematron_given_with_schemas_that_reaches_outside_the_label_is_not_run(
+        product, canary, tmp_path, listener, name, monkeypatch):
+    """A mission dictionary given with --schemas is trusted to be PDS's kind of file, not to
+    be harmless: an expression reading a file, the environment, the network or running a
+    transform keeps the whole file from running, and says so."""
+    monkeypatch.setenv(canary.env_name, canary.env_value)
+    schemas = tmp_path / "delivery" / "schemas"
+    schemas.mkdir(parents=True)
+    for uri in (canary.path.as_uri(), f"{listener.url}/probe"):
+        expression = HOSTILE_EXPRESSIONS[name].format(uri=uri)
+        (schemas / "mission.sch").write_text(_schematron(expression.replace('"', "&quot;")))
+        label = _place(product, tmp_path / "delivery", _with_schematron(product.text, "schemas/mission.sch"))
+        found = validate_pds4(label, SchemaCatalog.build([schemas]), labels_only=True)
+        notes = [f.message for f in found if f.rule == "PDS4-002" and "mission.sch" in f.message]
+        assert len(notes) == 1 and "not run" in notes[0], [f.message for f in found]
+        assert not any("QUOTED" in f.message or canary.text in f.message for f in found)
+    assert listener.requests == []
+
+
+def test_a_hostile_schematron_leaks_nothing_in_any_report_format(product, canary, tmp_path, listener):
+    """Every hostile expression in one --schemas Schematron, in a context pattern too, run
+    by the command in every report format: no canary, no secret, no request, no traceback."""
+    schemas = tmp_path / "delivery" / "schemas"
+    schemas.mkdir(parents=True)
+    asserts = "".join(
+        '<sch:assert test="false()">QUOTED <sch:value-of select="'
+        + expression.format(uri=uri).replace('"', "&quot;") + '"/></sch:assert>'
+        for expression in HOSTILE_EXPRESSIONS.values() for uri in (canary.path.as_uri(), f"{listener.url}/probe"))
+    context = f"pds:Identification_Area[unparsed-text-available('{listener.url}/context')]"
+    (schemas / "mission.sch").write_text(
+        f'<sch:schema xmlns:sch="{SCH_NS}" queryBinding="xslt2"><sch:ns prefix="pds" '
+        f'uri="http://pds.nasa.gov/pds4/pds/v1"/><sch:pattern><sch:rule context="{context}">{asserts}'
+        "</sch:rule></sch:pattern></sch:schema>")
+    label = _place(product, tmp_path / "delivery", _with_schematron(product.text, "schemas/mission.sch"))
+    results = _validate("--labels-only", "--schemas", schemas, "--schema-cache", tmp_path / "cache", label,
+                        env_extra={canary.env_name: canary.env_value})
+    _assert_nothing_leaked(results, canary)
+    text_report = next(r for r in results if r.args[5] == "text")
+    assert "mission.sch not run" in text_report.stdout, text_report.stdout
+    assert listener.requests == []
+
+
+def test_a_rule_context_reaching_outside_the_label_is_not_run(product, tmp_path, listener):
+    """A rule's context (an XSLT pattern, which may start with doc()) is checked too."""
+    schemas = tmp_path / "delivery" / "schemas"
+    schemas.mkdir(parents=True)
+    (schemas / "mission.sch").write_text(_schematron("'x'", context=f"doc('{listener.url}/context')//pds:x"))
+    label = _place(product, tmp_path / "delivery", _with_schematron(product.text, "schemas/mission.sch"))
+    found = validate_pds4(label, SchemaCatalog.build([schemas]), labels_only=True)
+    assert any(f.rule == "PDS4-002" and "mission.sch not run" in f.message for f in found)
+    assert listener.requests == []
+
+
+def test_a_schematron_given_with_schemas_still_runs_when_it_stays_inside_the_label(product, tmp_path):
+    """A delivery's own schemas in a subdirectory of its tree, given with --schemas, still
+    validate: a relative location inside the --schemas directory is loaded, its rule fires."""
+    schemas = tmp_path / "delivery" / "schemas"
+    schemas.mkdir(parents=True)
+    (schemas / "mission.sch").write_text(_schematron("string(pds:logical_identifier)"))
+    label = _place(product, tmp_path / "delivery", _with_schematron(product.text, "schemas/mission.sch"))
+    found = validate_pds4(label, SchemaCatalog.build([schemas]), labels_only=True)
+    assert any(f.rule == "PDS4-005" and "QUOTED urn:" in f.message for f in found), [f.message for f in found]
+    assert not any(f.rule == "PDS4-002" for f in found)
+
+
+def test_saxon_itself_opens_no_uri_should_an_expression_get_past_the_check(canary):
+    """The second wall: the processor every Schematron runs in refuses file and http URIs."""
+    processor = schematron._processor()
+    sheet = ('<xsl:stylesheet xmlns:xsl="http://www.w3.org/1999/XSL/Transform" version="3.0">'
+             f'<xsl:template match="/"><r><xsl:value-of select="unparsed-text(\'{canary.path.as_uri()}\')"/></r>'
+             '</xsl:template></xsl:stylesheet>')
+    executable = processor.new_xslt30_processor().compile_stylesheet(stylesheet_text=sheet)
+    with pytest.raises(Exception) as raised:  # noqa: PT011 - saxonche's own error class
+        executable.transform_to_string(xdm_node=processor.parse_xml(xml_text="<a/>"))
+    assert canary.text not in str(raised.value)
+
+
+def test_no_shipped_schematron_is_taken_for_a_hostile_one():
+    """The check finds nothing to refuse in any Schematron pdsgen ships (every IM version,
+    every discipline dictionary): genuine labels lose no rule."""
+    catalog = SchemaCatalog.build()
+    refused = {name: schematron.forbidden_calls(file) for name, file in catalog.files.items() if name.endswith(".sch")}
+    assert len(refused) > 300
+    assert {name: calls for name, calls in refused.items() if calls} == {}
