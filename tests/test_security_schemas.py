@@ -23,7 +23,8 @@ from types import SimpleNamespace
 import pytest
 
 from pdsgen import write_dtm
-from pdsgen.validate.pds4 import schematron
+from pdsgen.validate import validate_paths
+from pdsgen.validate.pds4 import download, schematron
 from pdsgen.validate.pds4.catalog import SchemaCatalog, shipped_schema_dir
 from pdsgen.validate.pds4.label_checks import validate_pds4
 
@@ -136,7 +137,7 @@ def _assert_nothing_leaked(results, canary) -> None:
         assert result.returncode in (0, 1), streams[-2000:]
 
 
-# --- item 1: any Schematron that runs reaches nothing outside the label ---------------------
+# --- item 1: Schematron from an untrusted location is not loaded ------------------------------
 
 HOSTILE_EXPRESSIONS = {
     "unparsed-text": "unparsed-text('{uri}')",
@@ -155,6 +156,26 @@ HOSTILE_EXPRESSIONS = {
     "parse-xml with an entity": ("parse-xml('&lt;!DOCTYPE x [&lt;!ENTITY e SYSTEM \"{uri}\"&gt;]&gt;"
                                  "&lt;x&gt;&amp;e;&lt;/x&gt;')"),
 }
+
+
+@pytest.mark.parametrize("where", ["beside", "parent", "file-url"])
+def test_a_schematron_the_label_names_outside_the_trusted_sources_is_not_loaded(product, canary, tmp_path, where):
+    """A .sch beside the label, up a `../`, or named by a file:// URL is not compiled, and the
+    finding says its rules were not checked; the canary it would read is in no format."""
+    delivery = tmp_path / "delivery"
+    sch_text = _schematron(f"unparsed-text('{canary.path.as_uri()}')")
+    places = {"beside": (delivery / "evil.sch", "evil.sch"),
+              "parent": (tmp_path / "evil.sch", "../evil.sch"),
+              "file-url": (canary.path.parent / "evil.sch", (canary.path.parent / "evil.sch").as_uri())}
+    sch_path, href = places[where]
+    sch_path.parent.mkdir(parents=True, exist_ok=True)
+    sch_path.write_text(sch_text)
+    label = _place(product, delivery, _with_schematron(product.text, href))
+    found = validate_pds4(label, labels_only=True)
+    notes = [f.message for f in found if f.rule == "PDS4-002"]
+    assert any("evil" in note and "not loaded" in note and "rules not checked" in note for note in notes), notes
+    assert not any("QUOTED" in f.message for f in found)
+    _assert_nothing_leaked(_validate("--labels-only", "--offline", label), canary)
 
 
 @pytest.mark.parametrize("name", sorted(HOSTILE_EXPRESSIONS))
@@ -242,3 +263,154 @@ def test_no_shipped_schematron_is_taken_for_a_hostile_one():
     refused = {name: schematron.forbidden_calls(file) for name, file in catalog.files.items() if name.endswith(".sch")}
     assert len(refused) > 300
     assert {name: calls for name, calls in refused.items() if calls} == {}
+
+
+# --- item 4: XML Schema from an untrusted location ------------------------------------------
+
+def _hostile_xsd(canary_text: str) -> str:
+    return ('<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema" '
+            'targetNamespace="http://pds.nasa.gov/pds4/pds/v1" elementFormDefault="qualified">'
+            '<xs:element name="Product_Observational"><xs:simpleType><xs:restriction base="xs:string">'
+            f'<xs:enumeration value="{canary_text}"/></xs:restriction></xs:simpleType></xs:element></xs:schema>')
+
+
+@pytest.mark.parametrize("where", ["beside", "parent", "file-url"])
+def test_an_xml_schema_the_label_names_outside_the_trusted_sources_is_not_compiled(product, canary, tmp_path, where):
+    delivery = tmp_path / "delivery"
+    outside = canary.path.parent / "evil.xsd"
+    outside.write_text(_hostile_xsd(canary.text))
+    hrefs = {"beside": "evil.xsd", "parent": "../outside/evil.xsd", "file-url": outside.as_uri()}
+    if where == "beside":
+        delivery.mkdir(parents=True, exist_ok=True)
+        shutil.copy(outside, delivery / "evil.xsd")
+    label = _place(product, delivery, product.text.replace(CORE_URL, hrefs[where]))
+    found = validate_pds4(label, labels_only=True, use_schematron=False)
+    notes = [f.message for f in found if f.rule == "PDS4-002"]
+    assert len(notes) == 1 and "evil" in notes[0] and "not loaded" in notes[0], [f.message for f in found]
+    _assert_nothing_leaked(_validate("--labels-only", "--offline", label), canary)
+
+
+def test_an_xml_schema_given_with_schemas_does_not_read_an_outside_entity(product, canary, tmp_path):
+    """An XSD in a --schemas directory declaring an external entity on the canary: the
+    entity is not read, and the canary is not quoted."""
+    schemas = tmp_path / "delivery" / "schemas"
+    schemas.mkdir(parents=True)
+    xsd = _hostile_xsd("&e;").replace(
+        "<xs:schema", f'<!DOCTYPE xs:schema [<!ENTITY e SYSTEM "{canary.path.as_uri()}">]>\n<xs:schema', 1)
+    (schemas / "PDS4_PDS_9Z00.xsd").write_text(xsd)
+    label = _place(product, tmp_path / "delivery", product.text.replace(CORE_URL, "schemas/PDS4_PDS_9Z00.xsd"))
+    found = validate_pds4(label, SchemaCatalog.build([schemas]), labels_only=True, use_schematron=False)
+    assert not any(canary.text in f.message for f in found)
+    _assert_nothing_leaked(_validate("--labels-only", "--offline", "--schemas", schemas, label), canary)
+
+
+# --- item 4: downloads only from PDS's schema site over https, the cache keyed by URL -------
+
+@pytest.mark.parametrize("url, expected", [
+    ("http://pds.nasa.gov/pds4/pds/v1/PDS4_PDS_1O00.xsd", "https://pds.nasa.gov/pds4/pds/v1/PDS4_PDS_1O00.xsd"),
+    ("https://PDS.nasa.gov/pds4/mission/x/v1/PDS4_X_1O00_1000.sch",
+     "https://pds.nasa.gov/pds4/mission/x/v1/PDS4_X_1O00_1000.sch"),
+    ("http://127.0.0.1:8000/pds4/pds/v1/PDS4_PDS_1O00.xsd", None),
+    ("http://localhost/PDS4_PDS_1O00.xsd", None),
+    ("https://pds.nasa.gov.example.com/PDS4_PDS_1O00.xsd", None),
+    ("https://evilpds.nasa.gov/PDS4_PDS_1O00.xsd", None),
+    ("https://pds.nasa.gov@127.0.0.1/PDS4_PDS_1O00.xsd", None),
+    ("https://user@pds.nasa.gov/PDS4_PDS_1O00.xsd", None),
+    ("ftp://pds.nasa.gov/PDS4_PDS_1O00.xsd", None),
+    ("https://pds.nasa.gov/pds4/%2E%2E", None),
+    ("https://pds.nasa.gov/pds4/x%2F..", None),
+    ("https://pds.nasa.gov/pds4/pds/v1/PDS4_PDS_1O00.xsd?x=1", None),
+    ("https://pds.nasa.gov/pds4/pds/v1/..", None),
+    ("https://[::1/PDS4_PDS_1O00.xsd", None),
+])
+def test_only_pds_schema_hosts_are_downloaded_from_and_over_https(url, expected):
+    assert download.download_url(url) == expected
+
+
+def _loopback_label(product, tmp_path, base_url: str) -> Path:
+    text = product.text.replace(CORE_URL, f"{base_url}/pds4/pds/v1/PDS4_PDS_9Z00.xsd")
+    return _place(product, tmp_path / "delivery", text)
+
+
+def test_a_label_naming_another_host_makes_no_request(product, tmp_path, listener):
+    """Without --offline, a schema at 127.0.0.1 (or any host but PDS's) is not fetched: the
+    listener sees nothing, the finding says why."""
+    label = _loopback_label(product, tmp_path, listener.url)
+    for result in _validate("--labels-only", "--schema-cache", tmp_path / "cache", label):
+        assert "Traceback" not in result.stderr and result.returncode in (0, 1)
+    assert listener.requests == []
+    found = validate_paths([label], schema_cache=tmp_path / "cache", download_schemas=True).findings
+    notes = [f.message for f in found if f.rule == "PDS4-002"]
+    assert len(notes) == 1 and "only over https from PDS's schema site" in notes[0]
+    assert listener.requests == [] and not (tmp_path / "cache").exists()
+
+
+@pytest.fixture
+def loopback_is_pds(monkeypatch):
+    """For the cache tests: the listener's host stands in for PDS's (over http)."""
+    monkeypatch.setattr(download, "SCHEMA_HOSTS", ("127.0.0.1",))
+    monkeypatch.setattr(download, "SCHEME", "http")
+
+
+def test_the_cache_answers_only_the_url_it_was_fetched_from(product, tmp_path, listener, loopback_is_pds):
+    """One host's file never answers for another's of the same name: after a download from
+    one URL, a label naming the same file name elsewhere is not answered from the cache."""
+    cache = tmp_path / "cache"
+    label = _loopback_label(product, tmp_path, listener.url)
+    assert validate_paths([label], schema_cache=cache, download_schemas=True).exit_code == 0
+    assert len(listener.requests) == 1
+    cached = [p for p in cache.rglob("PDS4_PDS_9Z00.xsd")]
+    assert len(cached) == 1 and cached[0].parent != cache  # kept under its URL's key, not by name
+    again = validate_paths([label], schema_cache=cache, download_schemas=False)  # the same URL: cached
+    assert "PDS4-002" not in again.rule_ids()
+    other = _place(product, tmp_path / "other", product.text.replace(
+        CORE_URL, "http://127.0.0.2:1/pds4/pds/v1/PDS4_PDS_9Z00.xsd"))
+    found = validate_paths([other], schema_cache=cache, download_schemas=False).findings
+    assert [f.rule for f in found if f.rule.startswith("PDS4-00") and f.rule != "PDS4-007"] == ["PDS4-002"]
+
+
+def test_a_cache_of_the_old_layout_keyed_by_name_is_not_trusted(product, tmp_path):
+    """A file in the cache with a SHA256SUMS line from another host (the layout before this
+    change, keyed by name) does not answer a label naming pds.nasa.gov."""
+    cache = tmp_path / "cache"
+    cache.mkdir()
+    evil = _hostile_xsd("OLDCACHE").encode()
+    (cache / "PDS4_PDS_9Z00.xsd").write_bytes(evil)
+    import hashlib
+
+    digest = hashlib.sha256(evil).hexdigest()
+    (cache / "SHA256SUMS").write_text(f"{digest}  PDS4_PDS_9Z00.xsd  http://127.0.0.1:9/PDS4_PDS_9Z00.xsd\n"
+                                      f"{digest}  PDS4_PDS_9Z00.xsd  https://pds.nasa.gov/pds4/pds/v1/PDS4_PDS_9Z00.xsd\n")
+    label = _place(product, tmp_path / "delivery", product.text.replace(
+        CORE_URL, "https://pds.nasa.gov/pds4/pds/v1/PDS4_PDS_9Z00.xsd"))
+    found = validate_paths([label], schema_cache=cache, download_schemas=False).findings
+    assert "PDS4-002" in {f.rule for f in found} and not any("OLDCACHE" in f.message for f in found)
+
+
+def test_a_cached_file_without_its_recorded_digest_is_not_used(product, tmp_path, listener, loopback_is_pds):
+    cache = tmp_path / "cache"
+    label = _loopback_label(product, tmp_path, listener.url)
+    assert validate_paths([label], schema_cache=cache, download_schemas=True).exit_code == 0
+    (cache / "SHA256SUMS").write_text("")
+    found = validate_paths([label], schema_cache=cache, download_schemas=False).findings
+    assert "PDS4-002" in {f.rule for f in found}
+
+
+def test_a_redirect_away_from_pds_hosts_is_not_followed(product, tmp_path, loopback_is_pds):
+    """PDS's host (the listener, standing in) redirecting elsewhere: the other host gets no request."""
+    elsewhere = _listener()
+    try:
+        monkey_other = elsewhere.url.replace("127.0.0.1", "127.0.0.3")
+        redirecting = _listener(redirect_to=monkey_other)
+        try:
+            label = _loopback_label(product, tmp_path, redirecting.url)
+            found = validate_paths([label], schema_cache=tmp_path / "cache", download_schemas=True).findings
+            notes = [f.message for f in found if f.rule == "PDS4-002"]
+            assert len(redirecting.requests) == 1 and elsewhere.requests == []
+            assert len(notes) == 1 and "redirected away" in notes[0], notes
+        finally:
+            redirecting.shutdown()
+            redirecting.server_close()
+    finally:
+        elsewhere.shutdown()
+        elsewhere.server_close()
