@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import http.server
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -414,3 +415,53 @@ def test_a_redirect_away_from_pds_hosts_is_not_followed(product, tmp_path, loopb
     finally:
         elsewhere.shutdown()
         elsewhere.server_close()
+
+
+# --- item 5: detection reads the whole prolog -----------------------------------------------
+
+def _broken_label(product) -> str:
+    """The label with a 33-character md5 (an XML Schema error)."""
+    return product.text.replace("<md5_checksum>", "<md5_checksum>0")
+
+
+@pytest.mark.parametrize("name", ["label.xml", "label.lblx", "label.dat"])
+def test_a_long_leading_comment_does_not_hide_a_label(product, tmp_path, name):
+    """A PDS4 label whose root starts after 100 kB of comments is still found by a directory
+    run and its errors reported: exit 1, not 0."""
+    comment = "<!-- " + "padding " * 12_000 + "-->\n"
+    text = re.sub(r"^(<\?xml[^>]*\?>\n)", lambda m: m[1] + comment * 2, _broken_label(product))
+    assert text.index("<Product_") > 100_000
+    delivery = tmp_path / "delivery"
+    label = _place(product, delivery, text)
+    label.rename(delivery / name)
+    report = validate_paths([delivery], labels_only=True)
+    assert report.exit_code == 1
+    assert any(f.rule == "PDS4-004" and name in f.file for f in report.findings), report.findings
+    result = subprocess.run([sys.executable, "-m", "pdsgen", "validate", "--labels-only", "--offline", delivery],
+                            capture_output=True, text=True, timeout=120)
+    assert result.returncode == 1 and "PDS4-004" in result.stdout
+
+
+@pytest.mark.parametrize("text", [
+    '<?xml version="1.0"?>\n<!-- a comment never closed\n' + "x" * 200_000,
+    '<?xml version="1.0"?>\n<?xml-model href="x.sch" never closed\n',
+    '<!-- ' + "x" * 100 + "\n",
+])
+def test_an_xml_file_whose_root_cannot_be_found_is_reported(tmp_path, text):
+    delivery = tmp_path / "delivery"
+    delivery.mkdir()
+    (delivery / "hidden.xml").write_text(text)
+    report = validate_paths([delivery], labels_only=True)
+    assert report.exit_code == 1
+    assert [f.rule for f in report.findings if "hidden.xml" in f.file] == ["PDS4-001"]
+
+
+def test_ordinary_xml_and_binary_files_in_a_delivery_are_still_passed_over(product, tmp_path):
+    """Not every XML file is a label: one with another root, and binary data starting with
+    '<', are not reported."""
+    delivery = tmp_path / "delivery"
+    _place(product, delivery, product.text)
+    (delivery / "notes.xml").write_text('<?xml version="1.0"?>\n<!-- c -->\n<notes><n>x</n></notes>\n')
+    (delivery / "data.img").write_bytes(b"<\x00\x01\x02" + bytes(range(256)) * 10)
+    report = validate_paths([delivery], labels_only=True)
+    assert len(report.files) == 1 and not [f for f in report.findings if "notes" in f.file or "data" in f.file]
