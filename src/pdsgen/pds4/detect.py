@@ -34,9 +34,11 @@ _BOM = b"\xef\xbb\xbf"
 _XML_STARTS = (b"<?xml", b"<!--", b"<!DOCTYPE")
 # What may come before the root element, each matched whole: a processing instruction
 # (the declaration, xml-model), a comment, a document type declaration (its internal
-# subset's quoted strings and comments may hold '>' and ']'), or white space.
+# subset's quoted strings and comments may hold '>' and ']'), or white space. Each
+# alternative starts differently from the others, so a prolog that never ends fails in
+# linear time (a comment inside the subset is matched only to its first `-->`).
 _PROLOG_ITEM = re.compile(rb"""\s+|<\?.*?\?>|<!--.*?-->|<!DOCTYPE(?:[^\[>"']|"[^"]*"|'[^']*')*"""
-                          rb"""(?:\[(?:[^\]"'<]|"[^"]*"|'[^']*'|<!--.*?-->|<[^>"']*(?:(?:"[^"]*"|'[^']*')[^>"']*)*>)*\]\s*)?>""",
+                          rb"""(?:\[(?:[^\]"'<]|"[^"]*"|'[^']*'|<!--(?:[^-]|-(?!-))*-->|<(?!!--)[^>"']*(?:(?:"[^"]*"|'[^']*')[^>"']*)*>)*\]\s*)?>""",
                           re.S)
 _ROOT_TAG = re.compile(rb"""<([^\s/>!?]+)(?:[^>"']|"[^"]*"|'[^']*')*>""", re.S)
 
