@@ -17,6 +17,7 @@ import shutil
 import subprocess
 import sys
 import threading
+import time
 import uuid
 from pathlib import Path
 from types import SimpleNamespace
@@ -305,6 +306,40 @@ def test_an_xml_schema_given_with_schemas_does_not_read_an_outside_entity(produc
     _assert_nothing_leaked(_validate("--labels-only", "--offline", "--schemas", schemas, label), canary)
 
 
+def test_a_symlink_in_a_schemas_directory_leading_out_of_it_is_not_taken(product, canary, tmp_path):
+    """A delivery's schema directory given with --schemas linking mission.sch to a file of
+    the host: the link is not followed, the Schematron is reported not found."""
+    schemas = tmp_path / "delivery" / "schemas"
+    schemas.mkdir(parents=True)
+    outside_sch = canary.path.parent / "real.sch"
+    outside_sch.write_text(_schematron("'QUOTED-OUTSIDE'"))
+    (schemas / "mission.sch").symlink_to(outside_sch)
+    label = _place(product, tmp_path / "delivery", _with_schematron(product.text, "schemas/mission.sch"))
+    found = validate_pds4(label, SchemaCatalog.build([schemas]), labels_only=True)
+    assert any(f.rule == "PDS4-002" and "mission" in f.message and "not loaded" in f.message for f in found)
+    assert not any("QUOTED" in f.message for f in found)
+
+
+def test_an_xml_schema_given_with_schemas_imports_nothing_from_outside(product, canary, tmp_path, listener):
+    """An XSD in --schemas importing a file:// outside the trusted directories, or a schema
+    at 127.0.0.1: neither is read nor requested; the import is reported unresolved."""
+    schemas = tmp_path / "delivery" / "schemas"
+    schemas.mkdir(parents=True)
+    outside = canary.path.parent / "evil.xsd"
+    outside.write_text(_hostile_xsd(canary.text).replace("http://pds.nasa.gov/pds4/pds/v1", "urn:evil"))
+    core = (shipped_schema_dir() / "1O00" / "PDS4_PDS_1O00.xsd").read_text()
+    imports = (f'<xs:import namespace="urn:evil" schemaLocation="{outside.as_uri()}"/>'
+               f'<xs:import namespace="urn:net" schemaLocation="{listener.url}/PDS4_NET_1O00.xsd"/>')
+    core = re.sub(r"(<xs:schema\b[^>]*>)", lambda m: m[1] + imports, core, count=1)
+    (schemas / "PDS4_PDS_9Z00.xsd").write_text(core)
+    label = _place(product, tmp_path / "delivery", product.text.replace(CORE_URL, "schemas/PDS4_PDS_9Z00.xsd"))
+    found = validate_pds4(label, SchemaCatalog.build([schemas], tmp_path / "cache", download=True),
+                          labels_only=True, use_schematron=False)
+    assert any(f.rule == "PDS4-003" and "evil.xsd" in f.message for f in found), [f.message for f in found]
+    assert not any(canary.text in f.message for f in found)
+    assert listener.requests == []
+
+
 # --- item 4: downloads only from PDS's schema site over https, the cache keyed by URL -------
 
 @pytest.mark.parametrize("url, expected", [
@@ -454,6 +489,18 @@ def test_an_xml_file_whose_root_cannot_be_found_is_reported(tmp_path, text):
     report = validate_paths([delivery], labels_only=True)
     assert report.exit_code == 1
     assert [f.rule for f in report.findings if "hidden.xml" in f.file] == ["PDS4-001"]
+
+
+def test_a_prolog_that_never_ends_is_decided_in_bounded_time(tmp_path):
+    """A document type declaration of 100,000 comments that is never closed: detection
+    stays linear (no regular-expression blow-up) and the file is reported."""
+    delivery = tmp_path / "delivery"
+    delivery.mkdir()
+    (delivery / "hidden.xml").write_bytes(b'<?xml version="1.0"?>\n<!DOCTYPE x [' + b"<!--c-->" * 100_000)
+    started = time.monotonic()
+    report = validate_paths([delivery], labels_only=True)
+    assert time.monotonic() - started < 30
+    assert [f.rule for f in report.findings] == ["PDS4-001"]
 
 
 def test_ordinary_xml_and_binary_files_in_a_delivery_are_still_passed_over(product, tmp_path):

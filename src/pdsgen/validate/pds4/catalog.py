@@ -142,13 +142,17 @@ class SchemaCatalog:
         return catalog
 
     def add_dir(self, directory: Path) -> None:
-        """Every schema file under a trusted directory, by name; paths inside it may be loaded."""
-        self.trusted_dirs.append(directory.resolve())
+        """Every schema file under a trusted directory, by name; paths inside it may be loaded.
+        A symlink leading out of the directory is not taken (a delivery's schema directory
+        given with --schemas may link to any file of the host)."""
+        real_dir = directory.resolve()
+        self.trusted_dirs.append(real_dir)
         for root, dirnames, filenames in os.walk(directory):
             dirnames.sort()
             for name in sorted(filenames):
-                if name.lower().endswith(SCHEMA_SUFFIXES):
-                    self.files[name] = Path(root) / name
+                path = Path(root) / name
+                if name.lower().endswith(SCHEMA_SUFFIXES) and _resolves_inside(path, real_dir):
+                    self.files[name] = path
         self.serial = next(_SERIALS)
 
     def resolve(self, url: str, base: Path | None = None) -> SchemaFile | None:
@@ -172,11 +176,7 @@ class SchemaCatalog:
 
     def _inside_trusted(self, local: Path) -> bool:
         """Whether a file, symlinks resolved, lies inside a --schemas or shipped directory."""
-        try:
-            real = local.resolve(strict=True)
-        except (OSError, RuntimeError):
-            return False
-        return any(real.is_relative_to(directory) for directory in self.trusted_dirs)
+        return any(_resolves_inside(local, directory) for directory in self.trusted_dirs)
 
     def _by_name(self, name: str, url: str | None) -> SchemaFile | None:
         found = self.files.get(name)
@@ -250,6 +250,14 @@ class SchemaCatalog:
     def key(self) -> tuple[int, int]:
         """A hashable identity, for caching compiled schemas per catalog state."""
         return (id(self), self.serial)
+
+
+def _resolves_inside(path: Path, real_dir: Path) -> bool:
+    """Whether a file, symlinks resolved, lies inside a (resolved) directory."""
+    try:
+        return path.resolve(strict=True).is_relative_to(real_dir)
+    except (OSError, RuntimeError):
+        return False
 
 
 @dataclass(frozen=True)
