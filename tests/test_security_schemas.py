@@ -155,6 +155,7 @@ HOSTILE_EXPRESSIONS = {
     "all environment variables": "string-join(available-environment-variables(), ' ')",
     "nested transform": "transform(map{{'stylesheet-location': '{uri}'}})?output",
     "json-doc": "string(json-doc('{uri}'))",
+    "recursion (kills the engine)": "let $f := function($g) {{ $g($g) }} return $f($f)",
     "parse-xml with an entity": ("parse-xml('&lt;!DOCTYPE x [&lt;!ENTITY e SYSTEM \"{uri}\"&gt;]&gt;"
                                  "&lt;x&gt;&amp;e;&lt;/x&gt;')"),
 }

@@ -40,8 +40,11 @@ _REPORT_NS = "urn:pdsgen:schematron-report"
 
 # XPath/XSLT functions that reach outside the label: files and URLs, environment
 # variables, system properties, nested transforms and queries, and the ways to call any
-# function by name at run time. A Schematron naming one is not run.
+# function by name at run time; and `function(...)`, an inline function, the one way an
+# expression can recurse (unbounded recursion kills the engine's process, not just the
+# label's check). A Schematron naming one is not run.
 FORBIDDEN_FUNCTIONS = frozenset({
+    "function",
     "unparsed-text", "unparsed-text-lines", "unparsed-text-available", "doc", "doc-available", "document",
     "collection", "uri-collection", "json-doc", "parse-xml", "parse-xml-fragment", "environment-variable",
     "available-environment-variables", "system-property", "available-system-properties", "transform",
