@@ -1,6 +1,7 @@
-"""Where PDS4 schemas come from: beside the label (never the working directory), the
-shipped files and archives, the download cache, and the label's URL (a local HTTP server
-on 127.0.0.1 stands in for pds.nasa.gov); and what is said when one cannot be found."""
+"""Where PDS4 schemas come from: --schemas directories (a path a label names, taken from its
+directory, never the working directory), the shipped files and archives, the download
+cache, and the label's URL (a local HTTP server on 127.0.0.1 stands in for pds.nasa.gov);
+and what is said when one cannot be found. Hostile locations: test_security_schemas.py."""
 
 from __future__ import annotations
 
@@ -19,11 +20,11 @@ import pytest
 
 from pdsgen import write_dtm
 from pdsgen.validate import validate_paths
-from pdsgen.validate.pds4 import schematron
-from pdsgen.validate.pds4.catalog import packed_dir, packed_index, shipped_schema_dir
+from pdsgen.validate.pds4 import download, schematron
+from pdsgen.validate.pds4.catalog import SchemaCatalog, packed_dir, packed_index, shipped_schema_dir
 from pdsgen.validate.pds4.label_checks import validate_pds4
 
-from helpers import ORIGINS, elevation_array, run_cli, write_raster
+from helpers import ORIGINS, elevation_array, write_raster
 
 CORE_URL = "https://pds.nasa.gov/pds4/pds/v1/PDS4_PDS_1O00.xsd"
 CORE_SCH = "https://pds.nasa.gov/pds4/pds/v1/PDS4_PDS_1O00.sch"
@@ -49,9 +50,9 @@ def _place(product, directory: Path, text: str) -> Path:
 def test_bare_schema_name_is_resolved_beside_the_label_not_in_the_working_directory(product, tmp_path,
                                                                                     monkeypatch):
     """xsi:schemaLocation names the core schema by a bare file name that no catalog knows
-    (core.xsd beside the label). A working directory holding a different core.xsd (one that
-    declares nothing) must change nothing, and the schema must really be used: a
-    33-character md5 breaks its pattern."""
+    (core.xsd beside the label, in a directory given with --schemas). A working directory
+    holding a different core.xsd (one that declares nothing) must change nothing, and the
+    schema must really be used: a 33-character md5 breaks its pattern."""
     text = product.text.replace(CORE_URL, "core.xsd").replace("<md5_checksum>", "<md5_checksum>0")
     label = _place(product, tmp_path / "label", text)
     shutil.copy(shipped_schema_dir() / "1O00" / "PDS4_PDS_1O00.xsd", label.parent / "core.xsd")
@@ -62,7 +63,8 @@ def test_bare_schema_name_is_resolved_beside_the_label_not_in_the_working_direct
     results = []
     for cwd in (decoy, label.parent, tmp_path):
         monkeypatch.chdir(cwd)
-        results.append([(f.rule, f.line, f.message) for f in validate_pds4(label, use_schematron=False)
+        catalog = SchemaCatalog.build([label.parent])
+        results.append([(f.rule, f.line, f.message) for f in validate_pds4(label, catalog, use_schematron=False)
                         if f.rule != "PDS4-012"])
     assert results[0] == results[1] == results[2]
     assert {rule for rule, _, _ in results[0]} == {"PDS4-004"}
@@ -76,7 +78,17 @@ def test_bare_schema_name_missing_beside_the_label_is_reported_not_taken_from_th
     monkeypatch.chdir(tmp_path)
     found = validate_pds4(label, use_schematron=False)
     assert [f.rule for f in found] == ["PDS4-002"]
-    assert "core" in found[0].message and "beside the label" in found[0].message
+    assert "core" in found[0].message and "no schema of that name" in found[0].message
+
+
+def test_a_schema_beside_the_label_is_not_loaded_without_schemas(product, tmp_path):
+    """A schema file beside the label is the delivery's, not the user's: without --schemas
+    naming its directory it is not loaded, and the finding says so."""
+    label = _place(product, tmp_path / "label", product.text.replace(CORE_URL, "core.xsd"))
+    shutil.copy(shipped_schema_dir() / "1O00" / "PDS4_PDS_1O00.xsd", label.parent / "core.xsd")
+    found = validate_pds4(label, use_schematron=False)
+    assert [f.rule for f in found] == ["PDS4-002"]
+    assert "core" in found[0].message and "not loaded" in found[0].message
 
 
 def test_label_without_a_usable_schematron_reference_is_warned(product, tmp_path):
@@ -152,8 +164,11 @@ class _Quiet(http.server.SimpleHTTPRequestHandler):
 
 
 @pytest.fixture
-def server(tmp_path):
-    """A static HTTP server on 127.0.0.1 over tmp_path/www, as pds.nasa.gov/pds4/ is laid out."""
+def server(tmp_path, monkeypatch):
+    """A static HTTP server on 127.0.0.1 over tmp_path/www, as pds.nasa.gov/pds4/ is laid out
+    (for these tests 127.0.0.1 over http stands in for PDS's schema site)."""
+    monkeypatch.setattr(download, "SCHEMA_HOSTS", ("127.0.0.1",))
+    monkeypatch.setattr(download, "SCHEME", "http")
     www = tmp_path / "www"
     (www / "pds4" / "pds" / "v1").mkdir(parents=True)
     httpd = http.server.ThreadingHTTPServer(("127.0.0.1", 0), functools.partial(_Quiet, directory=str(www)))
@@ -172,20 +187,25 @@ def _served_label(product, server, tmp_path) -> Path:
     return _place(product, tmp_path / "label", text)
 
 
-def test_schema_is_downloaded_once_cached_hashed_and_listed(product, server, tmp_path):
+def test_schema_is_downloaded_once_cached_hashed_and_listed(product, server, tmp_path, caplog):
     label = _served_label(product, server, tmp_path)
     cache = tmp_path / "cache"
-    first = run_cli("validate", "--verbose", "--schema-cache", cache, label)
-    assert first.returncode == 0, first.stdout + first.stderr
-    assert f"downloaded {server.url}PDS4_PDS_9Z00.xsd" in first.stderr
-    cached = cache / "PDS4_PDS_9Z00.xsd"
+    url = f"{server.url}PDS4_PDS_9Z00.xsd"
+    with caplog.at_level("INFO", logger="pdsgen.validate"):
+        assert validate_paths([label], schema_cache=cache, download_schemas=True).exit_code == 0
+    assert f"downloaded {url}" in caplog.text
+    place = f"{hashlib.sha256(url.encode()).hexdigest()[:16]}/PDS4_PDS_9Z00.xsd"  # keyed by the full URL
+    cached = cache / place
     digest = hashlib.sha256(cached.read_bytes()).hexdigest()
     assert cached.read_bytes() == (shipped_schema_dir() / "1O00" / "PDS4_PDS_1O00.xsd").read_bytes()
-    assert (cache / "SHA256SUMS").read_text() == f"{digest}  PDS4_PDS_9Z00.xsd  {server.url}PDS4_PDS_9Z00.xsd\n"
+    assert (cache / "SHA256SUMS").read_text() == f"{digest}  {place}  {url}\n"
     (server.www / "pds4/pds/v1/PDS4_PDS_9Z00.xsd").unlink()  # the server no longer has it: the cache answers
-    again = run_cli("validate", "--verbose", "--offline", "--schema-cache", cache, label)
-    assert again.returncode == 0 and "downloaded http" not in again.stderr, again.stdout + again.stderr
-    assert sorted(cache.iterdir()) == [cache / "PDS4_PDS_9Z00.xsd", cache / "SHA256SUMS"]
+    caplog.clear()
+    with caplog.at_level("INFO", logger="pdsgen.validate"):
+        assert validate_paths([label], schema_cache=cache, download_schemas=False).exit_code == 0
+    assert "downloaded http" not in caplog.text
+    kept = sorted(p.relative_to(cache).as_posix() for p in cache.rglob("*") if p.is_file())
+    assert kept == sorted([place, "SHA256SUMS"])
 
 
 def test_offline_or_unreachable_schema_is_reported_and_the_rest_still_checked(product, server, tmp_path):
@@ -204,7 +224,7 @@ def test_an_altered_cached_schema_is_not_used(product, server, tmp_path):
     label = _served_label(product, server, tmp_path)
     cache = tmp_path / "cache"
     assert validate_paths([label], schema_cache=cache, download_schemas=True).exit_code == 0
-    (cache / "PDS4_PDS_9Z00.xsd").write_text('<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema"/>')
+    next(cache.rglob("PDS4_PDS_9Z00.xsd")).write_text('<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema"/>')
     (server.www / "pds4/pds/v1/PDS4_PDS_9Z00.xsd").unlink()
     found = validate_paths([label], schema_cache=cache, download_schemas=False).findings
     assert [f.rule for f in found if f.rule != "PDS4-007"] == ["PDS4-002"]
@@ -218,11 +238,11 @@ def test_a_cached_schema_is_hashed_once_per_run_not_once_per_label(product, serv
         copies[-1].write_bytes(label.read_bytes())
     cache = tmp_path / "cache"
     assert validate_paths([label], schema_cache=cache, download_schemas=True).exit_code == 0
-    from pdsgen.formats import checksum
+    from pdsgen.validate.pds4 import catalog
 
     hashed = []
-    real = checksum.hashlib.sha256
-    monkeypatch.setattr(checksum.hashlib, "sha256", lambda data=b"": hashed.append(len(data)) or real(data))
+    real = catalog.file_sha256
+    monkeypatch.setattr(catalog, "file_sha256", lambda path: hashed.append(path) or real(path))
     report = validate_paths(copies, schema_cache=cache, download_schemas=False)
     assert len(report.files) == 3 and "PDS4-002" not in report.rule_ids()  # found in the cache, for each
     assert len(hashed) == 1
@@ -234,7 +254,7 @@ def test_a_download_that_is_not_xml_is_refused(product, server, tmp_path):
     found = validate_paths([label], schema_cache=tmp_path / "cache", download_schemas=True).findings
     messages = [f.message for f in found if f.rule == "PDS4-002"]
     assert len(messages) == 1 and "not XML" in messages[0]
-    assert not (tmp_path / "cache" / "PDS4_PDS_9Z00.xsd").exists()
+    assert not list((tmp_path / "cache").rglob("PDS4_PDS_9Z00.xsd"))
 
 
 def test_readme_validating_pds4_examples_run_as_written(product, tmp_path):

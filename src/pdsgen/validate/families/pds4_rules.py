@@ -88,8 +88,8 @@ def _rule(rule_id: str, severity: str, summary: str, **fields: Any) -> Rule[Any]
 
 register(
     _rule("PDS4-001", "error", "a PDS4 label is well-formed XML with a Product_* root"),
-    _rule("PDS4-002", "warning", "each schema the label names is found (beside the label, --schemas, the "
-                                 "cache, shipped, or downloaded); otherwise its namespace is not checked"),
+    _rule("PDS4-002", "warning", "each schema the label names is found (--schemas, shipped, the cache, "
+                                 "or downloaded from PDS); otherwise its namespace is not checked"),
     _rule("PDS4-003", "error", "every schema import resolves (none silently skipped)"),
     _rule("PDS4-004", "error", "the label is valid against its XML Schemas"),
     _rule("PDS4-005", "error", "the label passes its Schematron rules (role error)"),

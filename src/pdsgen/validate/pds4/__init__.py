@@ -6,7 +6,7 @@ projection and GeoJP2 readers, while pds4/ keeps the PDS4 facts and writers the 
 So validate imports pds4 and pds4 never imports validate.
 
 `label_checks` (`Pds4LabelContext`, the family's context, and the schema checks), `catalog`
-(schema URLs -> schema files: beside the label, `--schemas DIR`, the download cache,
+(schema URLs -> schema files, from trusted sources only: `--schemas DIR`, the download cache,
 shipped `schemas/pds4/` files and archives), `download` (into the cache), `xsd` (lxml),
 `schematron` (Saxon, optional), `data_checks` and `cart_checks` (the label against its
 data), `table_checks`, `document_checks`, `context_registry`, `label_tree` (what the

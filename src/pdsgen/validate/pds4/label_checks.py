@@ -27,7 +27,7 @@ from ..model import Finding, Hit
 from ..registry import rules
 from . import schematron
 from .cart_checks import check_cartography, check_encoded_jp2
-from .catalog import SchemaCatalog, schema_references
+from .catalog import SchemaCatalog, SchemaFile, schema_references
 from .context_registry import check_context_references
 from .data_checks import check_data, check_special_constants
 from .document_checks import check_file_names, check_pdf_a
@@ -200,13 +200,40 @@ def _schema_checks(tree: etree._ElementTree, catalog: SchemaCatalog, use_schemat
             report.add("PDS4-008", f"the label names no usable Schematron ({named}): no rule checks made", line)
         if not sch_files or not schematron.available():
             return  # a missing Saxon is reported once per run (run check PDS4-007), not per label
+        safe = [file for file in sch_files if _runnable(file, report, line)]
+        if not safe:
+            return
         text = etree.tostring(_collapsed(tree), encoding="unicode")
-        for failure in schematron.compiled(sch_files).check(text):
+        try:
+            failures = schematron.compiled(safe).check(text)
+        except Exception as exc:  # a Schematron that fails to compile or stops: said, never a traceback
+            names = ", ".join(file.name for file in safe)
+            report.add("PDS4-002", f"Schematron {names} could not run ({_first_line(exc)}); its rules not checked",
+                       line)
+            return
+        for failure in failures:
             rule = "PDS4-006" if failure.role in ("warning", "warn", "info") else "PDS4-005"
             report.add(rule, failure.message, schematron.location_line(tree, failure.location),
                        failure.rule_context)
 
     return [not_found, xml_schema, rules] if use_schematron else [not_found, xml_schema]
+
+
+def _runnable(file: SchemaFile, report: Pds4Hits, line: int | None) -> bool:
+    """Whether a Schematron file may run: one whose XPath reaches outside the label (files,
+    environment variables, the network, nested transforms) is reported and not run."""
+    calls = schematron.forbidden_calls(file)
+    if calls:
+        report.add("PDS4-002", f"Schematron {file.name} not run: it calls {', '.join(calls)}, which reach outside "
+                               "the label (files, environment variables, network or nested transforms); "
+                               "its rules not checked", line)
+    return not calls
+
+
+def _first_line(exc: Exception) -> str:
+    """The first line of an engine's error, without the file names and text it may go on to quote."""
+    text = str(exc).strip()
+    return text.splitlines()[0][:200] if text else type(exc).__name__
 
 
 def _collapsed(tree: etree._ElementTree) -> etree._Element:

@@ -10,6 +10,14 @@ rule whose context matches it (later rules of that pattern skip it); patterns ar
 independent; a pattern's own `let`s are evaluated at the document root.
 
 Saxon is optional (`pip install pdsgen[pds4]`); `available()` says whether it is here.
+
+Schematron is code: its XPath runs in Saxon, and XPath 3.1 can read files, environment
+variables and URLs, and run nested transforms. A Schematron is trusted only as far as its
+source (shipped, PDS's schema site, `--schemas`), and a mission dictionary given with
+`--schemas` may still be hostile, so two walls stand around every one that runs: each
+XPath expression it holds is read before compiling and a file calling any function that
+reaches outside the label (`forbidden_calls`) is not run at all; and Saxon itself is
+configured to open no URI of any scheme, should an expression find another way.
 """
 
 from __future__ import annotations
@@ -30,6 +38,31 @@ _S = f"{{{SCHEMATRON_NS}}}"
 _X = f"{{{_XSL}}}"
 _REPORT_NS = "urn:pdsgen:schematron-report"
 
+# XPath/XSLT functions that reach outside the label: files and URLs, environment
+# variables, system properties, nested transforms and queries, and the ways to call any
+# function by name at run time; and `function(...)`, an inline function, the one way an
+# expression can recurse (unbounded recursion kills the engine's process, not just the
+# label's check). A Schematron naming one is not run.
+FORBIDDEN_FUNCTIONS = frozenset({
+    "function",
+    "unparsed-text", "unparsed-text-lines", "unparsed-text-available", "doc", "doc-available", "document",
+    "collection", "uri-collection", "json-doc", "parse-xml", "parse-xml-fragment", "environment-variable",
+    "available-environment-variables", "system-property", "available-system-properties", "transform",
+    "load-xquery-module", "function-lookup", "unparsed-entity-uri", "unparsed-entity-public-id",
+})
+# A forbidden name used as a call or a function reference (`doc(`, `fn:doc (: c :) (`,
+# `Q{...}doc#1`); anything but a letter or `_` may precede it, so `- doc(` is caught too.
+_FORBIDDEN_CALL = re.compile(
+    r"(?<![^\W\d])(" + "|".join(sorted(map(re.escape, FORBIDDEN_FUNCTIONS), key=len, reverse=True))
+    + r")(?![\w.\-])\s*[(#]")
+# Namespaces of engine extensions (Saxon's, Java binding): no Schematron of PDS needs them.
+_FORBIDDEN_NAMESPACES = ("saxon.sf.net", "java:", "saxonica.com")
+# Attributes of Schematron elements that are XPath (or XSLT patterns) run by Saxon.
+_XPATH_ATTRIBUTES = {"rule": ("context",), "let": ("value",), "assert": ("test",), "report": ("test",),
+                     "value-of": ("select",), "name": ("path",)}
+# No URI of any scheme may be opened by a running Schematron (Saxon's own wall).
+_ALLOWED_PROTOCOLS = "http://saxon.sf.net/feature/allowedProtocols"
+
 
 @dataclass(frozen=True)
 class SchematronFailure:
@@ -47,6 +80,53 @@ def available() -> bool:
     except ImportError:
         return False
     return True
+
+
+class UnsafeSchematron(RuntimeError):
+    """A Schematron file whose XPath reaches outside the label; it is not run."""
+
+
+def forbidden_calls(schematron_file: SchemaFile) -> tuple[str, ...]:
+    """Functions reaching outside the label that a Schematron file's XPath calls (or
+    engine-extension namespaces it names), in order met; empty for a file safe to run.
+    Read once per file and process."""
+    key = str(schematron_file)
+    if key not in _CHECKED:
+        _CHECKED[key] = _forbidden_calls(schematron_file.read_bytes())
+    return _CHECKED[key]
+
+
+_CHECKED: dict[str, tuple[str, ...]] = {}  # Schematron file -> its forbidden calls
+
+
+def _forbidden_calls(data: bytes) -> tuple[str, ...]:
+    """Forbidden calls of one Schematron file's text; a file that does not parse has none
+    (compiling it reports it)."""
+    try:
+        root = etree.fromstring(data,
+                                etree.XMLParser(no_network=True, resolve_entities=False))
+    except etree.XMLSyntaxError:
+        return ()
+    found: list[str] = []
+    for element in root.iter():
+        if not isinstance(element.tag, str):
+            continue
+        local = etree.QName(element).localname
+        if element.tag == f"{_S}ns":
+            found += [f"namespace {element.get('uri')}" for _ in _extension_namespaces(element.get("uri") or "")]
+        for attribute in _XPATH_ATTRIBUTES.get(local, ()) if element.tag.startswith(_S) else ():
+            found += _forbidden_in(element.get(attribute) or "")
+    return tuple(dict.fromkeys(found))
+
+
+def _forbidden_in(expression: str) -> list[str]:
+    """Forbidden calls and extension namespaces in one XPath expression."""
+    calls = [f"{match[1]}()" for match in _FORBIDDEN_CALL.finditer(expression)]
+    return calls + [f"namespace {name}" for name in _extension_namespaces(expression)]
+
+
+def _extension_namespaces(text: str) -> list[str]:
+    return [name for name in _FORBIDDEN_NAMESPACES if name in text]
 
 
 def compile_to_xslt(schematron_files: Sequence[SchemaFile]) -> str:
@@ -152,11 +232,16 @@ class Schematron:
     def __init__(self, schematron_files: Sequence[SchemaFile]) -> None:
         from saxonche import PySaxonApiError
 
+        for file in schematron_files:
+            calls = forbidden_calls(file)
+            if calls:
+                raise UnsafeSchematron(f"Schematron {file.name} reaches outside the label "
+                                       f"({', '.join(calls)}): not run")
         self._processor = _processor()
         compiler = self._processor.new_xslt30_processor()
         try:
             self._executable = compiler.compile_stylesheet(stylesheet_text=compile_to_xslt(schematron_files))
-        except PySaxonApiError as exc:
+        except (PySaxonApiError, ValueError) as exc:  # ValueError: lxml refusing a prefix or name
             names = ", ".join(p.name for p in schematron_files)
             raise RuntimeError(f"Schematron {names} does not compile: {exc}") from None
 
@@ -185,7 +270,9 @@ def _processor():  # noqa: ANN202 - saxonche ships no type information
     if pid not in _PROCESSORS:
         _PROCESSORS.clear()
         _COMPILED.clear()
-        _PROCESSORS[pid] = PySaxonProcessor(license=False)
+        processor = PySaxonProcessor(license=False)
+        processor.set_configuration_property(_ALLOWED_PROTOCOLS, "")  # doc(), unparsed-text(): nothing
+        _PROCESSORS[pid] = processor
     return _PROCESSORS[pid]
 
 

@@ -73,7 +73,7 @@ def _compile(catalog: SchemaCatalog, locations: tuple[tuple[str, str], ...], bas
     driver = etree.Element(f"{{{_XS}}}schema", nsmap={"xs": _XS})
     for namespace, url in locations:  # every URL goes through the resolver, so misses are seen
         etree.SubElement(driver, f"{{{_XS}}}import", namespace=namespace, schemaLocation=url)
-    parser = etree.XMLParser(no_network=True)
+    parser = etree.XMLParser(no_network=True, resolve_entities=False)
     resolver = _CatalogResolver(catalog)
     parser.resolvers.add(resolver)
     anchor = (base or Path(os.sep)).resolve() / "pdsgen-driver.xsd"  # relative locations: beside the label
@@ -99,7 +99,8 @@ def _schema_text(file: SchemaFile) -> bytes:
     hold an empty `<xs:choice minOccurs="1">`: Xerces, which NASA's validate uses, treats it
     as matching nothing, libxml2 as unsatisfiable, which would reject every valid label.
     Empty choices are removed so both agree."""
-    tree = etree.ElementTree(etree.fromstring(file.read_bytes(), etree.XMLParser(no_network=True)))
+    tree = etree.ElementTree(etree.fromstring(file.read_bytes(),
+                                                 etree.XMLParser(no_network=True, resolve_entities=False)))
     for choice in tree.iter(f"{{{_XS}}}choice"):
         if not any(isinstance(child.tag, str) and child.tag != f"{{{_XS}}}annotation" for child in choice):
             choice.getparent().remove(choice)
