@@ -38,12 +38,21 @@ log = logging.getLogger(__name__)
 class _Tree:
     """The work directory being filled, with the MD5 of every file placed in it."""
 
-    def __init__(self, root: Path) -> None:
+    def __init__(self, root: Path, given: Path, made: Path) -> None:
         self.root = root
+        self.given = given  # the products' directory: nothing from outside it is delivered ...
+        self.made = made  # ... but the PDS4 labels this run migrated from PDS3 ones
         self.md5: dict[str, str] = {}
 
     def place(self, source: Path, relative: str) -> str:
-        """Hard-link (or copy) a source file to `relative`; returns its MD5."""
+        """Hard-link (or copy) a source file to `relative`; returns its MD5.
+
+        The last guard of containment: a file (or a link's target) outside the directory the
+        user gave is refused, whichever step named it."""
+        from ..label.beside import contained
+
+        if contained(source, self.given) is None and contained(source, self.made) is None:
+            raise InputError(source, f"lies outside {self.given}; a delivery holds only the files it was given")
         target = self.root / relative
         if relative in self.md5 or target.exists():
             raise InputError(source, f"two files would be delivered as {relative}")
@@ -155,7 +164,8 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
     try:
         if pds4:
             _migrate_pds3_only(found, migrated, bundle_lid, labels)
-        result = _build(found, _Tree(work), previous, source_dir, in_place, chosen, index, bundle_lid)
+        tree = _Tree(work, source_dir, migrated)
+        result = _build(found, tree, previous, source_dir, in_place, chosen, index, bundle_lid)
         from ..review import write_review  # the review page, after (and outside) the manifest
 
         write_review(work, labels_only=True, shown_as=shown_as or str(target), labels=labels)

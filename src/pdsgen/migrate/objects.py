@@ -51,6 +51,7 @@ class DataFile:
 def describe_objects(ctx: FileContext) -> tuple[list[DataFile], str | None]:
     """The product's files with their objects, and the local identifier of the image the map
     projection describes (None without an image)."""
+    _refuse_outside(ctx)
     files: dict[Path, DataFile] = {}
     image_id: str | None = None
     used: set[str] = set()
@@ -99,6 +100,13 @@ def describe_objects(ctx: FileContext) -> tuple[list[DataFile], str | None]:
         _check_order(ctx, data)
     result.sort(key=lambda data: data.supplemental)  # File_Area_Observational first, as the schema orders them
     return result, image_id
+
+
+def _refuse_outside(ctx: FileContext) -> None:
+    """Refuse a label naming a file outside its directory (../x, /etc/x, a link leading out):
+    its content must not travel into the PDS4 product, copied or described."""
+    for keyword, name, _ in ctx.outside_names():
+        raise Refused(ctx.path, f"{keyword} names {name}, which lies outside {ctx.path.parent}; not migrated")
 
 
 def _compressed_files(ctx: FileContext) -> list[DataFile]:
@@ -369,7 +377,7 @@ def _structure(ctx: FileContext, stmt: Statement) -> Block:
     path = exact or other
     volume_label_dir = ctx.path.parent.parent / "LABEL"  # a volume's format files (PDS3 Standards, 19.3)
     if path is None:
-        path = find_beside(volume_label_dir, name)
+        path = find_beside(volume_label_dir, name, root=ctx.path.parent.parent)
     if path is None:
         raise Refused(ctx.path, f"^STRUCTURE file {name} is missing")
     text = path.read_bytes().decode("latin-1")

@@ -122,6 +122,19 @@ class FileContext:
 
         return resolve_beside(self.path.parent, self.listing, file_name)
 
+    def outside(self, file_name: str) -> Path | None:
+        """The file named in the label when it lies outside the label's directory (refused)."""
+        from ..label.beside import outside_tree
+
+        return outside_tree(self.path.parent, file_name)
+
+    def outside_names(self) -> list[tuple[str, str, int]]:
+        """(keyword, name, line) of each file the label names that lies outside its directory."""
+        from ..label.tree import every_named_file
+
+        return [(keyword, name, line) for keyword, name, line in every_named_file(self.root)
+                if self.outside(name) is not None]
+
     def target_size(self, ptr: Pointer) -> int | None:
         """Size of the file the pointer's object lives in, if it can be found."""
         if ptr.attached:
