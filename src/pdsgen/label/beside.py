@@ -115,13 +115,12 @@ def resolve_beside(directory: Path, listing: DirectoryNames, file_name: str,
 
 
 def outside_tree(directory: Path, file_name: str, root: Path | None = None) -> Path | None:
-    """The file a label in `directory` names when it lies outside `root` (the label's
-    directory unless told), so it is refused: a name that climbs out (../x) or is absolute,
-    or an existing file whose links lead out; None when it is inside (or missing inside)."""
+    """The file a label in `directory` names when it exists outside `root` (the label's
+    directory unless told), so it is refused: a name that climbs out (../x), an absolute one,
+    or links leading out; None when it is inside or missing (nothing is read then: a genuine
+    label-only copy of a volume, naming ../../LABEL/X.FMT, is not an error of containment)."""
     tree = directory if root is None else root
     path = directory / file_name
-    if contained(Path(os.path.normpath(path)), tree) is None:  # ../x or /x: outside as written
-        return path
     try:
         exists = path.exists()
     except (OSError, ValueError):  # a NUL or an over-long name: nothing to refuse
