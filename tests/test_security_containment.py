@@ -254,3 +254,26 @@ def test_review_passes_over_a_symbolic_link_leading_out(tmp_path, canary):
     done = run_cli("review", tree, "-o", page)
     assert done.returncode in (0, 1) and page.is_file(), done.stderr
     _nowhere(canary, done.stdout, done.stderr, page)
+
+
+def test_an_index_table_outside_is_read_by_neither_validate_nor_review(tmp_path, canary):
+    tree = tmp_path / "tree"
+    (tree / "INDEX").mkdir(parents=True)
+    _pds3_label(tree, "PROD.TAB")
+    (tree / "INDEX" / "INDEX.LBL").write_text(
+        "PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 25\r\nFILE_RECORDS = 2\r\n"
+        '^INDEX_TABLE = "../../outside/CANARY.TAB"\r\nOBJECT = INDEX_TABLE\r\n INTERCHANGE_FORMAT = ASCII\r\n'
+        " ROWS = 2\r\n COLUMNS = 2\r\n ROW_BYTES = 25\r\n"
+        " OBJECT = COLUMN\r\n  NAME = VOLUME_ID\r\n  DATA_TYPE = ASCII_INTEGER\r\n  START_BYTE = 1\r\n  BYTES = 3\r\n"
+        " END_OBJECT = COLUMN\r\n OBJECT = COLUMN\r\n  NAME = PRODUCT_ID\r\n  DATA_TYPE = CHARACTER\r\n"
+        "  START_BYTE = 6\r\n  BYTES = 17\r\n END_OBJECT = COLUMN\r\nEND_OBJECT = INDEX_TABLE\r\nEND\r\n", newline="")
+    (tree / "VOLDESC.CAT").write_text("PDS_VERSION_ID = PDS3\r\nOBJECT = VOLUME\r\n VOLUME_ID = HOSTILE_1\r\n"
+                                      "END_OBJECT = VOLUME\r\nEND\r\n", newline="")
+    for fmt in ("text", "json"):
+        done = run_cli("validate", tree, "--format", fmt)
+        assert done.returncode in (0, 1) and "Traceback" not in done.stderr, done.stderr
+        _nowhere(canary, done.stdout, done.stderr)
+    page = tmp_path / "review.html"
+    done = run_cli("review", tree, "-o", page)
+    assert page.is_file() and "Traceback" not in done.stderr, done.stderr
+    _nowhere(canary, done.stdout, done.stderr, page)
