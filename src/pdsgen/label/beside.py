@@ -103,11 +103,10 @@ def resolve_beside(directory: Path, listing: DirectoryNames, file_name: str,
     """
     tree = directory if root is None else root
     if "/" in file_name or os.sep in file_name:
-        exact = directory / file_name
-        return (exact, None) if exact.is_file() and contained(exact, tree) else (None, None)
+        named = directory / file_name
+        return (named, None) if named.is_file() and contained(named, tree) else (None, None)
     if file_name in listing and (directory / file_name).is_file():
-        exact = contained(directory / file_name, tree)
-        return (exact, None) if exact is not None else (None, None)
+        return contained(directory / file_name, tree), None
     for name in listing.same_but_case(file_name):
         if (directory / name).is_file() and contained(directory / name, tree):
             return None, directory / name
