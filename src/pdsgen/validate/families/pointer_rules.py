@@ -55,11 +55,12 @@ def check_target_exists(ctx: FileContext) -> Iterator[Hit]:
 
 
 def check_target_inside(ctx: FileContext) -> Iterator[Hit]:
-    """Every file the label names lies inside the label's directory (links resolved): a
-    name leaving it (../x, /etc/x, a link pointing out) is read by no pdsgen command."""
+    """Every file the label names lies inside the tree given (the directory validated, or
+    --root; the label's directory for a label given alone), links resolved: a name leaving
+    it (../x, /etc/x, a link pointing out) is read by no pdsgen command."""
     for keyword, name, line in ctx.outside_names():
-        yield Hit(f"{keyword} names {name}, which lies outside the label's directory "
-                      f"{ctx.path.parent}; it is not read", line, keyword)
+        yield Hit(f"{keyword} names {name}, which lies outside {ctx.tree} (the tree given; "
+                  "--root widens it); it is not read", line, keyword)
 
 
 def check_target_case(ctx: FileContext) -> Iterator[Hit]:
@@ -400,8 +401,8 @@ register(
          needs_data=True),
     Rule("PTR-008", "warning", "an attached label's file holds its data (not a label-only copy; "
          "data checks are skipped for one)", check_data_present),
-    Rule("PTR-009", "error", "files a label names lie inside its directory (no ../, absolute path or "
-         "link leading out)", check_target_inside),
+    Rule("PTR-009", "error", "files a label names lie inside the tree given (the directory validated, "
+         "--root, or the label's directory; no ../, absolute path or link leading out)", check_target_inside),
     Rule("REC-001", "error", "RECORD_TYPE = FIXED_LENGTH comes with RECORD_BYTES",
          check_record_bytes_present),
     Rule("REC-002", "error", "RECORD_BYTES x FILE_RECORDS equals the file size", check_file_size,
