@@ -277,3 +277,58 @@ def test_an_index_table_outside_is_read_by_neither_validate_nor_review(tmp_path,
     done = run_cli("review", tree, "-o", page)
     assert page.is_file() and "Traceback" not in done.stderr, done.stderr
     _nowhere(canary, done.stdout, done.stderr, page)
+
+
+# -- the tree given: a volume checked whole, or a label given alone widened by --root -----------
+
+def _volume(tmp_path: Path) -> tuple[Path, Path, Path]:
+    """A volume-shaped tree (as genuine Cassini volumes are): DATA/X/PROD.LBL whose table's
+    ^STRUCTURE names ../../LABEL/T.FMT, and DATA/Y/PROD.LBL whose table is the canary outside
+    the volume. (volume, genuine label, hostile label)"""
+    volume = tmp_path / "VOLUME"
+    genuine, hostile = volume / "DATA" / "X", volume / "DATA" / "Y"
+    for directory in (genuine, hostile, volume / "LABEL"):
+        directory.mkdir(parents=True)
+    (volume / "LABEL" / "T.FMT").write_text(
+        "OBJECT = COLUMN\r\n NAME = N\r\n DATA_TYPE = ASCII_INTEGER\r\n START_BYTE = 1\r\n BYTES = 3\r\n"
+        "END_OBJECT = COLUMN\r\nEND\r\n", newline="")
+    _pds3_label(genuine, "PROD.TAB", structure="../../LABEL/T.FMT")
+    _pds3_label(hostile, "../../../outside/CANARY.TAB")
+    return volume, genuine / "PROD.LBL", hostile / "PROD.LBL"
+
+
+def _ptr009_files(done) -> set[str]:
+    import json
+
+    assert "Traceback" not in done.stderr, done.stderr
+    return {f["file"] for report in json.loads(done.stdout)["files"] for f in report["findings"]
+            if f["rule"] == "PTR-009"}
+
+
+def test_validate_trusts_the_directory_given_or_the_root(tmp_path, canary):
+    volume, genuine, hostile = _volume(tmp_path)
+    whole = run_cli("validate", volume, "--format", "json")
+    assert _ptr009_files(whole) == {str(hostile)}  # the volume's own format file is inside the tree given
+    _nowhere(canary, whole.stdout, whole.stderr)
+    alone = run_cli("validate", genuine, "--format", "json")
+    assert alone.returncode == 1 and _ptr009_files(alone) == {str(genuine)}  # ../../LABEL leaves the label's directory
+    for given in (genuine, hostile):
+        widened = run_cli("validate", given, "--root", volume, "--format", "json")
+        assert _ptr009_files(widened) == ({str(hostile)} if given == hostile else set())
+        _nowhere(canary, widened.stdout, widened.stderr)
+    assert _ptr009_files(run_cli("validate", volume / "DATA", "--root", volume, "--format", "json")) == {str(hostile)}
+
+
+def test_migrate_trusts_the_label_directory_or_the_root(tmp_path, canary):
+    volume, genuine, hostile = _volume(tmp_path)
+    out = tmp_path / "out"
+    _one_line_refusal(run_cli("migrate", genuine, "-o", out, "--bundle-lid", "urn:nasa:pds:vol"), "PROD.LBL")
+    done = run_cli("migrate", genuine, "-o", out, "--bundle-lid", "urn:nasa:pds:vol", "--root", volume)
+    assert done.returncode == 0, (done.stdout, done.stderr)
+    assert (out / "PROD.TAB").read_bytes() == (genuine.parent / "PROD.TAB").read_bytes()
+    assert "<name>N</name>" in (out / "PROD.xml").read_text()  # the columns of the volume's format file
+    refused = tmp_path / "refused"
+    for extra in ((), ("--root", volume)):
+        done = run_cli("migrate", hostile, "-o", refused, "--bundle-lid", "urn:nasa:pds:vol", *extra)
+        _one_line_refusal(done, "PROD.LBL")
+        _nowhere(canary, done.stdout, done.stderr, refused, out)

@@ -103,10 +103,11 @@ def describe_objects(ctx: FileContext) -> tuple[list[DataFile], str | None]:
 
 
 def _refuse_outside(ctx: FileContext) -> None:
-    """Refuse a label naming a file outside its directory (../x, /etc/x, a link leading out):
-    its content must not travel into the PDS4 product, copied or described."""
+    """Refuse a label naming a file outside the trusted tree (its directory, or --root; ../x,
+    /etc/x, a link leading out): its content must not travel into the PDS4 product."""
     for keyword, name, _ in ctx.outside_names():
-        raise Refused(ctx.path, f"{keyword} names {name}, which lies outside {ctx.path.parent}; not migrated")
+        raise Refused(ctx.path, f"{keyword} names {name}, which lies outside {ctx.tree}; not migrated "
+                                "(--root widens the tree)")
 
 
 def _compressed_files(ctx: FileContext) -> list[DataFile]:
@@ -371,13 +372,14 @@ def _column_blocks(ctx: FileContext, block: Block) -> list[Block]:
 
 
 def _structure(ctx: FileContext, stmt: Statement) -> Block:
-    """The format file a ^STRUCTURE names, found beside the label (or in a LABEL directory)."""
+    """The format file a ^STRUCTURE names, found beside the label (or in a LABEL directory),
+    inside the trusted tree either way."""
     name = stmt.value.text
     exact, other = ctx.resolve(name)
     path = exact or other
     volume_label_dir = ctx.path.parent.parent / "LABEL"  # a volume's format files (PDS3 Standards, 19.3)
     if path is None:
-        path = find_beside(volume_label_dir, name, root=ctx.path.parent.parent)
+        path = find_beside(volume_label_dir, name, root=ctx.tree)
     if path is None:
         raise Refused(ctx.path, f"^STRUCTURE file {name} is missing")
     text = path.read_bytes().decode("latin-1")
