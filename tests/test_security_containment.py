@@ -332,3 +332,13 @@ def test_migrate_trusts_the_label_directory_or_the_root(tmp_path, canary):
         done = run_cli("migrate", hostile, "-o", refused, "--bundle-lid", "urn:nasa:pds:vol", *extra)
         _one_line_refusal(done, "PROD.LBL")
         _nowhere(canary, done.stdout, done.stderr, refused, out)
+
+
+def test_deliver_trusts_the_directory_given(tmp_path, canary):
+    volume, genuine, hostile = _volume(tmp_path)
+    shutil.rmtree(hostile.parent)
+    out = tmp_path / "delivery"
+    done = run_cli("deliver", volume, "--pds4", "-o", out, "--bundle-lid", "urn:nasa:pds:vol")
+    assert done.returncode == 0, (done.stdout, done.stderr)
+    copies = [p for p in out.rglob("PROD.TAB")]
+    assert copies and all(p.read_bytes() == (genuine.parent / "PROD.TAB").read_bytes() for p in copies)

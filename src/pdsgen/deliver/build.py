@@ -163,7 +163,7 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
     migrated = target.parent / f".{target.name}.migrate-{os.getpid()}"  # PDS4 labels of PDS3-only products
     try:
         if pds4:
-            _migrate_pds3_only(found, migrated, bundle_lid, labels)
+            _migrate_pds3_only(found, migrated, bundle_lid, labels, source_dir)
         tree = _Tree(work, source_dir, migrated)
         result = _build(found, tree, previous, source_dir, in_place, chosen, index, bundle_lid)
         from ..review import write_review  # the review page, after (and outside) the manifest
@@ -183,13 +183,16 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
     return result
 
 
-def _migrate_pds3_only(found: SourceSet, staging: Path, bundle_lid: str | None, labels: LabelCache) -> None:
-    """A PDS3-only product gets the PDS4 label `pdsgen migrate` writes (its files unchanged)."""
+def _migrate_pds3_only(found: SourceSet, staging: Path, bundle_lid: str | None, labels: LabelCache,
+                       source: Path) -> None:
+    """A PDS3-only product gets the PDS4 label `pdsgen migrate` writes (its files unchanged); the
+    files its label names may lie anywhere in `source`, the tree given (a volume's LABEL/*.FMT)."""
     from ..migrate import migrate_product  # on first use: a PDS3 volume never needs it
 
     for product in found.products:
         if product.pds4_label is None and product.pds3_label is not None:
-            migrated = migrate_product(product.pds3_label, staging, bundle_lid=bundle_lid, copy=False, labels=labels)
+            migrated = migrate_product(product.pds3_label, staging, bundle_lid=bundle_lid, copy=False, labels=labels,
+                                       root=source)
             product.pds4_label = migrated.label_path
             for path in migrated.files:  # every file the PDS4 label describes travels with it
                 if path not in product.files:
