@@ -469,7 +469,7 @@ def validate_paths(paths: Iterable[str | os.PathLike[str]], job: ValidationJob |
 
     `job` says what to check and how; or give its fields by keyword (strict, jobs,
     labels_only, dictionaries, settings, baseline, schemas, skip_non_labels, schema_cache,
-    download_schemas: see ValidationJob), e.g. `validate_paths(["out/"], strict=True)`.
+    download_schemas, root: see ValidationJob), e.g. `validate_paths(["out/"], strict=True)`.
     progress(done, total) is called as files are checked.
 
     Raises PdsgenError when the paths hold no label at all (an empty or wrong directory):
