@@ -21,7 +21,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..formats.sniff import file_head
-from ..label.beside import DirectoryNames, directory_listing, resolve_beside
+from ..label.beside import DirectoryNames, contained, directory_listing, resolve_beside
 from ..label.read import LabelCache, LabelFile, is_pds3_head, read_pds3_label
 from ..label.tree import Block, parse_pointer
 from ..missions.imars import is_metadata_name as is_imars_metadata
@@ -51,20 +51,22 @@ class NamedFiles:
 
 
 def named_files(root: Block, directory: Path, catalog: Path | None = None,
-                listings: dict[Path, DirectoryNames] | None = None) -> NamedFiles:
+                listings: dict[Path, DirectoryNames] | None = None, tree: Path | None = None) -> NamedFiles:
     """The existing files beside the label (found as the validator finds them, a name differing
     only in case included) that the label names: every name of every pointer (a pointer to
     several files, {"A.H", "B.C"}, names each) and each FILE_NAME of a COMPRESSED_FILE or
     UNCOMPRESSED_FILE object. A file named as data and as support is data. A reference
     pointer's file not beside the label is looked for in `catalog` (a volume's CATALOG/).
     `listings`: directory listings shared by the labels of one scan, so a directory of N
-    products is listed once, not once per label (N^2 work)."""
+    products is listed once, not once per label (N^2 work). `tree`: the directory the user
+    gave (the label's directory unless told); a file resolving outside it is not found."""
     listings = {} if listings is None else listings
 
     def find(where: Path, name: str) -> Path | None:
         if where not in listings:
             listings[where] = directory_listing(where)
-        exact, other = resolve_beside(where, listings[where], name.replace("\\", "/").rsplit("/", 1)[-1])
+        exact, other = resolve_beside(where, listings[where], name.replace("\\", "/").rsplit("/", 1)[-1],
+                                      tree or directory)
         return exact or other
 
     named = NamedFiles()
@@ -145,14 +147,21 @@ def is_preview(name: str) -> bool:
     return lower.endswith((".jpg", ".jpeg", ".qlook.jp2"))
 
 
-def walk(root: Path) -> Iterator[Path]:
-    """Every file under root (hidden ones too: a delivery made in place keeps them), sorted."""
+def walk(root: Path, strict: bool = True) -> Iterator[Path]:
+    """Every file under root (hidden ones too: a delivery made in place keeps them), sorted.
+
+    A symbolic link to a file outside root is refused (`strict`, a delivery) or passed over (a
+    review): only what the user gave is taken (directory links are not followed at all)."""
     for dirpath, dirnames, filenames in os.walk(root):
         here = Path(dirpath)
         dirnames.sort()
         for name in sorted(filenames):
             path = here / name
             if path.is_file():
+                if path.is_symlink() and contained(path, root) is None:
+                    if strict:
+                        raise InputError(path, f"is a symbolic link to a file outside {root}; it is not taken")
+                    continue
                 yield path
 
 
@@ -160,9 +169,12 @@ def walk(root: Path) -> Iterator[Path]:
 LabelValues = Callable[["DataProduct", dict[str, str | None]], None]
 
 
-def scan(source: Path, on_pds3: LabelValues | None = None, labels: LabelCache | None = None) -> SourceSet:
+def scan(source: Path, on_pds3: LabelValues | None = None, labels: LabelCache | None = None,
+         strict: bool = True) -> SourceSet:
     """The products, previews, documents and other files of `source` (recursively).
 
+    `strict` (a delivery): a PDS4 label naming a file that is missing or outside `source` is
+    refused; otherwise (a review) that file is left out and the validator's finding tells.
     `on_pds3` receives each PDS3 product's label values as the label is read; nothing of the
     label is kept here (unless in `labels`, the run's cache, for the steps after), so memory
     does not grow with the labels' size."""
@@ -170,7 +182,7 @@ def scan(source: Path, on_pds3: LabelValues | None = None, labels: LabelCache | 
     pds3: list[Path] = []
     pds4: list[Path] = []
     candidates: list[Path] = []
-    for path in walk(source):
+    for path in walk(source, strict):
         relative = path.relative_to(source)
         if is_made_by_delivery(path, relative):
             continue
@@ -187,7 +199,7 @@ def scan(source: Path, on_pds3: LabelValues | None = None, labels: LabelCache | 
             pds3.append(path)
         else:
             candidates.append(path)
-    result.products = _group(pds3, pds4, on_pds3, source / layout.CATALOG_DIR, labels)
+    result.products = _group(pds3, pds4, on_pds3, source, labels, strict)
     owned = {f for p in result.products for f in (*p.files, *p.support)}
     result.others = [p for p in candidates if p not in owned]
     return result
@@ -208,7 +220,7 @@ class _Pds3Label:
     named: NamedFiles
 
 
-def _read_pds3(label: Path, catalog: Path, listings: dict[Path, DirectoryNames],
+def _read_pds3(label: Path, source: Path, listings: dict[Path, DirectoryNames],
                labels: LabelCache | None) -> _Pds3Label:
     try:
         found = labels.open_pds3(label) if labels is not None else LabelFile.read_pds3(label)
@@ -217,7 +229,7 @@ def _read_pds3(label: Path, catalog: Path, listings: dict[Path, DirectoryNames],
     if found is None:
         raise InputError(label, "a .LBL file that is not a PDS3 label (no PDS_VERSION_ID)")
     root = found.root
-    named = named_files(root, label.parent, catalog, listings)
+    named = named_files(root, label.parent, source / layout.CATALOG_DIR, listings, source)
     # ^DESCRIPTION = "JP2INFO.TXT", README.TXT: documents, delivered as such
     named.data = [p for p in named.data if p != label and p.name.upper() not in _DOCUMENTS]
     named.support = [p for p in named.support if p != label and p.name.upper() not in _DOCUMENTS]
@@ -225,13 +237,13 @@ def _read_pds3(label: Path, catalog: Path, listings: dict[Path, DirectoryNames],
                       {name: found.first(name) for name in KEPT_KEYWORDS}, named)
 
 
-def _group(pds3: list[Path], pds4: list[Path], on_pds3: LabelValues | None, catalog: Path,
-           labels: LabelCache | None) -> list[DataProduct]:
+def _group(pds3: list[Path], pds4: list[Path], on_pds3: LabelValues | None, source: Path,
+           labels: LabelCache | None, strict: bool = True) -> list[DataProduct]:
     products: list[DataProduct] = []
     by_file: dict[Path, DataProduct] = {}
     by_stem: dict[tuple[Path, str], DataProduct] = {}
     listings: dict[Path, DirectoryNames] = {}  # each directory listed once for all the labels in it
-    read = [_read_pds3(path, catalog, listings, labels) for path in pds3]
+    read = [_read_pds3(path, source, listings, labels) for path in pds3]
     # A catalog or description file another label points to (DSMAP.CAT) is that label's
     # support, even where it has a PDS3 label of its own: not a data product.
     support = {path for one in read for path in one.named.support}
@@ -248,7 +260,7 @@ def _group(pds3: list[Path], pds4: list[Path], on_pds3: LabelValues | None, cata
         if _PRODUCT_CLASS.search(file_head(label, 4096) or b"") is None:
             continue  # some other XML file: not a PDS4 label
         names = _FILE_NAME.findall(label.read_text(encoding="utf-8", errors="replace"))
-        members = [label.parent / n for n in names]
+        members = _pds4_members(label, names, source, strict)
         found = next((by_file[m] for m in members if m in by_file), None)
         found = found or by_stem.get((label.parent, label.stem.upper()))
         if found is None:
@@ -259,12 +271,28 @@ def _group(pds3: list[Path], pds4: list[Path], on_pds3: LabelValues | None, cata
                                     f"(the first is {found.pds4_label.name})")
         found.pds4_label = label
         for member in [label, *members]:
-            if not member.is_file():
-                raise InputError(label, f"names {member.name}, which does not exist")
             if member not in found.files:
                 found.files.append(member)
             by_file.setdefault(member, found)
     return products
+
+
+def _pds4_members(label: Path, names: list[str], source: Path, strict: bool) -> list[Path]:
+    """The files a PDS4 label lists, each an existing file inside `source`; a missing or
+    outside one refuses the label when `strict`, else is left out (its finding tells)."""
+    members = []
+    for name in names:
+        member = label.parent / name
+        if not member.is_file():
+            problem = "which does not exist"
+        elif contained(member, source) is None:
+            problem = f"which lies outside {source}"
+        else:
+            members.append(member)
+            continue
+        if strict:
+            raise InputError(label, f"names {name}, {problem}")
+    return members
 
 
 def _claim(product: DataProduct, by_file: dict[Path, DataProduct], label: Path) -> None:

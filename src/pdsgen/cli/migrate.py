@@ -20,7 +20,9 @@ from ._profile_options import output_option
                                    "[default: from each product's DATA_SET_ID].")
 @click.option("--collection", default="data", show_default=True, help="Collection part of the products' LIDs.")
 @click.option("--overwrite", is_flag=True, help="Replace labels and copies the output already holds.")
-def migrate(products, outdir, in_place, bundle_lid, collection, overwrite) -> Outcome:
+@click.option("--root", type=click.Path(file_okay=False, exists=True),
+              help="Trusted tree: files labels name may lie anywhere inside it (default: each label's directory).")
+def migrate(products, outdir, in_place, bundle_lid, collection, overwrite, root) -> Outcome:
     """Describe each PDS3 product (a label, an attached-label file, or a data file beside its
     .LBL) in a PDS4 label (IM 1.24): Header for the PDS3 label, arrays and tables at their
     byte offsets, scaling, special constants, cart: for map products, the PDS3 PRODUCT_ID
@@ -30,5 +32,5 @@ def migrate(products, outdir, in_place, bundle_lid, collection, overwrite) -> Ou
     if bool(outdir) == in_place:
         raise click.UsageError("give either -o/--output or --in-place")
     run = migrate_products(product_labels(products), outdir, bundle_lid=bundle_lid, collection=collection,
-                           in_place=in_place, overwrite=overwrite)
+                           in_place=in_place, overwrite=overwrite, root=root)
     return told(run)  # a refused product: one error line each, the others migrated, exit status 2

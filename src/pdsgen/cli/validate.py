@@ -131,6 +131,9 @@ def _output(path: str | None):
 @click.option("--skip-non-labels", is_flag=True,
               help="Pass over named files that are not labels (an ordinary .xml, a bare .img), as a "
                    "directory search does; with none left, check nothing and pass (pre-commit hooks).")
+@click.option("--root", type=click.Path(file_okay=False, exists=True),
+              help="Trusted tree: files labels name may lie anywhere inside it (default: the directory given, "
+                   "or a label's own directory).")
 @click.option("--list-rules", "list_rules", is_flag=True,
               help="Print the severity policy and the rule table, and exit.")
 @click.option("--output", "-o", type=click.Path(dir_okay=False),
@@ -145,7 +148,7 @@ def validate(paths: tuple[str, ...], fmt: str, strict: bool, fail_on: str | None
              ignore: tuple[str, ...], severities: tuple[str, ...], config_path: str | None, no_config: bool,
              baseline_path: str | None, write_baseline_path: str | None, jobs: int, labels_only: bool,
              dictionaries: tuple[str, ...], schemas: tuple[str, ...], skip_non_labels: bool, schema_cache: str | None,
-             offline: bool, list_rules: bool, output: str | None, quiet: bool, verbose: bool) -> None:
+             offline: bool, root: str | None, list_rules: bool, output: str | None, quiet: bool, verbose: bool) -> None:
     """Validate PATHS (label files, or directories searched recursively): PDS3 labels,
     and PDS4 labels of any name (XML Schema, Schematron, and the data they describe).
 
@@ -173,7 +176,7 @@ def validate(paths: tuple[str, ...], fmt: str, strict: bool, fail_on: str | None
                                 settings=settings, baseline=baseline, schemas=schemas,
                                 skip_non_labels=skip_non_labels,
                                 schema_cache=schema_cache or str(default_schema_cache()),
-                                download_schemas=not offline)
+                                download_schemas=not offline, root=root)
             reports = iter_reports(inputs.paths, job, progress)
             if bar is not None:
                 reports = _giving_way(reports, bar)

@@ -38,12 +38,21 @@ log = logging.getLogger(__name__)
 class _Tree:
     """The work directory being filled, with the MD5 of every file placed in it."""
 
-    def __init__(self, root: Path) -> None:
+    def __init__(self, root: Path, given: Path, made: Path) -> None:
         self.root = root
+        self.given = given  # the products' directory: nothing from outside it is delivered ...
+        self.made = made  # ... but the PDS4 labels this run migrated from PDS3 ones
         self.md5: dict[str, str] = {}
 
     def place(self, source: Path, relative: str) -> str:
-        """Hard-link (or copy) a source file to `relative`; returns its MD5."""
+        """Hard-link (or copy) a source file to `relative`; returns its MD5.
+
+        The last guard of containment: a file (or a link's target) outside the directory the
+        user gave is refused, whichever step named it."""
+        from ..label.beside import contained
+
+        if contained(source, self.given) is None and contained(source, self.made) is None:
+            raise InputError(source, f"lies outside {self.given}; a delivery holds only the files it was given")
         target = self.root / relative
         if relative in self.md5 or target.exists():
             raise InputError(source, f"two files would be delivered as {relative}")
@@ -154,8 +163,9 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
     migrated = target.parent / f".{target.name}.migrate-{os.getpid()}"  # PDS4 labels of PDS3-only products
     try:
         if pds4:
-            _migrate_pds3_only(found, migrated, bundle_lid, labels)
-        result = _build(found, _Tree(work), previous, source_dir, in_place, chosen, index, bundle_lid)
+            _migrate_pds3_only(found, migrated, bundle_lid, labels, source_dir)
+        tree = _Tree(work, source_dir, migrated)
+        result = _build(found, tree, previous, source_dir, in_place, chosen, index, bundle_lid)
         from ..review import write_review  # the review page, after (and outside) the manifest
 
         write_review(work, labels_only=True, shown_as=shown_as or str(target), labels=labels)
@@ -173,13 +183,16 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
     return result
 
 
-def _migrate_pds3_only(found: SourceSet, staging: Path, bundle_lid: str | None, labels: LabelCache) -> None:
-    """A PDS3-only product gets the PDS4 label `pdsgen migrate` writes (its files unchanged)."""
+def _migrate_pds3_only(found: SourceSet, staging: Path, bundle_lid: str | None, labels: LabelCache,
+                       source: Path) -> None:
+    """A PDS3-only product gets the PDS4 label `pdsgen migrate` writes (its files unchanged); the
+    files its label names may lie anywhere in `source`, the tree given (a volume's LABEL/*.FMT)."""
     from ..migrate import migrate_product  # on first use: a PDS3 volume never needs it
 
     for product in found.products:
         if product.pds4_label is None and product.pds3_label is not None:
-            migrated = migrate_product(product.pds3_label, staging, bundle_lid=bundle_lid, copy=False, labels=labels)
+            migrated = migrate_product(product.pds3_label, staging, bundle_lid=bundle_lid, copy=False, labels=labels,
+                                       root=source)
             product.pds4_label = migrated.label_path
             for path in migrated.files:  # every file the PDS4 label describes travels with it
                 if path not in product.files:

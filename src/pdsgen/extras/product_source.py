@@ -31,10 +31,11 @@ from rasterio.transform import Affine
 
 from ..errors import PdsgenError, param
 from ..geo.label_georef import LabelGeorefError, label_georeferencing
-from ..label.beside import find_beside
+from ..label.beside import find_beside, outside_tree
 from ..label.grammar import FLOAT_SAMPLE_TYPES
 from ..label.mapping import label_mapping
 from ..label.read import LabelFile, structure_problem
+from ..label.tree import Block, every_named_file
 from ..missions import LabelFacts, detect_mission
 from .heights import HeightReference, height_reference, mission_datum, radius_offset_m
 from .kind import DTM, KINDS, LENGTH_UNITS, ORTHO, KindDecision, decide_kind
@@ -271,7 +272,17 @@ def _label_values(found: LabelFile) -> dict:
     broken = structure_problem(label)
     if broken is not None:
         raise PdsgenError(path, f"label cannot be parsed (line {broken.line}: {broken.message})")
+    _refuse_outside(path, label.root)
     return label_mapping(label)
+
+
+def _refuse_outside(label_path: Path, root: Block) -> None:
+    """Refuse a label naming a file outside its directory (../x, /x, a link leading out):
+    neither pdsgen nor GDAL (which follows a detached label's pointer itself) may read it."""
+    for keyword, name, _ in every_named_file(root):
+        if outside_tree(label_path.parent, name) is not None:
+            raise PdsgenError(label_path, f"{keyword} names {name!r}, which lies outside {label_path.parent}; "
+                                          "not read")
 
 
 def _raster_path(path: Path, label_path: Path | None, label: dict) -> Path:
@@ -311,6 +322,8 @@ def _sibling(label_path: Path, name: str) -> Path:
     found = find_beside(label_path.parent, name)
     if found is not None:
         return found
+    if outside_tree(label_path.parent, name) is not None:  # ../x, /x, a link leading out: never read
+        raise PdsgenError(label_path, f"the file it names, {name!r}, lies outside {label_path.parent}; not read")
     raise PdsgenError(label_path, f"the file it names, {name!r}, is missing")
 
 

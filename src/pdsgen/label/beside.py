@@ -4,6 +4,12 @@ PDS file names are case-sensitive on most systems an archive is served from, so 
 tells the exact name from a name differing only in case (the validator reports the near
 miss; readers use it). Each directory is listed once while it is unchanged, for all the
 labels in it: the validator, deliver, migration and Extras all look files up here.
+
+Containment: a label is text someone else wrote, so a name in it (../x, /etc/x, a symbolic
+link beside it that points away) must never make pdsgen read or copy a file outside the
+directory tree it was given. `contained` is the one rule, and every look-up here applies it:
+a file outside the tree is not found (`outside_tree` says where it would have been, for the
+validator's finding and the one-line refusals).
 """
 
 from __future__ import annotations
@@ -78,24 +84,63 @@ def directory_listing(directory: Path) -> DirectoryNames:
     return names
 
 
-def resolve_beside(directory: Path, listing: DirectoryNames, file_name: str) -> tuple[Path | None, Path | None]:
-    """(exact path, path differing only in case) of a file named by a label in `directory`.
+def contained(path: Path, root: Path) -> Path | None:
+    """`path` if, every symbolic link resolved, it lies inside `root` (resolved the same way).
+
+    The one containment rule for the files a label names: what a name or a link reaches
+    outside the tree the user gave is neither read nor delivered."""
+    real, top = os.path.realpath(path), os.path.realpath(root)
+    return path if real == top or real.startswith(top.rstrip(os.sep) + os.sep) else None
+
+
+def trusted_tree(label: Path, given: Path | None = None, root: Path | None = None) -> Path:
+    """The tree the files a label names must stay inside: the directory the user gave (`given`,
+    when the label was found in it), else the label's own directory; widened to `root` (the
+    user's --root) when the label lies inside it. A genuine volume's labels name ../../LABEL/X.FMT,
+    so a volume checked whole, or a label with --root VOLUME, keeps its format files; --root
+    never narrows the tree, and a label outside it keeps its own."""
+    base = given if given is not None else label.parent
+    if root is not None and contained(label, root) is not None and contained(base, root) is not None:
+        return root
+    return base
+
+
+def resolve_beside(directory: Path, listing: DirectoryNames, file_name: str,
+                   root: Path | None = None) -> tuple[Path | None, Path | None]:
+    """(exact path, path differing only in case) of a file named by a label in `directory`,
+    inside `root` (the tree the user gave; the label's directory unless told).
 
     PDS file names are case-sensitive on most systems an archive is served from,
     so a near miss in case is reported rather than silently accepted.
     """
+    tree = directory if root is None else root
     if "/" in file_name or os.sep in file_name:
-        exact = directory / file_name
-        return (exact, None) if exact.is_file() else (None, None)
+        named = directory / file_name
+        return (named, None) if named.is_file() and contained(named, tree) else (None, None)
     if file_name in listing and (directory / file_name).is_file():
-        return directory / file_name, None
+        return contained(directory / file_name, tree), None
     for name in listing.same_but_case(file_name):
-        if (directory / name).is_file():
+        if (directory / name).is_file() and contained(directory / name, tree):
             return None, directory / name
     return None, None
 
 
-def find_beside(directory: Path, file_name: str) -> Path | None:
-    """The file a label in `directory` names: the exact name, else one differing only in case."""
-    exact, other = resolve_beside(directory, directory_listing(directory), file_name)
+def outside_tree(directory: Path, file_name: str, root: Path | None = None) -> Path | None:
+    """The file a label in `directory` names when it exists outside `root` (the label's
+    directory unless told), so it is refused: a name that climbs out (../x), an absolute one,
+    or links leading out; None when it is inside or missing (nothing is read then: a genuine
+    label-only copy of a volume, naming ../../LABEL/X.FMT, is not an error of containment)."""
+    tree = directory if root is None else root
+    path = directory / file_name
+    try:
+        exists = path.exists()
+    except (OSError, ValueError):  # a NUL or an over-long name: nothing to refuse
+        return None
+    return path if exists and contained(path, tree) is None else None
+
+
+def find_beside(directory: Path, file_name: str, root: Path | None = None) -> Path | None:
+    """The file a label in `directory` names: the exact name, else one differing only in case;
+    only inside `root` (the label's directory unless told)."""
+    exact, other = resolve_beside(directory, directory_listing(directory), file_name, root)
     return exact or other

@@ -274,6 +274,23 @@ def label_pointers(root: Block) -> list[Pointer]:
     return [parse_pointer(s) for s in root.statements() if s.pointer]
 
 
+# Objects that name a file by FILE_NAME rather than by a pointer (PDS3 Standards, chapter 5).
+FILE_OBJECTS = ("COMPRESSED_FILE", "UNCOMPRESSED_FILE")
+
+
+def every_named_file(root: Block) -> Iterator[tuple[str, str, int]]:
+    """(keyword, file name, line) of every file a label names, at any depth: data, reference
+    and include (^STRUCTURE) pointers, and COMPRESSED_FILE/UNCOMPRESSED_FILE names - all the
+    names the containment rule (label/beside.py) is applied to."""
+    for block in root.walk():
+        for stmt in block.statements():
+            if stmt.pointer:
+                for name in parse_pointer(stmt).targets:
+                    yield "^" + stmt.keyword.upper(), name, stmt.line
+            elif block.kind == "OBJECT" and block.name.upper() in FILE_OBJECTS and stmt.key == "FILE_NAME":
+                yield "FILE_NAME", stmt.value.text, stmt.line
+
+
 # -- what readers ask of a label tree (parser.LabelFile asks these of its root) ----------------
 
 # The objects that hold a PDS3 map projection, in the order they are looked for.

@@ -51,6 +51,7 @@ class DataFile:
 def describe_objects(ctx: FileContext) -> tuple[list[DataFile], str | None]:
     """The product's files with their objects, and the local identifier of the image the map
     projection describes (None without an image)."""
+    _refuse_outside(ctx)
     files: dict[Path, DataFile] = {}
     image_id: str | None = None
     used: set[str] = set()
@@ -99,6 +100,14 @@ def describe_objects(ctx: FileContext) -> tuple[list[DataFile], str | None]:
         _check_order(ctx, data)
     result.sort(key=lambda data: data.supplemental)  # File_Area_Observational first, as the schema orders them
     return result, image_id
+
+
+def _refuse_outside(ctx: FileContext) -> None:
+    """Refuse a label naming a file outside the trusted tree (its directory, or --root; ../x,
+    /etc/x, a link leading out): its content must not travel into the PDS4 product."""
+    for keyword, name, _ in ctx.outside_names():
+        raise Refused(ctx.path, f"{keyword} names {name}, which lies outside {ctx.tree}; not migrated "
+                                "(--root widens the tree)")
 
 
 def _compressed_files(ctx: FileContext) -> list[DataFile]:
@@ -379,14 +388,14 @@ def _column_blocks(ctx: FileContext, block: Block, expanded: dict[Path, list[Blo
 
 def _structure(ctx: FileContext, stmt: Statement, chain: tuple[Path, ...] = ()) -> tuple[Path, Block]:
     """The format file a ^STRUCTURE names, found beside the label (or in a LABEL directory),
-    and its parsed contents, included through the files of `chain`: one that includes itself or
-    lies more than _MAX_INCLUDE_DEPTH files deep is refused."""
+    inside the trusted tree either way, and its parsed contents, included through the files of
+    `chain`: one that includes itself or lies more than _MAX_INCLUDE_DEPTH files deep is refused."""
     name = stmt.value.text
     exact, other = ctx.resolve(name)
     path = exact or other
     volume_label_dir = ctx.path.parent.parent / "LABEL"  # a volume's format files (PDS3 Standards, 19.3)
     if path is None:
-        path = find_beside(volume_label_dir, name)
+        path = find_beside(volume_label_dir, name, root=ctx.tree)
     if path is None:
         raise Refused(ctx.path, f"^STRUCTURE file {name} is missing")
     path = path.resolve()

@@ -99,7 +99,8 @@ class MigrationRun(CommandResult):
 def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLike[str] | None = None, *,
                     bundle_lid: str | None = None, collection: str = COLLECTION, lid: str | None = None,
                     in_place: bool = False, overwrite: bool = False, copy: bool = True,
-                    labels: LabelCache | None = None) -> MigratedProduct:
+                    labels: LabelCache | None = None, root: str | os.PathLike[str] | None = None
+                    ) -> MigratedProduct:
     """Write the PDS4 label of the PDS3 product whose label is `label_path` (attached or detached).
 
     The product's files are copied unchanged into `outdir` and the label written beside them
@@ -108,13 +109,15 @@ def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLik
     files itself). `lid` gives the product's whole LID; otherwise it is `<bundle_lid>:<collection>:
     <PRODUCT_ID>` (bundle LID from DATA_SET_ID when not given). Refused (InputError) with one line
     naming the construct when PDS4 cannot describe the files exactly; nothing is written then.
+    `root` widens the tree the files the label names must stay inside (the label's directory
+    by default): a volume's label naming ../../LABEL/X.FMT is migrated with root = the volume.
     """
     source = Path(label_path)
     if not source.is_file():
         raise InputError(source, "no such file")
     if not in_place and outdir is None:
         raise OutputError(None, "give an output directory, or migrate in place")
-    ctx = _read(source, labels)
+    ctx = _read(source, labels, Path(root) if root is not None else None)
     files, image_id = describe_objects(ctx)
     pid, keyword = product_id(ctx.root, source.stem)
     ident = identification(ctx.root, check_bundle_lid(bundle_lid or default_bundle_lid(ctx.root)), collection,
@@ -163,10 +166,14 @@ def product_labels(paths: Iterable[str | os.PathLike[str]]) -> Iterator[Path]:
         yield path
 
 
-def _read(source: Path, labels: LabelCache | None = None) -> FileContext:
-    """The label as the validator reads it; `labels`: the run's cache (a delivery's)."""
+def _read(source: Path, labels: LabelCache | None = None, root: Path | None = None) -> FileContext:
+    """The label as the validator reads it; `labels`: the run's cache (a delivery's); `root`:
+    the user's wider trusted tree (label/beside.trusted_tree)."""
+    from ..label.beside import trusted_tree
+
     try:
-        ctx = FileContext(source, file=labels.open(source) if labels is not None else None)
+        ctx = FileContext(source, file=labels.open(source) if labels is not None else None,
+                          tree=trusted_tree(source, None, root))
     except OSError as exc:
         raise InputError(source, f"cannot be read ({exc.strerror})") from None
     if not ctx.label.end_found:

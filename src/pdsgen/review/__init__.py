@@ -87,7 +87,7 @@ def write_review(directory: str | os.PathLike[str], page: str | os.PathLike[str]
     if not target.parent.is_dir():
         raise OutputError(target, "its directory does not exist")
     labels = labels if labels is not None else LabelCache()  # the scan, the checks and the page share it
-    found = scan(root, labels=labels)
+    found = scan(root, labels=labels, strict=False)  # a missing or outside file: shown by its finding
     if not found.products:
         raise InputError(root, "holds no data product (no PDS3 or PDS4 product label)")
     shown_findings = _ShownFindings()
@@ -97,7 +97,7 @@ def write_review(directory: str | os.PathLike[str], page: str | os.PathLike[str]
     title = Path(shown).resolve().name + (" (delivery)" if (root / MANIFEST).is_file() else "")
     review = review_directory(root, found.products, found.previews, reports, target.parent, title, labels)
     review.source, review.labels_only = shown, labels_only
-    for path in walk(root):
+    for path in walk(root, strict=False):
         if not _is_page_of(path, target):
             review.files += 1
             review.total_bytes += path.stat().st_size

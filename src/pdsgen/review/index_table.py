@@ -33,6 +33,10 @@ class IndexTable:
                 columns.append(((block.text("NAME") or "").upper(), start, size))
         pointer = next((s for s in root.statements() if s.pointer and s.keyword.upper().endswith("TABLE")), None)
         name = pointer.value.text if pointer is not None and pointer.value.items is None else "INDEX.TAB"
+        from ..label.beside import outside_tree
+
+        if outside_tree(label_path.parent, name) is not None:  # the containment rule: never read
+            return None
         result = cls(columns, {}, {})
         try:
             with open(label_path.parent / name, "rb") as stream:

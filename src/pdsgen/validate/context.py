@@ -26,9 +26,12 @@ class FileContext:
     """One label file being validated, with lazy helpers the rule families share."""
 
     def __init__(self, path: Path, labels_only: bool = False, dictionaries: tuple[str, ...] = (),
-                 strict: bool = False, file: LabelFile | None = None) -> None:
-        """`file`: the label as read already (a run's LabelCache); else the file is read here."""
+                 strict: bool = False, file: LabelFile | None = None, tree: Path | None = None) -> None:
+        """`file`: the label as read already (a run's LabelCache); else the file is read here.
+        `tree`: the directory tree the files the label names must stay inside (label/beside.py's
+        trusted_tree: the directory the user gave, or --root); the label's directory by default."""
         self.path = path
+        self.tree = tree if tree is not None else path.parent
         self.labels_only = labels_only
         self.dictionaries = dictionaries
         self.strict = strict
@@ -120,7 +123,20 @@ class FileContext:
         """(exact path, path differing only in case) of a file named in the label."""
         from ..label.beside import resolve_beside
 
-        return resolve_beside(self.path.parent, self.listing, file_name)
+        return resolve_beside(self.path.parent, self.listing, file_name, self.tree)
+
+    def outside(self, file_name: str) -> Path | None:
+        """The file named in the label when it lies outside the trusted tree (refused)."""
+        from ..label.beside import outside_tree
+
+        return outside_tree(self.path.parent, file_name, self.tree)
+
+    def outside_names(self) -> list[tuple[str, str, int]]:
+        """(keyword, name, line) of each file the label names that lies outside the trusted tree."""
+        from ..label.tree import every_named_file
+
+        return [(keyword, name, line) for keyword, name, line in every_named_file(self.root)
+                if self.outside(name) is not None]
 
     def target_size(self, ptr: Pointer) -> int | None:
         """Size of the file the pointer's object lives in, if it can be found."""

@@ -148,6 +148,9 @@ class ValidationJob:
     schema_cache is a directory of downloaded PDS4 schemas, which download_schemas lets
     grow from the URLs labels name (without a cache, no download).
     skip_non_labels passes over named files that are not labels (see iter_reports).
+    root widens the tree the files a label names must stay inside (label/beside.trusted_tree:
+    the directory given, else the label's directory): a label given alone inside `root` may
+    name ../../LABEL/X.FMT of its volume.
     jobs > 1 checks files in that many processes.
     """
 
@@ -161,6 +164,7 @@ class ValidationJob:
     skip_non_labels: bool = False
     schema_cache: str | None = None
     download_schemas: bool = False
+    root: str | None = None
     labels: LabelCache | None = field(default=None, compare=False)  # a run's labels, read once (deliver)
 
     def __post_init__(self) -> None:
@@ -169,6 +173,7 @@ class ValidationJob:
         set_(self, "dictionaries", tuple(os.fspath(d) for d in self.dictionaries))
         set_(self, "schemas", tuple(os.fspath(d) for d in self.schemas))
         set_(self, "settings", self.settings or RuleSettings())
+        set_(self, "root", os.fspath(self.root) if self.root is not None else None)
         cache = os.fspath(self.schema_cache) if self.schema_cache is not None else None
         set_(self, "schema_cache", cache)
         set_(self, "download_schemas", bool(self.download_schemas and cache is not None))
@@ -195,17 +200,18 @@ def target_of(path: Path) -> str:
     return "imars" if is_imars_metadata(path) else "label"
 
 
-def validate_file(path: Path, job: ValidationJob | None = None,
+def validate_file(path: Path, job: ValidationJob | None = None, tree: Path | None = None,
                   **options: Any) -> tuple[FileReport, LabelSummary | None]:
     """Every per-file rule of the file's target on one file (before configuration), and
-    the summary of a PDS3 label the SET rules compare."""
+    the summary of a PDS3 label the SET rules compare. `tree`: the directory the user gave
+    that holds the file (the file's own directory when None), widened by the job's root."""
     job = ValidationJob.of(job, options)
     target = target_of(path)
     reason = not_a_label(path) if target == "label" else None
     if reason is not None:
         return FileReport(str(path), [Finding("FILE-013", _severity("FILE-013"), str(path), reason)]), None
     try:
-        ctx = _open(path, target, job)
+        ctx = _open(path, target, job, tree)
     except OSError as exc:
         finding = Finding("FILE-012", "error", str(path), f"cannot read the file: {exc.strerror or exc}")
         return FileReport(str(path), [finding]), None
@@ -225,14 +231,16 @@ def validate_file(path: Path, job: ValidationJob | None = None,
     return FileReport(str(path), findings), summary
 
 
-def _open(path: Path, target: str, job: ValidationJob) -> Any:
+def _open(path: Path, target: str, job: ValidationJob, tree: Path | None) -> Any:
     """The context the rules of `target` take."""
+    from ..label.beside import trusted_tree
     if target == "pds4":
         return pds4_rules.open_label(path, job.labels_only, job.schemas, job.schema_cache, job.download_schemas)
     if target == "imars":
         return ImarsContext(path, job.labels_only)
     file = job.labels.open(path) if job.labels is not None else None
-    return FileContext(path, labels_only=job.labels_only, dictionaries=job.dictionaries, strict=job.strict, file=file)
+    return FileContext(path, labels_only=job.labels_only, dictionaries=job.dictionaries, strict=job.strict, file=file,
+                       tree=trusted_tree(path, tree, Path(job.root) if job.root else None))
 
 
 def _severity(rule_id: str) -> str:
@@ -262,9 +270,11 @@ def _init_worker(job: ValidationJob) -> None:
     _JOB = job
 
 
-def _one(path: str) -> tuple[FileReport, LabelSummary | None]:
-    """One file, in a worker: its findings as the configuration reports them."""
-    report, summary = validate_file(Path(path), _JOB)
+def _one(item: tuple[str, str | None]) -> tuple[FileReport, LabelSummary | None]:
+    """One file (and the directory given that holds it), in a worker: its findings as the
+    configuration reports them."""
+    path, given = item
+    report, summary = validate_file(Path(path), _JOB, Path(given) if given else None)
     report.findings = _JOB.settings.filter(report.findings)
     return report, summary
 
@@ -308,8 +318,9 @@ def iter_reports(paths: Iterable[str | os.PathLike[str]], job: ValidationJob | N
     if first is None:  # a CI job pointed at the wrong directory must not pass
         raise PdsgenError(None, "no PDS3 or PDS4 label found under " + ", ".join(os.fspath(p) for p in paths))
     files = itertools.chain([first], found)
+    given = [Path(p) for p in paths if Path(p).is_dir()]  # the trees the user gave (label/beside.trusted_tree)
     deliveries = DeliveryChecks(paths, job.labels_only, job.labels)  # a delivery directory is also checked whole
-    return _with_run_checks(_with_deliveries(_stream(files, job, progress), deliveries, job), job)
+    return _with_run_checks(_with_deliveries(_stream(files, given, job, progress), deliveries, job), job)
 
 
 def _with_deliveries(reports: Iterator[FileReport], deliveries: DeliveryChecks,
@@ -352,10 +363,10 @@ def _with_run_checks(reports: Iterator[FileReport], job: ValidationJob) -> Itera
         yield report
 
 
-def _stream(files: Iterator[Path], job: ValidationJob, progress: Callable[[int, int], None] | None
-            ) -> Iterator[FileReport]:
+def _stream(files: Iterator[Path], given: list[Path], job: ValidationJob,
+            progress: Callable[[int, int], None] | None) -> Iterator[FileReport]:
     groups = _SetGroups(job.settings)
-    names = (str(p) for p in files)
+    names = ((str(p), _given_tree(p, given)) for p in files)
     if job.jobs > 1:
         worker_job = replace(job, baseline=None)  # the baseline is applied here, in this process
         with multiprocessing.get_context("fork" if sys.platform == "linux" else "spawn").Pool(
@@ -364,6 +375,13 @@ def _stream(files: Iterator[Path], job: ValidationJob, progress: Callable[[int, 
     else:
         _init_worker(job)
         yield from _collect(map(_one, names), groups, progress, job.baseline)
+
+
+def _given_tree(path: Path, given: list[Path]) -> str | None:
+    """The widest directory given on the command line that holds `path` (None: the file was named)."""
+    from ..label.beside import contained
+
+    return min((str(d) for d in given if contained(path, d) is not None), key=len, default=None)
 
 
 def _collect(results: Iterator[tuple[FileReport, LabelSummary | None]], groups: _SetGroups,
@@ -451,7 +469,7 @@ def validate_paths(paths: Iterable[str | os.PathLike[str]], job: ValidationJob |
 
     `job` says what to check and how; or give its fields by keyword (strict, jobs,
     labels_only, dictionaries, settings, baseline, schemas, skip_non_labels, schema_cache,
-    download_schemas: see ValidationJob), e.g. `validate_paths(["out/"], strict=True)`.
+    download_schemas, root: see ValidationJob), e.g. `validate_paths(["out/"], strict=True)`.
     progress(done, total) is called as files are checked.
 
     Raises PdsgenError when the paths hold no label at all (an empty or wrong directory):

@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ...archive import layout
+from ...label.beside import outside_tree
 from ...label.parser import is_pds3_head
 from ...label.tree import Block, first_statement
 from ...pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
@@ -108,8 +109,8 @@ def _table_file(label: Block, label_path: Path) -> Path | None:
     for stmt in label.statements():
         if stmt.pointer and stmt.keyword.upper().endswith("TABLE"):
             for value in stmt.value.scalars():
-                if value.kind in ("string", "ident"):
-                    return label_path.parent / value.text
+                if value.kind in ("string", "ident"):  # one outside the label's directory is not read
+                    return label_path.parent / value.text if not outside_tree(label_path.parent, value.text) else None
     return None
 
 
@@ -348,7 +349,7 @@ def _read_pds4(path: Path) -> _Pds4Label | None:
             else:
                 label.references.append(reference)
     name = root.findtext(f"{PDS_NS}File_Area_Inventory/{PDS_NS}File/{PDS_NS}file_name")
-    if name:
+    if name and not outside_tree(path.parent, name.strip()):  # one outside the label's directory is not read
         label.inventory = path.parent / name.strip()
     return label
 

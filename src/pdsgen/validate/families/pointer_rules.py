@@ -49,9 +49,18 @@ def _named_targets(ctx: FileContext) -> Iterator[tuple[Pointer, str]]:
 def check_target_exists(ctx: FileContext) -> Iterator[Hit]:
     for ptr, file_name in _named_targets(ctx):
         exact, other = ctx.resolve(file_name)
-        if exact is None and other is None:
+        if exact is None and other is None and ctx.outside(file_name) is None:  # PTR-009 tells the outside
             yield Hit(f"{_kw(ptr)} names {file_name}, which is not in {ctx.path.parent}",
                       ptr.statement.line, _kw(ptr))
+
+
+def check_target_inside(ctx: FileContext) -> Iterator[Hit]:
+    """Every file the label names lies inside the tree given (the directory validated, or
+    --root; the label's directory for a label given alone), links resolved: a name leaving
+    it (../x, /etc/x, a link pointing out) is read by no pdsgen command."""
+    for keyword, name, line in ctx.outside_names():
+        yield Hit(f"{keyword} names {name}, which lies outside {ctx.tree} (the tree given; "
+                  "--root widens it); it is not read", line, keyword)
 
 
 def check_target_case(ctx: FileContext) -> Iterator[Hit]:
@@ -396,6 +405,8 @@ register(
          needs_data=True),
     Rule("PTR-008", "warning", "an attached label's file holds its data (not a label-only copy; "
          "data checks are skipped for one)", check_data_present),
+    Rule("PTR-009", "error", "files a label names lie inside the tree given (the directory validated, "
+         "--root, or the label's directory; no ../, absolute path or link leading out)", check_target_inside),
     Rule("REC-001", "error", "RECORD_TYPE = FIXED_LENGTH comes with RECORD_BYTES",
          check_record_bytes_present),
     Rule("REC-002", "error", "RECORD_BYTES x FILE_RECORDS equals the file size", check_file_size,

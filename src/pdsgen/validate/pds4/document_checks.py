@@ -21,7 +21,7 @@ from pathlib import Path
 from lxml import etree
 
 from ..model import Hit
-from .label_tree import P, Pds4Hits
+from .label_tree import P, Pds4Hits, is_outside
 
 _PDFA_MARK = b"pdfaid:part"
 _READ_BYTES = 1 << 20
@@ -31,8 +31,9 @@ def check_pdf_a(report: Pds4Hits, tree: etree._ElementTree) -> None:
     """Every PDF of a Document_File (of a Product_Document) identifies itself as PDF/A."""
     for area in tree.getroot().iter(f"{P}Document_File"):
         name = (area.findtext(f"{P}file_name") or "").strip()
-        candidate = report.path.parent / (area.findtext(f"{P}directory_path_name") or "").strip() / name
-        path = candidate if name and candidate.is_file() else None
+        relative = os.path.join((area.findtext(f"{P}directory_path_name") or "").strip(), name)
+        candidate = report.path.parent / relative
+        path = candidate if name and not is_outside(report, relative, area) and candidate.is_file() else None
         standard = (area.findtext(f"{P}document_standard_id") or "").strip()
         if path is None or not (standard.startswith("PDF") or name.lower().endswith(".pdf")):
             continue

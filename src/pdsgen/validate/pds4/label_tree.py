@@ -63,8 +63,23 @@ def data_path(report: Pds4Hits, area: etree._Element, report_missing: bool = Tru
     if not name:
         return None
     path = report.path.parent / name
+    if is_outside(report, name, file, report_missing):
+        return None
     if not path.is_file():
         if report_missing:
             report.add("PDS4-010", f"data file {name} not found beside the label", file.sourceline, "file_name")
         return None
     return path
+
+
+def is_outside(report: Pds4Hits, name: str, element: etree._Element, tell: bool = True) -> bool:
+    """Whether a file the label names lies outside the label's directory (../x, /x, a link
+    leading out): such a file is never read, and (when `tell`) PDS4-070 says so."""
+    from ...label.beside import outside_tree  # the one containment rule, for PDS3 and PDS4 alike
+
+    if outside_tree(report.path.parent, name) is None:
+        return False
+    if tell:
+        report.add("PDS4-070", f"file_name {name} lies outside the label's directory {report.path.parent}; "
+                               "it is not read", element.sourceline, "file_name")
+    return True
