@@ -192,7 +192,7 @@ def test_validate_reports_a_pds4_file_name_leaving_the_tree(tmp_path, canary, na
     (tree / "prod.xml").write_text(PDS4_LABEL.read_text().replace(f"<file_name>{PDS4_DATA}<", f"<file_name>{name}<"))
     done = run_cli("validate", tree, "--format", fmt, "--offline")
     assert done.returncode == 1, (done.stdout, done.stderr)
-    assert "PDS4-070" in done.stdout and "Traceback" not in done.stderr
+    assert "PDS4-064" in done.stdout and "Traceback" not in done.stderr
     assert fmt == "sarif" or "PDS4-052" not in done.stdout  # SARIF lists every rule; the others the findings
     _nowhere(canary, done.stdout, done.stderr)
 
@@ -201,7 +201,7 @@ def test_genuine_pds4_table_beside_its_label_is_still_read(tmp_path):
     shutil.copy(PDS4_LABEL, tmp_path)
     shutil.copy(NASA / PDS4_DATA, tmp_path)
     done = run_cli("validate", tmp_path / PDS4_LABEL.name, "--offline")
-    assert "PDS4-052" in done.stdout and "PDS4-070" not in done.stdout
+    assert "PDS4-052" in done.stdout and "PDS4-064" not in done.stdout
 
 
 # -- extras and review -------------------------------------------------------------------------
@@ -242,7 +242,7 @@ def test_review_shows_a_product_whose_file_is_missing_or_outside_and_writes_the_
     assert "Traceback" not in done.stderr and page.is_file()
     html = page.read_text()
     assert "PROD_1" in html and "prod" in html
-    assert ("PDS4-010" if name == "missing.tab" else "PDS4-070") in html
+    assert ("PDS4-010" if name == "missing.tab" else "PDS4-064") in html
     _nowhere(canary, done.stdout, done.stderr, page)
 
 

@@ -21,6 +21,7 @@ COMMAND_OWN_OPTIONS: dict[str, str] = {
     "schemas": "--schemas",
     "volume_id": "--volume-id",
     "bundle_lid": "--bundle-lid",
+    "root": "--root",
 }
 
 

@@ -96,9 +96,9 @@ def contained(path: Path, root: Path) -> Path | None:
 def trusted_tree(label: Path, given: Path | None = None, root: Path | None = None) -> Path:
     """The tree the files a label names must stay inside: the directory the user gave (`given`,
     when the label was found in it), else the label's own directory; widened to `root` (the
-    user's --root) when the label lies inside it. A genuine volume's labels name ../../LABEL/X.FMT,
-    so a volume checked whole, or a label with --root VOLUME, keeps its format files; --root
-    never narrows the tree, and a label outside it keeps its own."""
+    root the user names) when the label lies inside it. A genuine volume's labels name
+    ../../LABEL/X.FMT, so a volume checked whole, or a label with the volume as its root, keeps
+    its format files; a root never narrows the tree, and a label outside it keeps its own."""
     base = given if given is not None else label.parent
     if root is not None and contained(label, root) is not None and contained(base, root) is not None:
         return root

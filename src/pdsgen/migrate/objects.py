@@ -13,7 +13,7 @@ import struct
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import InputError
+from ..errors import InputError, param
 from ..label.beside import find_beside
 from ..label.grammar import FLOAT_SAMPLE_TYPES, PLACEHOLDERS
 from ..label.parser import LabelFile
@@ -103,11 +103,11 @@ def describe_objects(ctx: FileContext) -> tuple[list[DataFile], str | None]:
 
 
 def _refuse_outside(ctx: FileContext) -> None:
-    """Refuse a label naming a file outside the trusted tree (its directory, or --root; ../x,
+    """Refuse a label naming a file outside the trusted tree (its directory, or the root given; ../x,
     /etc/x, a link leading out): its content must not travel into the PDS4 product."""
     for keyword, name, _ in ctx.outside_names():
         raise Refused(ctx.path, f"{keyword} names {name}, which lies outside {ctx.tree}; not migrated "
-                                "(--root widens the tree)")
+                                f"({param('root')} widens the tree)")
 
 
 def _compressed_files(ctx: FileContext) -> list[DataFile]:

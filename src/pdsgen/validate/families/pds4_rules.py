@@ -129,7 +129,7 @@ register(
           run_check=shared_data_files),
     _rule("PDS4-062", "error", "file names use only letters, digits, '-', '_' and '.', and directory paths "
                                "are relative"),
-    _rule("PDS4-070", "error", "every file a label names (file_name) lies inside its directory: no ../, "
+    _rule("PDS4-064", "error", "every file a label names (file_name) lies inside its directory: no ../, "
                                  "absolute path or link leading out; such a file is not read"),
     _rule("PDS4-061", "error", "a PDF a document product holds is identified as PDF/A (its XMP pdfaid:part)"),
     _rule("PDS4-063", "error", "context references (investigation, instrument, target ...) name registered "

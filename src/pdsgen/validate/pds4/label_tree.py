@@ -74,12 +74,12 @@ def data_path(report: Pds4Hits, area: etree._Element, report_missing: bool = Tru
 
 def is_outside(report: Pds4Hits, name: str, element: etree._Element, tell: bool = True) -> bool:
     """Whether a file the label names lies outside the label's directory (../x, /x, a link
-    leading out): such a file is never read, and (when `tell`) PDS4-070 says so."""
+    leading out): such a file is never read, and (when `tell`) PDS4-064 says so."""
     from ...label.beside import outside_tree  # the one containment rule, for PDS3 and PDS4 alike
 
     if outside_tree(report.path.parent, name) is None:
         return False
     if tell:
-        report.add("PDS4-070", f"file_name {name} lies outside the label's directory {report.path.parent}; "
+        report.add("PDS4-064", f"file_name {name} lies outside the label's directory {report.path.parent}; "
                                "it is not read", element.sourceline, "file_name")
     return True
