@@ -23,7 +23,7 @@ from ..errors import InputError
 from ..formats.sniff import file_head
 from ..label.beside import DirectoryNames, contained, directory_listing, resolve_beside
 from ..label.read import LabelCache, LabelFile, is_pds3_head, read_pds3_label
-from ..label.tree import Block, parse_pointer
+from ..label.tree import FILE_OBJECTS, Block, parse_pointer
 from ..missions.imars import is_metadata_name as is_imars_metadata
 from ..pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
 from . import layout
@@ -35,11 +35,6 @@ _MADE_NAMES = {layout.VOLDESC, layout.AAREADME, layout.MANIFEST}
 _DOCUMENTS = {"README.TXT", "JP2INFO.TXT"}
 # The keywords a delivery takes from a PDS3 label: the index columns' and the volume's producer.
 KEPT_KEYWORDS = tuple(name for name, _, _ in layout.INDEX_COLUMNS[2:]) + ("PRODUCER_INSTITUTION_NAME",)
-
-
-# Objects that name a file of the product by FILE_NAME rather than by a pointer (a HiRISE
-# orthoimage's JP2 is its label's COMPRESSED_FILE; PDS3 Standards Reference, chapter 5).
-_FILE_OBJECTS = ("COMPRESSED_FILE", "UNCOMPRESSED_FILE")
 
 
 @dataclass
@@ -84,7 +79,7 @@ def named_files(root: Block, directory: Path, catalog: Path | None = None,
                 pointer = parse_pointer(stmt)
                 for name in pointer.targets:
                     add(name, named.support if pointer.is_reference else named.data)
-        file_name = block.text("FILE_NAME") if block.name.upper() in _FILE_OBJECTS else None
+        file_name = block.text("FILE_NAME") if block.name.upper() in FILE_OBJECTS else None
         if file_name:
             add(file_name, named.data)
     named.support = [path for path in named.support if path not in named.data]

@@ -274,7 +274,8 @@ def label_pointers(root: Block) -> list[Pointer]:
     return [parse_pointer(s) for s in root.statements() if s.pointer]
 
 
-# Objects that name a file by FILE_NAME rather than by a pointer (PDS3 Standards, chapter 5).
+# Objects that name a file by FILE_NAME rather than by a pointer (a HiRISE orthoimage's JP2 is
+# its label's COMPRESSED_FILE; PDS3 Standards, chapter 5).
 FILE_OBJECTS = ("COMPRESSED_FILE", "UNCOMPRESSED_FILE")
 
 
