@@ -14,7 +14,7 @@ from datetime import datetime, timedelta
 from .. import __version__
 from ..errors import ParamsError, param
 from ..label.grammar import PLACEHOLDERS
-from ..label.tree import Block
+from ..label.tree import Block, first_text
 from ..missions import ContextReference, LabelFacts, detect_mission, get_mission
 from ..pds4.context import TARGETS, source_products
 from ..validate.pds4.context_registry import is_registered
@@ -45,13 +45,13 @@ def check_product_lid(lid: str) -> str:
 
 
 def text(root: Block, key: str) -> str | None:
-    """A keyword's text at the root or in the first block that has it, placeholders as None."""
-    for block in root.walk():
-        value = block.text(key)
-        if value is not None:
-            value = " ".join(value.split())
-            return None if value.upper() in PLACEHOLDERS or not value else value
-    return None
+    """A keyword's text at the root or in the first block that has it (label/tree.first_text),
+    its blanks folded; placeholders (and an empty text) as None."""
+    value = first_text(root, key)
+    if value is None:
+        return None
+    value = " ".join(value.split())
+    return None if value.upper() in PLACEHOLDERS or not value else value
 
 
 def product_id(root: Block, fallback: str) -> tuple[str, str | None]:
