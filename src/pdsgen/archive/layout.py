@@ -36,7 +36,6 @@ def is_review_page(name: str) -> bool:
     return _REVIEW_PAGES.fullmatch(name) is not None
 
 
-
 def publication_rank(relative: str) -> int:
     """Where a delivery cannot be swapped in at once (an object store has no rename), the
     order its files are published in: products, previews and documents (0), then the

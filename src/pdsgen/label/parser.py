@@ -989,7 +989,6 @@ LABEL_LIMIT = 16 * 1024 * 1024  # no real label is larger; the head of a file is
 _PDS3_START = re.compile(rb"\s*(?:PDS_VERSION_ID|ODL_VERSION_ID|CCSD3)", re.IGNORECASE)
 
 
-
 def is_pds3_head(head: bytes) -> bool:
     """True when a file's first bytes are those of a PDS3 label."""
     return _PDS3_START.match(head) is not None

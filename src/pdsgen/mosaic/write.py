@@ -118,8 +118,6 @@ def _statement(plan: MosaicPlan, order: str, warped: bool = False) -> str:
             f"{how}; later ones lie on top ({stacking}) and no-data never covers data.")
 
 
-
-
 def _write(plan: MosaicPlan, vrt: Path, outdir: Path, mission: Mission, product_id: str, statement: ProductStatement,
            options: Mapping[str, Any]) -> ProductResult:
     """The profile's writer, reading the mosaic's VRT, given the `statement` its label makes: how

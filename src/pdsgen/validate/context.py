@@ -22,6 +22,7 @@ if TYPE_CHECKING:
 # The label is read and parsed by the label reader (label/parser.py), never by code of validate/.
 __all__ = ["FileContext", "parse_label"]
 
+
 class FileContext:
     """One label file being validated, with lazy helpers the rule families share."""
 
