@@ -552,9 +552,14 @@ class DeliveryChecks:
             self._pending = {}
             for path in self._paths:
                 for root in _deliveries(path):
-                    for finding in check_delivery(root, self._labels_only, self._labels):
+                    for finding in self._check(root):
                         self._pending.setdefault(os.path.normpath(finding.file), []).append(finding)
         return self._pending
+
+    def _check(self, root: Path) -> list[Finding]:
+        if self._labels is None:  # a plain validation run: no cache to share
+            return check_delivery(root, self._labels_only)
+        return check_delivery(root, self._labels_only, self._labels)
 
     def take(self, path: str) -> list[Finding]:
         return self.pending.pop(os.path.normpath(path), [])
