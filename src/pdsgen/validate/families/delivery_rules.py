@@ -557,7 +557,7 @@ class DeliveryChecks:
         return self._pending
 
     def _check(self, root: Path) -> list[Finding]:
-        if self._labels is None:  # a plain validation run: no cache to share
+        if self._labels is None:  # a plain validation run: no cache to share (the call as it was)
             return check_delivery(root, self._labels_only)
         return check_delivery(root, self._labels_only, self._labels)
 
