@@ -118,8 +118,19 @@ def _writer_alive(pid: int, written: float) -> bool:
         return False
     except PermissionError:  # alive, another user's
         pass
+    if _is_zombie(pid):  # killed, not yet reaped (a killed batch's worker): it writes nothing more
+        return False
     started = _process_start_time(pid)
     return started is None or started <= written + 1.0  # 1 s: clock ticks and file-time granularity
+
+
+def _is_zombie(pid: int) -> bool:
+    """Whether process `pid` has exited and waits to be reaped (state Z in /proc on Linux; False
+    where the system does not say)."""
+    try:
+        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] == "Z"
+    except (OSError, IndexError):
+        return False
 
 
 def _process_start_time(pid: int) -> float | None:
