@@ -68,6 +68,14 @@ ASCII_TABLE_TYPES = {
     "FLOAT": "ASCII_Real",
 }
 
+# Bit-string columns read whole (their BIT_COLUMNs not split): PDS4's bit strings are MSB first;
+# an LSB_BIT_STRING's bytes run the other way and have no PDS4 type.
+BIT_STRING_TYPES = {"MSB_BIT_STRING": "UnsignedBitString", "BIT_STRING": "UnsignedBitString"}
+
+# SPREADSHEET FIELD_DELIMITER -> Table_Delimited field_delimiter.
+FIELD_DELIMITERS = {"COMMA": "Comma", "TAB": "Horizontal Tab", "SEMICOLON": "Semicolon",
+                    "VERTICAL_BAR": "Vertical Bar"}
+
 # INTERCHANGE_FORMAT -> the PDS4 table class.
 TABLE_CLASSES = {"BINARY": "Table_Binary", "ASCII": "Table_Character"}
 

@@ -9,7 +9,9 @@ ever described approximately.
 
 from __future__ import annotations
 
+import os
 import struct
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -17,12 +19,14 @@ from ..errors import InputError, param
 from ..label.beside import find_beside
 from ..label.grammar import FLOAT_SAMPLE_TYPES, PLACEHOLDERS
 from ..label.parser import LabelFile
-from ..label.tree import Block, Pointer, Statement, Value
+from ..label.tree import Block, Pointer, Statement, Value, parse_pointer
 from ..pds4.model import pds4_data_type
 from ..validate.context import FileContext
 from .mapping import (
     ASCII_TABLE_TYPES,
     BAND_STORAGE_AXES,
+    BIT_STRING_TYPES,
+    FIELD_DELIMITERS,
     HEADER_STANDARDS,
     SPECIAL_CONSTANTS,
     SPECIAL_ORDER,
@@ -32,7 +36,26 @@ from .mapping import (
 
 
 class Refused(InputError):
-    """A product migration cannot describe exactly: one line, nothing written."""
+    """A product migration cannot describe exactly: one line per obstacle, nothing written.
+
+    `problems` holds every obstacle found (each names its object and label line); `problem`,
+    the first, is what callers reading one message get."""
+
+    def __init__(self, path: str | os.PathLike[str] | None, problem: str, more: tuple[str, ...] = ()) -> None:
+        self.problems = (problem, *more)
+        super().__init__(path, problem)
+
+    def __str__(self) -> str:
+        return "\n".join(f"{self.path}: {problem}" if self.path is not None else problem
+                         for problem in self.problems)
+
+
+class MissingFile(Refused):
+    """A data file a pointer names is not there (gathered: one line per file, naming its pointers)."""
+
+    def __init__(self, path: str | os.PathLike[str] | None, file_name: str) -> None:
+        self.file_name = file_name
+        super().__init__(path, f"data file {file_name} is missing")
 
 
 @dataclass
@@ -48,37 +71,82 @@ class DataFile:
         return self.path.name
 
 
+@dataclass(frozen=True)
+class Placed:
+    """A data pointer with what placing its object needs: the OBJECT it describes and the
+    RECORD_BYTES its record numbers count in (the label's, or its OBJECT = FILE block's: a
+    combined detached label describes each file in a FILE block of its own)."""
+
+    ptr: Pointer
+    block: Block | None
+    record_bytes: int | None
+    file_block: Block | None = None
+
+
+def where(block: Block) -> str:
+    """How a refusal names an object: `OBJECT = HISTORY (line 40)`."""
+    return f"OBJECT = {block.name} (line {block.line})"
+
+
+def pointer_where(ptr: Pointer) -> str:
+    return f"^{ptr.name} (line {ptr.statement.line})"
+
+
+def placed_pointers(ctx: FileContext) -> Iterator[Placed]:
+    """Every data pointer of the label: the top level's, then each OBJECT = FILE block's."""
+    for ptr in ctx.data_pointers():
+        yield Placed(ptr, ctx.object_for(ptr), ctx.record_bytes)
+    for file_block in ctx.root.blocks("FILE"):
+        record_bytes = file_block.number("RECORD_BYTES")
+        for stmt in file_block.statements():
+            if not stmt.pointer:
+                continue
+            ptr = parse_pointer(stmt)
+            if ptr.is_reference:
+                continue
+            block = next((b for b in file_block.walk() if b.kind == "OBJECT" and b.name.upper() == ptr.name), None)
+            yield Placed(ptr, block, int(record_bytes) if isinstance(record_bytes, int) else None, file_block)
+
+
+def _offset(placed: Placed) -> int | None:
+    """0-based byte offset of the object in its file (the record number counted in the
+    RECORD_BYTES of the label or of the pointer's FILE block)."""
+    ptr = placed.ptr
+    if ptr.byte is not None:
+        return ptr.byte - 1
+    if ptr.record is not None:
+        return None if placed.record_bytes is None else (ptr.record - 1) * placed.record_bytes
+    return 0 if ptr.form == "file" else None
+
+
 def describe_objects(ctx: FileContext) -> tuple[list[DataFile], str | None]:
     """The product's files with their objects, and the local identifier of the image the map
-    projection describes (None without an image)."""
+    projection describes (None without an image). Every obstacle is gathered before refusing:
+    the user learns all that stands in the way at once."""
     _refuse_outside(ctx)
+    problems: list[str] = []
     files: dict[Path, DataFile] = {}
     image_id: str | None = None
     used: set[str] = set()
-    for ptr in ctx.data_pointers():
-        block = ctx.object_for(ptr)
-        kind = _kind(ptr.name)
-        if block is None:
-            if ptr.form == "file":  # ^MEX_ORIENTATION_DESC = "X.TXT": a document beside the product, no data
-                continue
-            raise Refused(ctx.path, f"^{ptr.name} points at an object the label does not describe")
-        path = _data_path(ctx, ptr)
-        offset = ctx.pointer_offset(ptr)
-        if offset is None:
-            raise Refused(ctx.path, f"^{ptr.name}: its byte offset cannot be known (no RECORD_BYTES)")
-        ident = _local_identifier(ptr.name, used)
-        if kind == "header":
-            described = _header(ctx, block, ident, offset)
-        elif kind == "image":
-            described = _image(ctx, block, ident, offset)
-            if described["kind"] == "array":  # lines with prefixes are table records: no cart: for them
-                image_id = image_id or ident
-        elif kind == "table":
-            described = _table(ctx, block, ident, offset, path)
-        else:
-            raise Refused(ctx.path, f"OBJECT = {ptr.name}: migrate describes IMAGE, *TABLE, *SERIES and "
-                                    "*HEADER objects, not this one")
+    missing: dict[str, list[str]] = {}  # a missing file named by several pointers: told once
+    for placed in placed_pointers(ctx):
+        try:
+            found = _describe_pointer(ctx, placed, used)
+        except MissingFile as absent:
+            missing.setdefault(absent.file_name, []).append(f"^{placed.ptr.name} line {placed.ptr.statement.line}")
+            continue
+        except Refused as refusal:
+            problems.extend(refusal.problems)
+            continue
+        if found is None:
+            continue
+        path, described = found
+        if described["kind"] == "array" and described.get("element") in ("Array_2D_Image", "Array_3D_Image"):
+            image_id = image_id or str(described["local_identifier"])  # lines with prefixes: no cart:
         files.setdefault(path, DataFile(path)).objects.append(described)
+    problems.extend(f"data file {name} is missing ({', '.join(pointers)})" for name, pointers in missing.items())
+    if problems:
+        raise Refused(ctx.path, problems[0], tuple(problems[1:]))
     for data in files.values():
         data.objects.sort(key=lambda o: int(o["offset"]))  # type: ignore[call-overload]
     if ctx.attached:
@@ -88,7 +156,8 @@ def describe_objects(ctx: FileContext) -> tuple[list[DataFile], str | None]:
         result.append(encoded)
         image_id = image_id or str(encoded.objects[0]["local_identifier"])
     if not result:
-        raise Refused(ctx.path, "has no data object pointer (^IMAGE, ^TABLE ...) or COMPRESSED_FILE to describe")
+        raise Refused(ctx.path, "has no data object pointer (^IMAGE, ^TABLE ..., at the top level or in "
+                                "an OBJECT = FILE) or COMPRESSED_FILE to describe")
     if ctx.path not in files:  # a detached label: a header of its own (the primary file when all else is
         # supplemental: PDS4 takes no JPEG 2000 as primary data)
         primary = any(not data.supplemental for data in result)
@@ -97,9 +166,30 @@ def describe_objects(ctx: FileContext) -> tuple[list[DataFile], str | None]:
                                            "description": "The detached PDS3 label of this product."}],
                                supplemental=primary))
     for data in result:
-        _check_order(ctx, data)
+        problems.extend(_order_problems(data))
+    if problems:
+        raise Refused(ctx.path, problems[0], tuple(problems[1:]))
     result.sort(key=lambda data: data.supplemental)  # File_Area_Observational first, as the schema orders them
     return result, image_id
+
+
+def _describe_pointer(ctx: FileContext, placed: Placed, used: set[str]) -> tuple[Path, dict[str, object]] | None:
+    """One pointer's object, described at its place (None: a document beside the product)."""
+    ptr, block = placed.ptr, placed.block
+    if block is None:
+        if ptr.form == "file":  # ^MEX_ORIENTATION_DESC = "X.TXT": a document beside the product, no data
+            return None
+        raise Refused(ctx.path, f"{pointer_where(ptr)} points at an object the label does not describe")
+    kind = _kind(ptr.name)
+    if kind == "other":
+        raise Refused(ctx.path, f"{where(block)}: migrate describes {DESCRIBED_OBJECTS}, not this object")
+    path = _data_path(ctx, placed)
+    offset = _offset(placed)
+    if offset is None:
+        raise Refused(ctx.path, f"{pointer_where(ptr)}: its byte offset cannot be known (no RECORD_BYTES)")
+    ident = _local_identifier(ptr.name, used)
+    describer = DESCRIBERS[kind]
+    return path, describer(ctx, Target(block, ident, offset, path, placed.record_bytes))
 
 
 def _refuse_outside(ctx: FileContext) -> None:
@@ -135,13 +225,31 @@ def _compressed_files(ctx: FileContext) -> list[DataFile]:
 
 
 def _kind(name: str) -> str:
-    if name.endswith("HEADER"):
+    if name.endswith("HEADER") or name == "HISTORY" or name.endswith("_HISTORY"):
         return "header"
     if name == "IMAGE" or name.endswith("_IMAGE"):
         return "image"
-    if name.endswith(("TABLE", "SERIES")):
+    if name.endswith("HISTOGRAM"):
+        return "histogram"
+    if name.endswith(("TABLE", "SERIES", "SPECTRUM")):
         return "table"
+    if name.endswith("SPREADSHEET"):
+        return "spreadsheet"
+    if name.endswith("QUBE"):
+        return "qube"
     return "other"
+
+
+@dataclass(frozen=True)
+class Target:
+    """Where a described object lies: its OBJECT block, local identifier, byte offset, file,
+    and the RECORD_BYTES its file counts records in."""
+
+    block: Block
+    ident: str
+    offset: int
+    path: Path
+    record_bytes: int | None
 
 
 def _local_identifier(name: str, used: set[str]) -> str:
@@ -154,12 +262,24 @@ def _local_identifier(name: str, used: set[str]) -> str:
     return ident
 
 
-def _data_path(ctx: FileContext, ptr: Pointer) -> Path:
+def _data_path(ctx: FileContext, placed: Placed) -> Path:
+    ptr = placed.ptr
     if ptr.form == "files":
-        raise Refused(ctx.path, f"^{ptr.name} names several files; migrate describes one file per object")
-    path = ctx.target_path(ptr)
+        raise Refused(ctx.path, f"{pointer_where(ptr)} names several files; migrate describes one file per object")
+    if ptr.attached and placed.file_block is not None:  # ^IMAGE = 3 in a FILE block: the block's FILE_NAME
+        name = placed.file_block.text("FILE_NAME")
+        if name is None:
+            raise Refused(ctx.path, f"{pointer_where(ptr)} in {where(placed.file_block)} names no file and the "
+                                    "FILE block gives no FILE_NAME")
+        exact, other = ctx.resolve(name)
+        path = exact or other
+        file_name = name
+    else:
+        path, file_name = ctx.target_path(ptr), ptr.file_name or ctx.path.name
     if path is None:
-        raise Refused(ctx.path, f"^{ptr.name}: data file {ptr.file_name} is missing")
+        raise MissingFile(ctx.path, file_name)
+    if not path.is_file():
+        raise Refused(ctx.path, f"{pointer_where(ptr)}: data file {file_name} is not a regular file")
     return path
 
 
@@ -172,45 +292,98 @@ def _add_attached_label(ctx: FileContext, data: DataFile) -> None:
                             "parsing_standard_id": "PDS3", "description": "The attached PDS3 label of this product."})
 
 
-def _check_order(ctx: FileContext, data: DataFile) -> None:
+def _order_problems(data: DataFile) -> list[str]:
+    """Objects of one file that overlap, and objects that run past its end (each named)."""
     size = data.path.stat().st_size
-    end = 0
+    problems: list[str] = []
+    end, before = 0, None
     for obj in data.objects:
         offset, length = int(obj["offset"]), int(obj["length"])  # type: ignore[call-overload]
-        if offset < end:
-            raise Refused(ctx.path, f"{obj['local_identifier']} overlaps the object before it in {data.name}")
-        end = offset + length
-    if end > size:
-        raise Refused(ctx.path, f"{data.name} has {size} bytes, fewer than its objects need ({end}); "
-                                "the data file is truncated")
+        name = obj.get("pds3") or obj["local_identifier"]
+        if offset < end and before is not None:
+            problems.append(f"{name} starts at byte {offset} of {data.name}, inside "
+                            f"{before.get('pds3') or before['local_identifier']} (bytes {before['offset']} to {end})")
+        if offset + length > size:
+            problems.append(f"{name} needs bytes {offset} to {offset + length} of {data.name}, which has "
+                            f"{size} bytes; the data file is truncated")
+        end, before = max(end, offset + length), obj
+    return problems
 
 
 # -- headers -----------------------------------------------------------------------------------
-def _header(ctx: FileContext, block: Block, ident: str, offset: int) -> dict[str, object]:
+def _header(ctx: FileContext, target: Target) -> dict[str, object]:
+    """A header or history object as a Header: its length from BYTES (the object's size: with
+    RECORDS too, BYTES still counts the object's bytes), else RECORDS x RECORD_BYTES; its parsing
+    standard from TYPE/HEADER_TYPE, or, for text of no named standard (SPREADSHEET and SFDU headers,
+    a table's header line, a HISTORY), from its bytes: 7-bit ASCII or UTF-8 text."""
+    block = target.block
+    length = _header_length(ctx, target)
     kind = (block.text("TYPE") or block.text("HEADER_TYPE") or "").upper()
-    if not kind and (block.text("INTERCHANGE_FORMAT") or "").upper() == "ASCII":
-        kind = "ASCII"  # a text header of no named standard (a table's header lines)
     standard = HEADER_STANDARDS.get(kind)
+    if standard == "7-Bit ASCII Text":  # TYPE = ASCII/TEXT: the bytes say whether 7-bit or UTF-8
+        standard = _text_standard(ctx, target, length)
     if standard is None:
-        raise Refused(ctx.path, f"OBJECT = {block.name}: header TYPE {kind or 'not given'} has no PDS4 "
-                                f"parsing standard (known: {', '.join(sorted(HEADER_STANDARDS))})")
-    length = _int(ctx, block, "BYTES")
+        if kind not in TEXT_HEADER_TYPES:
+            raise Refused(ctx.path, f"{where(block)}: header TYPE {kind} has no PDS4 parsing standard (known: "
+                                    f"{', '.join(sorted(HEADER_STANDARDS))}; text headers of "
+                                    f"{', '.join(sorted(t for t in TEXT_HEADER_TYPES if t))} or no TYPE)")
+        standard = _text_standard(ctx, target, length)
+        if block.name.upper().endswith("HISTORY") and standard == "7-Bit ASCII Text" and ctx.root.get("^QUBE"):
+            standard = "ISIS2 History Label"  # the history object of an ISIS2 cube
+    what = f"{kind} header" if kind else ("history" if "HISTORY" in block.name.upper() else "header")
+    return {"kind": "header", "local_identifier": target.ident, "offset": target.offset, "length": length,
+            "parsing_standard_id": standard, "pds3": where(block),
+            "description": f"The {what} ({block.name} in the PDS3 label)."}
+
+
+def _header_length(ctx: FileContext, target: Target) -> int:
+    block = target.block
+    size = block.number("BYTES")
+    if isinstance(size, int) and size > 0:
+        return size
     records = block.number("RECORDS")
     if isinstance(records, int) and records > 0:
-        length *= records
-    return {"kind": "header", "local_identifier": ident, "offset": offset, "length": length,
-            "parsing_standard_id": standard, "description": f"The {kind} header ({block.name} in the PDS3 label)."}
+        if target.record_bytes is None:
+            raise Refused(ctx.path, f"{where(block)}: RECORDS without BYTES, and no RECORD_BYTES to count them in")
+        return records * target.record_bytes
+    raise Refused(ctx.path, f"{where(block)}: neither BYTES nor RECORDS gives its length")
+
+
+def _text_standard(ctx: FileContext, target: Target, length: int) -> str:
+    """7-Bit ASCII Text or UTF-8 Text, as the header's bytes are (read, never assumed)."""
+    with open(target.path, "rb") as handle:
+        handle.seek(target.offset)
+        data = handle.read(length)
+    if len(data) < length:
+        raise Refused(ctx.path, f"{where(target.block)}: its {length} bytes run past the end of {target.path.name}")
+    if all(byte < 0x80 for byte in data) and not any(byte < 0x20 and byte not in _TEXT_CONTROLS for byte in data):
+        return "7-Bit ASCII Text"
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        text = None
+    if text is not None and not any(ord(c) < 0x20 and ord(c) not in _TEXT_CONTROLS for c in text):
+        return "UTF-8 Text"
+    raise Refused(ctx.path, f"{where(target.block)}: its bytes are not text (7-bit ASCII or UTF-8) and it names "
+                            "no standard PDS4 parses")
+
+
+# Text bytes below 0x20 a text header holds: TAB, LF, FF, CR (and NUL padding to a record's end).
+_TEXT_CONTROLS = frozenset({0x00, 0x09, 0x0A, 0x0C, 0x0D})
+# HEADER_TYPEs that name no parsing standard but a text (a spreadsheet's column-name line, an SFDU label).
+TEXT_HEADER_TYPES = frozenset({"", "SPREADSHEET", "SFDU", "TEXT", "ASCII", "HISTORY"})
 
 
 # -- images ------------------------------------------------------------------------------------
-def _image(ctx: FileContext, block: Block, ident: str, offset: int) -> dict[str, object]:
+def _image(ctx: FileContext, target: Target) -> dict[str, object]:
+    block, ident, offset = target.block, target.ident, target.offset
     lines, samples = _int(ctx, block, "LINES"), _int(ctx, block, "LINE_SAMPLES")
     bands = int(block.number("BANDS") or 1)
     sample_type = (block.text("SAMPLE_TYPE") or "").upper()
     bits = _int(ctx, block, "SAMPLE_BITS")
     data_type = pds4_data_type(sample_type, bits)
     if data_type is None:
-        raise Refused(ctx.path, f"OBJECT = {block.name}: SAMPLE_TYPE {sample_type or 'not given'} of {bits} bits "
+        raise Refused(ctx.path, f"{where(block)}: SAMPLE_TYPE {sample_type or 'not given'} of {bits} bits "
                                 "has no PDS4 data type")
     prefix, suffix = (int(block.number(key) or 0) for key in ("LINE_PREFIX_BYTES", "LINE_SUFFIX_BYTES"))
     if prefix or suffix:
@@ -222,7 +395,7 @@ def _image(ctx: FileContext, block: Block, ident: str, offset: int) -> dict[str,
     else:
         storage = (block.text("BAND_STORAGE_TYPE") or "BAND_SEQUENTIAL").upper().replace(" ", "_")
         if storage not in BAND_STORAGE_AXES:
-            raise Refused(ctx.path, f"OBJECT = {block.name}: BAND_STORAGE_TYPE {storage} is not one PDS4 axes "
+            raise Refused(ctx.path, f"{where(block)}: BAND_STORAGE_TYPE {storage} is not one PDS4 axes "
                                     "can state")
         element, names = "Array_3D_Image", BAND_STORAGE_AXES[storage]
     sizes = {"Line": lines, "Sample": samples, "Band": bands}
@@ -230,7 +403,7 @@ def _image(ctx: FileContext, block: Block, ident: str, offset: int) -> dict[str,
     identity = (scaling in (None, 1) and value_offset in (None, 0))
     description = block.text("DESCRIPTION") or block.text("NOTE") or f"The {block.name} object of the PDS3 label."
     return {
-        "kind": "array", "element": element, "bands": None if bands == 1 else bands,
+        "kind": "array", "element": element, "bands": None if bands == 1 else bands, "pds3": where(block),
         "local_identifier": ident, "offset": offset, "length": lines * samples * bands * bits // 8,
         "axes": [(name, sizes[name]) for name in names], "lines": lines, "samples": samples,
         "description": " ".join(description.split()),
@@ -249,7 +422,7 @@ def _lines_as_records(ctx: FileContext, block: Block, ident: str, offset: int, s
     lines, samples, bands = size
     prefix, suffix = prefix_suffix
     if bands > 1 and (block.text("BAND_STORAGE_TYPE") or "BAND_SEQUENTIAL").upper() != "BAND_SEQUENTIAL":
-        raise Refused(ctx.path, f"OBJECT = {block.name}: line prefixes/suffixes with "
+        raise Refused(ctx.path, f"{where(block)}: line prefixes/suffixes with "
                                 f"{block.text('BAND_STORAGE_TYPE')} bands are not described by migrate")
     width = samples * bits // 8
     sample_field = _image_field(ctx, block, data_type, bits, 1 + prefix, samples)
@@ -264,7 +437,7 @@ def _lines_as_records(ctx: FileContext, block: Block, ident: str, offset: int, s
     return {"kind": "table", "element": "Table_Binary", "local_identifier": ident, "offset": offset,
             "length": lines * bands * (prefix + width + suffix), "records": lines * bands,
             "record_length": prefix + width + suffix, "description": description, "fields": fields,
-            "delimiter": None}
+            "delimiter": None, "pds3": where(block)}
 
 
 def _image_field(ctx: FileContext, block: Block, data_type: str, bits: int, location: int,
@@ -289,17 +462,18 @@ def _unit(block: Block) -> str | None:
     return None if unit is None or unit.upper() in PLACEHOLDERS else unit
 
 
-def special_constants(ctx: FileContext, block: Block, is_float: bool, bits: int) -> list[tuple[str, float | int]]:
+def special_constants(ctx: FileContext, block: Block, is_float: bool, bits: int,
+                      keywords: dict[str, str] = SPECIAL_CONSTANTS) -> list[tuple[str, float | int]]:
     """Special_Constants in the schema's order; a based integer of a float image is its bit
     pattern (16#FF7FFFFB# is the float32 ISIS NULL, -3.4028226550889045e+38)."""
     found: dict[str, tuple[str, float | int]] = {}
-    for keyword, element in SPECIAL_CONSTANTS.items():
+    for keyword, element in keywords.items():
         value = block.value(keyword)
         if value is None or value.items is not None or not value.is_number:
             continue
         number = _sample_value(value, is_float, bits)
         if element in found and found[element][1] != number:
-            raise Refused(ctx.path, f"OBJECT = {block.name}: {found[element][0]} and {keyword} give two "
+            raise Refused(ctx.path, f"{where(block)}: {found[element][0]} and {keyword} give two "
                                     f"different {element} values, which PDS4 cannot both state")
         found.setdefault(element, (keyword, number))
     return [(name, found[name][1]) for name in SPECIAL_ORDER if name in found]
@@ -316,16 +490,17 @@ def _sample_value(value: Value, is_float: bool, bits: int) -> float | int:
 def _int(ctx: FileContext, block: Block, key: str) -> int:
     number = block.number(key)
     if not isinstance(number, int) or number <= 0:
-        raise Refused(ctx.path, f"OBJECT = {block.name}: {key} is missing or not a positive integer")
+        raise Refused(ctx.path, f"{where(block)}: {key} is missing or not a positive integer")
     return number
 
 
 # -- tables ------------------------------------------------------------------------------------
-def _table(ctx: FileContext, block: Block, ident: str, offset: int, path: Path) -> dict[str, object]:
+def _table(ctx: FileContext, target: Target) -> dict[str, object]:
+    block, ident, offset, path = target.block, target.ident, target.offset, target.path
     interchange = (block.text("INTERCHANGE_FORMAT") or "").upper()
     element = TABLE_CLASSES.get(interchange)
     if element is None:
-        raise Refused(ctx.path, f"OBJECT = {block.name}: INTERCHANGE_FORMAT {interchange or 'not given'} "
+        raise Refused(ctx.path, f"{where(block)}: INTERCHANGE_FORMAT {interchange or 'not given'} "
                                 "is neither ASCII nor BINARY")
     rows, row_bytes = _int(ctx, block, "ROWS"), _int(ctx, block, "ROW_BYTES")
     prefix = int(block.number("ROW_PREFIX_BYTES") or 0)
@@ -336,7 +511,7 @@ def _table(ctx: FileContext, block: Block, ident: str, offset: int, path: Path) 
         "kind": "table", "element": element, "local_identifier": ident, "offset": offset,
         "length": rows * record_length, "records": rows, "record_length": record_length,
         "description": " ".join((block.text("DESCRIPTION") or f"The {block.name} object of the PDS3 label.").split()),
-        "fields": columns, "delimiter": None,
+        "fields": columns, "delimiter": None, "pds3": where(block),
     }
     if element == "Table_Character":
         table["delimiter"] = _record_delimiter(ctx, block, path, offset, record_length)
@@ -352,7 +527,7 @@ def _record_delimiter(ctx: FileContext, block: Block, path: Path, offset: int, r
         return "Carriage-Return Line-Feed"
     if end[-1:] == b"\n":
         return "Line-Feed"
-    raise Refused(ctx.path, f"OBJECT = {block.name}: its first record does not end with CR LF or LF at "
+    raise Refused(ctx.path, f"{where(block)}: its first record does not end with CR LF or LF at "
                             "ROW_BYTES, as a PDS4 character table must")
 
 
@@ -373,17 +548,32 @@ def _column_blocks(ctx: FileContext, block: Block, expanded: dict[Path, list[Blo
         if isinstance(item, Statement) and item.pointer and item.keyword.upper() == "STRUCTURE":
             path, root = _structure(ctx, item, chain)
             if path not in expanded:
-                expanded[path] = _column_blocks(ctx, root, expanded, (*chain, path))
+                expanded[path] = _column_blocks(ctx, _unwrapped(root), expanded, (*chain, path))
             found.extend(expanded[path])
         elif isinstance(item, Block):
             name = item.name.upper()
             if name == "COLUMN":
                 found.append(item)
             elif name in ("BIT_COLUMN", "CONTAINER"):
-                raise Refused(ctx.path, f"OBJECT = {block.name}: {name} objects are not described by migrate yet")
+                raise Refused(ctx.path, f"{where(item)} in {where(block)}: {name} objects are not described by "
+                                        "migrate")
         if len(found) > _MAX_COLUMNS:
-            raise Refused(ctx.path, f"OBJECT = {block.name}: more than {_MAX_COLUMNS} columns")
+            raise Refused(ctx.path, f"{where(block)}: more than {_MAX_COLUMNS} columns")
     return found
+
+
+def _unwrapped(root: Block) -> Block:
+    """A format file's columns: its top level, or (a quirk of real volumes) the one OBJECT that
+    wraps them (OBJECT = TABLE ... COLUMNs ... END_OBJECT in the .FMT file)."""
+    while not any(b.name.upper() in _COLUMN_OBJECTS for b in root.blocks()):
+        children = [b for b in root.blocks() if b.kind == "OBJECT"]
+        if len(children) != 1:
+            break
+        root = children[0]
+    return root
+
+
+_COLUMN_OBJECTS = frozenset({"COLUMN", "CONTAINER", "BIT_COLUMN"})
 
 
 def _structure(ctx: FileContext, stmt: Statement, chain: tuple[Path, ...] = ()) -> tuple[Path, Block]:
@@ -410,27 +600,58 @@ def _structure(ctx: FileContext, stmt: Statement, chain: tuple[Path, ...] = ()) 
 
 
 def _columns(ctx: FileContext, block: Block, prefix: int, character: bool) -> list[dict[str, object]]:
+    """The table's fields; every column PDS4 cannot state is named (all of them, not the first)."""
     fields: list[dict[str, object]] = []
+    problems: list[str] = []
+    row_bytes = int(block.number("ROW_BYTES") or 0)
     for column in _column_blocks(ctx, block):
-        fields.append(_field(ctx, block, column, prefix, character))
+        try:
+            fields.append(_field(ctx, column, prefix, character, row_bytes))
+        except Refused as refusal:
+            problems.extend(refusal.problems)
+    if problems:
+        raise Refused(ctx.path, problems[0], tuple(problems[1:]))
     if not fields:
-        raise Refused(ctx.path, f"OBJECT = {block.name} has no COLUMN objects")
+        raise Refused(ctx.path, f"{where(block)} has no COLUMN objects (nor a ^STRUCTURE file holding them)")
     return fields
 
 
-def _field(ctx: FileContext, table: Block, column: Block, prefix: int, character: bool) -> dict[str, object]:
+def _column_type(ctx: FileContext, column: Block, character: bool, item_bytes: int) -> str:
     name = column.text("NAME") or "column"
-    start, size = _int(ctx, column, "START_BYTE"), _int(ctx, column, "BYTES")
-    pds3_type = (column.text("DATA_TYPE") or "").upper()
-    items = column.number("ITEMS")
-    item_bytes = int(column.number("ITEM_BYTES") or 0) if items else size
+    pds3_type = " ".join((column.text("DATA_TYPE") or "").upper().split()).replace(" ", "_")  # MSB BIT STRING
     data_type = (ASCII_TABLE_TYPES if character else TEXT_FIELD_TYPES).get(pds3_type)
     if data_type is None and not character:
-        data_type = pds4_data_type(pds3_type, item_bytes * 8)
+        data_type = pds4_data_type(pds3_type, item_bytes * 8) or BIT_STRING_TYPES.get(pds3_type)
     if data_type is None:
-        where = "an ASCII table" if character else "PDS4"
-        raise Refused(ctx.path, f"OBJECT = {table.name}: column {name} DATA_TYPE {pds3_type or 'not given'} of "
-                                f"{item_bytes} bytes has no data type in {where}")
+        where_ = "an ASCII table" if character else "PDS4"
+        raise Refused(ctx.path, f"{where(column)}: column {name} DATA_TYPE {pds3_type or 'not given'} of "
+                                f"{item_bytes} bytes has no data type in {where_}")
+    return data_type
+
+
+def _item_bytes(column: Block, items: int, size: int, row_bytes: int) -> int:
+    """The bytes of one item of an ITEMS column. ITEM_BYTES when given; else BYTES is the whole
+    column's (the PDS3 Standards) - unless it cannot be (BYTES not a multiple of ITEMS, or the
+    items of that size would not fit the row) while BYTES per item does fit: real ^STRUCTURE
+    files give BYTES per item so, and pdr reads them so."""
+    given = column.number("ITEM_BYTES")
+    if isinstance(given, int) and given > 0:
+        return given
+    start = int(column.number("START_BYTE") or 1)
+    whole_fits = size % items == 0
+    per_item_fits = row_bytes > 0 and start - 1 + size * items <= row_bytes
+    return size if per_item_fits and not whole_fits else size // items if whole_fits else size
+
+
+def _field(ctx: FileContext, column: Block, prefix: int, character: bool, row_bytes: int) -> dict[str, object]:
+    name = column.text("NAME") or "column"
+    start, size = _int(ctx, column, "START_BYTE"), _int(ctx, column, "BYTES")
+    items = column.number("ITEMS")
+    if items is not None and (not isinstance(items, int) or items <= 0):
+        raise Refused(ctx.path, f"{where(column)}: column {name} ITEMS {items} is not a positive integer")
+    item_bytes = _item_bytes(column, items, size, row_bytes) if items else size
+    data_type = _column_type(ctx, column, character, item_bytes)
+    pds3_type = (column.text("DATA_TYPE") or "").upper()
     scaling, value_offset = column.number("SCALING_FACTOR"), column.number("OFFSET")
     entry: dict[str, object] = {
         "name": name, "location": prefix + start, "length": item_bytes, "data_type": data_type,
@@ -442,9 +663,95 @@ def _field(ctx: FileContext, table: Block, column: Block, prefix: int, character
     }
     if items:
         step = int(column.number("ITEM_OFFSET") or item_bytes)
-        if not isinstance(items, int) or items <= 0 or item_bytes <= 0 or step < item_bytes:
-            raise Refused(ctx.path, f"OBJECT = {table.name}: column {name} ITEMS/ITEM_BYTES/ITEM_OFFSET "
+        if item_bytes <= 0 or step < item_bytes:
+            raise Refused(ctx.path, f"{where(column)}: column {name} ITEMS/ITEM_BYTES/ITEM_OFFSET "
                                     "do not describe a repeated field")
         entry["group"] = {"repetitions": items, "location": prefix + start, "length": items * step}
         entry["location"] = 1
     return entry
+
+
+# -- spreadsheets and histograms ------------------------------------------------------------------
+def _spreadsheet(ctx: FileContext, target: Target) -> dict[str, object]:
+    """SPREADSHEET (delimited text, FIELD objects) as a Table_Delimited: its records end as the
+    first record's bytes show, its FIELD_DELIMITER one of PDS4's four."""
+    block = target.block
+    rows = _int(ctx, block, "ROWS")
+    delimiter_name = (block.text("FIELD_DELIMITER") or "").upper().replace(" ", "_")
+    delimiter = FIELD_DELIMITERS.get(delimiter_name)
+    if delimiter is None:
+        raise Refused(ctx.path, f"{where(block)}: FIELD_DELIMITER {delimiter_name or 'not given'} is none of "
+                                f"PDS4's ({', '.join(sorted(FIELD_DELIMITERS))})")
+    fields = []
+    for number, item in enumerate((b for b in block.blocks("FIELD")), start=1):
+        pds3_type = (item.text("DATA_TYPE") or "").upper()
+        data_type = ASCII_TABLE_TYPES.get(pds3_type)
+        if data_type is None:
+            raise Refused(ctx.path, f"{where(item)}: field {item.text('NAME')} DATA_TYPE {pds3_type or 'not given'} "
+                                    "has no data type in a delimited table")
+        fields.append({"name": item.text("NAME") or f"field_{number}", "number": number, "data_type": data_type,
+                       "length": item.number("BYTES"), "unit": _unit(item),
+                       "description": " ".join((item.text("DESCRIPTION") or "").split()) or None})
+    if not fields:
+        raise Refused(ctx.path, f"{where(block)} has no FIELD objects")
+    length, record_delimiter = _delimited_extent(ctx, target, rows)
+    return {"kind": "delimited", "local_identifier": target.ident, "offset": target.offset, "length": length,
+            "records": rows, "record_delimiter": record_delimiter, "field_delimiter": delimiter,
+            "description": " ".join((block.text("DESCRIPTION") or f"The {block.name} object of the PDS3 label.")
+                                    .split()),
+            "fields": fields, "pds3": where(block)}
+
+
+def _delimited_extent(ctx: FileContext, target: Target, rows: int) -> tuple[int, str]:
+    """Bytes of ROWS delimited records from the object's offset, and how they end (read)."""
+    with open(target.path, "rb") as handle:
+        handle.seek(target.offset)
+        data = handle.read()
+    lines = data.split(b"\n")
+    if len(lines) <= rows:
+        raise Refused(ctx.path, f"{where(target.block)}: ROWS {rows}, but {target.path.name} holds "
+                                f"{len(lines) - 1} records after byte {target.offset}")
+    crlf = [line.endswith(b"\r") for line in lines[:rows]]
+    if all(crlf):
+        ending = "Carriage-Return Line-Feed"
+    elif not any(crlf):
+        ending = "Line-Feed"
+    else:
+        raise Refused(ctx.path, f"{where(target.block)}: its records end with CR LF and with LF alike")
+    return sum(len(line) + 1 for line in lines[:rows]), ending
+
+
+def _histogram(ctx: FileContext, target: Target) -> dict[str, object]:
+    """A histogram: a table when it has COLUMNs, else ITEMS counts of one type as an Array_1D."""
+    block = target.block
+    if block.get("ROWS") is not None or any(True for _ in block.blocks("COLUMN")):
+        return _table(ctx, target)
+    items = _int(ctx, block, "ITEMS")
+    item_bytes = block.number("ITEM_BYTES") or block.number("BYTES")
+    if not isinstance(item_bytes, int) or item_bytes <= 0:
+        raise Refused(ctx.path, f"{where(block)}: ITEM_BYTES (or BYTES) is missing or not a positive integer")
+    pds3_type = (block.text("DATA_TYPE") or block.text("ITEM_TYPE") or "").upper()
+    data_type = pds4_data_type(pds3_type, item_bytes * 8)
+    if data_type is None:
+        raise Refused(ctx.path, f"{where(block)}: DATA_TYPE {pds3_type or 'not given'} of {item_bytes} bytes has "
+                                "no PDS4 data type")
+    description = block.text("DESCRIPTION") or f"The {block.name} object of the PDS3 label: {items} bins."
+    return {"kind": "array", "element": "Array_1D", "local_identifier": target.ident, "offset": target.offset,
+            "length": items * item_bytes, "axes": [("Bin", items)], "description": " ".join(description.split()),
+            "data_type": data_type, "unit": _unit(block), "scaling_factor": None, "value_offset": 0.0,
+            "special": [], "pds3": where(block)}
+
+
+def _qube(ctx: FileContext, target: Target) -> dict[str, object]:
+    from .qube import describe_qube
+
+    return describe_qube(ctx, target)
+
+
+DESCRIBERS: dict[str, Callable[[FileContext, Target], dict[str, object]]] = {
+    "header": _header, "image": _image, "table": _table, "spreadsheet": _spreadsheet,
+    "histogram": _histogram, "qube": _qube,
+}
+# What a refusal of an object of another class says migrate describes.
+DESCRIBED_OBJECTS = ("IMAGE, *TABLE, *SERIES, *SPECTRUM, *SPREADSHEET, *HISTOGRAM, *QUBE, *HEADER and "
+                     "HISTORY objects")

@@ -83,7 +83,8 @@ class MigrationRun(CommandResult):
 
     @property
     def refused(self) -> tuple[str, ...]:
-        return tuple(str(failure) for failure in self.failed)
+        """One line per obstacle: a product refused for three reasons gives three lines."""
+        return tuple(line for failure in self.failed for line in str(failure).splitlines())
 
     @property
     def summary_lines(self) -> tuple[str, ...]:
@@ -114,7 +115,8 @@ def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLik
     """
     source = Path(label_path)
     if not source.is_file():
-        raise InputError(source, "no such file")
+        raise InputError(source, "is not a regular file (a pipe, a device or a directory)"
+                         if source.exists() else "no such file")
     if not in_place and outdir is None:
         raise OutputError(None, "give an output directory, or migrate in place")
     ctx = _read(source, labels, Path(root) if root is not None else None)

@@ -1,0 +1,89 @@
+"""QUBE and SPECTRAL_QUBE objects (ISIS2 cubes) as the PDS4 objects of the same bytes.
+
+A cube's core is an Array_3D whose axes, slowest first, are AXIS_NAME reversed (PDS3 names
+the fastest axis first; PDS4 arrays are Last Index Fastest). Suffix planes (SUFFIX_ITEMS not
+all zero) interleave with the core: a core with only side planes (suffix samples after each
+line) is described as binary-table records, one per line (samples, then the side-plane
+items); back and bottom planes are refused, naming them, since no PDS4 object states them in
+place exactly.
+"""
+
+from __future__ import annotations
+
+from ..label.grammar import FLOAT_SAMPLE_TYPES
+from ..pds4.model import pds4_data_type
+from ..validate.context import FileContext
+from .mapping import SPECIAL_CONSTANTS
+from .objects import Refused, Target, special_constants, where
+
+# A cube's special-value keywords: the images' and tables' (mapping.py), and CORE_VALID_MINIMUM,
+# which ISIS2 cubes give beside CORE_NULL and the CORE_*_SATURATION values.
+QUBE_SPECIAL_CONSTANTS = {**SPECIAL_CONSTANTS, "CORE_VALID_MINIMUM": "valid_minimum"}
+_AXIS_NAMES = {"SAMPLE": "Sample", "LINE": "Line", "BAND": "Band"}
+
+
+def describe_qube(ctx: FileContext, target: Target) -> dict[str, object]:
+    """The qube's core as Array_3D, or, with side planes, as records of a binary table."""
+    block = target.block
+    axes = _axis_names(ctx, block)
+    sizes = _numbers(ctx, block, "CORE_ITEMS", len(axes))
+    item_bytes = block.number("CORE_ITEM_BYTES")
+    item_type = (block.text("CORE_ITEM_TYPE") or "").upper()
+    if not isinstance(item_bytes, int) or item_bytes <= 0:
+        raise Refused(ctx.path, f"{where(block)}: CORE_ITEM_BYTES is missing or not a positive integer")
+    data_type = pds4_data_type(item_type, item_bytes * 8)
+    if data_type is None:
+        raise Refused(ctx.path, f"{where(block)}: CORE_ITEM_TYPE {item_type or 'not given'} of {item_bytes} bytes "
+                                "has no PDS4 data type")
+    suffix = _numbers(ctx, block, "SUFFIX_ITEMS", len(axes)) if block.get("SUFFIX_ITEMS") else [0] * len(axes)
+    planes = [f"{name.lower()} ({count})" for name, count in zip(_PLANE_NAMES, suffix, strict=False) if count]
+    if any(suffix):
+        raise Refused(ctx.path, f"{where(block)}: suffix planes ({', '.join(planes)} of SUFFIX_ITEMS) "
+                                "interleave with the core; no PDS4 object describes them in place exactly")
+    is_float = item_type in FLOAT_SAMPLE_TYPES
+    base, multiplier = block.number("CORE_BASE"), block.number("CORE_MULTIPLIER")
+    identity = base in (None, 0) and multiplier in (None, 1)
+    order = list(reversed(range(len(axes))))  # slowest first
+    name = block.text("CORE_NAME")
+    description = " ".join((block.text("DESCRIPTION") or f"The core of the {block.name} object of the PDS3 "
+                            f"label{': ' + name if name else ''}, axes {', '.join(axes)} "
+                            "(AXIS_NAME, fastest first).").split())
+    count = 1
+    for size in sizes:
+        count *= size
+    return {
+        "kind": "array", "element": "Array_3D", "local_identifier": target.ident, "offset": target.offset,
+        "length": count * item_bytes, "axes": [(_AXIS_NAMES.get(axes[i], axes[i].title()), sizes[i]) for i in order],
+        "description": description, "data_type": data_type, "unit": _core_unit(block),
+        "scaling_factor": None if identity else (multiplier if multiplier is not None else 1.0),
+        "value_offset": base if base is not None else 0.0,
+        "special": special_constants(ctx, block, is_float, item_bytes * 8, QUBE_SPECIAL_CONSTANTS),
+        "pds3": where(block),
+    }
+
+
+_PLANE_NAMES = ("side", "bottom", "back")  # SUFFIX_ITEMS (sample, line, band): side, bottom, back planes
+
+
+def _axis_names(ctx: FileContext, block) -> list[str]:
+    value = block.value("AXIS_NAME")
+    if value is None or value.items is None:
+        raise Refused(ctx.path, f"{where(block)}: AXIS_NAME is missing or not a list of axes")
+    names = [item.text.upper() for item in value.items]
+    if len(names) != 3 or sorted(names) != ["BAND", "LINE", "SAMPLE"]:
+        raise Refused(ctx.path, f"{where(block)}: AXIS_NAME ({', '.join(names)}) is not the three axes SAMPLE, "
+                                "LINE and BAND in some order")
+    return names
+
+
+def _numbers(ctx: FileContext, block, key: str, count: int) -> list[int]:
+    value = block.value(key)
+    items = value.items if value is not None else None
+    if items is None or len(items) != count or not all(i.is_number and isinstance(i.number, int) for i in items):
+        raise Refused(ctx.path, f"{where(block)}: {key} is missing or not {count} integers")
+    return [int(i.number) for i in items]
+
+
+def _core_unit(block) -> str | None:
+    unit = block.text("CORE_UNIT")
+    return None if unit is None or unit.upper() in ("N/A", "UNK", "NULL", "NONE") else unit
