@@ -9,53 +9,39 @@ ever described approximately.
 
 from __future__ import annotations
 
-import os
-import struct
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import InputError, param
+from ..errors import param
 from ..label.beside import find_beside
-from ..label.grammar import FLOAT_SAMPLE_TYPES, PLACEHOLDERS
+from ..label.grammar import FLOAT_SAMPLE_TYPES
 from ..label.parser import LabelFile
-from ..label.tree import Block, Pointer, Statement, Value, parse_pointer
+from ..label.tree import Block, Pointer, Statement, parse_pointer
 from ..pds4.model import pds4_data_type
 from ..validate.context import FileContext
+from .described import (
+    MissingFile,
+    Refused,
+    Target,
+    pointer_where,
+    positive_int,
+    special_constants,
+    unit,
+    where,
+)
 from .mapping import (
     ASCII_TABLE_TYPES,
     BAND_STORAGE_AXES,
     BIT_STRING_TYPES,
     FIELD_DELIMITERS,
     HEADER_STANDARDS,
-    SPECIAL_CONSTANTS,
-    SPECIAL_ORDER,
     TABLE_CLASSES,
     TEXT_FIELD_TYPES,
 )
+from .qube import describe_qube
 
-
-class Refused(InputError):
-    """A product migration cannot describe exactly: one line per obstacle, nothing written.
-
-    `problems` holds every obstacle found (each names its object and label line); `problem`,
-    the first, is what callers reading one message get."""
-
-    def __init__(self, path: str | os.PathLike[str] | None, problem: str, more: tuple[str, ...] = ()) -> None:
-        self.problems = (problem, *more)
-        super().__init__(path, problem)
-
-    def __str__(self) -> str:
-        return "\n".join(f"{self.path}: {problem}" if self.path is not None else problem
-                         for problem in self.problems)
-
-
-class MissingFile(Refused):
-    """A data file a pointer names is not there (gathered: one line per file, naming its pointers)."""
-
-    def __init__(self, path: str | os.PathLike[str] | None, file_name: str) -> None:
-        self.file_name = file_name
-        super().__init__(path, f"data file {file_name} is missing")
+__all__ = ["DataFile", "Refused", "describe_objects", "special_constants"]
 
 
 @dataclass
@@ -83,15 +69,6 @@ class Placed:
     file_block: Block | None = None
 
 
-def where(block: Block) -> str:
-    """How a refusal names an object: `OBJECT = HISTORY (line 40)`."""
-    return f"OBJECT = {block.name} (line {block.line})"
-
-
-def pointer_where(ptr: Pointer) -> str:
-    return f"^{ptr.name} (line {ptr.statement.line})"
-
-
 def placed_pointers(ctx: FileContext) -> Iterator[Placed]:
     """Every data pointer of the label: the top level's, then each OBJECT = FILE block's."""
     for ptr in ctx.data_pointers():
@@ -114,6 +91,8 @@ def _offset(placed: Placed) -> int | None:
     ptr = placed.ptr
     if ptr.byte is not None:
         return ptr.byte - 1
+    if ptr.record == 1:  # the first record starts the file, whatever a record's length
+        return 0
     if ptr.record is not None:
         return None if placed.record_bytes is None else (ptr.record - 1) * placed.record_bytes
     return 0 if ptr.form == "file" else None
@@ -219,7 +198,8 @@ def _compressed_files(ctx: FileContext) -> list[DataFile]:
                                     "length": path.stat().st_size, "encoding_standard_id": "JP2",
                                     "description": "The JPEG 2000 file of the PDS3 product, unchanged."}
         if image is not None:
-            entry["lines"], entry["samples"] = _int(ctx, image, "LINES"), _int(ctx, image, "LINE_SAMPLES")
+            entry["lines"] = positive_int(ctx, image, "LINES")
+            entry["samples"] = positive_int(ctx, image, "LINE_SAMPLES")
         found.append(DataFile(path, [entry], supplemental=True))
     return found
 
@@ -238,18 +218,6 @@ def _kind(name: str) -> str:
     if name.endswith("QUBE"):
         return "qube"
     return "other"
-
-
-@dataclass(frozen=True)
-class Target:
-    """Where a described object lies: its OBJECT block, local identifier, byte offset, file,
-    and the RECORD_BYTES its file counts records in."""
-
-    block: Block
-    ident: str
-    offset: int
-    path: Path
-    record_bytes: int | None
 
 
 def _local_identifier(name: str, used: set[str]) -> str:
@@ -377,10 +345,10 @@ TEXT_HEADER_TYPES = frozenset({"", "SPREADSHEET", "SFDU", "TEXT", "ASCII", "HIST
 # -- images ------------------------------------------------------------------------------------
 def _image(ctx: FileContext, target: Target) -> dict[str, object]:
     block, ident, offset = target.block, target.ident, target.offset
-    lines, samples = _int(ctx, block, "LINES"), _int(ctx, block, "LINE_SAMPLES")
+    lines, samples = positive_int(ctx, block, "LINES"), positive_int(ctx, block, "LINE_SAMPLES")
     bands = int(block.number("BANDS") or 1)
     sample_type = (block.text("SAMPLE_TYPE") or "").upper()
-    bits = _int(ctx, block, "SAMPLE_BITS")
+    bits = positive_int(ctx, block, "SAMPLE_BITS")
     data_type = pds4_data_type(sample_type, bits)
     if data_type is None:
         raise Refused(ctx.path, f"{where(block)}: SAMPLE_TYPE {sample_type or 'not given'} of {bits} bits "
@@ -407,7 +375,7 @@ def _image(ctx: FileContext, target: Target) -> dict[str, object]:
         "local_identifier": ident, "offset": offset, "length": lines * samples * bands * bits // 8,
         "axes": [(name, sizes[name]) for name in names], "lines": lines, "samples": samples,
         "description": " ".join(description.split()),
-        "data_type": data_type, "unit": _unit(block),
+        "data_type": data_type, "unit": unit(block),
         "scaling_factor": None if identity else (scaling if scaling is not None else 1.0),
         "value_offset": value_offset if value_offset is not None else 0.0,
         "special": special_constants(ctx, block, sample_type in FLOAT_SAMPLE_TYPES, bits),
@@ -444,7 +412,7 @@ def _image_field(ctx: FileContext, block: Block, data_type: str, bits: int, loca
                  samples: int) -> dict[str, object]:
     scaling, value_offset = block.number("SCALING_FACTOR"), block.number("OFFSET")
     identity = (scaling in (None, 1) and value_offset in (None, 0))
-    return {"name": "SAMPLES", "location": 1, "length": bits // 8, "data_type": data_type, "unit": _unit(block),
+    return {"name": "SAMPLES", "location": 1, "length": bits // 8, "data_type": data_type, "unit": unit(block),
             "scaling_factor": None if identity else (scaling if scaling is not None else 1.0),
             "value_offset": None if identity else (value_offset or 0.0), "description": None,
             "special": special_constants(ctx, block, data_type.startswith("IEEE"), bits),
@@ -457,43 +425,6 @@ def _byte_group(name: str, location: int, length: int) -> dict[str, object]:
             "group": {"repetitions": length, "location": location, "length": length}}
 
 
-def _unit(block: Block) -> str | None:
-    unit = block.text("UNIT")
-    return None if unit is None or unit.upper() in PLACEHOLDERS else unit
-
-
-def special_constants(ctx: FileContext, block: Block, is_float: bool, bits: int,
-                      keywords: dict[str, str] = SPECIAL_CONSTANTS) -> list[tuple[str, float | int]]:
-    """Special_Constants in the schema's order; a based integer of a float image is its bit
-    pattern (16#FF7FFFFB# is the float32 ISIS NULL, -3.4028226550889045e+38)."""
-    found: dict[str, tuple[str, float | int]] = {}
-    for keyword, element in keywords.items():
-        value = block.value(keyword)
-        if value is None or value.items is not None or not value.is_number:
-            continue
-        number = _sample_value(value, is_float, bits)
-        if element in found and found[element][1] != number:
-            raise Refused(ctx.path, f"{where(block)}: {found[element][0]} and {keyword} give two "
-                                    f"different {element} values, which PDS4 cannot both state")
-        found.setdefault(element, (keyword, number))
-    return [(name, found[name][1]) for name in SPECIAL_ORDER if name in found]
-
-
-def _sample_value(value: Value, is_float: bool, bits: int) -> float | int:
-    number = value.number
-    if value.kind == "based" and is_float and bits in (32, 64):
-        packed = int(number).to_bytes(bits // 8, "big", signed=number < 0)
-        return struct.unpack(">f" if bits == 32 else ">d", packed)[0]
-    return float(number) if is_float else number
-
-
-def _int(ctx: FileContext, block: Block, key: str) -> int:
-    number = block.number(key)
-    if not isinstance(number, int) or number <= 0:
-        raise Refused(ctx.path, f"{where(block)}: {key} is missing or not a positive integer")
-    return number
-
-
 # -- tables ------------------------------------------------------------------------------------
 def _table(ctx: FileContext, target: Target) -> dict[str, object]:
     block, ident, offset, path = target.block, target.ident, target.offset, target.path
@@ -502,7 +433,7 @@ def _table(ctx: FileContext, target: Target) -> dict[str, object]:
     if element is None:
         raise Refused(ctx.path, f"{where(block)}: INTERCHANGE_FORMAT {interchange or 'not given'} "
                                 "is neither ASCII nor BINARY")
-    rows, row_bytes = _int(ctx, block, "ROWS"), _int(ctx, block, "ROW_BYTES")
+    rows, row_bytes = positive_int(ctx, block, "ROWS"), positive_int(ctx, block, "ROW_BYTES")
     prefix = int(block.number("ROW_PREFIX_BYTES") or 0)
     suffix = int(block.number("ROW_SUFFIX_BYTES") or 0)
     record_length = prefix + row_bytes + suffix
@@ -645,7 +576,7 @@ def _item_bytes(column: Block, items: int, size: int, row_bytes: int) -> int:
 
 def _field(ctx: FileContext, column: Block, prefix: int, character: bool, row_bytes: int) -> dict[str, object]:
     name = column.text("NAME") or "column"
-    start, size = _int(ctx, column, "START_BYTE"), _int(ctx, column, "BYTES")
+    start, size = positive_int(ctx, column, "START_BYTE"), positive_int(ctx, column, "BYTES")
     items = column.number("ITEMS")
     if items is not None and (not isinstance(items, int) or items <= 0):
         raise Refused(ctx.path, f"{where(column)}: column {name} ITEMS {items} is not a positive integer")
@@ -655,7 +586,7 @@ def _field(ctx: FileContext, column: Block, prefix: int, character: bool, row_by
     scaling, value_offset = column.number("SCALING_FACTOR"), column.number("OFFSET")
     entry: dict[str, object] = {
         "name": name, "location": prefix + start, "length": item_bytes, "data_type": data_type,
-        "unit": _unit(column),
+        "unit": unit(column),
         "scaling_factor": scaling, "value_offset": value_offset,
         "description": " ".join((column.text("DESCRIPTION") or "").split()) or None,
         "special": special_constants(ctx, column, pds3_type in FLOAT_SAMPLE_TYPES, item_bytes * 8),
@@ -676,7 +607,7 @@ def _spreadsheet(ctx: FileContext, target: Target) -> dict[str, object]:
     """SPREADSHEET (delimited text, FIELD objects) as a Table_Delimited: its records end as the
     first record's bytes show, its FIELD_DELIMITER one of PDS4's four."""
     block = target.block
-    rows = _int(ctx, block, "ROWS")
+    rows = positive_int(ctx, block, "ROWS")
     delimiter_name = (block.text("FIELD_DELIMITER") or "").upper().replace(" ", "_")
     delimiter = FIELD_DELIMITERS.get(delimiter_name)
     if delimiter is None:
@@ -690,7 +621,7 @@ def _spreadsheet(ctx: FileContext, target: Target) -> dict[str, object]:
             raise Refused(ctx.path, f"{where(item)}: field {item.text('NAME')} DATA_TYPE {pds3_type or 'not given'} "
                                     "has no data type in a delimited table")
         fields.append({"name": item.text("NAME") or f"field_{number}", "number": number, "data_type": data_type,
-                       "length": item.number("BYTES"), "unit": _unit(item),
+                       "length": item.number("BYTES"), "unit": unit(item),
                        "description": " ".join((item.text("DESCRIPTION") or "").split()) or None})
     if not fields:
         raise Refused(ctx.path, f"{where(block)} has no FIELD objects")
@@ -726,7 +657,7 @@ def _histogram(ctx: FileContext, target: Target) -> dict[str, object]:
     block = target.block
     if block.get("ROWS") is not None or any(True for _ in block.blocks("COLUMN")):
         return _table(ctx, target)
-    items = _int(ctx, block, "ITEMS")
+    items = positive_int(ctx, block, "ITEMS")
     item_bytes = block.number("ITEM_BYTES") or block.number("BYTES")
     if not isinstance(item_bytes, int) or item_bytes <= 0:
         raise Refused(ctx.path, f"{where(block)}: ITEM_BYTES (or BYTES) is missing or not a positive integer")
@@ -738,19 +669,13 @@ def _histogram(ctx: FileContext, target: Target) -> dict[str, object]:
     description = block.text("DESCRIPTION") or f"The {block.name} object of the PDS3 label: {items} bins."
     return {"kind": "array", "element": "Array_1D", "local_identifier": target.ident, "offset": target.offset,
             "length": items * item_bytes, "axes": [("Bin", items)], "description": " ".join(description.split()),
-            "data_type": data_type, "unit": _unit(block), "scaling_factor": None, "value_offset": 0.0,
+            "data_type": data_type, "unit": unit(block), "scaling_factor": None, "value_offset": 0.0,
             "special": [], "pds3": where(block)}
-
-
-def _qube(ctx: FileContext, target: Target) -> dict[str, object]:
-    from .qube import describe_qube
-
-    return describe_qube(ctx, target)
 
 
 DESCRIBERS: dict[str, Callable[[FileContext, Target], dict[str, object]]] = {
     "header": _header, "image": _image, "table": _table, "spreadsheet": _spreadsheet,
-    "histogram": _histogram, "qube": _qube,
+    "histogram": _histogram, "qube": describe_qube,
 }
 # What a refusal of an object of another class says migrate describes.
 DESCRIBED_OBJECTS = ("IMAGE, *TABLE, *SERIES, *SPECTRUM, *SPREADSHEET, *HISTOGRAM, *QUBE, *HEADER and "

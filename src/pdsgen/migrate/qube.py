@@ -13,8 +13,8 @@ from __future__ import annotations
 from ..label.grammar import FLOAT_SAMPLE_TYPES
 from ..pds4.model import pds4_data_type
 from ..validate.context import FileContext
+from .described import Refused, Target, special_constants, where
 from .mapping import SPECIAL_CONSTANTS
-from .objects import Refused, Target, special_constants, where
 
 # A cube's special-value keywords: the images' and tables' (mapping.py), and CORE_VALID_MINIMUM,
 # which ISIS2 cubes give beside CORE_NULL and the CORE_*_SATURATION values.

@@ -1,0 +1,98 @@
+"""What every object description shares: the refusal, where an object lies, how a refusal
+names it, and the PDS3 values every kind of object states the same way (units, special
+constants, positive counts). The describers (objects.py, qube.py) import from here.
+"""
+
+from __future__ import annotations
+
+import os
+import struct
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..errors import InputError
+from ..label.grammar import PLACEHOLDERS
+from ..label.tree import Block, Pointer, Value
+from ..validate.context import FileContext
+from .mapping import SPECIAL_CONSTANTS, SPECIAL_ORDER
+
+
+class Refused(InputError):
+    """A product migration cannot describe exactly: one line per obstacle, nothing written.
+
+    `problems` holds every obstacle found (each names its object and label line); `problem`,
+    the first, is what callers reading one message get."""
+
+    def __init__(self, path: str | os.PathLike[str] | None, problem: str, more: tuple[str, ...] = ()) -> None:
+        self.problems = (problem, *more)
+        super().__init__(path, problem)
+
+    def __str__(self) -> str:
+        return "\n".join(f"{self.path}: {problem}" if self.path is not None else problem
+                         for problem in self.problems)
+
+
+class MissingFile(Refused):
+    """A data file a pointer names is not there (gathered: one line per file, naming its pointers)."""
+
+    def __init__(self, path: str | os.PathLike[str] | None, file_name: str) -> None:
+        self.file_name = file_name
+        super().__init__(path, f"data file {file_name} is missing")
+
+
+@dataclass(frozen=True)
+class Target:
+    """Where a described object lies: its OBJECT block, local identifier, byte offset, file,
+    and the RECORD_BYTES its file counts records in."""
+
+    block: Block
+    ident: str
+    offset: int
+    path: Path
+    record_bytes: int | None
+
+
+def where(block: Block) -> str:
+    """How a refusal names an object: `OBJECT = HISTORY (line 40)`."""
+    return f"OBJECT = {block.name} (line {block.line})"
+
+
+def pointer_where(ptr: Pointer) -> str:
+    return f"^{ptr.name} (line {ptr.statement.line})"
+
+
+def unit(block: Block) -> str | None:
+    unit = block.text("UNIT")
+    return None if unit is None or unit.upper() in PLACEHOLDERS else unit
+
+
+def special_constants(ctx: FileContext, block: Block, is_float: bool, bits: int,
+                      keywords: dict[str, str] = SPECIAL_CONSTANTS) -> list[tuple[str, float | int]]:
+    """Special_Constants in the schema's order; a based integer of a float image is its bit
+    pattern (16#FF7FFFFB# is the float32 ISIS NULL, -3.4028226550889045e+38)."""
+    found: dict[str, tuple[str, float | int]] = {}
+    for keyword, element in keywords.items():
+        value = block.value(keyword)
+        if value is None or value.items is not None or not value.is_number:
+            continue
+        number = sample_value(value, is_float, bits)
+        if element in found and found[element][1] != number:
+            raise Refused(ctx.path, f"{where(block)}: {found[element][0]} and {keyword} give two "
+                                    f"different {element} values, which PDS4 cannot both state")
+        found.setdefault(element, (keyword, number))
+    return [(name, found[name][1]) for name in SPECIAL_ORDER if name in found]
+
+
+def sample_value(value: Value, is_float: bool, bits: int) -> float | int:
+    number = value.number
+    if value.kind == "based" and is_float and bits in (32, 64):
+        packed = int(number).to_bytes(bits // 8, "big", signed=number < 0)
+        return struct.unpack(">f" if bits == 32 else ">d", packed)[0]
+    return float(number) if is_float else number
+
+
+def positive_int(ctx: FileContext, block: Block, key: str) -> int:
+    number = block.number(key)
+    if not isinstance(number, int) or number <= 0:
+        raise Refused(ctx.path, f"{where(block)}: {key} is missing or not a positive integer")
+    return number

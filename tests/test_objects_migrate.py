@@ -1,0 +1,261 @@
+"""`pdsgen migrate` on PDS3 objects beyond images and plain tables: combined detached labels
+(pointers inside OBJECT = FILE), headers of every kind, ISIS2 cubes, spreadsheets,
+histograms; and its refusals, every obstacle named.
+
+Genuine products (tests/data/migrate_objects, PROVENANCE.md) are read back from the PDS4
+label by pds4_tools and compared with pdr's reading of the PDS3 product, or with GDAL's where
+pdr cannot read it; the copies' bytes with hashlib; the labels with the shipped XSD and
+Schematron and `pdsgen validate`.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+import struct
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+import rasterio
+
+from conftest import DATA_DIR
+from pdsgen.migrate import Refused, migrate_product
+from pdsgen.validate import validate_paths
+from pdsgen.validate.pds4 import schematron
+from pdsgen.validate.pds4.label_checks import validate_pds4
+
+from helpers import run_cli
+
+OBJECTS = DATA_DIR / "migrate_objects"
+BUNDLE = "urn:nasa:pds:pdsgen_objects_test"
+needs_saxon = pytest.mark.skipif(not schematron.available(), reason="saxonche (pdsgen[pds4]) is not installed")
+pds4_tools = pytest.importorskip("pds4_tools")
+pdr = pytest.importorskip("pdr")
+
+
+def md5(path: Path) -> str:
+    return hashlib.md5(path.read_bytes()).hexdigest()
+
+
+def _clean(label: Path) -> None:
+    """XSD + Schematron valid, and `pdsgen validate` finds no error in the PDS4 label."""
+    assert validate_pds4(label) == []
+    assert [f for f in validate_paths([label]).findings if f.severity == "error"] == []
+
+
+def _read(label: Path):
+    return pds4_tools.read(str(label), quiet=True, lazy_load=True)
+
+
+def _copies_unchanged(product, source_dir: Path) -> None:
+    for copy in product.files:
+        assert md5(copy) == md5(source_dir / copy.name)
+
+
+# -- combined detached label: pointers inside OBJECT = FILE ------------------------------------------
+
+@needs_saxon
+def test_crism_cdr_pointers_inside_object_file_are_described(tmp_path):
+    label = OBJECTS / "CDR410000000000_AT0300020L_2.LBL"
+    product = migrate_product(label, tmp_path, bundle_lid=BUNDLE)
+    _clean(product.label_path)
+    _copies_unchanged(product, OBJECTS)
+    structures = _read(product.label_path)
+    reference = pdr.read(str(label))
+    # LINE_INTERLEAVED: PDS4 axes (Line, Band, Sample); pdr gives (Band, Line, Sample)
+    image = np.asarray(structures["image"].data)
+    assert image.shape == (1, 70, 64)
+    assert np.array_equal(image.transpose(1, 0, 2), np.asarray(reference["IMAGE"]), equal_nan=True)
+    rows = np.asarray(structures["rownum_table"]["DETECTOR_ROW_NUMBER"])
+    assert rows.tolist() == list(reference["ROWNUM_TABLE"]["DETECTOR_ROW_NUMBER"])
+    text = product.label_path.read_text()
+    assert '<offset unit="byte">17920</offset>' in text  # record 71 of the FILE block's RECORD_BYTES 256
+
+
+# -- headers: BYTES with RECORDS, no type with BYTES = 'N/A' -------------------------------------------
+
+@needs_saxon
+def test_nims_fits_header_giving_bytes_and_records_and_the_spectral_qube_core(tmp_path):
+    label = OBJECTS / "gaspra_nims_hires_radiance_cropped.lbl"
+    product = migrate_product(label, tmp_path, bundle_lid=BUNDLE)
+    _clean(product.label_path)
+    _copies_unchanged(product, OBJECTS)
+    text = product.label_path.read_text()
+    assert ("<offset unit=\"byte\">0</offset>\n      <object_length unit=\"byte\">5760</object_length>\n"
+            "      <parsing_standard_id>FITS 3.0</parsing_standard_id>") in text
+    core = np.asarray(_read(product.label_path)["spectral_qube"].data)
+    assert core.shape == (3, 3, 100)  # AXIS_NAME (SAMPLE, LINE, BAND) reversed: Band, Line, Sample
+    # the same file's FITS header describes the array too (NAXIS 100 x 3 x 3): GDAL's FITS driver
+    fits = f'FITS:"{tmp_path / "gaspra_nims_hires_radiance_cropped.fit"}":1'
+    if shutil.which("gdal_translate") is None:
+        pytest.skip("GDAL's command-line tools (its FITS driver) are not installed")
+    subprocess.run(["gdal_translate", "-q", fits, str(tmp_path / "fits.tif")], check=True)
+    with rasterio.open(tmp_path / "fits.tif") as copy:  # GDAL shows FITS's bottom-up lines top-down
+        assert np.array_equal(core, copy.read()[:, ::-1, :], equal_nan=True)
+    for element, value in (("missing_constant", "-1.0"), ("valid_minimum", "0.0"),
+                           ("low_representation_saturation", "-32767.0"),
+                           ("high_instrument_saturation", "-32764.0")):
+        assert f"<{element}>{value}</{element}>" in text
+    assert "<unit>uWATT*CM**-2*SR**-1*uM**-1</unit>" in text
+
+
+@needs_saxon
+def test_marie_table_header_of_no_type_and_structure_in_the_volume_label_directory(tmp_path):
+    volume = tmp_path / "volume"
+    shutil.copytree(OBJECTS / "marie", volume)
+    label = volume / "DATA" / "PWR02176_01.LBL"
+    product = migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE, root=volume)
+    _clean(product.label_path)
+    _copies_unchanged(product, volume / "DATA")
+    text = product.label_path.read_text()
+    assert ("<object_length unit=\"byte\">195</object_length>\n"  # RECORDS 1 x RECORD_BYTES 195
+            "      <parsing_standard_id>7-Bit ASCII Text</parsing_standard_id>") in text
+    table = _read(product.label_path)["table"]
+    reference = pdr.read(str(label))["TABLE"]
+    assert len(reference.columns) == 11
+    for name in reference.columns:
+        assert np.asarray(table[name]).tolist() == list(reference[name]), name
+
+
+# -- spreadsheets and histograms: written here by the PDS3 Standards (appendix A) ------------------------
+
+def _spreadsheet(directory: Path, delimiter: str = "COMMA", separator: str = ",") -> Path:
+    rows = [("2004-01-17T12:00:00", "1.5", "7", "ALPHA"), ("2004-01-17T12:00:10", "-22.25", "", "B")]
+    data = "".join(separator.join((t, r, n, f'"{s}"')) + "\r\n" for t, r, n, s in rows)
+    (directory / "SHEET.CSV").write_bytes(b"TIME,VALUE,COUNT,NAME\r\n" + data.encode())
+    label = directory / "SHEET.LBL"
+    label.write_text(
+        "PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = STREAM\r\n^HEADER = (\"SHEET.CSV\", 1)\r\n"
+        "^SPREADSHEET = (\"SHEET.CSV\", 24<BYTES>)\r\nPRODUCT_ID = SHEET\r\nTARGET_NAME = MARS\r\n"
+        "OBJECT = HEADER\r\n HEADER_TYPE = SPREADSHEET\r\n BYTES = 23\r\n RECORDS = 1\r\nEND_OBJECT = HEADER\r\n"
+        f"OBJECT = SPREADSHEET\r\n ROWS = 2\r\n ROW_BYTES = 40\r\n FIELDS = 4\r\n FIELD_DELIMITER = {delimiter}\r\n"
+        " OBJECT = FIELD\r\n  NAME = TIME\r\n  FIELD_NUMBER = 1\r\n  DATA_TYPE = TIME\r\n  BYTES = 19\r\n"
+        " END_OBJECT = FIELD\r\n"
+        " OBJECT = FIELD\r\n  NAME = VALUE\r\n  FIELD_NUMBER = 2\r\n  DATA_TYPE = ASCII_REAL\r\n  BYTES = 6\r\n"
+        "  UNIT = KM\r\n END_OBJECT = FIELD\r\n"
+        " OBJECT = FIELD\r\n  NAME = COUNT\r\n  FIELD_NUMBER = 3\r\n  DATA_TYPE = ASCII_INTEGER\r\n  BYTES = 2\r\n"
+        " END_OBJECT = FIELD\r\n"
+        " OBJECT = FIELD\r\n  NAME = NAME\r\n  FIELD_NUMBER = 4\r\n  DATA_TYPE = CHARACTER\r\n  BYTES = 5\r\n"
+        " END_OBJECT = FIELD\r\nEND_OBJECT = SPREADSHEET\r\nEND\r\n", newline="")
+    return label
+
+
+@needs_saxon
+def test_spreadsheet_as_table_delimited_and_its_header_line(tmp_path):
+    source = tmp_path / "src"
+    source.mkdir()
+    product = migrate_product(_spreadsheet(source), tmp_path / "out", bundle_lid=BUNDLE)
+    _clean(product.label_path)
+    text = product.label_path.read_text()
+    assert "<field_delimiter>Comma</field_delimiter>" in text
+    assert "<parsing_standard_id>7-Bit ASCII Text</parsing_standard_id>" in text
+    table = _read(product.label_path)["spreadsheet"]
+    assert np.asarray(table["VALUE"]).tolist() == [1.5, -22.25]
+    assert [str(s) for s in table["NAME"]] == ["ALPHA", "B"]
+    assert md5(tmp_path / "out" / "SHEET.CSV") == md5(source / "SHEET.CSV")
+
+
+def test_spreadsheet_delimiter_pds4_has_not_is_refused(tmp_path):
+    label = _spreadsheet(tmp_path, "SPACE", " ")
+    with pytest.raises(Refused) as refused:
+        migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
+    assert str(refused.value) == (f"{label}: OBJECT = SPREADSHEET (line 12): FIELD_DELIMITER SPACE is none of "
+                                  "PDS4's (COMMA, SEMICOLON, TAB, VERTICAL_BAR)")
+
+
+@needs_saxon
+def test_image_histogram_as_array_1d(tmp_path):
+    """An attached VAX_INTEGER IMAGE_HISTOGRAM of 256 bins before an 8-bit image (as Viking
+    and Voyager EDRs carry them): a little-endian Array_1D, the image after it."""
+    counts = np.arange(256, dtype="<i4") * 3 - 5
+    image = (np.arange(4 * 8) % 256).astype("u1").reshape(4, 8)
+    text = ("PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 512\r\nFILE_RECORDS = 5\r\n"
+            "LABEL_RECORDS = 2\r\n^IMAGE_HISTOGRAM = 3\r\n^IMAGE = 5\r\nPRODUCT_ID = HIST\r\n"
+            "OBJECT = IMAGE_HISTOGRAM\r\n ITEMS = 256\r\n DATA_TYPE = VAX_INTEGER\r\n ITEM_BYTES = 4\r\n"
+            "END_OBJECT = IMAGE_HISTOGRAM\r\n"
+            "OBJECT = IMAGE\r\n LINES = 4\r\n LINE_SAMPLES = 8\r\n SAMPLE_TYPE = UNSIGNED_INTEGER\r\n"
+            " SAMPLE_BITS = 8\r\nEND_OBJECT = IMAGE\r\nEND\r\n")
+    path = tmp_path / "hist.img"
+    path.write_bytes(text.encode().ljust(1024) + counts.tobytes() + image.tobytes().ljust(512, b"\0"))
+    product = migrate_product(path, tmp_path / "out", bundle_lid=BUNDLE)
+    _clean(product.label_path)
+    assert "<data_type>SignedLSB4</data_type>" in product.label_path.read_text()
+    structures = _read(product.label_path)
+    assert np.asarray(structures["image_histogram"].data).tolist() == counts.tolist()
+    reference = pdr.read(str(path))
+    assert np.array_equal(np.asarray(structures["image"].data), np.asarray(reference["IMAGE"]))
+
+
+# -- refusals: every obstacle, one line each, word for word -------------------------------------------
+
+def test_themis_qube_refusal_names_every_obstacle_with_its_line(tmp_path):
+    qube = OBJECTS / "I00831002RDR_cropped.QUB"
+    out = tmp_path / "out"
+    result = run_cli("migrate", qube, "-o", out)
+    assert result.returncode == 2 and "Traceback" not in result.stderr
+    assert result.stderr.splitlines() == [
+        f"pdsgen: error: {qube}: OBJECT = HISTORY (line 28): its bytes are not text (7-bit ASCII or UTF-8) "
+        "and it names no standard PDS4 parses",
+        f"pdsgen: error: {qube}: OBJECT = SPECTRAL_QUBE (line 33): suffix planes (side (1), bottom (1) of "
+        "SUFFIX_ITEMS) interleave with the core; no PDS4 object describes them in place exactly",
+    ]
+    assert not out.exists() or list(out.iterdir()) == []
+
+
+def test_combined_label_with_a_missing_file_and_a_vax_real_names_both(tmp_path):
+    """Pointers inside OBJECT = FILE are found (not "no data object pointer"); a missing file is
+    named once with its pointers, beside the other obstacle."""
+    label = tmp_path / "CDR.LBL"
+    text = (OBJECTS / "CDR410000000000_AT0300020L_2.LBL").read_text(encoding="latin-1")
+    label.write_text(text.replace("SAMPLE_TYPE                = PC_REAL", "SAMPLE_TYPE                = VAX_REAL"),
+                     encoding="latin-1", newline="")
+    with pytest.raises(Refused) as refused:
+        migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
+    assert str(refused.value).splitlines() == [
+        f"{label}: data file CDR410000000000_AT0300020L_2.IMG is missing (^IMAGE line 95, ^ROWNUM_TABLE line 98)",
+    ]
+    shutil.copy(OBJECTS / "CDR410000000000_AT0300020L_2.IMG", tmp_path)
+    with pytest.raises(Refused) as refused:
+        migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
+    assert str(refused.value).splitlines() == [
+        f"{label}: OBJECT = IMAGE (line 106): SAMPLE_TYPE VAX_REAL of 32 bits has no PDS4 data type",
+    ]
+
+
+def test_header_overlapping_nothing_is_not_called_overlapping(tmp_path):
+    """BYTES 5760 and RECORDS 2 (of 2880): the header's length is BYTES, not their product."""
+    product = migrate_product(OBJECTS / "gaspra_nims_hires_radiance_cropped.lbl", tmp_path, bundle_lid=BUNDLE)
+    assert "<object_length unit=\"byte\">5760</object_length>" in product.label_path.read_text()
+
+
+def test_structure_file_wrapping_its_columns_in_an_object_is_read(tmp_path):
+    rows = [(1.5, -7), (-2.25, 40000)]
+    (tmp_path / "ROWS.DAT").write_bytes(b"".join(struct.pack(">di", r, i) for r, i in rows))
+    (tmp_path / "ROWS.FMT").write_text(
+        "OBJECT = TABLE\r\n"
+        " OBJECT = COLUMN\r\n  NAME = VALUE\r\n  DATA_TYPE = IEEE_REAL\r\n  START_BYTE = 1\r\n  BYTES = 8\r\n"
+        " END_OBJECT = COLUMN\r\n"
+        " OBJECT = COLUMN\r\n  NAME = COUNT\r\n  DATA_TYPE = MSB_INTEGER\r\n  START_BYTE = 9\r\n  BYTES = 4\r\n"
+        " END_OBJECT = COLUMN\r\nEND_OBJECT = TABLE\r\n", newline="")
+    (tmp_path / "ROWS.LBL").write_text(
+        "PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 12\r\nFILE_RECORDS = 2\r\n"
+        "^TABLE = \"ROWS.DAT\"\r\nPRODUCT_ID = ROWS\r\nOBJECT = TABLE\r\n INTERCHANGE_FORMAT = BINARY\r\n"
+        " ROWS = 2\r\n COLUMNS = 2\r\n ROW_BYTES = 12\r\n ^STRUCTURE = \"ROWS.FMT\"\r\nEND_OBJECT = TABLE\r\nEND\r\n",
+        newline="")
+    product = migrate_product(tmp_path / "ROWS.LBL", tmp_path / "out", bundle_lid=BUNDLE)
+    table = _read(product.label_path)["table"]
+    assert np.asarray(table["VALUE"]).tolist() == [1.5, -2.25]
+    assert np.asarray(table["COUNT"]).tolist() == [-7, 40000]
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no named pipes here")
+def test_a_fifo_given_as_a_product_is_not_a_regular_file(tmp_path):
+    fifo = tmp_path / "product.img"
+    os.mkfifo(fifo)
+    result = run_cli("migrate", fifo, "-o", tmp_path / "out")
+    assert result.returncode == 2
+    assert result.stderr.splitlines() == [
+        f"pdsgen: error: {fifo}: is not a regular file (a pipe, a device or a directory)"]
