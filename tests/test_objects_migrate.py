@@ -259,3 +259,75 @@ def test_a_fifo_given_as_a_product_is_not_a_regular_file(tmp_path):
     assert result.returncode == 2
     assert result.stderr.splitlines() == [
         f"pdsgen: error: {fifo}: is not a regular file (a pipe, a device or a directory)"]
+
+
+# -- the object table of docs/migrate-objects.md is the code's ---------------------------------------
+
+def test_object_page_lists_the_codes_classes_and_the_code_dispatches_by_them():
+    from conftest import REPO_ROOT
+    from pdsgen.migrate import objects
+    from pdsgen.migrate.mapping import OBJECT_CLASSES, OTHER_OBJECTS
+
+    page = (REPO_ROOT / "docs" / "migrate-objects.md").read_text(encoding="utf-8")
+    rows = [line for line in page.splitlines() if line.startswith("| ") and not line.startswith("| PDS3 object")]
+    expected = [f"| `{p}` | {d} |" for p, _, d in OBJECT_CLASSES] + [f"| {n} | {d} |" for n, d in OTHER_OBJECTS]
+    assert rows == expected
+    for pattern, kind, _ in OBJECT_CLASSES:
+        example = pattern.replace("*", "SPACECRAFT_")
+        assert objects._kind(example) == kind and kind in objects.DESCRIBERS
+    assert objects._kind("PALETTE") == "other"
+
+
+# -- BIT_COLUMN and MSB BIT STRING columns: a table written here by the PDS3 Standards (appendix A.5) -----
+
+def _bit_table(directory: Path) -> Path:
+    rows = [(0xA, -5, 3), (0x3, 2047, 1)]
+    (directory / "BITS.DAT").write_bytes(b"".join(struct.pack(">HBx", (mode << 12) | (dn & 0xFFF), status)
+                                                  for mode, dn, status in rows))
+    label = directory / "BITS.LBL"
+    label.write_text(
+        "PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 4\r\nFILE_RECORDS = 2\r\n"
+        "^TABLE = \"BITS.DAT\"\r\nPRODUCT_ID = BITS\r\nOBJECT = TABLE\r\n INTERCHANGE_FORMAT = BINARY\r\n"
+        " ROWS = 2\r\n COLUMNS = 2\r\n ROW_BYTES = 4\r\n"
+        " OBJECT = COLUMN\r\n  NAME = FLAGS\r\n  DATA_TYPE = MSB_UNSIGNED_INTEGER\r\n  START_BYTE = 1\r\n"
+        "  BYTES = 2\r\n"
+        "  OBJECT = BIT_COLUMN\r\n   NAME = MODE\r\n   BIT_DATA_TYPE = MSB_UNSIGNED_INTEGER\r\n   START_BIT = 1\r\n"
+        "   BITS = 4\r\n  END_OBJECT = BIT_COLUMN\r\n"
+        "  OBJECT = BIT_COLUMN\r\n   NAME = OFFSET_DN\r\n   BIT_DATA_TYPE = MSB_INTEGER\r\n   START_BIT = 5\r\n"
+        "   BITS = 12\r\n  END_OBJECT = BIT_COLUMN\r\n END_OBJECT = COLUMN\r\n"
+        " OBJECT = COLUMN\r\n  NAME = STATUS\r\n  DATA_TYPE = \"MSB BIT STRING\"\r\n  START_BYTE = 3\r\n  BYTES = 1\r\n"
+        " END_OBJECT = COLUMN\r\nEND_OBJECT = TABLE\r\nEND\r\n", newline="")
+    return label
+
+
+@needs_saxon
+def test_bit_columns_as_packed_data_fields_and_an_msb_bit_string_column(tmp_path):
+    from lxml import etree
+
+    label = _bit_table(tmp_path)
+    product = migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
+    _clean(product.label_path)
+    ns = {"pds": "http://pds.nasa.gov/pds4/pds/v1"}
+    root = etree.parse(str(product.label_path)).getroot()
+    bits = {b.findtext("pds:name", namespaces=ns): (int(b.findtext("pds:start_bit_location", namespaces=ns)),
+                                                    int(b.findtext("pds:stop_bit_location", namespaces=ns)),
+                                                    b.findtext("pds:data_type", namespaces=ns))
+            for b in root.iterfind(".//pds:Field_Bit", ns)}
+    assert bits == {"MODE": (1, 4, "UnsignedBitString"), "OFFSET_DN": (5, 16, "SignedBitString")}
+    table = _read(product.label_path)["table"]  # pds4_tools reads the packed field's bytes (not its bits)
+    reference = pdr.read(str(label))["TABLE"]  # pdr splits the bit columns into bit strings
+    for packed, split in zip(table["FLAGS"], reference["FLAGS"], strict=True):
+        word = "".join(f"{byte:08b}" for byte in bytes(packed))
+        assert [word[start - 1:stop] for start, stop, _ in bits.values()] == list(split)
+    assert [bytes(v) for v in table["STATUS"]] == [bytes(v) for v in reference["STATUS"]] == [b"\x03", b"\x01"]
+
+
+def test_bit_columns_of_an_lsb_column_are_refused(tmp_path):
+    label = _bit_table(tmp_path)
+    label.write_bytes(label.read_bytes().replace(b"DATA_TYPE = MSB_UNSIGNED_INTEGER\r\n  START_BYTE = 1",
+                                                 b"DATA_TYPE = LSB_UNSIGNED_INTEGER\r\n  START_BYTE = 1"))
+    with pytest.raises(Refused) as refused:
+        migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
+    assert str(refused.value) == (f"{label}: OBJECT = COLUMN (line 12): BIT_COLUMNs in a LSB_UNSIGNED_INTEGER "
+                                  "column: PDS4 counts bits from the first byte's most significant bit, and this "
+                                  "column's bytes run the other way")

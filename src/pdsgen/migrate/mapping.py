@@ -72,9 +72,53 @@ ASCII_TABLE_TYPES = {
 # an LSB_BIT_STRING's bytes run the other way and have no PDS4 type.
 BIT_STRING_TYPES = {"MSB_BIT_STRING": "UnsignedBitString", "BIT_STRING": "UnsignedBitString"}
 
+# BIT_COLUMN BIT_DATA_TYPE -> Field_Bit data_type (PDS4 states a bit field's sign, nothing else).
+BIT_DATA_TYPES = {
+    "MSB_INTEGER": "SignedBitString", "INTEGER": "SignedBitString", "SIGNED_INTEGER": "SignedBitString",
+    "MSB_UNSIGNED_INTEGER": "UnsignedBitString", "UNSIGNED_INTEGER": "UnsignedBitString",
+    "BOOLEAN": "UnsignedBitString", "BIT_STRING": "UnsignedBitString", "MSB_BIT_STRING": "UnsignedBitString",
+}
+
 # SPREADSHEET FIELD_DELIMITER -> Table_Delimited field_delimiter.
 FIELD_DELIMITERS = {"COMMA": "Comma", "TAB": "Horizontal Tab", "SEMICOLON": "Semicolon",
                     "VERTICAL_BAR": "Vertical Bar"}
+
+# PDS3 object classes by name (fnmatch patterns, tried in order) -> the describer that takes
+# them (objects.py's DESCRIBERS) and what it writes. docs/migrate-objects.md lists these rows
+# and OTHER_OBJECTS' (a test holds page and code together).
+OBJECT_CLASSES: tuple[tuple[str, str, str], ...] = (
+    ("*HEADER", "header", "Header: parsing_standard_id from TYPE/HEADER_TYPE (FITS, VICAR, ISIS, PDS3 ...); "
+     "SPREADSHEET, SFDU, TEXT or no type: 7-Bit ASCII Text or UTF-8 Text as the bytes are, else refused; "
+     "length BYTES, or RECORDS x RECORD_BYTES"),
+    ("HISTORY", "header", "Header: ISIS2 History Label in an ISIS2 cube, else 7-Bit ASCII Text or UTF-8 Text "
+     "as the bytes are; bytes that are not text: refused"),
+    ("*_HISTORY", "header", "Header, as HISTORY"),
+    ("IMAGE", "image", "Array_2D_Image (BANDS = 1), Array_3D_Image (axes from BAND_STORAGE_TYPE); with "
+     "LINE_PREFIX_BYTES/LINE_SUFFIX_BYTES: Table_Binary, a record per line (band sequential only)"),
+    ("*_IMAGE", "image", "as IMAGE"),
+    ("*HISTOGRAM", "histogram", "Array_1D (ITEMS of DATA_TYPE, ITEM_BYTES); with ROWS and COLUMNs: as a TABLE"),
+    ("*TABLE", "table", "Table_Binary (INTERCHANGE_FORMAT BINARY), Table_Character (ASCII, records ending "
+     "CR LF or LF as the bytes show); COLUMN ITEMS: Group_Field_*; CONTAINER: refused"),
+    ("*SERIES", "table", "as TABLE"),
+    ("*SPECTRUM", "table", "as TABLE"),
+    ("*SPREADSHEET", "spreadsheet", "Table_Delimited (parsing standard PDS DSV 1, FIELD_DELIMITER: "
+     "COMMA, SEMICOLON, TAB, VERTICAL_BAR; FIELD objects as Field_Delimited)"),
+    ("*QUBE", "qube", "Array_3D of the core (axes AXIS_NAME reversed, CORE_ITEM_TYPE/BYTES, CORE_BASE/"
+     "CORE_MULTIPLIER as value_offset/scaling_factor, CORE_NULL and the CORE_* special values); "
+     "suffix planes: refused, named"),
+)
+# Label constructs that are not data objects of their own, and what migrate does with them.
+OTHER_OBJECTS: tuple[tuple[str, str], ...] = (
+    ("OBJECT = FILE (combined detached label)", "each pointer in it described in its file, records counted "
+     "in the FILE block's RECORD_BYTES; one File_Area_Observational per file"),
+    ("COMPRESSED_FILE (ENCODING_TYPE JP2)", "Encoded_Image in File_Area_Observational_Supplemental"),
+    ("COLUMN DATA_TYPE MSB_BIT_STRING (also spelled MSB BIT STRING)", "Field_Binary UnsignedBitString"),
+    ("BIT_COLUMN (in an MSB or 1-byte COLUMN)", "Packed_Data_Fields/Field_Bit, the column UnsignedBitString; "
+     "BIT_DATA_TYPE: " + ", ".join(f"{k} -> {v}" for k, v in BIT_DATA_TYPES.items()) + "; ITEMS: one Field_Bit "
+     "each; in an LSB column: refused"),
+    ("CONTAINER", "refused, named with its line"),
+    ("any other object (PALETTE, DOCUMENT, ...)", "refused, named with its line"),
+)
 
 # INTERCHANGE_FORMAT -> the PDS4 table class.
 TABLE_CLASSES = {"BINARY": "Table_Binary", "ASCII": "Table_Character"}

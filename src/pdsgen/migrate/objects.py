@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
+from fnmatch import fnmatchcase
 from pathlib import Path
 
 from ..errors import param
@@ -33,9 +34,11 @@ from .described import (
 from .mapping import (
     ASCII_TABLE_TYPES,
     BAND_STORAGE_AXES,
+    BIT_DATA_TYPES,
     BIT_STRING_TYPES,
     FIELD_DELIMITERS,
     HEADER_STANDARDS,
+    OBJECT_CLASSES,
     TABLE_CLASSES,
     TEXT_FIELD_TYPES,
 )
@@ -205,19 +208,8 @@ def _compressed_files(ctx: FileContext) -> list[DataFile]:
 
 
 def _kind(name: str) -> str:
-    if name.endswith("HEADER") or name == "HISTORY" or name.endswith("_HISTORY"):
-        return "header"
-    if name == "IMAGE" or name.endswith("_IMAGE"):
-        return "image"
-    if name.endswith("HISTOGRAM"):
-        return "histogram"
-    if name.endswith(("TABLE", "SERIES", "SPECTRUM")):
-        return "table"
-    if name.endswith("SPREADSHEET"):
-        return "spreadsheet"
-    if name.endswith("QUBE"):
-        return "qube"
-    return "other"
+    """The describer of an object class (mapping.OBJECT_CLASSES), or "other"."""
+    return next((kind for pattern, kind, _ in OBJECT_CLASSES if fnmatchcase(name.upper(), pattern)), "other")
 
 
 def _local_identifier(name: str, used: set[str]) -> str:
@@ -590,8 +582,11 @@ def _field(ctx: FileContext, column: Block, prefix: int, character: bool, row_by
         "scaling_factor": scaling, "value_offset": value_offset,
         "description": " ".join((column.text("DESCRIPTION") or "").split()) or None,
         "special": special_constants(ctx, column, pds3_type in FLOAT_SAMPLE_TYPES, item_bytes * 8),
-        "group": None,
+        "group": None, "bits": None,
     }
+    if any(True for _ in column.blocks("BIT_COLUMN")):
+        entry.update(data_type="UnsignedBitString", scaling_factor=None, value_offset=None, special=[],
+                     bits=_bit_fields(ctx, column, pds3_type, item_bytes))
     if items:
         step = int(column.number("ITEM_OFFSET") or item_bytes)
         if item_bytes <= 0 or step < item_bytes:
@@ -600,6 +595,38 @@ def _field(ctx: FileContext, column: Block, prefix: int, character: bool, row_by
         entry["group"] = {"repetitions": items, "location": prefix + start, "length": items * step}
         entry["location"] = 1
     return entry
+
+
+def _bit_fields(ctx: FileContext, column: Block, pds3_type: str, item_bytes: int) -> list[dict[str, object]]:
+    """A column's BIT_COLUMNs as Packed_Data_Fields' Field_Bit (the column an UnsignedBitString,
+    as PDS4 requires): bits counted from the most significant bit of the column's first byte,
+    as PDS3 counts them in MSB columns; in an LSB column the bit order is not stated: refused."""
+    pds3_type = " ".join(pds3_type.split()).replace(" ", "_")
+    if pds3_type.startswith(("LSB_", "PC_", "VAX_")) and item_bytes > 1:
+        raise Refused(ctx.path, f"{where(column)}: BIT_COLUMNs in a {pds3_type} column: PDS4 counts bits from the "
+                                "first byte's most significant bit, and this column's bytes run the other way")
+    bits: list[dict[str, object]] = []
+    for bit_column in column.blocks("BIT_COLUMN"):
+        name = bit_column.text("NAME") or "bit_column"
+        start, count = positive_int(ctx, bit_column, "START_BIT"), positive_int(ctx, bit_column, "BITS")
+        kind = " ".join((bit_column.text("BIT_DATA_TYPE") or "").upper().split()).replace(" ", "_")
+        data_type = BIT_DATA_TYPES.get(kind)
+        if data_type is None:
+            raise Refused(ctx.path, f"{where(bit_column)}: BIT_DATA_TYPE {kind or 'not given'} is none of "
+                                    f"{', '.join(sorted(BIT_DATA_TYPES))}")
+        items = bit_column.number("ITEMS")
+        repeats = int(items) if isinstance(items, int) and items > 0 else 1
+        width = int(bit_column.number("ITEM_BITS") or count) if repeats > 1 else count
+        step = int(bit_column.number("ITEM_OFFSET") or width) if repeats > 1 else width
+        for n in range(repeats):
+            first = start + n * step
+            if first + width - 1 > item_bytes * 8:
+                raise Refused(ctx.path, f"{where(bit_column)}: bits {first} to {first + width - 1} lie outside "
+                                        f"the column's {item_bytes * 8} bits")
+            bits.append({"name": name if repeats == 1 else f"{name}_{n + 1}", "start": first,
+                         "stop": first + width - 1, "data_type": data_type, "unit": unit(bit_column),
+                         "description": " ".join((bit_column.text("DESCRIPTION") or "").split()) or None})
+    return bits
 
 
 # -- spreadsheets and histograms ------------------------------------------------------------------
@@ -678,5 +705,4 @@ DESCRIBERS: dict[str, Callable[[FileContext, Target], dict[str, object]]] = {
     "histogram": _histogram, "qube": describe_qube,
 }
 # What a refusal of an object of another class says migrate describes.
-DESCRIBED_OBJECTS = ("IMAGE, *TABLE, *SERIES, *SPECTRUM, *SPREADSHEET, *HISTOGRAM, *QUBE, *HEADER and "
-                     "HISTORY objects")
+DESCRIBED_OBJECTS = ", ".join(pattern for pattern, _, _ in OBJECT_CLASSES) + " objects"
