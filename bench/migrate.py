@@ -1,11 +1,16 @@
 """Benchmark `pdsgen migrate`: 1,000 PDS3 products described in PDS4 labels, labels per second
 and peak memory, side by side with GDAL's label-only PDS4 writer on the same products.
 
-Usage: python bench/migrate.py [--products 1000] [--repeat 1]
+Usage: python bench/migrate.py [--products 1000] [--repeat 1] [--mixed]
+
+With --mixed the products also include the genuine ones of tests/data/migrate_objects
+(CRISM CDR4 combined label, Galileo NIMS FITS header + SPECTRAL_QUBE, MARIE ASCII table
+with its TABLE_HEADER and ^STRUCTURE in the volume's LABEL/), one in every six products
+of each; the GDAL baseline is then left out (it takes rasters only).
 
 The products are the genuine small ones of tests/data/corpus/products (Mars Pathfinder IMP
 with its attached label, CRISM MRDR and Magellan F-MIDR with detached labels), one per
-directory: labels copied, the detached products' data files symbolic links to the one copy
+directory: labels copied, the detached products' data files hard links to the one copy
 (nothing large on disk; every run still reads every data file whole for its MD5).
 
 - pdsgen: one `pdsgen migrate --in-place` process over all the labels (the command line
@@ -39,6 +44,13 @@ KINDS = (
     ("CRISM_MRDR_t1865_cropped", "t1865_mrrde_70n185_0256_1_cropped.lbl", "t1865_mrrde_70n185_0256_1_cropped.img"),
     ("MGN_FMIDR_FF01", "FF01.LBL", "FF01.IMG"),
 )
+OBJECTS = REPO / "tests" / "data" / "migrate_objects"
+# (directory under tests/data/migrate_objects, label, data files)
+MIXED_KINDS = (
+    ("", "CDR410000000000_AT0300020L_2.LBL", ("CDR410000000000_AT0300020L_2.IMG",)),
+    ("", "gaspra_nims_hires_radiance_cropped.lbl", ("gaspra_nims_hires_radiance_cropped.fit",)),
+    ("marie/DATA", "PWR02176_01.LBL", ("PWR02176_01.TAB", "../LABEL/PWR.FMT")),
+)
 BASELINE = """
 import sys
 from osgeo import gdal
@@ -49,18 +61,41 @@ for label in open(sys.argv[1]).read().split("\\n"):
 """
 
 
-def lay_out(root: Path, count: int) -> list[Path]:
+def lay_out(root: Path, count: int, mixed: bool = False) -> list[Path]:
     """`count` product directories, each a copy of one genuine product (data linked)."""
     labels = []
     for n in range(count):
+        if mixed and n % 2:
+            labels.append(_lay_out_object_product(root / f"p{n:05d}", MIXED_KINDS[(n // 2) % len(MIXED_KINDS)]))
+            continue
         folder, label, data = KINDS[n % len(KINDS)]
         target = root / f"p{n:05d}"
         target.mkdir(parents=True)
         shutil.copyfile(PRODUCTS / folder / label, target / label)
         if data is not None:
-            os.symlink(PRODUCTS / folder / data, target / data)
+            _link(PRODUCTS / folder / data, target / data)
         labels.append(target / label)
     return labels
+
+
+def _lay_out_object_product(target: Path, kind: tuple[str, str, tuple[str, ...]]) -> Path:
+    folder, label, data = kind
+    where = target / "DATA" if folder else target
+    where.mkdir(parents=True)
+    shutil.copyfile(OBJECTS / folder / label, where / label)
+    for name in data:
+        (where / name).parent.mkdir(parents=True, exist_ok=True)
+        _link(OBJECTS / folder / name, where / name)
+    return where / label
+
+
+def _link(source: Path, target: Path) -> None:
+    """A hard link (the containment rule refuses a symbolic link leading out of the product's
+    tree), a copy where the temporary directory is on another file system."""
+    try:
+        os.link(source, target)
+    except OSError:
+        shutil.copyfile(source, target)
 
 
 def clean(labels: list[Path]) -> None:
@@ -73,35 +108,41 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--products", type=int, default=1000)
     parser.add_argument("--repeat", type=int, default=1)
+    parser.add_argument("--mixed", action="store_true", help="half the products of the new object classes")
     args = parser.parse_args()
     pdsgen = str(Path(sys.executable).parent / "pdsgen")
     with tempfile.TemporaryDirectory(prefix="bench-migrate-") as tmp:
         root = Path(tmp)
-        labels = lay_out(root / "products", args.products)
+        labels = lay_out(root / "products", args.products, args.mixed)
+        widen = ["--root", str(root / "products")] if args.mixed else []
         listing = root / "labels.txt"
         listing.write_text("\n".join(map(str, labels)))
         runs, small, gdal = [], [], []
         for _ in range(args.repeat):
             clean(labels)
-            runs.append(measure([pdsgen, "migrate", "-q", "--in-place", *map(str, labels)]))
+            runs.append(measure([pdsgen, "migrate", "-q", "--in-place", *widen, *map(str, labels)]))
             made = sum(1 for label in labels if label.with_suffix(".xml").is_file())
             clean(labels)
-            small.append(measure([pdsgen, "migrate", "-q", "--in-place", *map(str, labels[: args.products // 10])]))
+            small.append(measure([pdsgen, "migrate", "-q", "--in-place", *widen,
+                                  *map(str, labels[: args.products // 10])]))
             clean(labels)
-            gdal.append(measure(["/usr/bin/python3", "-c", BASELINE, str(listing)]))
-        ours, tenth, baseline = (min(r, key=lambda run: run.seconds) for r in (runs, small, gdal))
+            if not args.mixed:
+                gdal.append(measure(["/usr/bin/python3", "-c", BASELINE, str(listing)]))
+        ours, tenth = (min(r, key=lambda run: run.seconds) for r in (runs, small))
     n = args.products
-    print(f"pdsgen migrate: {n} genuine PDS3 products (IMP, CRISM MRDR, Magellan F-MIDR), load "
-          f"{os.getloadavg()[0]:.1f}")
+    kinds = "IMP, CRISM MRDR, Magellan F-MIDR" + (", CRISM CDR4, NIMS qube, MARIE table" if args.mixed else "")
+    print(f"pdsgen migrate: {n} genuine PDS3 products ({kinds}), load {os.getloadavg()[0]:.1f}")
     print(f"  {'':34s} {'wall s':>8s} {'labels/s':>9s} {'peak MB':>8s}")
     print(f"  {'pdsgen migrate --in-place':34s} {ours.seconds:8.2f} {n / ours.seconds:9.1f} {ours.peak_mb:8.1f}")
     print(f"  {f'pdsgen, {n // 10} products':34s} {tenth.seconds:8.2f} {n // 10 / tenth.seconds:9.1f} "
           f"{tenth.peak_mb:8.1f}")
-    print(f"  {'GDAL PDS4 CREATE_LABEL_ONLY':34s} {baseline.seconds:8.2f} {n / baseline.seconds:9.1f} "
-          f"{baseline.peak_mb:8.1f}")
-    print(f"  ratio pdsgen/GDAL: time {ours.seconds / baseline.seconds:.2f}, memory "
-          f"{ours.peak_mb / baseline.peak_mb:.2f}; peak RSS {n} vs {n // 10} products: "
-          f"{ours.peak_mb / tenth.peak_mb:.2f}")
+    if gdal:
+        baseline = min(gdal, key=lambda run: run.seconds)
+        print(f"  {'GDAL PDS4 CREATE_LABEL_ONLY':34s} {baseline.seconds:8.2f} {n / baseline.seconds:9.1f} "
+              f"{baseline.peak_mb:8.1f}")
+        print(f"  ratio pdsgen/GDAL: time {ours.seconds / baseline.seconds:.2f}, memory "
+              f"{ours.peak_mb / baseline.peak_mb:.2f}")
+    print(f"  peak RSS {n} vs {n // 10} products: {ours.peak_mb / tenth.peak_mb:.2f}")
     if made != n:
         raise SystemExit(f"only {made} of {n} labels were written")
 
