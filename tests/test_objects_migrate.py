@@ -331,3 +331,43 @@ def test_bit_columns_of_an_lsb_column_are_refused(tmp_path):
     assert str(refused.value) == (f"{label}: OBJECT = COLUMN (line 12): BIT_COLUMNs in a LSB_UNSIGNED_INTEGER "
                                   "column: PDS4 counts bits from the first byte's most significant bit, and this "
                                   "column's bytes run the other way")
+
+
+# -- a qube with a side plane: written here by the ISIS2 cube layout (PDS3 Standards, QUBE) -----------
+
+def _side_plane_qube(directory: Path, suffix_bytes: int = 4) -> tuple[Path, np.ndarray, np.ndarray]:
+    """An attached-label QUBE of 2 bands x 3 lines x 5 MSB 16-bit samples, each line followed by
+    one SUN_REAL side-plane item (SUFFIX_ITEMS = (1, 0, 0))."""
+    rng = np.random.default_rng(11)
+    core = rng.integers(-2000, 2000, (2, 3, 5)).astype(">i2")
+    side = rng.normal(size=(2, 3)).astype(">f4")
+    data = b"".join(core[b, line].tobytes() + side[b, line:line + 1].tobytes() for b in range(2) for line in range(3))
+    text = ("PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 14\r\nFILE_RECORDS = 106\r\n"
+            "LABEL_RECORDS = 100\r\n^QUBE = 101\r\nPRODUCT_ID = SIDEPLANE\r\nOBJECT = QUBE\r\n AXES = 3\r\n"
+            " AXIS_NAME = (SAMPLE, LINE, BAND)\r\n CORE_ITEMS = (5, 3, 2)\r\n CORE_ITEM_BYTES = 2\r\n"
+            " CORE_ITEM_TYPE = MSB_INTEGER\r\n CORE_BASE = 0.0\r\n CORE_MULTIPLIER = 1.0\r\n CORE_NULL = -32768\r\n"
+            f" SUFFIX_ITEMS = (1, 0, 0)\r\n SUFFIX_BYTES = {suffix_bytes}\r\n SAMPLE_SUFFIX_NAME = DESTRIPE\r\n"
+            " SAMPLE_SUFFIX_ITEM_BYTES = 4\r\n SAMPLE_SUFFIX_ITEM_TYPE = SUN_REAL\r\nEND_OBJECT = QUBE\r\nEND\r\n")
+    path = directory / "side.qub"
+    path.write_bytes(text.encode().ljust(100 * 14) + data)
+    return path, core, side
+
+
+@needs_saxon
+def test_qube_side_plane_as_records_of_core_line_and_suffix_item(tmp_path):
+    path, core, side = _side_plane_qube(tmp_path)
+    product = migrate_product(path, tmp_path / "out", bundle_lid=BUNDLE)
+    _clean(product.label_path)
+    table = _read(product.label_path)["qube"]
+    assert np.array_equal(np.asarray(table["CORE"]).reshape(2, 3, 5), core)
+    assert np.array_equal(np.asarray(table["DESTRIPE"]).reshape(2, 3), side)
+    assert "<missing_constant>-32768</missing_constant>" in product.label_path.read_text()
+    assert md5(tmp_path / "out" / "side.qub") == md5(path)
+
+
+def test_qube_side_plane_items_narrower_than_their_slot_are_refused(tmp_path):
+    path, _, _ = _side_plane_qube(tmp_path, suffix_bytes=8)
+    with pytest.raises(Refused) as refused:
+        migrate_product(path, tmp_path / "out", bundle_lid=BUNDLE)
+    assert str(refused.value) == (f"{path}: OBJECT = QUBE (line 8): side plane item 1 (SUN_REAL of 4 bytes in "
+                                  "SUFFIX_BYTES 8) has no exact PDS4 field")

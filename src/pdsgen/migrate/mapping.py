@@ -104,8 +104,9 @@ OBJECT_CLASSES: tuple[tuple[str, str, str], ...] = (
     ("*SPREADSHEET", "spreadsheet", "Table_Delimited (parsing standard PDS DSV 1, FIELD_DELIMITER: "
      "COMMA, SEMICOLON, TAB, VERTICAL_BAR; FIELD objects as Field_Delimited)"),
     ("*QUBE", "qube", "Array_3D of the core (axes AXIS_NAME reversed, CORE_ITEM_TYPE/BYTES, CORE_BASE/"
-     "CORE_MULTIPLIER as value_offset/scaling_factor, CORE_NULL and the CORE_* special values); "
-     "suffix planes: refused, named"),
+     "CORE_MULTIPLIER as value_offset/scaling_factor, CORE_NULL and the CORE_* special values); suffix "
+     "items along the fastest axis only (side planes of a SAMPLE-fastest cube): Table_Binary, a record per run "
+     "of that axis (the core's items a group, each suffix item a field); other suffix planes: refused, named"),
 )
 # Label constructs that are not data objects of their own, and what migrate does with them.
 OTHER_OBJECTS: tuple[tuple[str, str], ...] = (

@@ -36,10 +36,12 @@ def describe_qube(ctx: FileContext, target: Target) -> dict[str, object]:
         raise Refused(ctx.path, f"{where(block)}: CORE_ITEM_TYPE {item_type or 'not given'} of {item_bytes} bytes "
                                 "has no PDS4 data type")
     suffix = _numbers(ctx, block, "SUFFIX_ITEMS", len(axes)) if block.get("SUFFIX_ITEMS") else [0] * len(axes)
-    planes = [f"{name.lower()} ({count})" for name, count in zip(_PLANE_NAMES, suffix, strict=False) if count]
-    if any(suffix):
+    if any(suffix[1:]):
+        planes = [f"{_PLANE_OF[axis]} ({count})" for axis, count in zip(axes, suffix, strict=True) if count]
         raise Refused(ctx.path, f"{where(block)}: suffix planes ({', '.join(planes)} of SUFFIX_ITEMS) "
                                 "interleave with the core; no PDS4 object describes them in place exactly")
+    if suffix[0]:
+        return _core_lines_with_suffix(ctx, target, axes, sizes, (data_type, item_bytes), suffix[0])
     is_float = item_type in FLOAT_SAMPLE_TYPES
     base, multiplier = block.number("CORE_BASE"), block.number("CORE_MULTIPLIER")
     identity = base in (None, 0) and multiplier in (None, 1)
@@ -62,7 +64,71 @@ def describe_qube(ctx: FileContext, target: Target) -> dict[str, object]:
     }
 
 
-_PLANE_NAMES = ("side", "bottom", "back")  # SUFFIX_ITEMS (sample, line, band): side, bottom, back planes
+# The suffix plane a SUFFIX_ITEMS count along each axis makes (ISIS2 cubes).
+_PLANE_OF = {"SAMPLE": "side", "LINE": "bottom", "BAND": "back"}
+
+
+def _core_lines_with_suffix(ctx: FileContext, target: Target, axes: list[str], sizes: list[int],
+                            core_type: tuple[str, int], count: int) -> dict[str, object]:
+    """Suffix items along the fastest axis only (side planes of a SAMPLE-fastest cube): each run
+    of the fastest axis with its suffix items is one record of a binary table - the core's
+    items as a group, each suffix item a field - so no byte moves (an array has no stride).
+    Suffix items of another size than SUFFIX_BYTES (the slot each is stored in) are refused:
+    where in the slot the value lies is not stated."""
+    block = target.block
+    data_type, item_bytes = core_type
+    fastest = axes[0]
+    slot = block.number("SUFFIX_BYTES")
+    if not isinstance(slot, int) or slot <= 0:
+        raise Refused(ctx.path, f"{where(block)}: SUFFIX_BYTES is missing or not a positive integer")
+    names = _suffix_list(block, f"{fastest}_SUFFIX_NAME", count)
+    types = _suffix_list(block, f"{fastest}_SUFFIX_ITEM_TYPE", count)
+    sizes_of = _suffix_list(block, f"{fastest}_SUFFIX_ITEM_BYTES", count)
+    fields: list[dict[str, object]] = [_core_field(ctx, block, data_type, item_bytes, sizes[0])]
+    location = 1 + sizes[0] * item_bytes
+    for n in range(count):
+        pds3_type = str(types[n] or "").upper()
+        size = sizes_of[n]
+        field_type = pds4_data_type(pds3_type, int(size) * 8) if isinstance(size, int) else None
+        if field_type is None or size != slot:
+            raise Refused(ctx.path, f"{where(block)}: {_PLANE_OF[fastest]} plane item {n + 1} "
+                                    f"({pds3_type or 'no type'} of {size} bytes in SUFFIX_BYTES {slot}) has no "
+                                    "exact PDS4 field")
+        fields.append({"name": str(names[n] or f"{fastest}_SUFFIX_{n + 1}"), "location": location, "length": slot,
+                       "data_type": field_type, "unit": None, "scaling_factor": None, "value_offset": None,
+                       "description": f"{_PLANE_OF[fastest].capitalize()} plane item {n + 1} of the PDS3 qube.",
+                       "special": [], "group": None})
+        location += slot
+    record = sizes[0] * item_bytes + count * slot
+    records = sizes[1] * sizes[2]
+    description = (f"The {block.name} object's core with its {_PLANE_OF[fastest]} plane: each record one "
+                   f"{fastest.lower()} run ({sizes[0]} items, AXIS_NAME {', '.join(axes)}) and its {count} suffix "
+                   f"item(s); records {axes[1].lower()} by {axes[1].lower()}, then {axes[2].lower()} by "
+                   f"{axes[2].lower()}. A PDS4 array cannot skip the suffix bytes.")
+    return {"kind": "table", "element": "Table_Binary", "local_identifier": target.ident, "offset": target.offset,
+            "length": records * record, "records": records, "record_length": record, "description": description,
+            "fields": fields, "delimiter": None, "pds3": where(block)}
+
+
+def _core_field(ctx: FileContext, block, data_type: str, item_bytes: int, count: int) -> dict[str, object]:
+    base, multiplier = block.number("CORE_BASE"), block.number("CORE_MULTIPLIER")
+    identity = base in (None, 0) and multiplier in (None, 1)
+    is_float = data_type.startswith("IEEE")
+    return {"name": "CORE", "location": 1, "length": item_bytes, "data_type": data_type, "unit": _core_unit(block),
+            "scaling_factor": None if identity else (multiplier if multiplier is not None else 1.0),
+            "value_offset": None if identity else (base or 0.0), "description": None,
+            "special": special_constants(ctx, block, is_float, item_bytes * 8, QUBE_SPECIAL_CONSTANTS),
+            "group": {"repetitions": count, "location": 1, "length": count * item_bytes}}
+
+
+def _suffix_list(block, key: str, count: int) -> list[object]:
+    """A per-item suffix keyword as a list of `count` values (a scalar stands for one item)."""
+    value = block.value(key)
+    if value is None:
+        return [None] * count
+    items = value.items if value.items is not None else [value]
+    found: list[object] = [item.number if item.is_number else item.text for item in items]
+    return (found + [None] * count)[:count]
 
 
 def _axis_names(ctx: FileContext, block) -> list[str]:
