@@ -371,3 +371,61 @@ def test_qube_side_plane_items_narrower_than_their_slot_are_refused(tmp_path):
         migrate_product(path, tmp_path / "out", bundle_lid=BUNDLE)
     assert str(refused.value) == (f"{path}: OBJECT = QUBE (line 8): side plane item 1 (SUN_REAL of 4 bytes in "
                                   "SUFFIX_BYTES 8) has no exact PDS4 field")
+
+
+# -- CONTAINER: a table written here by the PDS3 Standards (appendix A.8) ------------------------------
+
+Rows = list[tuple[int, list[tuple[int, float, list[int]]]]]
+
+
+def _container_table(directory: Path, nested: bool) -> tuple[Path, Rows]:
+    """Rows of SEQ then 3 repetitions of a SAMPLE container (ID, VALUE and, when `nested`, a
+    PAIR container of 2 DNs); START_BYTEs inside a container count from its start."""
+    rows = [(100 + r, [(10 * r + k, 0.5 * k - r, [-(r * 100 + k * 10 + j) for j in range(2)]) for k in range(3)])
+            for r in range(2)]
+    size = 10 if nested else 6
+    data = b"".join(struct.pack(">I", seq) + b"".join(
+        struct.pack(">Hf", ident, value) + (struct.pack(">2h", *dns) if nested else b"")
+        for ident, value, dns in samples) for seq, samples in rows)
+    (directory / "C.DAT").write_bytes(data)
+    row_bytes = 4 + 3 * size
+    pair = ("  OBJECT = CONTAINER\r\n   NAME = PAIR\r\n   START_BYTE = 7\r\n   BYTES = 2\r\n   REPETITIONS = 2\r\n"
+            "   OBJECT = COLUMN\r\n    NAME = DN\r\n    DATA_TYPE = MSB_INTEGER\r\n    START_BYTE = 1\r\n"
+            "    BYTES = 2\r\n   END_OBJECT = COLUMN\r\n  END_OBJECT = CONTAINER\r\n") if nested else ""
+    label = directory / "C.LBL"
+    label.write_text(
+        f"PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = {row_bytes}\r\nFILE_RECORDS = 2\r\n"
+        "^TABLE = \"C.DAT\"\r\nPRODUCT_ID = CONT\r\nOBJECT = TABLE\r\n INTERCHANGE_FORMAT = BINARY\r\n ROWS = 2\r\n"
+        f" COLUMNS = 2\r\n ROW_BYTES = {row_bytes}\r\n"
+        " OBJECT = COLUMN\r\n  NAME = SEQ\r\n  DATA_TYPE = MSB_UNSIGNED_INTEGER\r\n  START_BYTE = 1\r\n  BYTES = 4\r\n"
+        " END_OBJECT = COLUMN\r\n"
+        f" OBJECT = CONTAINER\r\n  NAME = SAMPLE\r\n  START_BYTE = 5\r\n  BYTES = {size}\r\n  REPETITIONS = 3\r\n"
+        "  OBJECT = COLUMN\r\n   NAME = ID\r\n   DATA_TYPE = MSB_UNSIGNED_INTEGER\r\n   START_BYTE = 1\r\n"
+        "   BYTES = 2\r\n  END_OBJECT = COLUMN\r\n"
+        "  OBJECT = COLUMN\r\n   NAME = VALUE\r\n   DATA_TYPE = IEEE_REAL\r\n   START_BYTE = 3\r\n   BYTES = 4\r\n"
+        f"  END_OBJECT = COLUMN\r\n{pair} END_OBJECT = CONTAINER\r\nEND_OBJECT = TABLE\r\nEND\r\n", newline="")
+    return label, rows
+
+
+@needs_saxon
+def test_container_as_group_field_binary_against_pdr(tmp_path):
+    label, rows = _container_table(tmp_path, nested=False)
+    product = migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
+    _clean(product.label_path)
+    table = _read(product.label_path)["table"]
+    reference = pdr.read(str(label))["TABLE"]  # pdr names each repetition's column ID_0, ID_1 ...
+    for k in range(3):
+        assert np.asarray(table["SAMPLE, ID"])[:, k].tolist() == list(reference[f"ID_{k}"])
+        assert np.asarray(table["SAMPLE, VALUE"])[:, k].tolist() == list(reference[f"VALUE_{k}"])
+    assert np.asarray(table["SEQ"]).tolist() == list(reference["SEQ"]) == [100, 101]
+
+
+@needs_saxon
+def test_nested_containers_as_nested_groups(tmp_path):
+    """pdr 1.4 misplaces the columns of a nested CONTAINER: the values written are the reference."""
+    label, rows = _container_table(tmp_path, nested=True)
+    product = migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
+    _clean(product.label_path)
+    table = _read(product.label_path)["table"]
+    assert np.asarray(table["SAMPLE, PAIR, DN"]).tolist() == [[dns for _, _, dns in samples] for _, samples in rows]
+    assert np.asarray(table["SAMPLE, VALUE"]).tolist() == [[v for _, v, _ in samples] for _, samples in rows]

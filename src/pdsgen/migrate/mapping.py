@@ -98,7 +98,8 @@ OBJECT_CLASSES: tuple[tuple[str, str, str], ...] = (
     ("*_IMAGE", "image", "as IMAGE"),
     ("*HISTOGRAM", "histogram", "Array_1D (ITEMS of DATA_TYPE, ITEM_BYTES); with ROWS and COLUMNs: as a TABLE"),
     ("*TABLE", "table", "Table_Binary (INTERCHANGE_FORMAT BINARY), Table_Character (ASCII, records ending "
-     "CR LF or LF as the bytes show); COLUMN ITEMS: Group_Field_*; CONTAINER: refused"),
+     "CR LF or LF as the bytes show); COLUMN ITEMS: Group_Field_*; CONTAINER: Group_Field_* (nested, "
+     "REPETITIONS)"),
     ("*SERIES", "table", "as TABLE"),
     ("*SPECTRUM", "table", "as TABLE"),
     ("*SPREADSHEET", "spreadsheet", "Table_Delimited (parsing standard PDS DSV 1, FIELD_DELIMITER: "
@@ -117,7 +118,8 @@ OTHER_OBJECTS: tuple[tuple[str, str], ...] = (
     ("BIT_COLUMN (in an MSB or 1-byte COLUMN)", "Packed_Data_Fields/Field_Bit, the column UnsignedBitString; "
      "BIT_DATA_TYPE: " + ", ".join(f"{k} -> {v}" for k, v in BIT_DATA_TYPES.items()) + "; ITEMS: one Field_Bit "
      "each; in an LSB column: refused"),
-    ("CONTAINER", "refused, named with its line"),
+    ("CONTAINER (REPETITIONS, nested CONTAINERs)", "Group_Field_Binary / Group_Field_Character: repetitions, "
+     "group_location START_BYTE, group_length REPETITIONS x BYTES, its COLUMNs and CONTAINERs inside"),
     ("any other object (PALETTE, DOCUMENT, ...)", "refused, named with its line"),
 )
 

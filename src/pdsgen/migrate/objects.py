@@ -475,11 +475,11 @@ def _column_blocks(ctx: FileContext, block: Block, expanded: dict[Path, list[Blo
             found.extend(expanded[path])
         elif isinstance(item, Block):
             name = item.name.upper()
-            if name == "COLUMN":
+            if name in ("COLUMN", "CONTAINER"):
                 found.append(item)
-            elif name in ("BIT_COLUMN", "CONTAINER"):
-                raise Refused(ctx.path, f"{where(item)} in {where(block)}: {name} objects are not described by "
-                                        "migrate")
+            elif name == "BIT_COLUMN":
+                raise Refused(ctx.path, f"{where(item)} in {where(block)}: a BIT_COLUMN outside a COLUMN has no "
+                                        "bytes of its own")
         if len(found) > _MAX_COLUMNS:
             raise Refused(ctx.path, f"{where(block)}: more than {_MAX_COLUMNS} columns")
     return found
@@ -522,14 +522,24 @@ def _structure(ctx: FileContext, stmt: Statement, chain: tuple[Path, ...] = ()) 
         raise Refused(ctx.path, f"^STRUCTURE file {name}: {error.strerror or error}") from None
 
 
-def _columns(ctx: FileContext, block: Block, prefix: int, character: bool) -> list[dict[str, object]]:
-    """The table's fields; every column PDS4 cannot state is named (all of them, not the first)."""
+def _columns(ctx: FileContext, block: Block, prefix: int, character: bool,
+             budget: list[int] | None = None) -> list[dict[str, object]]:
+    """The fields of a table (or of a CONTAINER: then locations are the container's own, as PDS3
+    counts them); every column PDS4 cannot state is named (all of them, not the first).
+    `budget`: fields left for the whole table (a hostile fan-out of containers stays bounded)."""
+    budget = [_MAX_COLUMNS] if budget is None else budget
     fields: list[dict[str, object]] = []
     problems: list[str] = []
-    row_bytes = int(block.number("ROW_BYTES") or 0)
+    row_bytes = int(block.number("ROW_BYTES") or block.number("BYTES") or 0)
     for column in _column_blocks(ctx, block):
+        budget[0] -= 1
+        if budget[0] < 0:
+            raise Refused(ctx.path, f"{where(block)}: more than {_MAX_COLUMNS} columns")
         try:
-            fields.append(_field(ctx, column, prefix, character, row_bytes))
+            if column.name.upper() == "CONTAINER":
+                fields.append(_container(ctx, column, prefix, character, budget))
+            else:
+                fields.append(_field(ctx, column, prefix, character, row_bytes))
         except Refused as refusal:
             problems.extend(refusal.problems)
     if problems:
@@ -537,6 +547,30 @@ def _columns(ctx: FileContext, block: Block, prefix: int, character: bool) -> li
     if not fields:
         raise Refused(ctx.path, f"{where(block)} has no COLUMN objects (nor a ^STRUCTURE file holding them)")
     return fields
+
+
+def _container(ctx: FileContext, container: Block, prefix: int, character: bool,
+               budget: list[int]) -> dict[str, object]:
+    """A CONTAINER as a Group_Field_*: REPETITIONS of BYTES from START_BYTE, its COLUMNs and
+    CONTAINERs at their START_BYTEs within it (PDS3 counts them from the container's start, as
+    PDS4 counts a group's fields from the group's)."""
+    start, size = positive_int(ctx, container, "START_BYTE"), positive_int(ctx, container, "BYTES")
+    repetitions = container.number("REPETITIONS")
+    repetitions = 1 if repetitions is None else repetitions
+    if not isinstance(repetitions, int) or repetitions <= 0:
+        raise Refused(ctx.path, f"{where(container)}: REPETITIONS {repetitions} is not a positive integer")
+    members = _columns(ctx, container, 0, character, budget)
+    for member in members:
+        group = member.get("group")
+        end = (int(group["location"]) + int(group["length"]) - 1 if isinstance(group, dict)
+               else int(member["location"]) + int(member["length"]) - 1)  # type: ignore[call-overload]
+        if end > size:
+            raise Refused(ctx.path, f"{where(container)}: {member['name']} ends at byte {end}, past the "
+                                    f"container's BYTES {size}")
+    return {"name": container.text("NAME") or "container", "location": 1, "length": size, "group": {
+        "repetitions": repetitions, "location": prefix + start, "length": repetitions * size,
+        "name": container.text("NAME"), "members": members,
+        "description": " ".join((container.text("DESCRIPTION") or "").split()) or None}}
 
 
 def _column_type(ctx: FileContext, column: Block, character: bool, item_bytes: int) -> str:
