@@ -49,7 +49,7 @@ OBJECTS = REPO / "tests" / "data" / "migrate_objects"
 MIXED_KINDS = (
     ("", "CDR410000000000_AT0300020L_2.LBL", ("CDR410000000000_AT0300020L_2.IMG",)),
     ("", "gaspra_nims_hires_radiance_cropped.lbl", ("gaspra_nims_hires_radiance_cropped.fit",)),
-    ("marie/DATA", "PWR02176_01.LBL", ("PWR02176_01.TAB", "../LABEL/PWR.FMT")),
+    ("marie", "DATA/PWR02176_01.LBL", ("DATA/PWR02176_01.TAB", "LABEL/PWR.FMT")),
 )
 BASELINE = """
 import sys
@@ -80,13 +80,12 @@ def lay_out(root: Path, count: int, mixed: bool = False) -> list[Path]:
 
 def _lay_out_object_product(target: Path, kind: tuple[str, str, tuple[str, ...]]) -> Path:
     folder, label, data = kind
-    where = target / "DATA" if folder else target
-    where.mkdir(parents=True)
-    shutil.copyfile(OBJECTS / folder / label, where / label)
+    for name in (label, *data):
+        (target / name).parent.mkdir(parents=True, exist_ok=True)
+    shutil.copyfile(OBJECTS / folder / label, target / label)
     for name in data:
-        (where / name).parent.mkdir(parents=True, exist_ok=True)
-        _link(OBJECTS / folder / name, where / name)
-    return where / label
+        _link(OBJECTS / folder / name, target / name)
+    return target / label
 
 
 def _link(source: Path, target: Path) -> None:

@@ -317,8 +317,6 @@ def test_refusals_are_one_line_each_others_go_on_and_nothing_is_written_for_them
         "LINE_INTERLEAVED bands are not described": _line_prefix_product(bad, "LINE_INTERLEAVED")[0],
         "FF01.IMG is missing": bad / "FF01.LBL",
         "truncated": PRODUCTS / "synthetic_pds3_1band" / "pds3_1band.IMG",  # 712 of 840 bytes
-        # genuine defect: ROW_BYTES 773 but records of 774 bytes (CR LF after 772)
-        "does not end with CR LF": CORPUS_DIR / "tables" / "MER_EDR_index" / "edrindex.lbl",
         # ISIS's exported table label: no PDS_VERSION_ID, no END
         "no END statement": CORPUS_DIR / "tables" / "ISIS_binary_tables" / "msb_pds_binary_table.lbl",
     }

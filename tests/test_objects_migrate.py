@@ -18,6 +18,7 @@ import subprocess
 from pathlib import Path
 
 import numpy as np
+import pvl
 import pytest
 import rasterio
 
@@ -429,3 +430,42 @@ def test_nested_containers_as_nested_groups(tmp_path):
     table = _read(product.label_path)["table"]
     assert np.asarray(table["SAMPLE, PAIR, DN"]).tolist() == [[dns for _, _, dns in samples] for _, samples in rows]
     assert np.asarray(table["SAMPLE, VALUE"]).tolist() == [[v for _, v, _ in samples] for _, samples in rows]
+
+
+# -- descriptions checked against the bytes ---------------------------------------------------------
+
+MER_INDEX = DATA_DIR / "corpus" / "tables" / "MER_EDR_index" / "edrindex.lbl"
+
+
+@needs_saxon
+def test_row_bytes_the_bytes_contradict_is_overridden_with_a_warning(tmp_path):
+    """Genuine defect: ROW_BYTES 773, but each of the 9 records is 774 bytes (CR LF after 772),
+    the file 9 x 774: described as the bytes are, the overridden keyword named in a warning."""
+    result = run_cli("migrate", MER_INDEX, "-o", tmp_path, "--bundle-lid", BUNDLE)
+    assert result.returncode == 0, result.stderr
+    assert result.stderr.splitlines() == [
+        f"warning: {MER_INDEX}: OBJECT = INDEX_TABLE (line 13): ROW_BYTES 773 overridden by the bytes: each of its "
+        "9 records ends with CR LF at byte 774, and every column lies before it"]
+    label = tmp_path / "edrindex.xml"
+    _clean(label)
+    assert '<record_length unit="byte">774</record_length>' in label.read_text()
+    table = _read(label)["index_table"]
+    # the reference: the file's own lines, cut where the PDS3 label (read by pvl) places each column;
+    # pdr steps 773-byte rows, so its later rows are shifted
+    lines = (MER_INDEX.parent / "edrindex.tab").read_bytes().split(b"\r\n")[:9]
+    pds3 = pvl.load(str(MER_INDEX))["INDEX_TABLE"]
+    columns = {c["NAME"]: (c["START_BYTE"], c["BYTES"]) for c in pds3.getall("COLUMN")}
+    for name in ("VOLUME_ID", "PRODUCT_ID", "PIXEL_AVERAGING_WIDTH"):
+        start, size = columns[name]
+        expected = [line[start - 1:start - 1 + size].decode().strip().strip('"') for line in lines]
+        assert [str(v).strip().strip('"') for v in np.asarray(table[name]).tolist()] == expected, name
+
+
+def test_records_of_differing_lengths_are_refused(tmp_path):
+    shutil.copy(MER_INDEX, tmp_path)
+    data = (MER_INDEX.parent / "edrindex.tab").read_bytes()
+    (tmp_path / "edrindex.tab").write_bytes(data[:774] + b" " + data[774:-1])  # second record one byte longer
+    with pytest.raises(Refused) as refused:
+        migrate_product(tmp_path / "edrindex.lbl", tmp_path / "out", bundle_lid=BUNDLE)
+    assert str(refused.value) == (f"{tmp_path / 'edrindex.lbl'}: OBJECT = INDEX_TABLE (line 13): its first record "
+                                  "does not end with CR LF or LF at ROW_BYTES, as a PDS4 character table must")

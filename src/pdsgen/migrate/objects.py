@@ -437,8 +437,50 @@ def _table(ctx: FileContext, target: Target) -> dict[str, object]:
         "fields": columns, "delimiter": None, "pds3": where(block),
     }
     if element == "Table_Character":
-        table["delimiter"] = _record_delimiter(ctx, block, path, offset, record_length)
+        try:
+            table["delimiter"] = _record_delimiter(ctx, block, path, offset, record_length)
+        except Refused:
+            measured = _measured_records(path, offset, rows, _fields_end(columns))
+            if measured is None:
+                raise
+            table["delimiter"], table["record_length"] = measured
+            table["length"] = rows * measured[1]
+            table["warning"] = (f"{where(block)}: ROW_BYTES {row_bytes} overridden by the bytes: each of its {rows} "
+                                f"records ends with {_ENDINGS[measured[0]]} at byte {measured[1]}, and every "
+                                "column lies before it")
     return table
+
+
+_ENDINGS = {"Carriage-Return Line-Feed": "CR LF", "Line-Feed": "LF"}
+
+
+def _fields_end(fields: list[dict[str, object]]) -> int:
+    """The last byte (1-based) any field or group of a record reaches."""
+    ends = [int(f["group"]["location"]) + int(f["group"]["length"]) - 1  # type: ignore[index]
+            if f.get("group") else int(f["location"]) + int(f["length"]) - 1  # type: ignore[call-overload]
+            for f in fields]
+    return max(ends, default=0)
+
+
+def _measured_records(path: Path, offset: int, rows: int, fields_end: int) -> tuple[str, int] | None:
+    """(record_delimiter, record length) of an ASCII table whose ROW_BYTES its bytes contradict,
+    when the bytes leave no doubt: every one of ROWS records ends with the same line end at
+    the same length, and every column lies before it. None otherwise (then it is refused)."""
+    with open(path, "rb") as handle:
+        handle.seek(offset)
+        first = handle.readline(1 << 20)
+        if not first.endswith(b"\n"):
+            return None
+        length = len(first)
+        handle.seek(offset)
+        data = handle.read(rows * length)
+    ending = b"\r\n" if first.endswith(b"\r\n") else b"\n"
+    if len(data) != rows * length or fields_end > length - len(ending):
+        return None
+    records = [data[n * length:(n + 1) * length] for n in range(rows)]
+    if not all(r.endswith(ending) and r.count(b"\n") == 1 for r in records):
+        return None
+    return ("Carriage-Return Line-Feed" if ending == b"\r\n" else "Line-Feed"), length
 
 
 def _record_delimiter(ctx: FileContext, block: Block, path: Path, offset: int, record_length: int) -> str:

@@ -47,6 +47,7 @@ class MigratedProduct:
     label_path: Path
     files: tuple[Path, ...]  # the files the label describes
     copied: bool = True  # `files` are copies written beside the label (not the originals, in place)
+    warnings: tuple[str, ...] = ()  # PDS3 keywords the bytes overrode (each names the keyword and why)
 
     @property
     def summary_line(self) -> str:
@@ -66,7 +67,7 @@ class MigrationRun(CommandResult):
 
     migrated: list[MigratedProduct] = field(default_factory=list)
     failed: list[PdsgenError] = field(default_factory=list)
-    warnings: tuple[str, ...] = ()  # a migration keeps none: what PDS4 cannot describe is refused
+    warnings: tuple[str, ...] = ()  # PDS3 keywords the bytes overrode; what PDS4 cannot describe is refused
 
     @property
     def ok(self) -> bool:
@@ -142,7 +143,9 @@ def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLik
         "files": [_file_context(data) for data in files],
     })
     written = _write(files, text, label_out, target_dir, copy and not in_place, overwrite)
-    return MigratedProduct(pid, str(ident["lid"]), label_out, written, copied=copy and not in_place)
+    warnings = tuple(f"{source}: {o['warning']}" for data in files for o in data.objects if o.get("warning"))
+    return MigratedProduct(pid, str(ident["lid"]), label_out, written, copied=copy and not in_place,
+                           warnings=warnings)
 
 
 def migrate_products(labels: Iterable[str | os.PathLike[str]], outdir: str | os.PathLike[str] | None = None,
@@ -154,6 +157,7 @@ def migrate_products(labels: Iterable[str | os.PathLike[str]], outdir: str | os.
             run.migrated.append(migrate_product(label, outdir, **options))  # type: ignore[arg-type]
         except PdsgenError as exc:
             run.failed.append(exc)
+    run.warnings = tuple(warning for product in run.migrated for warning in product.warnings)
     return run
 
 
