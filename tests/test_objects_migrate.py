@@ -469,3 +469,40 @@ def test_records_of_differing_lengths_are_refused(tmp_path):
         migrate_product(tmp_path / "edrindex.lbl", tmp_path / "out", bundle_lid=BUNDLE)
     assert str(refused.value) == (f"{tmp_path / 'edrindex.lbl'}: OBJECT = INDEX_TABLE (line 13): its first record "
                                   "does not end with CR LF or LF at ROW_BYTES, as a PDS4 character table must")
+
+
+def test_cropped_isis2_cubes_refused_for_every_true_cause(tmp_path):
+    qube, cube = OBJECTS / "30i001ci_cropped.qub", OBJECTS / "3133_h1_cropped.cub"
+    result = run_cli("migrate", qube, cube, "-o", tmp_path / "out")
+    assert result.returncode == 2 and "Traceback" not in result.stderr
+    assert result.stderr.splitlines() == [
+        f"pdsgen: error: {qube}: ^HISTORY (line 8): 0 is no record or byte number (they count from 1)",
+        f"pdsgen: error: {qube}: ^HISTOGRAM_IMAGE (line 11): 0 is no record or byte number (they count from 1)",
+        f"pdsgen: error: {qube}: OBJECT = QUBE (line 23): CORE_ITEM_TYPE VAX_REAL of 4 bytes has no PDS4 data type",
+        f"pdsgen: error: {cube}: ^HISTORY (line 7): OBJECT = HISTORY (line 8) starts at byte 14336, past the end of "
+        "3133_h1_cropped.cub (6490 bytes)",
+    ]
+    assert not (tmp_path / "out").exists() or list((tmp_path / "out").iterdir()) == []
+
+
+@needs_saxon
+def test_isis2_history_without_length_runs_to_the_next_object(tmp_path):
+    """An ISIS2 cube's HISTORY states no BYTES: its text runs to the core that follows."""
+    core = (np.arange(3 * 4 * 5) - 7).astype(">i2").reshape(3, 4, 5)
+    history = b"GROUP = PDS2ISIS\r\n  VERSION_DATE = 2001-09-11\r\nEND_GROUP = PDS2ISIS\r\nEND\r\n".ljust(512, b" ")
+    text = ("CCSD3ZF0000100000001NJPL3IF0PDS200000001 = SFDU_LABEL\r\nRECORD_TYPE = FIXED_LENGTH\r\n"
+            "RECORD_BYTES = 512\r\nFILE_RECORDS = 3\r\nLABEL_RECORDS = 1\r\n^HISTORY = 2\r\nOBJECT = HISTORY\r\n"
+            "END_OBJECT = HISTORY\r\n^QUBE = 3\r\nOBJECT = QUBE\r\n AXES = 3\r\n AXIS_NAME = (SAMPLE, LINE, BAND)\r\n"
+            " CORE_ITEMS = (5, 4, 3)\r\n CORE_ITEM_BYTES = 2\r\n CORE_ITEM_TYPE = SUN_INTEGER\r\n CORE_BASE = 10.0\r\n"
+            " CORE_MULTIPLIER = 0.5\r\n CORE_NULL = -32768\r\n CORE_VALID_MINIMUM = -32752\r\n"
+            " SUFFIX_ITEMS = (0, 0, 0)\r\nEND_OBJECT = QUBE\r\nEND\r\n")
+    path = tmp_path / "lo.cub"
+    path.write_bytes(text.encode().ljust(512, b" ") + history + core.tobytes())
+    product = migrate_product(path, tmp_path / "out", bundle_lid=BUNDLE)
+    _clean(product.label_path)
+    label = product.label_path.read_text()
+    assert ("<offset unit=\"byte\">512</offset>\n      <object_length unit=\"byte\">512</object_length>\n"
+            "      <parsing_standard_id>ISIS2 History Label</parsing_standard_id>") in label
+    assert "<valid_minimum>-32752</valid_minimum>" in label and "<scaling_factor>0.5</scaling_factor>" in label
+    array = np.asarray(_read(product.label_path)["qube"].data)  # pds4_tools scales: value_offset 10, factor 0.5
+    assert np.array_equal(array, core * 0.5 + 10.0)

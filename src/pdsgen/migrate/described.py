@@ -50,6 +50,7 @@ class Target:
     offset: int
     path: Path
     record_bytes: int | None
+    next_start: int | None = None  # where the next object of the same file starts, or the file's end
 
 
 def where(block: Block) -> str:

@@ -111,9 +111,11 @@ def describe_objects(ctx: FileContext) -> tuple[list[DataFile], str | None]:
     image_id: str | None = None
     used: set[str] = set()
     missing: dict[str, list[str]] = {}  # a missing file named by several pointers: told once
-    for placed in placed_pointers(ctx):
+    placements = list(placed_pointers(ctx))
+    starts = _object_starts(ctx, placements)
+    for placed in placements:
         try:
-            found = _describe_pointer(ctx, placed, used)
+            found = _describe_pointer(ctx, placed, used, starts)
         except MissingFile as absent:
             missing.setdefault(absent.file_name, []).append(f"^{placed.ptr.name} line {placed.ptr.statement.line}")
             continue
@@ -155,7 +157,23 @@ def describe_objects(ctx: FileContext) -> tuple[list[DataFile], str | None]:
     return result, image_id
 
 
-def _describe_pointer(ctx: FileContext, placed: Placed, used: set[str]) -> tuple[Path, dict[str, object]] | None:
+def _object_starts(ctx: FileContext, placements: list[Placed]) -> dict[Path, list[int]]:
+    """Each file's object starts, in order, with the file's end last: what bounds an object
+    whose label states no length (an ISIS2 HISTORY)."""
+    starts: dict[Path, set[int]] = {}
+    for placed in placements:
+        offset = _offset(placed)
+        try:
+            path = _data_path(ctx, placed) if placed.block is not None else None
+        except Refused:
+            continue
+        if path is not None and offset is not None and offset >= 0:
+            starts.setdefault(path, {path.stat().st_size}).add(offset)
+    return {path: sorted(found) for path, found in starts.items()}
+
+
+def _describe_pointer(ctx: FileContext, placed: Placed, used: set[str],
+                      starts: dict[Path, list[int]]) -> tuple[Path, dict[str, object]] | None:
     """One pointer's object, described at its place (None: a document beside the product)."""
     ptr, block = placed.ptr, placed.block
     if block is None:
@@ -165,13 +183,21 @@ def _describe_pointer(ctx: FileContext, placed: Placed, used: set[str]) -> tuple
     kind = _kind(ptr.name)
     if kind == "other":
         raise Refused(ctx.path, f"{where(block)}: migrate describes {DESCRIBED_OBJECTS}, not this object")
+    if (ptr.record is not None and ptr.record < 1) or (ptr.byte is not None and ptr.byte < 1):
+        raise Refused(ctx.path, f"{pointer_where(ptr)}: {ptr.record if ptr.byte is None else ptr.byte} is no "
+                                "record or byte number (they count from 1)")
     path = _data_path(ctx, placed)
     offset = _offset(placed)
     if offset is None:
         raise Refused(ctx.path, f"{pointer_where(ptr)}: its byte offset cannot be known (no RECORD_BYTES)")
+    size = path.stat().st_size
+    if offset >= size:
+        raise Refused(ctx.path, f"{pointer_where(ptr)}: {where(block)} starts at byte {offset}, past the end of "
+                                f"{path.name} ({size} bytes)")
     ident = _local_identifier(ptr.name, used)
     describer = DESCRIBERS[kind]
-    return path, describer(ctx, Target(block, ident, offset, path, placed.record_bytes))
+    following = next((start for start in starts.get(path, ()) if start > offset), None)
+    return path, describer(ctx, Target(block, ident, offset, path, placed.record_bytes, following))
 
 
 def _refuse_outside(ctx: FileContext) -> None:
@@ -245,9 +271,11 @@ def _data_path(ctx: FileContext, placed: Placed) -> Path:
 
 def _add_attached_label(ctx: FileContext, data: DataFile) -> None:
     """The attached PDS3 label as a Header: from byte 0 to the first object."""
-    first = min(int(o["offset"]) for o in data.objects)  # type: ignore[call-overload]
+    first_object = min(data.objects, key=lambda o: int(o["offset"]))  # type: ignore[call-overload]
+    first = int(first_object["offset"])  # type: ignore[call-overload]
     if first <= 0 or first < ctx.label.label_end:
-        raise Refused(ctx.path, "the first data object starts inside the attached label")
+        raise Refused(ctx.path, f"{first_object.get('pds3') or first_object['local_identifier']} starts at byte "
+                                f"{first}, inside the attached label (which ends at byte {ctx.label.label_end})")
     data.objects.insert(0, {"kind": "header", "local_identifier": "pds3_label", "offset": 0, "length": first,
                             "parsing_standard_id": "PDS3", "description": "The attached PDS3 label of this product."})
 
@@ -291,9 +319,11 @@ def _header(ctx: FileContext, target: Target) -> dict[str, object]:
         if block.name.upper().endswith("HISTORY") and standard == "7-Bit ASCII Text" and ctx.root.get("^QUBE"):
             standard = "ISIS2 History Label"  # the history object of an ISIS2 cube
     what = f"{kind} header" if kind else ("history" if "HISTORY" in block.name.upper() else "header")
+    stated = block.get("BYTES") is not None or block.get("RECORDS") is not None
+    extent = "" if stated else " Its length, which the label does not state, runs to the next object or the file's end."
     return {"kind": "header", "local_identifier": target.ident, "offset": target.offset, "length": length,
             "parsing_standard_id": standard, "pds3": where(block),
-            "description": f"The {what} ({block.name} in the PDS3 label)."}
+            "description": f"The {what} ({block.name} in the PDS3 label).{extent}"}
 
 
 def _header_length(ctx: FileContext, target: Target) -> int:
@@ -306,6 +336,8 @@ def _header_length(ctx: FileContext, target: Target) -> int:
         if target.record_bytes is None:
             raise Refused(ctx.path, f"{where(block)}: RECORDS without BYTES, and no RECORD_BYTES to count them in")
         return records * target.record_bytes
+    if block.name.upper().endswith("HISTORY") and target.next_start is not None:
+        return target.next_start - target.offset  # ISIS2: the history runs to the next object (or the file's end)
     raise Refused(ctx.path, f"{where(block)}: neither BYTES nor RECORDS gives its length")
 
 
