@@ -506,3 +506,61 @@ def test_isis2_history_without_length_runs_to_the_next_object(tmp_path):
     assert "<valid_minimum>-32752</valid_minimum>" in label and "<scaling_factor>0.5</scaling_factor>" in label
     array = np.asarray(_read(product.label_path)["qube"].data)  # pds4_tools scales: value_offset 10, factor 0.5
     assert np.array_equal(array, core * 0.5 + 10.0)
+
+
+# -- an SFDU header and VAX columns: written here by the PDS3 Standards (VAX: appendix C) ---------------
+
+def _sfdu_table(directory: Path, real_type: str) -> Path:
+    """An SFDU header record, then a binary table of a VAX_INTEGER and a 4-byte real column."""
+    sfdu = b"CCSD3ZF0000100000001NJPL3IF0PDSX00000001".ljust(48, b" ")
+    rows = b"".join(struct.pack("<i", n - 3) + struct.pack(">f", n / 4) for n in range(6))
+    (directory / "V.DAT").write_bytes(sfdu + rows)
+    label = directory / "V.LBL"
+    label.write_text(
+        "PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 8\r\nFILE_RECORDS = 12\r\n"
+        "^SFDU_HEADER = (\"V.DAT\", 1)\r\n^TABLE = (\"V.DAT\", 7)\r\nPRODUCT_ID = VAX\r\n"
+        "OBJECT = SFDU_HEADER\r\n HEADER_TYPE = SFDU\r\n BYTES = 48\r\nEND_OBJECT = SFDU_HEADER\r\n"
+        "OBJECT = TABLE\r\n INTERCHANGE_FORMAT = BINARY\r\n ROWS = 6\r\n COLUMNS = 2\r\n ROW_BYTES = 8\r\n"
+        " OBJECT = COLUMN\r\n  NAME = COUNT\r\n  DATA_TYPE = VAX_INTEGER\r\n  START_BYTE = 1\r\n  BYTES = 4\r\n"
+        f" END_OBJECT = COLUMN\r\n OBJECT = COLUMN\r\n  NAME = VALUE\r\n  DATA_TYPE = {real_type}\r\n"
+        "  START_BYTE = 5\r\n  BYTES = 4\r\n END_OBJECT = COLUMN\r\nEND_OBJECT = TABLE\r\nEND\r\n", newline="")
+    return label
+
+
+@needs_saxon
+def test_sfdu_header_as_text_and_vax_integer_as_lsb(tmp_path):
+    label = _sfdu_table(tmp_path, "IEEE_REAL")
+    product = migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
+    _clean(product.label_path)
+    text = product.label_path.read_text()
+    assert "<data_type>SignedLSB4</data_type>" in text
+    assert ("<object_length unit=\"byte\">48</object_length>\n"
+            "      <parsing_standard_id>7-Bit ASCII Text</parsing_standard_id>") in text
+    table = _read(product.label_path)["table"]
+    reference = pdr.read(str(label))["TABLE"]
+    assert np.asarray(table["COUNT"]).tolist() == list(reference["COUNT"]) == [-3, -2, -1, 0, 1, 2]
+    assert np.asarray(table["VALUE"]).tolist() == list(reference["VALUE"])
+
+
+def test_vax_real_column_is_refused_for_itself_not_for_the_sfdu_header(tmp_path):
+    label = _sfdu_table(tmp_path, "VAX_REAL")
+    with pytest.raises(Refused) as refused:
+        migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
+    assert str(refused.value).splitlines() == [
+        f"{label}: OBJECT = COLUMN (line 23): column VALUE DATA_TYPE VAX_REAL of 4 bytes has no data type in PDS4"]
+
+
+@needs_saxon
+def test_items_column_giving_bytes_per_item(tmp_path):
+    """A ^STRUCTURE quirk of real volumes: ITEMS = 3 with BYTES = 2 meaning each item's bytes
+    (3 x 2 fill the row; 2 bytes cannot hold 3 items)."""
+    (tmp_path / "I.DAT").write_bytes(b"".join(struct.pack(">3h", *(r * 10 + k for k in range(3))) for r in range(2)))
+    (tmp_path / "I.LBL").write_text(
+        "PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 6\r\nFILE_RECORDS = 2\r\n"
+        "^TABLE = \"I.DAT\"\r\nPRODUCT_ID = ITEMS\r\nOBJECT = TABLE\r\n INTERCHANGE_FORMAT = BINARY\r\n ROWS = 2\r\n"
+        " COLUMNS = 1\r\n ROW_BYTES = 6\r\n OBJECT = COLUMN\r\n  NAME = DN\r\n  DATA_TYPE = MSB_INTEGER\r\n"
+        "  START_BYTE = 1\r\n  BYTES = 2\r\n  ITEMS = 3\r\n END_OBJECT = COLUMN\r\nEND_OBJECT = TABLE\r\nEND\r\n",
+        newline="")
+    product = migrate_product(tmp_path / "I.LBL", tmp_path / "out", bundle_lid=BUNDLE)
+    _clean(product.label_path)
+    assert np.asarray(_read(product.label_path)["table"]["DN"]).tolist() == [[0, 1, 2], [10, 11, 12]]

@@ -769,22 +769,21 @@ def _spreadsheet(ctx: FileContext, target: Target) -> dict[str, object]:
 
 
 def _delimited_extent(ctx: FileContext, target: Target, rows: int) -> tuple[int, str]:
-    """Bytes of ROWS delimited records from the object's offset, and how they end (read)."""
+    """Bytes of ROWS delimited records from the object's offset, and how they end (read, a
+    record at a time: a large file is not read whole)."""
+    length, endings = 0, set()
     with open(target.path, "rb") as handle:
         handle.seek(target.offset)
-        data = handle.read()
-    lines = data.split(b"\n")
-    if len(lines) <= rows:
-        raise Refused(ctx.path, f"{where(target.block)}: ROWS {rows}, but {target.path.name} holds "
-                                f"{len(lines) - 1} records after byte {target.offset}")
-    crlf = [line.endswith(b"\r") for line in lines[:rows]]
-    if all(crlf):
-        ending = "Carriage-Return Line-Feed"
-    elif not any(crlf):
-        ending = "Line-Feed"
-    else:
+        for n in range(rows):
+            record = handle.readline(1 << 20)
+            if not record.endswith(b"\n"):
+                raise Refused(ctx.path, f"{where(target.block)}: ROWS {rows}, but record {n + 1} of "
+                                        f"{target.path.name} after byte {target.offset} ends without a line end")
+            endings.add(record.endswith(b"\r\n"))
+            length += len(record)
+    if len(endings) > 1:
         raise Refused(ctx.path, f"{where(target.block)}: its records end with CR LF and with LF alike")
-    return sum(len(line) + 1 for line in lines[:rows]), ending
+    return length, "Carriage-Return Line-Feed" if endings == {True} else "Line-Feed"
 
 
 def _histogram(ctx: FileContext, target: Target) -> dict[str, object]:
