@@ -564,3 +564,24 @@ def test_items_column_giving_bytes_per_item(tmp_path):
     product = migrate_product(tmp_path / "I.LBL", tmp_path / "out", bundle_lid=BUNDLE)
     _clean(product.label_path)
     assert np.asarray(_read(product.label_path)["table"]["DN"]).tolist() == [[0, 1, 2], [10, 11, 12]]
+
+
+@needs_saxon
+def test_spectrum_as_a_table(tmp_path):
+    """SPECTRUM is a TABLE of rows by wavelength (PDS3 Standards A.26); the same columns as pdr reads."""
+    rows = [(0.35 + 0.01 * n, 0.1 * n - 0.2) for n in range(5)]
+    (tmp_path / "S.TAB").write_bytes(b"".join(f"{w:7.3f},{r:8.4f}\r\n".encode() for w, r in rows))
+    (tmp_path / "S.LBL").write_text(
+        "PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 18\r\nFILE_RECORDS = 5\r\n"
+        "^SPECTRUM = \"S.TAB\"\r\nPRODUCT_ID = SPEC\r\nOBJECT = SPECTRUM\r\n INTERCHANGE_FORMAT = ASCII\r\n"
+        " ROWS = 5\r\n COLUMNS = 2\r\n ROW_BYTES = 18\r\n"
+        " OBJECT = COLUMN\r\n  NAME = WAVELENGTH\r\n  DATA_TYPE = ASCII_REAL\r\n  START_BYTE = 1\r\n  BYTES = 7\r\n"
+        "  UNIT = MICROMETER\r\n END_OBJECT = COLUMN\r\n"
+        " OBJECT = COLUMN\r\n  NAME = REFLECTANCE\r\n  DATA_TYPE = ASCII_REAL\r\n  START_BYTE = 9\r\n  BYTES = 8\r\n"
+        " END_OBJECT = COLUMN\r\nEND_OBJECT = SPECTRUM\r\nEND\r\n", newline="")
+    product = migrate_product(tmp_path / "S.LBL", tmp_path / "out", bundle_lid=BUNDLE)
+    _clean(product.label_path)
+    table = _read(product.label_path)["spectrum"]
+    reference = pdr.read(str(tmp_path / "S.LBL"))["SPECTRUM"]
+    for name in ("WAVELENGTH", "REFLECTANCE"):
+        assert np.asarray(table[name]).tolist() == list(reference[name])
