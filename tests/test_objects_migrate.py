@@ -564,6 +564,9 @@ def test_items_column_giving_bytes_per_item(tmp_path):
     product = migrate_product(tmp_path / "I.LBL", tmp_path / "out", bundle_lid=BUNDLE)
     _clean(product.label_path)
     assert np.asarray(_read(product.label_path)["table"]["DN"]).tolist() == [[0, 1, 2], [10, 11, 12]]
+    assert product.warnings == (
+        f"{tmp_path / 'I.LBL'}: OBJECT = COLUMN (line 12): column DN BYTES 2 taken per item: 3 items of 2 bytes "
+        "fill 6 bytes of the row, while 2 bytes cannot hold 3 MSB_INTEGER items",)
 
 
 @needs_saxon

@@ -468,6 +468,8 @@ def _table(ctx: FileContext, target: Target) -> dict[str, object]:
         "description": " ".join((block.text("DESCRIPTION") or f"The {block.name} object of the PDS3 label.").split()),
         "fields": columns, "delimiter": None, "pds3": where(block),
     }
+    warnings = [str(f.pop("warning")) for f in columns if f.get("warning")]
+    table["warnings"] = warnings
     if element == "Table_Character":
         try:
             table["delimiter"] = _record_delimiter(ctx, block, path, offset, record_length)
@@ -477,9 +479,9 @@ def _table(ctx: FileContext, target: Target) -> dict[str, object]:
                 raise
             table["delimiter"], table["record_length"] = measured
             table["length"] = rows * measured[1]
-            table["warning"] = (f"{where(block)}: ROW_BYTES {row_bytes} overridden by the bytes: each of its {rows} "
-                                f"records ends with {_ENDINGS[measured[0]]} at byte {measured[1]}, and every "
-                                "column lies before it")
+            warnings.append(f"{where(block)}: ROW_BYTES {row_bytes} overridden by the bytes: each of its {rows} "
+                            f"records ends with {_ENDINGS[measured[0]]} at byte {measured[1]}, and every column "
+                            "lies before it")
     return table
 
 
@@ -660,18 +662,22 @@ def _column_type(ctx: FileContext, column: Block, character: bool, item_bytes: i
     return data_type
 
 
-def _item_bytes(column: Block, items: int, size: int, row_bytes: int) -> int:
-    """The bytes of one item of an ITEMS column. ITEM_BYTES when given; else BYTES is the whole
-    column's (the PDS3 Standards) - unless it cannot be (BYTES not a multiple of ITEMS, or the
-    items of that size would not fit the row) while BYTES per item does fit: real ^STRUCTURE
-    files give BYTES per item so, and pdr reads them so."""
+def _item_bytes(column: Block, items: int, size: int, row_bytes: int, character: bool) -> tuple[int, bool]:
+    """The bytes of one item of an ITEMS column, and whether BYTES was taken per item. ITEM_BYTES
+    when given; else BYTES is the whole column's (the PDS3 Standards) - unless it cannot be
+    (BYTES not ITEMS items of a size its binary DATA_TYPE has) while BYTES per item fits the
+    row: real ^STRUCTURE files give BYTES per item so, and pdr reads them so."""
     given = column.number("ITEM_BYTES")
     if isinstance(given, int) and given > 0:
-        return given
+        return given, False
     start = int(column.number("START_BYTE") or 1)
-    whole_fits = size % items == 0
+    pds3_type = " ".join((column.text("DATA_TYPE") or "").upper().split()).replace(" ", "_")
+    whole_fits = size % items == 0 and (character or pds3_type in TEXT_FIELD_TYPES
+                                        or pds4_data_type(pds3_type, size // items * 8) is not None)
     per_item_fits = row_bytes > 0 and start - 1 + size * items <= row_bytes
-    return size if per_item_fits and not whole_fits else size // items if whole_fits else size
+    if per_item_fits and not whole_fits:
+        return size, True
+    return (size // items if size % items == 0 else size), False
 
 
 def _field(ctx: FileContext, column: Block, prefix: int, character: bool, row_bytes: int) -> dict[str, object]:
@@ -680,7 +686,8 @@ def _field(ctx: FileContext, column: Block, prefix: int, character: bool, row_by
     items = column.number("ITEMS")
     if items is not None and (not isinstance(items, int) or items <= 0):
         raise Refused(ctx.path, f"{where(column)}: column {name} ITEMS {items} is not a positive integer")
-    item_bytes = _item_bytes(column, items, size, row_bytes) if items else size
+    count = int(items or 0)
+    item_bytes, per_item = _item_bytes(column, count, size, row_bytes, character) if count else (size, False)
     data_type = _column_type(ctx, column, character, item_bytes)
     pds3_type = (column.text("DATA_TYPE") or "").upper()
     scaling, value_offset = column.number("SCALING_FACTOR"), column.number("OFFSET")
@@ -692,6 +699,10 @@ def _field(ctx: FileContext, column: Block, prefix: int, character: bool, row_by
         "special": special_constants(ctx, column, pds3_type in FLOAT_SAMPLE_TYPES, item_bytes * 8),
         "group": None, "bits": None,
     }
+    if per_item:
+        entry["warning"] = (f"{where(column)}: column {name} BYTES {size} taken per item: {items} items of {size} "
+                            f"bytes fill {size * count} bytes of the row, while {size} bytes cannot hold {items} "
+                            f"{pds3_type} items")
     if any(True for _ in column.blocks("BIT_COLUMN")):
         entry.update(data_type="UnsignedBitString", scaling_factor=None, value_offset=None, special=[],
                      bits=_bit_fields(ctx, column, pds3_type, item_bytes))

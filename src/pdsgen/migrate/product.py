@@ -143,7 +143,8 @@ def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLik
         "files": [_file_context(data) for data in files],
     })
     written = _write(files, text, label_out, target_dir, copy and not in_place, overwrite)
-    warnings = tuple(f"{source}: {o['warning']}" for data in files for o in data.objects if o.get("warning"))
+    warnings = tuple(f"{source}: {warning}" for data in files for o in data.objects
+                     for warning in o.get("warnings") or ())  # type: ignore[attr-defined]
     return MigratedProduct(pid, str(ident["lid"]), label_out, written, copied=copy and not in_place,
                            warnings=warnings)
 
