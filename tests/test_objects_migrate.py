@@ -588,3 +588,27 @@ def test_spectrum_as_a_table(tmp_path):
     reference = pdr.read(str(tmp_path / "S.LBL"))["SPECTRUM"]
     for name in ("WAVELENGTH", "REFLECTANCE"):
         assert np.asarray(table[name]).tolist() == list(reference[name])
+
+
+@needs_saxon
+def test_qube_back_planes_after_a_band_sequential_core_as_arrays(tmp_path):
+    """Back planes (SUFFIX_ITEMS = (0, 0, 2)) of a band-sequential cube lie whole after the core
+    (ISIS2 cube layout): the core an Array_3D, each plane an Array_2D, nothing moved."""
+    core = (np.arange(2 * 3 * 4) * 3 - 11).astype(">i2").reshape(2, 3, 4)
+    planes = (np.arange(2 * 3 * 4) / 8 - 1).astype(">f4").reshape(2, 3, 4)
+    text = ("PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 8\r\nFILE_RECORDS = 118\r\n"
+            "LABEL_RECORDS = 100\r\n^QUBE = 101\r\nPRODUCT_ID = BACKPLANES\r\nOBJECT = QUBE\r\n AXES = 3\r\n"
+            " AXIS_NAME = (SAMPLE, LINE, BAND)\r\n CORE_ITEMS = (4, 3, 2)\r\n CORE_ITEM_BYTES = 2\r\n"
+            " CORE_ITEM_TYPE = MSB_INTEGER\r\n SUFFIX_ITEMS = (0, 0, 2)\r\n SUFFIX_BYTES = 4\r\n"
+            " BAND_SUFFIX_NAME = (LATITUDE, LONGITUDE)\r\n BAND_SUFFIX_UNIT = (DEGREE, DEGREE)\r\n"
+            " BAND_SUFFIX_ITEM_BYTES = (4, 4)\r\n BAND_SUFFIX_ITEM_TYPE = (SUN_REAL, SUN_REAL)\r\n"
+            "END_OBJECT = QUBE\r\nEND\r\n")
+    path = tmp_path / "back.qub"
+    path.write_bytes(text.encode().ljust(800) + core.tobytes() + planes.tobytes())
+    product = migrate_product(path, tmp_path / "out", bundle_lid=BUNDLE)
+    _clean(product.label_path)
+    structures = _read(product.label_path)
+    assert np.array_equal(np.asarray(structures["qube"].data), core)
+    assert np.array_equal(np.asarray(structures["qube_back_1"].data), planes[0])
+    assert np.array_equal(np.asarray(structures["qube_back_2"].data), planes[1])
+    assert "<description>Back plane 2 of the QUBE object: LONGITUDE.</description>" in product.label_path.read_text()

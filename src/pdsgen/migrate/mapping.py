@@ -107,7 +107,9 @@ OBJECT_CLASSES: tuple[tuple[str, str, str], ...] = (
     ("*QUBE", "qube", "Array_3D of the core (axes AXIS_NAME reversed, CORE_ITEM_TYPE/BYTES, CORE_BASE/"
      "CORE_MULTIPLIER as value_offset/scaling_factor, CORE_NULL and the CORE_* special values); suffix "
      "items along the fastest axis only (side planes of a SAMPLE-fastest cube): Table_Binary, a record per run "
-     "of that axis (the core's items a group, each suffix item a field); other suffix planes: refused, named"),
+     "of that axis (the core's items a group, each suffix item a field); suffix planes along the slowest axis "
+     "only (back planes of a band-sequential cube): the core Array_3D, each plane an Array_2D after it; other "
+     "suffix planes: refused, named"),
 )
 # Label constructs that are not data objects of their own, and what migrate does with them.
 OTHER_OBJECTS: tuple[tuple[str, str], ...] = (

@@ -127,7 +127,8 @@ def describe_objects(ctx: FileContext) -> tuple[list[DataFile], str | None]:
         path, described = found
         if described["kind"] == "array" and described.get("element") in ("Array_2D_Image", "Array_3D_Image"):
             image_id = image_id or str(described["local_identifier"])  # lines with prefixes: no cart:
-        files.setdefault(path, DataFile(path)).objects.append(described)
+        extra = described.pop("extra", [])  # a cube's back planes: arrays of their own after the core
+        files.setdefault(path, DataFile(path)).objects.extend([described, *extra])  # type: ignore[misc]
     problems.extend(f"data file {name} is missing ({', '.join(pointers)})" for name, pointers in missing.items())
     if problems:
         raise Refused(ctx.path, problems[0], tuple(problems[1:]))

@@ -36,6 +36,9 @@ def describe_qube(ctx: FileContext, target: Target) -> dict[str, object]:
         raise Refused(ctx.path, f"{where(block)}: CORE_ITEM_TYPE {item_type or 'not given'} of {item_bytes} bytes "
                                 "has no PDS4 data type")
     suffix = _numbers(ctx, block, "SUFFIX_ITEMS", len(axes)) if block.get("SUFFIX_ITEMS") else [0] * len(axes)
+    planes_after = suffix[2] if not any(suffix[:2]) else 0  # suffix planes after the whole core (BSQ back planes)
+    if planes_after:
+        suffix = [0, 0, 0]
     if any(suffix[1:]):
         planes = [f"{_PLANE_OF[axis]} ({count})" for axis, count in zip(axes, suffix, strict=True) if count]
         raise Refused(ctx.path, f"{where(block)}: suffix planes ({', '.join(planes)} of SUFFIX_ITEMS) "
@@ -53,7 +56,7 @@ def describe_qube(ctx: FileContext, target: Target) -> dict[str, object]:
     count = 1
     for size in sizes:
         count *= size
-    return {
+    core: dict[str, object] = {
         "kind": "array", "element": "Array_3D", "local_identifier": target.ident, "offset": target.offset,
         "length": count * item_bytes, "axes": [(_AXIS_NAMES.get(axes[i], axes[i].title()), sizes[i]) for i in order],
         "description": description, "data_type": data_type, "unit": _core_unit(block),
@@ -62,6 +65,44 @@ def describe_qube(ctx: FileContext, target: Target) -> dict[str, object]:
         "special": special_constants(ctx, block, is_float, item_bytes * 8, QUBE_SPECIAL_CONSTANTS),
         "pds3": where(block),
     }
+    if planes_after:
+        core["extra"] = _planes_after_core(ctx, target, axes, sizes, target.offset + count * item_bytes, planes_after)
+    return core
+
+
+def _planes_after_core(ctx: FileContext, target: Target, axes: list[str], sizes: list[int], start: int,
+                       count: int) -> list[dict[str, object]]:
+    """Suffix planes along the slowest axis (back planes of a band-sequential cube) lie whole
+    after the core: each is an Array_2D of the two faster axes, items of SUFFIX_BYTES (an item
+    type of another size is refused: its place in the slot is not stated)."""
+    block = target.block
+    slowest = axes[2]
+    slot = block.number("SUFFIX_BYTES")
+    if not isinstance(slot, int) or slot <= 0:
+        raise Refused(ctx.path, f"{where(block)}: SUFFIX_BYTES is missing or not a positive integer")
+    names = _suffix_list(block, f"{slowest}_SUFFIX_NAME", count)
+    types = _suffix_list(block, f"{slowest}_SUFFIX_ITEM_TYPE", count)
+    sizes_of = _suffix_list(block, f"{slowest}_SUFFIX_ITEM_BYTES", count)
+    units = _suffix_list(block, f"{slowest}_SUFFIX_UNIT", count)
+    plane = sizes[0] * sizes[1] * slot
+    arrays = []
+    for n in range(count):
+        pds3_type = str(types[n] or "").upper()
+        size = sizes_of[n]
+        data_type = pds4_data_type(pds3_type, int(size) * 8) if isinstance(size, int) else None
+        if data_type is None or size != slot:
+            raise Refused(ctx.path, f"{where(block)}: {_PLANE_OF[slowest]} plane {n + 1} ({pds3_type or 'no type'} "
+                                    f"of {size} bytes in SUFFIX_BYTES {slot}) has no exact PDS4 array")
+        name = str(names[n] or f"{slowest}_SUFFIX_{n + 1}")
+        unit = units[n] if isinstance(units[n], str) and units[n].upper() not in ("N/A", "NONE", "UNK") else None
+        arrays.append({
+            "kind": "array", "element": "Array_2D", "local_identifier": f"{target.ident}_{_PLANE_OF[slowest]}_{n + 1}",
+            "offset": start + n * plane, "length": plane,
+            "axes": [(_AXIS_NAMES[axes[1]], sizes[1]), (_AXIS_NAMES[axes[0]], sizes[0])],
+            "description": f"{_PLANE_OF[slowest].capitalize()} plane {n + 1} of the {block.name} object: {name}.",
+            "data_type": data_type, "unit": unit, "scaling_factor": None, "value_offset": 0.0, "special": [],
+            "pds3": f"{where(block)} {_PLANE_OF[slowest]} plane {n + 1}"})
+    return arrays
 
 
 # The suffix plane a SUFFIX_ITEMS count along each axis makes (ISIS2 cubes).
