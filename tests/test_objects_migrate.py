@@ -612,3 +612,29 @@ def test_qube_back_planes_after_a_band_sequential_core_as_arrays(tmp_path):
     assert np.array_equal(np.asarray(structures["qube_back_1"].data), planes[0])
     assert np.array_equal(np.asarray(structures["qube_back_2"].data), planes[1])
     assert "<description>Back plane 2 of the QUBE object: LONGITUDE.</description>" in product.label_path.read_text()
+
+
+@needs_saxon
+def test_binary_rows_in_longer_fixed_records_are_described_by_the_file(tmp_path):
+    """Rows of ROW_BYTES 6, each in a record of RECORD_BYTES 8 (2 pad bytes), the file exactly
+    ROWS records: the record length the bytes show, with a warning naming ROW_BYTES."""
+    values = [(n * 1.5, -n) for n in range(3)]
+    (tmp_path / "R.DAT").write_bytes(b"".join(struct.pack(">fh", v, c) + b"\0\0" for v, c in values))
+    label = tmp_path / "R.LBL"
+    label.write_text(
+        "PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 8\r\nFILE_RECORDS = 3\r\n"
+        "^TABLE = \"R.DAT\"\r\nPRODUCT_ID = PADDED\r\nOBJECT = TABLE\r\n INTERCHANGE_FORMAT = BINARY\r\n ROWS = 3\r\n"
+        " COLUMNS = 2\r\n ROW_BYTES = 6\r\n"
+        " OBJECT = COLUMN\r\n  NAME = V\r\n  DATA_TYPE = IEEE_REAL\r\n  START_BYTE = 1\r\n  BYTES = 4\r\n"
+        " END_OBJECT = COLUMN\r\n"
+        " OBJECT = COLUMN\r\n  NAME = C\r\n  DATA_TYPE = MSB_INTEGER\r\n  START_BYTE = 5\r\n  BYTES = 2\r\n"
+        " END_OBJECT = COLUMN\r\nEND_OBJECT = TABLE\r\nEND\r\n", newline="")
+    product = migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
+    _clean(product.label_path)
+    assert product.warnings == (
+        f"{label}: OBJECT = TABLE (line 7): rows of 6 bytes (ROW_BYTES), but its file ends 3 records of "
+        "RECORD_BYTES 8 after the table's start: each row described as one 8-byte record, the bytes after its "
+        "columns unnamed",)
+    table = _read(product.label_path)["table"]
+    assert np.asarray(table["V"]).tolist() == [v for v, _ in values]
+    assert np.asarray(table["C"]).tolist() == [c for _, c in values]

@@ -471,6 +471,13 @@ def _table(ctx: FileContext, target: Target) -> dict[str, object]:
     }
     warnings = [str(f.pop("warning")) for f in columns if f.get("warning")]
     table["warnings"] = warnings
+    record_bytes = _rows_in_records(target, rows, record_length)
+    if element == "Table_Binary" and record_bytes is not None:
+        table["record_length"], table["length"] = record_bytes, rows * record_bytes
+        stated = "ROW_BYTES with its prefix and suffix" if prefix or suffix else "ROW_BYTES"
+        warnings.append(f"{where(block)}: rows of {record_length} bytes ({stated}), but its file ends {rows} "
+                        f"records of RECORD_BYTES {record_bytes} after the table's start: each row described as "
+                        f"one {record_bytes}-byte record, the bytes after its columns unnamed")
     if element == "Table_Character":
         try:
             table["delimiter"] = _record_delimiter(ctx, block, path, offset, record_length)
@@ -484,6 +491,18 @@ def _table(ctx: FileContext, target: Target) -> dict[str, object]:
                             f"records ends with {_ENDINGS[measured[0]]} at byte {measured[1]}, and every column "
                             "lies before it")
     return table
+
+
+def _rows_in_records(target: Target, rows: int, record_length: int) -> int | None:
+    """RECORD_BYTES when a binary table's rows are its file's fixed-length records, not packed at
+    ROW_BYTES: the table is the file's last object and the file ends exactly ROWS records of
+    RECORD_BYTES after its start (and not ROWS rows of ROW_BYTES). None otherwise."""
+    record_bytes, end = target.record_bytes, target.next_start
+    if record_bytes is None or end is None or record_bytes <= record_length:
+        return None
+    if end != target.path.stat().st_size or end - target.offset != rows * record_bytes:
+        return None
+    return record_bytes
 
 
 _ENDINGS = {"Carriage-Return Line-Feed": "CR LF", "Line-Feed": "LF"}
