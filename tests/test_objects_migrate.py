@@ -638,3 +638,16 @@ def test_binary_rows_in_longer_fixed_records_are_described_by_the_file(tmp_path)
     table = _read(product.label_path)["table"]
     assert np.asarray(table["V"]).tolist() == [v for v, _ in values]
     assert np.asarray(table["C"]).tolist() == [c for _, c in values]
+
+
+def test_vims_qube_pointer_finds_its_spectral_qube_and_a_cut_file_is_named(tmp_path):
+    """Cassini VIMS: ^QUBE describes OBJECT = SPECTRAL_QUBE; this genuine copy's .qub is cut to
+    10629 bytes (tests/data/genuine_pds3), so both objects lie past its end - said so, not "no object"."""
+    label = DATA_DIR / "genuine_pds3" / "pdsparser" / "v1877838443_1.lbl"
+    with pytest.raises(Refused) as refused:
+        migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
+    assert str(refused.value).splitlines() == [
+        f"{label}: ^HISTORY (line 12): OBJECT = HISTORY (line 124) starts at byte 10752, past the end of "
+        "v1877838443_1.qub (10629 bytes)",
+        f"{label}: ^QUBE (line 13): OBJECT = SPECTRAL_QUBE (line 130) starts at byte 23552, past the end of "
+        "v1877838443_1.qub (10629 bytes)"]

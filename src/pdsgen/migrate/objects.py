@@ -75,7 +75,10 @@ class Placed:
 def placed_pointers(ctx: FileContext) -> Iterator[Placed]:
     """Every data pointer of the label: the top level's, then each OBJECT = FILE block's."""
     for ptr in ctx.data_pointers():
-        yield Placed(ptr, ctx.object_for(ptr), ctx.record_bytes)
+        block = ctx.object_for(ptr)
+        if block is None and ptr.name == "QUBE":  # ^QUBE describing an OBJECT = SPECTRAL_QUBE (Cassini VIMS)
+            block = next(ctx.root.find("SPECTRAL_QUBE"), None)
+        yield Placed(ptr, block, ctx.record_bytes)
     for file_block in ctx.root.blocks("FILE"):
         record_bytes = file_block.number("RECORD_BYTES")
         for stmt in file_block.statements():
@@ -158,6 +161,16 @@ def describe_objects(ctx: FileContext) -> tuple[list[DataFile], str | None]:
     return result, image_id
 
 
+# Pointers to an image's line prefixes or suffixes as a table of their own (Cassini ISS:
+# ^LINE_PREFIX_TABLE with no OBJECT, its layout in ^LINE_PREFIX_STRUCTURE of the IMAGE).
+_LINE_AFFIX_TABLES = frozenset({"LINE_PREFIX_TABLE", "LINE_SUFFIX_TABLE"})
+
+
+def _has_line_affixes(ctx: FileContext) -> bool:
+    return any(block.number("LINE_PREFIX_BYTES") or block.number("LINE_SUFFIX_BYTES")
+               for block in ctx.root.walk() if block.kind == "OBJECT" and _kind(block.name) == "image")
+
+
 def _object_starts(ctx: FileContext, placements: list[Placed]) -> dict[Path, list[int]]:
     """Each file's object starts, in order, with the file's end last: what bounds an object
     whose label states no length (an ISIS2 HISTORY)."""
@@ -180,6 +193,8 @@ def _describe_pointer(ctx: FileContext, placed: Placed, used: set[str],
     if block is None:
         if ptr.form == "file":  # ^MEX_ORIENTATION_DESC = "X.TXT": a document beside the product, no data
             return None
+        if ptr.name in _LINE_AFFIX_TABLES and _has_line_affixes(ctx):
+            return None  # the image's line prefixes/suffixes again: described with the image's lines
         raise Refused(ctx.path, f"{pointer_where(ptr)} points at an object the label does not describe")
     kind = _kind(ptr.name)
     if kind == "other":
