@@ -651,3 +651,15 @@ def test_vims_qube_pointer_finds_its_spectral_qube_and_a_cut_file_is_named(tmp_p
         "v1877838443_1.qub (10629 bytes)",
         f"{label}: ^QUBE (line 13): OBJECT = SPECTRAL_QUBE (line 130) starts at byte 23552, past the end of "
         "v1877838443_1.qub (10629 bytes)"]
+
+
+def test_a_pointer_to_record_zero_with_no_object_is_left_out_with_a_warning(tmp_path):
+    """CRISM TRDR labels write ^TRDR_HK_TABLE = 0 (no table) inside OBJECT = FILE: nothing to describe."""
+    shutil.copy(OBJECTS / "CDR410000000000_AT0300020L_2.IMG", tmp_path)
+    text = (OBJECTS / "CDR410000000000_AT0300020L_2.LBL").read_bytes()
+    anchor = b'  ^ROWNUM_TABLE = ("CDR410000000000_AT0300020L_2.IMG", 71 )'
+    label = tmp_path / "CDR410000000000_AT0300020L_2.LBL"
+    label.write_bytes(text.replace(anchor, anchor + b"\n  ^TRDR_HK_TABLE = 0", 1))
+    product = migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
+    assert product.warnings == (f"{label}: ^TRDR_HK_TABLE (line 99) = 0 names no record and the label describes no "
+                                "object for it: left out",)

@@ -115,6 +115,7 @@ OBJECT_CLASSES: tuple[tuple[str, str, str], ...] = (
 OTHER_OBJECTS: tuple[tuple[str, str], ...] = (
     ("OBJECT = FILE (combined detached label)", "each pointer in it described in its file, records counted "
      "in the FILE block's RECORD_BYTES; one File_Area_Observational per file"),
+    ("an object of another name with LINES, LINE_SAMPLES, SAMPLE_TYPE and SAMPLE_BITS", "as IMAGE"),
     ("COMPRESSED_FILE (ENCODING_TYPE JP2)", "Encoded_Image in File_Area_Observational_Supplemental"),
     ("COLUMN DATA_TYPE MSB_BIT_STRING (also spelled MSB BIT STRING)", "Field_Binary UnsignedBitString"),
     ("BIT_COLUMN (in an MSB or 1-byte COLUMN)", "Packed_Data_Fields/Field_Bit, the column UnsignedBitString; "

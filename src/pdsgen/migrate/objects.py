@@ -54,6 +54,7 @@ class DataFile:
     path: Path
     objects: list[dict[str, object]] = field(default_factory=list)
     supplemental: bool = False  # the detached PDS3 label itself
+    warnings: list[str] = field(default_factory=list)  # what was left out or overridden, and why
 
     @property
     def name(self) -> str:
@@ -114,11 +115,12 @@ def describe_objects(ctx: FileContext) -> tuple[list[DataFile], str | None]:
     image_id: str | None = None
     used: set[str] = set()
     missing: dict[str, list[str]] = {}  # a missing file named by several pointers: told once
+    notes: list[str] = []  # pointers that name nothing, left out
     placements = list(placed_pointers(ctx))
     starts = _object_starts(ctx, placements)
     for placed in placements:
         try:
-            found = _describe_pointer(ctx, placed, used, starts)
+            found = _describe_pointer(ctx, placed, used, starts, notes)
         except MissingFile as absent:
             missing.setdefault(absent.file_name, []).append(f"^{placed.ptr.name} line {placed.ptr.statement.line}")
             continue
@@ -153,6 +155,7 @@ def describe_objects(ctx: FileContext) -> tuple[list[DataFile], str | None]:
                                            "length": ctx.size, "parsing_standard_id": "PDS3",
                                            "description": "The detached PDS3 label of this product."}],
                                supplemental=primary))
+    next(data for data in result if data.path == ctx.path).warnings.extend(notes)
     for data in result:
         problems.extend(_order_problems(data))
     if problems:
@@ -160,6 +163,9 @@ def describe_objects(ctx: FileContext) -> tuple[list[DataFile], str | None]:
     result.sort(key=lambda data: data.supplemental)  # File_Area_Observational first, as the schema orders them
     return result, image_id
 
+
+# The keywords that make an object of any name an image (PDS3 Standards, IMAGE object).
+_IMAGE_KEYWORDS = ("LINES", "LINE_SAMPLES", "SAMPLE_TYPE", "SAMPLE_BITS")
 
 # Pointers to an image's line prefixes or suffixes as a table of their own (Cassini ISS:
 # ^LINE_PREFIX_TABLE with no OBJECT, its layout in ^LINE_PREFIX_STRUCTURE of the IMAGE).
@@ -186,10 +192,17 @@ def _object_starts(ctx: FileContext, placements: list[Placed]) -> dict[Path, lis
     return {path: sorted(found) for path, found in starts.items()}
 
 
-def _describe_pointer(ctx: FileContext, placed: Placed, used: set[str],
-                      starts: dict[Path, list[int]]) -> tuple[Path, dict[str, object]] | None:
+def _describe_pointer(ctx: FileContext, placed: Placed, used: set[str], starts: dict[Path, list[int]],
+                      notes: list[str]) -> tuple[Path, dict[str, object]] | None:
     """One pointer's object, described at its place (None: a document beside the product)."""
     ptr, block = placed.ptr, placed.block
+    if block is None and ptr.form == "record" and ptr.record == 0:  # CRISM's ^TRDR_HK_TABLE = 0: none
+        notes.append(f"{pointer_where(ptr)} = 0 names no record and the label describes no object for it: "
+                     "left out")
+        return None
+    if (ptr.record is not None and ptr.record < 1) or (ptr.byte is not None and ptr.byte < 1):
+        raise Refused(ctx.path, f"{pointer_where(ptr)}: {ptr.record if ptr.byte is None else ptr.byte} is no "
+                                "record or byte number (they count from 1)")
     if block is None:
         if ptr.form == "file":  # ^MEX_ORIENTATION_DESC = "X.TXT": a document beside the product, no data
             return None
@@ -197,11 +210,10 @@ def _describe_pointer(ctx: FileContext, placed: Placed, used: set[str],
             return None  # the image's line prefixes/suffixes again: described with the image's lines
         raise Refused(ctx.path, f"{pointer_where(ptr)} points at an object the label does not describe")
     kind = _kind(ptr.name)
+    if kind == "other" and all(block.get(key) is not None for key in _IMAGE_KEYWORDS):
+        kind = "image"  # an image by its keywords, whatever its name (SELENE's GEOMETRIC_DATA_ALTITUDE)
     if kind == "other":
         raise Refused(ctx.path, f"{where(block)}: migrate describes {DESCRIBED_OBJECTS}, not this object")
-    if (ptr.record is not None and ptr.record < 1) or (ptr.byte is not None and ptr.byte < 1):
-        raise Refused(ctx.path, f"{pointer_where(ptr)}: {ptr.record if ptr.byte is None else ptr.byte} is no "
-                                "record or byte number (they count from 1)")
     path = _data_path(ctx, placed)
     offset = _offset(placed)
     if offset is None:

@@ -143,8 +143,7 @@ def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLik
         "files": [_file_context(data) for data in files],
     })
     written = _write(files, text, label_out, target_dir, copy and not in_place, overwrite)
-    warnings = tuple(f"{source}: {warning}" for data in files for o in data.objects
-                     for warning in o.get("warnings") or ())  # type: ignore[attr-defined]
+    warnings = tuple(f"{source}: {warning}" for warning in _warnings(files))
     return MigratedProduct(pid, str(ident["lid"]), label_out, written, copied=copy and not in_place,
                            warnings=warnings)
 
@@ -186,6 +185,14 @@ def _read(source: Path, labels: LabelCache | None = None, root: Path | None = No
     if not ctx.label.end_found:
         raise Refused(source, "is not a PDS3 label (no END statement)")
     return ctx
+
+
+def _warnings(files: list[DataFile]) -> Iterator[str]:
+    """What the description left out or overrode: each file's notes, then each object's."""
+    for data in files:
+        yield from data.warnings
+        for obj in data.objects:
+            yield from obj.get("warnings") or ()  # type: ignore[misc]
 
 
 def _file_context(data: DataFile) -> dict[str, object]:
