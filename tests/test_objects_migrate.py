@@ -663,3 +663,15 @@ def test_a_pointer_to_record_zero_with_no_object_is_left_out_with_a_warning(tmp_
     product = migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
     assert product.warnings == (f"{label}: ^TRDR_HK_TABLE (line 99) = 0 names no record and the label describes no "
                                 "object for it: left out",)
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no named pipes here")
+def test_a_fifo_named_as_a_data_file_is_not_a_regular_file(tmp_path):
+    os.mkfifo(tmp_path / "PIPE.IMG")
+    label = tmp_path / "PIPE.LBL"
+    label.write_text("PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = UNDEFINED\r\n^IMAGE = \"PIPE.IMG\"\r\n"
+                     "PRODUCT_ID = PIPE\r\nOBJECT = IMAGE\r\n LINES = 2\r\n LINE_SAMPLES = 2\r\n"
+                     " SAMPLE_TYPE = UNSIGNED_INTEGER\r\n SAMPLE_BITS = 8\r\nEND_OBJECT = IMAGE\r\nEND\r\n", newline="")
+    with pytest.raises(Refused) as refused:
+        migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
+    assert str(refused.value) == f"{label}: ^IMAGE (line 3): data file PIPE.IMG is not a regular file"

@@ -291,6 +291,9 @@ def _data_path(ctx: FileContext, placed: Placed) -> Path:
     else:
         path, file_name = ctx.target_path(ptr), ptr.file_name or ctx.path.name
     if path is None:
+        beside = ctx.path.parent / file_name  # inside the tree: _refuse_outside has run
+        if beside.exists() and not beside.is_file():
+            raise Refused(ctx.path, f"{pointer_where(ptr)}: data file {file_name} is not a regular file")
         raise MissingFile(ctx.path, file_name)
     if not path.is_file():
         raise Refused(ctx.path, f"{pointer_where(ptr)}: data file {file_name} is not a regular file")
