@@ -553,17 +553,14 @@ def _measured_records(path: Path, offset: int, rows: int, fields_end: int) -> tu
     with open(path, "rb") as handle:
         handle.seek(offset)
         first = handle.readline(1 << 20)
-        if not first.endswith(b"\n"):
-            return None
+        ending = b"\r\n" if first.endswith(b"\r\n") else b"\n"
         length = len(first)
-        handle.seek(offset)
-        data = handle.read(rows * length)
-    ending = b"\r\n" if first.endswith(b"\r\n") else b"\n"
-    if len(data) != rows * length or fields_end > length - len(ending):
-        return None
-    records = [data[n * length:(n + 1) * length] for n in range(rows)]
-    if not all(r.endswith(ending) and r.count(b"\n") == 1 for r in records):
-        return None
+        if not first.endswith(b"\n") or fields_end > length - len(ending):
+            return None
+        for _ in range(rows - 1):  # a record at a time: a large table is not read whole
+            record = handle.readline(length)
+            if len(record) != length or not record.endswith(ending):
+                return None
     return ("Carriage-Return Line-Feed" if ending == b"\r\n" else "Line-Feed"), length
 
 
@@ -787,6 +784,10 @@ def _bit_fields(ctx: FileContext, column: Block, pds3_type: str, item_bytes: int
         repeats = int(items) if isinstance(items, int) and items > 0 else 1
         width = int(bit_column.number("ITEM_BITS") or count) if repeats > 1 else count
         step = int(bit_column.number("ITEM_OFFSET") or width) if repeats > 1 else width
+        last = start + (repeats - 1) * step + width - 1
+        if last > item_bytes * 8 or len(bits) + repeats > _MAX_COLUMNS:
+            raise Refused(ctx.path, f"{where(bit_column)}: its bits (to bit {last}) lie outside the column's "
+                                    f"{item_bytes * 8} bits")
         for n in range(repeats):
             first = start + n * step
             if first + width - 1 > item_bytes * 8:

@@ -36,6 +36,9 @@ def describe_qube(ctx: FileContext, target: Target) -> dict[str, object]:
         raise Refused(ctx.path, f"{where(block)}: CORE_ITEM_TYPE {item_type or 'not given'} of {item_bytes} bytes "
                                 "has no PDS4 data type")
     suffix = _numbers(ctx, block, "SUFFIX_ITEMS", len(axes)) if block.get("SUFFIX_ITEMS") else [0] * len(axes)
+    if any(n < 0 or n > _MAX_SUFFIX_ITEMS for n in suffix):
+        raise Refused(ctx.path, f"{where(block)}: SUFFIX_ITEMS ({', '.join(map(str, suffix))}) is not {len(axes)} "
+                                f"counts of 0 to {_MAX_SUFFIX_ITEMS}")
     planes_after = suffix[2] if not any(suffix[:2]) else 0  # suffix planes after the whole core (BSQ back planes)
     if planes_after:
         suffix = [0, 0, 0]
@@ -160,6 +163,11 @@ def _core_field(ctx: FileContext, block, data_type: str, item_bytes: int, count:
             "value_offset": None if identity else (base or 0.0), "description": None,
             "special": special_constants(ctx, block, is_float, item_bytes * 8, QUBE_SPECIAL_CONSTANTS),
             "group": {"repetitions": count, "location": 1, "length": count * item_bytes}}
+
+
+# More suffix items than any genuine cube has (ISIS2 cubes carry a few dozen back planes at most):
+# a hostile count is refused before anything is built for it.
+_MAX_SUFFIX_ITEMS = 10_000
 
 
 def _suffix_list(block, key: str, count: int) -> list[object]:
