@@ -675,3 +675,12 @@ def test_a_fifo_named_as_a_data_file_is_not_a_regular_file(tmp_path):
     with pytest.raises(Refused) as refused:
         migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
     assert str(refused.value) == f"{label}: ^IMAGE (line 3): data file PIPE.IMG is not a regular file"
+
+
+def test_columns_past_the_row_are_refused(tmp_path):
+    label, _ = _container_table(tmp_path, nested=False)
+    label.write_bytes(label.read_bytes().replace(b"  REPETITIONS = 3\r\n", b"  REPETITIONS = 4\r\n"))
+    with pytest.raises(Refused) as refused:
+        migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
+    assert str(refused.value) == (f"{label}: OBJECT = TABLE (line 7): its columns reach byte 28 of a row, past its "
+                                  "22 bytes (ROW_BYTES with any prefix and suffix)")

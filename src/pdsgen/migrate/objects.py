@@ -501,6 +501,10 @@ def _table(ctx: FileContext, target: Target) -> dict[str, object]:
     }
     warnings = [str(f.pop("warning")) for f in columns if f.get("warning")]
     table["warnings"] = warnings
+    reach = _fields_end(columns)
+    if element == "Table_Binary" and reach > record_length:
+        raise Refused(ctx.path, f"{where(block)}: its columns reach byte {reach} of a row, past its {record_length} "
+                                "bytes (ROW_BYTES with any prefix and suffix)")
     record_bytes = _rows_in_records(target, rows, record_length)
     if element == "Table_Binary" and record_bytes is not None:
         table["record_length"], table["length"] = record_bytes, rows * record_bytes
