@@ -684,3 +684,24 @@ def test_columns_past_the_row_are_refused(tmp_path):
         migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
     assert str(refused.value) == (f"{label}: OBJECT = TABLE (line 7): its columns reach byte 28 of a row, past its "
                                   "22 bytes (ROW_BYTES with any prefix and suffix)")
+
+
+@needs_saxon
+def test_container_in_an_ascii_table_as_group_field_character(tmp_path):
+    (tmp_path / "C.TAB").write_bytes(b" 1, 1.5, 2.5, 3.5\r\n 2,-1.0,-2.0,-3.0\r\n")
+    label = tmp_path / "C.LBL"
+    label.write_text(
+        "PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 19\r\nFILE_RECORDS = 2\r\n"
+        "^TABLE = \"C.TAB\"\r\nPRODUCT_ID = CC\r\nOBJECT = TABLE\r\n INTERCHANGE_FORMAT = ASCII\r\n ROWS = 2\r\n"
+        " COLUMNS = 2\r\n ROW_BYTES = 19\r\n"
+        " OBJECT = COLUMN\r\n  NAME = N\r\n  DATA_TYPE = ASCII_INTEGER\r\n  START_BYTE = 1\r\n  BYTES = 2\r\n"
+        " END_OBJECT = COLUMN\r\n"
+        " OBJECT = CONTAINER\r\n  NAME = VALUES\r\n  START_BYTE = 4\r\n  BYTES = 5\r\n  REPETITIONS = 3\r\n"
+        "  OBJECT = COLUMN\r\n   NAME = V\r\n   DATA_TYPE = ASCII_REAL\r\n   START_BYTE = 1\r\n   BYTES = 4\r\n"
+        "  END_OBJECT = COLUMN\r\n END_OBJECT = CONTAINER\r\nEND_OBJECT = TABLE\r\nEND\r\n", newline="")
+    product = migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
+    _clean(product.label_path)
+    assert "<Group_Field_Character>" in product.label_path.read_text()
+    table = _read(product.label_path)["table"]
+    assert np.asarray(table["VALUES, V"]).tolist() == [[1.5, 2.5, 3.5], [-1.0, -2.0, -3.0]]
+    assert np.asarray(table["N"]).tolist() == [1, 2]
