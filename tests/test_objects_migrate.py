@@ -192,7 +192,7 @@ def test_image_histogram_as_array_1d(tmp_path):
 
 # -- refusals: every obstacle, one line each, word for word -------------------------------------------
 
-def test_themis_qube_refusal_names_every_obstacle_with_its_line(tmp_path):
+def test_themis_qube_refused_for_its_history_alone(tmp_path):
     qube = OBJECTS / "I00831002RDR_cropped.QUB"
     out = tmp_path / "out"
     result = run_cli("migrate", qube, "-o", out)
@@ -200,9 +200,7 @@ def test_themis_qube_refusal_names_every_obstacle_with_its_line(tmp_path):
     assert result.stderr.splitlines() == [
         f"pdsgen: error: {qube}: OBJECT = HISTORY (line 28): its bytes are not text (7-bit ASCII or UTF-8) "
         "and it names no standard PDS4 parses",
-        f"pdsgen: error: {qube}: OBJECT = SPECTRAL_QUBE (line 33): suffix planes (side (1), bottom (1) of "
-        "SUFFIX_ITEMS) interleave with the core; no PDS4 object describes them in place exactly",
-    ]
+    ]  # its side and bottom planes are described band by band (test_qube_side_and_bottom_planes_band_by_band)
     assert not out.exists() or list(out.iterdir()) == []
 
 
@@ -705,3 +703,41 @@ def test_container_in_an_ascii_table_as_group_field_character(tmp_path):
     table = _read(product.label_path)["table"]
     assert np.asarray(table["VALUES, V"]).tolist() == [[1.5, 2.5, 3.5], [-1.0, -2.0, -3.0]]
     assert np.asarray(table["N"]).tolist() == [1, 2]
+
+
+def _side_and_bottom_qube(directory: Path) -> tuple[Path, np.ndarray, np.ndarray, np.ndarray]:
+    """A band-sequential QUBE with a side and a bottom plane (SUFFIX_ITEMS = (1, 1, 0), as THEMIS
+    RDRs carry), laid out by the ISIS2 cube definition: per band, each line's samples and side
+    item, then the bottom line (an item under each sample, and the corner item)."""
+    rng = np.random.default_rng(3)
+    core = rng.integers(-500, 500, (2, 3, 4)).astype(">i2")
+    side = rng.normal(size=(2, 3)).astype(">f4")
+    bottom = rng.normal(size=(2, 5)).astype(">f4")  # 4 under the samples, then the corner
+    data = b"".join(b"".join(core[b, line].tobytes() + side[b, line:line + 1].tobytes() for line in range(3))
+                    + bottom[b].tobytes() for b in range(2))
+    text = ("PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 1024\r\nFILE_RECORDS = 2\r\n"
+            "LABEL_RECORDS = 1\r\n^QUBE = 2\r\nPRODUCT_ID = SIDEBOTTOM\r\nOBJECT = QUBE\r\n AXES = 3\r\n"
+            " AXIS_NAME = (SAMPLE, LINE, BAND)\r\n CORE_ITEMS = (4, 3, 2)\r\n CORE_ITEM_BYTES = 2\r\n"
+            " CORE_ITEM_TYPE = SUN_INTEGER\r\n SUFFIX_ITEMS = (1, 1, 0)\r\n SUFFIX_BYTES = 4\r\n"
+            " SAMPLE_SUFFIX_NAME = HORIZONTAL_DESTRIPE\r\n SAMPLE_SUFFIX_ITEM_BYTES = 4\r\n"
+            " SAMPLE_SUFFIX_ITEM_TYPE = SUN_REAL\r\n LINE_SUFFIX_NAME = VERTICAL_DESTRIPE\r\n"
+            " LINE_SUFFIX_ITEM_BYTES = 4\r\n LINE_SUFFIX_ITEM_TYPE = SUN_REAL\r\nEND_OBJECT = QUBE\r\nEND\r\n")
+    path = directory / "thm.qub"
+    path.write_bytes(text.encode().ljust(1024) + data.ljust(1024, b"\0"))
+    return path, core, side, bottom
+
+
+@needs_saxon
+def test_qube_side_and_bottom_planes_band_by_band(tmp_path):
+    path, core, side, bottom = _side_and_bottom_qube(tmp_path)
+    product = migrate_product(path, tmp_path / "out", bundle_lid=BUNDLE)
+    _clean(product.label_path)
+    structures = _read(product.label_path)
+    for b in range(2):
+        lines = structures[f"qube_{b + 1}"]
+        assert np.array_equal(np.asarray(lines["CORE"]), core[b])
+        assert np.array_equal(np.asarray(lines["HORIZONTAL_DESTRIPE"]), side[b])
+        below = structures[f"qube_{b + 1}_bottom"]
+        assert np.array_equal(np.asarray(below["LINE_SUFFIX"])[0], bottom[b, :4])
+        assert bytes(np.asarray(below["CORNER"]).astype("u1")[0]) == bottom[b, 4:].tobytes()
+    assert md5(tmp_path / "out" / "thm.qub") == md5(path)

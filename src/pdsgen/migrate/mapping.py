@@ -108,8 +108,10 @@ OBJECT_CLASSES: tuple[tuple[str, str, str], ...] = (
      "CORE_MULTIPLIER as value_offset/scaling_factor, CORE_NULL and the CORE_* special values); suffix "
      "items along the fastest axis only (side planes of a SAMPLE-fastest cube): Table_Binary, a record per run "
      "of that axis (the core's items a group, each suffix item a field); suffix planes along the slowest axis "
-     "only (back planes of a band-sequential cube): the core Array_3D, each plane an Array_2D after it; other "
-     "suffix planes: refused, named"),
+     "only (back planes of a band-sequential cube): the core Array_3D, each plane an Array_2D after it; suffix "
+     "planes along the middle axis (bottom planes, with or without side planes): slice by slice of the slowest "
+     "axis, its core (Array_2D, or a table of a record per run with its side items) and its bottom runs (a "
+     "Table_Binary, corner bytes a byte group); other suffix planes: refused, named"),
 )
 # Label constructs that are not data objects of their own, and what migrate does with them.
 OTHER_OBJECTS: tuple[tuple[str, str], ...] = (

@@ -42,6 +42,8 @@ def describe_qube(ctx: FileContext, target: Target) -> dict[str, object]:
     planes_after = suffix[2] if not any(suffix[:2]) else 0  # suffix planes after the whole core (BSQ back planes)
     if planes_after:
         suffix = [0, 0, 0]
+    if suffix[1] and not suffix[2]:
+        return _slices_with_bottom_planes(ctx, target, axes, sizes, (data_type, item_bytes), suffix[0], suffix[1])
     if any(suffix[1:]):
         planes = [f"{_PLANE_OF[axis]} ({count})" for axis, count in zip(axes, suffix, strict=True) if count]
         raise Refused(ctx.path, f"{where(block)}: suffix planes ({', '.join(planes)} of SUFFIX_ITEMS) "
@@ -108,6 +110,89 @@ def _planes_after_core(ctx: FileContext, target: Target, axes: list[str], sizes:
     return arrays
 
 
+def _slices_with_bottom_planes(ctx: FileContext, target: Target, axes: list[str], sizes: list[int],
+                               core_type: tuple[str, int], side: int, bottom: int) -> dict[str, object]:
+    """Suffix planes along the middle axis (bottom planes of a band-sequential cube), with or
+    without side planes: each slice of the slowest axis is its core runs (with their side
+    items) then `bottom` suffix runs of (fastest axis + side) items of SUFFIX_BYTES. Each
+    slice is described in place: its core (an Array_2D, or with side items a table of a
+    record per run) and its bottom runs (a table: the bottom items a group, the corner bytes
+    where side and bottom planes meet a byte group). Bottom items of several types, or narrower
+    than SUFFIX_BYTES, are refused."""
+    block = target.block
+    data_type, item_bytes = core_type
+    fast, middle, _ = axes
+    slot = block.number("SUFFIX_BYTES")
+    if not isinstance(slot, int) or slot <= 0:
+        raise Refused(ctx.path, f"{where(block)}: SUFFIX_BYTES is missing or not a positive integer")
+    kinds = {(str(t or "").upper(), n) for t, n in zip(_suffix_list(block, f"{middle}_SUFFIX_ITEM_TYPE", bottom),
+                                                        _suffix_list(block, f"{middle}_SUFFIX_ITEM_BYTES", bottom),
+                                                        strict=True)}
+    bottom_type = next(iter(kinds)) if len(kinds) == 1 else None
+    field_type = (pds4_data_type(bottom_type[0], int(bottom_type[1]) * 8)
+                  if bottom_type is not None and isinstance(bottom_type[1], int) else None)
+    if field_type is None or bottom_type is None or bottom_type[1] != slot:
+        raise Refused(ctx.path, f"{where(block)}: {_PLANE_OF[middle]} plane items ({', '.join(sorted(map(str, kinds)))}"
+                                f") are not of one PDS4 type filling SUFFIX_BYTES {slot}")
+    if sizes[2] > _MAX_SLICES:
+        raise Refused(ctx.path, f"{where(block)}: {sizes[2]} {axes[2].lower()}s with {_PLANE_OF[middle]} planes, more "
+                                f"than the {_MAX_SLICES} migrate describes one by one")
+    side_table = _core_lines_with_suffix(ctx, target, axes, sizes, core_type, side) if side else None
+    run = sizes[0] * item_bytes + side * slot
+    bottom_record = (sizes[0] + side) * slot
+    slice_bytes = sizes[1] * run + bottom * bottom_record
+    plane = _PLANE_OF[middle]
+    objects: list[dict[str, object]] = []
+    for k in range(sizes[2]):
+        start = target.offset + k * slice_bytes
+        name = f"{axes[2].lower()} {k + 1}"
+        if side_table is not None:
+            core = {**side_table, "local_identifier": f"{target.ident}_{k + 1}", "offset": start,
+                    "records": sizes[1], "length": sizes[1] * run,
+                    "description": f"{name.capitalize()} of the {block.name} object: a record per {fast.lower()} run "
+                                   f"with its {_PLANE_OF[fast]} plane item(s).", "pds3": f"{where(block)} {name}"}
+        else:
+            core = _slice_array(ctx, target, axes, sizes, core_type, start, k)
+        bottom_fields: list[dict[str, object]] = [
+            {"name": f"{middle}_SUFFIX", "location": 1, "length": slot, "data_type": field_type, "unit": None,
+             "scaling_factor": None, "value_offset": None, "description": None, "special": [],
+             "group": {"repetitions": sizes[0], "location": 1, "length": sizes[0] * slot}}]
+        if side:
+            bottom_fields.append({"name": "CORNER", "location": 1, "length": 1, "data_type": "UnsignedByte",
+                                  "unit": None, "scaling_factor": None, "value_offset": None, "description": None,
+                                  "special": [], "group": {"repetitions": side * slot,
+                                                           "location": 1 + sizes[0] * slot, "length": side * slot}})
+        objects += [core, {
+            "kind": "table", "element": "Table_Binary", "local_identifier": f"{target.ident}_{k + 1}_{plane}",
+            "offset": start + sizes[1] * run, "length": bottom * bottom_record, "records": bottom,
+            "record_length": bottom_record, "fields": bottom_fields, "delimiter": None,
+            "description": f"The {plane} plane of {name} of the {block.name} object: {bottom} run(s) of "
+                           f"{sizes[0]} items" + (f" and the {side * slot} corner bytes." if side else "."),
+            "pds3": f"{where(block)} {name} {plane} plane"}]
+    first = objects[0]
+    first["extra"] = objects[1:]
+    return first
+
+
+def _slice_array(ctx: FileContext, target: Target, axes: list[str], sizes: list[int], core_type: tuple[str, int],
+                 start: int, k: int) -> dict[str, object]:
+    """One slice of the slowest axis of a cube's core, as an Array_2D at `start`."""
+    block = target.block
+    data_type, item_bytes = core_type
+    base, multiplier = block.number("CORE_BASE"), block.number("CORE_MULTIPLIER")
+    identity = base in (None, 0) and multiplier in (None, 1)
+    return {"kind": "array", "element": "Array_2D", "local_identifier": f"{target.ident}_{k + 1}", "offset": start,
+            "length": sizes[0] * sizes[1] * item_bytes,
+            "axes": [(_AXIS_NAMES[axes[1]], sizes[1]), (_AXIS_NAMES[axes[0]], sizes[0])],
+            "description": f"{axes[2].capitalize()} {k + 1} of the core of the {block.name} object.",
+            "data_type": data_type, "unit": _core_unit(block),
+            "scaling_factor": None if identity else (multiplier if multiplier is not None else 1.0),
+            "value_offset": base if base is not None else 0.0,
+            "special": special_constants(ctx, block, data_type.startswith("IEEE"), item_bytes * 8,
+                                         QUBE_SPECIAL_CONSTANTS),
+            "pds3": f"{where(block)} {axes[2].lower()} {k + 1}"}
+
+
 # The suffix plane a SUFFIX_ITEMS count along each axis makes (ISIS2 cubes).
 _PLANE_OF = {"SAMPLE": "side", "LINE": "bottom", "BAND": "back"}
 
@@ -168,6 +253,8 @@ def _core_field(ctx: FileContext, block, data_type: str, item_bytes: int, count:
 # More suffix items than any genuine cube has (ISIS2 cubes carry a few dozen back planes at most):
 # a hostile count is refused before anything is built for it.
 _MAX_SUFFIX_ITEMS = 10_000
+# Slices of a cube with bottom planes are described one by one: a bound on how many.
+_MAX_SLICES = 10_000
 
 
 def _suffix_list(block, key: str, count: int) -> list[object]:
