@@ -347,7 +347,8 @@ def _header(ctx: FileContext, target: Target) -> dict[str, object]:
                                     f"{', '.join(sorted(HEADER_STANDARDS))}; text headers of "
                                     f"{', '.join(sorted(t for t in TEXT_HEADER_TYPES if t))} or no TYPE)")
         standard = _text_standard(ctx, target, length)
-        if block.name.upper().endswith("HISTORY") and standard == "7-Bit ASCII Text" and ctx.root.get("^QUBE"):
+        is_cube = any(_kind(ptr.name) == "qube" for ptr in ctx.data_pointers())  # ^QUBE, ^SPECTRAL_QUBE
+        if block.name.upper().endswith("HISTORY") and standard == "7-Bit ASCII Text" and is_cube:
             standard = "ISIS2 History Label"  # the history object of an ISIS2 cube
     what = f"{kind} header" if kind else ("history" if "HISTORY" in block.name.upper() else "header")
     stated = block.get("BYTES") is not None or block.get("RECORDS") is not None
