@@ -741,3 +741,42 @@ def test_qube_side_and_bottom_planes_band_by_band(tmp_path):
         assert np.array_equal(np.asarray(below["LINE_SUFFIX"])[0], bottom[b, :4])
         assert bytes(np.asarray(below["CORNER"]).astype("u1")[0]) == bottom[b, 4:].tobytes()
     assert md5(tmp_path / "out" / "thm.qub") == md5(path)
+
+
+@needs_saxon
+def test_line_interleaved_spectral_qube_with_structure_files_and_suffix_planes(tmp_path):
+    """As Cassini VIMS cubes are: AXIS_NAME (SAMPLE, BAND, LINE), the core's and the suffixes'
+    keywords in ^STRUCTURE files, a side plane and 2 back planes (SUFFIX_ITEMS = (1, 2, 0)):
+    per line, each band's samples and side item, then the 2 back-plane runs."""
+    rng = np.random.default_rng(7)
+    core = rng.integers(-900, 900, (2, 4, 3)).astype(">i2")  # line, band, sample
+    side = rng.integers(0, 1 << 20, (2, 4)).astype(">i4")
+    back = rng.integers(-5, 5, (2, 2, 4)).astype(">i4")  # line, back plane, sample + corner
+    data = b"".join(b"".join(core[line, b].tobytes() + side[line, b:b + 1].tobytes() for b in range(4))
+                    + back[line].tobytes() for line in range(2))
+    (tmp_path / "core.fmt").write_text("CORE_ITEM_BYTES = 2\r\nCORE_ITEM_TYPE = SUN_INTEGER\r\nCORE_NULL = -8192\r\n"
+                                       "END\r\n", newline="")
+    (tmp_path / "suffix.fmt").write_text(
+        "SUFFIX_BYTES = 4\r\nSAMPLE_SUFFIX_ITEM_BYTES = 4\r\nSAMPLE_SUFFIX_ITEM_TYPE = SUN_INTEGER\r\n"
+        "BAND_SUFFIX_ITEM_BYTES = (4, 4)\r\nBAND_SUFFIX_ITEM_TYPE = (SUN_INTEGER, SUN_INTEGER)\r\nEND\r\n",
+        newline="")
+    (tmp_path / "V.QUB").write_bytes(data)
+    label = tmp_path / "V.LBL"
+    label.write_text(
+        "PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = UNDEFINED\r\n^QUBE = \"V.QUB\"\r\nPRODUCT_ID = VIMSLIKE\r\n"
+        "OBJECT = SPECTRAL_QUBE\r\n AXES = 3\r\n AXIS_NAME = (SAMPLE, BAND, LINE)\r\n CORE_ITEMS = (3, 4, 2)\r\n"
+        " ^STRUCTURE = \"core.fmt\"\r\n SUFFIX_ITEMS = (1, 2, 0)\r\n SAMPLE_SUFFIX_NAME = BACKGROUND\r\n"
+        " BAND_SUFFIX_NAME = (TEMP_1, TEMP_2)\r\n ^STRUCTURE = \"suffix.fmt\"\r\nEND_OBJECT = SPECTRAL_QUBE\r\nEND\r\n",
+        newline="")
+    product = migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
+    _clean(product.label_path)
+    structures = _read(product.label_path)
+    for line in range(2):
+        runs = structures[f"qube_{line + 1}"]
+        assert np.array_equal(np.asarray(runs["CORE"]), core[line])
+        assert np.array_equal(np.asarray(runs["BACKGROUND"]), side[line])
+        suffix = structures[f"qube_{line + 1}_back"]
+        assert np.array_equal(np.asarray(suffix["BAND_SUFFIX"]), back[line, :, :3])
+        assert [bytes(c) for c in np.asarray(suffix["CORNER"]).astype("u1")] == \
+            [back[line, n, 3:].tobytes() for n in range(2)]
+    assert "<missing_constant>-8192</missing_constant>" in product.label_path.read_text()

@@ -11,8 +11,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import InputError
+from ..label.beside import find_beside
 from ..label.grammar import PLACEHOLDERS
-from ..label.tree import Block, Pointer, Value
+from ..label.parser import LabelFile
+from ..label.tree import Block, Pointer, Statement, Value
 from ..validate.context import FileContext
 from .mapping import SPECIAL_CONSTANTS, SPECIAL_ORDER
 
@@ -97,3 +99,47 @@ def positive_int(ctx: FileContext, block: Block, key: str) -> int:
     if not isinstance(number, int) or number <= 0:
         raise Refused(ctx.path, f"{where(block)}: {key} is missing or not a positive integer")
     return number
+
+
+# No genuine volume nests format files more than a few deep.
+MAX_INCLUDE_DEPTH = 20
+
+
+def structure_file(ctx: FileContext, stmt: Statement, chain: tuple[Path, ...] = ()) -> tuple[Path, Block]:
+    """The format file a ^STRUCTURE names, found beside the label (or in a LABEL directory),
+    inside the trusted tree either way, and its parsed contents, included through the files of
+    `chain`: one that includes itself or lies more than MAX_INCLUDE_DEPTH files deep is refused."""
+    name = stmt.value.text
+    exact, other = ctx.resolve(name)
+    path = exact or other
+    volume_label_dir = ctx.path.parent.parent / "LABEL"  # a volume's format files (PDS3 Standards, 19.3)
+    if path is None:
+        path = find_beside(volume_label_dir, name, root=ctx.tree)
+    if path is None:
+        raise Refused(ctx.path, f"^STRUCTURE file {name} is missing")
+    path = path.resolve()
+    if path in chain:
+        raise Refused(ctx.path, f"^STRUCTURE file {name} includes itself")
+    if len(chain) >= MAX_INCLUDE_DEPTH:
+        raise Refused(ctx.path, f"^STRUCTURE files included more than {MAX_INCLUDE_DEPTH} deep")
+    try:
+        return path, LabelFile.read(path).root
+    except OSError as error:
+        raise Refused(ctx.path, f"^STRUCTURE file {name}: {error.strerror or error}") from None
+
+
+def with_structures(ctx: FileContext, block: Block) -> Block:
+    """The block with the statements of its ^STRUCTURE files in their places (a Cassini VIMS
+    SPECTRAL_QUBE keeps CORE_ITEM_TYPE and the suffix keywords in .FMT files): a copy, same name
+    and line, for keyword look-ups; the label's own statement wins where both give one."""
+    if not any(isinstance(i, Statement) and i.pointer and i.keyword.upper() == "STRUCTURE" for i in block.items):
+        return block
+    items: list[Statement | Block] = []
+    for item in block.items:
+        if isinstance(item, Statement) and item.pointer and item.keyword.upper() == "STRUCTURE":
+            _, root = structure_file(ctx, item)
+            items.extend(i for i in root.items if isinstance(i, Statement))
+        else:
+            items.append(item)
+    own = [i for i in block.items if isinstance(i, Statement)]  # first statement of a key wins in look-ups
+    return Block(block.kind, block.name, block.line, block.end_line, [*own, *items])

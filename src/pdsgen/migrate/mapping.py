@@ -104,7 +104,8 @@ OBJECT_CLASSES: tuple[tuple[str, str, str], ...] = (
     ("*SPECTRUM", "table", "as TABLE"),
     ("*SPREADSHEET", "spreadsheet", "Table_Delimited (parsing standard PDS DSV 1, FIELD_DELIMITER: "
      "COMMA, SEMICOLON, TAB, VERTICAL_BAR; FIELD objects as Field_Delimited)"),
-    ("*QUBE", "qube", "Array_3D of the core (axes AXIS_NAME reversed, CORE_ITEM_TYPE/BYTES, CORE_BASE/"
+    ("*QUBE", "qube", "(keywords of its ^STRUCTURE files included) Array_3D of the core (axes AXIS_NAME "
+     "reversed, CORE_ITEM_TYPE/BYTES, CORE_BASE/"
      "CORE_MULTIPLIER as value_offset/scaling_factor, CORE_NULL and the CORE_* special values); suffix "
      "items along the fastest axis only (side planes of a SAMPLE-fastest cube): Table_Binary, a record per run "
      "of that axis (the core's items a group, each suffix item a field); suffix planes along the slowest axis "

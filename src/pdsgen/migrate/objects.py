@@ -15,9 +15,7 @@ from fnmatch import fnmatchcase
 from pathlib import Path
 
 from ..errors import param
-from ..label.beside import find_beside
 from ..label.grammar import FLOAT_SAMPLE_TYPES
-from ..label.parser import LabelFile
 from ..label.tree import Block, Pointer, Statement, parse_pointer
 from ..pds4.model import pds4_data_type
 from ..validate.context import FileContext
@@ -28,6 +26,7 @@ from .described import (
     pointer_where,
     positive_int,
     special_constants,
+    structure_file,
     unit,
     where,
 )
@@ -582,10 +581,9 @@ def _record_delimiter(ctx: FileContext, block: Block, path: Path, offset: int, r
                             "ROW_BYTES, as a PDS4 character table must")
 
 
-# Bounds on what ^STRUCTURE files may expand to: no genuine table nests format files more than
-# a few deep or has anywhere near this many columns, and a hostile fan-out (files including each
-# other four times over) would otherwise expand to 4^19 columns.
-_MAX_INCLUDE_DEPTH = 20
+# Bounds on what ^STRUCTURE files may expand to (described.MAX_INCLUDE_DEPTH bounds their
+# nesting): no genuine table has anywhere near this many columns, and a hostile fan-out (files
+# including each other four times over) would otherwise expand to 4^19 columns.
 _MAX_COLUMNS = 100_000
 
 
@@ -597,7 +595,7 @@ def _column_blocks(ctx: FileContext, block: Block, expanded: dict[Path, list[Blo
     found: list[Block] = []
     for item in block.items:
         if isinstance(item, Statement) and item.pointer and item.keyword.upper() == "STRUCTURE":
-            path, root = _structure(ctx, item, chain)
+            path, root = structure_file(ctx, item, chain)
             if path not in expanded:
                 expanded[path] = _column_blocks(ctx, _unwrapped(root), expanded, (*chain, path))
             found.extend(expanded[path])
@@ -625,29 +623,6 @@ def _unwrapped(root: Block) -> Block:
 
 
 _COLUMN_OBJECTS = frozenset({"COLUMN", "CONTAINER", "BIT_COLUMN"})
-
-
-def _structure(ctx: FileContext, stmt: Statement, chain: tuple[Path, ...] = ()) -> tuple[Path, Block]:
-    """The format file a ^STRUCTURE names, found beside the label (or in a LABEL directory),
-    inside the trusted tree either way, and its parsed contents, included through the files of
-    `chain`: one that includes itself or lies more than _MAX_INCLUDE_DEPTH files deep is refused."""
-    name = stmt.value.text
-    exact, other = ctx.resolve(name)
-    path = exact or other
-    volume_label_dir = ctx.path.parent.parent / "LABEL"  # a volume's format files (PDS3 Standards, 19.3)
-    if path is None:
-        path = find_beside(volume_label_dir, name, root=ctx.tree)
-    if path is None:
-        raise Refused(ctx.path, f"^STRUCTURE file {name} is missing")
-    path = path.resolve()
-    if path in chain:
-        raise Refused(ctx.path, f"^STRUCTURE file {name} includes itself")
-    if len(chain) >= _MAX_INCLUDE_DEPTH:
-        raise Refused(ctx.path, f"^STRUCTURE files included more than {_MAX_INCLUDE_DEPTH} deep")
-    try:
-        return path, LabelFile.read(path).root
-    except OSError as error:
-        raise Refused(ctx.path, f"^STRUCTURE file {name}: {error.strerror or error}") from None
 
 
 def _columns(ctx: FileContext, block: Block, prefix: int, character: bool,

@@ -13,7 +13,7 @@ from __future__ import annotations
 from ..label.grammar import FLOAT_SAMPLE_TYPES
 from ..pds4.model import pds4_data_type
 from ..validate.context import FileContext
-from .described import Refused, Target, special_constants, where
+from .described import Refused, Target, special_constants, where, with_structures
 from .mapping import SPECIAL_CONSTANTS
 
 # A cube's special-value keywords: the images' and tables' (mapping.py), and CORE_VALID_MINIMUM,
@@ -24,7 +24,8 @@ _AXIS_NAMES = {"SAMPLE": "Sample", "LINE": "Line", "BAND": "Band"}
 
 def describe_qube(ctx: FileContext, target: Target) -> dict[str, object]:
     """The qube's core as Array_3D, or, with side planes, as records of a binary table."""
-    block = target.block
+    block = with_structures(ctx, target.block)
+    target = Target(block, target.ident, target.offset, target.path, target.record_bytes, target.next_start)
     axes = _axis_names(ctx, block)
     sizes = _numbers(ctx, block, "CORE_ITEMS", len(axes))
     item_bytes = block.number("CORE_ITEM_BYTES")
