@@ -1,11 +1,12 @@
 """QUBE and SPECTRAL_QUBE objects (ISIS2 cubes) as the PDS4 objects of the same bytes.
 
 A cube's core is an Array_3D whose axes, slowest first, are AXIS_NAME reversed (PDS3 names
-the fastest axis first; PDS4 arrays are Last Index Fastest). Suffix planes (SUFFIX_ITEMS not
-all zero) interleave with the core: a core with only side planes (suffix samples after each
-line) is described as binary-table records, one per line (samples, then the side-plane
-items); back and bottom planes are refused, naming them, since no PDS4 object states them in
-place exactly.
+the fastest axis first; PDS4 arrays are Last Index Fastest). Suffix planes interleave with
+the core, and an array has no stride, so they are described where they lie: suffix items
+along the fastest axis (side planes) make each run of that axis a binary-table record;
+planes along the slowest axis alone (back planes of a band-sequential cube) follow the whole
+core as arrays of their own; planes along the middle axis (bottom planes) are described slice
+by slice. Back planes together with side or bottom planes are refused, naming them.
 """
 
 from __future__ import annotations
