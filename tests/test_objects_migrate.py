@@ -780,3 +780,30 @@ def test_line_interleaved_spectral_qube_with_structure_files_and_suffix_planes(t
         assert [bytes(c) for c in np.asarray(suffix["CORNER"]).astype("u1")] == \
             [back[line, n, 3:].tobytes() for n in range(2)]
     assert "<missing_constant>-8192</missing_constant>" in product.label_path.read_text()
+
+
+@needs_saxon
+def test_qube_side_plane_and_back_planes(tmp_path):
+    """SUFFIX_ITEMS = (1, 0, 1), band sequential: the core's lines with their side items, then
+    the back plane's lines of (samples + corner) suffix items (the ISIS2 cube layout)."""
+    rng = np.random.default_rng(13)
+    core = rng.integers(-100, 100, (2, 3, 4)).astype(">i2")
+    side = rng.integers(-9, 9, (2, 3)).astype(">i4")
+    back = rng.integers(-9, 9, (3, 5)).astype(">i4")
+    data = b"".join(core[b, line].tobytes() + side[b, line:line + 1].tobytes() for b in range(2) for line in range(3))
+    text = ("PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 1024\r\nFILE_RECORDS = 2\r\n"
+            "^QUBE = 2\r\nPRODUCT_ID = SIDEBACK\r\nOBJECT = QUBE\r\n AXES = 3\r\n AXIS_NAME = (SAMPLE, LINE, BAND)\r\n"
+            " CORE_ITEMS = (4, 3, 2)\r\n CORE_ITEM_BYTES = 2\r\n CORE_ITEM_TYPE = MSB_INTEGER\r\n"
+            " SUFFIX_ITEMS = (1, 0, 1)\r\n SUFFIX_BYTES = 4\r\n SAMPLE_SUFFIX_NAME = DARK\r\n"
+            " SAMPLE_SUFFIX_ITEM_BYTES = 4\r\n SAMPLE_SUFFIX_ITEM_TYPE = MSB_INTEGER\r\n BAND_SUFFIX_NAME = QUALITY\r\n"
+            " BAND_SUFFIX_ITEM_BYTES = 4\r\n BAND_SUFFIX_ITEM_TYPE = MSB_INTEGER\r\nEND_OBJECT = QUBE\r\nEND\r\n")
+    path = tmp_path / "sb.qub"
+    path.write_bytes(text.encode().ljust(1024) + (data + back.tobytes()).ljust(1024, b"\0"))
+    product = migrate_product(path, tmp_path / "out", bundle_lid=BUNDLE)
+    _clean(product.label_path)
+    structures = _read(product.label_path)
+    assert np.array_equal(np.asarray(structures["qube"]["CORE"]).reshape(2, 3, 4), core)
+    assert np.array_equal(np.asarray(structures["qube"]["DARK"]).reshape(2, 3), side)
+    plane = structures["qube_back_1"]
+    assert np.array_equal(np.asarray(plane["QUALITY"]), back[:, :4])
+    assert [bytes(c) for c in np.asarray(plane["CORNER"]).astype("u1")] == [back[n, 4:].tobytes() for n in range(3)]

@@ -112,7 +112,8 @@ OBJECT_CLASSES: tuple[tuple[str, str, str], ...] = (
      "only (back planes of a band-sequential cube): the core Array_3D, each plane an Array_2D after it; suffix "
      "planes along the middle axis (bottom planes, with or without side planes): slice by slice of the slowest "
      "axis, its core (Array_2D, or a table of a record per run with its side items) and its bottom runs (a "
-     "Table_Binary, corner bytes a byte group); other suffix planes: refused, named"),
+     "Table_Binary, corner bytes a byte group); side and back planes together: the core's runs with their "
+     "side items as records, each back plane a table after it; back planes with bottom planes: refused, named"),
 )
 # Label constructs that are not data objects of their own, and what migrate does with them.
 OTHER_OBJECTS: tuple[tuple[str, str], ...] = (

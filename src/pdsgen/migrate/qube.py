@@ -6,7 +6,8 @@ the core, and an array has no stride, so they are described where they lie: suff
 along the fastest axis (side planes) make each run of that axis a binary-table record;
 planes along the slowest axis alone (back planes of a band-sequential cube) follow the whole
 core as arrays of their own; planes along the middle axis (bottom planes) are described slice
-by slice. Back planes together with side or bottom planes are refused, naming them.
+by slice; side and back planes together make the core's runs records and each back plane a
+table after the core. Back planes together with bottom planes are refused, naming them.
 """
 
 from __future__ import annotations
@@ -44,6 +45,8 @@ def describe_qube(ctx: FileContext, target: Target) -> dict[str, object]:
     planes_after = suffix[2] if not any(suffix[:2]) else 0  # suffix planes after the whole core (BSQ back planes)
     if planes_after:
         suffix = [0, 0, 0]
+    if suffix[0] and suffix[2] and not suffix[1]:
+        return _side_then_back_planes(ctx, target, axes, sizes, (data_type, item_bytes), suffix[0], suffix[2])
     if suffix[1] and not suffix[2]:
         return _slices_with_bottom_planes(ctx, target, axes, sizes, (data_type, item_bytes), suffix[0], suffix[1])
     if any(suffix[1:]):
@@ -110,6 +113,48 @@ def _planes_after_core(ctx: FileContext, target: Target, axes: list[str], sizes:
             "data_type": data_type, "unit": unit, "scaling_factor": None, "value_offset": 0.0, "special": [],
             "pds3": f"{where(block)} {_PLANE_OF[slowest]} plane {n + 1}"})
     return arrays
+
+
+def _side_then_back_planes(ctx: FileContext, target: Target, axes: list[str], sizes: list[int],
+                           core_type: tuple[str, int], side: int, back: int) -> dict[str, object]:
+    """Side planes and back planes, no bottom planes: the core's runs with their side items
+    (a table of a record per run), then each back plane whole after the core, its runs of
+    (fastest axis + side) items of SUFFIX_BYTES (a table each, a record per run: the plane's
+    items a group, the corner bytes a byte group)."""
+    block = target.block
+    table = _core_lines_with_suffix(ctx, target, axes, sizes, core_type, side)
+    slowest, fast = axes[2], axes[0]
+    slot = int(block.number("SUFFIX_BYTES") or 0)
+    names = _suffix_list(block, f"{slowest}_SUFFIX_NAME", back)
+    types = _suffix_list(block, f"{slowest}_SUFFIX_ITEM_TYPE", back)
+    sizes_of = _suffix_list(block, f"{slowest}_SUFFIX_ITEM_BYTES", back)
+    record = (sizes[0] + side) * slot
+    start = target.offset + int(table["length"])  # type: ignore[call-overload]
+    planes: list[dict[str, object]] = []
+    for n in range(back):
+        pds3_type, size = str(types[n] or "").upper(), sizes_of[n]
+        field_type = pds4_data_type(pds3_type, int(size) * 8) if isinstance(size, int) else None
+        if field_type is None or size != slot:
+            raise Refused(ctx.path, f"{where(block)}: {_PLANE_OF[slowest]} plane {n + 1} ({pds3_type or 'no type'} "
+                                    f"of {size} bytes in SUFFIX_BYTES {slot}) has no exact PDS4 field")
+        name = str(names[n] or f"{slowest}_SUFFIX_{n + 1}")
+        fields: list[dict[str, object]] = [
+            {"name": name, "location": 1, "length": slot, "data_type": field_type, "unit": None,
+             "scaling_factor": None, "value_offset": None, "description": None, "special": [],
+             "group": {"repetitions": sizes[0], "location": 1, "length": sizes[0] * slot}},
+            {"name": "CORNER", "location": 1, "length": 1, "data_type": "UnsignedByte", "unit": None,
+             "scaling_factor": None, "value_offset": None, "description": None, "special": [],
+             "group": {"repetitions": side * slot, "location": 1 + sizes[0] * slot, "length": side * slot}}]
+        planes.append({
+            "kind": "table", "element": "Table_Binary",
+            "local_identifier": f"{target.ident}_{_PLANE_OF[slowest]}_{n + 1}",
+            "offset": start + n * sizes[1] * record, "length": sizes[1] * record, "records": sizes[1],
+            "record_length": record, "fields": fields, "delimiter": None,
+            "description": f"{_PLANE_OF[slowest].capitalize()} plane {n + 1} of the {block.name} object ({name}): a "
+                           f"record per {fast.lower()} run, its {sizes[0]} items and {side * slot} corner bytes.",
+            "pds3": f"{where(block)} {_PLANE_OF[slowest]} plane {n + 1}"})
+    table["extra"] = planes
+    return table
 
 
 def _slices_with_bottom_planes(ctx: FileContext, target: Target, axes: list[str], sizes: list[int],
