@@ -47,6 +47,7 @@ class MigratedProduct:
     label_path: Path
     files: tuple[Path, ...]  # the files the label describes
     copied: bool = True  # `files` are copies written beside the label (not the originals, in place)
+    warnings: tuple[str, ...] = ()  # catalogue facts stated otherwise than the label, or not for sure
 
     @property
     def summary_line(self) -> str:
@@ -66,7 +67,7 @@ class MigrationRun(CommandResult):
 
     migrated: list[MigratedProduct] = field(default_factory=list)
     failed: list[PdsgenError] = field(default_factory=list)
-    warnings: tuple[str, ...] = ()  # a migration keeps none: what PDS4 cannot describe is refused
+    warnings: tuple[str, ...] = ()  # the products' own (MigratedProduct.warnings): what PDS4 cannot describe is refused
 
     @property
     def ok(self) -> bool:
@@ -125,11 +126,12 @@ def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLik
     if lid is not None:
         ident["lid"] = check_product_lid(lid)
     obs = observation(ctx.root, source.name)
+    warnings = [f"{source}: {w}" for w in obs.pop("warnings", ())]  # type: ignore[attr-defined]
     cart = None
     if image_id is not None:
         image = next(o for f in files for o in f.objects if o.get("local_identifier") == image_id)
         cart = migrated_cartography(ctx, int(image["lines"]), int(image["samples"]),  # type: ignore[call-overload]
-                                    str(obs["target_name"]))
+                                    str(obs["target_name"]), warnings)
         obs["display"] = image["kind"] == "array"  # disp: refers to arrays only, not an Encoded_Image
     target_dir = source.parent if in_place else Path(outdir)  # type: ignore[arg-type]
     label_out = target_dir / f"{source.stem}.xml"
@@ -140,7 +142,8 @@ def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLik
         "files": [_file_context(data) for data in files],
     })
     written = _write(files, text, label_out, target_dir, copy and not in_place, overwrite)
-    return MigratedProduct(pid, str(ident["lid"]), label_out, written, copied=copy and not in_place)
+    return MigratedProduct(pid, str(ident["lid"]), label_out, written, copied=copy and not in_place,
+                           warnings=tuple(warnings))
 
 
 def migrate_products(labels: Iterable[str | os.PathLike[str]], outdir: str | os.PathLike[str] | None = None,
@@ -150,6 +153,7 @@ def migrate_products(labels: Iterable[str | os.PathLike[str]], outdir: str | os.
     for label in labels:
         try:
             run.migrated.append(migrate_product(label, outdir, **options))  # type: ignore[arg-type]
+            run.warnings += run.migrated[-1].warnings
         except PdsgenError as exc:
             run.failed.append(exc)
     return run
