@@ -185,3 +185,53 @@ def check_context_references(report: Pds4Hits, tree: etree._ElementTree) -> None
                     report.add("PDS4-063", f"{reference} is not a registered context product (PDS's registry "
                                            "as NASA's validator ships it)", element.sourceline,
                                element.tag[len(P):])
+
+
+# -- catalogue facts against the registry (PDS4-065, PDS4-066) ------------------------------------------
+
+NO_INVESTIGATION = "urn:nasa:pds:context:investigation:individual.none"  # "No Specific Investigation"
+
+
+def check_context_facts(report: Pds4Hits, tree: etree._ElementTree) -> None:
+    """A target typed otherwise than PDS registers it (PDS4-065, a warning: registry searches by
+    type miss it), and "No Specific Investigation" beside a registered instrument host whose name
+    is a registered investigation's (PDS4-066, a note: an inference from names)."""
+    root = tree.getroot()
+    for target in root.iter(f"{P}Target_Identification"):
+        _check_target_type(report, target)
+    _check_investigation(report, root)
+
+
+def _check_target_type(report: Pds4Hits, target: etree._Element) -> None:
+    name = (target.findtext(f"{P}name") or "").strip()
+    types = [(t.text or "").strip() for t in target.findall(f"{P}type")]
+    lid = (target.findtext(f"{P}Internal_Reference/{P}lid_reference") or
+           target.findtext(f"{P}Internal_Reference/{P}lidvid_reference") or "").strip()
+    found = product(lid) if lid else None
+    how = f"its context reference {lid}"
+    if found is None and not lid:
+        matches = {p.lid: p for p in named("target", name)} if name else {}
+        found = next(iter(matches.values())) if len(matches) == 1 else None
+        how = f"the registered target of that name ({found.lid})" if found else how
+    registered_types = [t for t in found.types if t] if found else []
+    if registered_types and not set(types) & set(registered_types):
+        element = target.find(f"{P}type")
+        report.add("PDS4-065", f"target {name!r} is typed {', '.join(types) or 'nothing'} but PDS registers "
+                               f"{how} as {', '.join(registered_types)}",
+                   element.sourceline if element is not None else target.sourceline, "type")
+
+
+def _check_investigation(report: Pds4Hits, root: etree._Element) -> None:
+    for area in root.iter(f"{P}Investigation_Area"):
+        if (area.findtext(f"{P}Internal_Reference/{P}lid_reference") or "").strip().lower() != NO_INVESTIGATION:
+            continue
+        for component in root.iter(f"{P}Observing_System_Component"):
+            host = product((component.findtext(f"{P}Internal_Reference/{P}lid_reference") or "").strip())
+            if host is None or host.kind != "instrument_host":
+                continue
+            missions = {p.lid for n in host.names for p in named("investigation", n)}
+            if len(missions) == 1:
+                report.add("PDS4-066", f"the investigation is No Specific Investigation, but the instrument host "
+                                       f"{host.lid} bears the name of the registered investigation "
+                                       f"{next(iter(missions))}", area.sourceline, "Investigation_Area")
+                return
