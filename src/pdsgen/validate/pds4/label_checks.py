@@ -206,12 +206,14 @@ def _schema_checks(tree: etree._ElementTree, catalog: SchemaCatalog, use_schemat
             return
         text = etree.tostring(_collapsed(tree), encoding="unicode")
         try:
-            failures = schematron.compiled(safe).check(text)
+            failures, stopped = schematron.bounded_each(safe, text)
         except Exception as exc:  # a Schematron that fails to compile or stops: said, never a traceback
             names = ", ".join(file.name for file in safe)
             report.add("PDS4-002", f"Schematron {names} could not run ({_first_line(exc)}); its rules not checked",
                        line)
             return
+        for file, why in stopped:  # an endless or memory-hungry expression: stopped at a limit
+            report.add("PDS4-002", f"Schematron {file.name} stopped: {why}; its rules not checked for this label", line)
         for failure in failures:
             rule = "PDS4-006" if failure.role in ("warning", "warn", "info") else "PDS4-005"
             report.add(rule, failure.message, schematron.location_line(tree, failure.location),
