@@ -4,7 +4,7 @@ A LID is `<bundle LID>:<collection>:<product>`, each part in the characters a LI
 (lower-case letters, digits, '-', '.', '_'); the PDS3 PRODUCT_ID and DATA_SET_ID are kept
 as aliases. The mission context comes from pdsgen's mission modules when one recognises
 the label (HiRISE, HRSC); otherwise from the label's own names, looked up in PDS's registry
-of context products (validate/pds4/context_registry: the snapshot NASA's validator ships):
+of context products (pds4/context: the snapshot NASA's validator ships):
 
 - target: the registered target the TARGET_NAME names (one of its registered names, or a
   periodic comet's number), with its registered type(s) and LID. A name PDS has not
@@ -30,16 +30,16 @@ from ..errors import ParamsError, param
 from ..label.grammar import PLACEHOLDERS
 from ..label.tree import Block, first_text
 from ..missions import ContextReference, LabelFacts, detect_mission, get_mission
-from ..pds4.context import source_products
-from ..validate.pds4.context_registry import (
+from ..pds4.context import (
     ContextProduct,
-    is_registered,
     named,
     normal_name,
     numbered_comet,
     product,
+    source_products,
     target_types,
 )
+from ..validate.pds4.context_registry import is_registered
 from .mapping import PROCESSING_LEVELS
 
 _LID_PART = re.compile(r"[^a-z0-9._-]+")
