@@ -113,8 +113,8 @@ def bounds_differences(block: Block, stated: tuple[float, float, float, float], 
     if lon and not grid_full and not stated_full and is_positive_west(block.text("POSITIVE_LONGITUDE_DIRECTION")) \
             and all(abs(wrap_180(said - value)) <= half_lon for said, value in ((east, grid.westernmost_longitude),
                                                                                 (west, grid.easternmost_longitude))):
-        lon.append("the two longitudes match the grid's as minimum and maximum west longitude, "
-                   "not as the westernmost and easternmost the keywords name")
+        lon.append("the two longitudes are the grid's edges swapped: WESTERNMOST_LONGITUDE is its eastern edge "
+                   "(west longitudes given as minimum and maximum)")
     return found + lon
 
 
