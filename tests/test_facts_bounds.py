@@ -97,3 +97,20 @@ def test_west_positive_bounds_given_the_other_way_round_are_said_so(tmp_path):
     assert ("WESTERNMOST_LONGITUDE = 350.0 (10 east; grid: 350 east); EASTERNMOST_LONGITUDE = 10.0 (350 east; "
             "grid: 10 east); the two longitudes are the grid's edges swapped: WESTERNMOST_LONGITUDE is its eastern "
             "edge (west longitudes given as minimum and maximum)") in warning
+
+
+def test_a_radius_the_label_does_not_state_is_said_to_be_the_grids_sphere(tmp_path):
+    text = _label(350.0, 10.0).replace("  C_AXIS_RADIUS = 3376.2 <KM>\n", "")
+    (warning,) = _migrate(tmp_path, text)
+    assert warning == (f"{tmp_path / 'grid.lbl'}: OBJECT = IMAGE_MAP_PROJECTION states no usable C_AXIS_RADIUS: "
+                       "cart:c_axis_radius is that of the sphere its grid is computed on (A_AXIS_RADIUS, "
+                       "C_AXIS_RADIUS for polar stereographic)")
+    radius = etree.parse(str(tmp_path / "out" / "grid.xml")).findtext(".//cart:c_axis_radius", namespaces=CART)
+    assert float(radius) == 3396000.0
+
+
+def test_radii_the_label_states_are_written(tmp_path):
+    assert _migrate(tmp_path, _label(350.0, 10.0)) == ()
+    root = etree.parse(str(tmp_path / "out" / "grid.xml"))
+    assert [float(root.findtext(f".//cart:{axis}_axis_radius", namespaces=CART)) for axis in "abc"] == \
+        [3396000.0, 3396000.0, 3376200.0]

@@ -56,6 +56,12 @@ def migrated_cartography(ctx: FileContext, lines: int, samples: int, target: str
     geometry = _geometry(ctx, block, crs, transform, lines, samples, shift is not None, warnings)
     cart = cartography(geometry, crs, transform, target)
     a_axis, b_axis, c_axis = label_radii(block, cart)
+    missing = [key for key in ("B_AXIS_RADIUS", "C_AXIS_RADIUS") if _length_m(block, key) is None]
+    if missing and warnings is not None:
+        warnings.append(f"{ctx.path}: OBJECT = {block.name} states no usable {' or '.join(missing)}: "
+                        f"cart:{'/'.join(k[0].lower() for k in missing)}_axis_radius "
+                        f"{'are those' if len(missing) > 1 else 'is that'} of the sphere its grid is computed on "
+                        "(A_AXIS_RADIUS, C_AXIS_RADIUS for polar stereographic)")
     return replace(cart, a_axis=a_axis, b_axis=b_axis, c_axis=c_axis)
 
 
