@@ -39,6 +39,7 @@ from collections import OrderedDict
 from collections.abc import Sequence
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
+from typing import Any
 
 from lxml import etree
 
@@ -427,11 +428,22 @@ _WORKERS: dict[int, _Worker] = {}  # the validating process -> its Saxon child
 
 
 def _worker() -> _Worker:
+    """This process's Saxon child, started when there is none (or it has stopped). It is started
+    from one long-lived thread of the process: Linux ties a child's parent-death signal to the
+    thread that started it, and a check run from a short-lived thread must not take it along."""
     pid = os.getpid()
     worker = _WORKERS.get(pid)
     if worker is None or worker.process.poll() is not None:
-        worker = _WORKERS[pid] = _Worker()
+        if _SPAWNER.get(pid) is None:
+            from concurrent.futures import ThreadPoolExecutor
+
+            _SPAWNER.clear()  # a forked process's copy of its parent's is not its own
+            _SPAWNER[pid] = ThreadPoolExecutor(max_workers=1, thread_name_prefix="pdsgen-saxon-spawner")
+        worker = _WORKERS[pid] = _SPAWNER[pid].submit(_Worker).result()
     return worker
+
+
+_SPAWNER: dict[int, Any] = {}  # the process -> the one thread its Saxon children are started from
 
 
 def _resident_bytes(pid: int) -> int:
