@@ -240,3 +240,10 @@ def test_validate_notes_no_specific_investigation_beside_a_registered_mission_ho
                     .replace("<type>Mission</type>", "<type>Individual Investigation</type>", 1), encoding="utf-8")
     found = [(f.rule, f.severity) for f in validate_pds4(none, labels_only=True) if f.rule == "PDS4-066"]
     assert found == [("PDS4-066", "info")]
+
+
+def test_each_target_of_a_target_sequence_is_identified(tmp_path):
+    label = tmp_path / "x.lbl"
+    label.write_text('PDS_VERSION_ID = PDS3\nTARGET_NAME = ("MARS", "PHOBOS", "DEIMOS")\nEND\n')
+    assert [(t["lid"], t["types"]) for t in facts(label)["targets"]] == [
+        (registered("target", name), REGISTRY[registered("target", name)][0]) for name in ("MARS", "PHOBOS", "DEIMOS")]
