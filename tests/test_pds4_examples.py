@@ -33,7 +33,9 @@ KNOWN = {
     # Geo_Transformation (-3396.746 m, 4600.123 m) for a global 8492 x 879 m map of Pluto: a
     # placeholder, far from the -3.73e6 m a 0..360 degree map starts at
     "pluto_albedo_hof22.xml": {("PDS4-031", f"{side}_bounding_coordinate")
-                               for side in ("west", "east", "north", "south")},
+                               for side in ("west", "east", "north", "south")}
+                              # a note (info): No Specific Investigation beside the New Horizons host
+                              | {("PDS4-066", "Investigation_Area")},
     "BILQH07S314_D065_T008S02_V02.xml": set(),
 }
 

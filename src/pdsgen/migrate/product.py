@@ -47,7 +47,9 @@ class MigratedProduct:
     label_path: Path
     files: tuple[Path, ...]  # the files the label describes
     copied: bool = True  # `files` are copies written beside the label (not the originals, in place)
-    warnings: tuple[str, ...] = ()  # PDS3 keywords the bytes overrode (each names the keyword and why)
+    # PDS3 keywords the bytes overrode (each names the keyword and why), and catalogue facts
+    # stated otherwise than the label, or not for sure
+    warnings: tuple[str, ...] = ()
 
     @property
     def summary_line(self) -> str:
@@ -67,7 +69,7 @@ class MigrationRun(CommandResult):
 
     migrated: list[MigratedProduct] = field(default_factory=list)
     failed: list[PdsgenError] = field(default_factory=list)
-    warnings: tuple[str, ...] = ()  # PDS3 keywords the bytes overrode; what PDS4 cannot describe is refused
+    warnings: tuple[str, ...] = ()  # the products' own (MigratedProduct.warnings): what PDS4 cannot describe is refused
 
     @property
     def ok(self) -> bool:
@@ -128,11 +130,12 @@ def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLik
     if lid is not None:
         ident["lid"] = check_product_lid(lid)
     obs = observation(ctx.root, source.name)
+    warnings = [f"{source}: {w}" for w in obs.pop("warnings", ())]  # type: ignore[attr-defined]
     cart = None
     if image_id is not None:
         image = next(o for f in files for o in f.objects if o.get("local_identifier") == image_id)
         cart = migrated_cartography(ctx, int(image["lines"]), int(image["samples"]),  # type: ignore[call-overload]
-                                    str(obs["target_name"]))
+                                    str(obs["target_name"]), warnings)
         obs["display"] = image["kind"] == "array"  # disp: refers to arrays only, not an Encoded_Image
     target_dir = source.parent if in_place else Path(outdir)  # type: ignore[arg-type]
     label_out = target_dir / f"{source.stem}.xml"
@@ -143,9 +146,9 @@ def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLik
         "files": [_file_context(data) for data in files],
     })
     written = _write(files, text, label_out, target_dir, copy and not in_place, overwrite)
-    warnings = tuple(f"{source}: {warning}" for warning in _warnings(files))
+    warnings += [f"{source}: {warning}" for warning in _warnings(files)]
     return MigratedProduct(pid, str(ident["lid"]), label_out, written, copied=copy and not in_place,
-                           warnings=warnings)
+                           warnings=tuple(warnings))
 
 
 def migrate_products(labels: Iterable[str | os.PathLike[str]], outdir: str | os.PathLike[str] | None = None,

@@ -134,6 +134,10 @@ register(
     _rule("PDS4-061", "error", "a PDF a document product holds is identified as PDF/A (its XMP pdfaid:part)"),
     _rule("PDS4-063", "error", "context references (investigation, instrument, target ...) name registered "
                                "context products (the registry snapshot NASA's validator ships)"),
+    _rule("PDS4-065", "warning", "a target's type is the one PDS registers for it (its context reference, "
+                                 "else its registered name)"),
+    _rule("PDS4-066", "info", "No Specific Investigation beside an instrument host named like a registered "
+                              "investigation"),
     _rule("PDS4-030", "error", "cart: pixel_scale agrees with pixel_resolution and the body radius"),
     _rule("PDS4-031", "error", "cart: bounding coordinates agree with Geo_Transformation within half a pixel"),
     _rule("PDS4-032", "error", "cart: map_projection_name has the parameter block of that projection"),

@@ -28,7 +28,7 @@ from ..registry import rules
 from . import schematron
 from .cart_checks import check_cartography, check_encoded_jp2
 from .catalog import SchemaCatalog, SchemaFile, schema_references
-from .context_registry import check_context_references
+from .context_registry import check_context_facts, check_context_references
 from .data_checks import check_data, check_special_constants
 from .document_checks import check_file_names, check_pdf_a
 from .label_tree import P, Pds4Hits
@@ -37,9 +37,10 @@ from .xsd import SchemaImportError, build_schema, xsd_errors
 
 # Checks of the label against its data (skipped by --labels-only), and of the label alone.
 CONTENT_CHECKS = (check_data, check_special_constants, check_cartography, check_encoded_jp2, check_tables,
-                  check_object_layout, check_members, check_pdf_a, check_file_names, check_context_references)
+                  check_object_layout, check_members, check_pdf_a, check_file_names, check_context_references,
+                  check_context_facts)
 LABEL_ONLY_CHECKS = (check_special_constants, check_cartography, check_object_layout, check_members,
-                     check_file_names, check_context_references)
+                     check_file_names, check_context_references, check_context_facts)
 
 
 def check_schema_dirs(directories: Iterable[str | os.PathLike[str]]) -> tuple[str, ...]:
@@ -205,12 +206,14 @@ def _schema_checks(tree: etree._ElementTree, catalog: SchemaCatalog, use_schemat
             return
         text = etree.tostring(_collapsed(tree), encoding="unicode")
         try:
-            failures = schematron.compiled(safe).check(text)
+            failures, stopped = schematron.bounded_each(safe, text)
         except Exception as exc:  # a Schematron that fails to compile or stops: said, never a traceback
             names = ", ".join(file.name for file in safe)
             report.add("PDS4-002", f"Schematron {names} could not run ({_first_line(exc)}); its rules not checked",
                        line)
             return
+        for file, why in stopped:  # an endless or memory-hungry expression: stopped at a limit
+            report.add("PDS4-002", f"Schematron {file.name} stopped: {why}; its rules not checked for this label", line)
         for failure in failures:
             rule = "PDS4-006" if failure.role in ("warning", "warn", "info") else "PDS4-005"
             report.add(rule, failure.message, schematron.location_line(tree, failure.location),

@@ -18,15 +18,28 @@ source (shipped, PDS's schema site, `--schemas`), and a mission dictionary given
 XPath expression it holds is read before compiling and a file calling any function that
 reaches outside the label (`forbidden_calls`) is not run at all; and Saxon itself is
 configured to open no URI of any scheme, should an expression find another way.
+
+XPath can also run for ever or fill memory without reaching outside (`count(1 to
+10000000000)`), and Saxon has no limit of its own for that. So the validator runs its
+Schematron (`bounded`) in a child process of its own, which keeps the compiled stylesheets
+for the labels that follow: the parent waits for each label's answer at most `TIME_LIMIT`
+seconds while the child stays under `MEMORY_LIMIT` bytes, else stops the child (a fresh one
+answers the next label) and the label's finding says which Schematron was not run and why.
 """
 
 from __future__ import annotations
 
 import os
+import pickle
 import re
+import subprocess
+import sys
+import time
 from collections import OrderedDict
 from collections.abc import Sequence
 from dataclasses import dataclass
+from multiprocessing.connection import Connection
+from typing import Any
 
 from lxml import etree
 
@@ -309,3 +322,167 @@ def location_line(tree: etree._ElementTree, location: str) -> int | None:
             break
         element = candidates[index]
     return element.sourceline if element is not None else None
+
+
+# -- bounded runs: a child process with a wall-clock and a memory limit -------------------------------
+
+TIME_LIMIT = 60.0  # seconds one label's Schematron may run (PDS's core rules: well under one, after compiling)
+MEMORY_LIMIT = 768 * 2**20  # bytes the Saxon child may hold (PDS's core rules compiled: about 150 MB)
+_POLL = 0.05  # seconds between looks at the child while it works
+
+
+class SchematronStopped(RuntimeError):
+    """A Schematron run stopped at a limit (time or memory); its rules were not checked."""
+
+
+def bounded(schematron_files: Sequence[SchemaFile], label_text: str) -> list[SchematronFailure]:
+    """`compiled(files).check(label_text)` in the validator's Saxon child process, within
+    TIME_LIMIT and MEMORY_LIMIT. SchematronStopped when a limit stopped it, RuntimeError
+    with the engine's first line when it failed."""
+    worker = _worker()
+    try:
+        return worker.ask(tuple(schematron_files), label_text)
+    except SchematronStopped:
+        _WORKERS.pop(os.getpid(), None)
+        raise
+
+
+def bounded_each(schematron_files: Sequence[SchemaFile], label_text: str
+                 ) -> tuple[list[SchematronFailure], list[tuple[SchemaFile, str]]]:
+    """The failures of the files' rules, run together within the limits, and the files a limit
+    stopped with why. When the set is stopped, each file runs alone so that only the one at
+    fault goes unchecked; a file stopped once runs alone for the rest of the process."""
+    alone = [file for file in schematron_files if str(file) in _STOPPED]
+    together = [file for file in schematron_files if str(file) not in _STOPPED]
+    failures: list[SchematronFailure] = []
+    stopped: list[tuple[SchemaFile, str]] = []
+    if together:
+        try:
+            failures += bounded(together, label_text)
+        except SchematronStopped as exc:
+            if len(together) == 1:
+                _STOPPED.add(str(together[0]))
+                stopped.append((together[0], str(exc)))
+            else:
+                alone += together
+    for file in alone:
+        try:
+            failures += bounded([file], label_text)
+        except SchematronStopped as exc:
+            _STOPPED.add(str(file))
+            stopped.append((file, str(exc)))
+    return failures, stopped
+
+
+_STOPPED: set[str] = set()  # Schematron files a limit stopped in this process
+
+
+class _Worker:
+    """The Saxon child of one validating process, spoken to over a pipe of pickled frames."""
+
+    def __init__(self) -> None:
+        from_parent, to_child = os.pipe()  # (read end, write end)
+        from_child, to_parent = os.pipe()
+        code = ("import sys; from pdsgen.validate.pds4.schematron import serve; "
+                "serve(int(sys.argv[1]), int(sys.argv[2]))")
+        self.process = subprocess.Popen([sys.executable, "-c", code, str(from_parent), str(to_parent)],
+                                        pass_fds=(from_parent, to_parent), stdin=subprocess.DEVNULL,
+                                        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        os.close(from_parent)
+        os.close(to_parent)
+        self.send = Connection(to_child, readable=False)
+        self.receive = Connection(from_child, writable=False)
+
+    def ask(self, files: tuple[SchemaFile, ...], label_text: str) -> list[SchematronFailure]:
+        try:
+            self.send.send_bytes(pickle.dumps((files, label_text)))
+        except OSError:
+            self.stop()
+            raise SchematronStopped("its engine had stopped") from None
+        started = time.monotonic()
+        while not self.receive.poll(_POLL):
+            if self.process.poll() is not None:
+                self.stop()
+                raise SchematronStopped("its engine stopped (exit status "
+                                        f"{self.process.returncode})")
+            if time.monotonic() - started > TIME_LIMIT:
+                self.stop()
+                raise SchematronStopped(f"it ran past the time limit of {TIME_LIMIT:g} s")
+            if _resident_bytes(self.process.pid) > MEMORY_LIMIT:
+                self.stop()
+                raise SchematronStopped(f"it took more than the memory limit of {MEMORY_LIMIT // 2**20} MB")
+        kind, value = pickle.loads(self.receive.recv_bytes())
+        if kind == "error":
+            raise RuntimeError(value)
+        return value
+
+    def stop(self) -> None:
+        """The child killed and reaped (it may be in the middle of an endless expression)."""
+        self.process.kill()
+        self.process.wait()
+        self.send.close()
+        self.receive.close()
+
+
+_WORKERS: dict[int, _Worker] = {}  # the validating process -> its Saxon child
+
+
+def _worker() -> _Worker:
+    """This process's Saxon child, started when there is none (or it has stopped). It is started
+    from one long-lived thread of the process: Linux ties a child's parent-death signal to the
+    thread that started it, and a check run from a short-lived thread must not take it along."""
+    pid = os.getpid()
+    worker = _WORKERS.get(pid)
+    if worker is None or worker.process.poll() is not None:
+        if _SPAWNER.get(pid) is None:
+            from concurrent.futures import ThreadPoolExecutor
+
+            _SPAWNER.clear()  # a forked process's copy of its parent's is not its own
+            _SPAWNER[pid] = ThreadPoolExecutor(max_workers=1, thread_name_prefix="pdsgen-saxon-spawner")
+        worker = _WORKERS[pid] = _SPAWNER[pid].submit(_Worker).result()
+    return worker
+
+
+_SPAWNER: dict[int, Any] = {}  # the process -> the one thread its Saxon children are started from
+
+
+def _resident_bytes(pid: int) -> int:
+    """The child's resident memory (Linux /proc); 0 where it cannot be read."""
+    try:
+        with open(f"/proc/{pid}/statm", "rb") as statm:
+            return int(statm.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError, IndexError):
+        return 0
+
+
+def serve(from_parent: int, to_parent: int) -> None:
+    """The Saxon child: each request (Schematron files, label text) answered with ("ok",
+    failures) or ("error", the engine's first line), until the parent closes the pipe."""
+    _die_with_parent()
+    receive = Connection(from_parent, writable=False)
+    send = Connection(to_parent, readable=False)
+    while True:
+        try:
+            files, label_text = pickle.loads(receive.recv_bytes())
+        except EOFError:
+            return
+        try:
+            answer: tuple[str, object] = ("ok", compiled(files).check(label_text))
+        except Exception as exc:  # the parent reports it as the Schematron not running
+            text = str(exc).strip()
+            answer = ("error", text.splitlines()[0][:200] if text else type(exc).__name__)
+        send.send_bytes(pickle.dumps(answer))
+
+
+def _die_with_parent() -> None:
+    """On Linux, the child is killed when its parent dies (prctl PR_SET_PDEATHSIG), so a parent
+    killed in the middle of an endless expression leaves no Saxon child running it."""
+    if not sys.platform.startswith("linux"):
+        return
+    import ctypes
+    import signal
+
+    try:
+        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # 1: PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
