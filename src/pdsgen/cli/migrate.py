@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import click
 
 from ..migrate import migrate_products, product_labels
@@ -12,7 +14,7 @@ from ._profile_options import output_option
 
 @click.command(short_help=COMMANDS["migrate"])
 @output_options
-@click.argument("products", nargs=-1, required=True, type=click.Path(dir_okay=False))
+@click.argument("products", nargs=-1, required=True, type=click.Path())
 @output_option("outdir", "--outdir", type=click.Path(file_okay=False),
               help="Directory for the PDS4 labels and unchanged copies of the products' files.")
 @click.option("--in-place", is_flag=True, help="Write each PDS4 label beside its PDS3 product; copy nothing.")
@@ -28,9 +30,24 @@ def migrate(products, outdir, in_place, bundle_lid, collection, overwrite, root)
     byte offsets, scaling, special constants, cart: for map products, the PDS3 PRODUCT_ID
     and DATA_SET_ID as aliases. Data bytes are never changed. A product PDS4 cannot describe
     exactly is refused in one line and the others go on; the exit status is then 2.
+
+    A directory (one, alone) is a PDS3 volume: it becomes a PDS4 bundle (--bundle-lid needed)
+    with data, document, browse and miscellaneous collections, the bundle label from the
+    volume's catalog and a crosswalk of PDS3 PRODUCT_IDs to PDS4 LIDVIDs; the index table is
+    the manifest the products are checked against.
     """
     if bool(outdir) == in_place:
         raise click.UsageError("give either -o/--output or --in-place")
+    directories = [p for p in products if Path(p).is_dir()]
+    if directories:
+        if len(products) != 1:
+            raise click.UsageError(f"{directories[0]} is a directory: give one PDS3 volume alone, or product labels")
+        if not bundle_lid:
+            raise click.UsageError("a volume becomes a bundle: give --bundle-lid urn:nasa:pds:NAME")
+        from ..migrate.volume import migrate_volume  # on first use: single products never load it
+
+        return told(migrate_volume(products[0], outdir, bundle_lid=bundle_lid, in_place=in_place,
+                                   overwrite=overwrite))
     run = migrate_products(product_labels(products), outdir, bundle_lid=bundle_lid, collection=collection,
                            in_place=in_place, overwrite=overwrite, root=root)
     return told(run)  # a refused product: one error line each, the others migrated, exit status 2
