@@ -39,6 +39,7 @@ from .volume_catalog import BundleFacts, bundle_facts, volume_data_sets
 from .volume_files import (
     BROWSE_DIRS,
     DOCUMENT_DIRS,
+    DOCUMENT_SUFFIXES,
     INDEX_DIRS,
     MADE_ANEW,
     SOFTWARE_DIRS,
@@ -225,7 +226,8 @@ class _Run:
             self.result.left_out.append((name, "software: PDS4 has no class for a PDS3 volume's software"))
         elif len(relative.parts) == 1 and relative.name.upper() in MADE_ANEW | {"REVIEW.HTML"}:
             self.result.left_out.append((name, "made anew: the bundle's own manifest replaces it"))
-        elif top in DOCUMENT_DIRS or (not top and relative.name.upper() in TOP_DOCUMENTS):
+        elif top in DOCUMENT_DIRS or (not top and relative.name.upper() in TOP_DOCUMENTS) \
+                or relative.suffix.upper() in DOCUMENT_SUFFIXES:
             self.documents.append(name)
             if top == "CATALOG":
                 self.catalogs.append(path)
@@ -400,7 +402,7 @@ class _Run:
                 if partner is not None:
                     beside[partner] = name
         for name in self.documents:
-            if name in beside.values():
+            if name in beside.values() or name in self.owned:  # a detached label's X.TXT table is data
                 continue
             files = [name] + ([beside[name]] if name in beside else [])
             standards = [document_standard(self.source / f) for f in files]
@@ -479,8 +481,9 @@ class _Run:
 
     def _bundle_label(self, facts: BundleFacts, members: list[tuple[str, str]]) -> None:
         name = self.bundle_lid.rsplit(":", 1)[-1]
-        citation = {"authors": facts.authors, "year": facts.year or self.today[:4], "keywords": facts.keywords,
-                    "description": facts.citation or facts.title}
+        # the authors in the description (CITATION_DESC names them; author_list is deprecated in IM 1.24)
+        described = facts.citation or (f"{facts.authors}, {facts.title}" if facts.authors else facts.title)
+        citation = {"year": facts.year or self.today[:4], "keywords": facts.keywords, "description": described}
         label = self.dest / f"bundle_{name}.xml"
         self._write(label, render_pds4("volume_bundle.xml.j2", {
             **self._head("Product_Bundle", self.bundle_lid, facts.title), "aliases": facts.aliases,

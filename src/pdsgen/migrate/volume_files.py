@@ -19,7 +19,8 @@ VOLUME_PARTS: tuple[tuple[str, str, str], ...] = (
     ("INDEX/ table (INDEX.TAB, or an index named otherwise)", "data collection",
      "migrated as a product; its rows are the manifest the products are checked against"),
     ("VOLDESC.CAT", "document collection", "Product_Document (7-Bit ASCII Text)"),
-    ("AAREADME.TXT, ERRATA.TXT", "document collection", "Product_Document (format from the bytes)"),
+    ("AAREADME.TXT, ERRATA.TXT, other .TXT/.ASC/.CAT/.PDF/.HTM files", "document collection",
+     "Product_Document (format from the bytes), unless a product's label names the file as its data"),
     ("CATALOG/*.CAT", "document collection", "Product_Document; the DATA_SET catalog gives the bundle's "
                                             "title, description, citation and keywords"),
     ("DOCUMENT/*", "document collection", "Product_Document (7-Bit ASCII Text, UTF-8 Text, PDF, PDF/A, HTML, "
@@ -44,6 +45,9 @@ INDEX_DIRS = frozenset({"INDEX"})
 SOFTWARE_DIRS = frozenset({"SOFTWARE"})
 TOP_DOCUMENTS = frozenset({"VOLDESC.CAT", "AAREADME.TXT", "ERRATA.TXT", "AAREADME.HTM", "AAREADME.PDF"})
 MADE_ANEW = frozenset({"MD5SUMS.TXT"})
+# Documents wherever they lie (INDEX/INDXINFO.TXT, an attached TEXT label); one a detached
+# label names as its data stays data.
+DOCUMENT_SUFFIXES = frozenset({".TXT", ".ASC", ".CAT", ".PDF", ".HTM", ".HTML"})
 
 # first bytes -> Encoded_Image encoding_standard_id
 _IMAGE_MAGIC = ((b"\xff\xd8\xff", "JPEG"), (b"\x89PNG\r\n\x1a\n", "PNG"), (b"GIF87a", "GIF"), (b"GIF89a", "GIF"),
