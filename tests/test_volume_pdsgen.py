@@ -17,6 +17,7 @@ from lxml import etree
 
 from pdsgen.extras import make_extras
 from pdsgen.migrate.volume import migrate_volume
+from pdsgen.migrate.volume_files import SOFTWARE_REASON
 from pdsgen.products.dtm import write_dtm
 from pdsgen.products.ortho import write_ortho
 from pdsgen.synthetic import make_scene, write_geotiff
@@ -207,7 +208,7 @@ def test_problems_are_reported_and_the_others_go_on(volume, tmp_path):
     assert "DATA/BROKEN.LBL" in result.unindexed[0] or len(result.unindexed) == 1
     assert [m for m in result.missing if "H1234_0000_DT4.IMG" in m]
     assert [c for c in result.collisions if "data_sub_psp_008669_1705_red_c_01_ortho" in c]
-    assert ("SOFTWARE/tool.exe", "software: PDS4 has no class for a PDS3 volume's software") in result.left_out
+    assert ("SOFTWARE/tool.exe", SOFTWARE_REASON) in result.left_out
     assert (out / "DATA" / "SUB" / "PSP_008669_1705_RED_C_01_ORTHO.xml").is_file()
     assert (out / "DATA" / "PSP_008669_1705_RED_C_01_ORTHO.xml").is_file()
     assert not (out / "SOFTWARE").exists()

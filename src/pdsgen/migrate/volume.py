@@ -43,6 +43,7 @@ from .volume_files import (
     INDEX_DIRS,
     MADE_ANEW,
     SOFTWARE_DIRS,
+    SOFTWARE_REASON,
     TOP_DOCUMENTS,
     document_standard,
     image_encoding,
@@ -223,7 +224,7 @@ class _Run:
         top = relative.parts[0].upper() if len(relative.parts) > 1 else ""
         name = relative.as_posix()
         if top in SOFTWARE_DIRS:
-            self.result.left_out.append((name, "software: PDS4 has no class for a PDS3 volume's software"))
+            self.result.left_out.append((name, SOFTWARE_REASON))
         elif len(relative.parts) == 1 and relative.name.upper() in MADE_ANEW | {"REVIEW.HTML"}:
             self.result.left_out.append((name, "made anew: the bundle's own manifest replaces it"))
         elif top in DOCUMENT_DIRS or (not top and relative.name.upper() in TOP_DOCUMENTS) \

@@ -12,13 +12,16 @@ from pathlib import Path
 
 from ..formats.sniff import file_head
 
+SOFTWARE_REASON = ("software is not migrated: PDS4 archives take no executables, and a Product_Software "
+                   "needs facts a PDS3 volume does not state")
 # volume part -> (bundle part, what becomes of it). Order: as a reader meets them.
 VOLUME_PARTS: tuple[tuple[str, str, str], ...] = (
-    ("data product (PDS3 label, attached or detached)", "data collection of its DATA_SET_ID",
+    ("data product (PDS3 label, attached or detached)", "data collection (one per DATA_SET_ID when "
+                                                        "VOLDESC.CAT names several)",
      "the PDS4 label `pdsgen migrate` writes, beside byte-identical copies of its files"),
     ("INDEX/ table (INDEX.TAB, or an index named otherwise)", "data collection",
      "migrated as a product; its rows are the manifest the products are checked against"),
-    ("VOLDESC.CAT", "document collection", "Product_Document (7-Bit ASCII Text)"),
+    ("VOLDESC.CAT", "document collection", "Product_Document (format from the bytes: 7-Bit ASCII Text)"),
     ("AAREADME.TXT, ERRATA.TXT, other .TXT/.ASC/.CAT/.PDF/.HTM files", "document collection",
      "Product_Document (format from the bytes), unless a product's label names the file as its data"),
     ("CATALOG/*.CAT", "document collection", "Product_Document; the DATA_SET catalog gives the bundle's "
@@ -29,9 +32,10 @@ VOLUME_PARTS: tuple[tuple[str, str, str], ...] = (
                                                       "product whose PRODUCT_ID starts the image's name"),
     ("LABEL/*.FMT and other .FMT files", "kept at their paths", "no PDS4 class: the PDS3 labels naming them "
                                                                "still read them; not in any inventory"),
-    ("SOFTWARE/", "left out", "PDS4 has no class for software of a PDS3 volume (and executables are not archived)"),
+    ("SOFTWARE/", "left out", SOFTWARE_REASON),
     ("MD5SUMS.TXT, REVIEW pages", "made anew", "the bundle's own checksum manifest replaces them"),
-    ("any other file", "left out", "no label describes it; reported by name"),
+    ("any other file (a browse image of no product, a document of no PDS4 format)", "left out",
+     "no label describes it; reported by name with the reason"),
     ("(none)", "bundle label", "Product_Bundle from VOLDESC.CAT and the DATA_SET catalog, DATA_SET_ID and "
                               "VOLUME_ID as aliases, context references PDS registers"),
     ("(none)", "miscellaneous collection", "the crosswalk: Product_Ancillary, a Table_Delimited of PDS3 "
