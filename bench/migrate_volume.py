@@ -10,7 +10,10 @@ bench/_measure.py (wall time, peak RSS of the `pdsgen migrate` process, start-up
 
 - the full volume;
 - a tenth of it, to show peak RSS does not grow with the number of products (the run keeps a
-  few strings per product, never the parsed labels).
+  few strings per product, never the parsed labels);
+- with --batch: the same number of products as two volumes of half the size, migrated by two
+  `[[migrate]]` jobs of one `pdsgen batch --workers 2` (Dask LocalCluster); the peak is the
+  largest process's.
 """
 
 from __future__ import annotations
@@ -101,12 +104,33 @@ def run(products: int, per_directory: int) -> None:
             shutil.rmtree(out, ignore_errors=True)
 
 
+def run_batch(products: int, per_directory: int) -> None:
+    pdsgen = str(Path(sys.executable).with_name("pdsgen"))
+    with tempfile.TemporaryDirectory(prefix="bench-volume-batch-") as scratch:
+        jobs = []
+        for part in ("A", "B"):
+            volume = Path(scratch) / f"BENCH_000{part}"
+            lay_out(volume, products // 2, per_directory)
+            jobs.append(f'[[migrate]]\nid = "{part}"\ninputs = ["{volume}"]\noutdir = "bundle_{part}"\n'
+                        f'bundle_lid = "urn:nasa:pds:bench_{part.lower()}"\n')
+        manifest = Path(scratch) / "volumes.toml"
+        manifest.write_text(f'[batch]\noutdir = "{Path(scratch) / "out"}"\n\n' + "\n".join(jobs), encoding="utf-8")
+        measured = measure([pdsgen, "batch", str(manifest), "--workers", "2"])
+        labels = sum(1 for _ in (Path(scratch) / "out").rglob("*.xml"))
+        print(f"{products:6d} products as 2 volumes, 2 workers: {measured.seconds:7.1f} s, "
+              f"{products / measured.seconds:6.1f} products/s, peak RSS {measured.peak_mb:6.1f} MB "
+              f"({labels} PDS4 labels written)")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--products", type=int, default=10000)
     parser.add_argument("--per-directory", type=int, default=500)
+    parser.add_argument("--batch", action="store_true", help="also two volumes as two batch jobs on two workers")
     args = parser.parse_args()
     run(args.products, args.per_directory)
+    if args.batch:
+        run_batch(args.products, args.per_directory)
 
 
 if __name__ == "__main__":
