@@ -27,6 +27,7 @@ from typing import IO, Any
 from ..archive.scan import is_pds3_label, walk
 from ..errors import InputError, OutputError, PdsgenError, param
 from ..formats.checksum import file_md5
+from ..formats.sniff import file_head
 from ..label.read import LabelCache, read_pds3_label
 from ..pds4.content import digest_file
 from ..pds4.label import render_pds4
@@ -216,9 +217,15 @@ class _Run:
             self._place(path, relative)
 
     def _made_here(self, relative: Path) -> bool:
-        """A file an earlier in-place run wrote (PDS4 labels, inventories, crosswalk): made anew."""
-        return relative.suffix.lower() == ".xml" or relative.name in (CROSSWALK, MANIFEST) or \
-            relative.name.startswith("collection_")
+        """A file an earlier in-place run wrote (a PDS4 label under this bundle's LID, an inventory,
+        the crosswalk, the manifest): made anew. An XML file of the volume's own is the volume's."""
+        name = relative.name
+        if name in (CROSSWALK, MANIFEST) or (name.startswith("collection_") and relative.suffix in (".xml", ".csv")):
+            return True
+        if relative.suffix.lower() != ".xml":
+            return False
+        head = file_head(self.dest / relative, 4096) or b""
+        return f"<logical_identifier>{self.bundle_lid}".encode() in head
 
     def _place(self, path: Path, relative: Path) -> None:
         top = relative.parts[0].upper() if len(relative.parts) > 1 else ""
@@ -423,6 +430,8 @@ class _Run:
 
     def _browse(self) -> None:
         for name, encoding in self.browse:
+            if name in self.owned:  # an image a PDS3 label describes is that product's data
+                continue
             key = Path(name).name.split(".", 1)[0].upper()
             data = self.product_lidvids.get(key)
             if data is None:
