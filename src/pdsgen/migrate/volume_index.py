@@ -50,23 +50,21 @@ class VolumeIndex:
 
 
 def find_index(volume: Path, index_dir: Path) -> VolumeIndex | None:
-    """The index table of the volume: the label in `index_dir` (INDEX.LBL first, else any other,
-    in name order) whose table has a path column; None when none has."""
-    labels = sorted((p for p in index_dir.iterdir() if _is_label(p)), key=_index_first)
-    for label in labels:
-        table = _index_table(label, volume)
-        if table is not None:
-            return table
-    return None
+    """The index table of the volume among the tables labels in `index_dir` describe with a path
+    column: INDEX.LBL's first, then one whose label is named like an index (VOLINDEX, CUMINDEX),
+    then one with a PRODUCT_ID column (a checksum table lists files, not products), by name."""
+    tables = [table for label in index_dir.iterdir() if _is_label(label)
+              if (table := _index_table(label, volume)) is not None]
+    return min(tables, key=_index_first, default=None)
 
 
 def _is_label(path: Path) -> bool:
     return path.suffix.lower() == ".lbl" and path.is_file()
 
 
-def _index_first(label: Path) -> tuple[bool, str]:
-    """INDEX.LBL (any case) before other labels, then by name."""
-    return label.stem.upper() != "INDEX", label.name.upper()
+def _index_first(table: VolumeIndex) -> tuple[bool, bool, bool, str]:
+    stem = table.label.stem.upper()
+    return stem != "INDEX", "INDEX" not in stem, "PRODUCT_ID" not in table.columns, table.label.name.upper()
 
 
 def _index_table(label: Path, volume: Path) -> VolumeIndex | None:

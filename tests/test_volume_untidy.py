@@ -1,0 +1,51 @@
+"""Untidy volumes as genuine ones are: the genuine SBN_0233 parts (tests/data/volume_fbirtfspec)
+changed at test time the ways other volumes differ - an index named `volindex` whose label names
+the table in upper case while the disk holds lower case, paths right-justified in their column,
+and a DATA_SET catalog without its PDS3 header."""
+
+from __future__ import annotations
+
+import re
+import shutil
+from pathlib import Path
+
+from lxml import etree
+
+from pdsgen.migrate.volume import migrate_volume
+
+VOLUME = Path(__file__).parent / "data" / "volume_fbirtfspec"
+PDS = "{http://pds.nasa.gov/pds4/pds/v1}"
+PATH_FIELD = 42  # FILE_SPECIFICATION_NAME: START_BYTE 2, BYTES 42 (inside the quotes)
+
+
+def _right_justified(row: bytes) -> bytes:
+    path = row[1:1 + PATH_FIELD]
+    return row[:1] + path.strip().rjust(PATH_FIELD) + row[1 + PATH_FIELD:]
+
+
+def test_a_volindex_in_other_case_with_right_justified_paths_and_a_headless_catalog(tmp_path):
+    volume = tmp_path / "SBN_0233"
+    shutil.copytree(VOLUME, volume)
+    index = volume / "index"
+    label = (index / "index.lbl").read_text(encoding="ascii")
+    (index / "index.lbl").unlink()
+    (index / "volindex.lbl").write_text(label.replace('"index.tab"', '"VOLINDEX.TAB"'), encoding="ascii",
+                                        newline="")
+    rows = (index / "index.tab").read_bytes().split(b"\r\n")
+    (index / "index.tab").unlink()
+    (index / "volindex.tab").write_bytes(b"\r\n".join(_right_justified(r) if r else r for r in rows))
+    assert b'"' + b"data/fieberbeyer2010/1358.lbl".rjust(PATH_FIELD) + b'"' in (index / "volindex.tab").read_bytes()
+    catalog = volume / "catalog" / "dataset.cat"
+    text = catalog.read_text(encoding="ascii")
+    catalog.write_text(text[re.search(r"^OBJECT\s*=\s*DATA_SET\s*$", text, re.M).start():], encoding="ascii",
+                       newline="")
+    assert not catalog.read_text().startswith("PDS_VERSION_ID")
+
+    out = tmp_path / "bundle"
+    result = migrate_volume(volume, out, bundle_lid="urn:nasa:pds:fbirtfspec")
+    assert result.index == "index/volindex.tab"
+    assert result.unindexed == [] and len(result.missing) == 50
+    assert result.refused == ()
+    title = etree.parse(str(out / "bundle_fbirtfspec.xml")).getroot().findtext(f".//{PDS}title")
+    assert title == "FIEBER-BEYER IRTF MAINBELT ASTEROID SPECTRA V3.0"
+    assert (out / "index" / "volindex.xml").is_file()  # the index migrated as a product under its own name
