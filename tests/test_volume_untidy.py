@@ -9,6 +9,7 @@ import re
 import shutil
 from pathlib import Path
 
+import pytest
 from lxml import etree
 
 from pdsgen.migrate.volume import migrate_volume
@@ -49,3 +50,33 @@ def test_a_volindex_in_other_case_with_right_justified_paths_and_a_headless_cata
     title = etree.parse(str(out / "bundle_fbirtfspec.xml")).getroot().findtext(f".//{PDS}title")
     assert title == "FIEBER-BEYER IRTF MAINBELT ASTEROID SPECTRA V3.0"
     assert (out / "index" / "volindex.xml").is_file()  # the index migrated as a product under its own name
+
+
+def _crlf(*lines: str) -> str:
+    return "\r\n".join(lines) + "\r\n"
+
+
+def test_a_format_file_in_the_volume_label_directory_is_found_and_kept(tmp_path):
+    """^STRUCTURE = "SPECTRUM.FMT" from DATA/D000/P1.LBL: the file is in the volume's LABEL/ (PDS3
+    Standards Reference 19.3), two directories up; kept there, and the table read through it."""
+    pds4_tools = pytest.importorskip("pds4_tools")
+    volume = tmp_path / "VOL"
+    (volume / "LABEL").mkdir(parents=True)
+    (volume / "DATA" / "D000").mkdir(parents=True)
+    (volume / "LABEL" / "SPECTRUM.FMT").write_text(_crlf(
+        "OBJECT = COLUMN", '  NAME = "WAVELENGTH"', "  DATA_TYPE = ASCII_REAL", "  START_BYTE = 1", "  BYTES = 6",
+        "END_OBJECT = COLUMN", "OBJECT = COLUMN", '  NAME = "REFLECTANCE"', "  DATA_TYPE = ASCII_REAL",
+        "  START_BYTE = 8", "  BYTES = 6", "END_OBJECT = COLUMN"), newline="")
+    (volume / "DATA" / "D000" / "P1.TAB").write_text("0.5000 0.2500\r\n0.6000 0.2750\r\n", newline="")
+    (volume / "DATA" / "D000" / "P1.LBL").write_text(_crlf(
+        "PDS_VERSION_ID = PDS3", "RECORD_TYPE = FIXED_LENGTH", "RECORD_BYTES = 15", "FILE_RECORDS = 2",
+        '^TABLE = "P1.TAB"', 'PRODUCT_ID = "P1"', "OBJECT = TABLE", "  ROWS = 2", "  ROW_BYTES = 15",
+        "  INTERCHANGE_FORMAT = ASCII", "  COLUMNS = 2", '  ^STRUCTURE = "SPECTRUM.FMT"', "END_OBJECT = TABLE",
+        "END"), newline="")
+    out = tmp_path / "bundle"
+    result = migrate_volume(volume, out, bundle_lid="urn:nasa:pds:fmt_volume")
+    assert result.refused == ()
+    assert result.kept == ["LABEL/SPECTRUM.FMT"]
+    assert (out / "LABEL" / "SPECTRUM.FMT").read_bytes() == (volume / "LABEL" / "SPECTRUM.FMT").read_bytes()
+    table = pds4_tools.read(str(out / "DATA" / "D000" / "P1.xml"), quiet=True)[0].data
+    assert list(table["REFLECTANCE"]) == [0.25, 0.275]
