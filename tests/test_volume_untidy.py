@@ -80,3 +80,24 @@ def test_a_format_file_in_the_volume_label_directory_is_found_and_kept(tmp_path)
     assert (out / "LABEL" / "SPECTRUM.FMT").read_bytes() == (volume / "LABEL" / "SPECTRUM.FMT").read_bytes()
     table = pds4_tools.read(str(out / "DATA" / "D000" / "P1.xml"), quiet=True)[0].data
     assert list(table["REFLECTANCE"]) == [0.25, 0.275]
+
+
+def test_browse_images_link_to_the_product_their_name_starts_with(tmp_path):
+    """BROWSE/1358_PLOT.PNG previews the product of 1358.lbl (its name up to a '_'); an image no
+    product's name starts is left out with its reason."""
+    import numpy as np
+    from PIL import Image
+
+    volume = tmp_path / "SBN_0233"
+    shutil.copytree(VOLUME, volume)
+    (volume / "browse").mkdir()
+    picture = Image.fromarray(np.arange(64, dtype=np.uint8).reshape(8, 8))
+    picture.save(volume / "browse" / "1358_PLOT.PNG", format="PNG")
+    picture.save(volume / "browse" / "9999_PLOT.PNG", format="PNG")
+    out = tmp_path / "bundle"
+    result = migrate_volume(volume, out, bundle_lid="urn:nasa:pds:fbirtfspec")
+    browse = etree.parse(str(out / "browse" / "1358_PLOT.xml")).getroot()
+    assert browse.findtext(f".//{PDS}lidvid_reference") == "urn:nasa:pds:fbirtfspec:data:fieberbeyer2010_1358_tab::1.0"
+    assert browse.findtext(f".//{PDS}encoding_standard_id") == "PNG"
+    assert [path for path, _ in result.left_out] == ["browse/9999_PLOT.PNG"]
+    assert result.counts["Product_Browse"] == 1

@@ -432,8 +432,7 @@ class _Run:
         for name, encoding in self.browse:
             if name in self.owned:  # an image a PDS3 label describes is that product's data
                 continue
-            key = Path(name).name.split(".", 1)[0].upper()
-            data = self.product_lidvids.get(key)
+            data = self._previewed(Path(name).name)
             if data is None:
                 self.result.left_out.append((name, "a browse image whose name starts with no product's "
                                                    "PRODUCT_ID or label name"))
@@ -446,6 +445,17 @@ class _Run:
                 "data_lidvid": data, "file": _facts(copy), "encoding": encoding}))
             self._member("browse", f"{lid}::{VERSION}")
             self.result.counts["Product_Browse"] += 1
+
+    def _previewed(self, image: str) -> str | None:
+        """The LIDVID of the product a browse image previews: the longest PRODUCT_ID or label name
+        its name starts with, up to a '.' (X.browse.jpg) or a '_' (X_BR.JPG)."""
+        stem = image.split(".", 1)[0].upper()
+        parts = stem.split("_")
+        for end in range(len(parts), 0, -1):
+            found = self.product_lidvids.get("_".join(parts[:end]))
+            if found is not None:
+                return found
+        return None
 
     def _formats(self) -> None:
         for name in self.formats:

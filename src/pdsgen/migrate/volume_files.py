@@ -29,7 +29,8 @@ VOLUME_PARTS: tuple[tuple[str, str, str], ...] = (
     ("DOCUMENT/*", "document collection", "Product_Document (7-Bit ASCII Text, UTF-8 Text, PDF, PDF/A, HTML, "
                                          "images ...); a PDS3 label of a document travels as a second file"),
     ("BROWSE/*, EXTRAS/* images", "browse collection", "Product_Browse (Encoded_Image), linked to the data "
-                                                      "product whose PRODUCT_ID starts the image's name"),
+                                                      "product whose PRODUCT_ID or label name starts the "
+                                                      "image's name (up to a '.' or '_')"),
     ("LABEL/*.FMT and other .FMT files", "kept at their paths", "no PDS4 class: the PDS3 labels naming them "
                                                                "still read them; not in any inventory"),
     ("SOFTWARE/", "left out", SOFTWARE_REASON),
