@@ -238,4 +238,8 @@ def test_bad_input_is_one_line_and_nothing_is_written(volume, tmp_path):
     made = run_cli("migrate", volume, "-o", tmp_path / "b", "--bundle-lid", "urn:nasa:pds:Bad Name")
     assert made.returncode == 2 and "Traceback" not in made.stderr
     assert len(made.stderr.strip().splitlines()) == 1
+    made = run_cli("migrate", volume, "-o", tmp_path / "b", "--bundle-lid", BUNDLE, "--collection", "x")
+    assert made.returncode == 2 and "--collection" in made.stderr  # not silently ignored
+    made = run_cli("migrate", tmp_path / "no_such_volume", "-o", tmp_path / "b", "--bundle-lid", BUNDLE)
+    assert made.returncode == 2 and "Traceback" not in made.stderr
     assert not (tmp_path / "b").exists()

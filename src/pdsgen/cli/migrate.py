@@ -44,6 +44,8 @@ def migrate(products, outdir, in_place, bundle_lid, collection, overwrite, root)
             raise click.UsageError(f"{directories[0]} is a directory: give one PDS3 volume alone, or product labels")
         if not bundle_lid:
             raise click.UsageError("a volume becomes a bundle: give --bundle-lid urn:nasa:pds:NAME")
+        if root or collection != "data":  # a volume is its own tree; its collections follow its data sets
+            raise click.UsageError("--root and --collection are for product labels, not a volume")
         from ..migrate.volume import migrate_volume  # on first use: single products never load it
 
         return told(migrate_volume(products[0], outdir, bundle_lid=bundle_lid, in_place=in_place,
