@@ -101,3 +101,18 @@ def test_browse_images_link_to_the_product_their_name_starts_with(tmp_path):
     assert browse.findtext(f".//{PDS}encoding_standard_id") == "PNG"
     assert [path for path, _ in result.left_out] == ["browse/9999_PLOT.PNG"]
     assert result.counts["Product_Browse"] == 1
+
+
+def test_a_lid_longer_than_the_standard_allows_is_shortened_and_reported(tmp_path):
+    volume = tmp_path / "SBN_0233"
+    shutil.copytree(VOLUME, volume)
+    label = volume / "data" / "fieberbeyer2010" / "335.lbl"
+    long_id = "FIEBERBEYER2010_335_" + "X" * 240
+    label.write_bytes(label.read_bytes().replace(b'"FIEBERBEYER2010_335_TAB"', f'"{long_id}"'.encode()))
+    out = tmp_path / "bundle"
+    result = migrate_volume(volume, out, bundle_lid="urn:nasa:pds:fbirtfspec")
+    assert result.refused == ()
+    lid = etree.parse(str(out / "data" / "fieberbeyer2010" / "335.xml")).getroot().findtext(
+        f".//{PDS}logical_identifier")
+    assert len(lid) == 255 and lid.startswith("urn:nasa:pds:fbirtfspec:data:fieberbeyer2010_335_xxx")
+    assert [c for c in result.collisions if "longer than 255" in c and lid in c]

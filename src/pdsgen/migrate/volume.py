@@ -170,6 +170,16 @@ def _run(source: Path, dest: Path, bundle_lid: str, *, in_place: bool, overwrite
             run.undo()
         raise
     return run.result
+# PDS4 Standards Reference 6D.2: a LID is at most 255 characters. A longer one is cut, and made
+# unique again by the MD5 of the whole LID it stands for.
+MAX_LID = 255
+LENGTH_RULE = "its first 246 characters, '_' and the first 8 hex digits of the MD5 of the whole LID"
+
+
+def _shortened(lid: str) -> str:
+    import hashlib
+
+    return f"{lid[:MAX_LID - 9]}_{hashlib.md5(lid.encode()).hexdigest()[:8]}"
 
 
 class _Run:
@@ -298,6 +308,11 @@ class _Run:
                 lid = f"{base}{lid_part(relative.with_suffix('').as_posix())}_{number}"
             self.result.collisions.append(f"{relative.as_posix()}: LID {first} is taken by an earlier product; "
                                           f"given {lid} ({COLLISION_RULE})")
+        if len(lid) > MAX_LID:
+            short = _shortened(lid)
+            self.result.collisions.append(f"{relative.as_posix()}: LID {lid} is longer than {MAX_LID} characters; "
+                                          f"given {short} ({LENGTH_RULE})")
+            lid = short
         check_product_lid(lid)
         self.lids.add(lid)
         return lid
