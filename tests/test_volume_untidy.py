@@ -116,3 +116,21 @@ def test_a_lid_longer_than_the_standard_allows_is_shortened_and_reported(tmp_pat
         f".//{PDS}logical_identifier")
     assert len(lid) == 255 and lid.startswith("urn:nasa:pds:fbirtfspec:data:fieberbeyer2010_335_xxx")
     assert [c for c in result.collisions if "longer than 255" in c and lid in c]
+
+
+def test_a_refused_product_is_listed_and_its_table_is_not_taken_for_a_document(tmp_path):
+    """A truncated data file (genuine 335.tab cut to 3,000 bytes): the product is refused with the
+    reason, its table left out as that product's file, and the other products migrated."""
+    volume = tmp_path / "SBN_0233"
+    shutil.copytree(VOLUME, volume)
+    table = volume / "data" / "fieberbeyer2010" / "335.tab"
+    table.write_bytes(table.read_bytes()[:3000])
+    out = tmp_path / "bundle"
+    result = migrate_volume(volume, out, bundle_lid="urn:nasa:pds:fbirtfspec")
+    assert len(result.refused) == 1 and "335.lbl" in result.refused[0] and "truncated" in result.refused[0]
+    assert result.exit_code == 2
+    assert result.left_out == [("data/fieberbeyer2010/335.tab",
+                                "a data file of the refused product data/fieberbeyer2010/335.lbl")]
+    assert not (out / "data" / "fieberbeyer2010" / "335.xml").exists()
+    assert (out / "data" / "fieberbeyer2010" / "1358.xml").is_file()
+    assert result.counts["Product_Observational"] == 4  # 1358, 1447, the index and the checksum table

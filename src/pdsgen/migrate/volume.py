@@ -24,11 +24,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO, Any
 
-from ..archive.scan import is_pds3_label, walk
+from ..archive.scan import is_pds3_label, named_files, walk
 from ..errors import InputError, OutputError, PdsgenError, param
 from ..formats.checksum import file_md5
 from ..formats.sniff import file_head
 from ..label.read import LabelCache, read_pds3_label
+from ..label.tree import Block
 from ..pds4.content import digest_file
 from ..pds4.label import render_pds4
 from ..pds4.model import CURRENT_IM
@@ -277,6 +278,7 @@ class _Run:
         except PdsgenError as exc:
             self.lids.discard(lid)
             self.result.failures.append(str(exc))
+            self._refused_files(root, label, relative)
             return
         self.first_product = self.first_product or label
         lidvid = f"{lid}::{VERSION}"
@@ -294,6 +296,14 @@ class _Run:
         self.result.counts["Product_Observational"] += 1
         if self.in_place:
             self.written.append(migrated.label_path)
+
+    def _refused_files(self, root: Block, label: Path, relative: Path) -> None:
+        """The data files of a refused product are left out as such (never taken for documents)."""
+        for path in named_files(root, label.parent, tree=self.source).data:
+            name = path.relative_to(self.source).as_posix()
+            if name not in self.owned:
+                self.owned.add(name)
+                self.result.left_out.append((name, f"a data file of the refused product {relative.as_posix()}"))
 
     def _unique_lid(self, collection: str, pid: str, relative: Path) -> str:
         """The product's LID by COLLISION_RULE: unique within the bundle, valid, lower case."""
