@@ -26,7 +26,7 @@ from typing import IO, Any
 
 from ..archive.scan import is_pds3_label, named_files, walk
 from ..errors import InputError, OutputError, PdsgenError, param
-from ..formats.checksum import file_md5
+from ..formats.checksum import bytes_md5, file_md5
 from ..formats.sniff import file_head
 from ..label.read import LabelCache, read_pds3_label
 from ..label.tree import Block
@@ -178,9 +178,7 @@ LENGTH_RULE = "its first 246 characters, '_' and the first 8 hex digits of the M
 
 
 def _shortened(lid: str) -> str:
-    import hashlib
-
-    return f"{lid[:MAX_LID - 9]}_{hashlib.md5(lid.encode()).hexdigest()[:8]}"
+    return f"{lid[:MAX_LID - 9]}_{bytes_md5(lid.encode())[:8]}"
 
 
 class _Run:
