@@ -31,7 +31,7 @@ def migrate(products, outdir, in_place, bundle_lid, collection, overwrite, root)
     and DATA_SET_ID as aliases. Data bytes are never changed. A product PDS4 cannot describe
     exactly is refused in one line and the others go on; the exit status is then 2.
 
-    A directory (one, alone) is a PDS3 volume: it becomes a PDS4 bundle (--bundle-lid needed)
+    A directory or s3:// prefix (one, alone) is a PDS3 volume: it becomes a PDS4 bundle (--bundle-lid needed)
     with data, document, browse and miscellaneous collections, the bundle label from the
     volume's catalog and a crosswalk of PDS3 PRODUCT_IDs to PDS4 LIDVIDs; the index table is
     the manifest the products are checked against.

@@ -17,6 +17,7 @@ the files this run wrote are removed again.
 from __future__ import annotations
 
 import datetime
+import logging
 import os
 import shutil
 from collections import Counter
@@ -51,6 +52,8 @@ from .volume_files import (
     image_encoding,
 )
 from .volume_index import VolumeIndex, find_index
+
+log = logging.getLogger(__name__)
 
 VERSION = "1.0"
 MANIFEST = "MD5SUMS.TXT"
@@ -219,6 +222,7 @@ class _Run:
             for number, row_path, _ in self.index.rows():
                 if row_path:
                     self.rows.setdefault(row_path, number)
+        log.info("%s: index %s, %d row(s)", self.source, self.result.index or "none", len(self.rows))
         for path in walk(self.source):
             relative = path.relative_to(self.source)
             if self.in_place and self._made_here(relative):
@@ -292,6 +296,8 @@ class _Run:
         self._member(collection, lidvid)
         self._crosswalk_row(pid, relative.as_posix(), lidvid)
         self.result.counts["Product_Observational"] += 1
+        if self.result.counts["Product_Observational"] % 1000 == 0:
+            log.info("%d product(s) migrated", self.result.counts["Product_Observational"])
         if self.in_place:
             self.written.append(migrated.label_path)
 
