@@ -126,3 +126,21 @@ def test_in_place_on_a_copy_leaves_every_published_byte(tmp_path):
         if (copy / name).is_file():
             assert hashlib.md5((copy / name).read_bytes()).hexdigest() == digest, name
     assert (copy / "data" / "fieberbeyer2010" / "1358.xml").is_file()
+
+
+def test_pds4_tools_reads_the_crosswalk_and_the_inventories_as_written(migrated):
+    """The crosswalk (Product_Ancillary, Table_Delimited) and each inventory, read by pds4_tools
+    through their labels, say what the CSV files hold."""
+    out, _ = migrated
+    import csv
+
+    table = pds4_tools.read(str(out / "crosswalk.xml"), quiet=True)[0].data
+    with open(out / "crosswalk.csv", newline="") as stream:
+        rows = [tuple(row) for row in csv.reader(stream)]
+    assert [tuple(str(v) for v in row) for row in table] == rows
+    assert ("FIEBERBEYER2010_1358_TAB", "data/fieberbeyer2010/1358.lbl",
+            "urn:nasa:pds:fbirtfspec:data:fieberbeyer2010_1358_tab::1.0") in rows
+    for label in out.glob("collection_*.xml"):
+        inventory = pds4_tools.read(str(label), quiet=True)[0].data
+        written = (out / label.name.replace(".xml", "_inventory.csv")).read_text().splitlines()
+        assert [f"{status},{lidvid}" for status, lidvid in inventory] == written
