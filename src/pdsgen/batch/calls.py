@@ -71,9 +71,16 @@ def run_extras(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
 
 def run_migrate(p: Mapping[str, Any], overwrite: bool, threads: int) -> Outputs:
     """`pdsgen migrate`: each product's PDS4 label beside unchanged copies of its files; a refused
-    product fails the job (one line each) after the others are written."""
+    product fails the job (one line each) after the others are written. One directory given is a
+    PDS3 volume, migrated to a bundle as the command does (its bundle label is the job's product)."""
     from ..migrate import migrate_products, product_labels
 
+    if len(p["products"]) == 1 and Path(p["products"][0]).is_dir():
+        from ..migrate.volume import migrate_volume
+
+        volume = migrate_volume(p["products"][0], p["outdir"], bundle_lid=p["bundle_lid"], in_place=p["in_place"],
+                                overwrite=overwrite)
+        return _reported(volume, list(volume.files[:1]))
     run = migrate_products(product_labels(p["products"]), p["outdir"], bundle_lid=p["bundle_lid"],
                            collection=p["collection"], in_place=p["in_place"], overwrite=overwrite)
     return _reported(run, list(run.labels))

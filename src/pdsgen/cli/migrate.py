@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import click
 
 from ..migrate import migrate_products, product_labels
@@ -12,7 +14,7 @@ from ._profile_options import output_option
 
 @click.command(short_help=COMMANDS["migrate"])
 @output_options
-@click.argument("products", nargs=-1, required=True, type=click.Path(dir_okay=False))
+@click.argument("products", nargs=-1, required=True, type=click.Path())
 @output_option("outdir", "--outdir", type=click.Path(file_okay=False),
               help="Directory for the PDS4 labels and unchanged copies of the products' files.")
 @click.option("--in-place", is_flag=True, help="Write each PDS4 label beside its PDS3 product; copy nothing.")
@@ -28,9 +30,45 @@ def migrate(products, outdir, in_place, bundle_lid, collection, overwrite, root)
     byte offsets, scaling, special constants, cart: for map products, the PDS3 PRODUCT_ID
     and DATA_SET_ID as aliases. Data bytes are never changed. A product PDS4 cannot describe
     exactly is refused in one line and the others go on; the exit status is then 2.
+
+    A directory or s3:// prefix (one, alone) is a PDS3 volume: it becomes a PDS4 bundle (--bundle-lid needed)
+    with data, document, browse and miscellaneous collections, the bundle label from the
+    volume's catalog and a crosswalk of PDS3 PRODUCT_IDs to PDS4 LIDVIDs; the index table is
+    the manifest the products are checked against.
     """
     if bool(outdir) == in_place:
         raise click.UsageError("give either -o/--output or --in-place")
+    directories = [p for p in products if _is_volume(p)]
+    if directories:
+        if len(products) != 1:
+            raise click.UsageError(f"{directories[0]} is a directory: give one PDS3 volume alone, or product labels")
+        if not bundle_lid:
+            raise click.UsageError("a volume becomes a bundle: give --bundle-lid urn:nasa:pds:NAME")
+        if root or collection != "data":  # a volume is its own tree; its collections follow its data sets
+            raise click.UsageError("--root and --collection are for product labels, not a volume")
+        return _migrate_volume(products[0], outdir, in_place, bundle_lid, overwrite)
     run = migrate_products(product_labels(products), outdir, bundle_lid=bundle_lid, collection=collection,
                            in_place=in_place, overwrite=overwrite, root=root)
     return told(run)  # a refused product: one error line each, the others migrated, exit status 2
+
+
+def _is_volume(path: str) -> bool:
+    """A local directory, or an s3:// prefix (a trailing '/', or a last name without an extension)."""
+    if path.startswith("s3://"):
+        return path.endswith("/") or "." not in path.rstrip("/").rsplit("/", 1)[-1]
+    return Path(path).is_dir()
+
+
+def _migrate_volume(volume: str, outdir: str | None, in_place: bool, bundle_lid: str, overwrite: bool) -> Outcome:
+    """The volume's bundle; s3:// VOLUME_DIR and OUTDIR as `pdsgen deliver` treats its trees: built
+    from local copies, the changed files published with the index and manifest last."""
+    from ..archive.layout import publication_rank
+    from ..migrate.volume import migrate_volume  # on first use: single products never load it
+    from ..storage import local_inputs, tree_area
+
+    with local_inputs([] if in_place else [volume]) as inputs, \
+            tree_area(volume if in_place else outdir, publication_rank) as area:  # type: ignore[arg-type]
+        source = area.directory if in_place else Path(inputs.paths[0])
+        result = migrate_volume(source, None if in_place else area.directory, bundle_lid=bundle_lid,
+                                in_place=in_place, overwrite=overwrite)
+        return told(result, inputs, area)

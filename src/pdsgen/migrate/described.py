@@ -115,6 +115,8 @@ def structure_file(ctx: FileContext, stmt: Statement, chain: tuple[Path, ...] = 
     volume_label_dir = ctx.path.parent.parent / "LABEL"  # a volume's format files (PDS3 Standards, 19.3)
     if path is None:
         path = find_beside(volume_label_dir, name, root=ctx.tree)
+    if path is None and ctx.tree != ctx.path.parent:  # a volume given as the tree: its top LABEL/ too
+        path = find_beside(ctx.tree / "LABEL", name, root=ctx.tree)
     if path is None:
         raise Refused(ctx.path, f"^STRUCTURE file {name} is missing")
     path = path.resolve()
