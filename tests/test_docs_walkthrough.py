@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 import docs_text
+
 from helpers import ORIGINS, elevation_array, write_raster
 
 WALK = "Walk-through: your own DTM and orthoimage to a delivery"
