@@ -1,12 +1,13 @@
-# Two entry points for a new user: `make demo` and `make test`.
+# Two entry points for a new user: `make demo` and `make test`; `make docs` builds the documentation site.
 # Each does all the set-up it needs on a fresh Debian machine with Python 3.
 PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.pdsgen-installed
 TEST_STAMP := $(VENV)/.pdsgen-test-tools
+DOCS_STAMP := $(VENV)/.pdsgen-docs-tools
 
-.PHONY: demo test lint clean setup
+.PHONY: demo test lint docs clean setup
 
 setup: $(STAMP)
 
@@ -28,6 +29,15 @@ demo: $(STAMP)
 
 test: $(TEST_STAMP)
 	$(PY) -m pytest -q
+
+# The documentation site from docs/ into build/site/ (mkdocs.yml). Strict: a warning - a
+# link to a page or anchor that does not exist, a page left out of the navigation - fails.
+$(DOCS_STAMP): $(STAMP)
+	$(PY) -m pip install --quiet -e '.[docs]'
+	touch $@
+
+docs: $(DOCS_STAMP)
+	$(VENV)/bin/mkdocs build --strict --clean
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check src tests bench

@@ -174,8 +174,8 @@ def test_bar_only_when_the_stream_is_a_terminal():
 
 
 def test_readme_manifest_is_a_valid_manifest(tmp_path):
-    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text(encoding="utf-8")
-    block = readme.split("## Batch", 1)[1].split("```toml\n", 1)[1].split("```", 1)[0]
+    import docs_text
+    block = docs_text.section_starting("Batch").split("```toml\n", 1)[1].split("```", 1)[0]
     manifest = load_manifest(write(tmp_path, block))
     assert [j.kind for j in manifest.jobs] == ["dtm", "ortho", "extras", "validate"]
     assert manifest.jobs[0].params["institution"] == "U"  # from [defaults.dtm]

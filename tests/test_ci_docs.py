@@ -1,6 +1,7 @@
-"""The CI recipes the README documents work as written: its pre-commit configuration names
-the hook this repository defines, its hook command runs, and the GitHub Actions workflow
-in docs/ validates a label set and leaves the SARIF file its upload step sends."""
+"""The CI recipes the documentation gives (docs/ci.md) work as written: its pre-commit
+configuration names the hook this repository defines, its hook command runs, and the GitHub
+Actions workflow in docs/ validates a label set and leaves the SARIF file its upload step sends.
+tests/test_docs_ci_recipes.py installs each recipe's pdsgen, with the pds4 extra, as it does."""
 
 from __future__ import annotations
 
@@ -16,20 +17,21 @@ import pytest
 import yaml
 from affine import Affine
 
+import docs_text
 from pdsgen import write_dtm
 
 from helpers import elevation_array, write_raster
 
 ROOT = Path(__file__).resolve().parent.parent
-README = ROOT / "README.md"
 WORKFLOW = ROOT / "docs" / "github-actions-validate.yml"
-SECTION = "Validating in CI: pre-commit and GitHub Actions"
+WALK = "Walk-through: your own DTM and orthoimage to a delivery"
+SECTION = "pre-commit"
 BAD_LABEL = (b"PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 80\r\n"
              b"FILE_RECORDS = 2\r\nLABEL_RECORDS = 1\r\nOBJECT = IMAGE\r\nLINES = 1\r\nEND\r\n")
 
 
 def _section() -> str:
-    return README.read_text().split(f"## {SECTION}\n", 1)[1].split("\n## ", 1)[0]
+    return docs_text.section(SECTION)
 
 
 @pytest.fixture
@@ -38,7 +40,9 @@ def delivery(tmp_path) -> Path:
     source = write_raster(tmp_path / "heights.tif", elevation_array(20, 16),
                           "+proj=eqc +lat_ts=0 +lon_0=0 +R=3396190 +units=m +no_defs",
                           Affine(1.0, 0, 1000.0, 0, -1.0, 2000.0))
-    write_dtm(source, tmp_path / "delivery", product_id="GOOD")
+    params = tmp_path / "params.toml"  # the identification keywords of the walk-through's params file
+    params.write_text(re.findall(r"```toml\n(# params.toml.*?)```", docs_text.section(WALK), re.S)[0])
+    write_dtm(source, tmp_path / "delivery", product_id="GOOD", params=params)
     return tmp_path / "delivery"
 
 
@@ -86,10 +90,11 @@ def _run_workflow_validation(cwd: Path) -> subprocess.CompletedProcess:
 def test_workflow_validates_the_set_and_writes_the_sarif_it_uploads(delivery):
     workflow, job, steps = _validate_step()
     assert workflow["permissions"]["security-events"] == "write"
-    assert workflow["env"]["LABELS"] == "delivery" and workflow["env"]["PDSGEN"].startswith("pdsgen ")
+    assert workflow["env"]["LABELS"] == "delivery" and "--labels-only" in workflow["env"]["CHECKS"]
+    (install,) = [s for s in steps if s.get("run", "").startswith("python -m pip install")]
+    assert "${PDSGEN_SOURCE}[pds4]" in install["run"] and "OWNER" not in WORKFLOW.read_text()
     (upload,) = [s for s in steps if s.get("uses", "").startswith("github/codeql-action/upload-sarif@")]
     assert "always()" in upload["if"] and f"hashFiles('{upload['with']['sarif_file']}')" in upload["if"]
-    assert any(s.get("run", "").startswith("python -m pip install") for s in steps)
 
     clean = _run_workflow_validation(delivery.parent)
     assert clean.returncode == 0, clean.stderr

@@ -403,7 +403,8 @@ def test_readme_delivery_examples_run_as_written(tmp_path):
     write_raster(tmp_path / "my_dtm.tif", elevation_array(40, 30, seed=3), crs, transform)
     write_raster(tmp_path / "ortho_red.tif", np.random.default_rng(5).integers(1, 255, (40, 30)).astype("uint8"),
                  crs, transform)
-    body = (REPO / "README.md").read_text().split("## Preparing a delivery\n", 1)[1].split("\n## ", 1)[0]
+    import docs_text
+    body = docs_text.section("Preparing a delivery")
     examples = [line for block in re.findall(r"```sh\n(.*?)```", body, re.S) for line in block.splitlines()
                 if line.startswith("pdsgen ")]
     assert len(examples) == 5

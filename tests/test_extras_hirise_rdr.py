@@ -200,10 +200,9 @@ def test_readme_examples_run_as_written(tmp_path: Path):
     import subprocess
     import sys
 
+    import docs_text
     from test_extras_nomap import mosaics, write_plain_tiff
-
-    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
-    body = text.split("## HiRISE RDR Extras\n", 1)[1].split("\n## ", 1)[0]
+    body = docs_text.section("HiRISE RDR Extras")
     examples = [line for block in re.findall(r"```sh\n(.*?)```", body, re.S)
                 for line in block.splitlines() if line.startswith("pdsgen ")]
     assert len(examples) == 3

@@ -197,8 +197,8 @@ def test_readme_examples_run_as_written(tmp_path):
     import subprocess
     import sys
 
-    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
-    body = readme.split("## HRSC-AX airborne tiles\n", 1)[1].split("\n## ", 1)[0]
+    import docs_text
+    body = docs_text.section("HRSC-AX airborne tiles")
     examples = [line for block in re.findall(r"```sh\n(.*?)```", body, re.S) for line in block.splitlines()
                 if line.startswith("pdsgen ")]
     assert len(examples) == 5

@@ -339,10 +339,10 @@ def test_extras_and_deliver_take_a_mosaic_like_any_product(tmp_path):
 def test_the_readme_examples_run_as_written(tmp_path):
     """README "Mosaics": each `pdsgen mosaic` line, run by the shell (its globs) on inputs made
     as a user would have them: iMars strips and site DTMs made by pdsgen, HRSC-AX tiles."""
-    from hrsc_ax_tiles import dtm_group, map_group, write_vicar
+    import docs_text
 
-    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
-    body = text.split("## Mosaics\n", 1)[1].split("\n## ", 1)[0]
+    from hrsc_ax_tiles import dtm_group, map_group, write_vicar
+    body = docs_text.section("Mosaics")
     examples = [line for block in re.findall(r"```sh\n(.*?)```", body, re.S)
                 for line in block.splitlines() if line.startswith("pdsgen ")]
     assert len(examples) == 4

@@ -264,8 +264,8 @@ def test_readme_validating_pds4_examples_run_as_written(product, tmp_path):
     import subprocess
     import sys
 
-    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
-    body = readme.split("## Validating PDS4\n", 1)[1].split("\n## ", 1)[0]
+    import docs_text
+    body = docs_text.section("Validating PDS4")
     blocks = re.findall(r"```sh\n(.*?)```", body, re.S)
     examples = [line.split("#")[0] for block in blocks for line in block.splitlines() if line.startswith("pdsgen ")]
     assert len(examples) == 4

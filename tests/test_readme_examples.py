@@ -6,21 +6,20 @@ import re
 import shlex
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 from affine import Affine
 
+import docs_text
+
 from helpers import elevation_array, write_raster
 
-README = Path(__file__).resolve().parents[1] / "README.md"
 SINUSOIDAL = "+proj=sinu +lon_0=70 +R=3396000 +units=m +no_defs"
 GRID = Affine(50.0, 0, -10000.0, 0, -50.0, -1000000.0)
 
 
 def _examples(section: str) -> list[str]:
-    text = README.read_text()
-    body = text.split(f"## {section}\n", 1)[1].split("\n## ", 1)[0]
+    body = docs_text.section(section)
     blocks = re.findall(r"```sh\n(.*?)```", body, re.S)
     return [line for block in blocks for line in block.splitlines() if line.startswith("pdsgen ")]
 

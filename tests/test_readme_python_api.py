@@ -9,13 +9,13 @@ from pathlib import Path
 
 import numpy as np
 
-from helpers import ORIGINS, elevation_array, write_raster
+import docs_text
 
-README = Path(__file__).resolve().parents[1] / "README.md"
+from helpers import ORIGINS, elevation_array, write_raster
 
 
 def _python_blocks(section: str) -> list[str]:
-    body = README.read_text().split(f"## {section}\n", 1)[1].split("\n## ", 1)[0]
+    body = docs_text.section(section)
     return re.findall(r"```python\n(.*?)```", body, re.S)
 
 

@@ -158,8 +158,8 @@ def test_a_screenshot_is_not_blank(delivery, tmp_path):
     not_white = np.any(pixels < 235, axis=2).mean()
     colours = len(np.unique(pixels.reshape(-1, 3), axis=0))
     assert not_white > 0.05 and colours > 200, (not_white, colours)
-    # the footprint fill colour is on screen (the map rendered)
-    orange = (np.abs(pixels.astype(int) - (224, 167, 136)).sum(axis=2) < 40).mean()
+    # the DTM footprints' fill colour is on screen (the map rendered)
+    orange = (np.abs(pixels.astype(int) - (234, 199, 179)).sum(axis=2) < 40).mean()
     assert orange > 0.001
 
 

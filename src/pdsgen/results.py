@@ -15,7 +15,7 @@ results from it without loading the product writers.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -68,9 +68,18 @@ class CommandResult(ABC):
         return {"command": command, "files": files_json(self.files), "warnings": list(self.warnings), **facts}
 
 
+def written_line(files: Sequence[Path], facts: Iterable[str]) -> str:
+    """The one summary form of the commands that make products (dtm, ortho, mosaic, migrate):
+    the main file's path, the name of every other file written (its path when it is elsewhere),
+    then what was made - `delivery/X.JP2  X.LBL: 400 x 300 (lines x samples), 8-bit ...`."""
+    main, *others = files
+    named = [path.name if path.parent == main.parent else str(path) for path in others]
+    return "  ".join([str(main), *named]) + ": " + ", ".join(facts)
+
+
 def files_json(paths: Iterable[Path]) -> list[dict[str, Any]]:
     """Each file as {"path", "bytes"}."""
     return [{"path": str(path), "bytes": path.stat().st_size} for path in paths]
 
 
-__all__ = ["CommandResult", "files_json"]
+__all__ = ["CommandResult", "files_json", "written_line"]

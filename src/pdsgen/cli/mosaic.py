@@ -36,7 +36,7 @@ def mosaic(ctx, inputs, outdir, profile, overwrite, **_options) -> Outcome:
     # pixel of every input anyway. An s3:// OUTDIR: staged here, uploaded when complete.
     with local_inputs(inputs) as sources, output_area(outdir, overwrite) as area:
         product = write_mosaic(sources.paths, area.directory, **options)
-        return told(ListedProduct(product), sources, area)  # told by its directory and files
+        return told(ListedProduct(product), sources, area)
 
 
 def library_options(params: Mapping[str, Any]) -> dict[str, Any]:

@@ -20,7 +20,7 @@ from ..errors import InputError, OutputError, PdsgenError
 from ..label.read import LabelCache
 from ..pds4.content import digest_file
 from ..pds4.label import render_pds4
-from ..results import CommandResult
+from ..results import CommandResult, written_line
 from ..storage.staging import staged_files
 from ..validate.context import FileContext
 from .geometry import migrated_cartography
@@ -53,8 +53,8 @@ class MigratedProduct:
 
     @property
     def summary_line(self) -> str:
-        """What was written, in one line (as product results say it: `ProductResult.summary_line`)."""
-        return f"{self.label_path} ({self.lid}; {len(self.files)} file(s) described unchanged)"
+        """What was written, in one line, in the form of product results (`results.written_line`)."""
+        return written_line(self.written, (self.lid, f"{len(self.files)} file(s) described unchanged"))
 
     @property
     def written(self) -> tuple[Path, ...]:
@@ -91,7 +91,7 @@ class MigrationRun(CommandResult):
 
     @property
     def summary_lines(self) -> tuple[str, ...]:
-        return (*(f"PDS4     {product.summary_line}" for product in self.migrated),
+        return (*(product.summary_line for product in self.migrated),
                 f"{len(self.migrated)} product(s) migrated, {len(self.failed)} refused")
 
     def details(self) -> dict[str, Any]:

@@ -37,7 +37,7 @@ from .dispatch import NO_STATEMENT, MissionWriter, ProductStatement, call_missio
 from .identification import choose_product_id, identification_keywords, source_id_values
 from .opening import Opening, open_product_input, require_valid
 from .options import ProductOptions
-from .result import ProductResult, pds4_name
+from .result import ProductResult
 
 if TYPE_CHECKING:
     from rasterio.io import DatasetReader
@@ -63,9 +63,8 @@ class DtmProduct(ProductResult):
         return (self.path,) + ((self.pds4_label_path,) if self.pds4_label_path else ())
 
     @property
-    def summary_line(self) -> str:
-        return (f"{self.path}{pds4_name(self.pds4_label_path)}  {self.geometry.lines} x {self.geometry.samples}  "
-                f"valid {self.valid_minimum} .. {self.valid_maximum} m")
+    def summary_facts(self) -> tuple[str, ...]:
+        return (f"valid {self.valid_minimum} .. {self.valid_maximum} m",)
 
 
 def write_dtm(

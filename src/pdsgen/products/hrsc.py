@@ -67,7 +67,7 @@ from .int16_heights import (
 )
 from .opening import Opening, ProductInput, map_geometry, open_product_input, require_valid, single_band
 from .options import ProductOptions
-from .result import ProductResult, pds4_name
+from .result import ProductResult
 
 HRSC_SPHERE_M = hrsc_mission.SPHERE_M
 
@@ -97,10 +97,9 @@ class HrscDtmProduct(HrscProduct):
     encoding: Int16Encoding
 
     @property
-    def summary_line(self) -> str:
-        return (f"{self.path}{pds4_name(self.pds4_label_path)}  {self.geometry.lines} x {self.geometry.samples}  "
-                f"DN {self.valid_minimum} .. {self.valid_maximum} "
-                f"(x {self.encoding.scaling_factor:g} + {self.encoding.offset:g} m)")
+    def summary_facts(self) -> tuple[str, ...]:
+        return (f"DN {self.valid_minimum} .. {self.valid_maximum} "
+                f"(x {self.encoding.scaling_factor:g} + {self.encoding.offset:g} m)",)
 
 
 def hrsc_target_crs(dataset: DatasetReader) -> CRS:
@@ -303,8 +302,8 @@ class HrscImageProduct(HrscProduct):
     offset: float
 
     @property
-    def summary_line(self) -> str:
-        return f"{self.path}{pds4_name(self.pds4_label_path)}  DN {self.valid_minimum} .. {self.valid_maximum}"
+    def summary_facts(self) -> tuple[str, ...]:
+        return (f"DN {self.valid_minimum} .. {self.valid_maximum}",)
 
 
 def write_hrsc_nd4(

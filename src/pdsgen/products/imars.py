@@ -79,8 +79,8 @@ class ImarsProduct(ProductResult):
         return (self.tiff_path, self.pvl_path, self.footprint_path, *self.shapefile_paths)
 
     @property
-    def summary_line(self) -> str:
-        return f"{self.tiff_path}  {self.pvl_path.name}  {self.footprint_path.name}"
+    def summary_facts(self) -> tuple[str, ...]:
+        return (f"DN {self.valid_minimum} .. {self.valid_maximum}",)
 
 
 # A footprint feature: (product ID, lon/lat polygons, properties).

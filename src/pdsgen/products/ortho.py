@@ -50,7 +50,7 @@ from .dispatch import NO_STATEMENT, MissionWriter, ProductStatement, call_missio
 from .identification import choose_product_id, identification_keywords, source_id_values
 from .opening import Opening, no_valid_pixels, open_product_input
 from .options import ProductOptions
-from .result import ProductResult, pds4_name
+from .result import ProductResult
 
 log = logging.getLogger(__name__)
 
@@ -78,10 +78,8 @@ class OrthoProduct(ProductResult):
         return tuple(dict.fromkeys((self.jp2_path, self.label_path, *pds4)))
 
     @property
-    def summary_line(self) -> str:
-        return (f"{self.jp2_path}{pds4_name(self.pds4_label_path)}  {self.geometry.lines} x "
-                f"{self.geometry.samples} x {self.bands}  {self.bits}-bit DN * {self.scaling_factor:.6g} + "
-                f"{self.offset:.6g}")
+    def summary_facts(self) -> tuple[str, ...]:
+        return (f"{self.bands} band(s)", f"{self.bits}-bit DN * {self.scaling_factor:.6g} + {self.offset:.6g}")
 
 
 # Band names of 1- and 3-band orthoimages, as HiRISE labels write them.

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any, ClassVar
 
 from ..geo.geometry import MapGeometry
-from ..results import CommandResult
+from ..results import CommandResult, written_line
 
 
 class ProductResult(CommandResult):
@@ -36,9 +36,16 @@ class ProductResult(CommandResult):
         """Every file this product wrote, the main one first."""
 
     @property
-    @abstractmethod
     def summary_line(self) -> str:
-        """What was written, in one line: the line `pdsgen dtm` / `pdsgen ortho` print."""
+        """What was written, in one line: the line `pdsgen dtm` / `pdsgen ortho` print, in the one
+        form of the commands that make products (`written_line`): every file, then the size."""
+        size = f"{self.geometry.lines} x {self.geometry.samples} (lines x samples)"
+        return written_line(self.files, (size, *self.summary_facts))
+
+    @property
+    def summary_facts(self) -> tuple[str, ...]:
+        """What the summary line says of the product after its files and size (its values, DNs)."""
+        return ()
 
     @property
     def summary_lines(self) -> tuple[str, ...]:
@@ -61,8 +68,8 @@ class ProductResult(CommandResult):
 
 @dataclass(frozen=True)
 class ListedProduct(CommandResult):
-    """A product told by the files it wrote rather than by its own line: what `pdsgen mosaic`
-    prints (one directory, every file written, the size), its JSON the product's own."""
+    """A mosaic: the product's own summary line (every file, the size, its values) saying it is
+    a mosaic; its JSON the product's own."""
 
     product: ProductResult
 
@@ -76,17 +83,10 @@ class ListedProduct(CommandResult):
 
     @property
     def summary_lines(self) -> tuple[str, ...]:
-        files = "  ".join(path.name for path in self.files)
-        geometry = self.product.geometry
-        return (f"{self.files[0].parent}/  {files}  {geometry.lines} x {geometry.samples}",)
+        return (f"{self.product.summary_line}, a mosaic",)
 
     def details(self) -> dict[str, Any]:
         return self.product.details()
-
-
-def pds4_name(path: Path | None) -> str:
-    """The PDS4 label a product also wrote, as a summary line names it (empty if none)."""
-    return f"  {path.name}" if path else ""
 
 
 def checked_result(value: object, writer: object) -> ProductResult:
@@ -101,4 +101,4 @@ def checked_result(value: object, writer: object) -> ProductResult:
     return value
 
 
-__all__ = ["ListedProduct", "ProductResult", "checked_result", "pds4_name"]
+__all__ = ["ListedProduct", "ProductResult", "checked_result"]

@@ -107,6 +107,34 @@ class Review:
         return sorted({f.rule for p in self.products for f in p.findings}
                       | {f.rule for o in self.others for f in o.findings})
 
+    def placeholders(self) -> int:
+        """Warnings that mark text or keywords still to be filled in (`is_placeholder`): while any
+        remain the delivery is not ready, whatever the errors say."""
+        findings = [f for p in self.products for f in p.findings] + [f for o in self.others for f in o.findings]
+        return sum(1 for f in findings if is_placeholder(f))
+
+    @property
+    def state(self) -> str:
+        """The summary's state: "failed" (errors), "incomplete" (placeholders left), or "ok"."""
+        if self.counts()["error"]:
+            return "failed"
+        return "incomplete" if self.placeholders() else "ok"
+
+
+# Rules whose warnings mark something still to be written: DLV-006, a [TO BE WRITTEN: ...]
+# placeholder left in a delivery's text.
+PLACEHOLDER_RULES = frozenset({"DLV-006"})
+PLACEHOLDER_WORDS = ("[TO BE WRITTEN", "placeholder")
+
+
+def is_placeholder(finding: Finding) -> bool:
+    """A warning of a placeholder: from a placeholder rule, or whose message names one (a
+    `[TO BE WRITTEN: ...]` text, an identification keyword left as a placeholder such as "UNK")."""
+    if finding.severity != "warning":
+        return False
+    return finding.rule in PLACEHOLDER_RULES or any(word.lower() in finding.message.lower()
+                                                     for word in PLACEHOLDER_WORDS)
+
 
 def anchor_of(product_id: str, taken: set[str]) -> str:
     base = "p-" + "".join(c if c.isalnum() or c in "-_." else "_" for c in product_id)

@@ -28,6 +28,10 @@ MAP_KEYWORDS = (
     ("WESTERNMOST_LONGITUDE", "westernmost longitude"),
     ("EASTERNMOST_LONGITUDE", "easternmost longitude"),
 )
+# Decimals a reviewer needs of a map keyword, where labels write a dozen: a ten-thousandth of a
+# degree (a few metres on Mars), a tenth of a pixel per degree. Others are shown as written.
+SHOWN_DECIMALS = {"MINIMUM_LATITUDE": 4, "MAXIMUM_LATITUDE": 4, "WESTERNMOST_LONGITUDE": 4,
+                  "EASTERNMOST_LONGITUDE": 4, "MAP_RESOLUTION": 1}
 
 
 def label_view(block: Block) -> Mapping[str, Any]:
@@ -50,10 +54,13 @@ class LabelFactsShown:
     samples: int | None = None
 
 
-def _written(value: Value | None) -> str | None:
+def _written(value: Value | None, decimals: int | None = None) -> str | None:
+    """A value as the label writes it (with its unit), a number to `decimals` when given."""
     if value is None:
         return None
     text = value.raw if value.items is None and value.kind != "string" else str(value.text)
+    if decimals is not None and value.items is None and value.is_number:
+        text = f"{value.number:.{decimals}f}"
     return f"{text} <{value.unit}>" if value.unit else text
 
 
@@ -74,7 +81,7 @@ def read_facts(label: LabelFile) -> LabelFactsShown:
     projection = label.projection()
     if projection is not None:
         for keyword, what in MAP_KEYWORDS:
-            written = _written(projection.value(keyword))
+            written = _written(projection.value(keyword), SHOWN_DECIMALS.get(keyword))
             if written is not None:
                 facts.rows.append((what, written))
         facts.projection = projection.text("MAP_PROJECTION_TYPE")

@@ -10,7 +10,13 @@ SVG carries (its data-* attributes), which is how the tests read outlines back:
   and Y = r cos(lon) in the south (0 E at the top); x = (X - x0) * k, y = (y0 - Y) * k.
 
 Each view is zoomed to its footprints (padded), so a few small products are seen,
-not a dot on the globe; the graticule step follows the extent.
+not a dot on the globe; the graticule step follows the extent. The graticule's labels
+stand in a margin around the plot (where each line leaves it), never over a footprint.
+Footprints are drawn by kind (DTM, orthoimage, other), each kind in its own colour and
+stroke, so outlines that coincide - a DTM and the orthoimage on its grid - both show;
+the page's legend names each kind beside its colour. Beside an equirectangular view, an
+inset shows the region around it (the view's box on a graticule some times larger), and
+is left out when the view already shows most of the body.
 """
 
 from __future__ import annotations
@@ -25,6 +31,12 @@ from ..geo.conventions import wrap_360
 from .footprint import Outline
 
 VIEW_SIZE = 1000.0  # the longer side of a view, SVG units
+# The margin around a view's plot that holds the graticule's labels (SVG units; labels are 24 units
+# high, the longest, "-89.0005°" or "359.0005°E", about 130 wide).
+MARGIN = 140.0
+LABEL_GAP = 8.0
+# Kinds of footprints, in drawing order (a DTM under the orthoimage made on its grid).
+KINDS = ("DTM", "orthoimage", "product")
 _PAD = 0.06
 _STEPS = (0.0001, 0.0002, 0.0005, 0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 5.0,
           10.0, 15.0, 30.0)
@@ -36,14 +48,36 @@ class Shape:
     product_id: str
     link: str  # to its product's entry: #p-... on the first page, REVIEW-2.html#p-... on another
     points: str  # SVG polygon points
+    kind: str = "product"  # DTM, orthoimage or product: its colour and stroke (the legend's)
+
+    @property
+    def css_class(self) -> str:
+        return "kind-" + self.kind.lower()
 
 
 @dataclass
 class GridLine:
     path: str
     label: str
-    x: float
+    x: float  # where the label stands: outside the plot, beside the edge the line leaves it by
     y: float
+    anchor: str = "start"  # SVG text-anchor of the label
+    labelled: bool = True  # False: the line does not reach the plot's edge where labels stand
+
+
+@dataclass
+class Inset:
+    """The region around an equirectangular view: plane x = (lon - west) * scale, y = (north -
+    lat) * scale, in pixels; the view's box on it and its footprints."""
+
+    west: float
+    north: float
+    scale: float
+    width: float
+    height: float
+    box: tuple[float, float, float, float]
+    footprints: list[str] = field(default_factory=list)
+    grid: list[GridLine] = field(default_factory=list)
 
 
 @dataclass
@@ -57,10 +91,14 @@ class View:
     height: float = VIEW_SIZE
     shapes: list[Shape] = field(default_factory=list)
     grid: list[GridLine] = field(default_factory=list)
-    # the whole body (equirectangular views): x = lon - west, y = 90 - lat, and the zoomed box
-    overview: list[str] = field(default_factory=list)
-    overview_west: float = 0.0
-    overview_box: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
+    inset: Inset | None = None  # the region around the view (equirectangular views of part of a body)
+    margin: float = MARGIN
+
+    @property
+    def kinds(self) -> list[str]:
+        """The kinds of footprint drawn, for the legend, in drawing order."""
+        present = {shape.kind for shape in self.shapes}
+        return [kind for kind in KINDS if kind in present]
 
     @property
     def title(self) -> str:
@@ -88,11 +126,15 @@ def view_kind(outline: Outline) -> str:
     return "north-polar" if outline.north else "south-polar"
 
 
-def build_views(outlines: Iterable[tuple[str, str, str, Outline]]) -> list[View]:
-    """(product id, link to its entry, target, outline) -> one view per target body and projection kind."""
-    groups: dict[tuple[str, str], list[tuple[str, str, Outline]]] = {}
-    for product_id, link, target, outline in outlines:
-        groups.setdefault((target, view_kind(outline)), []).append((product_id, link, outline))
+def build_views(outlines: Iterable[tuple[str, str, str, Outline, str]]) -> list[View]:
+    """(product id, link to its entry, target, outline, kind of product) -> one view per target body
+    and projection kind, its footprints in drawing order (KINDS)."""
+    groups: dict[tuple[str, str], list[tuple[str, str, Outline, str]]] = {}
+    for product_id, link, target, outline, kind in outlines:
+        groups.setdefault((target, view_kind(outline)), []).append(
+            (product_id, link, outline, kind if kind in KINDS else "product"))
+    for members in groups.values():
+        members.sort(key=lambda member: KINDS.index(member[3]))
     return [_view(target, kind, members) for (target, kind), members in sorted(groups.items())]
 
 
@@ -101,9 +143,9 @@ def _circular_mean(degrees: list[float]) -> float:
     return float(np.degrees(math.atan2(np.mean(np.sin(angles)), np.mean(np.cos(angles)))))
 
 
-def _view(target: str, kind: str, members: list[tuple[str, str, Outline]]) -> View:
-    centre = _circular_mean([float(np.mean(o.lons)) for _, _, o in members]) if kind == "equirectangular" else 0.0
-    planes = [(pid, link, *_plane(o, kind, centre)) for pid, link, o in members]
+def _view(target: str, kind: str, members: list[tuple[str, str, Outline, str]]) -> View:
+    centre = _circular_mean([float(np.mean(o.lons)) for _, _, o, _ in members]) if kind == "equirectangular" else 0.0
+    planes = [(pid, link, *_plane(o, kind, centre)) for pid, link, o, _ in members]
     xmin = min(float(x.min()) for _, _, x, _ in planes)
     xmax = max(float(x.max()) for _, _, x, _ in planes)
     ymin = min(float(y.min()) for _, _, _, y in planes)
@@ -119,28 +161,42 @@ def _view(target: str, kind: str, members: list[tuple[str, str, Outline]]) -> Vi
     else:
         params = {"x0": x0, "y0": y0, "k": k}
     view = View(target, kind, params, round(width, 2), round(height, 2))
-    for pid, link, xs, ys in planes:
+    for (pid, link, xs, ys), (_, _, _, shape_kind) in zip(planes, members, strict=True):
         sx, sy = (xs - x0) * k, (y0 - ys) * k
-        view.shapes.append(Shape(pid, link, _points(sx, sy)))
+        view.shapes.append(Shape(pid, link, _points(sx, sy), shape_kind))
     view.grid = _graticule(kind, x0, y0, k, width, height, centre)
     if kind == "equirectangular":
-        _add_overview(view, planes, centre, x0, y0, width / k, height / k)
+        view.inset = _inset(planes, x0, y0, width / k, height / k)
     return view
 
 
-_OVERVIEW_MIN_BOX = 3.0  # degrees: a view of small products still shows where it is
+INSET_WIDTH = 300.0  # pixels: the inset's plot
+_INSET_ZOOM = 8.0  # the region shown is this many times the view's extent ...
+_INSET_MIN_SPAN = 10.0  # ... and at least this many degrees across
+_INSET_MAX_SHARE = 0.35  # a view spanning more than this share of the body's longitudes gets no inset
+_INSET_MIN_BOX = 8.0  # pixels: the view's box on the inset is drawn at least this large, to be seen
 
 
-def _add_overview(view: View, planes: list, centre: float, x0: float, y0: float, dx: float, dy: float) -> None:
-    """The zoomed view's place on the whole body (360 x 180 degrees, centred on the view)."""
-    west = centre - 180.0
-    view.overview_west = west
+def _inset(planes: list, x0: float, y0: float, dx: float, dy: float) -> Inset | None:
+    """The region around the view: its box on a graticule, clamped to the body (latitudes -90..90,
+    at most 360 degrees of longitude); None when the view already shows most of the body."""
+    if dx > 360.0 * _INSET_MAX_SHARE or dy > 180.0 * _INSET_MAX_SHARE:
+        return None
+    span_x = min(360.0, max(dx * _INSET_ZOOM, _INSET_MIN_SPAN))
+    span_y = min(180.0, max(dy * _INSET_ZOOM, _INSET_MIN_SPAN / 2))
+    west = x0 + dx / 2 - span_x / 2
+    north = min(90.0, max(-90.0 + span_y, y0 - dy / 2 + span_y / 2))
+    scale = INSET_WIDTH / span_x
+    box_w, box_h = max(dx * scale, _INSET_MIN_BOX), max(dy * scale, _INSET_MIN_BOX)
+    centre_x, centre_y = (x0 + dx / 2 - west) * scale, (north - y0 + dy / 2) * scale
+    inset = Inset(west, north, scale, INSET_WIDTH, round(span_y * scale, 2),
+                  (round(centre_x - box_w / 2, 3), round(centre_y - box_h / 2, 3), round(box_w, 3), round(box_h, 3)))
     for _, _, xs, ys in planes:
-        view.overview.append(" ".join(f"{x - west:.2f},{90.0 - y:.2f}"
-                                      for x, y in zip(xs[::4], ys[::4], strict=True)))
-    w, h = max(dx, _OVERVIEW_MIN_BOX), max(dy, _OVERVIEW_MIN_BOX)
-    cx, cy = x0 + dx / 2 - west, 90.0 - (y0 - dy / 2)
-    view.overview_box = (round(cx - w / 2, 3), round(cy - h / 2, 3), round(w, 3), round(h, 3))
+        inset.footprints.append(" ".join(f"{(x - west) * scale:.2f},{(north - y) * scale:.2f}"
+                                         for x, y in zip(xs[::4], ys[::4], strict=True)))
+    inset.grid = _graticule("equirectangular", west, north, scale, inset.width, inset.height, 0.0, lines=4,
+                            font=9.0)
+    return inset
 
 
 def _points(xs: np.ndarray, ys: np.ndarray) -> str:
@@ -194,19 +250,22 @@ def _fmt(value: float, step: float) -> str:
 
 
 def _graticule(kind: str, x0: float, y0: float, k: float, width: float, height: float,
-               centre: float) -> list[GridLine]:
+               centre: float, lines: int = 5, font: float = 24.0) -> list[GridLine]:
+    """The graticule's lines over the plot (width x height from 0,0), each labelled in the margin
+    beside the edge it leaves the plot by (_edge_label)."""
     x1, y1 = x0 + width / k, y0 - height / k
+    step = _step(max(x1 - x0, y0 - y1), lines)
     grid: list[GridLine] = []
+    placed: list[Box] = []
     if kind == "equirectangular":
-        step = _step(max(x1 - x0, y0 - y1))
         for i in range(math.ceil(x0 / step), math.floor(x1 / step) + 1):
-            lon = i * step
-            x = (lon - x0) * k
-            grid.append(GridLine(f"M{x:.2f},0V{height:.2f}", f"{_fmt(wrap_360(lon), step)}°E", x + 3, height - 4))
+            x = (i * step - x0) * k
+            grid.append(_labelled(f"M{x:.2f},0V{height:.2f}", f"{_fmt(wrap_360(i * step), step)}°E",
+                                  np.array([x, x]), np.array([0.0, height]), width, height, font, placed))
         for i in range(math.ceil(y1 / step), math.floor(y0 / step) + 1):
-            lat = i * step
-            y = (y0 - lat) * k
-            grid.append(GridLine(f"M0,{y:.2f}H{width:.2f}", f"{_fmt(lat, step)}°", 3, y - 3))
+            y = (y0 - i * step) * k
+            grid.append(_labelled(f"M0,{y:.2f}H{width:.2f}", f"{_fmt(i * step, step)}°",
+                                  np.array([0.0, width]), np.array([y, y]), width, height, font, placed))
         return grid
     sign = -1.0 if kind == "north-polar" else 1.0
     corners = [(x0, y0), (x1, y0), (x0, y1), (x1, y1)]
@@ -215,17 +274,17 @@ def _graticule(kind: str, x0: float, y0: float, k: float, width: float, height: 
     r_low = 0.0 if contains_pole else max(0.0, min(radii) if not (x0 <= 0 <= x1 or y1 <= 0 <= y0)
                                           else min(abs(v) for v in (x0, x1, y0, y1)))
     r_high = min(90.0, max(radii))
-    step = _step(max(x1 - x0, y0 - y1))
     px, py = -x0 * k, y0 * k  # the pole in SVG units
+    around = np.linspace(0.0, 2.0 * math.pi, 721)
     for i in range(math.ceil(r_low / step), math.floor(r_high / step) + 1):
         r = i * step
         if r <= 0:
             continue
         lat = (90.0 - r) * (1 if kind == "north-polar" else -1)
         rk = r * k
-        grid.append(GridLine(f"M{px - rk:.2f},{py:.2f}a{rk:.2f},{rk:.2f} 0 1,0 {2 * rk:.2f},0"
-                             f"a{rk:.2f},{rk:.2f} 0 1,0 {-2 * rk:.2f},0",
-                             f"{_fmt(lat, step)}°", *_on_view(px, py - rk if sign < 0 else py + rk, width, height)))
+        grid.append(_labelled(f"M{px - rk:.2f},{py:.2f}a{rk:.2f},{rk:.2f} 0 1,0 {2 * rk:.2f},0"
+                              f"a{rk:.2f},{rk:.2f} 0 1,0 {-2 * rk:.2f},0", f"{_fmt(lat, step)}°",
+                              px + rk * np.sin(around), py + rk * np.cos(around), width, height, font, placed))
     mid_r = max(r_low, step, (r_low + r_high) / 2)
     lon_step = min(30.0, max(_STEPS[0], _nice(math.degrees(step / mid_r))))
     for i in range(int(round(360.0 / lon_step))):
@@ -235,9 +294,8 @@ def _graticule(kind: str, x0: float, y0: float, k: float, width: float, height: 
         sx, sy = px + r_low * k * math.sin(theta), py - sign * r_low * k * math.cos(theta)
         if not _crosses(sx, sy, ex, ey, width, height):
             continue
-        lx, ly = px + mid_r * k * math.sin(theta), py - sign * mid_r * k * math.cos(theta)
-        grid.append(GridLine(f"M{sx:.2f},{sy:.2f}L{ex:.2f},{ey:.2f}", f"{_fmt(lon, lon_step)}°E",
-                             *_on_view(lx, ly, width, height)))
+        grid.append(_labelled(f"M{sx:.2f},{sy:.2f}L{ex:.2f},{ey:.2f}", f"{_fmt(lon, lon_step)}°E",
+                              np.linspace(sx, ex, 257), np.linspace(sy, ey, 257), width, height, font, placed))
     return grid
 
 
@@ -245,8 +303,65 @@ def _nice(value: float) -> float:
     return next((s for s in _STEPS if s >= value), _STEPS[-1])
 
 
-def _on_view(x: float, y: float, width: float, height: float) -> tuple[float, float]:
-    return min(max(x, 2.0), width - 60.0), min(max(y, 12.0), height - 4.0)
+Box = tuple[float, float, float, float]  # left, top, right, bottom
+
+
+def _labelled(path: str, label: str, xs: np.ndarray, ys: np.ndarray, width: float, height: float,
+              font: float, placed: list[Box]) -> GridLine:
+    """The line with its label at the first of its edge places (_edge_places) that no label placed
+    before covers (`placed`, which it joins); unlabelled when every place is taken."""
+    for x, y, anchor in _edge_places(xs, ys, width, height, font):
+        extent = _text_box(label, x, y, anchor, font)
+        if not any(_boxes_meet(extent, other) for other in placed):
+            placed.append(extent)
+            return GridLine(path, label, x, y, anchor)
+    return GridLine(path, label, 0.0, 0.0, labelled=False)
+
+
+def _edge_places(xs: np.ndarray, ys: np.ndarray, width: float, height: float,
+                 font: float) -> list[tuple[float, float, str]]:
+    """Where a line's label may stand: in the margin outside each edge the line (points xs, ys)
+    meets - the left edge first (latitudes), then the bottom (longitudes), the right, the top."""
+    gap = font / 3
+    places = []
+    for edge in ("left", "bottom", "right", "top"):
+        at = _meets(xs, ys, edge, width, height)
+        if at is None:
+            continue
+        places.append({"left": (-gap, at + font * 0.35, "end"), "bottom": (at, height + gap + font, "middle"),
+                       "right": (width + gap, at + font * 0.35, "start"), "top": (at, -gap, "middle")}[edge])
+    return places
+
+
+def _text_box(label: str, x: float, y: float, anchor: str, font: float) -> Box:
+    """About where a label's text lies (digits are some 0.6 em wide), for keeping labels apart."""
+    width = 0.62 * font * len(label)
+    left = {"start": x, "middle": x - width / 2, "end": x - width}[anchor]
+    return left, y - font, left + width, y + font * 0.25
+
+
+def _boxes_meet(a: Box, b: Box) -> bool:
+    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
+
+
+def _meets(xs: np.ndarray, ys: np.ndarray, edge: str, width: float, height: float) -> float | None:
+    """The coordinate along `edge` where the polyline first reaches it within the plot, or None."""
+    vertical = edge in ("left", "right")
+    along, across = (ys, xs) if vertical else (xs, ys)
+    limit = height if vertical else width
+    level = {"left": 0.0, "right": width, "top": 0.0, "bottom": height}[edge]
+    offset = across - level
+    for i in range(len(offset) - 1):
+        a, b = float(offset[i]), float(offset[i + 1])
+        if a == b == 0.0:
+            value = float(along[i])
+        elif min(a, b) <= 0.0 <= max(a, b):
+            value = float(along[i] + (along[i + 1] - along[i]) * a / (a - b))
+        else:
+            continue
+        if 0.0 <= value <= limit:
+            return value
+    return None
 
 
 def _crosses(x0: float, y0: float, x1: float, y1: float, width: float, height: float) -> bool:

@@ -28,7 +28,7 @@ from markupsafe import Markup
 
 from .. import __version__
 from ..resources import templates_dir
-from ..validate.model import SEVERITIES
+from ..validate.model import SEVERITIES, Finding
 from ..validate.report import FileReport, Tally, Writer
 from .collect import Review, review_reports
 from .mapview import build_views
@@ -43,7 +43,18 @@ def _environment() -> jinja2.Environment:
                              undefined=jinja2.StrictUndefined)
     env.filters["size"] = human_size
     env.filters["text"] = text_content
+    env.filters["told"] = finding_text
     return env
+
+
+def finding_text(finding: Finding) -> Markup:
+    """A finding's message as the page shows it: after its keyword (in code), unless the message
+    already starts with that keyword ("KEY = 1: ..." is not shown as "KEY: KEY = 1: ...")."""
+    message = text_content(finding.message)
+    keyword = finding.keyword
+    if not keyword or finding.message.startswith(keyword):
+        return message
+    return Markup("<code>{}</code>: {}").format(keyword, message)
 
 
 def text_content(value: str) -> Markup:
@@ -120,7 +131,7 @@ def render_pages(review: Review, first_name: str = "REVIEW.html", inline_thumbna
     env = _environment()
     style = (templates_dir() / "review" / "review.css").read_text(encoding="utf-8")
     script = (templates_dir() / "review" / "review.js").read_text(encoding="utf-8")
-    outlines = [(p.product_id, p.link, p.target or "UNKNOWN BODY", p.outline)
+    outlines = [(p.product_id, p.link, p.target or "UNKNOWN BODY", p.outline, p.kind)
                 for p in products if p.outline is not None]
     common = dict(review=review, counts=review.counts(), severities=SEVERITIES, style=style, script=script,
                   csp=content_security_policy(style, script), version=__version__, pages=refs,
