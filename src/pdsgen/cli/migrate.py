@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
+from typing import Any
 
 import click
 
@@ -46,7 +49,12 @@ def migrate(products, outdir, in_place, bundle_lid, collection, overwrite, root)
             raise click.UsageError("a volume becomes a bundle: give --bundle-lid urn:nasa:pds:NAME")
         if root or collection != "data":  # a volume is its own tree; its collections follow its data sets
             raise click.UsageError("--root and --collection are for product labels, not a volume")
-        return _migrate_volume(products[0], outdir, in_place, bundle_lid, overwrite)
+        from ..migrate.volume import migrate_volume  # on first use: single products never load it
+
+        with _volume_areas(products[0], outdir, in_place) as (source, inputs, area):
+            result = migrate_volume(source, None if in_place else area.directory, bundle_lid=bundle_lid,
+                                    in_place=in_place, overwrite=overwrite)
+            return told(result, inputs, area)
     run = migrate_products(product_labels(products), outdir, bundle_lid=bundle_lid, collection=collection,
                            in_place=in_place, overwrite=overwrite, root=root)
     return told(run)  # a refused product: one error line each, the others migrated, exit status 2
@@ -59,16 +67,14 @@ def _is_volume(path: str) -> bool:
     return Path(path).is_dir()
 
 
-def _migrate_volume(volume: str, outdir: str | None, in_place: bool, bundle_lid: str, overwrite: bool) -> Outcome:
-    """The volume's bundle; s3:// VOLUME_DIR and OUTDIR as `pdsgen deliver` treats its trees: built
-    from local copies, the changed files published with the index and manifest last."""
+@contextmanager
+def _volume_areas(volume: str, outdir: str | None, in_place: bool) -> Iterator[tuple[Path, Any, Any]]:
+    """The volume as a local directory and the bundle's output area; s3:// VOLUME_DIR and OUTDIR
+    as `pdsgen deliver` treats its trees: built from local copies, the changed files published
+    with the index and manifest last."""
     from ..archive.layout import publication_rank
-    from ..migrate.volume import migrate_volume  # on first use: single products never load it
     from ..storage import local_inputs, tree_area
 
     with local_inputs([] if in_place else [volume]) as inputs, \
             tree_area(volume if in_place else outdir, publication_rank) as area:  # type: ignore[arg-type]
-        source = area.directory if in_place else Path(inputs.paths[0])
-        result = migrate_volume(source, None if in_place else area.directory, bundle_lid=bundle_lid,
-                                in_place=in_place, overwrite=overwrite)
-        return told(result, inputs, area)
+        yield (area.directory if in_place else Path(inputs.paths[0])), inputs, area
