@@ -50,6 +50,14 @@ class FileContext:
         """The keyword dictionary (with any extra dictionaries the user named)."""
         return load_dictionary(self.dictionaries)
 
+    @property
+    def dictionary_is_authority(self) -> bool:
+        """The user named the dictionaries to check against (the PSDD as released, a mission's
+        local dictionary): their constraints are then the rules the label must keep, and what
+        breaks them is an error (DICT family; see docs/pds3-parity.md). Against the built-in
+        dictionary alone they stay warnings where genuine archives break them."""
+        return bool(self.dictionaries)
+
     # -- label look-ups ------------------------------------------------------------
     @property
     def root(self) -> Block:
