@@ -144,3 +144,67 @@ def find_beside(directory: Path, file_name: str, root: Path | None = None) -> Pa
     only inside `root` (the label's directory unless told)."""
     exact, other = resolve_beside(directory, directory_listing(directory), file_name, root)
     return exact or other
+
+
+# -- reference pointers: where a volume keeps the files they name -------------------------------
+# A reference pointer names a file kept elsewhere in an archive: a format file (^STRUCTURE), a
+# catalog file (^DATA_SET_CATALOG ...), a document (^DESCRIPTION), an index table (^INDEX). A
+# PDS3 volume keeps them in its LABEL, CATALOG, DOCUMENT and INDEX directories, and a label in
+# DATA/X/ names "T.FMT" without a path: a reader looks beside the label first, then in the
+# volume's directory for that kind of pointer (NASA's PDS3 tools resolve so: StandardPathResolver).
+
+# The volume directory a reference pointer's file is kept in, by the pointer's last word.
+VOLUME_DIRECTORIES = {"STRUCTURE": "LABEL", "CATALOG": "CATALOG", "DESCRIPTION": "DOCUMENT", "INDEX": "INDEX"}
+
+
+def pointer_kind(keyword: str) -> str | None:
+    """STRUCTURE, CATALOG, DESCRIPTION or INDEX for ^X or ^..._X (NASA's rule: the name, or a
+    name ending in _X; ^DATA_SET_MAP_PROJECTION names a catalog file too); None otherwise."""
+    name = keyword.upper().lstrip("^")
+    if name == "DATA_SET_MAP_PROJECTION":
+        return "CATALOG"
+    return next((kind for kind in VOLUME_DIRECTORIES if name == kind or name.endswith("_" + kind)), None)
+
+
+# Pointers whose file's statements become part of the label (NASA's IncludePointer kinds).
+INCLUDE_KINDS = ("STRUCTURE", "CATALOG")
+
+
+def is_include(keyword: str) -> bool:
+    """^STRUCTURE, ^CATALOG, ^..._STRUCTURE, ^..._CATALOG: the file named is part of the label."""
+    name = keyword.upper().lstrip("^")
+    return any(name == kind or name.endswith("_" + kind) for kind in INCLUDE_KINDS)
+
+
+def find_reference(directory: Path, name: str, kind: str | None, tree: Path) -> Path | None:
+    """The file a reference pointer of `kind` in a label in `directory` names: beside the
+    label (or at the path it gives: ../../LABEL/T.FMT), else in the volume's directory for the
+    kind (LABEL/, CATALOG/, DOCUMENT/, INDEX/) of the label's directory or a parent of it
+    inside `tree`, or in such a parent itself (a volume's DATA/JP2INFO.TXT for DATA/X/*.LBL).
+    A pointer of no kind (^TEXT ...): beside the label only. Never outside `tree`."""
+    found = find_beside(directory, name, tree)
+    if found is not None or "/" in name or kind is None:
+        return found
+    for place in volume_ancestors(directory, tree):
+        found = find_beside(place / VOLUME_DIRECTORIES[kind], name, tree)
+        if found is None and place != directory:
+            found = find_beside(place, name, tree)
+        if found is not None:
+            return found
+    return None
+
+
+def volume_ancestors(directory: Path, tree: Path) -> Iterator[Path]:
+    """`directory` and its parents, up to and including `tree` (never above it)."""
+    place, top = directory, Path(tree).resolve()
+    while contained(place, tree) is not None:
+        yield place
+        if place == place.parent or place.resolve() == top:
+            return
+        place = place.parent
+
+
+def in_volume(directory: Path, tree: Path) -> bool:
+    """A label in `directory` lies in a PDS3 volume given whole: VOLDESC.CAT in it or a parent
+    inside the trusted tree."""
+    return any((place / "VOLDESC.CAT").is_file() for place in volume_ancestors(directory, tree))
