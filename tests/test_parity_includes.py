@@ -128,7 +128,7 @@ def test_a_missing_format_file_is_an_error_in_a_volume_given_whole(tmp_path):
 
 def test_a_missing_description_is_a_warning(tmp_path):
     """^DESCRIPTION = "JP2INFO.TXT" not there (a migrated orthoimage without it): a warning; found
-    in the volume's DOCUMENT/ directory or a parent of the label's directory, nothing."""
+    beside the label or in the volume's DOCUMENT/ directory, nothing."""
     volume = tmp_path / "VOL"
     data = volume / "DATA" / "X"
     data.mkdir(parents=True)
@@ -143,11 +143,11 @@ def test_a_missing_description_is_a_warning(tmp_path):
     (volume / "VOLDESC.CAT").write_bytes(b"PDS_VERSION_ID = PDS3\r\nEND\r\n")
     found = {f.keyword: f.severity for f in _hits(validate_paths([volume]), "PTR-010") if f.file == str(label)}
     assert found == {"^DESCRIPTION": "warning", "^DATA_SET_MAP_PROJECTION": "warning"}
-    (volume / "DATA" / "JP2INFO.TXT").write_text("about the JP2 files\r\n")
+    (data / "JP2INFO.TXT").write_text("about the JP2 files\r\n")
     (volume / "CATALOG").mkdir()
     (volume / "CATALOG" / "DSMAP.CAT").write_bytes(b"PDS_VERSION_ID = PDS3\r\nEND\r\n")
     assert _hits(validate_paths([volume]), "PTR-010") == []
-    (volume / "DATA" / "JP2INFO.TXT").unlink()
+    (data / "JP2INFO.TXT").unlink()
     (volume / "DOCUMENT").mkdir()
     (volume / "DOCUMENT" / "JP2INFO.TXT").write_text("about the JP2 files\r\n")
     assert _hits(validate_paths([volume]), "PTR-010") == []

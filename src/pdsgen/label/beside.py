@@ -18,6 +18,7 @@ import os
 import time
 from collections import OrderedDict
 from collections.abc import Iterator
+from functools import lru_cache
 from pathlib import Path
 
 
@@ -176,35 +177,44 @@ def is_include(keyword: str) -> bool:
     return any(name == kind or name.endswith("_" + kind) for kind in INCLUDE_KINDS)
 
 
-def find_reference(directory: Path, name: str, kind: str | None, tree: Path) -> Path | None:
+def find_reference(directory: Path, name: str, kind: str | None, tree: Path, volume: Path | None = None
+                   ) -> Path | None:
     """The file a reference pointer of `kind` in a label in `directory` names: beside the
-    label (or at the path it gives: ../../LABEL/T.FMT), else in the volume's directory for the
-    kind (LABEL/, CATALOG/, DOCUMENT/, INDEX/) of the label's directory or a parent of it
-    inside `tree`, or in such a parent itself (a volume's DATA/JP2INFO.TXT for DATA/X/*.LBL).
-    A pointer of no kind (^TEXT ...): beside the label only. Never outside `tree`."""
+    label (or at the path it gives: ../../LABEL/T.FMT), else in the directory for the kind
+    (LABEL/, CATALOG/, DOCUMENT/, INDEX/) of its volume's root (`volume`, else found by
+    `volume_root`). A pointer of no kind (^TEXT ...): beside the label only. Never outside `tree`."""
     found = find_beside(directory, name, tree)
     if found is not None or "/" in name or kind is None:
         return found
+    root = volume if volume is not None else volume_root(directory, tree)[0]
+    folder = VOLUME_DIRECTORIES[kind]
+    return find_beside(root / folder, name, tree) if folder in directory_listing(root) else None
+
+
+def volume_root(directory: Path, tree: Path) -> tuple[Path, bool]:
+    """(root, whole) of the volume a label in `directory` belongs to: the nearest directory from
+    it up to `tree` holding VOLDESC.CAT (whole: a volume given whole), else `tree` itself."""
     for place in volume_ancestors(directory, tree):
-        found = find_beside(place / VOLUME_DIRECTORIES[kind], name, tree)
-        if found is None and place != directory:
-            found = find_beside(place, name, tree)
-        if found is not None:
-            return found
-    return None
+        if "VOLDESC.CAT" in directory_listing(place):
+            return place, True
+    return _real_directory(os.fspath(tree)), False
+
+
+@lru_cache(maxsize=1024)
+def _real_directory(path: str) -> Path:
+    """A directory with its links resolved, remembered: the candidates a volume search visits
+    (every file found is still checked by `contained` when it is found)."""
+    return Path(os.path.realpath(path))
 
 
 def volume_ancestors(directory: Path, tree: Path) -> Iterator[Path]:
-    """`directory` and its parents, up to and including `tree` (never above it)."""
-    place, top = directory, Path(tree).resolve()
-    while contained(place, tree) is not None:
+    """`directory` and its parents, up to and including `tree` (never above it), links resolved:
+    each path is resolved once (a label's look-ups run for every label of a volume)."""
+    place, top = _real_directory(os.fspath(directory)), _real_directory(os.fspath(tree))
+    if place != top and top not in place.parents:
+        return
+    while True:
         yield place
-        if place == place.parent or place.resolve() == top:
+        if place == top:
             return
         place = place.parent
-
-
-def in_volume(directory: Path, tree: Path) -> bool:
-    """A label in `directory` lies in a PDS3 volume given whole: VOLDESC.CAT in it or a parent
-    inside the trusted tree."""
-    return any((place / "VOLDESC.CAT").is_file() for place in volume_ancestors(directory, tree))

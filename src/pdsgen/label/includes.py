@@ -13,7 +13,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .beside import find_reference, is_include, pointer_kind
+from .beside import find_reference, is_include, pointer_kind, volume_root
 from .parser import LabelFile
 from .tree import Label, Statement, parse_pointer
 
@@ -40,6 +40,7 @@ class IncludeWalk:
 
     tree: Path
     _includes: dict[Path, list[tuple[str, int, Path | None]]] = field(default_factory=dict)
+    _volumes: dict[Path, Path] = field(default_factory=dict)  # a directory's volume root, found once
 
     def includes(self, path: Path, label: Label | None = None) -> list[tuple[str, int, Path | None]]:
         """(^KEYWORD, line, resolved file or None) of each include pointer of the file at `path`
@@ -56,10 +57,16 @@ class IncludeWalk:
         found: list[tuple[str, int, Path | None]] = []
         for stmt, kind, name in (reference_names(label) if label is not None else ()):
             if is_include(stmt.keyword):
-                target = find_reference(path.parent, name, kind, self.tree)
+                target = find_reference(path.parent, name, kind, self.tree, self._volume(path.parent))
                 found.append(("^" + stmt.keyword.upper(), stmt.line, target.resolve() if target is not None else None))
         self._includes[key] = found
         return found
+
+    def _volume(self, directory: Path) -> Path:
+        root = self._volumes.get(directory)
+        if root is None:
+            root = self._volumes[directory] = volume_root(directory, self.tree)[0]
+        return root
 
     def loops(self, path: Path, label: Label) -> Iterator[tuple[str, int, list[Path]]]:
         """(^KEYWORD and line of the label's include pointer, chain) of each include loop reached from the

@@ -8,6 +8,7 @@ attached object starts right after the label's LABEL_RECORDS records.
 from __future__ import annotations
 
 from collections.abc import Iterator
+from pathlib import Path
 
 from ...label.tree import Pointer, parse_pointer
 from ..context import FileContext
@@ -61,38 +62,38 @@ def check_target_inside(ctx: FileContext) -> Iterator[Hit]:
                   "--root widens it); it is not read", line, keyword)
 
 
-def _reference_pointers(ctx: FileContext) -> Iterator[Pointer]:
-    """Reference pointers at any depth (a TABLE's ^STRUCTURE is inside its OBJECT)."""
-    for block in ctx.root.walk():
-        for stmt in block.statements():
-            if stmt.pointer:
-                ptr = parse_pointer(stmt)
-                if ptr.is_reference:
-                    yield ptr
+def _reference_pointers(ctx: FileContext) -> list[Pointer]:
+    """Reference pointers at any depth (a TABLE's ^STRUCTURE is inside its OBJECT); found once."""
+    found = ctx.cache.get("_reference_pointers")
+    if found is None:
+        found = ctx.cache["_reference_pointers"] = [
+            ptr for block in ctx.root.walk() for stmt in block.statements() if stmt.pointer
+            for ptr in (parse_pointer(stmt),) if ptr.is_reference]
+    return found
 
 
 def check_reference_exists(ctx: FileContext) -> Iterator[Hit]:
     """Files named by reference pointers (^STRUCTURE, ^DESCRIPTION, ^DATA_SET_CATALOG, ^TEXT ...)
-    exist: beside the label, or in the volume's LABEL/, DOCUMENT/ or CATALOG/ directory inside
-    the trusted tree (label/beside.find_reference, as a reader finds them). How much a
-    missing one weighs: see _missing_reference_level."""
-    from ...label.beside import VOLUME_DIRECTORIES, find_reference, in_volume, pointer_kind
+    exist: beside the label, or in its volume's LABEL/, DOCUMENT/ or CATALOG/ directory inside
+    the trusted tree (label/beside.find_reference, as a reader finds them). How much a missing
+    one weighs: see _missing_reference_level."""
+    from ...label.beside import VOLUME_DIRECTORIES, find_reference, pointer_kind, volume_root
 
-    whole_volume = None
+    volume: tuple[Path, bool] | None = None
     for ptr in _reference_pointers(ctx):
         kind = pointer_kind(ptr.name)
         for name in ptr.targets:
             if ctx.outside(name) is not None:
                 continue  # PTR-009 tells the outside
-            if find_reference(ctx.path.parent, name, kind, ctx.tree) is not None:
+            if volume is None:
+                volume = volume_root(ctx.path.parent, ctx.tree)
+            if find_reference(ctx.path.parent, name, kind, ctx.tree, volume[0]) is not None:
                 continue
-            if whole_volume is None:
-                whole_volume = in_volume(ctx.path.parent, ctx.tree)
-            level = _missing_reference_level(kind, whole_volume)
+            level = _missing_reference_level(kind, volume[1])
             if level == "skip":
                 continue
-            volume = f" or a {VOLUME_DIRECTORIES[kind]} directory of its volume" if kind and "/" not in name else ""
-            yield Hit(f"{_kw(ptr)} names {name}, which is not in {ctx.path.parent}{volume}", ptr.statement.line,
+            where = f" or a {VOLUME_DIRECTORIES[kind]} directory of its volume" if kind and "/" not in name else ""
+            yield Hit(f"{_kw(ptr)} names {name}, which is not in {ctx.path.parent}{where}", ptr.statement.line,
                       _kw(ptr), severity=level)
 
 
@@ -392,8 +393,7 @@ def check_include_loops(ctx: FileContext) -> Iterator[Hit]:
     including each other four times over, 20 deep, is 20 reads, not 4^19 paths."""
     from ...label.beside import is_include
 
-    if not any(stmt.pointer and is_include(stmt.keyword)
-               for block in ctx.root.walk() for stmt in block.statements()):
+    if not any(is_include(ptr.name) for ptr in _reference_pointers(ctx)):
         return  # nothing to walk (and the walk's module not loaded)
     reported: set[str] = set()
     for keyword, line, loop in _include_walk(ctx).loops(ctx.path, ctx.label):
