@@ -10,9 +10,12 @@ selfpointer.lbl; tests/data/corpus/pds3_product_tools) or volumes made here.
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import shutil
+import sys
 import time
+from pathlib import Path
 
 import pytest
 
@@ -151,3 +154,29 @@ def test_a_missing_description_is_a_warning(tmp_path):
     (volume / "DOCUMENT").mkdir()
     (volume / "DOCUMENT" / "JP2INFO.TXT").write_text("about the JP2 files\r\n")
     assert _hits(validate_paths([volume]), "PTR-010") == []
+
+
+def test_nasa_include_pointer_cases_agree_in_the_parity_bench(corpus_dir, tmp_path):
+    """bench/pds3_parity.py on NASA's IncludePointerTest labels and the include of
+    ElementValidatorTest.testUnknownValueWInclude: every case agrees (the loops reported,
+    problems of an included file not reported on the including label)."""
+    root = Path(__file__).resolve().parents[1]
+    spec = importlib.util.spec_from_file_location("pds3_parity_includes", root / "bench" / "pds3_parity.py")
+    assert spec is not None and spec.loader is not None
+    bench = importlib.util.module_from_spec(spec)
+    sys.modules["pds3_parity_includes"] = bench
+    spec.loader.exec_module(bench)
+    labels = tmp_path / "src" / "test-data" / "labels"
+    labels.mkdir(parents=True)
+    names = ("circular1.lbl", "circular2.lbl", "selfpointer.lbl", "valid.lbl", "parent.lbl", "child.lbl",
+             "newValueWInclude.lbl", "includeForNV.lbl")
+    for name in names:
+        shutil.copy(corpus_dir / "pds3_product_tools" / name, labels / name)
+    shutil.copy(corpus_dir / "reference" / "testdd.full", labels.parent / "testdd.full")
+    shutil.copy(Path(__file__).parent / "data" / "pds3_product_tools" / "pdsdd_excerpt.full",
+                labels.parent / "pdsdd.full")
+    _, cases = bench.read_cases()
+    chosen = [c for c in cases if c.label in names]
+    assert {c.id.split(".")[0] for c in chosen} >= {"IncludePointerTest"} and len(chosen) >= 4
+    outcomes, lines, _ = bench.run_all(tmp_path, chosen)
+    assert [(o.case.id, o.status) for o in outcomes if o.status != "agree"] == []
