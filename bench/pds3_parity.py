@@ -57,7 +57,7 @@ NASA_SEVERITY = {
     "ILLEGAL_LINE_ENDING": "error", "MISSING_ID": "error", "MISSING_VALUE": "warning", "SHORT_VALUE": "error",
     "BAD_VALUE": "error", "EXCESSIVE_VALUE_LENGTH": "error", "OOR": "error", "INVALID_DATE": "error",
     "CIRCULAR_POINTER_REF": "error", "PLACEHOLDER_VALUE": "info", "ATTACHED_START_BYTE_MISMATCH": "error",
-    "START_BYTE_POSSIBLE_MISMATCH": "warning", "MISSING_FILE": "error",
+    "START_BYTE_POSSIBLE_MISMATCH": "warning", "MISSING_FILE": "error", "MISSING_RESOURCE": "error",
 }
 
 # NASA ProblemType -> (pdsgen rules that report the same problem; the severities pdsgen
@@ -120,6 +120,10 @@ MAPPING: dict[str, tuple[tuple[str, ...], frozenset[str], str]] = {
     "EXCESSIVE_VALUE_LENGTH": (("DICT-006",), WARN, "a value longer than the dictionary's maximum length: as OOR"),
     "PLACEHOLDER_VALUE": (("DICT-008",), frozenset(), "NULL: a value still to be supplied"),
     "MISSING_FILE": (("USAGE",), frozenset(), "a file named that does not exist"),
+    "MISSING_RESOURCE": (("PTR-002", "PTR-010"), WARN | INFO,
+                         "a file a pointer names that is not there (no test asserts it): a data file is an "
+                         "error (PTR-002), a format file an error in a volume given whole (PTR-010); a document "
+                         "is a warning, a catalog file a warning in a volume - no reader misreads the data"),
 }
 
 # pdsgen findings set aside: checks NASA's run does not make at all, on labels written to
