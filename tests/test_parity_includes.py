@@ -180,3 +180,11 @@ def test_nasa_include_pointer_cases_agree_in_the_parity_bench(corpus_dir, tmp_pa
     assert {c.id.split(".")[0] for c in chosen} >= {"IncludePointerTest"} and len(chosen) >= 4
     outcomes, lines, _ = bench.run_all(tmp_path, chosen)
     assert [(o.case.id, o.status) for o in outcomes if o.status != "agree"] == []
+
+
+def test_a_named_structure_pointer_is_an_include(tmp_path):
+    """^TABLE_STRUCTURE (a pointer ending in _STRUCTURE, an include by NASA's rule) is followed."""
+    (tmp_path / "A.LBL").write_bytes(b'PDS_VERSION_ID = PDS3\r\n^TABLE_STRUCTURE = "T.FMT"\r\nEND\r\n')
+    (tmp_path / "T.FMT").write_bytes(b'^STRUCTURE = "A.LBL"\r\n')
+    assert [f.message for f in _hits(validate_paths([tmp_path / "A.LBL"], labels_only=True), "PTR-007")] == [
+        "^TABLE_STRUCTURE include loop: A.LBL -> T.FMT -> A.LBL"]

@@ -63,12 +63,13 @@ def check_target_inside(ctx: FileContext) -> Iterator[Hit]:
 
 
 def _reference_pointers(ctx: FileContext) -> list[Pointer]:
-    """Reference pointers at any depth (a TABLE's ^STRUCTURE is inside its OBJECT); found once."""
+    """Reference pointers at any depth (a TABLE's ^STRUCTURE is inside its OBJECT), ^..._STRUCTURE
+    included (an include pointer by NASA's rule); found once."""
     found = ctx.cache.get("_reference_pointers")
     if found is None:
         found = ctx.cache["_reference_pointers"] = [
             ptr for block in ctx.root.walk() for stmt in block.statements() if stmt.pointer
-            for ptr in (parse_pointer(stmt),) if ptr.is_reference]
+            for ptr in (parse_pointer(stmt),) if ptr.is_reference or ptr.name.endswith("_STRUCTURE")]
     return found
 
 
