@@ -1,7 +1,7 @@
 """PDS3 parity: pdsgen validate against NASA's PDS3 tools on their own JUnit tests.
 
 Usage: python bench/pds3_parity.py PDS3_TOOLS_CHECKOUT [--cases FILE] [--json OUT] [--only ID,...]
-                                   [--strict]
+                                   [--strict] [--nasa-severities] [--no-set-aside]
 
 PDS3_TOOLS_CHECKOUT is a checkout of NASA-PDS/pds3-product-tools (pinned: PINNED_COMMIT);
 the labels and test dictionaries are read from it (src/test-data). The cases are
@@ -57,7 +57,7 @@ NASA_SEVERITY = {
     "ILLEGAL_LINE_ENDING": "error", "MISSING_ID": "error", "MISSING_VALUE": "warning", "SHORT_VALUE": "error",
     "BAD_VALUE": "error", "EXCESSIVE_VALUE_LENGTH": "error", "OOR": "error", "INVALID_DATE": "error",
     "CIRCULAR_POINTER_REF": "error", "PLACEHOLDER_VALUE": "info", "ATTACHED_START_BYTE_MISMATCH": "error",
-    "START_BYTE_POSSIBLE_MISMATCH": "warning", "MISSING_FILE": "error",
+    "START_BYTE_POSSIBLE_MISMATCH": "warning", "MISSING_FILE": "error", "MISSING_RESOURCE": "error",
 }
 
 # NASA ProblemType -> (pdsgen rules that report the same problem; the severities pdsgen
@@ -68,8 +68,9 @@ MAPPING: dict[str, tuple[tuple[str, ...], frozenset[str], str]] = {
     "PARSE_ERROR": (("SYNTAX-001", "SYNTAX-005"), frozenset(), "a statement that does not parse"),
     "MISSING_ID": (("SYNTAX-001", "SYNTAX-002"), frozenset(), "a statement without a keyword"),
     "MISSING_VALUE": (("SYNTAX-009", "SYNTAX-013"), ERR,
-                      "a keyword without a value: pdsgen's error (NASA: warning) - ODL requires a value, and a "
-                      "reader takes the next line's keyword for it; an empty \"\" is SYNTAX-013, a warning"),
+                      "a keyword without a value: a warning where its line ends after '=' (NASA, pvl and pdr "
+                      "read the value as empty); pdsgen's error where ')', ',' or '=' follows the '=' (no reader "
+                      "has a value to take); an empty \"\" is SYNTAX-013, a warning"),
     "ILLEGAL_LINE_ENDING": (("FILE-002", "FILE-003"), WARN,
                             "lines not ending CR LF; an LF-only detached label is a warning (FILE-003): genuine "
                             "archives hold LF-only copies"),
@@ -86,34 +87,43 @@ MAPPING: dict[str, tuple[tuple[str, ...], frozenset[str], str]] = {
                                      "may be right, the blanks may be data"),
     "CIRCULAR_POINTER_REF": (("PTR-007",), frozenset(), "a ^STRUCTURE include loop"),
     "UNKNOWN_KEY": (("DICT-001",), WARN,
-                    "a keyword not in the dictionary: pdsgen's warning (NASA: error) - genuine archives carry "
-                    "local keywords"),
+                    "a keyword not in the dictionary: an error against the dictionaries named (--dictionary, as the "
+                    "tests name theirs); pdsgen's warning against its built-in dictionary alone - genuine archives "
+                    "carry local keywords"),
     "UNKNOWN_VALUE_TYPE": (("DICT-007",), WARN,
-                           "a unit not in the dictionary's list: pdsgen's warning (NASA: error) - genuine "
-                           "archives write units the list lacks"),
+                           "a unit not in the dictionary's list: an error against the dictionaries named; "
+                           "pdsgen's warning against its built-in dictionary alone - genuine archives write units "
+                           "the list lacks"),
     "UNKNOWN_VALUE": (("DICT-004", "DICT-005", "DICT-010", "DICT-013"), INFO | ERR,
                       "a value outside a keyword's value set: pdsgen's error where the keyword says how to read "
                       "the data, else a warning or a note by the set's kind (STATIC, SUGGESTED, DYNAMIC)"),
     "INVALID_VALUE": (("DICT-004",), WARN,
-                      "a value outside a closed value set; a standard value written with a space for the underscore "
-                      "(\"ASCII INTEGER\") is pdsgen's warning (NASA: error): it is recognisable, and genuine "
-                      "archives write layout values so (Kaguya MI/TC: BAND_STORAGE_TYPE = \"BAND SEQUENTIAL\")"),
+                      "a value outside a closed value set: an error against the dictionaries named; against the "
+                      "built-in one a standard value written with a space for the underscore (\"ASCII INTEGER\") "
+                      "is pdsgen's warning: it is recognisable, and genuine archives write layout values so "
+                      "(Kaguya MI/TC: BAND_STORAGE_TYPE = \"BAND SEQUENTIAL\")"),
     "MANIPULATED_VALUE": (("DICT-004",), frozenset(), "a standard value written in another case"),
     "TYPE_MISMATCH": (("DICT-002", "DICT-009", "SYNTAX-007", "SYNTAX-008"), INFO,
-                      "a value of another type than the keyword's: an unquoted number for a text keyword is "
-                      "pdsgen's note (DICT-009, NASA: error) - every reader takes it as the text"),
+                      "a value of another type than the keyword's: an error against the dictionaries named; "
+                      "against the built-in one an unquoted number for a text keyword is pdsgen's note (DICT-009) "
+                      "- every reader takes it as the text"),
     "INVALID_TYPE": (("DICT-002", "SYNTAX-007", "FILE-001"), frozenset(),
                      "a value of the keyword's type written wrongly (non-ASCII text: FILE-001)"),
     "BAD_VALUE": (("SYNTAX-007", "SYNTAX-001", "DICT-002"), frozenset(), "a value no token of the grammar reads"),
     "INVALID_DATE": (("SYNTAX-008", "DICT-002"), frozenset(),
                      "a date or time outside the calendar or written wrongly"),
     "OOR": (("DICT-003",), WARN,
-            "a number outside the dictionary range: pdsgen's warning (NASA: error) in labels it did not write - "
-            "genuine archives break ranges (an error in labels pdsgen writes and under --strict)"),
+            "a number outside the dictionary range: an error against the dictionaries named, in labels pdsgen "
+            "writes and under --strict; a warning in others' labels against the built-in dictionary - genuine "
+            "archives break ranges"),
     "SHORT_VALUE": (("DICT-006",), WARN, "a value shorter than the dictionary's minimum length: as OOR"),
     "EXCESSIVE_VALUE_LENGTH": (("DICT-006",), WARN, "a value longer than the dictionary's maximum length: as OOR"),
     "PLACEHOLDER_VALUE": (("DICT-008",), frozenset(), "NULL: a value still to be supplied"),
     "MISSING_FILE": (("USAGE",), frozenset(), "a file named that does not exist"),
+    "MISSING_RESOURCE": (("PTR-002", "PTR-010"), WARN | INFO,
+                         "a file a pointer names that is not there (no test asserts it): a data file is an "
+                         "error (PTR-002), a format file an error in a volume given whole (PTR-010); a document "
+                         "is a warning, a catalog file a warning in a volume - no reader misreads the data"),
 }
 
 # pdsgen findings set aside: checks NASA's run does not make at all, on labels written to
@@ -397,6 +407,8 @@ def main() -> int:
     parser.add_argument("--json", type=Path, help="write every case's outcome here")
     parser.add_argument("--only", default="", help="comma-separated case ids (Class.method) or label names")
     parser.add_argument("--strict", action="store_true", help="run pdsgen as --strict does")
+    parser.add_argument("--no-set-aside", action="store_true",
+                        help="count the findings SET_ASIDE lists too (a repeated keyword: SYNTAX-004)")
     parser.add_argument("--nasa-severities", action="store_true",
                         help="give the rules of NASA_LEVELS NASA's severity (pdsgen's --severity settings)")
     options = parser.parse_args()
@@ -411,6 +423,8 @@ def main() -> int:
     if options.only:
         wanted = set(options.only.split(","))
         cases = [c for c in cases if c.id in wanted or c.label in wanted]
+    if options.no_set_aside:
+        SET_ASIDE.clear()
     started = time.monotonic()
     levels = NASA_LEVELS if options.nasa_severities else None
     outcomes, lines, findings = run_all(checkout, cases, options.strict, levels)

@@ -65,11 +65,13 @@ def _outcomes(bench, checkout, labels):
     return {o.case.id: o for o in outcomes}, lines
 
 
-def test_a_known_disagreement_is_classified_by_design(bench, checkout):
+def test_a_range_broken_against_the_dictionary_given_is_an_error(bench, checkout):
+    """The tests run with their own dictionary, the authority the user names with --dictionary:
+    DECLINATION = 91 breaks its range, an error as for NASA (a warning without --dictionary)."""
     outcomes, lines = _outcomes(bench, checkout, {"numberExceedsMax.lbl"})
     outcome = outcomes["ElementValidatorTest.testNumericExceedsMax"]
-    assert outcome.status == "missed-error" and outcome.reason.startswith("by design: a number outside")
-    assert lines == [("numberExceedsMax.lbl", "OOR", 4, "error", "warning")]
+    assert outcome.status == "agree" and [f.rule for f in outcome.ours] == ["DICT-003"]
+    assert lines == [("numberExceedsMax.lbl", "OOR", 4, "error", "error")]
 
 
 def test_cases_agree_and_checks_of_the_data_are_by_design(bench, checkout):

@@ -18,6 +18,7 @@ import os
 import time
 from collections import OrderedDict
 from collections.abc import Iterator
+from functools import lru_cache
 from pathlib import Path
 
 
@@ -144,3 +145,76 @@ def find_beside(directory: Path, file_name: str, root: Path | None = None) -> Pa
     only inside `root` (the label's directory unless told)."""
     exact, other = resolve_beside(directory, directory_listing(directory), file_name, root)
     return exact or other
+
+
+# -- reference pointers: where a volume keeps the files they name -------------------------------
+# A reference pointer names a file kept elsewhere in an archive: a format file (^STRUCTURE), a
+# catalog file (^DATA_SET_CATALOG ...), a document (^DESCRIPTION), an index table (^INDEX). A
+# PDS3 volume keeps them in its LABEL, CATALOG, DOCUMENT and INDEX directories, and a label in
+# DATA/X/ names "T.FMT" without a path: a reader looks beside the label first, then in the
+# volume's directory for that kind of pointer (NASA's PDS3 tools resolve so: StandardPathResolver).
+
+# The volume directory a reference pointer's file is kept in, by the pointer's last word.
+VOLUME_DIRECTORIES = {"STRUCTURE": "LABEL", "CATALOG": "CATALOG", "DESCRIPTION": "DOCUMENT", "INDEX": "INDEX"}
+
+
+def pointer_kind(keyword: str) -> str | None:
+    """STRUCTURE, CATALOG, DESCRIPTION or INDEX for ^X or ^..._X (NASA's rule: the name, or a
+    name ending in _X; ^DATA_SET_MAP_PROJECTION names a catalog file too); None otherwise."""
+    name = keyword.upper().lstrip("^")
+    if name == "DATA_SET_MAP_PROJECTION":
+        return "CATALOG"
+    return next((kind for kind in VOLUME_DIRECTORIES if name == kind or name.endswith("_" + kind)), None)
+
+
+# Pointers whose file's statements become part of the label (NASA's IncludePointer kinds).
+INCLUDE_KINDS = ("STRUCTURE", "CATALOG")
+
+
+def is_include(keyword: str) -> bool:
+    """^STRUCTURE, ^CATALOG, ^..._STRUCTURE, ^..._CATALOG: the file named is part of the label."""
+    name = keyword.upper().lstrip("^")
+    return any(name == kind or name.endswith("_" + kind) for kind in INCLUDE_KINDS)
+
+
+def find_reference(directory: Path, name: str, kind: str | None, tree: Path, volume: Path | None = None
+                   ) -> Path | None:
+    """The file a reference pointer of `kind` in a label in `directory` names: beside the
+    label (or at the path it gives: ../../LABEL/T.FMT), else in the directory for the kind
+    (LABEL/, CATALOG/, DOCUMENT/, INDEX/) of its volume's root (`volume`, else found by
+    `volume_root`). A pointer of no kind (^TEXT ...): beside the label only. Never outside `tree`."""
+    found = find_beside(directory, name, tree)
+    if found is not None or "/" in name or kind is None:
+        return found
+    root = volume if volume is not None else volume_root(directory, tree)[0]
+    folder = VOLUME_DIRECTORIES[kind]
+    return find_beside(root / folder, name, tree) if folder in directory_listing(root) else None
+
+
+def volume_root(directory: Path, tree: Path) -> tuple[Path, bool]:
+    """(root, whole) of the volume a label in `directory` belongs to: the nearest directory from
+    it up to `tree` holding VOLDESC.CAT (whole: a volume given whole), else `tree` itself."""
+    for place in volume_ancestors(directory, tree):
+        if "VOLDESC.CAT" in directory_listing(place):
+            return place, True
+    return _real_directory(os.fspath(tree)), False
+
+
+@lru_cache(maxsize=1024)
+def _real_directory(path: str) -> Path:
+    """A directory with its links resolved, remembered: the candidates a volume search visits
+    (every file found is still checked by `contained` when it is found)."""
+    return Path(os.path.realpath(path))
+
+
+def volume_ancestors(directory: Path, tree: Path) -> Iterator[Path]:
+    """`directory` and its parents, up to and including `tree` (never above it), links resolved:
+    each path is resolved once (a label's look-ups run for every label of a volume)."""
+    place, top = _real_directory(os.fspath(directory)), _real_directory(os.fspath(tree))
+    if place != top and top not in place.parents:
+        return
+    while True:
+        yield place
+        if place == top:
+            return
+        place = place.parent

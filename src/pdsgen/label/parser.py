@@ -320,6 +320,13 @@ MAX_INTEGER_DIGITS = 100
 MAX_NESTING = 32
 
 
+# A keyword whose line ends after its "=" (the next line starts a statement, or the text
+# ends): every reader takes the value as empty - NASA's PDS3 tools (MISSING_VALUE, a warning),
+# pvl and pdr (an empty value) - so the statement after it is read as itself. A warning;
+# a value missing before ")", "," or "=" stays an error: there the reader has no value to take.
+_EMPTY_AT_LINE_END = "warning"
+
+
 class _TooDeep(Exception):
     """A value nested deeper than MAX_NESTING: the statement is dropped (reported once)."""
 
@@ -341,8 +348,9 @@ class _Parser:
         self.depth = 0  # sequences and sets open in the value being read
         self.too_deep: Block | None = None  # the first OBJECT/GROUP nested too deep
 
-    def issue(self, rule: str, line: int | None, message: str, keyword: str | None = None) -> None:
-        self.issues.append(Issue(rule, line, message, keyword))
+    def issue(self, rule: str, line: int | None, message: str, keyword: str | None = None,
+              severity: str | None = None) -> None:
+        self.issues.append(Issue(rule, line, message, keyword, severity))
 
     def _unclosed(self, open_tok: Token, close: str, keyword: str) -> None:
         """A sequence or set whose closing bracket never comes (the next statement began)."""
@@ -641,7 +649,8 @@ class _Parser:
         mark = self.scan.mark()
         tok = self.scan.next()
         if tok.kind == "eof" or (tok.kind == "punct" and tok.text in ")},;="):
-            self.issue("SYNTAX-009", line, f"{keyword} has no value", keyword)
+            self.issue("SYNTAX-009", line, f"{keyword} has no value", keyword,
+                       _EMPTY_AT_LINE_END if tok.kind == "eof" else None)
             self.scan.reset(mark)
             if tok.kind == "punct" and tok.text in ";":
                 self.scan.next()
@@ -649,7 +658,7 @@ class _Parser:
                 self.scan.skip_line()
             return None
         if tok.kind == "word" and tok.line != line and not nested and self._starts_statement(tok):
-            self.issue("SYNTAX-009", line, f"{keyword} has no value", keyword)
+            self.issue("SYNTAX-009", line, f"{keyword} has no value", keyword, _EMPTY_AT_LINE_END)
             self.scan.reset(mark)
             return None
         if tok.kind == "punct" and tok.text in "({":

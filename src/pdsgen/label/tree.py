@@ -150,6 +150,7 @@ class Issue:
     line: int | None
     message: str
     keyword: str | None = None
+    severity: str | None = None  # when not the rule's own (a milder form of the problem)
 
 
 @dataclass(slots=True)

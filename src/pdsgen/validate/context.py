@@ -38,7 +38,8 @@ class FileContext:
         self.strict = strict
         # What rule families compute once per file and share, by key: "_is_hrsc" (profiles),
         # "_dict_statements"/"_dict_defined" (DICT), "_img_stats" (IMG), "_map_offsets" (MAP),
-        # "_jp2" (GEO). Declared here so no family sets attributes of its own on the context.
+        # "_jp2" (GEO), "_outside" (outside), "_reference_pointers"/"_include_walk" (PTR). Declared
+        # here so no family sets attributes of its own on the context.
         self.cache: dict[str, Any] = {}
         self.file = file if file is not None else LabelFile.read(path)
         self.size = self.file.size
@@ -49,6 +50,14 @@ class FileContext:
     def dictionary(self):
         """The keyword dictionary (with any extra dictionaries the user named)."""
         return load_dictionary(self.dictionaries)
+
+    @property
+    def dictionary_is_authority(self) -> bool:
+        """The user named the dictionaries to check against (the PSDD as released, a mission's
+        local dictionary): their constraints are then the rules the label must keep, and what
+        breaks them is an error (DICT family; see docs/pds3-parity.md). Against the built-in
+        dictionary alone they stay warnings where genuine archives break them."""
+        return bool(self.dictionaries)
 
     # -- label look-ups ------------------------------------------------------------
     @property
@@ -127,10 +136,14 @@ class FileContext:
         return resolve_beside(self.path.parent, self.listing, file_name, self.tree)
 
     def outside(self, file_name: str) -> Path | None:
-        """The file named in the label when it lies outside the trusted tree (refused)."""
+        """The file named in the label when it lies outside the trusted tree (refused); asked
+        once per name (PTR-009 and the rules that skip what it reports ask the same)."""
         from ..label.beside import outside_tree
 
-        return outside_tree(self.path.parent, file_name, self.tree)
+        known: dict[str, Path | None] = self.cache.setdefault("_outside", {})
+        if file_name not in known:
+            known[file_name] = outside_tree(self.path.parent, file_name, self.tree)
+        return known[file_name]
 
     def outside_names(self) -> list[tuple[str, str, int]]:
         """(keyword, name, line) of each file the label names that lies outside the trusted tree."""

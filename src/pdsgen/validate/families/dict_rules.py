@@ -1,5 +1,12 @@
 """DICT family: keyword types, ranges, lengths, standard values and units from the dictionary.
 
+Severity follows who chose the dictionary. Against the built-in one, what genuine archives
+contain (local keywords, units the list lacks, ranges and lengths broken, unquoted numbers
+for text) is a warning or a note. When the user names dictionaries (`--dictionary FILE`),
+those are the authority they validate against, as NASA's PDS3 validator does with its
+dictionary: an element they do not define, a value outside their standard values, range or
+length, a type mismatch and an unknown unit are then errors (`_authority_level`).
+
 Placeholders ("N/A", "UNK", "NULL") skip the value checks: the PDS3 standard allows
 them for any keyword. "NULL" is reported as information (a value still to be filled).
 """
@@ -65,11 +72,19 @@ def _norm(value: Value) -> str:
     return " ".join(str(value.py).split()).upper() if isinstance(value.py, str) else value.raw
 
 
+def _authority_level(ctx: FileContext) -> str | None:
+    """"error" when the user named the dictionaries (they are the authority: see the module
+    docstring); else None, the rule's own severity."""
+    return "error" if ctx.dictionary_is_authority else None
+
+
 def check_unknown(ctx: FileContext) -> Iterator[Hit]:
+    level = _authority_level(ctx)
+    where = "the data dictionaries given" if level else "the PDS3 data dictionary"
     for stmt, entry in _statements(ctx):
         if entry is None:
-            yield Hit(f"{stmt.keyword} is not in the PDS3 data dictionary or a known mission "
-                      "namespace", stmt.line, stmt.keyword)
+            yield Hit(f"{stmt.keyword} is not in {where} or a known mission namespace", stmt.line, stmt.keyword,
+                      severity=level)
 
 
 # The integers a reader holds: 64 bits, signed or not. A longer one overflows every reader.
@@ -124,11 +139,13 @@ def check_type(ctx: FileContext) -> Iterator[Hit]:
 
 
 def check_number_for_text(ctx: FileContext) -> Iterator[Hit]:
-    """Unquoted numbers given to text keywords: readers take them, the dictionary wants text."""
+    """Unquoted numbers given to text keywords: readers take them, the dictionary wants text
+    (a type mismatch, an error against the dictionaries the user named)."""
+    level = _authority_level(ctx)
     for stmt, entry, value in _defined(ctx):
         if entry["type"] in _TEXT and entry["type"] != "ALPHABET" and value.is_number:
             yield Hit(f"{stmt.keyword} = {value.raw}: a number for a {entry['type']} keyword "
-                      f'(write "{value.raw}")', value.line, stmt.keyword)
+                      f'(write "{value.raw}")', value.line, stmt.keyword, severity=level)
 
 
 def _placeholder(ctx: FileContext, value: Value) -> bool:
@@ -186,8 +203,9 @@ def check_range(ctx: FileContext) -> Iterator[Hit]:
 def _deviation_level(ctx: FileContext) -> str | None:
     """Ranges and lengths: warnings in labels others wrote (genuine archives break them, e.g.
     long DATA_SET_NAMEs), errors in labels pdsgen writes and under --strict (the writers
-    refuse them before publishing, see products/agreement.py)."""
-    return "error" if ctx.strict or ctx.written_by_pdsgen else None
+    refuse them before publishing, see products/agreement.py), and against the dictionaries
+    the user named."""
+    return "error" if ctx.strict or ctx.written_by_pdsgen or ctx.dictionary_is_authority else None
 
 
 def check_hrsc_not_applicable(ctx: FileContext) -> Iterator[Hit]:
@@ -255,7 +273,10 @@ def _in_lower_case(entry: dict, value: Value) -> bool:
 def check_static_values(ctx: FileContext) -> Iterator[Hit]:
     """An error where the keyword says how to read the data; a warning for descriptive
     keywords, for a standard value written with spaces for underscores (NOT POSSIBLE), and
-    for one written in small letters (yes)."""
+    for one written in small letters (yes). Against the dictionaries the user named, any value
+    outside the set is an error, spaces for underscores included; small letters stay a
+    warning (NASA's tools rate them so too)."""
+    authority = _authority_level(ctx)
     for stmt, entry, value in _defined(ctx):
         if stmt.keyword.upper() in IDENTITY_KEYWORDS or _is_data_type(entry, value):
             continue
@@ -267,9 +288,9 @@ def check_static_values(ctx: FileContext) -> Iterator[Hit]:
             spelled = "_".join(_norm(value).split())
             if spelled in entry["_upper"]:
                 yield Hit(f"{stmt.keyword} = {_shown(value)} is the standard value {spelled} written with "
-                          "spaces", value.line, stmt.keyword, severity="warning")
+                          "spaces", value.line, stmt.keyword, severity=authority or "warning")
                 continue
-            level = None if stmt.keyword.upper() in LAYOUT_KEYWORDS else "warning"
+            level = None if stmt.keyword.upper() in LAYOUT_KEYWORDS else authority or "warning"
             yield Hit(f"{stmt.keyword} = {_shown(value)} is not one of its standard values ({shown})",
                       value.line, stmt.keyword, severity=level)
 
@@ -283,11 +304,13 @@ def check_suggested_values(ctx: FileContext) -> Iterator[Hit]:
 
 def check_dynamic_values(ctx: FileContext) -> Iterator[Hit]:
     """DYNAMIC lists grow as data sets are registered: a value newer than the 2010 dictionary
-    dump is no defect, but worth knowing."""
+    dump is no defect, but worth knowing; a warning against the dictionaries the user named
+    (the lists they chose as current)."""
+    level = "warning" if ctx.dictionary_is_authority else None
     for stmt, entry, value in _defined(ctx):
         if entry.get("values_type") == "DYNAMIC" and not _standard(entry, value):
             yield Hit(f"{stmt.keyword} = {_shown(value)} is not among the dictionary's known values",
-                      value.line, stmt.keyword)
+                      value.line, stmt.keyword, severity=level)
 
 
 def check_length(ctx: FileContext) -> Iterator[Hit]:
@@ -307,6 +330,7 @@ def check_length(ctx: FileContext) -> Iterator[Hit]:
 
 def check_units(ctx: FileContext) -> Iterator[Hit]:
     dictionary = ctx.dictionary
+    level = _authority_level(ctx)
     for block in ctx.root.walk():
         for stmt in block.statements():
             units = {v.unit for v in stmt.value.scalars() if v.unit} | (
@@ -314,7 +338,7 @@ def check_units(ctx: FileContext) -> Iterator[Hit]:
             )
             for unit in sorted(units):
                 if not dictionary.knows_unit(unit):
-                    yield Hit(f"{stmt.key}: unit <{unit}> is not a PDS unit", stmt.line, stmt.key)
+                    yield Hit(f"{stmt.key}: unit <{unit}> is not a PDS unit", stmt.line, stmt.key, severity=level)
 
 
 # What each common unit measures; a value's unit must measure what the dictionary's does.
@@ -351,12 +375,15 @@ def check_placeholder(ctx: FileContext) -> Iterator[Hit]:
                 yield Hit(f"{stmt.key} = NULL: a value still to be supplied", stmt.line, stmt.key)
 
 
+_WRITERS_NOTE = "error in labels pdsgen writes and under --strict: its writers refuse them"
+_AUTHORITY_NOTE = "error against the dictionaries given with --dictionary"
+
 register(
     Rule("DICT-001", "warning", "keywords are defined in the data dictionary or a mission namespace",
-         check_unknown),
+         check_unknown, note=_AUTHORITY_NOTE),
     Rule("DICT-002", "error", "values have the dictionary type of their keyword", check_type),
     Rule("DICT-003", "warning", "numeric values lie within the dictionary range (in its unit)",
-         check_range, note="error in labels pdsgen writes and under --strict: its writers refuse them"),
+         check_range, note=_WRITERS_NOTE + "; " + _AUTHORITY_NOTE),
     Rule("DICT-004", "error", "values of closed (STATIC) value sets are standard values",
          check_static_values),
     Rule("DICT-013", "warning", "mission identity values (MISSION_NAME, INSTRUMENT_HOST_ID ...) are "
@@ -364,12 +391,12 @@ register(
     Rule("DICT-005", "warning", "values of SUGGESTED value sets are among the suggestions",
          check_suggested_values),
     Rule("DICT-010", "info", "values of DYNAMIC value sets not yet in the dictionary",
-         check_dynamic_values),
+         check_dynamic_values, note="warning against the dictionaries given with --dictionary"),
     Rule("DICT-009", "info", "text keywords given unquoted numbers (readers accept them)",
-         check_number_for_text),
+         check_number_for_text, note=_AUTHORITY_NOTE),
     Rule("DICT-006", "warning", "value lengths lie within the dictionary minimum/maximum length",
-         check_length, note="error in labels pdsgen writes and under --strict: its writers refuse them"),
-    Rule("DICT-007", "warning", "units are known PDS units", check_units),
+         check_length, note=_WRITERS_NOTE + "; " + _AUTHORITY_NOTE),
+    Rule("DICT-007", "warning", "units are known PDS units", check_units, note=_AUTHORITY_NOTE),
     Rule("DICT-011", "error", "units measure what the dictionary's unit measures (KM, DEG ...)",
          check_unit_dimension),
     Rule("DICT-012", "info", "numeric 'not applicable' values (-2147483648, -9.99e+31, -1e+32) are "

@@ -10,8 +10,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from pathlib import Path
 
-from ...label.parser import parse_label
-from ...label.tree import Label, Pointer
+from ...label.tree import Pointer, parse_pointer
 from ..context import FileContext
 from ..model import Hit
 from ..registry import Rule, register
@@ -61,6 +60,58 @@ def check_target_inside(ctx: FileContext) -> Iterator[Hit]:
     for keyword, name, line in ctx.outside_names():
         yield Hit(f"{keyword} names {name}, which lies outside {ctx.tree} (the tree given; "
                   "--root widens it); it is not read", line, keyword)
+
+
+def _reference_pointers(ctx: FileContext) -> list[Pointer]:
+    """Reference pointers at any depth (a TABLE's ^STRUCTURE is inside its OBJECT), ^..._STRUCTURE
+    included (an include pointer by NASA's rule); found once."""
+    found = ctx.cache.get("_reference_pointers")
+    if found is None:
+        found = ctx.cache["_reference_pointers"] = [
+            ptr for block in ctx.root.walk() for stmt in block.statements() if stmt.pointer
+            for ptr in (parse_pointer(stmt),) if ptr.is_reference or ptr.name.endswith("_STRUCTURE")]
+    return found
+
+
+def check_reference_exists(ctx: FileContext) -> Iterator[Hit]:
+    """Files named by reference pointers (^STRUCTURE, ^DESCRIPTION, ^DATA_SET_CATALOG, ^TEXT ...)
+    exist: beside the label, or in its volume's LABEL/, DOCUMENT/ or CATALOG/ directory inside
+    the trusted tree (label/beside.find_reference, as a reader finds them). How much a missing
+    one weighs: see _missing_reference_level."""
+    from ...label.beside import VOLUME_DIRECTORIES, find_reference, pointer_kind, volume_root
+
+    volume: tuple[Path, bool] | None = None
+    for ptr in _reference_pointers(ctx):
+        kind = pointer_kind(ptr.name)
+        for name in ptr.targets:
+            if ctx.outside(name) is not None:
+                continue  # PTR-009 tells the outside
+            if volume is None:
+                volume = volume_root(ctx.path.parent, ctx.tree)
+            if find_reference(ctx.path.parent, name, kind, ctx.tree, volume[0]) is not None:
+                continue
+            level = _missing_reference_level(kind, volume[1])
+            if level == "skip":
+                continue
+            where = f" or a {VOLUME_DIRECTORIES[kind]} directory of its volume" if kind and "/" not in name else ""
+            yield Hit(f"{_kw(ptr)} names {name}, which is not in {ctx.path.parent}{where}", ptr.statement.line,
+                      _kw(ptr), severity=level)
+
+
+def _missing_reference_level(kind: str | None, whole_volume: bool) -> str | None:
+    """A missing format file (^STRUCTURE) is an error in a volume given whole (VOLDESC.CAT in
+    the tree): its table cannot be read there (NASA's PDS3 tools rate a missing referenced file
+    an error); a warning for products checked without their volume, whose LABEL/ may hold it.
+    A missing document (^DESCRIPTION = "JP2INFO.TXT", ^TEXT ...) is a warning: the product
+    arrives without what describes it, though no reader misreads its data. A missing catalog
+    file (^DATA_SET_MAP_PROJECTION = "DSMAP.CAT", ^..._CATALOG) is a warning in a volume given
+    whole and not reported for products checked alone: catalog files belong to the volume's
+    CATALOG/, made once for all its products, never beside one."""
+    if kind == "STRUCTURE":
+        return None if whole_volume else "warning"
+    if kind == "CATALOG":
+        return "warning" if whole_volume else "skip"
+    return "warning"
 
 
 def check_target_case(ctx: FileContext) -> Iterator[Hit]:
@@ -325,67 +376,32 @@ def check_records_accounted(ctx: FileContext) -> Iterator[Hit]:
               "(an edited LINES?)", line, "FILE_RECORDS")
 
 
-_INCLUDES = ("STRUCTURE",)
-_MAX_INCLUDE_DEPTH = 20
+def _include_walk(ctx: FileContext):
+    """The label's include walk (label/includes.py), inside the trusted tree; made once per label."""
+    from ...label.includes import IncludeWalk  # start-up: loaded only for a label with includes
 
-
-def _include_targets(label: Label) -> list[tuple[str, int]]:
-    """(file name, line) of the ^STRUCTURE includes in one parsed label."""
-    found = []
-    for block in label.root.walk():
-        for stmt in block.statements():
-            if stmt.pointer and stmt.keyword.upper() in _INCLUDES and stmt.value.kind in ("string", "ident"):
-                found.append((stmt.value.text, stmt.line))
-    return found
+    walk = ctx.cache.get("_include_walk")
+    if walk is None:
+        walk = ctx.cache["_include_walk"] = IncludeWalk(ctx.tree)
+    return walk
 
 
 def check_include_loops(ctx: FileContext) -> Iterator[Hit]:
-    """^STRUCTURE includes must not lead back to a file already being included. Each file is
-    walked once (format files including each other four times over, 20 deep, are 4^19 paths
-    but 20 files), and read only when it is a regular file, no further than a label is."""
-    def resolve(directory: Path, name: str) -> Path | None:
-        from ...label.beside import find_beside  # start-up: loaded only for a label with includes
+    """Include pointers (^STRUCTURE, ^CATALOG and their _STRUCTURE/_CATALOG forms) must not
+    lead back to a file already being included. The files are found as a reader finds them
+    (beside the including file, else in the volume's LABEL/ or CATALOG/ directory, inside the
+    trusted tree), read by the one label reader with its bound, each once: a fan-out of files
+    including each other four times over, 20 deep, is 20 reads, not 4^19 paths."""
+    from ...label.beside import is_include
 
-        found = find_beside(directory, name)
-        return found.resolve() if found is not None else None
-
-    def includes(path: Path) -> list[str]:
-        from ...label.parser import read_label_head
-
-        try:
-            head = read_label_head(path, limit=1 << 20)
-        except OSError:
-            return []
-        return [name for name, _ in _include_targets(parse_label(head.decode("latin-1")))]
-
-    walked: set[Path] = set()
-
-    def walk(path: Path, chain: list[Path]) -> Iterator[list[Path]]:
-        walked.add(path)
-        if len(chain) > _MAX_INCLUDE_DEPTH:
-            return
-        for name in includes(path):
-            target = resolve(path.parent, name)
-            if target is None:
-                continue
-            if target in chain:
-                yield chain + [target]
-            elif target not in walked:
-                yield from walk(target, chain + [target])
-
-    start = ctx.path.resolve()
+    if not any(is_include(ptr.name) for ptr in _reference_pointers(ctx)):
+        return  # nothing to walk (and the walk's module not loaded)
     reported: set[str] = set()
-    for name, line in _include_targets(ctx.label):
-        first = resolve(start.parent, name)
-        if first is None:
-            continue
-        loops = [[start, first]] if first == start else list(walk(first, [start, first]))
-        for loop in loops:
-            text = " -> ".join(p.name for p in loop)
-            if text in reported:
-                continue
+    for keyword, line, loop in _include_walk(ctx).loops(ctx.path, ctx.label):
+        text = " -> ".join(p.name for p in loop)
+        if text not in reported:
             reported.add(text)
-            yield Hit(f"^STRUCTURE include loop: {text}", line, "^STRUCTURE")
+            yield Hit(f"{keyword} include loop: {text}", line, keyword)
 
 
 register(
@@ -401,12 +417,16 @@ register(
          check_start_blank_gap),
     Rule("PTR-006", "info", "attached data begin with blanks (start may be later)",
          check_start_possible, needs_data=True),
-    Rule("PTR-007", "error", "^STRUCTURE includes do not loop back", check_include_loops,
-         needs_data=True),
+    Rule("PTR-007", "error", "include pointers (^STRUCTURE, ^CATALOG ...) do not loop back", check_include_loops,
+         note="followed with --labels-only too: included files are labels, not data"),
     Rule("PTR-008", "warning", "an attached label's file holds its data (not a label-only copy; "
          "data checks are skipped for one)", check_data_present),
     Rule("PTR-009", "error", "files a label names lie inside the tree given (the directory validated, "
          "--root, or the label's directory; no ../, absolute path or link leading out)", check_target_inside),
+    Rule("PTR-010", "error", "files named by reference pointers (^STRUCTURE, ^DESCRIPTION, ^..._CATALOG) exist "
+         "beside the label or in its volume's LABEL/DOCUMENT/CATALOG directory", check_reference_exists,
+         note="error for a format file (^STRUCTURE) in a volume given whole (VOLDESC.CAT), else a warning; "
+         "catalog files are looked for only in a volume given whole"),
     Rule("REC-001", "error", "RECORD_TYPE = FIXED_LENGTH comes with RECORD_BYTES",
          check_record_bytes_present),
     Rule("REC-002", "error", "RECORD_BYTES x FILE_RECORDS equals the file size", check_file_size,

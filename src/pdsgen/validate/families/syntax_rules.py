@@ -22,7 +22,7 @@ def from_reader(rule: str) -> Callable[[FileContext], Iterator[Hit]]:
     def check(ctx: FileContext) -> Iterator[Hit]:
         for issue in ctx.label.issues:
             if issue.rule == rule:
-                yield Hit(issue.message, issue.line, issue.keyword)
+                yield Hit(issue.message, issue.line, issue.keyword, severity=issue.severity)
 
     check.__name__ = f"check_{rule.replace('-', '_').lower()}"
     return check
@@ -73,7 +73,9 @@ register(
          from_reader("SYNTAX-007")),
     Rule("SYNTAX-008", "error", "dates and times are valid CCYY-MM-DDThh:mm:ss.sss / CCYY-DDD",
          from_reader("SYNTAX-008")),
-    Rule("SYNTAX-009", "error", "every keyword has a value", from_reader("SYNTAX-009")),
+    Rule("SYNTAX-009", "error", "every keyword has a value", from_reader("SYNTAX-009"),
+         note="warning where the line ends after '=' and the next line starts a statement: every reader "
+         "(NASA's PDS3 tools, pvl, pdr) takes the value as empty"),
     Rule("SYNTAX-010", "warning", "unquoted values are identifiers (else quote them)",
          check_unquoted),
     Rule("SYNTAX-011", "error", "units are not empty", from_reader("SYNTAX-011")),
