@@ -208,3 +208,17 @@ def test_extras_root_trusts_the_tree_given(tmp_path, rasters):
     taken = run_cli("extras", volume / "LABEL" / "ORTHO.LBL", "-o", tmp_path / "x", "--root", volume, "-q")
     assert taken.returncode == 0, taken.stderr
     assert (tmp_path / "x" / "ORTHO.browse.jpg").is_file()
+
+
+@pytest.mark.parametrize(("given", "problem"), [
+    ({"vertical_datum": "the Mars areoid"},
+     "`vertical_datum` has no use with `kind='nomap'` (NOMAP Extras show no heights)"),
+    ({"root": "."}, "`root` has no use with `kind='nomap'` (NOMAP mosaics are read as images, without labels)"),
+])
+def test_nomap_extras_refuse_the_options_they_have_no_use_for(tmp_path, given, problem):
+    from pdsgen.errors import ParamsError
+    from pdsgen.extras import make_extras
+
+    with pytest.raises(ParamsError) as raised:
+        make_extras([tmp_path / "PSP_005000_1000_RED.NOMAP.JP2"], tmp_path / "out", kind="nomap", **given)
+    assert str(raised.value) == problem and not (tmp_path / "out").exists()

@@ -87,6 +87,9 @@ def make_extras(
         if vertical_datum is not None:
             raise ParamsError(None, f"{param('vertical_datum')} has no use with {param('kind', 'nomap')} "
                                     "(NOMAP Extras show no heights)")
+        if root is not None:
+            raise ParamsError(None, f"{param('root')} has no use with {param('kind', 'nomap')} "
+                                    "(NOMAP mosaics are read as images, without labels)")
         return _make_nomap(products, outdir, credit, params, browse_width, profile,
                            product_id, overwrite, report)
     if product_id is not None:
