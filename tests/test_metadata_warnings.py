@@ -10,6 +10,7 @@ reader; labels with pvl; the SARIF report with json."""
 from __future__ import annotations
 
 import json
+import os
 import re
 import shutil
 from pathlib import Path
@@ -200,7 +201,8 @@ def test_extras_root_trusts_the_tree_given(tmp_path, rasters):
     (volume / "LABEL").mkdir(parents=True)
     (volume / "DATA").mkdir()
     shutil.copy(tmp_path / "made" / "ORTHO.JP2", volume / "DATA" / "ORTHO.JP2")
-    text = (tmp_path / "made" / "ORTHO.LBL").read_bytes().replace(b'"ORTHO.JP2"', b'"../DATA/ORTHO.JP2"')
+    climbing = f'"{os.pardir}/DATA/ORTHO.JP2"'.encode()  # the label names its image one directory up
+    text = (tmp_path / "made" / "ORTHO.LBL").read_bytes().replace(b'"ORTHO.JP2"', climbing)
     (volume / "LABEL" / "ORTHO.LBL").write_bytes(text)
     refused = run_cli("extras", volume / "LABEL" / "ORTHO.LBL", "-o", tmp_path / "x")
     assert refused.returncode == 2 and not (tmp_path / "x").exists()

@@ -36,7 +36,7 @@ USED_BY_PROFILE = UsedByProfile("dtm", DTM_OPTIONS, structural={"input_path", "o
 def dtm(ctx, input_path, outdir, profile, overwrite, **_options) -> Outcome:
     with output_area(outdir, overwrite) as area:  # an s3:// OUTDIR: staged here, uploaded when complete
         product = write_dtm(internal(input_path), area.directory, profile=profile, **library_options(ctx.params))
-        return warned_in_cli_words(told(product, area))
+        return told(warned_in_cli_words(product), area)
 
 
 def library_options(params: Mapping[str, Any]) -> dict[str, object]:

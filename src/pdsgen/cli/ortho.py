@@ -40,7 +40,7 @@ SHARED_FILES = ortho_shared_files()
 def ortho(ctx, outdir, profile, overwrite, **_options) -> Outcome:
     with output_area(outdir, overwrite, shared=SHARED_FILES) as area:  # s3:// OUTDIR: uploaded when complete
         product = write_ortho(ortho_inputs(ctx.params), area.directory, profile=profile, **library_options(ctx.params))
-        return warned_in_cli_words(told(product, area))
+        return told(warned_in_cli_words(product), area)
 
 
 def library_options(params: Mapping[str, Any]) -> dict[str, object]:

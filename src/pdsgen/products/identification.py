@@ -59,16 +59,17 @@ def source_id_values(sources: Sequence[str]) -> list[Symbol | str] | str:
 
 
 def unstated_warning(label: Path, text: str, profile: str) -> str | None:
-    """One warning for a product whose PDS3 label (`text`, of the file `label`) leaves
-    identification keywords "UNK" (made without a params file stating them), naming them and the
-    file to write; None when all are stated."""
+    """One warning for a product made without identification: its PDS3 label (`text`, of the file
+    `label`) says "UNK" for every identification keyword its profile does not state (the generic
+    profile: all of them), so the params file was not given. None when the params file or the
+    profile states any (a delivery's DLV-007 still reports each one left UNK)."""
     from ..label.parser import parse_label
 
     root = parse_label(text).root
     values = {k: root.get(k) for k in IDENTIFICATION_KEYWORDS}
     unstated = [k for k, stmt in values.items()
                 if stmt is not None and str(stmt.value.py).strip().upper() in ("UNK", "N/A")]
-    if not unstated:
+    if not unstated or len(unstated) < sum(stmt is not None for stmt in values.values()):
         return None
     return (f"{label}: {', '.join(unstated)} {'is' if len(unstated) == 1 else 'are'} \"UNK\" (not stated); write "
             f"them in a params file (pdsgen params {param('template', profile)} prints one to fill in) and make "
