@@ -165,6 +165,7 @@ def test_rerun_versions_what_changed_and_leaves_nothing_stale(demo_products, tmp
     with open(source / "extras" / "README.TXT", "a") as stream:
         stream.write("One more line.\r\n")
     (source / "extras" / "DTEEC_008669_1705_009025_1705_U01.th.jpg").unlink()
+    (out / ".released").touch()  # versions advance only once a delivery is released (issue 44)
     again = make_delivery(source, out, dialect="both")  # volume id and bundle LID from the delivery
     assert again.volume_id == "DEMO_0001" and again.bundle_lid == "urn:nasa:pds:demo_dtm"
     assert again.bundle_version == "2.0"
@@ -186,6 +187,7 @@ def test_rerun_versions_what_changed_and_leaves_nothing_stale(demo_products, tmp
         preview.unlink()
     for preview in (source / "extras").glob("*.jpg"):
         preview.unlink()
+    (out / ".released").touch()
     fourth = make_delivery(source, out, dialect="both")  # the browse collection goes: a new bundle version
     assert fourth.bundle_version == "3.0" and not (out / "EXTRAS" / "collection_browse.xml").exists()
     assert "browse" not in (out / "bundle_demo_dtm.xml").read_text()
@@ -454,6 +456,7 @@ def test_a_replaced_product_and_its_previews_get_the_next_version(tmp_path):
     assert (source / "DATA" / "A_DTM.IMG").is_file() and not (source / "A_DTM.IMG").exists()
     write_dtm(write_raster(tmp_path / "a2.tif", heights + 5.0, crs, transform), source / "DATA", product_id="A_DTM",
               label="both", overwrite=True)
+    (source / ".released").touch()  # versions advance only once a delivery is released (issue 44)
     again = make_delivery(source, dialect="pds4")
     assert "urn:nasa:pds:two:data:a_dtm::2.0" in again.changed
     assert "urn:nasa:pds:two:browse:a_dtm.br::2.0" in again.changed

@@ -23,6 +23,12 @@ ParamValue = str | list[str] | dict[str, str | int | float]
 # `KEYWORD = "` (about 30 columns) this is the longest word sure to fit on a line.
 LONGEST_WORD = 45
 
+# The keywords that say whose product it is and where it comes from: what a params file states and a
+# profile may leave "UNK" (a product made without one warns; a delivery's DLV-007 reports each).
+IDENTIFICATION_KEYWORDS = ("DATA_SET_ID", "DATA_SET_NAME", "PRODUCER_INSTITUTION_NAME", "PRODUCER_ID",
+                           "PRODUCER_FULL_NAME", "INSTRUMENT_HOST_NAME", "INSTRUMENT_HOST_ID", "INSTRUMENT_NAME",
+                           "INSTRUMENT_ID", "RATIONALE_DESC")
+
 _VERSION_RE = re.compile(r"^\d+(\.\d+)*$")
 _IDENTIFIER_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.\-]*$")
 

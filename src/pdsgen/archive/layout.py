@@ -48,6 +48,12 @@ def publication_rank(relative: str) -> int:
     return 0
 
 
+# A delivery is released once this file is at its root: the person who hands the delivery over
+# makes it (`touch OUT/.released`). Until then a re-run of `pdsgen deliver` keeps every version;
+# after it, what changed gets the next version (and the new version is not released). It is no
+# part of the delivery: not in the manifest, and the validator's manifest check passes it over.
+RELEASED_MARKER = ".released"
+
 # Text a person must write is marked so; `pdsgen validate` reports any left in.
 PLACEHOLDER = "[TO BE WRITTEN: {what}]"
 PLACEHOLDER_PATTERN = re.compile(r"\[TO BE WRITTEN: [^\]]*\]")
@@ -94,7 +100,7 @@ INDEX_COLUMNS = (
     ("FILE_SPECIFICATION_NAME", "CHARACTER", "Path of the product's label in the volume."),
     ("PRODUCT_ID", "CHARACTER", "The product's PRODUCT_ID."),
     ("DATA_SET_ID", "CHARACTER", "The data set the product belongs to."),
-    ("PRODUCT_CREATION_TIME", "CHARACTER", "When the product was made (N/A: not stated)."),
+    ("PRODUCT_CREATION_TIME", "CHARACTER", "When the product was made (label, else file time)."),
     ("TARGET_NAME", "CHARACTER", "The body the product shows."),
     ("MAP_PROJECTION_TYPE", "CHARACTER", "The map projection of the product."),
     ("MAP_SCALE", "ASCII_REAL", "Map scale in metres per pixel."),

@@ -37,6 +37,7 @@ COMMANDS = {
     "migrate": "Describe PDS3 products in PDS4 labels, their files unchanged.",
     "mosaic": "Mosaic strips or tiles into one DTM or orthoimage product.",
     "ortho": "Make a PDS3 orthoimage (.JP2 + detached .LBL).",
+    "params": "Print a profile's params file template to fill in.",
     "review": "Write a self-contained HTML page to look over a delivery.",
     "validate": "Check PDS3 and PDS4 labels, label sets, deliveries and their data.",
 }

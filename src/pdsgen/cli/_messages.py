@@ -22,6 +22,7 @@ COMMAND_OWN_OPTIONS: dict[str, str] = {
     "volume_id": "--volume-id",
     "bundle_lid": "--bundle-lid",
     "root": "--root",
+    "template": "--template",
 }
 
 

@@ -8,6 +8,8 @@ a mission registered later needs no edit here, and no profile is named in cli/.
 
 from __future__ import annotations
 
+import dataclasses
+import re
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from typing import Any, TypeVar
@@ -18,9 +20,11 @@ from click.core import ParameterSource
 from ..errors import PdsgenError
 from ..missions import DEFAULT_PROFILE, get_mission, mission_names
 from ..products.options import DTM_OPTIONS, NOT_GIVEN, ORTHO_OPTIONS, OptionSpec, library_options, used_options
+from ..results import CommandResult
 from ._output import OUTPUT_OPTIONS
 
 F = TypeVar("F", bound=Callable[..., Any])
+R = TypeVar("R", bound=CommandResult)
 
 
 def refuse_unused_options(ctx: click.Context, profile: str, used: Iterable[str]) -> None:
@@ -189,3 +193,28 @@ class AliasedOption(click.Option):
 def output_option(name: str, old_flag: str, **attrs: Any) -> Callable[[F], F]:
     """-o/--output with the click parameter `name`, still accepting `old_flag` (--outdir, --out)."""
     return click.option(*OUTPUT_FLAGS, old_flag, name, cls=AliasedOption, hidden_aliases=(old_flag,), **attrs)
+
+
+def warned_in_cli_words(result: R) -> R:
+    """A product's result with its warnings naming options as the command line spells them (a
+    product made without identification keywords names the params file to give: --params)."""
+    if result.warnings and dataclasses.is_dataclass(result):
+        # `template`: `pdsgen params --template` (cli/params.py), the command a warning names
+        options = {"template": "--template", **{spec.library_keyword: f"--{spec.flag}"
+                                                 for spec in (*DTM_OPTIONS, *ORTHO_OPTIONS)}}
+        warnings = tuple(_OWN_REFERENCE.sub(lambda m: _in_words(m, options), warning) for warning in result.warnings)
+        return dataclasses.replace(result, warnings=warnings)
+    return result
+
+
+# `name` or `name='value'` (pdsgen.errors.param): the references a product's warnings make.
+_OWN_REFERENCE = re.compile(r"`([a-z][a-z0-9_]*)(?:='([^'`]*)')?`")
+
+
+def _in_words(match: re.Match[str], options: Mapping[str, str]) -> str:
+    """One reference as the command line writes it (the products' vocabulary only: translating
+    a product's warning loads no other command's, cli._messages.in_cli_words does for errors)."""
+    option = options.get(match.group(1))
+    if option is None:
+        return match.group(0)
+    return option if match.group(2) is None else f"{option} {match.group(2)}"

@@ -12,7 +12,14 @@ from ..products.options import DTM_HELP, DTM_OPTIONS
 from ..storage import internal, output_area
 from . import COMMANDS
 from ._output import Outcome, output_options, told
-from ._profile_options import ProfileCommand, UsedByProfile, output_option, profile_option, vocabulary_options
+from ._profile_options import (
+    ProfileCommand,
+    UsedByProfile,
+    output_option,
+    profile_option,
+    vocabulary_options,
+    warned_in_cli_words,
+)
 
 # Each profile's options: the vocabulary's entries its mission declares for its DTMs.
 USED_BY_PROFILE = UsedByProfile("dtm", DTM_OPTIONS, structural={"input_path", "outdir"})
@@ -29,7 +36,7 @@ USED_BY_PROFILE = UsedByProfile("dtm", DTM_OPTIONS, structural={"input_path", "o
 def dtm(ctx, input_path, outdir, profile, overwrite, **_options) -> Outcome:
     with output_area(outdir, overwrite) as area:  # an s3:// OUTDIR: staged here, uploaded when complete
         product = write_dtm(internal(input_path), area.directory, profile=profile, **library_options(ctx.params))
-        return told(product, area)
+        return told(warned_in_cli_words(product), area)
 
 
 def library_options(params: Mapping[str, Any]) -> dict[str, object]:

@@ -12,7 +12,14 @@ from ..products.ortho import write_ortho
 from ..storage import output_area
 from . import COMMANDS
 from ._output import Outcome, output_options, told
-from ._profile_options import ProfileCommand, UsedByProfile, output_option, profile_option, vocabulary_options
+from ._profile_options import (
+    ProfileCommand,
+    UsedByProfile,
+    output_option,
+    profile_option,
+    vocabulary_options,
+    warned_in_cli_words,
+)
 
 # Each profile's options: the vocabulary's entries its mission declares for its orthoimages.
 USED_BY_PROFILE = UsedByProfile("ortho", ORTHO_OPTIONS, structural={"input_path", "outdir"})
@@ -33,7 +40,7 @@ SHARED_FILES = ortho_shared_files()
 def ortho(ctx, outdir, profile, overwrite, **_options) -> Outcome:
     with output_area(outdir, overwrite, shared=SHARED_FILES) as area:  # s3:// OUTDIR: uploaded when complete
         product = write_ortho(ortho_inputs(ctx.params), area.directory, profile=profile, **library_options(ctx.params))
-        return told(product, area)
+        return told(warned_in_cli_words(product), area)
 
 
 def library_options(params: Mapping[str, Any]) -> dict[str, object]:

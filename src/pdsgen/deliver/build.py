@@ -29,10 +29,10 @@ from ..storage.staging import replace_directory
 from . import bundle
 from .index import IndexWriter
 from .result import Delivery
+from .text import DeliveryText, load_text, previous_text
 from .volume import VolumeFacts, aareadme_text, voldesc_text
 
 log = logging.getLogger(__name__)
-
 
 
 class _Tree:
@@ -82,10 +82,19 @@ class _Tree:
 
 
 class _Previous:
-    """What the delivery at the target held before this run (nothing when new)."""
+    """What the delivery at the target held before this run (nothing when new), and whether this
+    run may give what changed a new version.
 
-    def __init__(self, target: Path) -> None:
+    Versions advance only once a delivery is released (layout.RELEASED_MARKER at its root, which
+    the person handing it over creates) or when asked (`new_version`): until then a re-run
+    brings the delivery up to date under the versions it has, so fixing a product or a sentence
+    before anything went out does not make version 2."""
+
+    def __init__(self, target: Path, new_version: bool = False) -> None:
         self.root = target
+        self.released = (target / layout.RELEASED_MARKER).is_file()
+        self.new_version = new_version
+        self.advanced = False  # set when this run gave anything a new version
         self.md5: dict[str, str] = {}
         manifest = target / layout.MANIFEST
         if manifest.is_file():
@@ -112,18 +121,35 @@ class _Previous:
     def bundle_label(self) -> Path | None:
         return next(iter(sorted(self.root.glob("bundle_*.xml"))), None) if self.exists else None
 
+    @property
+    def advancing(self) -> bool:
+        """Whether what changed since the previous run gets the next version."""
+        return self.new_version or self.released
+
+    def next_version(self, old: str | None, changed: bool) -> str:
+        """`old` kept unless it is none, or it changed and versions advance (then the next)."""
+        if old and not (changed and self.advancing):
+            return old
+        self.advanced = self.advanced or old is not None
+        return bundle.next_version(old)
+
 
 def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | None = None,
                   dialect: str | Dialect = Dialect.PDS3, volume_id: str | None = None,
-                  bundle_lid: str | None = None, shown_as: str | None = None) -> Delivery:
+                  bundle_lid: str | None = None, shown_as: str | None = None,
+                  text: str | os.PathLike[str] | DeliveryText | None = None, new_version: bool = False) -> Delivery:
     """Make (or bring up to date) a delivery of the products in `source`.
 
     dialect: "pds3" (volume: DATA/, EXTRAS/, INDEX/, VOLDESC.CAT, AAREADME.TXT), "pds4"
     (bundle: Product_Bundle, data/browse/document collections with inventories, browse and
     document labels) or "both". `out` is the delivery directory (default: `source` itself,
     whose products are then moved into the layout). `shown_as`: how the review page names the
-    delivery when `out` is a local copy of it (an s3:// prefix). Raises InputError for what the
-    user must fix; nothing is changed then.
+    delivery when `out` is a local copy of it (an s3:// prefix). `text`: the delivery's own
+    words (a TOML file's [delivery] table, deliver/text.py); a field it does not give is kept
+    from the previous delivery's files where a person wrote it. `new_version`: give the volume,
+    the bundle and whatever changed the next version (otherwise versions advance only once the
+    delivery is released: layout.RELEASED_MARKER). Raises InputError for what the user must
+    fix; nothing is changed then.
     """
     if dialect not in DIALECT_NAMES:
         raise InputError(None, f"dialect must be one of {', '.join(DIALECT_NAMES)}, not {dialect!r}")
@@ -135,10 +161,12 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
     in_place = target.exists() and target.resolve() == source_dir.resolve()
     if not in_place:
         _check_target(source_dir, target)
-    previous = _Previous(target)
+    given_text = load_text(text) if text is not None and not isinstance(text, DeliveryText) else text
+    previous = _Previous(target, new_version)
     pds3, pds4 = chosen.pds3, chosen.pds4
     volume_id = _volume_id(volume_id or (previous.volume_id() if pds3 else None), pds3)
     bundle_lid = _bundle_lid(bundle_lid or (_previous_bundle_lid(previous) if pds4 else None), pds4)
+    words = (given_text or DeliveryText()).over(previous_text(target, volume_id) if previous.exists else DeliveryText())
     index = _IndexRows(volume_id) if pds3 else None
     labels = LabelCache()  # each label is read once for the scan, the checks and the review page
     found = scan(source_dir, on_pds3=index.add if index else None, labels=labels)
@@ -165,7 +193,8 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
         if pds4:
             _migrate_pds3_only(found, migrated, bundle_lid, labels, source_dir)
         tree = _Tree(work, source_dir, migrated)
-        result = _build(found, tree, previous, source_dir, in_place, chosen, index, bundle_lid)
+        result = _build(found, tree, previous, source_dir, in_place, chosen, index, bundle_lid, words)
+        _carry_release_marker(previous, work)
         from ..review import write_review  # the review page, after (and outside) the manifest
 
         write_review(work, labels_only=True, shown_as=shown_as or str(target), labels=labels)
@@ -181,6 +210,13 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
         shutil.rmtree(migrated, ignore_errors=True)
     result.path = target
     return result
+
+
+def _carry_release_marker(previous: _Previous, work: Path) -> None:
+    """A released delivery that this run left at its versions is still the one released; once
+    anything got a new version, the new version is not released until its marker is made."""
+    if previous.released and not previous.advanced:
+        shutil.copy2(previous.root / layout.RELEASED_MARKER, work / layout.RELEASED_MARKER)
 
 
 def _migrate_pds3_only(found: SourceSet, staging: Path, bundle_lid: str | None, labels: LabelCache,
@@ -265,7 +301,7 @@ def _check_dialects(found: SourceSet, pds3: bool, pds4: bool) -> None:
 
 
 def _build(found: SourceSet, tree: _Tree, previous: _Previous, source: Path, in_place: bool, dialect: Dialect,
-           index: _IndexRows | None, bundle_lid: str | None) -> Delivery:
+           index: _IndexRows | None, bundle_lid: str | None, words: DeliveryText) -> Delivery:
     result = Delivery(tree.root, dialect, volume_id=index.writer.volume_id if index else None, bundle_lid=bundle_lid)
     today = datetime.date.today().isoformat()
     total = len(found.products) + len(found.previews) + len(found.documents)
@@ -297,13 +333,23 @@ def _build(found: SourceSet, tree: _Tree, previous: _Previous, source: Path, in_
     result.products, result.previews, result.documents = len(found.products), len(preview_paths), len(document_paths)
     if dialect.pds4:
         assert bundle_lid is not None
-        _write_bundle(tree, previous, bundle_lid, data_members, preview_paths, document_paths, today, result)
+        _write_bundle(tree, previous, bundle_lid, data_members, preview_paths, document_paths, today, result, words)
     else:
         _carry_pds4_labels(tree, data_members)
     if index is not None:
-        _write_volume(tree, previous, index, today, result)
+        _write_volume(tree, previous, index, today, result, words)
+    result.placeholders = _placeholders(tree.root)
     result.file_count = _write_manifest(tree)
     return result
+
+
+def _placeholders(root: Path) -> int:
+    """The [TO BE WRITTEN: ...] placeholders in the text pdsgen wrote around the products."""
+    files = [root / layout.VOLDESC, root / layout.AAREADME, *root.glob("bundle_*.xml"),
+             *(root / directory / layout.collection_label_name(collection)
+               for collection, (_, _, directory) in layout.COLLECTIONS.items())]
+    return sum(len(layout.PLACEHOLDER_PATTERN.findall(path.read_text(encoding="latin-1")))
+               for path in files if path.is_file())
 
 
 def _place_product_file(tree: _Tree, path: Path, product: DataProduct) -> str:
@@ -348,21 +394,35 @@ class _IndexRows:
     def add(self, product: DataProduct, values: dict[str, str | None]) -> None:
         assert product.pds3_label is not None
         values["PRODUCT_ID"] = values.get("PRODUCT_ID") or product.product_id
+        values["PRODUCT_CREATION_TIME"] = values.get("PRODUCT_CREATION_TIME") or made_at(product.pds3_label)
         self.writer.add(f"{layout.DATA_DIR}/{product.pds3_label.name}", values)
         self.institution = self.institution or values.get("PRODUCER_INSTITUTION_NAME")
 
 
-def _write_volume(tree: _Tree, previous: _Previous, index: _IndexRows, today: str, result: Delivery) -> None:
+def made_at(label: Path) -> str:
+    """When a product was made, for a label that does not say: its label file's modification time
+    (UTC, to the second; the product's own file, not the time of delivery), no later than
+    SOURCE_DATE_EPOCH when that is set (a reproducible build's fixed time)."""
+    seconds = int(label.stat().st_mtime)
+    epoch = os.environ.get("SOURCE_DATE_EPOCH", "")
+    if epoch.isdigit():
+        seconds = min(seconds, int(epoch))
+    return datetime.datetime.fromtimestamp(seconds, datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%S")
+
+
+def _write_volume(tree: _Tree, previous: _Previous, index: _IndexRows, today: str, result: Delivery,
+                  words: DeliveryText) -> None:
     writer = index.writer
     (tree.root / layout.INDEX_DIR).mkdir(exist_ok=True)
     log.info("%s/%s: %d row(s)", layout.INDEX_DIR, layout.INDEX_TABLE, writer.rows)
     for path in writer.write(tree.root / layout.INDEX_DIR):
         tree.md5[path.relative_to(tree.root).as_posix()] = file_md5(path)
     version = previous.volume_version() or 1
-    if previous.exists and _volume_changed(tree, previous):
+    if previous.exists and (previous.new_version or (previous.released and _volume_changed(tree, previous))):
         version += 1
+        previous.advanced = True
     facts = VolumeFacts(writer.volume_id, version, today, tuple(writer.data_set_ids), index.institution,
-                        result.products, result.previews)
+                        result.products, result.previews, words)
     tree.write(layout.VOLDESC, voldesc_text(facts))
     tree.write(layout.AAREADME, aareadme_text(facts))
 
@@ -384,8 +444,8 @@ def _changed(tree: _Tree, previous: _Previous, relatives: list[str]) -> bool:
 def _write_bundle(tree: _Tree, previous: _Previous, bundle_lid: str,
                   data_members: dict[str, tuple[DataProduct, list[str]]],
                   preview_paths: list[tuple[Path, str]], document_paths: list[tuple[Path, str]],
-                  today: str, result: Delivery) -> None:
-    writer = _BundleWriter(tree, previous, bundle_lid, today, result)
+                  today: str, result: Delivery, words: DeliveryText) -> None:
+    writer = _BundleWriter(tree, previous, bundle_lid, today, result, words)
     for key, (product, relatives) in data_members.items():
         writer.data_product(key, product, relatives)
     for preview, relative in preview_paths:
@@ -400,8 +460,10 @@ def _write_bundle(tree: _Tree, previous: _Previous, bundle_lid: str,
 class _BundleWriter:
     """The PDS4 labels and inventories of one run; versions follow what the previous run wrote."""
 
-    def __init__(self, tree: _Tree, previous: _Previous, bundle_lid: str, today: str, result: Delivery) -> None:
+    def __init__(self, tree: _Tree, previous: _Previous, bundle_lid: str, today: str, result: Delivery,
+                 words: DeliveryText) -> None:
         self.tree, self.previous, self.bundle_lid, self.today, self.result = tree, previous, bundle_lid, today, result
+        self.words = words
         self.name = bundle_lid.rsplit(":", 1)[-1]
         self.members: dict[str, list[str]] = {c: [] for c in layout.COLLECTIONS}
         self.old = {c: bundle.read_inventory(previous.root / d / layout.inventory_name(c))
@@ -412,7 +474,7 @@ class _BundleWriter:
     def _member(self, collection: str, lid: str, changed: bool) -> str:
         """The member's LIDVID (its previous version unless it changed), listed in its collection."""
         before = self.old[collection].get(lid)
-        version = _version(before, changed)
+        version = self.previous.next_version(before, changed)
         lidvid = f"{lid}::{version}"
         self.members[collection].append(lidvid)
         if version != before:
@@ -470,7 +532,7 @@ class _BundleWriter:
             before = self.previous.root / directory / layout.inventory_name(collection)
             unchanged = before.is_file() and before.read_bytes() == inventory.encode("ascii")
             old_version = bundle.read_version(self.previous.root / directory / layout.collection_label_name(collection))
-            version = old_version if unchanged and old_version else bundle.next_version(old_version)
+            version = self.previous.next_version(old_version, not unchanged)
             self.tree.write(f"{directory}/{layout.inventory_name(collection)}", inventory)
             lid = f"{self.bundle_lid}:{collection}"
             count = f"{len(lidvids)} {collection} product(s) of bundle {self.name}"
@@ -478,6 +540,7 @@ class _BundleWriter:
                 "collection.xml.j2", {
                     **_head("Product_Collection", lid, version, f"{kind} collection of bundle {self.name}"),
                     "citation": f"The {count}.", "year": self.today[:4], "collection_type": kind,
+                    "authors": self.words.authors, "keywords": self.words.keywords,
                     "inventory": layout.inventory_name(collection), "records": len(lidvids),
                     "description": f"{count}."}))
             entries.append({"lidvid": f"{lid}::{version}", "reference_type": reference_type})
@@ -490,24 +553,21 @@ class _BundleWriter:
         old_text = old_label.read_text(encoding="utf-8", errors="replace") if old_label else ""
         old_entries = set(re.findall(r"<lidvid_reference>\s*([^<]*?)\s*</lidvid_reference>", old_text))
         same = old_version is not None and old_entries == {e["lidvid"] for e in entries}
-        version = old_version if same and old_version else bundle.next_version(old_version)
-        result = self.result
+        version = self.previous.next_version(old_version, not same or self.previous.new_version)
+        result, words = self.result, self.words
+        counts = (f"{result.products} data product(s), {result.previews} preview(s) and "
+                  f"{result.documents} document(s), made by pdsgen.")
         self.tree.write(layout.bundle_label_name(self.bundle_lid), bundle.render("bundle.xml.j2", {
-            **_head("Product_Bundle", self.bundle_lid, version, f"Bundle {self.name}"),
-            "citation": layout.PLACEHOLDER.format(what="the citation description of the bundle"),
-            "year": self.today[:4], "members": entries,
-            "description": f"{result.products} data product(s), {result.previews} preview(s) and "
-                           f"{result.documents} document(s), made by pdsgen."}))
+            **_head("Product_Bundle", self.bundle_lid, version, words.title or f"Bundle {self.name}"),
+            "citation": words.description or layout.PLACEHOLDER.format(what="the citation description of the bundle"),
+            "year": self.today[:4], "members": entries, "authors": words.authors, "keywords": words.keywords,
+            "description": words.description or counts}))
         result.bundle_version = version
 
 
 def _head(product_class: str, lid: str, version: str, title: str) -> dict[str, object]:
     return {"product_class": product_class, "lid": lid, "version_id": version, "title": title,
-            "citation": None, "year": None}
-
-
-def _version(before: str | None, changed: bool) -> str:
-    return before if before and not changed else bundle.next_version(before)
+            "citation": None, "year": None, "authors": None, "keywords": None}
 
 
 def _label_changed(before: Path, text: str) -> bool:

@@ -32,6 +32,9 @@ class Delivery(CommandResult):
     volume_id: str | None = None
     bundle_lid: str | None = None
     bundle_version: str | None = None
+    # [TO BE WRITTEN: ...] placeholders left in the delivery's own text (VOLDESC.CAT, AAREADME.TXT,
+    # bundle and collection labels): what a delivery text file still has to give.
+    placeholders: int = 0
 
     @property
     def files(self) -> tuple[Path, ...]:
@@ -55,11 +58,13 @@ class Delivery(CommandResult):
         lines = [f"DELIVERY {self.path}: {self.products} data product(s), {self.previews} preview(s), "
                  f"{self.documents} document(s), {self.file_count} file(s) in {self.path / MANIFEST}"]
         if self.volume_id:
-            lines.append(f"PDS3     volume {self.volume_id}: INDEX/INDEX.TAB + INDEX.LBL, VOLDESC.CAT, AAREADME.TXT "
-                         "(fill in their [TO BE WRITTEN: ...] text)")
+            lines.append(f"PDS3     volume {self.volume_id}: INDEX/INDEX.TAB + INDEX.LBL, VOLDESC.CAT, AAREADME.TXT")
         if self.bundle_lid:
             lines.append(f"PDS4     bundle {self.bundle_lid}::{self.bundle_version}, "
                          f"{len(self.changed)} product(s) new or with a new version")
+        if self.placeholders:
+            lines.append(f"TEXT     {self.placeholders} [TO BE WRITTEN: ...] placeholder(s) left: give the delivery's "
+                         "text in a TOML file's [delivery] table and run pdsgen deliver again with it")
         lines.append(f"CHECK    pdsgen validate {self.path}")
         lines.append(f"REVIEW   {self.path / REVIEW_PAGE} (open it in a browser; not in the manifest)")
         return tuple(lines)
@@ -68,7 +73,8 @@ class Delivery(CommandResult):
         return {"path": str(self.path), "dialect": str(self.dialect), "products": self.products,
                 "previews": self.previews, "documents": self.documents, "file_count": self.file_count,
                 "volume_id": self.volume_id, "bundle_lid": self.bundle_lid, "bundle_version": self.bundle_version,
-                "changed": self.changed, "skipped": [str(p) for p in self.skipped]}
+                "changed": self.changed, "skipped": [str(p) for p in self.skipped],
+                "placeholders": self.placeholders}
 
 
 __all__ = ["Delivery"]

@@ -8,9 +8,10 @@ left in, so a volume cannot go out with them unnoticed.
 from __future__ import annotations
 
 import textwrap
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from ..archive import layout
+from .text import AUTHORS_PREFIX, DeliveryText, paragraphs
 
 
 def _todo(what: str) -> str:
@@ -26,6 +27,7 @@ class VolumeFacts:
     institution: str | None
     products: int
     previews: int
+    text: DeliveryText = field(default_factory=DeliveryText)  # what a person wrote (deliver/text.py)
 
 
 def _string(keyword: str, value: str, indent: str = "  ") -> list[str]:
@@ -40,15 +42,18 @@ def _string(keyword: str, value: str, indent: str = "  ") -> list[str]:
 
 
 def voldesc_text(facts: VolumeFacts) -> str:
+    text = facts.text
     data_sets = [f'"{d}"' for d in facts.data_set_ids] or [f'"{layout.NOT_APPLICABLE}"']
     data_set = data_sets[0] if len(data_sets) == 1 else "(" + ",\r\n                         ".join(data_sets) + ")"
+    institution = text.institution or _known(facts.institution)
     lines = ["PDS_VERSION_ID         = PDS3", "RECORD_TYPE            = STREAM", "",
              "OBJECT                 = VOLUME"]
-    lines += _string("VOLUME_SERIES_NAME", _todo("VOLUME_SERIES_NAME"))
-    lines += _string("VOLUME_SET_NAME", _todo("VOLUME_SET_NAME"))
-    lines += _string("VOLUME_SET_ID", _todo("VOLUME_SET_ID"))
+    lines += _string("VOLUME_SERIES_NAME", text.volume_series_name or text.title or _todo("VOLUME_SERIES_NAME"))
+    lines += _string("VOLUME_SET_NAME", text.volume_set_name or text.title or _todo("VOLUME_SET_NAME"))
+    lines += _string("VOLUME_SET_ID", text.volume_set_id or (facts.volume_id if text.title else None)
+                     or _todo("VOLUME_SET_ID"))
     lines += ["  VOLUMES              = 1"]
-    lines += _string("VOLUME_NAME", _todo("VOLUME_NAME"))
+    lines += _string("VOLUME_NAME", text.title or _todo("VOLUME_NAME"))
     lines += [f'  VOLUME_ID            = "{facts.volume_id}"',
               f'  VOLUME_VERSION_ID    = "VERSION {facts.version}"',
               f"  PUBLICATION_DATE     = {facts.publication_date}",
@@ -57,14 +62,25 @@ def voldesc_text(facts: VolumeFacts) -> str:
     lines += _string("DESCRIPTION", f"This volume holds {facts.products} data product(s) in {layout.DATA_DIR}/, "
                                     f"{facts.previews} preview image(s) in {layout.EXTRAS_DIR}/ and the index "
                                     f"of the data products in {layout.INDEX_DIR}/. "
-                                    + _todo("what the products are and what they are for"))
+                                    + (text.description or _todo("what the products are and what they are for")))
     lines += ["", "  OBJECT               = DATA_PRODUCER"]
-    lines += _string("INSTITUTION_NAME", facts.institution or _todo("INSTITUTION_NAME"), "    ")
-    lines += _string("FACILITY_NAME", _todo("FACILITY_NAME"), "    ")
-    lines += _string("FULL_NAME", _todo("FULL_NAME of the contact"), "    ")
-    lines += _string("ADDRESS_TEXT", _todo("ADDRESS_TEXT of the contact"), "    ")
+    lines += _string("INSTITUTION_NAME", institution or _todo("INSTITUTION_NAME"), "    ")
+    lines += _string("FACILITY_NAME", text.facility or _optional(text, "FACILITY_NAME"), "    ")
+    lines += _string("FULL_NAME", text.contact_text() or _todo("FULL_NAME of the contact"), "    ")
+    lines += _string("ADDRESS_TEXT", text.address or _optional(text, "ADDRESS_TEXT of the contact"), "    ")
     lines += ["  END_OBJECT           = DATA_PRODUCER", "END_OBJECT             = VOLUME", "", "END"]
     return "\r\n".join(lines) + "\r\n"
+
+
+def _optional(text: DeliveryText, what: str) -> str:
+    """A producer detail the delivery text may leave out: "N/A" (PDS3's not applicable) once a
+    person has written the delivery's text (its title given), a placeholder before."""
+    return layout.NOT_APPLICABLE if text.title else _todo(what)
+
+
+def _known(value: str | None) -> str | None:
+    """A label's value, unless it is the "UNK" a product made without --params carries."""
+    return value if value and value.strip().upper() not in ("UNK", "N/A") else None
 
 
 def aareadme_text(facts: VolumeFacts) -> str:
@@ -78,7 +94,8 @@ def aareadme_text(facts: VolumeFacts) -> str:
     text = [
         f"Volume {facts.volume_id}, version {facts.version}, published {facts.publication_date}",
         "",
-        *textwrap.wrap(_todo("what this volume holds and why, in a paragraph for its readers"), 78),
+        *paragraphs(facts.text.readme or _todo("what this volume holds and why, in a paragraph for its readers")),
+        *(["", *textwrap.wrap(AUTHORS_PREFIX + "; ".join(facts.text.authors), 78)] if facts.text.authors else []),
         "",
         f"Data sets: {data_sets}",
         "",
@@ -92,6 +109,14 @@ def aareadme_text(facts: VolumeFacts) -> str:
         f"  {layout.MANIFEST:<14}the MD5 checksum of every file (check with: md5sum -c {layout.MANIFEST})",
         "",
         "Contact",
-        *textwrap.wrap(_todo("who answers questions about this volume, and how to reach them"), 78),
+        *paragraphs(_contact(facts.text) or _todo("who answers questions about this volume, and how to reach them")),
     ]
     return "\r\n".join(label + text) + "\r\n"
+
+
+def _contact(text: DeliveryText) -> str | None:
+    """AAREADME.TXT's contact paragraph: the contact (or the authors) and the address, as given."""
+    who = text.contact_text()
+    if who is None:
+        return None
+    return f"{who}, {text.address}" if text.address else who

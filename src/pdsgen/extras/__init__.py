@@ -56,6 +56,8 @@ def make_extras(
     product_id: str | None = None,
     overwrite: bool = False,
     report: Callable[[str], None] | None = None,
+    root: str | os.PathLike[str] | None = None,
+    vertical_datum: str | None = None,
 ) -> list[Path]:
     """Write the Extras of PRODUCTS into OUTDIR; return the paths written.
 
@@ -68,6 +70,12 @@ def make_extras(
     `credit.product_credit`). `report`, when given, receives one line per product
     saying which kind it was taken for and why (after success).
 
+    `root`: the directory tree the files a product's label names may lie in (a volume's
+    LABEL/ beside DATA/), when the label lies inside it; by default the label's own directory
+    is the only tree trusted. `vertical_datum`: what the DTMs' heights are above, stated in
+    the legends and README.TXT (e.g. "the Mars 2000 areoid"); by default only what a label's
+    own words say, else that the label does not name it.
+
     `kind` "nomap" takes one HiRISE observation's RED and/or IRB NOMAP mosaics
     (not map-projected) and writes the six NOMAP Extras (see `nomap`); `product_id`
     then gives the observation ID when the file names carry none.
@@ -76,6 +84,12 @@ def make_extras(
         raise PdsgenError(None, "no products given")
     if kind == NOMAP:
         _refuse_relief_options(thumb_width, azimuth, altitude, exaggeration)
+        if vertical_datum is not None:
+            raise ParamsError(None, f"{param('vertical_datum')} has no use with {param('kind', 'nomap')} "
+                                    "(NOMAP Extras show no heights)")
+        if root is not None:
+            raise ParamsError(None, f"{param('root')} has no use with {param('kind', 'nomap')} "
+                                    "(NOMAP mosaics are read as images, without labels)")
         return _make_nomap(products, outdir, credit, params, browse_width, profile,
                            product_id, overwrite, report)
     if product_id is not None:
@@ -83,7 +97,7 @@ def make_extras(
     azimuth = _check_options(browse_width, thumb_width, azimuth, altitude, exaggeration)
     keywords = resolve_params(params)
     with quiet_gdal():
-        sources = [open_product(p, kind) for p in products]
+        sources = [open_product(p, kind, root=root, vertical_datum=_datum_text(vertical_datum)) for p in products]
         credits = [product_credit(src, credit, keywords, profile) for src in sources]
         _check_unique_ids(sources)
         read_readme(Path(outdir))  # an unreadable README.TXT stops the run before writing
@@ -105,6 +119,17 @@ def make_extras(
             what = "a DTM" if src.kind == DTM else "an orthoimage"
             report(f"{src.path}: taken as {what} ({src.kind_reason})")
     return [*written, readme]
+
+
+def _datum_text(vertical_datum: str | None) -> str | None:
+    """The datum as the legends write it ("m above <datum>"): one line of 7-bit text."""
+    if vertical_datum is None:
+        return None
+    text = " ".join(str(vertical_datum).split())
+    if not text or not text.isascii() or '"' in text or len(text) > 60:
+        raise ParamsError(None, f"{param('vertical_datum')} must be up to 60 characters of 7-bit text without "
+                                f"double quotes (e.g. {param('vertical_datum', 'the Mars 2000 areoid')})")
+    return text
 
 
 def _refuse_relief_options(thumb_width: int, azimuth: float, altitude: float, exaggeration: float | None) -> None:

@@ -9,9 +9,12 @@ products store planetary radii instead: a LOLA LDEM label says
 "Elevation 1,740,000 m"; when OFFSET equals the label's radius the Extras leave it
 out and show heights above that sphere, and say so.
 
-The datum is found, in this order: the radius rule above; the mission's convention
-(from the mission module); words of the label's IMAGE description or note
-("areoid", "geoid", "sphere"); otherwise the legends say the label names none.
+The datum is found, in this order: the radius rule above; the datum the user states
+(`vertical_datum`); the label's own words (its IMAGE or product NOTE/DESCRIPTION saying
+"above the ... areoid|geoid|sphere|ellipsoid"), in the mission's wording where the mission fixes
+one of that kind (HiRISE: "the Mars 2000 areoid"); otherwise the legends say the label names
+none. A mission recognised from a DATA_SET_ID alone never states a datum the label does not:
+a generic product borrowing a HiRISE data set ID is not thereby above the Mars 2000 areoid.
 """
 
 from __future__ import annotations
@@ -31,6 +34,8 @@ RADIUS_MATCH_M = 1.0
 NOT_STATED = "a reference surface the label does not name"
 _AREOID_WORDS = re.compile(r"\bAREOID\b")
 _GEOID_WORDS = re.compile(r"\b(GEOID|EQUIPOTENTIAL)\b")
+# "above the 3396.0 km sphere", "above the Mars 2000 areoid": the surface as the label names it
+_ABOVE_SURFACE = re.compile(r"\bABOVE (THE [A-Z0-9 .,-]{0,40}?\b(AREOID|GEOID|SPHERE|ELLIPSOID))\b")
 
 
 @dataclass(frozen=True)
@@ -64,20 +69,36 @@ def radius_offset_m(label: Mapping[str, Any], offset_m: float) -> float | None:
 
 
 def height_reference(label: Mapping[str, Any], image: Mapping[str, Any],
-                     mission_datum: str | None, radius_removed_m: float | None) -> HeightReference:
-    """The datum of a DTM's heights (see the module docstring for the order)."""
+                     mission_datum: str | None, radius_removed_m: float | None,
+                     given: str | None = None) -> HeightReference:
+    """The datum of a DTM's heights (see the module docstring for the order). `given`: what the
+    user says the heights are above (the Extras' vertical_datum)."""
     if radius_removed_m is not None:
         return HeightReference(f"the {radius_removed_m / 1000.0:g} km reference sphere",
                                radius_removed_m)
-    if mission_datum:
-        return HeightReference(mission_datum)
-    words = " ".join(str(source.get(k, "")) for source in (image, label)
+    if given:
+        return HeightReference(given)
+    words = " ".join(" ".join(str(source.get(k, "")).split()) for source in (image, label)
                      for k in ("DESCRIPTION", "NOTE")).upper()
+    above = _ABOVE_SURFACE.search(words)
+    if above is not None:
+        surface = above.group(2)
+        if mission_datum and surface in mission_datum.upper():  # the mission's wording of what the label says
+            return HeightReference(mission_datum)
+        if surface == "SPHERE" and re.search(r"\d", above.group(1)):  # "the 3396.0 km sphere"
+            return HeightReference(above.group(1).lower().replace(" km ", " km "))
+    if mission_datum and any(word in words for word in _surface_words(mission_datum)):
+        return HeightReference(mission_datum)
     if _AREOID_WORDS.search(words):
         return HeightReference(f"the {_target(label)} areoid".replace("the  ", "the "))
     if _GEOID_WORDS.search(words):
         return HeightReference("the geoid")
     return HeightReference(NOT_STATED)
+
+
+def _surface_words(datum: str) -> tuple[str, ...]:
+    """The kind of surface a mission's datum names (areoid, sphere, ellipsoid ...), as label words."""
+    return tuple(word for word in ("AREOID", "GEOID", "SPHERE", "ELLIPSOID") if word in datum.upper())
 
 
 def _target(label: Mapping[str, Any]) -> str:

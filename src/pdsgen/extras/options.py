@@ -39,6 +39,13 @@ RENDERING_OPTIONS: tuple[OptionSpec, ...] = (
                help="Vertical exaggeration of the shaded relief [default: 1, raised "
                     "automatically when the relief is too faint at preview scale]."),
     KIND,
+    OptionSpec("vertical_datum", "vertical-datum", metavar="TEXT",
+               help="What the DTMs' heights are above, as the legends and README.TXT say it (e.g. \"the Mars "
+                    "2000 areoid\") [default: what the label's own NOTE or DESCRIPTION says, else \"a "
+                    "reference surface the label does not name\"]."),
+    OptionSpec("root", "root", file=False, metavar="DIR",
+               help="Directory tree the files a product's label names may lie in (a volume's LABEL/ beside "
+                    "DATA/), when the label is inside it [default: the label's own directory]."),
     OptionSpec("product_id", "product-id", help=f"With --{KIND.flag} {NOMAP}: the observation ID (e.g. "
                                                 "PSP_005000_1000) when the file names carry none."),
 )

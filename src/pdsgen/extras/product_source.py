@@ -31,7 +31,7 @@ from rasterio.transform import Affine
 
 from ..errors import PdsgenError, param
 from ..geo.label_georef import LabelGeorefError, label_georeferencing
-from ..label.beside import find_beside, outside_tree
+from ..label.beside import find_beside, outside_tree, trusted_tree
 from ..label.grammar import FLOAT_SAMPLE_TYPES
 from ..label.mapping import label_mapping
 from ..label.read import LabelFile, structure_problem
@@ -164,15 +164,21 @@ class ProductSource:
                 f"{geo}{bands}</VRTDataset>")
 
 
-def open_product(path: str | os.PathLike[str], kind: str | None = None) -> ProductSource:
-    """Inspect PRODUCT and return its description; PdsgenError if it is not usable."""
+def open_product(path: str | os.PathLike[str], kind: str | None = None, *, root: str | os.PathLike[str] | None = None,
+                 vertical_datum: str | None = None) -> ProductSource:
+    """Inspect PRODUCT and return its description; PdsgenError if it is not usable.
+
+    `root`: the tree the files its label names may lie in (a volume's LABEL/ or CATALOG/
+    beside DATA/), when the label lies inside it; otherwise the label's own directory.
+    `vertical_datum`: what a DTM's heights are above, as the user states it (heights.py)."""
     path = Path(path)
+    trusted_root = Path(root) if root is not None else None
     if not path.exists():
         raise PdsgenError(path, "no such file")
     if kind is not None and kind not in KINDS:
         raise PdsgenError(path, f"unknown product kind {kind!r} (use dtm or ortho)")
-    label_path, label = _find_label(path)
-    raster_path = _raster_path(path, label_path, label)
+    label_path, label = _find_label(path, trusted_root)
+    raster_path = _raster_path(path, label_path, label, trusted_root)
     _refuse_unreadable(raster_path, label_path, label)
     try:
         with quiet_gdal(), rasterio.open(raster_path) as ds:
@@ -199,7 +205,7 @@ def open_product(path: str | os.PathLike[str], kind: str | None = None) -> Produ
         factor = LENGTH_UNITS.get(src.unit.upper(), 1.0)
         src.scale, src.offset = src.scale * factor, src.offset * factor
         radius = radius_offset_m(label, src.offset)
-        src.heights = height_reference(label, image, mission_datum(mission, path.name), radius)
+        src.heights = height_reference(label, image, mission_datum(mission, path.name), radius, vertical_datum)
         if radius is not None:  # radii -> heights above the reference sphere
             src.offset -= radius
     src.valid_minimum = _physical(image.get("VALID_MINIMUM"), src)
@@ -245,17 +251,17 @@ def _check_band_count(src: ProductSource) -> None:
     raise PdsgenError(src.path, f"has {src.band_count} bands; {what}{hint}")
 
 
-def _find_label(path: Path) -> tuple[Path | None, dict]:
+def _find_label(path: Path, root: Path | None = None) -> tuple[Path | None, dict]:
     """The product's PDS3 label (attached, the file itself, or a sibling), or none."""
     with _told_unreadable(path):
         own = LabelFile.read_pds3(path)
     if own is not None:
-        return path, _label_values(own)
+        return path, _label_values(own, root)
     if path.suffix.lower() in (".img", ".jp2"):
         sibling = find_beside(path.parent, f"{path.stem}.lbl")
         if sibling is not None:
             with _told_unreadable(sibling):
-                return sibling, _label_values(LabelFile.read(sibling))
+                return sibling, _label_values(LabelFile.read(sibling), root)
     return None, {}
 
 
@@ -267,31 +273,31 @@ def _told_unreadable(path: Path) -> Iterator[None]:
         raise PdsgenError(path, f"cannot read ({exc.strerror})") from None
 
 
-def _label_values(found: LabelFile) -> dict:
+def _label_values(found: LabelFile, root: Path | None = None) -> dict:
     path, label = found.path, found.label
     broken = structure_problem(label)
     if broken is not None:
         raise PdsgenError(path, f"label cannot be parsed (line {broken.line}: {broken.message})")
-    _refuse_outside(path, label.root)
+    _refuse_outside(path, label.root, trusted_tree(path, root=root))
     return label_mapping(label)
 
 
-def _refuse_outside(label_path: Path, root: Block) -> None:
-    """Refuse a label naming a file outside its directory (../x, /x, a link leading out):
-    neither pdsgen nor GDAL (which follows a detached label's pointer itself) may read it."""
+def _refuse_outside(label_path: Path, root: Block, tree: Path) -> None:
+    """Refuse a label naming a file outside the trusted tree (its directory, or the root the user
+    gave when the label lies in it: ../x, /x, a link leading out): neither pdsgen nor GDAL (which
+    follows a detached label's pointer itself) may read it."""
     for keyword, name, _ in every_named_file(root):
-        if outside_tree(label_path.parent, name) is not None:
-            raise PdsgenError(label_path, f"{keyword} names {name!r}, which lies outside {label_path.parent}; "
-                                          "not read")
+        if outside_tree(label_path.parent, name, tree) is not None:
+            raise PdsgenError(label_path, f"{keyword} names {name!r}, which lies outside {tree}; not read")
 
 
-def _raster_path(path: Path, label_path: Path | None, label: dict) -> Path:
+def _raster_path(path: Path, label_path: Path | None, label: dict, root: Path | None = None) -> Path:
     """The file GDAL should open: the JP2 a COMPRESSED_FILE names, else the product."""
     if label_path is None:
         return path
     compressed = label.get("COMPRESSED_FILE")
     if compressed is not None and path.suffix.lower() != ".jp2":
-        return _sibling(label_path, str(compressed.get("FILE_NAME", "")))
+        return _sibling(label_path, str(compressed.get("FILE_NAME", "")), root)
     if path.suffix.lower() == ".img" and label_path != path:
         return label_path  # GDAL opens a detached .IMG through its label
     return path
@@ -317,13 +323,17 @@ def _refuse_unreadable(raster_path: Path, label_path: Path | None, label: dict) 
             raise PdsgenError(path, problem)
 
 
-def _sibling(label_path: Path, name: str) -> Path:
-    """A file the label names, found case-insensitively (archives mix cases)."""
+def _sibling(label_path: Path, name: str, root: Path | None = None) -> Path:
+    """A file the label names, found case-insensitively (archives mix cases); with a `root` the
+    label lies in, a name climbing within that tree (../DATA/X.JP2) too."""
     found = find_beside(label_path.parent, name)
     if found is not None:
         return found
-    if outside_tree(label_path.parent, name) is not None:  # ../x, /x, a link leading out: never read
-        raise PdsgenError(label_path, f"the file it names, {name!r}, lies outside {label_path.parent}; not read")
+    tree = trusted_tree(label_path, root=root)
+    if outside_tree(label_path.parent, name, tree) is not None:  # ../x, /x, a link leading out: never read
+        raise PdsgenError(label_path, f"the file it names, {name!r}, lies outside {tree}; not read")
+    if tree != label_path.parent and (label_path.parent / name).is_file():
+        return label_path.parent / name
     raise PdsgenError(label_path, f"the file it names, {name!r}, is missing")
 
 

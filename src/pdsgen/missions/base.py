@@ -73,6 +73,15 @@ class LabelFacts:
     file_name: str = ""
 
 
+def data_set_names_mission(facts: LabelFacts, instrument_id: str, data_set_prefix: str) -> bool:
+    """Whether the label's DATA_SET_ID makes it the mission's: only when the label states no
+    instrument, or the mission's. A label that states another instrument - "UNK" included, as a
+    product made without identification keywords does - is not taken for the mission's because
+    its maker borrowed a data set ID."""
+    stated = facts.instrument_id.strip().upper()
+    return facts.data_set_id.strip().upper().startswith(data_set_prefix) and stated in ("", instrument_id)
+
+
 @dataclass(frozen=True)
 class ContextReference:
     """A registered PDS4 context product a label points at: investigation, host, instrument."""
@@ -121,6 +130,10 @@ class OptionUse:
     defaults: Mapping[str, Any] = field(default_factory=dict)
     # Values the mission accepts for an option besides the vocabulary's `choices` (iMars: da, dt).
     choices: Mapping[str, tuple[Any, ...]] = field(default_factory=dict)
+    # Defaults of the command line (and a batch manifest's job) where they differ from the
+    # library's: HRSC and iMars take input heights above the sphere unless told otherwise, while
+    # for every other profile an unset --vertical-datum means "the label does not state one".
+    command_defaults: Mapping[str, Any] = field(default_factory=dict)
 
     def of(self, command: str) -> frozenset[str]:
         """The declared options of the products `command` makes: "dtm", "ortho" (a ProductKind's
@@ -131,13 +144,13 @@ class OptionUse:
                mosaic: Iterable[str] = ()) -> OptionUse:
         """These options and more: a mission that takes the standard ones plus its own."""
         return OptionUse(self.dtm | set(dtm), self.ortho | set(ortho), self.mosaic | set(mosaic), self.defaults,
-                         self.choices)
+                         self.choices, self.command_defaults)
 
 
 # What the standard writers (float32 PDS3 DTM, JP2 + LBL orthoimage) use: a mission that
 # declares nothing else gets these.
 STANDARD_OPTIONS = OptionUse(
-    dtm=frozenset({"source_product_ids", "byte_order", "label", "allow_dictionary_deviations"}),
+    dtm=frozenset({"source_product_ids", "byte_order", "vertical_datum", "label", "allow_dictionary_deviations"}),
     ortho=frozenset({"bits", "observation_id", "source_dtm_id", "sequence", "gmljp2", "label",
                      "allow_dictionary_deviations"}),
     mosaic=frozenset({"byte_order", "label", "allow_dictionary_deviations"}),
@@ -168,6 +181,9 @@ class Mission:
     detect: Callable[[LabelFacts], bool] | None = None  # does a label belong to this mission?
     # What the heights of a DTM so named are above ("the Mars 2000 areoid"); Extras legends.
     dtm_height_datum: Callable[[str], str | None] | None = None
+    # Whether a product ID names one of the mission's DTMs: an orthoimage's source DTM ID is
+    # refused when it does not (None: any product ID is taken).
+    source_dtm_id: Callable[[str], bool] | None = None
     pds4: Pds4Facts = INDIVIDUAL_INVESTIGATION  # context of the standard products' PDS4 labels
     options: OptionUse = STANDARD_OPTIONS  # the options its products use (the CLI's and the library's)
     composes_ortho_bands: bool = False  # an orthoimage may be made of several single-band input files

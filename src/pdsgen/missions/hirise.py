@@ -13,7 +13,15 @@ import re
 
 from ..errors import PdsgenError, param
 from ..geo.geometry import EQUIRECTANGULAR, POLAR_STEREOGRAPHIC
-from .base import STANDARD_OPTIONS, ContextReference, LabelFacts, Mission, Pds4Facts, ProductIdRequest
+from .base import (
+    STANDARD_OPTIONS,
+    ContextReference,
+    LabelFacts,
+    Mission,
+    Pds4Facts,
+    ProductIdRequest,
+    data_set_names_mission,
+)
 
 INSTRUMENT_ID = "HIRISE"
 DATA_SET_PREFIX = "MRO-M-HIRISE"
@@ -34,6 +42,8 @@ PRODUCT_ID_RE = re.compile(
     re.IGNORECASE,
 )
 PROJECTION_LETTERS = {EQUIRECTANGULAR: "E", POLAR_STEREOGRAPHIC: "P"}
+# A whole HiRISE DTM product ID (what an orthoimage's source DTM is): DTEEC_008669_1705_009025_1705_U01.
+DTM_ID_RE = re.compile(r"DT[EP][A-Z]{2}_\d{6}_\d{4}_\d{6}_\d{4}_[A-Z]\d{2}")
 
 # HiRISE filters: band names as HiRISE labels write them, centre wavelengths in nm.
 FILTER_WAVELENGTHS_NM = {"RED": 700, "NEAR-INFRARED": 900, "BLUE-GREEN": 500}
@@ -233,9 +243,14 @@ def height_datum(name: str) -> str:
     return HEIGHT_DATUM
 
 
+def is_dtm_id(product_id: str) -> bool:
+    """Whether an ID names a HiRISE DTM (an orthoimage's source DTM must be one)."""
+    return DTM_ID_RE.fullmatch(product_id) is not None
+
+
 def is_hirise(facts: LabelFacts) -> bool:
     """A HiRISE label names the instrument (or the MRO HiRISE data set)."""
-    return facts.instrument_id.upper() == INSTRUMENT_ID or facts.data_set_id.upper().startswith(DATA_SET_PREFIX)
+    return facts.instrument_id.upper() == INSTRUMENT_ID or data_set_names_mission(facts, INSTRUMENT_ID, DATA_SET_PREFIX)
 
 
 # PDS4: the mro_hirise bundle and the registered MRO and HiRISE context products.
@@ -269,6 +284,7 @@ MISSION = Mission(
     ortho_product_id=ortho_product_id,
     detect=is_hirise,
     dtm_height_datum=height_datum,
+    source_dtm_id=is_dtm_id,
     pds4=PDS4,
     options=STANDARD_OPTIONS.adding(dtm={"institution"}),  # institution letter of its DTM IDs
 )

@@ -16,7 +16,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from ..errors import PdsgenError, param
-from .base import ContextReference, LabelFacts, Mission, OptionUse, Pds4Facts
+from .base import ContextReference, LabelFacts, Mission, OptionUse, Pds4Facts, data_set_names_mission
 
 INSTRUMENT_ID = "HRSC"
 DATA_SET_PREFIX = "MEX-M-HRSC"
@@ -144,7 +144,7 @@ def is_hrsc(facts: LabelFacts) -> bool:
     kind = name_kind(facts.file_name)
     return (
         facts.instrument_id.strip().upper() == INSTRUMENT_ID
-        or facts.data_set_id.strip().upper().startswith(DATA_SET_PREFIX)
+        or data_set_names_mission(facts, INSTRUMENT_ID, DATA_SET_PREFIX)
         or DTM_GROUP in facts.group_names
         or (kind is not None and kind.endswith("4"))
     )
@@ -192,6 +192,7 @@ MISSION = Mission(
         ortho=frozenset({"source_product_ids", "source_labels", "offset_convention", "bits", "reproject_input",
                          "label", "allow_dictionary_deviations"}),
         mosaic=frozenset({"precision", "reproject_input", "label", "allow_dictionary_deviations"}),
+        command_defaults={"vertical_datum": "sphere"},
         defaults={"byte_order": "msb", "vertical_datum": "sphere"},  # DLR's products are big-endian
     ),
     mosaic_product_id=mosaic_name_refusal,

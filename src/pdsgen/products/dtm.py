@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..dialect import Dialect
-from ..errors import PdsgenError
+from ..errors import ParamsError, PdsgenError, param
 from ..formats.img import (
     MISSING_BITS,
     RESERVATION_STATISTIC,
@@ -34,7 +34,7 @@ from ..params import check_version, resolve_params, source_ids
 from ..progress import is_large
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import NO_STATEMENT, MissionWriter, ProductStatement, call_mission_writer, stating
-from .identification import choose_product_id, identification_keywords, source_id_values
+from .identification import choose_product_id, identification_keywords, source_id_values, with_unstated_warning
 from .opening import Opening, open_product_input, require_valid
 from .options import ProductOptions
 from .result import ProductResult
@@ -82,7 +82,8 @@ def write_dtm(
     keywords. An option the profile does not use (its mission's declaration) is refused.
     """
     mission = get_mission(profile)
-    return call_mission_writer(dtm_writer(mission), input_path, outdir, ProductOptions.build("dtm", mission, options))
+    made = call_mission_writer(dtm_writer(mission), input_path, outdir, ProductOptions.build("dtm", mission, options))
+    return with_unstated_warning(made, profile)
 
 
 def dtm_writer(mission: Mission, statement: ProductStatement | None = None) -> MissionWriter:
@@ -129,7 +130,8 @@ def write_pds3_dtm(
             "ident": ident,
             "source_product_id": source_id_values(sources),
             "geometry": geometry,
-            "note": str(keywords.get("DTM_NOTE", statement.note(chosen))),
+            "note": stated_datum(str(keywords.get("DTM_NOTE", statement.note(chosen))), chosen,
+                                 options.vertical_datum, geometry),
             "map_projection_note": statement.projection_note(chosen),
             "bit_mask": Based(0xFFFFFFFF, 2, 32),
             "sample_type": Symbol(sample_type(byte_order == "msb", "f")),
@@ -198,6 +200,27 @@ def write_pds3_dtm(
         pds4_label_path=xml_final if dialect.pds4 else None,
         warnings=warnings,
     )
+
+
+def stated_datum(note: str, mission: Mission, vertical_datum: str | None, geometry: MapGeometry) -> str:
+    """The DTM's NOTE, stating what its heights are above when the user said so (`vertical_datum`).
+
+    A mission whose DTMs are all above one surface (HiRISE: the Mars 2000 areoid) states it in
+    its own NOTE already; naming another is refused rather than written beside it."""
+    if vertical_datum is None:
+        return note
+    fixed = mission.dtm_height_datum("") if mission.dtm_height_datum is not None else None
+    if fixed is not None:
+        if vertical_datum not in fixed:
+            raise ParamsError(None, f"{mission.name} DTM heights are above {fixed}, not a {vertical_datum}; "
+                                    f"leave out {param('vertical_datum')}")
+        return note
+    if vertical_datum not in ("sphere", "areoid"):
+        raise ParamsError(None, f"{param('vertical_datum')} must be sphere or areoid, not {vertical_datum!r}")
+    body = (geometry.target_name or "").strip().title()
+    surface = (f"the {body} areoid".replace("the  ", "the ") if vertical_datum == "areoid"
+               else f"the {geometry.a_axis_km:g} km sphere")
+    return f"{note} Heights are above {surface}."
 
 
 def _check_heights(dataset: DatasetReader, path: Path) -> None:

@@ -129,8 +129,10 @@ DTM_OPTIONS: tuple[OptionSpec, ...] = (
                help="lsb: PC_REAL / LSB_INTEGER; msb: IEEE_REAL / MSB_INTEGER. [default: lsb; hrsc: msb]"),
     OptionSpec("kind", "kind", choices=("dt4", "da4"), default="dt4", show_default=True,
                help="hrsc/imars: heights above the 3396.0 km sphere (dt4) or the areoid (da4)."),
-    OptionSpec("vertical_datum", "vertical-datum", choices=("sphere", "areoid"), default="sphere",
-               show_default=True, help="hrsc: what the input heights are measured from."),
+    OptionSpec("vertical_datum", "vertical-datum", choices=("sphere", "areoid"), default=None,
+               help="What the input heights are measured from. hrsc/imars: converted to the product's datum "
+                    "[default: sphere]; other profiles: stated in the label's NOTE, which the Extras legend "
+                    "and README.TXT then repeat [default: not stated]."),
     OptionSpec("areoid", "areoid", file=True, stored=True,
                help="hrsc: areoid heights above the 3396.0 km sphere (any GDAL raster), to convert datums."),
     OptionSpec("precision", "precision", value_type=float, default=1.0, show_default=True,
@@ -255,6 +257,8 @@ def library_options(command: str, vocabulary: Iterable[OptionSpec], params: Mapp
     options: dict[str, Any] = {}
     for spec in used_options(command, mission, vocabulary):
         value = params[spec.param]
+        if value is None:
+            value = mission.options.command_defaults.get(spec.library_keyword)
         if spec.omit_unset and value is None:
             continue  # the writer's own default
         if spec.stored:

@@ -47,7 +47,12 @@ from ..params import ParamValue, check_source_id, check_version, resolve_params,
 from ..storage.staging import InterruptSafeExecutor
 from .agreement import allows_deviations, check_label, label_keywords
 from .dispatch import NO_STATEMENT, MissionWriter, ProductStatement, call_mission_writer, stating
-from .identification import choose_product_id, identification_keywords, source_id_values
+from .identification import (
+    choose_product_id,
+    identification_keywords,
+    source_id_values,
+    with_unstated_warning,
+)
 from .opening import Opening, no_valid_pixels, open_product_input
 from .options import ProductOptions
 from .result import ProductResult
@@ -107,7 +112,8 @@ def write_ortho(
     built = ProductOptions.build("ortho", mission, options)
     if mission.writer("ortho") is None and not isinstance(input_path, (str, os.PathLike)):
         raise PdsgenError(None, f"the {profile} profile takes one input file")
-    return call_mission_writer(ortho_writer(mission, built, profile), input_path, outdir, built)
+    return with_unstated_warning(call_mission_writer(ortho_writer(mission, built, profile), input_path, outdir, built),
+                                 profile)
 
 
 def ortho_writer(mission: Mission, built: ProductOptions, profile: str,
@@ -152,6 +158,7 @@ def write_jp2_ortho(
     if chosen.ortho_keywords is None:
         raise PdsgenError(None, f"the {chosen.name} profile writes orthoimages in its own form, not as JP2 + LBL")
     version = check_version(options.version)
+    _check_source_dtm(chosen, source_dtm_id)
     keywords = resolve_params(options.params)
     require_openjpeg()
     allow = allows_deviations(options.allow_dictionary_deviations, keywords)
@@ -329,6 +336,17 @@ def _until_refused(
         return rows(first_line, lines)
 
     return read
+
+
+def _check_source_dtm(mission: Mission, source_dtm_id: str | None) -> None:
+    """The DTM an orthoimage was orthorectified on, where the mission names its DTMs one way
+    (HiRISE: DTEEC_..._U01): another kind of product's ID is refused, not written."""
+    if source_dtm_id is None or mission.source_dtm_id is None:
+        return
+    check_source_id(source_dtm_id, "source_dtm_id")
+    if not mission.source_dtm_id(source_dtm_id):
+        raise ParamsError(None, f"{param('source_dtm_id')} {source_dtm_id} is not a {mission.name} DTM product ID "
+                                "(e.g. DTEEC_008669_1705_009025_1705_U01)")
 
 
 def _source_ids(

@@ -29,6 +29,10 @@ from lxml import etree
 from .model import Finding
 
 FORMATS = ("text", "json", "junit", "sarif", "github", "html")
+# Findings that mean "still to be written": delivery text placeholders (DLV-006) and the products'
+# identification keywords left UNK (DLV-007). Counted apart in every summary (`placeholders`), so a run that
+# passes with some left is not taken for a finished delivery.
+PLACEHOLDER_RULES = frozenset({"DLV-006", "DLV-007"})
 FAIL_LEVELS = ("error", "warning")
 
 
@@ -39,6 +43,10 @@ class FileReport:
 
     def count(self, severity: str) -> int:
         return sum(1 for f in self.findings if f.severity == severity)
+
+    @property
+    def placeholders(self) -> int:
+        return sum(1 for f in self.findings if f.rule in PLACEHOLDER_RULES)
 
 
 def failing_severities(fail_on: str) -> tuple[str, ...]:
@@ -64,6 +72,7 @@ class Tally:
     info: int = 0
     baseline_suppressed: int = 0
     dictionary: str = ""
+    placeholders: int = 0  # findings of PLACEHOLDER_RULES: text and keywords still to be written
 
     @property
     def strict(self) -> bool:
@@ -75,6 +84,7 @@ class Tally:
         self.errors += report.count("error")
         self.warnings += report.count("warning")
         self.info += report.count("info")
+        self.placeholders += report.placeholders
 
     @property
     def exit_code(self) -> int:
@@ -87,6 +97,7 @@ class Tally:
             "errors": self.errors,
             "warnings": self.warnings,
             "info": self.info,
+            "placeholders": self.placeholders,
             "strict": self.strict,
             "fail_on": self.fail_on,
             "exit_code": self.exit_code,
@@ -101,8 +112,9 @@ class Tally:
         """One line for people: counts and the verdict (what the demo prints)."""
         verdict = "FAILED" if self.exit_code else "OK"
         known = f", {self.baseline_suppressed} known (baseline)" if self.baseline_suppressed else ""
+        left = f", {self.placeholders} placeholder(s) still to write" if self.placeholders else ""
         return (f"{self.files} file(s) checked: {self.errors} error(s), {self.warnings} warning(s), "
-                f"{self.info} info{known}{' (strict)' if self.strict else ''} - {verdict}")
+                f"{self.info} info{known}{left}{' (strict)' if self.strict else ''} - {verdict}")
 
 
 @dataclass
@@ -309,7 +321,9 @@ _SARIF_LEVEL = {"error": "error", "warning": "warning", "info": "note"}
 
 class SarifWriter(Writer):
     """SARIF 2.1.0 (GitHub code scanning): one run, the rule table as the driver's rules,
-    one result per finding with the file (relative to the working directory) and line."""
+    one result per finding with the file (relative to the working directory) and line.
+    INFO findings are notes (an offset convention detected ...), not something to fix: code
+    scanning would show each as an alert, so they are left out (the summary counts them)."""
 
     def start(self) -> None:
         from .. import __version__
@@ -333,6 +347,8 @@ class SarifWriter(Writer):
 
     def file(self, report: FileReport, failed: bool) -> None:
         for f in report.findings:
+            if f.severity == "info":
+                continue
             location: dict[str, Any] = {"artifactLocation": {"uri": _uri(f.file)}}
             if f.line:
                 location["region"] = {"startLine": f.line}
@@ -363,11 +379,12 @@ _GH_COMMAND = {"error": "error", "warning": "warning", "info": "notice"}
 
 
 class GithubWriter(Writer):
-    """GitHub Actions workflow commands: one annotation per finding, with file and line."""
+    """GitHub Actions workflow commands: one annotation per error or warning, with file and line.
+    INFO findings are notes, not annotations to act on: left out (the summary line counts them)."""
 
     def file(self, report: FileReport, failed: bool) -> None:
         for f in report.findings:
-            if f.severity == "info" and not self.show_info:
+            if f.severity == "info":
                 continue
             props = f"file={_gh_property(f.file)}" + (f",line={f.line}" if f.line else "")
             props += f",title={_gh_property(f.rule + (' ' + f.keyword if f.keyword else ''))}"

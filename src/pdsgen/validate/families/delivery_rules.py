@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING
 from ...archive import layout
 from ...label.beside import outside_tree
 from ...label.parser import is_pds3_head
-from ...label.tree import Block, first_statement
+from ...label.tree import Block, Statement, first_statement
 from ...pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
 from ..model import Finding
 from ..registry import Rule, register
@@ -231,6 +231,8 @@ def _check_row(root: Path, table_path: Path, number: int, values: dict[str, str 
     if product is None:
         found.append(_Found("DLV-003", table_path, f"row {number} names {spec}, which is not a PDS3 label", number))
         return
+    for stmt in unstated_identification(product):
+        found.append(_Found("DLV-007", root / spec, _unstated_message(stmt), stmt.line, stmt.keyword))
     for column in columns:
         if column.name in ("VOLUME_ID", "FILE_SPECIFICATION_NAME"):
             continue
@@ -305,6 +307,35 @@ def _check_placeholders(root: Path, found: list[_Found]) -> None:
             number = text.count("\n", 0, match.start()) + 1
             found.append(_Found("DLV-006", path, "text still to be written: " + " ".join(match.group(0).split()),
                                 number))
+
+
+# --- identification keywords that say nothing (DLV-007) -------------------------------------------
+# A product made without a params file carries "UNK" in DATA_SET_ID, PRODUCER_*, INSTRUMENT_* ...: a
+# label a reader can open, but one that does not say whose data it is or where they come from. While
+# a product is being made that is a step on the way (`pdsgen dtm` and `pdsgen ortho` warn about it
+# then); in a delivery it is text still to be written, like a [TO BE WRITTEN: ...] placeholder
+# (DLV-006). Genuine archives hold such values too, so a warning, not an error; --strict fails on
+# it, and the validation summary counts both (report.PLACEHOLDER_RULES).
+
+_UNSTATED = frozenset({"UNK", "N/A", "UNKNOWN", "NULL"})
+
+
+def unstated_identification(root: Block) -> Iterator[Statement]:
+    """Each top-level identification keyword (params.IDENTIFICATION_KEYWORDS) of a product label
+    whose value is "UNK" or "N/A" (every value, for a list)."""
+    from ...params import IDENTIFICATION_KEYWORDS  # loaded when a delivery is checked, not by every validation
+
+    for stmt in root.statements():
+        if stmt.pointer or stmt.keyword.upper() not in IDENTIFICATION_KEYWORDS:
+            continue
+        values = [str(value.py).strip().upper() for value in stmt.value.scalars()]
+        if values and all(value in _UNSTATED for value in values):
+            yield stmt
+
+
+def _unstated_message(stmt: Statement) -> str:
+    return (f"{stmt.value.raw.strip()}: not stated (write it in a params file, `pdsgen params --template PROFILE` "
+            "lists every keyword, and make the product again)")
 
 
 # --- PDS4: bundle, collections, inventories, references -----------------------------------------
@@ -497,10 +528,14 @@ def _check_manifest(root: Path, labels_only: bool, found: list[_Found]) -> None:
             found.append(_Found("DLV-020", manifest, f"{name} is listed but does not exist", number))
         elif not labels_only and file_md5(path) != digest:
             found.append(_Found("DLV-020", path, f"MD5 differs from {layout.MANIFEST} line {number}: the file "
-                                                 "changed after the manifest was written"))
+                                                 "changed after the manifest was written; to mend, run pdsgen "
+                                                 "deliver again: it rewrites the manifest and keeps text written "
+                                                 "into AAREADME.TXT, VOLDESC.CAT or the bundle label (a delivery "
+                                                 "text file, [delivery] table, keeps it for good)"))
     for path in _all_files(root):
         name = path.relative_to(root).as_posix()
-        if name != layout.MANIFEST and not layout.is_review_page(name) and name not in listed:
+        if name not in (layout.MANIFEST, layout.RELEASED_MARKER) and not layout.is_review_page(name) \
+                and name not in listed:
             found.append(_Found("DLV-021", path, f"not listed in {layout.MANIFEST}"))
 
 
@@ -578,6 +613,8 @@ register(
     Rule("DLV-005", "error", "VOLUME_ID and DATA_SET_ID agree across INDEX.TAB, INDEX.LBL and VOLDESC.CAT", None),
     Rule("DLV-006", "warning", "no [TO BE WRITTEN: ...] placeholder left in VOLDESC.CAT, AAREADME.TXT, "
                                "bundle or collection labels", None),
+    Rule("DLV-007", "warning", "the products' identification keywords (DATA_SET_ID, PRODUCER_*, INSTRUMENT_* ...) "
+                               "are stated, not UNK or N/A", None),
     Rule("DLV-010", "error", "every primary member of a collection inventory is the LIDVID of a product of the "
                              "delivery", None),
     Rule("DLV-011", "error", "every product under a collection's LID is in its inventory", None),

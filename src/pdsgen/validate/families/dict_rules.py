@@ -138,12 +138,19 @@ def check_type(ctx: FileContext) -> Iterator[Hit]:
             yield Hit(f"{stmt.keyword}: {problem} ({entry['type']})", value.line, stmt.keyword)
 
 
+def _to_be_written(value: Value) -> bool:
+    """A delivery's [TO BE WRITTEN: ...] placeholder: DLV-006 reports it, once."""
+    from ...archive.layout import PLACEHOLDER_PATTERN  # loaded here: a product's label check never needs it
+
+    return PLACEHOLDER_PATTERN.search(str(value.py)) is not None
+
+
 def check_number_for_text(ctx: FileContext) -> Iterator[Hit]:
     """Unquoted numbers given to text keywords: readers take them, the dictionary wants text
     (a type mismatch, an error against the dictionaries the user named)."""
     level = _authority_level(ctx)
     for stmt, entry, value in _defined(ctx):
-        if entry["type"] in _TEXT and entry["type"] != "ALPHABET" and value.is_number:
+        if entry["type"] in _TEXT and entry["type"] != "ALPHABET" and value.is_number and not value.unit:
             yield Hit(f"{stmt.keyword} = {value.raw}: a number for a {entry['type']} keyword "
                       f'(write "{value.raw}")', value.line, stmt.keyword, severity=level)
 
@@ -308,7 +315,7 @@ def check_dynamic_values(ctx: FileContext) -> Iterator[Hit]:
     (the lists they chose as current)."""
     level = "warning" if ctx.dictionary_is_authority else None
     for stmt, entry, value in _defined(ctx):
-        if entry.get("values_type") == "DYNAMIC" and not _standard(entry, value):
+        if entry.get("values_type") == "DYNAMIC" and not _standard(entry, value) and not _to_be_written(value):
             yield Hit(f"{stmt.keyword} = {_shown(value)} is not among the dictionary's known values",
                       value.line, stmt.keyword, severity=level)
 
