@@ -20,7 +20,7 @@ from ..archive.scan import DataProduct, is_preview, pointed_files
 from ..extras.renderings import DTM_RENDERINGS, ORTHO_RENDERING
 from ..label.read import LabelCache, LabelFile, read_pds3_label
 from ..validate.model import SEVERITIES, Finding
-from ..validate.report import FileReport
+from ..validate.report import PLACEHOLDER_RULES, FileReport
 from .footprint import Outline, OutlineBatch
 from .index_table import IndexTable
 from .labels import label_view, read_facts
@@ -121,19 +121,17 @@ class Review:
         return "incomplete" if self.placeholders() else "ok"
 
 
-# Rules whose warnings mark something still to be written: DLV-006, a [TO BE WRITTEN: ...]
-# placeholder left in a delivery's text.
-PLACEHOLDER_RULES = frozenset({"DLV-006"})
-PLACEHOLDER_WORDS = ("[TO BE WRITTEN", "placeholder")
-
-
 def is_placeholder(finding: Finding) -> bool:
-    """A warning of a placeholder: from a placeholder rule, or whose message names one (a
-    `[TO BE WRITTEN: ...]` text, an identification keyword left as a placeholder such as "UNK")."""
+    """A warning of something still to be written: a rule the validator counts as a placeholder
+    (validate/report.PLACEHOLDER_RULES: a `[TO BE WRITTEN: ...]` text, an identification keyword
+    left UNK), or a warning whose message names one."""
     if finding.severity != "warning":
         return False
     return finding.rule in PLACEHOLDER_RULES or any(word.lower() in finding.message.lower()
                                                      for word in PLACEHOLDER_WORDS)
+
+
+PLACEHOLDER_WORDS = ("[TO BE WRITTEN", "placeholder")
 
 
 def anchor_of(product_id: str, taken: set[str]) -> str:
