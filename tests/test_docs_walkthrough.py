@@ -18,10 +18,6 @@ import docs_text
 from helpers import ORIGINS, elevation_array, write_raster
 
 WALK = "Walk-through: your own DTM and orthoimage to a delivery"
-# Until the delivery-text branch is merged, `deliver --text` and `params --template` do not
-# exist here: the steps naming them (and those reading what they write) are the only ones
-# this guard lets go unrun.
-NEW_INTERFACE = ("--text", "params --template")
 
 
 def _pdsgen(args: list[str], cwd: Path) -> subprocess.CompletedProcess:
@@ -40,14 +36,6 @@ def _steps(body: str) -> list[tuple[str, str]]:
     return steps
 
 
-def _interface_merged(cwd: Path) -> bool:
-    return "--text" in _pdsgen(["deliver", "--help"], cwd).stdout
-
-
-def _output_of(args: list[str]) -> str | None:
-    return args[args.index("-o") + 1] if "-o" in args else None
-
-
 def test_the_walk_through_runs_as_written(tmp_path):
     crs, transform = ORIGINS["equirectangular"]
     write_raster(tmp_path / "my_dtm.tif", elevation_array(120, 90, seed=3), crs, transform)
@@ -57,23 +45,13 @@ def test_the_walk_through_runs_as_written(tmp_path):
     commands = [line for kind, line in steps if kind == "run"]
     assert [shlex.split(line)[1] for line in commands] == [
         "params", "dtm", "ortho", "extras", "validate", "deliver", "validate", "review"]
-    merged, unrun, unwritten = _interface_merged(tmp_path), [], []
     for kind, text in steps:
         if kind == "file":
             name = text.splitlines()[0].removeprefix("# ").strip()
             (tmp_path / name).write_text(text, encoding="utf-8")
             continue
-        args = shlex.split(text)[1:]
-        if not merged and (any(new in text for new in NEW_INTERFACE)
-                           or any(out in args for out in unwritten)):
-            unrun.append(text)
-            unwritten += [_output_of(args)] if _output_of(args) else []
-            continue
-        result = _pdsgen(args, tmp_path)
+        result = _pdsgen(shlex.split(text)[1:], tmp_path)
         assert result.returncode == 0, f"{text}\n{result.stdout}{result.stderr}"
-    if not merged:
-        assert [shlex.split(line)[1] for line in unrun] == ["params", "deliver", "validate", "review"]
-        return
     delivered = [p for p in (tmp_path / "delivery").rglob("*") if p.is_file()]
     left = [p for p in delivered if p.suffix.upper() in {".TXT", ".CAT", ".XML", ".LBL"}
             and "TO BE WRITTEN" in p.read_text(encoding="latin-1")]

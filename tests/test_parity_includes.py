@@ -145,9 +145,11 @@ def test_a_missing_description_is_a_warning(tmp_path):
     assert (alone.severity, alone.line, alone.keyword) == ("warning", 4, "^DESCRIPTION")
     (volume / "VOLDESC.CAT").write_bytes(b"PDS_VERSION_ID = PDS3\r\nEND\r\n")
     found = {f.keyword: f.severity for f in _hits(validate_paths([volume]), "PTR-010") if f.file == str(label)}
-    assert found == {"^DESCRIPTION": "warning", "^DATA_SET_MAP_PROJECTION": "warning"}
-    (data / "JP2INFO.TXT").write_text("about the JP2 files\r\n")
+    assert found == {"^DESCRIPTION": "warning", "^DATA_SET_MAP_PROJECTION": "info"}  # no CATALOG/ at all
     (volume / "CATALOG").mkdir()
+    found = {f.keyword: f.severity for f in _hits(validate_paths([volume]), "PTR-010") if f.file == str(label)}
+    assert found == {"^DESCRIPTION": "warning", "^DATA_SET_MAP_PROJECTION": "warning"}  # CATALOG/ without it
+    (data / "JP2INFO.TXT").write_text("about the JP2 files\r\n")
     (volume / "CATALOG" / "DSMAP.CAT").write_bytes(b"PDS_VERSION_ID = PDS3\r\nEND\r\n")
     assert _hits(validate_paths([volume]), "PTR-010") == []
     (data / "JP2INFO.TXT").unlink()

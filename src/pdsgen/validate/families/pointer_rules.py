@@ -90,7 +90,7 @@ def check_reference_exists(ctx: FileContext) -> Iterator[Hit]:
                 volume = volume_root(ctx.path.parent, ctx.tree)
             if find_reference(ctx.path.parent, name, kind, ctx.tree, volume[0]) is not None:
                 continue
-            level = _missing_reference_level(kind, volume[1])
+            level = _missing_reference_level(kind, volume[1], _holds_catalog(volume[0]))
             if level == "skip":
                 continue
             where = f" or a {VOLUME_DIRECTORIES[kind]} directory of its volume" if kind and "/" not in name else ""
@@ -98,20 +98,31 @@ def check_reference_exists(ctx: FileContext) -> Iterator[Hit]:
                       _kw(ptr), severity=level)
 
 
-def _missing_reference_level(kind: str | None, whole_volume: bool) -> str | None:
+def _missing_reference_level(kind: str | None, whole_volume: bool, catalog_directory: bool) -> str | None:
     """A missing format file (^STRUCTURE) is an error in a volume given whole (VOLDESC.CAT in
     the tree): its table cannot be read there (NASA's PDS3 tools rate a missing referenced file
     an error); a warning for products checked without their volume, whose LABEL/ may hold it.
     A missing document (^DESCRIPTION = "JP2INFO.TXT", ^TEXT ...) is a warning: the product
     arrives without what describes it, though no reader misreads its data. A missing catalog
     file (^DATA_SET_MAP_PROJECTION = "DSMAP.CAT", ^..._CATALOG) is a warning in a volume given
-    whole and not reported for products checked alone: catalog files belong to the volume's
+    whole with a CATALOG/ directory that lacks it, a note in a volume that carries no CATALOG/
+    at all (a data provider's delivery, such as pdsgen's own, whose catalog set the archive
+    holds), and not reported for products checked alone: catalog files belong to the volume's
     CATALOG/, made once for all its products, never beside one."""
     if kind == "STRUCTURE":
         return None if whole_volume else "warning"
     if kind == "CATALOG":
-        return "warning" if whole_volume else "skip"
+        if not whole_volume:
+            return "skip"
+        return "warning" if catalog_directory else "info"
     return "warning"
+
+
+def _holds_catalog(volume: Path) -> bool:
+    """The volume carries a CATALOG/ directory (any case)."""
+    from ...label.beside import directory_listing
+
+    return any(name.upper() == "CATALOG" and (volume / name).is_dir() for name in directory_listing(volume))
 
 
 def check_target_case(ctx: FileContext) -> Iterator[Hit]:
