@@ -123,7 +123,7 @@ def test_a_missing_format_file_is_an_error_in_a_volume_given_whole(tmp_path):
     (volume / "DATA" / "A.TAB").write_bytes(b"12\r\n")
     [alone] = _hits(validate_paths([label]), "PTR-010")
     assert (alone.severity, alone.line, alone.keyword) == ("warning", 9, "^STRUCTURE")
-    assert alone.message.endswith(f"which is not in {label.parent} or a LABEL directory of its volume")
+    assert alone.message.endswith("which is not beside the label or in a LABEL directory of its volume")
     (volume / "VOLDESC.CAT").write_bytes(b"PDS_VERSION_ID = PDS3\r\nEND\r\n")
     [whole] = [f for f in _hits(validate_paths([volume]), "PTR-010") if f.file == str(label)]
     assert whole.severity == "error"
@@ -190,3 +190,17 @@ def test_a_named_structure_pointer_is_an_include(tmp_path):
     (tmp_path / "T.FMT").write_bytes(b'^STRUCTURE = "A.LBL"\r\n')
     assert [f.message for f in _hits(validate_paths([tmp_path / "A.LBL"], labels_only=True), "PTR-007")] == [
         "^TABLE_STRUCTURE include loop: A.LBL -> T.FMT -> A.LBL"]
+
+
+def test_labels_only_leaves_out_a_missing_document_but_not_a_missing_format_file(tmp_path):
+    """--labels-only (a repository of labels, its data and documents elsewhere): a ^DESCRIPTION
+    file that is not there is not reported; a ^STRUCTURE file is a label and still is."""
+    label = tmp_path / "A.LBL"
+    label.write_bytes(b'PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = STREAM\r\n^TABLE = "A.TAB"\r\n'
+                      b'^DESCRIPTION = "JP2INFO.TXT"\r\n'
+                      b'OBJECT = TABLE\r\n  ROWS = 1\r\n  ROW_BYTES = 4\r\n  COLUMNS = 1\r\n'
+                      b'  INTERFACE_FORMAT = ASCII\r\n  ^STRUCTURE = "T.FMT"\r\nEND_OBJECT = TABLE\r\nEND\r\n')
+    found = {f.keyword for f in _hits(validate_paths([label], labels_only=True), "PTR-010")}
+    assert found == {"^STRUCTURE"}
+    found = {f.keyword for f in _hits(validate_paths([label]), "PTR-010")}
+    assert found == {"^STRUCTURE", "^DESCRIPTION"}

@@ -22,7 +22,7 @@ SHARED = [CASES / "github681/ff_char.xml", CASES / "github681/ff_del.xml"]
 
 def test_every_pds4_rule_is_a_registry_rule_run_by_a_check_or_across_the_run():
     pds4 = [rule for rule in rules().values() if rule.family == "PDS4"]
-    assert len(pds4) == 36 and all(isinstance(rule, Rule) and rule.target == "pds4" for rule in pds4)
+    assert len(pds4) == 38 and all(isinstance(rule, Rule) and rule.target == "pds4" for rule in pds4)
     assert all((rule.check is None) != (rule.run_check is None) for rule in pds4)
     assert {rule.id for rule in pds4 if rule.run_check is not None} == {"PDS4-007", "PDS4-060"}
 

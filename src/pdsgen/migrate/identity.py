@@ -196,6 +196,11 @@ def _registered_context(root: Block) -> tuple[dict[str, str], list[ContextRefere
                              "reference_type": "data_to_investigation"}
     components: list[ContextReference | dict[str, str | None]] = []
     host = _registered_host(root, host_name)
+    if found is None and host is not None and investigation["lid"] == get_mission("generic").pds4.investigation.lid:
+        by_host = _investigation_of_host(host)  # a label naming its spacecraft by SPACECRAFT_ID alone (CRISM)
+        if by_host is not None:
+            investigation = {"name": by_host.label_name, "type": _investigation_type(by_host), "lid": by_host.lid,
+                             "reference_type": "data_to_investigation"}
     if host is not None:
         components.append({"name": _title(host_name) if host_name else host.label_name, "type": "Host", "lid": host.lid,
                            "reference_type": "is_instrument_host"})
@@ -207,6 +212,13 @@ def _registered_context(root: Block) -> tuple[dict[str, str], list[ContextRefere
                        "lid": instrument.lid if instrument else None,
                        "reference_type": "is_instrument" if instrument else None})
     return investigation, components
+
+
+def _investigation_of_host(host: ContextProduct) -> ContextProduct | None:
+    """The one registered investigation bearing a name of the registered host (the Mars
+    Reconnaissance Orbiter mission for the spacecraft of that name): the inference the
+    validator's PDS4-066 makes, so a migrated label never draws that note."""
+    return _one(tuple({p.lid: p for name in host.names for p in named("investigation", name)}.values()))
 
 
 _INVESTIGATION_TYPES = ("Field Campaign", "Individual Investigation", "Mission", "Observing Campaign",

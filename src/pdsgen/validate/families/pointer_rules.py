@@ -78,7 +78,7 @@ def check_reference_exists(ctx: FileContext) -> Iterator[Hit]:
     exist: beside the label, or in its volume's LABEL/, DOCUMENT/ or CATALOG/ directory inside
     the trusted tree (label/beside.find_reference, as a reader finds them). How much a missing
     one weighs: see _missing_reference_level."""
-    from ...label.beside import VOLUME_DIRECTORIES, find_reference, pointer_kind, volume_root
+    from ...label.beside import INCLUDE_KINDS, VOLUME_DIRECTORIES, find_reference, pointer_kind, volume_root
 
     volume: tuple[Path, bool] | None = None
     for ptr in _reference_pointers(ctx):
@@ -90,11 +90,14 @@ def check_reference_exists(ctx: FileContext) -> Iterator[Hit]:
                 volume = volume_root(ctx.path.parent, ctx.tree)
             if find_reference(ctx.path.parent, name, kind, ctx.tree, volume[0]) is not None:
                 continue
+            if ctx.labels_only and kind not in INCLUDE_KINDS:
+                continue  # a document is not a label: a repository of labels goes without it
             level = _missing_reference_level(kind, volume[1], _holds_catalog(volume[0]))
             if level == "skip":
                 continue
-            where = f" or a {VOLUME_DIRECTORIES[kind]} directory of its volume" if kind and "/" not in name else ""
-            yield Hit(f"{_kw(ptr)} names {name}, which is not in {ctx.path.parent}{where}", ptr.statement.line,
+            # said without the directory's path: a delivery is checked in a work directory first
+            where = f" or in a {VOLUME_DIRECTORIES[kind]} directory of its volume" if kind and "/" not in name else ""
+            yield Hit(f"{_kw(ptr)} names {name}, which is not beside the label{where}", ptr.statement.line,
                       _kw(ptr), severity=level)
 
 
