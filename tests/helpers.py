@@ -67,3 +67,13 @@ def stderr_on_a_terminal(*args: str) -> tuple[int, str]:
     os.close(main)
     process.communicate()
     return process.returncode, shown.decode("ascii", "replace")
+
+
+def stated_params(folder: Path) -> Path:
+    """A params file stating every identification keyword: a product made without one warns that
+    they are "UNK" (issue 44), which is not what these tests look at."""
+    keywords = ("DATA_SET_ID", "DATA_SET_NAME", "PRODUCER_INSTITUTION_NAME", "PRODUCER_ID", "PRODUCER_FULL_NAME",
+                "INSTRUMENT_HOST_NAME", "INSTRUMENT_HOST_ID", "INSTRUMENT_NAME", "INSTRUMENT_ID", "RATIONALE_DESC")
+    path = folder / "stated.toml"
+    path.write_text("".join(f'{keyword} = "STATED"\n' for keyword in keywords))
+    return path

@@ -11,19 +11,9 @@ import numpy as np
 import pvl
 import rasterio
 
-from helpers import CRS_EQUIRECTANGULAR, ORIGINS, elevation_array, run_cli, write_raster
+from helpers import CRS_EQUIRECTANGULAR, ORIGINS, elevation_array, run_cli, stated_params, write_raster
 
 TRANSFORM = ORIGINS["equirectangular"][1]
-
-
-def _stated(folder: Path) -> Path:
-    """A params file stating every identification keyword: a product made without one warns that
-    they are "UNK" (issue 44), which is not what these tests look at."""
-    keywords = ("DATA_SET_ID", "DATA_SET_NAME", "PRODUCER_INSTITUTION_NAME", "PRODUCER_ID", "PRODUCER_FULL_NAME",
-                "INSTRUMENT_HOST_NAME", "INSTRUMENT_HOST_ID", "INSTRUMENT_NAME", "INSTRUMENT_ID", "RATIONALE_DESC")
-    path = folder / "stated.toml"
-    path.write_text("".join(f'{keyword} = "STATED"\n' for keyword in keywords))
-    return path
 
 
 def _check_files(summary: dict) -> list[Path]:
@@ -38,7 +28,7 @@ def test_dtm_and_ortho_json_describe_what_was_written(tmp_path):
     image = np.random.default_rng(2).integers(0, 256, (30, 40), dtype="uint8")
     ortho_in = write_raster(tmp_path / "image.tif", image, CRS_EQUIRECTANGULAR, TRANSFORM)
 
-    run = run_cli("dtm", dtm_in, "-o", tmp_path / "out", "--json", "--params", _stated(tmp_path))
+    run = run_cli("dtm", dtm_in, "-o", tmp_path / "out", "--json", "--params", stated_params(tmp_path))
     assert run.returncode == 0 and run.stderr == "", run.stderr
     summary = json.loads(run.stdout)  # stdout is the JSON document and nothing else
     (img,) = _check_files(summary)
@@ -47,7 +37,7 @@ def test_dtm_and_ortho_json_describe_what_was_written(tmp_path):
     with rasterio.open(img) as written:
         assert (written.height, written.width) == (summary["lines"], summary["samples"]) == (30, 40)
 
-    run = run_cli("ortho", ortho_in, "-o", tmp_path / "out", "--json", "--params", _stated(tmp_path))
+    run = run_cli("ortho", ortho_in, "-o", tmp_path / "out", "--json", "--params", stated_params(tmp_path))
     assert run.returncode == 0, run.stderr
     summary = json.loads(run.stdout)
     paths = _check_files(summary)
@@ -65,7 +55,7 @@ def test_dtm_and_ortho_json_describe_what_was_written(tmp_path):
 
 def test_verbose_tells_what_was_read_chosen_and_written_on_stderr(tmp_path):
     source = write_raster(tmp_path / "dtm.tif", elevation_array(20, 20), CRS_EQUIRECTANGULAR, TRANSFORM)
-    run = run_cli("dtm", source, "-o", tmp_path / "out", "--verbose", "--params", _stated(tmp_path))
+    run = run_cli("dtm", source, "-o", tmp_path / "out", "--verbose", "--params", stated_params(tmp_path))
     assert run.returncode == 0, run.stderr
     assert run.stdout.startswith(str(tmp_path / "out" / "DTM.IMG"))  # the usual line, on stdout
     lines = run.stderr.splitlines()
@@ -78,7 +68,7 @@ def test_verbose_tells_what_was_read_chosen_and_written_on_stderr(tmp_path):
 
 def test_quiet_prints_nothing_and_excludes_verbose(tmp_path):
     source = write_raster(tmp_path / "dtm.tif", elevation_array(20, 20), CRS_EQUIRECTANGULAR, TRANSFORM)
-    run = run_cli("dtm", source, "-o", tmp_path / "out", "--quiet", "--params", _stated(tmp_path))
+    run = run_cli("dtm", source, "-o", tmp_path / "out", "--quiet", "--params", stated_params(tmp_path))
     assert (run.returncode, run.stdout, run.stderr) == (0, "", "")
     assert (tmp_path / "out" / "DTM.IMG").is_file()
     both = run_cli("dtm", source, "-o", tmp_path / "again", "-q", "-v")

@@ -13,18 +13,13 @@ from affine import Affine
 
 from pdsgen import progress
 
-from helpers import CRS_EQUIRECTANGULAR, elevation_array, stderr_on_a_terminal, write_raster
-
-
-def _stated(folder: Path) -> Path:
-    """A params file stating every identification keyword: a product made without one warns that
-    they are "UNK" (issue 44), which is not what these tests look at."""
-    keywords = ("DATA_SET_ID", "DATA_SET_NAME", "PRODUCER_INSTITUTION_NAME", "PRODUCER_ID", "PRODUCER_FULL_NAME",
-                "INSTRUMENT_HOST_NAME", "INSTRUMENT_HOST_ID", "INSTRUMENT_NAME", "INSTRUMENT_ID", "RATIONALE_DESC")
-    path = folder / "stated.toml"
-    path.write_text("".join(f'{keyword} = "STATED"\n' for keyword in keywords))
-    return path
-
+from helpers import (
+    CRS_EQUIRECTANGULAR,
+    elevation_array,
+    stated_params,
+    stderr_on_a_terminal,
+    write_raster,
+)
 
 SIDE = 2048  # 4.2 million pixels: large work (progress.LARGE_WORK_PIXELS)
 TRANSFORM = Affine(1.0, 0, 6099776.0, 0, -1.0, -563110.0)
@@ -38,7 +33,7 @@ def large(tmp_path_factory) -> dict[str, Path]:
     write_raster(dtm, elevation_array(SIDE, SIDE)[None], CRS_EQUIRECTANGULAR, TRANSFORM)
     image = np.random.default_rng(3).integers(1, 255, (1, SIDE, SIDE)).astype("uint8")
     write_raster(ortho, image, CRS_EQUIRECTANGULAR, TRANSFORM)
-    return {"dtm": dtm, "ortho": ortho, "params": _stated(folder)}
+    return {"dtm": dtm, "ortho": ortho, "params": stated_params(folder)}
 
 
 @pytest.mark.parametrize("command, unit", [("dtm", "lines"), ("ortho", "tiles")])

@@ -87,24 +87,14 @@ def _planes_after_core(ctx: FileContext, target: Target, axes: list[str], sizes:
     type of another size is refused: its place in the slot is not stated)."""
     block = target.block
     slowest = axes[2]
-    slot = block.number("SUFFIX_BYTES")
-    if not isinstance(slot, int) or slot <= 0:
-        raise Refused(ctx.path, f"{where(block)}: SUFFIX_BYTES is missing or not a positive integer")
-    names = _suffix_list(block, f"{slowest}_SUFFIX_NAME", count)
-    types = _suffix_list(block, f"{slowest}_SUFFIX_ITEM_TYPE", count)
-    sizes_of = _suffix_list(block, f"{slowest}_SUFFIX_ITEM_BYTES", count)
+    slot = _suffix_slot(ctx, block)
+    items = _typed_suffix_items(ctx, block, slowest, count, slot, "plane", "array")
     units = _suffix_list(block, f"{slowest}_SUFFIX_UNIT", count)
     plane = sizes[0] * sizes[1] * slot
     arrays = []
-    for n in range(count):
-        pds3_type = str(types[n] or "").upper()
-        size = sizes_of[n]
-        data_type = pds4_data_type(pds3_type, int(size) * 8) if isinstance(size, int) else None
-        if data_type is None or size != slot:
-            raise Refused(ctx.path, f"{where(block)}: {_PLANE_OF[slowest]} plane {n + 1} ({pds3_type or 'no type'} "
-                                    f"of {size} bytes in SUFFIX_BYTES {slot}) has no exact PDS4 array")
-        name = str(names[n] or f"{slowest}_SUFFIX_{n + 1}")
-        unit = units[n] if isinstance(units[n], str) and units[n].upper() not in ("N/A", "NONE", "UNK") else None
+    for n, ((name, data_type), stated_unit) in enumerate(zip(items, units, strict=True)):
+        unit = stated_unit if isinstance(stated_unit, str) and stated_unit.upper() not in ("N/A", "NONE", "UNK") \
+            else None
         arrays.append({
             "kind": "array", "element": "Array_2D", "local_identifier": f"{target.ident}_{_PLANE_OF[slowest]}_{n + 1}",
             "offset": start + n * plane, "length": plane,
@@ -125,19 +115,11 @@ def _side_then_back_planes(ctx: FileContext, target: Target, axes: list[str], si
     table = _core_lines_with_suffix(ctx, target, axes, sizes, core_type, side)
     slowest, fast = axes[2], axes[0]
     slot = int(block.number("SUFFIX_BYTES") or 0)
-    names = _suffix_list(block, f"{slowest}_SUFFIX_NAME", back)
-    types = _suffix_list(block, f"{slowest}_SUFFIX_ITEM_TYPE", back)
-    sizes_of = _suffix_list(block, f"{slowest}_SUFFIX_ITEM_BYTES", back)
+    items = _typed_suffix_items(ctx, block, slowest, back, slot, "plane", "field")
     record = (sizes[0] + side) * slot
     start = target.offset + int(table["length"])  # type: ignore[call-overload]
     planes: list[dict[str, object]] = []
-    for n in range(back):
-        pds3_type, size = str(types[n] or "").upper(), sizes_of[n]
-        field_type = pds4_data_type(pds3_type, int(size) * 8) if isinstance(size, int) else None
-        if field_type is None or size != slot:
-            raise Refused(ctx.path, f"{where(block)}: {_PLANE_OF[slowest]} plane {n + 1} ({pds3_type or 'no type'} "
-                                    f"of {size} bytes in SUFFIX_BYTES {slot}) has no exact PDS4 field")
-        name = str(names[n] or f"{slowest}_SUFFIX_{n + 1}")
+    for n, (name, field_type) in enumerate(items):
         fields: list[dict[str, object]] = [
             {"name": name, "location": 1, "length": slot, "data_type": field_type, "unit": None,
              "scaling_factor": None, "value_offset": None, "description": None, "special": [],
@@ -169,9 +151,7 @@ def _slices_with_bottom_planes(ctx: FileContext, target: Target, axes: list[str]
     block = target.block
     data_type, item_bytes = core_type
     fast, middle, _ = axes
-    slot = block.number("SUFFIX_BYTES")
-    if not isinstance(slot, int) or slot <= 0:
-        raise Refused(ctx.path, f"{where(block)}: SUFFIX_BYTES is missing or not a positive integer")
+    slot = _suffix_slot(ctx, block)
     kinds = {(str(t or "").upper(), n) for t, n in zip(_suffix_list(block, f"{middle}_SUFFIX_ITEM_TYPE", bottom),
                                                         _suffix_list(block, f"{middle}_SUFFIX_ITEM_BYTES", bottom),
                                                         strict=True)}
@@ -254,23 +234,12 @@ def _core_lines_with_suffix(ctx: FileContext, target: Target, axes: list[str], s
     block = target.block
     data_type, item_bytes = core_type
     fastest = axes[0]
-    slot = block.number("SUFFIX_BYTES")
-    if not isinstance(slot, int) or slot <= 0:
-        raise Refused(ctx.path, f"{where(block)}: SUFFIX_BYTES is missing or not a positive integer")
-    names = _suffix_list(block, f"{fastest}_SUFFIX_NAME", count)
-    types = _suffix_list(block, f"{fastest}_SUFFIX_ITEM_TYPE", count)
-    sizes_of = _suffix_list(block, f"{fastest}_SUFFIX_ITEM_BYTES", count)
+    slot = _suffix_slot(ctx, block)
     fields: list[dict[str, object]] = [_core_field(ctx, block, data_type, item_bytes, sizes[0])]
     location = 1 + sizes[0] * item_bytes
-    for n in range(count):
-        pds3_type = str(types[n] or "").upper()
-        size = sizes_of[n]
-        field_type = pds4_data_type(pds3_type, int(size) * 8) if isinstance(size, int) else None
-        if field_type is None or size != slot:
-            raise Refused(ctx.path, f"{where(block)}: {_PLANE_OF[fastest]} plane item {n + 1} "
-                                    f"({pds3_type or 'no type'} of {size} bytes in SUFFIX_BYTES {slot}) has no "
-                                    "exact PDS4 field")
-        fields.append({"name": str(names[n] or f"{fastest}_SUFFIX_{n + 1}"), "location": location, "length": slot,
+    for n, (name, field_type) in enumerate(_typed_suffix_items(ctx, block, fastest, count, slot, "plane item",
+                                                               "field")):
+        fields.append({"name": name, "location": location, "length": slot,
                        "data_type": field_type, "unit": None, "scaling_factor": None, "value_offset": None,
                        "description": f"{_PLANE_OF[fastest].capitalize()} plane item {n + 1} of the PDS3 qube.",
                        "special": [], "group": None})
@@ -302,6 +271,33 @@ def _core_field(ctx: FileContext, block, data_type: str, item_bytes: int, count:
 _MAX_SUFFIX_ITEMS = 10_000
 # Slices of a cube with bottom planes are described one by one: a bound on how many.
 _MAX_SLICES = 10_000
+
+
+def _suffix_slot(ctx: FileContext, block) -> int:
+    """SUFFIX_BYTES: the bytes each suffix item is stored in, refused unless a positive integer."""
+    slot = block.number("SUFFIX_BYTES")
+    if not isinstance(slot, int) or slot <= 0:
+        raise Refused(ctx.path, f"{where(block)}: SUFFIX_BYTES is missing or not a positive integer")
+    return slot
+
+
+def _typed_suffix_items(ctx: FileContext, block, axis: str, count: int, slot: int, noun: str,
+                        element: str) -> list[tuple[str, str]]:
+    """(name, PDS4 data type) of each suffix item along `axis`; an item whose type PDS4 cannot
+    state, or narrower than its slot (where in the slot the value lies is not stated), is refused
+    as "<side|back|bottom> <noun> N ... has no exact PDS4 <element>"."""
+    names = _suffix_list(block, f"{axis}_SUFFIX_NAME", count)
+    types = _suffix_list(block, f"{axis}_SUFFIX_ITEM_TYPE", count)
+    sizes_of = _suffix_list(block, f"{axis}_SUFFIX_ITEM_BYTES", count)
+    items = []
+    for n in range(count):
+        pds3_type, size = str(types[n] or "").upper(), sizes_of[n]
+        data_type = pds4_data_type(pds3_type, int(size) * 8) if isinstance(size, int) else None
+        if data_type is None or size != slot:
+            raise Refused(ctx.path, f"{where(block)}: {_PLANE_OF[axis]} {noun} {n + 1} ({pds3_type or 'no type'} "
+                                    f"of {size} bytes in SUFFIX_BYTES {slot}) has no exact PDS4 {element}")
+        items.append((str(names[n] or f"{axis}_SUFFIX_{n + 1}"), data_type))
+    return items
 
 
 def _suffix_list(block, key: str, count: int) -> list[object]:
