@@ -31,8 +31,9 @@ class VolumeFacts:
 
 
 def _string(keyword: str, value: str, indent: str = "  ") -> list[str]:
-    """`KEYWORD = "value"`, the value wrapped under its start so lines stay within 78 characters."""
-    head = f"{indent}{keyword:<18} = "
+    """`KEYWORD = "value"`, the value wrapped under its start so lines stay within 78 characters;
+    its `=` in column 24, as the file's other statements have it."""
+    head = f"{indent}{keyword:<{22 - len(indent)}} = "
     width = 78 - len(head) - 2
     parts = textwrap.wrap(value, width) or [""]
     lines = [f'{head}"{parts[0]}']
