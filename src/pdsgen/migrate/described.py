@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import InputError
-from ..label.beside import find_beside
+from ..label.beside import find_beside, find_reference
 from ..label.grammar import PLACEHOLDERS
 from ..label.parser import LabelFile
 from ..label.tree import Block, Pointer, Statement, Value
@@ -111,12 +111,10 @@ def structure_file(ctx: FileContext, stmt: Statement, chain: tuple[Path, ...] = 
     `chain`: one that includes itself or lies more than MAX_INCLUDE_DEPTH files deep is refused."""
     name = stmt.value.text
     exact, other = ctx.resolve(name)
-    path = exact or other
-    volume_label_dir = ctx.path.parent.parent / "LABEL"  # a volume's format files (PDS3 Standards, 19.3)
-    if path is None:
-        path = find_beside(volume_label_dir, name, root=ctx.tree)
-    if path is None and ctx.tree != ctx.path.parent:  # a volume given as the tree: its top LABEL/ too
-        path = find_beside(ctx.tree / "LABEL", name, root=ctx.tree)
+    # beside the label (any case), else where a reader looks: the LABEL/ of the volume's root
+    # (the directory holding VOLDESC.CAT, else the tree given), or of the label's parent's parent
+    path = exact or other or find_reference(ctx.path.parent, name, "STRUCTURE", ctx.tree) \
+        or find_beside(ctx.path.parent.parent / "LABEL", name, root=ctx.tree)
     if path is None:
         raise Refused(ctx.path, f"^STRUCTURE file {name} is missing")
     path = path.resolve()
