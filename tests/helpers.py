@@ -77,3 +77,16 @@ def stated_params(folder: Path) -> Path:
     path = folder / "stated.toml"
     path.write_text("".join(f'{keyword} = "STATED"\n' for keyword in keywords))
     return path
+
+
+def small_pds4_dtm(root: Path, product_id: str):
+    """A 12 x 16 DTM written with its PDS4 label under root/good: `.path` (the label) and
+    `.text` (the label as written), the product the PDS4 schema tests edit copies of."""
+    from types import SimpleNamespace
+
+    from pdsgen import write_dtm
+
+    crs, transform = ORIGINS["equirectangular"]
+    source = write_raster(root / "dtm.tif", elevation_array(12, 16, seed=4), crs, transform, nodata=-9999.0)
+    written = write_dtm(source, root / "good", product_id=product_id, label="pds4")
+    return SimpleNamespace(path=written.pds4_label_path, text=written.label_text)

@@ -18,13 +18,12 @@ from types import SimpleNamespace
 
 import pytest
 
-from pdsgen import write_dtm
 from pdsgen.validate import validate_paths
 from pdsgen.validate.pds4 import download, schematron
 from pdsgen.validate.pds4.catalog import SchemaCatalog, packed_dir, packed_index, shipped_schema_dir
 from pdsgen.validate.pds4.label_checks import validate_pds4
 
-from helpers import ORIGINS, elevation_array, write_raster
+from helpers import small_pds4_dtm
 
 CORE_URL = "https://pds.nasa.gov/pds4/pds/v1/PDS4_PDS_1O00.xsd"
 CORE_SCH = "https://pds.nasa.gov/pds4/pds/v1/PDS4_PDS_1O00.sch"
@@ -32,11 +31,7 @@ CORE_SCH = "https://pds.nasa.gov/pds4/pds/v1/PDS4_PDS_1O00.sch"
 
 @pytest.fixture(scope="module")
 def product(tmp_path_factory):
-    root = tmp_path_factory.mktemp("pds4_schemas")
-    crs, transform = ORIGINS["equirectangular"]
-    source = write_raster(root / "dtm.tif", elevation_array(12, 16, seed=4), crs, transform, nodata=-9999.0)
-    written = write_dtm(source, root / "good", product_id="SCHEMAS", label="pds4")
-    return SimpleNamespace(path=written.pds4_label_path, text=written.label_text)
+    return small_pds4_dtm(tmp_path_factory.mktemp("pds4_schemas"), "SCHEMAS")
 
 
 def _place(product, directory: Path, text: str) -> Path:

@@ -24,13 +24,12 @@ from types import SimpleNamespace
 
 import pytest
 
-from pdsgen import write_dtm
 from pdsgen.validate import validate_paths
 from pdsgen.validate.pds4 import download, schematron
 from pdsgen.validate.pds4.catalog import SchemaCatalog, shipped_schema_dir
 from pdsgen.validate.pds4.label_checks import validate_pds4
 
-from helpers import ORIGINS, elevation_array, write_raster
+from helpers import small_pds4_dtm
 
 pytestmark = pytest.mark.skipif(not schematron.available(), reason="needs saxonche")
 
@@ -41,11 +40,7 @@ FORMATS = ("text", "json", "sarif", "github", "html")
 
 @pytest.fixture(scope="module")
 def product(tmp_path_factory):
-    root = tmp_path_factory.mktemp("security_schemas")
-    crs, transform = ORIGINS["equirectangular"]
-    source = write_raster(root / "dtm.tif", elevation_array(12, 16, seed=4), crs, transform, nodata=-9999.0)
-    written = write_dtm(source, root / "good", product_id="SECURITY", label="pds4")
-    return SimpleNamespace(path=written.pds4_label_path, text=written.label_text)
+    return small_pds4_dtm(tmp_path_factory.mktemp("security_schemas"), "SECURITY")
 
 
 @pytest.fixture
