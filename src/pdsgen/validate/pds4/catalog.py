@@ -39,6 +39,7 @@ from lxml import etree
 
 from ...errors import PdsgenError, param
 from ...formats.checksum import file_sha256
+from ...label.beside import contained
 from ...pds4.model import SCHEMATRON_NS, XSI_NS
 from ...resources import schemas_dir
 from .download import SCHEMA_HOSTS, DownloadError, download_url, fetch_schema, read_sums
@@ -253,11 +254,9 @@ class SchemaCatalog:
 
 
 def _resolves_inside(path: Path, real_dir: Path) -> bool:
-    """Whether a file, symlinks resolved, lies inside a (resolved) directory."""
-    try:
-        return path.resolve(strict=True).is_relative_to(real_dir)
-    except (OSError, RuntimeError):
-        return False
+    """Whether a file that exists lies inside a directory, symbolic links resolved (the one
+    containment rule, label/beside.contained)."""
+    return path.exists() and contained(path, real_dir) is not None
 
 
 @dataclass(frozen=True)
