@@ -13,6 +13,7 @@ from pathlib import Path
 from ..errors import InputError
 from ..label.beside import find_beside, find_reference
 from ..label.grammar import PLACEHOLDERS
+from ..label.includes import MAX_INCLUDE_DEPTH  # no genuine volume nests format files more than a few deep
 from ..label.parser import LabelFile
 from ..label.tree import Block, Pointer, Statement, Value
 from ..validate.context import FileContext
@@ -101,8 +102,6 @@ def positive_int(ctx: FileContext, block: Block, key: str) -> int:
     return number
 
 
-# No genuine volume nests format files more than a few deep.
-MAX_INCLUDE_DEPTH = 20
 
 
 def structure_file(ctx: FileContext, stmt: Statement, chain: tuple[Path, ...] = ()) -> tuple[Path, Block]:

@@ -581,7 +581,7 @@ def _record_delimiter(ctx: FileContext, block: Block, path: Path, offset: int, r
                             "ROW_BYTES, as a PDS4 character table must")
 
 
-# Bounds on what ^STRUCTURE files may expand to (described.MAX_INCLUDE_DEPTH bounds their
+# Bounds on what ^STRUCTURE files may expand to (label/includes.MAX_INCLUDE_DEPTH bounds their
 # nesting): no genuine table has anywhere near this many columns, and a hostile fan-out (files
 # including each other four times over) would otherwise expand to 4^19 columns.
 _MAX_COLUMNS = 100_000

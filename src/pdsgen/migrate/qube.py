@@ -15,7 +15,7 @@ from __future__ import annotations
 from ..label.grammar import FLOAT_SAMPLE_TYPES
 from ..pds4.model import pds4_data_type
 from ..validate.context import FileContext
-from .described import Refused, Target, special_constants, where, with_structures
+from .described import Refused, Target, positive_int, special_constants, where, with_structures
 from .mapping import SPECIAL_CONSTANTS
 
 # A cube's special-value keywords: the images' and tables' (mapping.py), and CORE_VALID_MINIMUM,
@@ -30,10 +30,8 @@ def describe_qube(ctx: FileContext, target: Target) -> dict[str, object]:
     target = Target(block, target.ident, target.offset, target.path, target.record_bytes, target.next_start)
     axes = _axis_names(ctx, block)
     sizes = _numbers(ctx, block, "CORE_ITEMS", len(axes))
-    item_bytes = block.number("CORE_ITEM_BYTES")
+    item_bytes = positive_int(ctx, block, "CORE_ITEM_BYTES")
     item_type = (block.text("CORE_ITEM_TYPE") or "").upper()
-    if not isinstance(item_bytes, int) or item_bytes <= 0:
-        raise Refused(ctx.path, f"{where(block)}: CORE_ITEM_BYTES is missing or not a positive integer")
     data_type = pds4_data_type(item_type, item_bytes * 8)
     if data_type is None:
         raise Refused(ctx.path, f"{where(block)}: CORE_ITEM_TYPE {item_type or 'not given'} of {item_bytes} bytes "
@@ -87,7 +85,7 @@ def _planes_after_core(ctx: FileContext, target: Target, axes: list[str], sizes:
     type of another size is refused: its place in the slot is not stated)."""
     block = target.block
     slowest = axes[2]
-    slot = _suffix_slot(ctx, block)
+    slot = positive_int(ctx, block, "SUFFIX_BYTES")
     items = _typed_suffix_items(ctx, block, slowest, count, slot, "plane", "array")
     units = _suffix_list(block, f"{slowest}_SUFFIX_UNIT", count)
     plane = sizes[0] * sizes[1] * slot
@@ -151,7 +149,7 @@ def _slices_with_bottom_planes(ctx: FileContext, target: Target, axes: list[str]
     block = target.block
     data_type, item_bytes = core_type
     fast, middle, _ = axes
-    slot = _suffix_slot(ctx, block)
+    slot = positive_int(ctx, block, "SUFFIX_BYTES")
     kinds = {(str(t or "").upper(), n) for t, n in zip(_suffix_list(block, f"{middle}_SUFFIX_ITEM_TYPE", bottom),
                                                         _suffix_list(block, f"{middle}_SUFFIX_ITEM_BYTES", bottom),
                                                         strict=True)}
@@ -234,7 +232,7 @@ def _core_lines_with_suffix(ctx: FileContext, target: Target, axes: list[str], s
     block = target.block
     data_type, item_bytes = core_type
     fastest = axes[0]
-    slot = _suffix_slot(ctx, block)
+    slot = positive_int(ctx, block, "SUFFIX_BYTES")
     fields: list[dict[str, object]] = [_core_field(ctx, block, data_type, item_bytes, sizes[0])]
     location = 1 + sizes[0] * item_bytes
     for n, (name, field_type) in enumerate(_typed_suffix_items(ctx, block, fastest, count, slot, "plane item",
@@ -271,14 +269,6 @@ def _core_field(ctx: FileContext, block, data_type: str, item_bytes: int, count:
 _MAX_SUFFIX_ITEMS = 10_000
 # Slices of a cube with bottom planes are described one by one: a bound on how many.
 _MAX_SLICES = 10_000
-
-
-def _suffix_slot(ctx: FileContext, block) -> int:
-    """SUFFIX_BYTES: the bytes each suffix item is stored in, refused unless a positive integer."""
-    slot = block.number("SUFFIX_BYTES")
-    if not isinstance(slot, int) or slot <= 0:
-        raise Refused(ctx.path, f"{where(block)}: SUFFIX_BYTES is missing or not a positive integer")
-    return slot
 
 
 def _typed_suffix_items(ctx: FileContext, block, axis: str, count: int, slot: int, noun: str,
