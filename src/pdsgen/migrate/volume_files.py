@@ -8,9 +8,11 @@ and browse images come from the files' first bytes, never from their names alone
 
 from __future__ import annotations
 
+import codecs
 from pathlib import Path
 
 from ..formats.sniff import file_head
+from ..validate.pds4.document_checks import marked_pdf_a
 
 SOFTWARE_REASON = ("software is not migrated: PDS4 archives take no executables, and a Product_Software "
                    "needs facts a PDS3 volume does not state")
@@ -76,7 +78,7 @@ def document_standard(path: Path) -> str | None:
     decodes so."""
     head = file_head(path, _SNIFF) or b""
     if head.startswith(b"%PDF-"):
-        return "PDF/A" if _declares_pdfa(path) else "PDF"
+        return "PDF/A" if marked_pdf_a(path) else "PDF"
     image = image_encoding(path)
     if image in ("JPEG", "PNG", "GIF", "TIFF"):
         return image
@@ -86,26 +88,29 @@ def document_standard(path: Path) -> str | None:
         return "Rich Text"
     if head.startswith(b"%!PS"):
         return "Encapsulated Postscript" if b"EPSF" in head[:40] else "Postscript"
-    raw = path.read_bytes()
-    if b"\x00" in raw:
-        return None
-    if raw.lstrip()[:14].lower().startswith((b"<!doctype html", b"<html")):
-        return "HTML"
-    if all(byte < 0x80 for byte in raw):
-        return "7-Bit ASCII Text"
-    try:
-        raw.decode("utf-8")
-    except UnicodeDecodeError:
-        return None
-    return "UTF-8 Text"
+    return _text_standard(path, head)
 
 
-def _declares_pdfa(path: Path) -> bool:
-    """A PDF's XMP packet names its PDF/A part (pdfaid:part); read in blocks, not whole."""
-    tail = b""
+def _text_standard(path: Path, head: bytes) -> str | None:
+    """HTML, 7-Bit ASCII or UTF-8 Text for a file of text (no NUL byte anywhere), None for any
+    other bytes; read in blocks, so a large file costs no more memory than a small one."""
+    ascii_only = True
+    utf8: codecs.IncrementalDecoder | None = codecs.getincrementaldecoder("utf-8")()
     with open(path, "rb") as stream:
         while block := stream.read(1 << 20):
-            if b"pdfaid:part" in tail + block:
-                return True
-            tail = block[-16:]
-    return False
+            if b"\x00" in block:
+                return None
+            ascii_only = ascii_only and block.isascii()
+            if utf8 is not None:
+                try:
+                    utf8.decode(block)
+                except UnicodeDecodeError:
+                    utf8 = None
+    if head.lstrip()[:14].lower().startswith((b"<!doctype html", b"<html")):
+        return "HTML"
+    if ascii_only:
+        return "7-Bit ASCII Text"
+    try:
+        return "UTF-8 Text" if utf8 is not None and utf8.decode(b"", final=True) == "" else None
+    except UnicodeDecodeError:
+        return None

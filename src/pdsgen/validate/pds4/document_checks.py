@@ -39,7 +39,7 @@ def check_pdf_a(report: Pds4Hits, tree: etree._ElementTree) -> None:
             continue
         if not _is_pdf(path):
             problem = "is not a PDF at all (it does not start with %PDF-)"
-        elif not _marked_pdf_a(path):
+        elif not marked_pdf_a(path):
             problem = "is a PDF without PDF/A identification (no pdfaid:part in its XMP metadata)"
         else:
             continue
@@ -53,7 +53,7 @@ def _is_pdf(path: Path) -> bool:
         return handle.read(5) == b"%PDF-"
 
 
-def _marked_pdf_a(path: Path) -> bool:
+def marked_pdf_a(path: Path) -> bool:
     """Whether the file holds `pdfaid:part`, read in overlapping chunks (memory stays flat)."""
     tail = b""
     with open(path, "rb") as handle:
