@@ -29,6 +29,7 @@ from ..archive.scan import is_pds3_label, named_files, walk
 from ..errors import InputError, OutputError, PdsgenError, param
 from ..formats.checksum import bytes_md5, file_md5
 from ..formats.sniff import file_head
+from ..label.beside import contained
 from ..label.read import LabelCache, read_pds3_label
 from ..label.tree import Block
 from ..pds4.content import digest_file
@@ -215,7 +216,7 @@ class _Run:
     # --- the pass through the volume ----------------------------------------------------------
 
     def walk(self) -> None:
-        index_dir = next((d for d in sorted(self.source.iterdir()) if _is_index_dir(d)), None)
+        index_dir = next((d for d in sorted(self.source.iterdir()) if _is_index_dir(d, self.source)), None)
         self.index = find_index(self.source, index_dir) if index_dir is not None else None
         if self.index is not None:
             self.result.index = self.index.table.relative_to(self.source).as_posix()
@@ -400,7 +401,7 @@ class _Run:
         self._manifest()
 
     def _top(self, name: str) -> Path | None:
-        return next((p for p in sorted(self.source.iterdir()) if _is_named(p, name)), None)
+        return next((p for p in sorted(self.source.iterdir()) if _is_named(p, name, self.source)), None)
 
     def _copy(self, name: str) -> Path:
         """The volume's file `name` in the bundle: a byte-identical copy (in place: the file itself)."""
@@ -560,13 +561,15 @@ class _Run:
         self.result.main_files.append(manifest)
 
 
-def _is_index_dir(path: Path) -> bool:
-    return path.is_dir() and path.name.upper() in INDEX_DIRS
+def _is_index_dir(path: Path, volume: Path) -> bool:
+    """The volume's index directory (INDEX, whatever the case), a link leading out of it not."""
+    return path.is_dir() and path.name.upper() in INDEX_DIRS and contained(path, volume) is not None
 
 
-def _is_named(path: Path, name: str) -> bool:
-    """A file at the volume's top named `name`, case aside (VOLDESC.CAT, voldesc.cat)."""
-    return path.name.upper() == name and path.is_file()
+def _is_named(path: Path, name: str, volume: Path) -> bool:
+    """A file at the volume's top named `name`, case aside (VOLDESC.CAT, voldesc.cat); a link
+    leading out of the volume is not read (the one containment rule)."""
+    return path.name.upper() == name and path.is_file() and contained(path, volume) is not None
 
 
 def _inventory_name(collection: str) -> str:

@@ -13,7 +13,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..label.beside import directory_listing, resolve_beside
+from ..label.beside import contained, find_beside
 from ..label.parser import LabelFile
 from ..label.tree import Block, parse_pointer
 
@@ -53,13 +53,14 @@ def find_index(volume: Path, index_dir: Path) -> VolumeIndex | None:
     """The index table of the volume among the tables labels in `index_dir` describe with a path
     column: INDEX.LBL's first, then one whose label is named like an index (VOLINDEX, CUMINDEX),
     then one with a PRODUCT_ID column (a checksum table lists files, not products), by name."""
-    tables = [table for label in index_dir.iterdir() if _is_label(label)
+    tables = [table for label in index_dir.iterdir() if _is_label(label, volume)
               if (table := _index_table(label, volume)) is not None]
     return min(tables, key=_index_first, default=None)
 
 
-def _is_label(path: Path) -> bool:
-    return path.suffix.lower() == ".lbl" and path.is_file()
+def _is_label(path: Path, volume: Path) -> bool:
+    """A label file of the index directory; a link leading out of the volume is not read."""
+    return path.suffix.lower() == ".lbl" and path.is_file() and contained(path, volume) is not None
 
 
 def _index_first(table: VolumeIndex) -> tuple[bool, bool, bool, str]:
@@ -86,8 +87,7 @@ def _index_table(label: Path, volume: Path) -> VolumeIndex | None:
         row_bytes = table.number("ROW_BYTES")
         if not row_bytes or not ("FILE_SPECIFICATION_NAME" in columns or "FILE_NAME" in columns):
             continue
-        exact, other = resolve_beside(label.parent, directory_listing(label.parent), pointer.file_name, volume)
-        path = exact or other
+        path = find_beside(label.parent, pointer.file_name, volume)
         if path is not None:
             return VolumeIndex(label, path, int(row_bytes) + _prefix_bytes(table), columns)
     return None
