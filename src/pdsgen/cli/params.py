@@ -63,8 +63,6 @@ def _profile_values(keyword: str, dtm: dict[str, str], ortho: dict[str, str]) ->
 def _example(keyword: str, kind: str, value: str | None) -> str:
     if kind == "list":
         return '["SOURCE_PRODUCT_1", "SOURCE_PRODUCT_2"]'
-    if kind == "flag":
-        return "false"
     if kind == "version":
         return f'"{value or "1.0"}"'
     if value and value.upper() != "UNK":

@@ -162,7 +162,7 @@ def _from_voldesc(root: Path, volume_id: str | None) -> DeliveryText:
     set_id = value("VOLUME_SET_ID")
     return DeliveryText(
         title=title, description=_written(own_description(label.first("DESCRIPTION") or "")),
-        address=value("ADDRESS_TEXT"), institution=value("INSTITUTION_NAME"), facility=value("FACILITY_NAME"),
+        address=value("ADDRESS_TEXT"), facility=value("FACILITY_NAME"),  # the institution: the products'
         contact=value("FULL_NAME"),
         volume_series_name=value("VOLUME_SERIES_NAME"), volume_set_name=value("VOLUME_SET_NAME"),
         volume_set_id=set_id if set_id != volume_id else None)

@@ -86,7 +86,7 @@ def height_reference(label: Mapping[str, Any], image: Mapping[str, Any],
         if mission_datum and surface in mission_datum.upper():  # the mission's wording of what the label says
             return HeightReference(mission_datum)
         if surface == "SPHERE" and re.search(r"\d", above.group(1)):  # "the 3396.0 km sphere"
-            return HeightReference(above.group(1).lower().replace(" km ", " km "))
+            return HeightReference(above.group(1).lower())
     if mission_datum and any(word in words for word in _surface_words(mission_datum)):
         return HeightReference(mission_datum)
     if _AREOID_WORDS.search(words):

@@ -80,12 +80,12 @@ def with_unstated_warning(result: ProductResultT, profile: str) -> ProductResult
     """`result` with `unstated_warning` added to its warnings: of the label text the writer kept
     (an attached label's), else of its detached .LBL file; nothing for a product without either."""
     text = getattr(result, "label_text", None)
-    label = next((path for path in result.files if path.suffix.upper() == ".LBL"), result.files[0])
+    detached = next((path for path in result.files if path.suffix.upper() == ".LBL"), None)
+    label = detached or result.files[0]
     if not isinstance(text, str):
-        detached = [path for path in result.files if path.suffix.upper() == ".LBL"]
-        if not detached:
+        if detached is None:
             return result
-        label, text = detached[0], detached[0].read_text(encoding="ascii", errors="replace")
+        text = detached.read_text(encoding="ascii", errors="replace")
     if text.lstrip().startswith("<"):  # a PDS4-only product: its XML label is no PDS3 one
         return result
     warning = unstated_warning(label, text, profile)
