@@ -84,8 +84,8 @@ MISSION = Mission(
         ortho=frozenset({"source_product_ids", "bits"}),
         mosaic=frozenset({"precision"}),
         defaults={"kind": "da"},  # areoid heights: iMars's DTMs are DA4
-        choices={"kind": ("da", "dt")},
-        command_defaults={"vertical_datum": "sphere"},  # its own names of DA4 and DT4 (the writer reads dt4/da4 so too)
+        choices={"kind": ("da", "dt")},  # its own names of DA4 and DT4 (the writer reads dt4/da4 so too)
+        command_defaults={"vertical_datum": "sphere"},  # input heights above the sphere unless told
     ),
     mosaic_writer="pdsgen.mosaic.imars:write_imars_mosaic",  # <ID>_dtm.tif/_ori.tif, a polygon per strip
 )
