@@ -116,7 +116,8 @@ def same_samples(product: Path, merged: Path) -> bool:
 
 
 # gdal_merge.py writing the iMars file form: a tiled (256 x 256), DEFLATE-compressed GeoTIFF.
-IMARS_CREATION = ["-co", "COMPRESS=DEFLATE", "-co", "PREDICTOR=2", "-co", "TILED=YES"]
+IMARS_CREATION = ["-co", "COMPRESS=DEFLATE", "-co", "PREDICTOR=2", "-co", "TILED=YES",
+                  "-co", "NUM_THREADS=ALL_CPUS"]  # compressed on as many threads as pdsgen uses
 
 
 def merge_command(strips: list[str], out: Path, nodata: int, creation: list[str]) -> list[str]:
