@@ -338,13 +338,9 @@ class SchematronStopped(RuntimeError):
 def bounded(schematron_files: Sequence[SchemaFile], label_text: str) -> list[SchematronFailure]:
     """`compiled(files).check(label_text)` in the validator's Saxon child process, within
     TIME_LIMIT and MEMORY_LIMIT. SchematronStopped when a limit stopped it, RuntimeError
-    with the engine's first line when it failed."""
-    worker = _worker()
-    try:
-        return worker.ask(tuple(schematron_files), label_text)
-    except SchematronStopped:
-        _WORKERS.pop(os.getpid(), None)
-        raise
+    with the engine's first line when it failed. A stopped child is reaped by `ask`, and the
+    next call starts another (`_worker`)."""
+    return _worker().ask(tuple(schematron_files), label_text)
 
 
 def bounded_each(schematron_files: Sequence[SchemaFile], label_text: str
@@ -387,7 +383,8 @@ class _Worker:
                 "serve(int(sys.argv[1]), int(sys.argv[2]))")
         self.process = subprocess.Popen([sys.executable, "-c", code, str(from_parent), str(to_parent)],
                                         pass_fds=(from_parent, to_parent), stdin=subprocess.DEVNULL,
-                                        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                                        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                        env=_child_environment())
         os.close(from_parent)
         os.close(to_parent)
         self.send = Connection(to_child, readable=False)
@@ -425,6 +422,15 @@ class _Worker:
 
 
 _WORKERS: dict[int, _Worker] = {}  # the validating process -> its Saxon child
+
+# What the child needs of the environment to start Python and Saxon; nothing else of the
+# validating process (a CI job's secrets) reaches the engine that runs a delivery's rules.
+_CHILD_ENVIRONMENT = ("PATH", "PYTHONPATH", "PYTHONHOME", "VIRTUAL_ENV", "HOME", "TMPDIR", "LANG", "LC_ALL",
+                      "LC_CTYPE", "SYSTEMROOT")
+
+
+def _child_environment() -> dict[str, str]:
+    return {name: os.environ[name] for name in _CHILD_ENVIRONMENT if name in os.environ}
 
 
 def _worker() -> _Worker:
