@@ -26,6 +26,7 @@ from ..resources import user_cache_dir
 
 # The names a PDS4 label file may have: .xml by custom, .lblx as the standard recommends.
 LABEL_SUFFIXES = (".xml", ".lblx")
+_HEAD_BYTES = 8192  # what tells a data file or a PDS3 label from XML, read first
 _CHUNK_BYTES = 65536
 MAX_PROLOG_BYTES = 64 * 1024 * 1024  # a prolog longer than this is not read on: the file is reported
 _MAX_KEPT_BYTES = 1024 * 1024  # a document type declaration or root start tag longer is not read on
@@ -65,10 +66,13 @@ def _root_verdict(path: Path) -> bool | None:
 def _verdict_of(handle, path: Path) -> bool | None:  # noqa: ANN001 - a binary file object
     """Read the prolog item by item, in chunks, keeping only what is not yet consumed; a
     comment or processing instruction is skipped to its end without being kept whole."""
-    data = handle.read(_CHUNK_BYTES).removeprefix(_BOM)
+    data = handle.read(_HEAD_BYTES)
+    if data.removeprefix(_BOM).lstrip()[:1] not in (b"", b"<"):
+        return False  # binary data, PDS3 text: not XML, decided from the first bytes (most files a walk meets)
+    data = (data + handle.read(_CHUNK_BYTES - _HEAD_BYTES)).removeprefix(_BOM)
     start = data.lstrip()
     if not start.startswith(b"<"):
-        return False  # binary data, PDS3 text: not XML, decided from the first byte
+        return False
     unfound = None if start.startswith(_XML_STARTS) or path.suffix.lower() in LABEL_SUFFIXES else False
     read = len(data)
     while True:
