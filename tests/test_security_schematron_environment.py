@@ -5,6 +5,7 @@ CI job's token) is not in the child's environment at all, whatever the rules' st
 from __future__ import annotations
 
 import os
+import time
 from pathlib import Path
 
 import pytest
@@ -22,7 +23,11 @@ def test_the_schematron_child_gets_no_secret_of_the_validating_process(monkeypat
         running.stop()
     worker = schematron._worker()
     try:
-        environment = Path(f"/proc/{worker.process.pid}/environ").read_bytes()
+        environment = b""
+        deadline = time.monotonic() + 10
+        while not environment and worker.process.poll() is None and time.monotonic() < deadline:
+            environment = Path(f"/proc/{worker.process.pid}/environ").read_bytes()  # empty while it starts
+            time.sleep(0.05)
         assert b"SECRET-7f3c9a" not in environment and b"PDSGEN_TEST_TOKEN" not in environment
         assert b"PATH=" in environment  # what starting Python needs is passed on
         assert worker.process.poll() is None  # and the child runs with it

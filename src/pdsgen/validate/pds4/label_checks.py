@@ -209,8 +209,8 @@ def _schema_checks(tree: etree._ElementTree, catalog: SchemaCatalog, use_schemat
             failures, stopped = schematron.bounded_each(safe, text)
         except Exception as exc:  # a Schematron that fails to compile or stops: said, never a traceback
             names = ", ".join(file.name for file in safe)
-            report.add("PDS4-002", f"Schematron {names} could not run ({_first_line(exc)}); its rules not checked",
-                       line)
+            report.add("PDS4-002", f"Schematron {names} could not run ({schematron.first_line(exc)}); "
+                                   "its rules not checked", line)
             return
         for file, why in stopped:  # an endless or memory-hungry expression: stopped at a limit
             report.add("PDS4-002", f"Schematron {file.name} stopped: {why}; its rules not checked for this label", line)
@@ -231,12 +231,6 @@ def _runnable(file: SchemaFile, report: Pds4Hits, line: int | None) -> bool:
                                "the label (files, environment variables, network or nested transforms); "
                                "its rules not checked", line)
     return not calls
-
-
-def _first_line(exc: Exception) -> str:
-    """The first line of an engine's error, without the file names and text it may go on to quote."""
-    text = str(exc).strip()
-    return text.splitlines()[0][:200] if text else type(exc).__name__
 
 
 def _collapsed(tree: etree._ElementTree) -> etree._Element:

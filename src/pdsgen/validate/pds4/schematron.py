@@ -461,6 +461,12 @@ def _resident_bytes(pid: int) -> int:
         return 0
 
 
+def first_line(exc: Exception) -> str:
+    """The first line of an engine's error, without the file names and text it may go on to quote."""
+    text = str(exc).strip()
+    return text.splitlines()[0][:200] if text else type(exc).__name__
+
+
 def serve(from_parent: int, to_parent: int) -> None:
     """The Saxon child: each request (Schematron files, label text) answered with ("ok",
     failures) or ("error", the engine's first line), until the parent closes the pipe."""
@@ -475,8 +481,7 @@ def serve(from_parent: int, to_parent: int) -> None:
         try:
             answer: tuple[str, object] = ("ok", compiled(files).check(label_text))
         except Exception as exc:  # the parent reports it as the Schematron not running
-            text = str(exc).strip()
-            answer = ("error", text.splitlines()[0][:200] if text else type(exc).__name__)
+            answer = ("error", first_line(exc))
         send.send_bytes(pickle.dumps(answer))
 
 
