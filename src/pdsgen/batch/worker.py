@@ -15,6 +15,7 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
+from .. import clock
 from ..storage import files, is_s3
 from .resident import DEFAULT_MAX_GROWTH_MB, DEFAULT_MAX_JOBS, Recycling, run_in_child
 from .resume import file_stats, is_done, may_replace, read_marker, remove_marker, write_marker
@@ -106,7 +107,7 @@ def _run_child_logged(task: dict[str, Any]) -> dict[str, Any]:
     log = Path(task["log"])
     log.parent.mkdir(parents=True, exist_ok=True)
     with open(log, "ab") as log_file:
-        log_file.write(f"== pdsgen batch: {task['kind']} {task['id']} ({time.strftime('%Y-%m-%d %H:%M:%S')})\n"
+        log_file.write(f"== pdsgen batch: {task['kind']} {task['id']} ({clock.wall_time()})\n"
                        .encode())
     recycling = Recycling(task.get("child_jobs", DEFAULT_MAX_JOBS), task.get("child_growth_mb", DEFAULT_MAX_GROWTH_MB))
     result = run_in_child(task, recycling)

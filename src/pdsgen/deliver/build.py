@@ -9,7 +9,6 @@ re-run. The MD5 manifest is written last, over every file of the finished tree.
 
 from __future__ import annotations
 
-import datetime
 import functools
 import logging
 import os
@@ -18,6 +17,7 @@ import shutil
 from collections.abc import Iterator
 from pathlib import Path
 
+from .. import clock
 from ..archive import layout
 from ..archive.scan import DataProduct, SourceSet, is_pds3_label, scan
 from ..dialect import DIALECT_NAMES, Dialect
@@ -303,7 +303,7 @@ def _check_dialects(found: SourceSet, pds3: bool, pds4: bool) -> None:
 def _build(found: SourceSet, tree: _Tree, previous: _Previous, source: Path, in_place: bool, dialect: Dialect,
            index: _IndexRows | None, bundle_lid: str | None, words: DeliveryText) -> Delivery:
     result = Delivery(tree.root, dialect, volume_id=index.writer.volume_id if index else None, bundle_lid=bundle_lid)
-    today = datetime.date.today().isoformat()
+    today = clock.today()
     total = len(found.products) + len(found.previews) + len(found.documents)
     done = 0
     data_members: dict[str, tuple[DataProduct, list[str]]] = {}
@@ -402,12 +402,8 @@ class _IndexRows:
 def made_at(label: Path) -> str:
     """When a product was made, for a label that does not say: its label file's modification time
     (UTC, to the second; the product's own file, not the time of delivery), no later than
-    SOURCE_DATE_EPOCH when that is set (a reproducible build's fixed time)."""
-    seconds = int(label.stat().st_mtime)
-    epoch = os.environ.get("SOURCE_DATE_EPOCH", "")
-    if epoch.isdigit():
-        seconds = min(seconds, int(epoch))
-    return datetime.datetime.fromtimestamp(seconds, datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%S")
+    SOURCE_DATE_EPOCH when that is set (a reproducible build's fixed time: pdsgen.clock)."""
+    return clock.no_later_than_epoch(label.stat().st_mtime).strftime("%Y-%m-%dT%H:%M:%S")
 
 
 def _write_volume(tree: _Tree, previous: _Previous, index: _IndexRows, today: str, result: Delivery,

@@ -8,6 +8,7 @@ body is named in the collection's properties since GeoJSON itself assumes Earth.
 
 from __future__ import annotations
 
+import datetime
 import json
 import os
 from pathlib import Path
@@ -92,13 +93,16 @@ def footprint_wkt(crs: CRS) -> str:
 _FIELDS = (("PRODUCT_ID", 40), ("TYPE", 8), ("FILE", 80))
 
 
-def write_shapefile(collection: dict[str, Any], staged: dict[str, Path], wkt: str) -> None:
+def write_shapefile(collection: dict[str, Any], staged: dict[str, Path], wkt: str, updated: datetime.date) -> None:
     """The footprint collection as an ESRI Shapefile: one polygon record per product.
 
     `staged` maps each of SHAPEFILE_PARTS to the path to write it to; `wkt` is the
     longitude/latitude CRS of the coordinates (the .prj in ESRI's WKT dialect, the
     .qpj, QGIS's copy of it, likewise). pyshp writes .shp/.shx/.dbf; rings are
     wound as the format requires (outer rings clockwise, holes counter-clockwise).
+    `updated` is the .dbf header's date of last update: pyshp writes the wall clock's day
+    there, which would make the same input give other bytes on another day, so the
+    product's own day of making replaces it (dbf_updated).
     """
     import shapefile  # pyshp: a small pure-Python writer for exactly this format
 
@@ -112,8 +116,19 @@ def write_shapefile(collection: dict[str, Any], staged: dict[str, Path], wkt: st
             writer.record(str(feature.get("id", "")), str(properties.get("type", "")),
                           str(properties.get("file", "")))
         writer.close()
+    dbf_updated(staged[".dbf"], updated)
     for part in (".prj", ".qpj"):
         Path(staged[part]).write_text(wkt + "\n")
+
+
+def dbf_updated(path: Path, day: datetime.date) -> None:
+    """Set a dBASE III table's date of last update: header bytes 1-3 are the year - 1900, the
+    month and the day (dBASE III file structure; the year byte holds 1900-2155)."""
+    if not 1900 <= day.year <= 2155:
+        raise PdsgenError(path, f"a .dbf header cannot hold the year {day.year} (the day of making)")
+    with open(path, "r+b") as table:
+        table.seek(1)
+        table.write(bytes((day.year - 1900, day.month, day.day)))
 
 
 def _shapefile_rings(geometry: dict[str, Any]) -> list[list[list[float]]]:

@@ -64,7 +64,7 @@ _SETTLE_NS = 1_000_000_000
 
 def directory_listing(directory: Path) -> DirectoryNames:
     """The names in `directory` (none if it cannot be read), listed once while it is unchanged."""
-    key = os.fspath(directory)
+    key = os.path.abspath(directory)  # a relative name is another directory after a chdir
     try:
         mtime = os.stat(key).st_mtime_ns
     except OSError:
@@ -197,20 +197,25 @@ def volume_root(directory: Path, tree: Path) -> tuple[Path, bool]:
     for place in volume_ancestors(directory, tree):
         if "VOLDESC.CAT" in directory_listing(place):
             return place, True
-    return _real_directory(os.fspath(tree)), False
+    return _real_directory(tree), False
+
+
+def _real_directory(path: str | os.PathLike[str]) -> Path:
+    """A directory with its links resolved, remembered: the candidates a volume search visits
+    (every file found is still checked by `contained` when it is found). Remembered by its
+    absolute path: a relative one names another directory once the process changes directory."""
+    return _resolved(os.path.abspath(path))
 
 
 @lru_cache(maxsize=1024)
-def _real_directory(path: str) -> Path:
-    """A directory with its links resolved, remembered: the candidates a volume search visits
-    (every file found is still checked by `contained` when it is found)."""
-    return Path(os.path.realpath(path))
+def _resolved(absolute: str) -> Path:
+    return Path(os.path.realpath(absolute))
 
 
 def volume_ancestors(directory: Path, tree: Path) -> Iterator[Path]:
     """`directory` and its parents, up to and including `tree` (never above it), links resolved:
     each path is resolved once (a label's look-ups run for every label of a volume)."""
-    place, top = _real_directory(os.fspath(directory)), _real_directory(os.fspath(tree))
+    place, top = _real_directory(directory), _real_directory(tree)
     if place != top and top not in place.parents:
         return
     while True:

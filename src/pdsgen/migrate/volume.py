@@ -16,7 +16,6 @@ the files this run wrote are removed again.
 
 from __future__ import annotations
 
-import datetime
 import logging
 import os
 import shutil
@@ -25,6 +24,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO, Any
 
+from .. import clock
 from ..archive.scan import is_pds3_label, named_files, walk
 from ..errors import InputError, OutputError, PdsgenError, param
 from ..formats.checksum import bytes_md5, file_md5
@@ -192,7 +192,7 @@ class _Run:
         self.source, self.dest, self.bundle_lid = source, dest, bundle_lid
         self.in_place, self.overwrite = in_place, overwrite
         self.result = VolumeMigration(dest, bundle_lid)
-        self.today = datetime.date.today().isoformat()
+        self.today = clock.today()
         self.lids: set[str] = set()
         self.product_lidvids: dict[str, str] = {}  # PRODUCT_ID (upper) and label stem (upper) -> LIDVID
         self.owned: set[str] = set()  # volume paths (posix) a product label describes

@@ -24,7 +24,7 @@ import rasterio
 from rasterio.env import get_gdal_config
 from rasterio.windows import Window
 
-from .. import __version__
+from .. import __version__, clock
 from ..errors import PdsgenError
 from ..formats.footprint import footprint_wkt, valid_data_outline, write_footprints, write_shapefile
 from ..formats.img import (
@@ -192,7 +192,7 @@ def write_imars_dtm(
             collection = write_footprints(footprint, staged.path(footprint), features,
                                           geometry.target_name or "MARS")
             write_shapefile(collection, {part: staged.path(path) for part, path in shapes.items()},
-                            footprint_wkt(written_crs))
+                            footprint_wkt(written_crs), dt.date.fromisoformat(facts["date"]))
     return ImarsProduct(ident, tiff, metadata, footprint, geometry, encoding, low, high,
                         tuple(shapes.values()))
 
@@ -439,17 +439,16 @@ def write_imars_ori(
             collection = write_footprints(footprint, staged.path(footprint), features,
                                           geometry.target_name or "MARS")
             write_shapefile(collection, {part: staged.path(path) for part, path in shapes.items()},
-                            footprint_wkt(written_crs))
+                            footprint_wkt(written_crs), dt.date.fromisoformat(facts["date"]))
     encoding = Int16Encoding(mapping.scaling_factor, mapping.offset)
     return ImarsProduct(ident, tiff, metadata, footprint, geometry, encoding, low, high,
                         tuple(shapes.values()))
 
 
 def processing_date() -> str:
-    """Today (UTC), or the day of SOURCE_DATE_EPOCH when set (reproducible builds)."""
-    epoch = os.environ.get("SOURCE_DATE_EPOCH")
-    when = dt.datetime.fromtimestamp(int(epoch), dt.timezone.utc) if epoch else dt.datetime.now(dt.timezone.utc)
-    return when.date().isoformat()
+    """The day of making (pdsgen.clock: SOURCE_DATE_EPOCH's day when set, else today, UTC): the
+    ProcessingDate of the .pvl and GeoTIFF tags, and the footprint .dbf's date of last update."""
+    return clock.today()
 
 
 # The facts the real iMars files give twice: PVL (object, keyword) and GeoTIFF metadata tag.

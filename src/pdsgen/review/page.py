@@ -13,7 +13,6 @@ when opened.
 from __future__ import annotations
 
 import base64
-import datetime
 import hashlib
 import html
 import os
@@ -26,7 +25,7 @@ from typing import IO
 import jinja2
 from markupsafe import Markup
 
-from .. import __version__
+from .. import __version__, clock
 from ..resources import templates_dir
 from ..validate.model import SEVERITIES, Finding
 from ..validate.report import FileReport, Tally, Writer
@@ -135,7 +134,7 @@ def render_pages(review: Review, first_name: str = "REVIEW.html", inline_thumbna
                 for p in products if p.outline is not None]
     common = dict(review=review, counts=review.counts(), severities=SEVERITIES, style=style, script=script,
                   csp=content_security_policy(style, script), version=__version__, pages=refs,
-                  made=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"))
+                  made=clock.timestamp())
     template = env.get_template(PAGE_TEMPLATE)
     pages = []
     for ref, chunk in zip(refs, chunks, strict=True):
