@@ -13,11 +13,9 @@ the same script runs against an old and a new version whatever their import path
 
 from __future__ import annotations
 
-import datetime
 import hashlib
 import json
 import os
-import re
 import subprocess
 import sys
 from pathlib import Path
@@ -33,7 +31,9 @@ from hrsc_ax_tiles import dtm_group, map_group, tile_name, write_vicar  # noqa: 
 SINUSOIDAL_HRSC = "+proj=sinu +lon_0=70 +R=3396000 +units=m +no_defs"
 EQC = Affine(1.0, 0, 6123456.0, 0, -1.0, -563210.0)
 SINU = Affine(50.0, 0, 4150000.0, 0, -50.0, -1000000.0)
-EPOCH = "1700000000"  # iMars ProcessingDate 2023-11-14, reproducibly
+# The day of making of every product and delivery (iMars ProcessingDate, publication dates,
+# index creation times, the review page's time): 2023-11-14T22:13:20Z, the same on any day.
+EPOCH = "1700000000"
 
 
 def _inputs(root: Path) -> dict[str, Path]:
@@ -103,16 +103,8 @@ def make(root: Path) -> dict[str, str]:
         if done.returncode != 0:
             raise RuntimeError(f"pdsgen {' '.join(command)} failed:\n{done.stderr}")
     out = root / "out"
-    return {path.relative_to(out).as_posix(): hashlib.sha256(_dateless(path.read_bytes())).hexdigest()
+    return {path.relative_to(out).as_posix(): hashlib.sha256(path.read_bytes()).hexdigest()
             for path in sorted(out.rglob("*")) if path.is_file()}
-
-
-def _dateless(content: bytes) -> bytes:
-    """The file with the day of the run (a delivery's PUBLICATION_DATE, the review page's time
-    of making) written as a fixed token: deliveries are dated by the day they are made."""
-    for today in {datetime.date.today(), datetime.datetime.now(datetime.timezone.utc).date()}:
-        content = content.replace(today.isoformat().encode(), b"YYYY-MM-DD")
-    return re.sub(rb"YYYY-MM-DDT\d\d:\d\d:\d\dZ", b"YYYY-MM-DDThh:mm:ssZ", content)
 
 
 if __name__ == "__main__":

@@ -1,6 +1,7 @@
 """Refactoring changes no product: every file of every kind of product, byte for byte, as the
 version named in tests/golden/products_made.json wrote it (tests/products_made.py lists the
-commands; a delivery's day of making is the one thing allowed to differ).
+commands). Nothing is masked: every date written comes from SOURCE_DATE_EPOCH, which the
+commands run under (pdsgen/clock.py), so the table holds on any day.
 
 After an intended change of output, regenerate the table with
 `python tests/products_made.py DIR > tests/golden/products_made.json` and say why in the commit.
