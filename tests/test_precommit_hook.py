@@ -1,12 +1,13 @@
 """The pre-commit hook this repository defines (.pre-commit-hooks.yaml), run as users run
-it: `pre-commit try-repo` installs pdsgen from a git repository into its own environment
-and runs the hook on the files of another repository.
+it: a label repository's .pre-commit-config.yaml names pdsgen's repository and revision,
+pre-commit installs pdsgen from it into its own environment and runs the hook on the files
+it is handed.
 
 The hook repository is a temporary git repository holding this working tree's files
 (tracked and new, as they are now), committed there, so the developer's own repository
-is never committed to or read at another revision. pre-commit builds its environment
-anew for each try-repo run (about a minute: pdsgen and its dependencies are installed
-from the package index or pip's cache).
+is never committed to or read at another revision. pre-commit builds the hook's environment
+once per repository and revision (pdsgen and its dependencies from the package index or
+pip's cache, about half a minute) and both runs below use it, as a user's commits do.
 """
 
 from __future__ import annotations
@@ -63,10 +64,15 @@ def hook_repo(tmp_path_factory) -> Path:
 
 
 @pytest.fixture(scope="module")
-def project(tmp_path_factory) -> Path:
+def project(tmp_path_factory, hook_repo) -> Path:
     """A repository of labels: a good DTM (.IMG, attached label), a bad detached label,
-    and files the hook is handed but must pass over (a Maven pom.xml, a bare .img)."""
+    and files the hook is handed but must pass over (a Maven pom.xml, a bare .img); its
+    .pre-commit-config.yaml names the hook repository at its commit."""
     root = tmp_path_factory.mktemp("project")
+    revision = subprocess.run(["git", "rev-parse", "HEAD"], cwd=hook_repo, check=True, capture_output=True,
+                              text=True).stdout.strip()
+    (root / ".pre-commit-config.yaml").write_text(yaml.safe_dump(
+        {"repos": [{"repo": str(hook_repo), "rev": revision, "hooks": [{"id": "pdsgen-validate"}]}]}))
     source = write_raster(root.parent / "heights.tif", elevation_array(20, 16),
                           "+proj=eqc +lat_ts=0 +lon_0=0 +R=3396190 +units=m +no_defs",
                           Affine(1.0, 0, 1000.0, 0, -1.0, 2000.0))
@@ -80,9 +86,9 @@ def project(tmp_path_factory) -> Path:
     return root
 
 
-def _try_repo(project: Path, hook_repo: Path, *files: str) -> subprocess.CompletedProcess:
+def _run_hook(project: Path, *files: str) -> subprocess.CompletedProcess:
     return subprocess.run(
-        [str(PRE_COMMIT), "try-repo", str(hook_repo), "pdsgen-validate", "--color", "never", "--files", *files],
+        [str(PRE_COMMIT), "run", "pdsgen-validate", "--color", "never", "--files", *files],
         cwd=project, capture_output=True, text=True, timeout=900,
         env={**os.environ, **GIT_IDENTITY, "PRE_COMMIT_HOME": str(project.parent / "pre-commit-home")},
     )
@@ -101,16 +107,16 @@ def test_hook_definition_names_the_label_suffixes_and_one_serial_run():
 
 
 @needs_tools
-def test_a_good_label_passes_the_hook_and_non_labels_are_passed_over(project, hook_repo):
-    result = _try_repo(project, hook_repo, "good/GOOD.IMG", "pom.xml", "raw.img")
+def test_a_good_label_passes_the_hook_and_non_labels_are_passed_over(project):
+    result = _run_hook(project, "good/GOOD.IMG", "pom.xml", "raw.img")
     output = result.stdout + result.stderr
     assert result.returncode == 0, output
     assert "pdsgen validate" in output and "Passed" in output
 
 
 @needs_tools
-def test_a_bad_label_fails_the_hook_with_its_findings_shown(project, hook_repo):
-    result = _try_repo(project, hook_repo, "bad/BAD.LBL", "good/GOOD.IMG", "pom.xml")
+def test_a_bad_label_fails_the_hook_with_its_findings_shown(project):
+    result = _run_hook(project, "bad/BAD.LBL", "good/GOOD.IMG", "pom.xml")
     output = result.stdout + result.stderr
     assert result.returncode == 1, output
     assert "Failed" in output
