@@ -104,6 +104,12 @@ OBJECT_CLASSES: tuple[tuple[str, str, str], ...] = (
     ("*SPECTRUM", "table", "as TABLE"),
     ("*SPREADSHEET", "spreadsheet", "Table_Delimited (parsing standard PDS DSV 1, FIELD_DELIMITER: "
      "COMMA, SEMICOLON, TAB, VERTICAL_BAR; FIELD objects as Field_Delimited)"),
+    ("*ARRAY", "array", "ARRAY of one number per element (its own DATA_TYPE and BYTES, or an ELEMENT; nested "
+     "ARRAYs add their axes): Array_1D, Array_2D, Array_3D or Array (more axes), the axes in PDS3's order (both "
+     "store the last fastest), AXIS_NAME as axis_name; ARRAY of COLLECTIONs, or of an ELEMENT with BIT_ELEMENTs: "
+     "Table_Binary, a record per element (axes flattened, last fastest); INTERCHANGE_FORMAT ASCII: refused"),
+    ("*COLLECTION", "array", "Table_Binary of one record: its ELEMENTs Field_Binary, its COLLECTIONs "
+     "Group_Field_Binary, its ARRAYs Group_Field_Binary of their elements' number of repetitions"),
     ("*QUBE", "qube", "(keywords of its ^STRUCTURE files included) Array_3D of the core (axes AXIS_NAME "
      "reversed, CORE_ITEM_TYPE/BYTES, CORE_BASE/"
      "CORE_MULTIPLIER as value_offset/scaling_factor, CORE_NULL and the CORE_* special values); suffix "
@@ -125,6 +131,8 @@ OTHER_OBJECTS: tuple[tuple[str, str], ...] = (
     ("BIT_COLUMN (in an MSB or 1-byte COLUMN)", "Packed_Data_Fields/Field_Bit, the column UnsignedBitString; "
      "BIT_DATA_TYPE: " + ", ".join(f"{k} -> {v}" for k, v in BIT_DATA_TYPES.items()) + "; ITEMS: one Field_Bit "
      "each; in an LSB column: refused"),
+    ("BIT_ELEMENT (in an ELEMENT)", "as BIT_COLUMN: Packed_Data_Fields/Field_Bit of the element's field, the "
+     "array then a Table_Binary (PDS4 arrays have no bit fields)"),
     ("CONTAINER (REPETITIONS, nested CONTAINERs)", "Group_Field_Binary / Group_Field_Character: repetitions, "
      "group_location START_BYTE, group_length REPETITIONS x BYTES, its COLUMNs and CONTAINERs inside"),
     ("any other object (PALETTE, DOCUMENT, ...)", "refused, named with its line"),

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from ..errors import param
 from ..label.grammar import FLOAT_SAMPLE_TYPES
-from ..label.tree import Block, Pointer, Statement, parse_pointer
+from ..label.tree import Block, Pointer, Statement, Value, parse_pointer
 from ..pds4.model import pds4_data_type
 from ..validate.context import FileContext
 from .described import (
@@ -623,6 +623,8 @@ def _unwrapped(root: Block) -> Block:
 
 
 _COLUMN_OBJECTS = frozenset({"COLUMN", "CONTAINER", "BIT_COLUMN"})
+# The bit fields of a COLUMN (tables) or of an ELEMENT (arrays and collections): the same keywords.
+_BIT_OBJECTS = ("BIT_COLUMN", "BIT_ELEMENT")
 
 
 def _columns(ctx: FileContext, block: Block, prefix: int, character: bool,
@@ -730,7 +732,7 @@ def _field(ctx: FileContext, column: Block, prefix: int, character: bool, row_by
         entry["warning"] = (f"{where(column)}: column {name} BYTES {size} taken per item: {items} items of {size} "
                             f"bytes fill {size * count} bytes of the row, while {size} bytes cannot hold {items} "
                             f"{pds3_type} items")
-    if any(True for _ in column.blocks("BIT_COLUMN")):
+    if any(True for name in _BIT_OBJECTS for _ in column.blocks(name)):
         entry.update(data_type="UnsignedBitString", scaling_factor=None, value_offset=None, special=[],
                      bits=_bit_fields(ctx, column, pds3_type, item_bytes))
     if items:
@@ -752,7 +754,7 @@ def _bit_fields(ctx: FileContext, column: Block, pds3_type: str, item_bytes: int
         raise Refused(ctx.path, f"{where(column)}: BIT_COLUMNs in a {pds3_type} column: PDS4 counts bits from the "
                                 "first byte's most significant bit, and this column's bytes run the other way")
     bits: list[dict[str, object]] = []
-    for bit_column in column.blocks("BIT_COLUMN"):
+    for bit_column in (b for b in column.blocks() if b.name.upper() in _BIT_OBJECTS):
         name = bit_column.text("NAME") or "bit_column"
         start, count = positive_int(ctx, bit_column, "START_BIT"), positive_int(ctx, bit_column, "BITS")
         kind = " ".join((bit_column.text("BIT_DATA_TYPE") or "").upper().split()).replace(" ", "_")
@@ -849,9 +851,202 @@ def _histogram(ctx: FileContext, target: Target) -> dict[str, object]:
             "special": [], "pds3": where(block)}
 
 
+# -- arrays: ARRAY, COLLECTION, ELEMENT (PDS3 Standards, appendix A) ---------------------------------
+# The subobjects an ARRAY holds (exactly one) and a COLLECTION holds (any number).
+_ARRAY_PARTS = frozenset({"ELEMENT", "COLLECTION", "ARRAY"})
+# PDS4's array classes by number of axes; more axes: the generic Array (up to 16).
+_ARRAY_ELEMENTS = {1: "Array_1D", 2: "Array_2D", 3: "Array_3D"}
+_MAX_AXES = 16
+
+
+def _array(ctx: FileContext, target: Target) -> dict[str, object]:
+    """An ARRAY (or a top-level COLLECTION). An array whose leaf is one number (its own DATA_TYPE,
+    or an ELEMENT, nested ARRAYs adding their axes) is a PDS4 array of as many axes, in the same
+    order: PDS3 and PDS4 both store the last axis fastest. An array of COLLECTIONs, or of an
+    ELEMENT with BIT_ELEMENTs, is a Table_Binary of one record per leaf (the axes flattened in
+    that order), the collection's ELEMENTs, COLLECTIONs and ARRAYs its fields and groups."""
+    block = target.block
+    interchange = (block.text("INTERCHANGE_FORMAT") or "BINARY").upper()
+    if interchange != "BINARY":
+        raise Refused(ctx.path, f"{where(block)}: INTERCHANGE_FORMAT {interchange}: PDS4 arrays hold binary "
+                                "numbers only, and an ASCII array has no record structure a table could state")
+    start = block.number("START_BYTE")
+    if start not in (None, 1):
+        raise Refused(ctx.path, f"{where(block)}: START_BYTE {start} of an object its pointer places")
+    axes: list[tuple[str, int]] = []
+    if block.name.upper() == "COLLECTION":
+        leaf = block
+    else:
+        axes, leaf = _array_shape(ctx, block)
+    description = " ".join((block.text("DESCRIPTION") or f"The {block.name} object of the PDS3 label.").split())
+    shape = " x ".join(f"{name} {items}" for name, items in axes)
+    if leaf.name.upper() == "COLLECTION" or any(True for name in _BIT_OBJECTS for _ in leaf.blocks(name)):
+        return _array_as_table(ctx, target, axes, leaf, description, shape)
+    return _array_of_numbers(ctx, target, axes, leaf, description)
+
+
+def _array_shape(ctx: FileContext, block: Block, depth: int = 0) -> tuple[list[tuple[str, int]], Block]:
+    """The axes (name, items), slowest first, of an ARRAY and of the ARRAYs nested in it, and the
+    leaf they repeat: an ELEMENT, a COLLECTION, or the innermost ARRAY itself (DATA_TYPE and BYTES
+    its own). A nested ARRAY must start its parent's element (START_BYTE 1): else it is no axis."""
+    count = positive_int(ctx, block, "AXES")
+    items = _axis_values(ctx, block, "AXIS_ITEMS", count)
+    names = _axis_values(ctx, block, "AXIS_NAME", count, required=False)
+    sizes = [n for n in items if isinstance(n, int) and n > 0]
+    if len(sizes) != count:
+        raise Refused(ctx.path, f"{where(block)}: AXIS_ITEMS {items} are not positive integers")
+    axes = [(str(names[n]) if names else f"{block.text('NAME') or block.name}_axis_{n + 1}", sizes[n])
+            for n in range(count)]
+    parts = [b for b in block.blocks() if b.name.upper() in _ARRAY_PARTS]
+    if len(parts) > 1:
+        raise Refused(ctx.path, f"{where(block)}: an ARRAY holds one ELEMENT, COLLECTION or ARRAY, this one "
+                                f"{len(parts)}")
+    if not parts:
+        return axes, block
+    part = parts[0]
+    if part.name.upper() == "ARRAY" and part.number("START_BYTE") in (None, 1):
+        if depth >= MAX_NESTING:
+            raise Refused(ctx.path, f"{where(part)}: ARRAYs nested more than {MAX_NESTING} deep")
+        inner, leaf = _array_shape(ctx, part, depth + 1)
+        return axes + inner, leaf
+    if part.name.upper() == "ARRAY":
+        raise Refused(ctx.path, f"{where(part)}: an ARRAY of an ARRAY that starts at byte "
+                                f"{part.number('START_BYTE')} of each element, with no bytes before it described")
+    return axes, part
+
+
+MAX_NESTING = 8  # ARRAYs and COLLECTIONs in one another; genuine labels nest two or three
+
+
+def _axis_values(ctx: FileContext, block: Block, key: str, count: int, required: bool = True) -> list[object]:
+    value = block.value(key)
+    if value is None:
+        if required:
+            raise Refused(ctx.path, f"{where(block)}: {key} is missing")
+        return []
+    values = [item.py for item in value.items] if value.items is not None else [value.py]
+    if len(values) != count:
+        raise Refused(ctx.path, f"{where(block)}: {key} gives {len(values)} values for AXES = {count}")
+    return values
+
+
+def _array_of_numbers(ctx: FileContext, target: Target, axes: list[tuple[str, int]], leaf: Block,
+                      description: str) -> dict[str, object]:
+    """An array of one number per element as Array_ND: the leaf's DATA_TYPE and BYTES, its scaling,
+    unit and special constants; an ELEMENT must fill the element (START_BYTE 1, no ITEMS)."""
+    if len(axes) > _MAX_AXES:
+        raise Refused(ctx.path, f"{where(target.block)}: {len(axes)} axes, more than PDS4's {_MAX_AXES}")
+    size = positive_int(ctx, leaf, "BYTES")
+    if leaf.number("START_BYTE") not in (None, 1) or leaf.get("ITEMS") is not None:
+        raise Refused(ctx.path, f"{where(leaf)}: an ELEMENT that does not fill its array's element (START_BYTE "
+                                f"{leaf.number('START_BYTE')}, ITEMS {leaf.number('ITEMS')})")
+    pds3_type = " ".join((leaf.text("DATA_TYPE") or "").upper().split()).replace(" ", "_")
+    data_type = pds4_data_type(pds3_type, size * 8)
+    if data_type is None:
+        raise Refused(ctx.path, f"{where(leaf)}: DATA_TYPE {pds3_type or 'not given'} of {size} bytes has no "
+                                "PDS4 data type")
+    elements = 1
+    for _, items in axes:
+        elements *= items
+    scaling, value_offset = leaf.number("SCALING_FACTOR"), leaf.number("OFFSET")
+    identity = scaling in (None, 1) and value_offset in (None, 0)
+    return {"kind": "array", "element": _ARRAY_ELEMENTS.get(len(axes), "Array"), "pds3": where(target.block),
+            "local_identifier": target.ident, "offset": target.offset, "length": elements * size, "axes": axes,
+            "description": description, "data_type": data_type, "unit": unit(leaf),
+            "scaling_factor": None if identity else (scaling if scaling is not None else 1.0),
+            "value_offset": value_offset if value_offset is not None else 0.0,
+            "special": special_constants(ctx, leaf, pds3_type in FLOAT_SAMPLE_TYPES, size * 8)}
+
+
+def _array_as_table(ctx: FileContext, target: Target, axes: list[tuple[str, int]], leaf: Block,
+                    description: str, shape: str) -> dict[str, object]:
+    """An array of records (COLLECTIONs, or ELEMENTs with bit fields) as a Table_Binary: one
+    record per leaf, axes flattened slowest first - the bytes' own order."""
+    records = 1
+    for _, items in axes:
+        records *= items
+    size = positive_int(ctx, leaf, "BYTES")
+    if leaf.name.upper() == "COLLECTION":
+        fields = _collection_fields(ctx, leaf, 0, [_MAX_COLUMNS], 0)
+    else:
+        fields = [_field(ctx, _starting_at_one(leaf), 0, False, size)]
+    reach = _fields_end(fields)
+    if reach > size:
+        raise Refused(ctx.path, f"{where(leaf)}: its parts reach byte {reach}, past its BYTES {size}")
+    if shape:
+        description += f" PDS3 array of {shape}, each element a record here (the last axis fastest)."
+    return {"kind": "table", "element": "Table_Binary", "local_identifier": target.ident, "offset": target.offset,
+            "length": records * size, "records": records, "record_length": size, "description": description,
+            "fields": fields, "delimiter": None, "pds3": where(target.block),
+            "warnings": [str(f.pop("warning")) for f in fields if f.get("warning")]}
+
+
+def _starting_at_one(element: Block) -> Block:
+    """An array's ELEMENT, which may leave out START_BYTE (it starts its element): START_BYTE 1."""
+    if element.get("START_BYTE") is not None:
+        return element
+    start = Statement("START_BYTE", Value("int", "1", 1, element.line), element.line)
+    return Block(element.kind, element.name, element.line, element.end_line, [start, *element.items])
+
+
+def _collection_fields(ctx: FileContext, collection: Block, prefix: int, budget: list[int],
+                       depth: int) -> list[dict[str, object]]:
+    """A COLLECTION's parts as fields (ELEMENT), groups of repetition 1 (COLLECTION) and repeated
+    groups (ARRAY: its axes' product of its leaf), each at its START_BYTE in the collection."""
+    if depth > MAX_NESTING:
+        raise Refused(ctx.path, f"{where(collection)}: COLLECTIONs and ARRAYs nested more than {MAX_NESTING} deep")
+    fields: list[dict[str, object]] = []
+    problems: list[str] = []
+    size = positive_int(ctx, collection, "BYTES")
+    for part in collection.blocks():
+        kind = part.name.upper()
+        if kind not in _ARRAY_PARTS:
+            continue
+        budget[0] -= 1
+        if budget[0] < 0:
+            raise Refused(ctx.path, f"{where(collection)}: more than {_MAX_COLUMNS} parts")
+        try:
+            if kind == "ELEMENT":
+                fields.append(_field(ctx, part, prefix, False, size))
+            else:
+                fields.append(_nested_group(ctx, part, prefix, budget, depth + 1))
+        except Refused as refusal:
+            problems.extend(refusal.problems)
+    if problems:
+        raise Refused(ctx.path, problems[0], tuple(problems[1:]))
+    if not fields:
+        raise Refused(ctx.path, f"{where(collection)} has no ELEMENT, COLLECTION or ARRAY objects")
+    return fields
+
+
+def _nested_group(ctx: FileContext, part: Block, prefix: int, budget: list[int], depth: int) -> dict[str, object]:
+    """A COLLECTION or ARRAY inside a COLLECTION as a Group_Field_Binary at its START_BYTE: the
+    array's elements its repetitions (axes flattened, last fastest), its leaf the group's fields."""
+    start = positive_int(ctx, part, "START_BYTE")
+    if part.name.upper() == "COLLECTION":
+        repetitions, leaf = 1, part
+    else:
+        axes, leaf = _array_shape(ctx, part, depth)
+        repetitions = 1
+        for _, items in axes:
+            repetitions *= items
+    size = positive_int(ctx, leaf, "BYTES")
+    if leaf.name.upper() == "COLLECTION":
+        members = _collection_fields(ctx, leaf, 0, budget, depth)
+    else:
+        members = [_field(ctx, _starting_at_one(leaf), 0, False, size)]
+    reach = _fields_end(members)
+    if reach > size:
+        raise Refused(ctx.path, f"{where(leaf)}: its parts reach byte {reach}, past its BYTES {size}")
+    name = part.text("NAME") or part.name.lower()
+    return {"name": name, "location": 1, "length": size, "group": {
+        "repetitions": repetitions, "location": prefix + start, "length": repetitions * size, "name": name,
+        "members": members, "description": " ".join((part.text("DESCRIPTION") or "").split()) or None}}
+
+
 DESCRIBERS: dict[str, Callable[[FileContext, Target], dict[str, object]]] = {
     "header": _header, "image": _image, "table": _table, "spreadsheet": _spreadsheet,
-    "histogram": _histogram, "qube": describe_qube,
+    "histogram": _histogram, "qube": describe_qube, "array": _array,
 }
 # What a refusal of an object of another class says migrate describes.
 DESCRIBED_OBJECTS = ", ".join(pattern for pattern, _, _ in OBJECT_CLASSES) + " objects"
