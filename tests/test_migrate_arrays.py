@@ -146,12 +146,63 @@ def test_bit_elements_make_the_array_a_table_with_packed_fields(tmp_path):
     assert [int.from_bytes(bytes(v), "big") for v in packed] == words
 
 
-def test_an_ascii_array_and_an_element_that_does_not_fill_its_element_are_refused_by_name(tmp_path):
-    label = _calibration(tmp_path)
+def test_an_ascii_array_of_no_line_layout_and_an_element_that_does_not_fill_its_element_are_refused(tmp_path):
+    label = _calibration(tmp_path)  # binary numbers called ASCII: no lines of values to describe
     label.write_bytes(label.read_bytes().replace(b"INTERCHANGE_FORMAT = BINARY", b"INTERCHANGE_FORMAT = ASCII"))
-    with pytest.raises(Refused, match=r"OBJECT = ARRAY \(line 9\): INTERCHANGE_FORMAT ASCII"):
+    with pytest.raises(Refused, match=r"OBJECT = ARRAY \(line 9\): ASCII array: its first line"):
         migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
     label = _calibration(tmp_path)
     label.write_bytes(label.read_bytes().replace(b"START_BYTE = 1", b"START_BYTE = 2"))
     with pytest.raises(Refused, match=r"OBJECT = ELEMENT \(line 16\): an ELEMENT that does not fill"):
         migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
+
+
+# -- genuine Galileo Probe products (tests/data/galileo_probe_gp0001, PROVENANCE.md) -------------------
+
+GP = Path(__file__).parent / "data" / "galileo_probe_gp0001"
+
+
+@needs_saxon
+def test_genuine_nfr_ascii_array_is_a_character_table_read_as_pdr_reads_the_array(tmp_path):
+    """The NFR field-of-view calibration ARRAY (ASCII, 81 x 101): a record per line, the values a
+    repeated field; pds4_tools reads the very array pdr reads from the PDS3 label."""
+    product = migrate_product(GP / "nfrfova.lbl", tmp_path / "out", bundle_lid=BUNDLE)
+    _clean(product.label_path)
+    table = _pds4(product.label_path, "array")
+    values = np.asarray(table[table.dtype.names[0]])
+    reference = np.asarray(pdr.read(str(GP / "nfrfova.lbl"))["ARRAY"])
+    assert values.shape == reference.shape == (81, 101)
+    assert np.array_equal(values, reference) and 0.98 < values.max() <= 1.0  # normalised to 1.0 at its maximum
+    line = (GP / "nfrfova.dat").read_bytes().split(b"\r\n")[40]  # the bytes, the 41st elevation
+    assert [float(v) for v in line.split(b",")] == list(values[40])
+
+
+@needs_saxon
+def test_genuine_integer_column_of_reals_is_described_as_the_bytes_are_with_a_warning(tmp_path):
+    """DESCENT.TAB's ALTITUDE: DATA_TYPE ASCII_INTEGER, FORMAT F9.4, real values; as labelled, pds4_tools
+    cannot read the table. Described as ASCII_Real, the keyword named; every column as pdr reads it."""
+    product = migrate_product(GP / "descent.lbl", tmp_path / "out", bundle_lid=BUNDLE)
+    assert product.warnings == (
+        f"{GP / 'descent.lbl'}: OBJECT = TABLE (line 23): column ALTITUDE DATA_TYPE overridden by the bytes: "
+        "'17.2910' in record 1 is no ASCII_Integer, and every value of the column is a number: described as "
+        "ASCII_Real",)
+    _clean(product.label_path)
+    table = _pds4(product.label_path, "table")
+    reference = pdr.read(str(GP / "descent.lbl"))["TABLE"]
+    assert len(table) == len(reference) == 300
+    for name in table.dtype.names:
+        assert np.array_equal(np.asarray(table[name], dtype=float), reference[name].to_numpy(dtype=float)), name
+
+
+@pytest.mark.parametrize(("name", "rows", "length", "record", "end"),
+                         [("e03z1", 389, 32, 287, 33), ("fittemp", 463, 56, 444, 59)])
+def test_genuine_tables_whose_records_stop_ending_where_the_label_says_are_refused_by_record(
+        tmp_path, name, rows, length, record, end):
+    label = GP / f"{name}.lbl"
+    with pytest.raises(Refused) as refused:
+        migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
+    assert f"ROWS {rows} records of {length} bytes ending with CR LF, but record {record} of {name}.tab does not " \
+           f"end so (its line end is at byte {end} of it)" in str(refused.value)
+    lines = (GP / f"{name}.tab").read_bytes().split(b"\r\n")  # the bytes agree: that record alone is longer
+    assert [n + 1 for n, line in enumerate(lines[:-1]) if len(line) + 2 != length] == [record]
+    assert not (tmp_path / "out").exists()

@@ -807,3 +807,21 @@ def test_qube_side_plane_and_back_planes(tmp_path):
     plane = structures["qube_back_1"]
     assert np.array_equal(np.asarray(plane["QUALITY"]), back[:, :4])
     assert [bytes(c) for c in np.asarray(plane["CORNER"]).astype("u1")] == [back[n, 4:].tobytes() for n in range(3)]
+
+
+def test_a_record_amid_a_character_table_that_does_not_end_where_the_label_says_is_refused_by_number(tmp_path):
+    """Record 287 of 524 one byte short and record 288 one byte long (the file's size unchanged, the
+    first record fine): no PDS4 reader could count the records as the label does, so the table is
+    refused naming the record, not labelled beyond its bytes (genuine product of SBN_0233, edited)."""
+    source = DATA_DIR / "volume_fbirtfspec" / "data" / "fieberbeyer2010"
+    shutil.copy(source / "1358.lbl", tmp_path)
+    records = (source / "1358.tab").read_bytes().split(b"\r\n")
+    records[286], records[287] = records[286][1:], b" " + records[287]
+    (tmp_path / "1358.tab").write_bytes(b"\r\n".join(records))
+    with pytest.raises(Refused) as refused:
+        migrate_product(tmp_path / "1358.lbl", tmp_path / "out", bundle_lid=BUNDLE)
+    assert str(refused.value) == (
+        f"{tmp_path / '1358.lbl'}: OBJECT = TABLE (line 37): ROWS 524 records of 22 bytes ending with CR LF, but "
+        "record 287 of 1358.tab does not end so (its line end is at byte 21 of it): records of unequal length are "
+        "no PDS4 Table_Character, and describing fewer would leave table rows undescribed")
+    assert not (tmp_path / "out").exists()

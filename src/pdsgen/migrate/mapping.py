@@ -107,7 +107,9 @@ OBJECT_CLASSES: tuple[tuple[str, str, str], ...] = (
     ("*ARRAY", "array", "ARRAY of one number per element (its own DATA_TYPE and BYTES, or an ELEMENT; nested "
      "ARRAYs add their axes): Array_1D, Array_2D, Array_3D or Array (more axes), the axes in PDS3's order (both "
      "store the last fastest), AXIS_NAME as axis_name; ARRAY of COLLECTIONs, or of an ELEMENT with BIT_ELEMENTs: "
-     "Table_Binary, a record per element (axes flattened, last fastest); INTERCHANGE_FORMAT ASCII: refused"),
+     "Table_Binary, a record per element (axes flattened, last fastest); INTERCHANGE_FORMAT ASCII: "
+     "Table_Character of a record per line when every line holds the last axis' values at the same columns, "
+     "evenly spaced (read from the bytes: PDS3 states no layout), the values a repeated field; else refused"),
     ("*COLLECTION", "array", "Table_Binary of one record: its ELEMENTs Field_Binary, its COLLECTIONs "
      "Group_Field_Binary, its ARRAYs Group_Field_Binary of their elements' number of repetitions"),
     ("*QUBE", "qube", "(keywords of its ^STRUCTURE files included) Array_3D of the core (axes AXIS_NAME "

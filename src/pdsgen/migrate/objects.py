@@ -9,6 +9,7 @@ ever described approximately.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from fnmatch import fnmatchcase
@@ -524,7 +525,91 @@ def _table(ctx: FileContext, target: Target) -> dict[str, object]:
             warnings.append(f"{where(block)}: ROW_BYTES {row_bytes} overridden by the bytes: each of its {rows} "
                             f"records ends with {_ENDINGS[measured[0]]} at byte {measured[1]}, and every column "
                             "lies before it")
+        _check_records(ctx, target, rows, table)
     return table
+
+
+def _check_records(ctx: FileContext, target: Target, rows: int, table: dict[str, object]) -> None:
+    """Read a character table as a PDS4 reader will: every one of ROWS records ends with its line
+    end at its length (the first that does not - a short or long line amid fixed-length ones -
+    refuses the table, named: records of unequal length have no PDS4 Table_Character), and
+    every numeric field's values are numbers of its type (`_NumberCheck`)."""
+    length = int(table["record_length"])  # type: ignore[call-overload]
+    ending = b"\r\n" if table["delimiter"] == "Carriage-Return Line-Feed" else b"\n"
+    checks = [_NumberCheck(f) for f in table["fields"]  # type: ignore[attr-defined]
+              if not f.get("group") and f["data_type"] in _NUMERIC_TEXT]
+    per_block = max(1, (1 << 20) // length)  # a block of records at a time: a large table is not read whole
+    with open(target.path, "rb") as handle:
+        handle.seek(target.offset)
+        for first in range(0, rows, per_block):
+            count = min(per_block, rows - first)
+            block = handle.read(count * length)
+            for n in range(count):
+                end = (n + 1) * length
+                if len(block) < end:
+                    return  # the file ends first: told as a truncated table by _order_problems
+                if block[end - len(ending):end] != ending:
+                    raise Refused(ctx.path, _misfit(target, rows, first + n + 1, length, ending, block[n * length:]))
+                for check in checks:
+                    check.read(block[n * length:end], first + n + 1)
+    warnings = table.setdefault("warnings", [])
+    for check in checks:
+        warning = check.verdict(ctx, target.block)
+        if warning:
+            warnings.append(warning)  # type: ignore[attr-defined]
+
+
+_NUMERIC_TEXT = frozenset({"ASCII_Integer", "ASCII_NonNegative_Integer", "ASCII_Real"})
+
+
+class _NumberCheck:
+    """One numeric field of a character table read in every record: an integer field whose
+    values are reals (a Galileo Probe DESCENT.TAB ALTITUDE of DATA_TYPE ASCII_INTEGER, FORMAT F9.4)
+    is described as ASCII_Real, the keyword named in a warning; a value that is no number at all
+    refuses the table, naming field, record and value (a PDS4 reader could not read it)."""
+
+    def __init__(self, field: dict[str, object]) -> None:
+        self.field = field
+        start = int(field["location"]) - 1  # type: ignore[call-overload]
+        self.span = slice(start, start + int(field["length"]))  # type: ignore[call-overload]
+        self.not_integer: tuple[int, str] | None = None
+        self.not_number: tuple[int, str] | None = None
+
+    def read(self, record: bytes, number: int) -> None:
+        text = record[self.span].strip()
+        if not text or self.not_number is not None:
+            return  # an empty field is a reader's missing value
+        if self.field["data_type"] != "ASCII_Real" and self.not_integer is None and \
+                not text.lstrip(b"+-" if self.field["data_type"] == "ASCII_Integer" else b"+").isdigit():
+            self.not_integer = (number, text.decode("latin-1"))
+        try:
+            float(text)
+        except ValueError:
+            self.not_number = (number, text.decode("latin-1"))
+
+    def verdict(self, ctx: FileContext, block: Block) -> str | None:
+        name = self.field["name"]
+        if self.not_number is not None:
+            record, text = self.not_number
+            raise Refused(ctx.path, f"{where(block)}: column {name}: {text!r} in record {record} is no number, "
+                                    f"and its data type {self.field['data_type']} is read as one")
+        if self.not_integer is None:
+            return None
+        record, text = self.not_integer
+        stated = self.field["data_type"]
+        self.field["data_type"] = "ASCII_Real"
+        return (f"{where(block)}: column {name} DATA_TYPE overridden by the bytes: {text!r} in record {record} is "
+                f"no {stated}, and every value of the column is a number: described as ASCII_Real")
+
+
+def _misfit(target: Target, rows: int, record: int, length: int, ending: bytes, rest: bytes) -> str:
+    """How a record that does not end where the label says is told: where its line end is."""
+    found = rest.find(b"\n")
+    where_end = (f"its line end is at byte {found + 1} of it" if 0 <= found < 1 << 16
+                 else "no line end follows it")
+    return (f"{where(target.block)}: ROWS {rows} records of {length} bytes ending with {_ENDINGS_BY_BYTES[ending]}, "
+            f"but record {record} of {target.path.name} does not end so ({where_end}): records of unequal "
+            "length are no PDS4 Table_Character, and describing fewer would leave table rows undescribed")
 
 
 def _rows_in_records(target: Target, rows: int, record_length: int) -> int | None:
@@ -540,6 +625,7 @@ def _rows_in_records(target: Target, rows: int, record_length: int) -> int | Non
 
 
 _ENDINGS = {"Carriage-Return Line-Feed": "CR LF", "Line-Feed": "LF"}
+_ENDINGS_BY_BYTES = {b"\r\n": "CR LF", b"\n": "LF"}
 
 
 def _fields_end(fields: list[dict[str, object]]) -> int:
@@ -867,9 +953,8 @@ def _array(ctx: FileContext, target: Target) -> dict[str, object]:
     that order), the collection's ELEMENTs, COLLECTIONs and ARRAYs its fields and groups."""
     block = target.block
     interchange = (block.text("INTERCHANGE_FORMAT") or "BINARY").upper()
-    if interchange != "BINARY":
-        raise Refused(ctx.path, f"{where(block)}: INTERCHANGE_FORMAT {interchange}: PDS4 arrays hold binary "
-                                "numbers only, and an ASCII array has no record structure a table could state")
+    if interchange not in ("BINARY", "ASCII"):
+        raise Refused(ctx.path, f"{where(block)}: INTERCHANGE_FORMAT {interchange} is neither ASCII nor BINARY")
     start = block.number("START_BYTE")
     if start not in (None, 1):
         raise Refused(ctx.path, f"{where(block)}: START_BYTE {start} of an object its pointer places")
@@ -880,6 +965,8 @@ def _array(ctx: FileContext, target: Target) -> dict[str, object]:
         axes, leaf = _array_shape(ctx, block)
     description = " ".join((block.text("DESCRIPTION") or f"The {block.name} object of the PDS3 label.").split())
     shape = " x ".join(f"{name} {items}" for name, items in axes)
+    if interchange == "ASCII":
+        return _ascii_array(ctx, target, axes, leaf, description, shape)
     if leaf.name.upper() == "COLLECTION" or any(True for name in _BIT_OBJECTS for _ in leaf.blocks(name)):
         return _array_as_table(ctx, target, axes, leaf, description, shape)
     return _array_of_numbers(ctx, target, axes, leaf, description)
@@ -925,6 +1012,9 @@ def _axis_values(ctx: FileContext, block: Block, key: str, count: int, required:
             raise Refused(ctx.path, f"{where(block)}: {key} is missing")
         return []
     values = [item.py for item in value.items] if value.items is not None else [value.py]
+    text = str(values[0]).strip() if len(values) == 1 else ""
+    if count > 1 and text.startswith("(") and text.endswith(")"):  # AXIS_NAME = "(ELEVATION, AZIMUTH)"
+        values = [part.strip() for part in text[1:-1].split(",")]
     if len(values) != count:
         raise Refused(ctx.path, f"{where(block)}: {key} gives {len(values)} values for AXES = {count}")
     return values
@@ -979,6 +1069,103 @@ def _array_as_table(ctx: FileContext, target: Target, axes: list[tuple[str, int]
             "length": records * size, "records": records, "record_length": size, "description": description,
             "fields": fields, "delimiter": None, "pds3": where(target.block),
             "warnings": [str(f.pop("warning")) for f in fields if f.get("warning")]}
+
+
+def _ascii_array(ctx: FileContext, target: Target, axes: list[tuple[str, int]], leaf: Block, description: str,
+                 shape: str) -> dict[str, object]:
+    """An ASCII array (the Galileo Probe NFR calibration arrays): PDS4 arrays are binary, and PDS3
+    states no byte layout of an ASCII array, so the layout is read from the bytes. Each line holds
+    the last axis' values, the lines run through the other axes (last fastest); when every line
+    has the same length and its values lie at the same columns, evenly spaced, the array is a
+    Table_Character of a record per line, the values a repeated field (the separators between
+    them unnamed). Any other layout is refused, naming what does not repeat."""
+    if not axes or leaf.name.upper() == "COLLECTION":
+        raise Refused(ctx.path, f"{where(target.block)}: an ASCII array of COLLECTIONs has no byte layout PDS4 "
+                                "can state")
+    per_line = axes[-1][1]
+    lines = 1
+    for _, items in axes[:-1]:
+        lines *= items
+    layout = _ascii_layout(ctx, target, lines, per_line)
+    length, ending, first, width, step = layout
+    values = _ascii_values(ctx, target, lines, length, (first, width, step, per_line))
+    pds3_type = " ".join((leaf.text("DATA_TYPE") or "").upper().split()).replace(" ", "_")
+    data_type = ASCII_TABLE_TYPES.get(pds3_type) if pds3_type else values
+    if data_type is None:
+        raise Refused(ctx.path, f"{where(leaf)}: DATA_TYPE {pds3_type} has no data type in an ASCII table")
+    name = leaf.text("NAME") or target.block.text("NAME") or target.block.name
+    field = {"name": name, "location": 1, "length": width, "data_type": data_type, "unit": unit(leaf),
+             "scaling_factor": None, "value_offset": None, "description": None, "special": [], "bits": None,
+             "group": {"repetitions": per_line, "location": first, "length": per_line * step}}
+    description += (f" PDS3 ASCII array of {shape}: a record per line of {per_line} values "
+                    f"({axes[-1][0]}), {width} bytes every {step} bytes from byte {first}, the last axis fastest.")
+    return {"kind": "table", "element": "Table_Character", "local_identifier": target.ident,
+            "offset": target.offset, "length": lines * length, "records": lines, "record_length": length,
+            "description": description, "fields": [field], "delimiter": ending, "pds3": where(target.block),
+            "warnings": []}
+
+
+_VALUE = re.compile(rb"[^\s,;]+")
+
+
+def _ascii_layout(ctx: FileContext, target: Target, lines: int, per_line: int) -> tuple[int, str, int, int, int]:
+    """(record length, record delimiter, first value's byte (1-based), value width, step) of an
+    ASCII array's first line, when its values are equally wide and evenly spaced and the
+    step repeated fits before the line end."""
+    with open(target.path, "rb") as handle:
+        handle.seek(target.offset)
+        line = handle.readline(1 << 20)
+    ending = b"\r\n" if line.endswith(b"\r\n") else b"\n"
+    spans = [m.span() for m in _VALUE.finditer(line)]
+    starts = [a for a, _ in spans]
+    widths = {b - a for a, b in spans}
+    steps = {b - a for a, b in zip(starts, starts[1:], strict=False)}
+    problem = None
+    if not line.endswith(b"\n"):
+        problem = "its first line has no line end"
+    elif len(spans) != per_line:
+        problem = f"its first line holds {len(spans)} values, not the last axis' {per_line}"
+    elif len(widths) != 1 or len(steps) > 1:
+        problem = "the values of its first line are not equally wide and evenly spaced"
+    if problem is not None:
+        raise Refused(ctx.path, f"{where(target.block)}: ASCII array: {problem}, so no table of fixed fields "
+                                "can state it")
+    width = widths.pop()
+    step = steps.pop() if steps else width
+    if starts[0] + per_line * step > len(line) - len(ending):
+        raise Refused(ctx.path, f"{where(target.block)}: ASCII array: its values repeated every {step} bytes would "
+                                "reach the line end, which a repeated PDS4 field may not")
+    return len(line), _DELIMITERS[ending], starts[0] + 1, width, step
+
+
+_DELIMITERS = {b"\r\n": "Carriage-Return Line-Feed", b"\n": "Line-Feed"}
+
+
+def _ascii_values(ctx: FileContext, target: Target, lines: int, length: int,
+                  layout: tuple[int, int, int, int]) -> str:
+    """Every line of an ASCII array read against the first line's layout (same length, values
+    at the same columns); the values' type from the bytes: ASCII_Integer when all are integers,
+    else ASCII_Real when all are numbers. Refused, naming the line, otherwise."""
+    first, width, step, per_line = layout
+    columns = [(first - 1 + n * step, first - 1 + n * step + width) for n in range(per_line)]
+    integers = True
+    with open(target.path, "rb") as handle:
+        handle.seek(target.offset)
+        for number in range(1, lines + 1):
+            line = handle.readline(length)
+            if len(line) != length or not line.endswith(b"\n") or \
+                    [m.span() for m in _VALUE.finditer(line)] != columns:
+                raise Refused(ctx.path, f"{where(target.block)}: ASCII array: line {number} of {target.path.name} "
+                                        "does not repeat the first line's layout (length and value columns)")
+            for start, end in columns:
+                text = line[start:end]
+                try:
+                    float(text)
+                except ValueError:
+                    raise Refused(ctx.path, f"{where(target.block)}: ASCII array: {text.decode('latin-1')!r} "
+                                            f"on line {number} is no number") from None
+                integers = integers and text.lstrip(b"+-").isdigit()
+    return "ASCII_Integer" if integers else "ASCII_Real"
 
 
 def _starting_at_one(element: Block) -> Block:
