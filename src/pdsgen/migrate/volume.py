@@ -65,6 +65,8 @@ COLLECTION_KINDS = {"document": ("Document", "bundle_has_document_collection"),
                     "miscellaneous": ("Miscellaneous", "bundle_has_miscellaneous_collection")}
 DATA_KIND = ("Data", "bundle_has_data_collection")
 # How a LID that two products would share is made unique (stated in the report and the docs).
+# The crosswalk's role of a format file: in the bundle, read through the labels naming it.
+FORMAT_ROLE = "format file kept at its path: no PDS4 class; the PDS3 labels naming it read it"
 COLLISION_RULE = ("the first product in path order keeps <collection>:<product ID>; a later one is "
                   "<collection>:<its path without the extension, '/' as '_'>, then _2, _3 ...")
 
@@ -206,7 +208,7 @@ class _Run:
         self.records: Counter[str] = Counter()
         self.crosswalk = self._open(CROSSWALK)
         self.crosswalk_rows = 0
-        self.widths = [1, 1, 1]
+        self.widths = [1, 1, 1, 1]
         self.index: VolumeIndex | None = None
         self.rows: dict[str, int] = {}
         self.written: list[Path] = [self.dest / CROSSWALK]
@@ -281,6 +283,8 @@ class _Run:
         except PdsgenError as exc:
             self.lids.discard(lid)
             self.result.failures.append(str(exc))
+            reason = str(exc).splitlines()[0].split(": ", 1)[-1]
+            self._crosswalk_row(pid, relative.as_posix(), "", f"left out: the label of a refused product ({reason})")
             self._refused_files(root, label, relative)
             return
         self.first_product = self.first_product or label
@@ -295,7 +299,10 @@ class _Run:
         if relative.parts[0].upper() not in INDEX_DIRS:  # the index lists the products, not itself
             self._check_indexed(members)
         self._member(collection, lidvid)
-        self._crosswalk_row(pid, relative.as_posix(), lidvid)
+        self._crosswalk_row(pid, relative.as_posix(), lidvid, "PDS3 label")
+        for member in dict.fromkeys(members[1:]):
+            if member != members[0]:  # an attached label is its own data file
+                self._crosswalk_row(pid, member, lidvid, "data file")
         self.result.counts["Product_Observational"] += 1
         if self.result.counts["Product_Observational"] % 1000 == 0:
             log.info("%d product(s) migrated", self.result.counts["Product_Observational"])
@@ -363,8 +370,10 @@ class _Run:
         self.inventories[collection].write(f"P,{lidvid}\r\n")
         self.records[collection] += 1
 
-    def _crosswalk_row(self, pid: str, path: str, lidvid: str) -> None:
-        values = [pid, path, lidvid]
+    def _crosswalk_row(self, pid: str, path: str, lidvid: str, role: str) -> None:
+        """One PDS3 file and what it became: the LIDVID of the product holding it and its role there
+        (PDS3 label, data file, document ...), or no LIDVID and why it was left out."""
+        values = [pid, path, lidvid, role]
         self.widths = [max(w, len(v)) for w, v in zip(self.widths, values, strict=True)]
         self.crosswalk.write(",".join('"' + v.replace('"', "'") + '"' for v in values) + "\r\n")
         self.crosswalk_rows += 1
@@ -392,6 +401,7 @@ class _Run:
         self._documents()
         self._browse()
         self._formats()
+        self._crosswalk_rest()
         self.result.missing = [f"{number}: {path} is no product of the volume"
                                for path, number in sorted(self.rows.items(), key=lambda item: item[1])]
         self.close()
@@ -447,10 +457,12 @@ class _Run:
             if standards[0] is None:
                 self.result.left_out.append((name, "a document in a format PDS4 has no document_standard_id for"))
                 continue
+            lid = self._unique_lid("document", Path(name).stem, Path(name))
             copies = [self._copy(f) for f in files]
+            for file, role in zip(files, ("document", "PDS3 label of the document"), strict=False):
+                self._crosswalk_row(Path(name).stem.upper(), file, f"{lid}::{VERSION}", role)
             described = [{**_facts(c), "standard": s or "7-Bit ASCII Text"} for c, s in zip(copies, standards,
                                                                                               strict=True)]
-            lid = self._unique_lid("document", Path(name).stem, Path(name))
             title = f"{Path(name).name}: document of the PDS3 volume"
             self._write(self._label_path(copies[0]), render_pds4("volume_document.xml.j2", {
                 **self._head("Product_Document", lid, title, cited=title), "date": self.today,
@@ -470,6 +482,7 @@ class _Run:
             copy = self._copy(name)
             stem = Path(name).name.rsplit(".", 1)[0]
             lid = self._unique_lid("browse", stem, Path(name))
+            self._crosswalk_row(stem.upper(), name, f"{lid}::{VERSION}", f"browse image of {data}")
             self._write(self._label_path(copy), render_pds4("volume_browse.xml.j2", {
                 **self._head("Product_Browse", lid, f"Browse image {Path(name).name} of {data.split('::')[0]}"),
                 "data_lidvid": data, "file": _facts(copy), "encoding": encoding}))
@@ -486,6 +499,14 @@ class _Run:
             if found is not None:
                 return found
         return None
+
+    def _crosswalk_rest(self) -> None:
+        """The files no product holds, in the crosswalk too: each format file kept, each file left
+        out, with the reason - so every file of the volume has a row."""
+        for name in self.result.kept:
+            self._crosswalk_row(Path(name).stem.upper(), name, "", FORMAT_ROLE)
+        for name, why in self.result.left_out:
+            self._crosswalk_row(Path(name).stem.upper(), name, "", f"left out: {why}")
 
     def _formats(self) -> None:
         for name in self.formats:
@@ -517,9 +538,13 @@ class _Run:
         lid = f"{self.bundle_lid}:miscellaneous:crosswalk"
         self.lids.add(lid)
         path = self.dest / CROSSWALK
-        fields = [("pds3_product_id", self.widths[0] + 2, "The product's PDS3 PRODUCT_ID (else its label's name)."),
-                  ("pds3_label_path", self.widths[1] + 2, "The path of the product's PDS3 label in the volume."),
-                  ("pds4_lidvid", self.widths[2] + 2, "The LIDVID of the product's PDS4 label.")]
+        fields = [("pds3_product_id", self.widths[0] + 2, "The product's PDS3 PRODUCT_ID (else its label's name; "
+                                                          "a document's or left-out file's name)."),
+                  ("pds3_path", self.widths[1] + 2, "The path of the PDS3 file in the volume."),
+                  ("pds4_lidvid", self.widths[2] + 2, "The LIDVID of the PDS4 product holding the file (empty for "
+                                                      "a file no product holds)."),
+                  ("role", self.widths[3] + 2, "What the file is in that product (PDS3 label, data file, "
+                                               "document ...), or why it was left out.")]
         label = self.dest / "crosswalk.xml"
         self._write(label, render_pds4("volume_crosswalk.xml.j2", {
             **self._head("Product_Ancillary", lid, "Crosswalk: PDS3 products of the volume and their PDS4 LIDVIDs"),
