@@ -157,23 +157,23 @@ def test_an_ascii_array_of_no_line_layout_and_an_element_that_does_not_fill_its_
         migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
 
 
-# -- genuine Galileo Probe products (tests/data/galileo_probe_gp0001, PROVENANCE.md) -------------------
+# -- genuine Galileo Probe products (tests/data/volume_gp0001, PROVENANCE.md) -------------------
 
-GP = Path(__file__).parent / "data" / "galileo_probe_gp0001"
+GP = Path(__file__).parent / "data" / "volume_gp0001"
 
 
 @needs_saxon
 def test_genuine_nfr_ascii_array_is_a_character_table_read_as_pdr_reads_the_array(tmp_path):
     """The NFR field-of-view calibration ARRAY (ASCII, 81 x 101): a record per line, the values a
     repeated field; pds4_tools reads the very array pdr reads from the PDS3 label."""
-    product = migrate_product(GP / "nfrfova.lbl", tmp_path / "out", bundle_lid=BUNDLE)
+    product = migrate_product(GP / "data/nfr/calib/nfrfova.lbl", tmp_path / "out", bundle_lid=BUNDLE)
     _clean(product.label_path)
     table = _pds4(product.label_path, "array")
     values = np.asarray(table[table.dtype.names[0]])
-    reference = np.asarray(pdr.read(str(GP / "nfrfova.lbl"))["ARRAY"])
+    reference = np.asarray(pdr.read(str(GP / "data/nfr/calib/nfrfova.lbl"))["ARRAY"])
     assert values.shape == reference.shape == (81, 101)
     assert np.array_equal(values, reference) and 0.98 < values.max() <= 1.0  # normalised to 1.0 at its maximum
-    line = (GP / "nfrfova.dat").read_bytes().split(b"\r\n")[40]  # the bytes, the 41st elevation
+    line = (GP / "data/nfr/calib/nfrfova.dat").read_bytes().split(b"\r\n")[40]  # the bytes, the 41st elevation
     assert [float(v) for v in line.split(b",")] == list(values[40])
 
 
@@ -181,28 +181,28 @@ def test_genuine_nfr_ascii_array_is_a_character_table_read_as_pdr_reads_the_arra
 def test_genuine_integer_column_of_reals_is_described_as_the_bytes_are_with_a_warning(tmp_path):
     """DESCENT.TAB's ALTITUDE: DATA_TYPE ASCII_INTEGER, FORMAT F9.4, real values; as labelled, pds4_tools
     cannot read the table. Described as ASCII_Real, the keyword named; every column as pdr reads it."""
-    product = migrate_product(GP / "descent.lbl", tmp_path / "out", bundle_lid=BUNDLE)
+    product = migrate_product(GP / "data/asi/descent.lbl", tmp_path / "out", bundle_lid=BUNDLE)
     assert product.warnings == (
-        f"{GP / 'descent.lbl'}: OBJECT = TABLE (line 23): column ALTITUDE DATA_TYPE overridden by the bytes: "
-        "'17.2910' in record 1 is no ASCII_Integer, and every value of the column is a number: described as "
+        f"{GP / 'data/asi/descent.lbl'}: OBJECT = TABLE (line 23): column ALTITUDE DATA_TYPE overridden by the "
+        "bytes: '17.2910' in record 1 is no ASCII_Integer, and every value of the column is a number: described as "
         "ASCII_Real",)
     _clean(product.label_path)
     table = _pds4(product.label_path, "table")
-    reference = pdr.read(str(GP / "descent.lbl"))["TABLE"]
+    reference = pdr.read(str(GP / "data/asi/descent.lbl"))["TABLE"]
     assert len(table) == len(reference) == 300
     for name in table.dtype.names:
         assert np.array_equal(np.asarray(table[name], dtype=float), reference[name].to_numpy(dtype=float)), name
 
 
 @pytest.mark.parametrize(("name", "rows", "length", "record", "end"),
-                         [("e03z1", 389, 32, 287, 33), ("fittemp", 463, 56, 444, 59)])
+                         [("asi/e03z1", 389, 32, 287, 33), ("nep/fittemp", 463, 56, 444, 59)])
 def test_genuine_tables_whose_records_stop_ending_where_the_label_says_are_refused_by_record(
         tmp_path, name, rows, length, record, end):
-    label = GP / f"{name}.lbl"
+    label = GP / "data" / f"{name}.lbl"
     with pytest.raises(Refused) as refused:
         migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
-    assert f"ROWS {rows} records of {length} bytes ending with CR LF, but record {record} of {name}.tab does not " \
-           f"end so (its line end is at byte {end} of it)" in str(refused.value)
-    lines = (GP / f"{name}.tab").read_bytes().split(b"\r\n")  # the bytes agree: that record alone is longer
+    assert f"ROWS {rows} records of {length} bytes ending with CR LF, but record {record} of {label.stem}.tab does " \
+           f"not end so (its line end is at byte {end} of it)" in str(refused.value)
+    lines = label.with_suffix(".tab").read_bytes().split(b"\r\n")  # the bytes agree: that record alone is longer
     assert [n + 1 for n, line in enumerate(lines[:-1]) if len(line) + 2 != length] == [record]
     assert not (tmp_path / "out").exists()

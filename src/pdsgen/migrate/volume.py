@@ -21,7 +21,7 @@ import logging
 import os
 import shutil
 from collections import Counter
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import IO, Any
 
@@ -37,6 +37,9 @@ from ..pds4.label import render_pds4
 from ..pds4.model import CURRENT_IM
 from ..results import CommandResult
 from ..storage.staging import replace_directory
+from ..validate.model import Finding
+from ..validate.report import finding_line
+from ..validate.runner import validate_paths
 from .identity import check_bundle_lid, check_product_lid, lid_part, product_id, text
 from .product import migrate_product
 from .volume_catalog import BundleFacts, bundle_facts, volume_data_sets
@@ -87,6 +90,7 @@ class VolumeMigration(CommandResult):
     collisions: list[str] = field(default_factory=list)
     main_files: list[Path] = field(default_factory=list)  # bundle, collection labels, crosswalk, manifest
     index: str | None = None  # the index table taken as the manifest (path in the volume)
+    validation: list[Finding] = field(default_factory=list)  # `pdsgen validate` on the bundle as written
 
     @property
     def files(self) -> tuple[Path, ...]:
@@ -103,7 +107,8 @@ class VolumeMigration(CommandResult):
         return (*(f"{path}: left out: {why}" for path, why in self.left_out),
                 *(f"{path}: a product the index {self.index} does not list" for path in self.unindexed),
                 *(f"{self.index} row {row}" for row in self.missing),
-                *self.collisions)
+                *self.collisions,
+                *(finding_line(finding) for finding in self.validation))
 
     @property
     def summary_lines(self) -> tuple[str, ...]:
@@ -118,7 +123,8 @@ class VolumeMigration(CommandResult):
         return {"bundle_lid": self.bundle_lid, "counts": dict(self.counts), "refused_products": self.failures,
                 "left_out": [{"path": p, "reason": r} for p, r in self.left_out], "kept": self.kept,
                 "unindexed": self.unindexed, "index_rows_without_product": self.missing,
-                "collisions": self.collisions, "index": self.index}
+                "collisions": self.collisions, "index": self.index,
+                "validation": [finding.as_dict() for finding in self.validation]}
 
 
 def migrate_volume(volume: str | os.PathLike[str], outdir: str | os.PathLike[str] | None = None, *,
@@ -143,6 +149,7 @@ def migrate_volume(volume: str | os.PathLike[str], outdir: str | os.PathLike[str
         shutil.rmtree(work, ignore_errors=True)
         work.mkdir(parents=True)
         result = _run(source, work, bundle_lid, in_place=False, overwrite=False)
+        result.validation = [_moved(finding, work, target) for finding in result.validation]
         replace_directory(work, target)
     except BaseException as exc:
         shutil.rmtree(work, ignore_errors=True)
@@ -171,6 +178,7 @@ def _run(source: Path, dest: Path, bundle_lid: str, *, in_place: bool, overwrite
     try:
         run.walk()
         run.finish()
+        run.result.validation = validated(dest)
     except BaseException:
         run.close()
         if in_place:
@@ -584,6 +592,23 @@ class _Run:
         manifest = self.dest / MANIFEST
         manifest.write_text("".join(lines), encoding="utf-8")
         self.result.main_files.append(manifest)
+
+
+def validated(bundle: Path) -> list[Finding]:
+    """What `pdsgen validate BUNDLE` finds in the bundle as written (its default rules, no
+    configuration file): migrate runs the validator's own checks on every label it wrote and
+    every PDS3 label it carried before the bundle is put in place, so each finding validate
+    makes afterwards was told by migrate first, in the same words (a plain-PDF document's
+    PDS4-061, a genuine PDS3 label's dictionary warnings)."""
+    return validate_paths([bundle]).findings
+
+
+def _moved(finding: Finding, work: Path, target: Path) -> Finding:
+    """A finding of the work directory as it reads once the bundle is renamed into place."""
+    path = Path(finding.file)
+    if path.is_absolute() and work in path.parents:
+        return replace(finding, file=str(target / path.relative_to(work)))
+    return finding
 
 
 def _is_index_dir(path: Path, volume: Path) -> bool:
