@@ -39,7 +39,7 @@ from ..results import CommandResult
 from ..storage.staging import replace_directory
 from ..validate.model import Finding
 from ..validate.report import finding_line
-from ..validate.runner import validate_paths
+from ..validate.runner import iter_reports
 from .identity import check_bundle_lid, check_product_lid, lid_part, product_id, text
 from .product import migrate_product
 from .volume_catalog import BundleFacts, bundle_facts, volume_data_sets
@@ -600,7 +600,7 @@ def validated(bundle: Path) -> list[Finding]:
     every PDS3 label it carried before the bundle is put in place, so each finding validate
     makes afterwards was told by migrate first, in the same words (a plain-PDF document's
     PDS4-061, a genuine PDS3 label's dictionary warnings)."""
-    return validate_paths([bundle]).findings
+    return [finding for report in iter_reports([bundle]) for finding in report.findings]  # reports not kept
 
 
 def _moved(finding: Finding, work: Path, target: Path) -> Finding:
