@@ -206,3 +206,64 @@ def test_genuine_tables_whose_records_stop_ending_where_the_label_says_are_refus
     lines = label.with_suffix(".tab").read_bytes().split(b"\r\n")  # the bytes agree: that record alone is longer
     assert [n + 1 for n, line in enumerate(lines[:-1]) if len(line) + 2 != length] == [record]
     assert not (tmp_path / "out").exists()
+
+
+# -- binary headers and spare columns PDS4 has no type for ----------------------------------------------
+
+@needs_saxon
+def test_a_binary_bad_data_values_header_is_stated_as_a_table_of_its_bytes(tmp_path):
+    """A Galileo SSI REDR's BAD_DATA_VALUES_HEADER (its OBJECT block as the genuine label
+    tests/data/genuine_pds3/pdsparser/C052079-2800R.LBL gives it: HEADER_TYPE BDV, BINARY, BYTES,
+    RECORDS, ^DESCRIPTION), in a product written here: PDS4's Header parses no binary standard,
+    so the records are a Table_Binary of bytes; pds4_tools reads back the very bytes."""
+    bdv, image = bytes(range(200)), bytes(range(100, 200))
+    label_records = 5  # the attached label's records; then 2 of the header, 1 of the image
+    label_text = (b"PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 100\r\nFILE_RECORDS = 8\r\n"
+                  b"^BAD_DATA_VALUES_HEADER = 6\r\n^IMAGE = 8\r\nPRODUCT_ID = BDV\r\n"
+                  b"OBJECT = BAD_DATA_VALUES_HEADER\r\nHEADER_TYPE = BDV\r\nINTERCHANGE_FORMAT = BINARY\r\n"
+                  b"BYTES = 200\r\nRECORDS = 2\r\n^DESCRIPTION = \"BADDATA.TXT\"\r\nEND_OBJECT\r\n"
+                  b"OBJECT = IMAGE\r\nLINES = 10\r\nLINE_SAMPLES = 10\r\nSAMPLE_BITS = 8\r\n"
+                  b"SAMPLE_TYPE = UNSIGNED_INTEGER\r\nEND_OBJECT\r\nEND\r\n")
+    assert len(label_text) <= label_records * 100
+    product_path = tmp_path / "BDV.IMG"
+    product_path.write_bytes(label_text.ljust(label_records * 100, b" ") + bdv + image)
+    (tmp_path / "BADDATA.TXT").write_text("Bad data value records.\r\n", newline="")
+    product = migrate_product(product_path, tmp_path / "out", bundle_lid=BUNDLE)
+    assert any("a binary BDV header PDS4 has no parsing standard for" in w for w in product.warnings)
+    _clean(product.label_path)
+    table = _pds4(product.label_path, "bad_data_values_header")
+    assert b"".join(bytes(np.asarray(row[0], dtype=np.uint8)) for row in table) == bdv
+    assert np.array_equal(np.asarray(_pds4(product.label_path, "image")).ravel(), np.frombuffer(image, np.uint8))
+
+
+@needs_saxon
+def test_a_spare_column_of_ibm_real_is_stated_as_bytes_and_a_valued_one_refused(tmp_path):
+    """A Pioneer Venus style binary table with a SPARE column of IBM_REAL (PDS4 has no IBM float):
+    the spare holds no value, so its 4 bytes are stated as an UnsignedByte group (every byte of
+    the record accounted for, no number format claimed); a column of values in IBM_REAL is refused."""
+    rows = [(n * 1000, struct.pack(">I", 0x41100000 + n)) for n in range(4)]  # IBM 1.0625 ...: not IEEE
+    (tmp_path / "PV.DAT").write_bytes(b"".join(struct.pack(">i", t) + spare for t, spare in rows))
+    label = tmp_path / "PV.LBL"
+
+    def write(spare_name: str) -> None:
+        label.write_text(
+            "PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 8\r\nFILE_RECORDS = 4\r\n"
+            "^TABLE = \"PV.DAT\"\r\nPRODUCT_ID = PV\r\nOBJECT = TABLE\r\n INTERCHANGE_FORMAT = BINARY\r\n ROWS = 4\r\n"
+            " COLUMNS = 2\r\n ROW_BYTES = 8\r\n"
+            " OBJECT = COLUMN\r\n  NAME = TIME\r\n  DATA_TYPE = MSB_INTEGER\r\n  START_BYTE = 1\r\n  BYTES = 4\r\n"
+            " END_OBJECT = COLUMN\r\n"
+            f" OBJECT = COLUMN\r\n  NAME = {spare_name}\r\n  DATA_TYPE = IBM_REAL\r\n  START_BYTE = 5\r\n"
+            "  BYTES = 4\r\n END_OBJECT = COLUMN\r\nEND_OBJECT = TABLE\r\nEND\r\n", newline="")
+
+    write("SPARE")
+    product = migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
+    assert product.warnings == (f"{label}: OBJECT = COLUMN (line 18): column SPARE DATA_TYPE IBM_REAL has no PDS4 "
+                                "data type; a spare column, stated as its 4 bytes (UnsignedByte)",)
+    _clean(product.label_path)
+    table = _pds4(product.label_path, "table")
+    assert list(table["TIME"]) == [t for t, _ in rows] == list(pdr.read(str(label))["TABLE"]["TIME"])
+    spare_field = next(name for name in table.dtype.names if name.endswith("SPARE"))  # pds4_tools: "GROUP_0, SPARE"
+    assert [bytes(np.asarray(v, dtype=np.uint8)) for v in table[spare_field]] == [spare for _, spare in rows]
+    write("DENSITY")
+    with pytest.raises(Refused, match="column DENSITY DATA_TYPE IBM_REAL of 4 bytes has no data type in PDS4"):
+        migrate_product(label, tmp_path / "out2", bundle_lid=BUNDLE)

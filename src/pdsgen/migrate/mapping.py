@@ -89,7 +89,8 @@ FIELD_DELIMITERS = {"COMMA": "Comma", "TAB": "Horizontal Tab", "SEMICOLON": "Sem
 OBJECT_CLASSES: tuple[tuple[str, str, str], ...] = (
     ("*HEADER", "header", "Header: parsing_standard_id from TYPE/HEADER_TYPE (FITS, VICAR, ISIS, PDS3 ...); "
      "SPREADSHEET, SFDU, TEXT or no type: 7-Bit ASCII Text or UTF-8 Text as the bytes are, else refused; "
-     "length BYTES, or RECORDS x RECORD_BYTES"),
+     "length BYTES, or RECORDS x RECORD_BYTES; INTERCHANGE_FORMAT BINARY of no standard PDS4 parses (a Galileo SSI "
+     "BAD_DATA_VALUES_HEADER, HEADER_TYPE BDV): Table_Binary of RECORDS records, each its bytes (UnsignedByte)"),
     ("HISTORY", "header", "Header: ISIS2 History Label in an ISIS2 cube, else 7-Bit ASCII Text or UTF-8 Text "
      "as the bytes are; bytes that are not text: refused"),
     ("*_HISTORY", "header", "Header, as HISTORY"),
@@ -135,6 +136,10 @@ OTHER_OBJECTS: tuple[tuple[str, str], ...] = (
      "each; in an LSB column: refused"),
     ("BIT_ELEMENT (in an ELEMENT)", "as BIT_COLUMN: Packed_Data_Fields/Field_Bit of the element's field, the "
      "array then a Table_Binary (PDS4 arrays have no bit fields)"),
+    ("a spare column (named SPARE, FILLER, PAD, UNUSED, RESERVED ...) of a DATA_TYPE PDS4 has no type for "
+     "(IBM_REAL, VAX_REAL ...)", "its bytes as a Group_Field_Binary of UnsignedByte under its name (a warning says "
+     "so): it holds no value, so stating its bytes keeps every byte of the record accounted for and claims no "
+     "number format; a column of values of such a type: refused"),
     ("CONTAINER (REPETITIONS, nested CONTAINERs)", "Group_Field_Binary / Group_Field_Character: repetitions, "
      "group_location START_BYTE, group_length REPETITIONS x BYTES, its COLUMNs and CONTAINERs inside"),
     ("any other object (PALETTE, DOCUMENT, ...)", "refused, named with its line"),

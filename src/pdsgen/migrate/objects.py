@@ -341,6 +341,8 @@ def _header(ctx: FileContext, target: Target) -> dict[str, object]:
     standard = HEADER_STANDARDS.get(kind)
     if standard == "7-Bit ASCII Text":  # TYPE = ASCII/TEXT: the bytes say whether 7-bit or UTF-8
         standard = _text_standard(ctx, target, length)
+    if standard is None and (block.text("INTERCHANGE_FORMAT") or "").upper() == "BINARY":
+        return _binary_header(ctx, target, length, kind)
     if standard is None:
         if kind not in TEXT_HEADER_TYPES:
             raise Refused(ctx.path, f"{where(block)}: header TYPE {kind} has no PDS4 parsing standard (known: "
@@ -356,6 +358,32 @@ def _header(ctx: FileContext, target: Target) -> dict[str, object]:
     return {"kind": "header", "local_identifier": target.ident, "offset": target.offset, "length": length,
             "parsing_standard_id": standard, "pds3": where(block),
             "description": f"The {what} ({block.name} in the PDS3 label).{extent}"}
+
+
+def _binary_header(ctx: FileContext, target: Target, length: int, kind: str) -> dict[str, object]:
+    """A binary header of no standard PDS4 parses (a Galileo SSI BAD_DATA_VALUES_HEADER,
+    HEADER_TYPE BDV, INTERCHANGE_FORMAT BINARY): PDS4's Header takes text and named standards
+    only, so its bytes are stated as a Table_Binary - RECORDS records (one when it states none),
+    each record its bytes as an UnsignedByte group - exact, every byte accounted for, their
+    meaning left to the document the PDS3 label names (^DESCRIPTION)."""
+    block = target.block
+    records = block.number("RECORDS")
+    count = records if isinstance(records, int) and records > 0 else 1
+    if length % count:
+        raise Refused(ctx.path, f"{where(block)}: BYTES {length} are not RECORDS {count} records of one length")
+    size = length // count
+    document = block.text("DESCRIPTION") if block.get("^DESCRIPTION") is None else None
+    named = block.value("^DESCRIPTION")
+    about = f" Their layout is documented in {named.text}." if named is not None else ""
+    description = (f"The binary {kind or block.name} header ({block.name} in the PDS3 label): {count} record(s) of "
+                   f"{size} bytes, stated as bytes - PDS4 parses no binary header of this kind.{about}")
+    if document:
+        description += " " + " ".join(document.split())
+    return {"kind": "table", "element": "Table_Binary", "local_identifier": target.ident, "offset": target.offset,
+            "length": length, "records": count, "record_length": size, "description": description,
+            "fields": [_byte_group(block.name.upper(), 1, size)], "delimiter": None, "pds3": where(block),
+            "warnings": [f"{where(block)}: a binary {kind or 'untyped'} header PDS4 has no parsing standard for: "
+                         f"described as a Table_Binary of {count} record(s) of {size} bytes"]}
 
 
 def _header_length(ctx: FileContext, target: Target) -> int:
@@ -803,7 +831,12 @@ def _field(ctx: FileContext, column: Block, prefix: int, character: bool, row_by
         raise Refused(ctx.path, f"{where(column)}: column {name} ITEMS {items} is not a positive integer")
     count = int(items or 0)
     item_bytes, per_item = _item_bytes(column, count, size, row_bytes, character) if count else (size, False)
-    data_type = _column_type(ctx, column, character, item_bytes)
+    try:
+        data_type = _column_type(ctx, column, character, item_bytes)
+    except Refused:
+        if character or not _is_spare(name):
+            raise
+        return _spare_bytes(column, name, prefix + start, size * count if per_item else size)
     pds3_type = (column.text("DATA_TYPE") or "").upper()
     scaling, value_offset = column.number("SCALING_FACTOR"), column.number("OFFSET")
     entry: dict[str, object] = {
@@ -828,6 +861,26 @@ def _field(ctx: FileContext, column: Block, prefix: int, character: bool, row_by
                                     "do not describe a repeated field")
         entry["group"] = {"repetitions": items, "location": prefix + start, "length": items * step}
         entry["location"] = 1
+    return entry
+
+
+# Words that name a column holding no value (PDS3 labels' spare and filler columns).
+_SPARE_WORDS = frozenset({"SPARE", "SPARES", "FILL", "FILLER", "PAD", "PADDING", "UNUSED", "RESERVED"})
+
+
+def _is_spare(name: str) -> bool:
+    return bool(_SPARE_WORDS & set(re.split(r"[^A-Z]+", name.upper())))
+
+
+def _spare_bytes(column: Block, name: str, location: int, size: int) -> dict[str, object]:
+    """A spare column whose DATA_TYPE PDS4 has no type for (a Pioneer Venus SPARE of IBM_REAL):
+    it holds no value, so its bytes are stated as they are, an UnsignedByte group under its name,
+    rather than left undescribed - every byte of the record stays accounted for and readable,
+    and nothing is claimed about a number format PDS4 cannot state."""
+    entry = _byte_group(name, location, size)
+    stated = " ".join((column.text("DATA_TYPE") or "").split())
+    entry["warning"] = (f"{where(column)}: column {name} DATA_TYPE {stated} has no PDS4 data type; a spare column, "
+                        f"stated as its {size} bytes (UnsignedByte)")
     return entry
 
 
