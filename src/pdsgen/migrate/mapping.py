@@ -122,7 +122,8 @@ OBJECT_CLASSES: tuple[tuple[str, str, str], ...] = (
      "planes along the middle axis (bottom planes, with or without side planes): slice by slice of the slowest "
      "axis, its core (Array_2D, or a table of a record per run with its side items) and its bottom runs (a "
      "Table_Binary, corner bytes a byte group); side and back planes together: the core's runs with their "
-     "side items as records, each back plane a table after it; back planes with bottom planes: refused, named"),
+     "side items as records, each back plane a table after it; back planes with bottom planes: refused, named; "
+     "an IMAGE_MAP_PROJECTION group (ISIS2 keeps it in the QUBE): cart: on the core array (its Line and Sample axes)"),
 )
 # Label constructs that are not data objects of their own, and what migrate does with them.
 OTHER_OBJECTS: tuple[tuple[str, str], ...] = (

@@ -130,7 +130,8 @@ def describe_objects(ctx: FileContext) -> tuple[list[DataFile], str | None]:
         if found is None:
             continue
         path, described = found
-        if described["kind"] == "array" and described.get("element") in ("Array_2D_Image", "Array_3D_Image"):
+        if described["kind"] == "array" and (described.get("element") in ("Array_2D_Image", "Array_3D_Image")
+                                             or "lines" in described):  # an image, or a qube's core of lines
             image_id = image_id or str(described["local_identifier"])  # lines with prefixes: no cart:
         extra = described.pop("extra", [])  # a cube's back planes: arrays of their own after the core
         files.setdefault(path, DataFile(path)).objects.extend([described, *extra])  # type: ignore[misc]
