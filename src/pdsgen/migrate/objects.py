@@ -748,24 +748,36 @@ def _columns(ctx: FileContext, block: Block, prefix: int, character: bool,
     counts them); every column PDS4 cannot state is named (all of them, not the first).
     `budget`: fields left for the whole table (a hostile fan-out of containers stays bounded)."""
     budget = [_MAX_COLUMNS] if budget is None else budget
+    row_bytes = int(block.number("ROW_BYTES") or block.number("BYTES") or 0)
+
+    def described(column: Block) -> dict[str, object]:
+        if column.name.upper() == "CONTAINER":
+            return _container(ctx, column, prefix, character, budget)
+        return _field(ctx, column, prefix, character, row_bytes)
+
+    return _gathered(ctx, block, _column_blocks(ctx, block), described, budget,
+                     "has no COLUMN objects (nor a ^STRUCTURE file holding them)")
+
+
+def _gathered(ctx: FileContext, block: Block, parts: list[Block], describe: Callable[[Block], dict[str, object]],
+              budget: list[int], empty: str) -> list[dict[str, object]]:
+    """Each part of a table, container or collection described as a field or group; every part
+    PDS4 cannot state is named (all of them, not the first), and `budget` (fields left for the
+    whole object) keeps a hostile fan-out of nested parts bounded."""
     fields: list[dict[str, object]] = []
     problems: list[str] = []
-    row_bytes = int(block.number("ROW_BYTES") or block.number("BYTES") or 0)
-    for column in _column_blocks(ctx, block):
+    for part in parts:
         budget[0] -= 1
         if budget[0] < 0:
             raise Refused(ctx.path, f"{where(block)}: more than {_MAX_COLUMNS} columns")
         try:
-            if column.name.upper() == "CONTAINER":
-                fields.append(_container(ctx, column, prefix, character, budget))
-            else:
-                fields.append(_field(ctx, column, prefix, character, row_bytes))
+            fields.append(describe(part))
         except Refused as refusal:
             problems.extend(refusal.problems)
     if problems:
         raise Refused(ctx.path, problems[0], tuple(problems[1:]))
     if not fields:
-        raise Refused(ctx.path, f"{where(block)} has no COLUMN objects (nor a ^STRUCTURE file holding them)")
+        raise Refused(ctx.path, f"{where(block)} {empty}")
     return fields
 
 
@@ -1236,28 +1248,15 @@ def _collection_fields(ctx: FileContext, collection: Block, prefix: int, budget:
     groups (ARRAY: its axes' product of its leaf), each at its START_BYTE in the collection."""
     if depth > MAX_NESTING:
         raise Refused(ctx.path, f"{where(collection)}: COLLECTIONs and ARRAYs nested more than {MAX_NESTING} deep")
-    fields: list[dict[str, object]] = []
-    problems: list[str] = []
     size = positive_int(ctx, collection, "BYTES")
-    for part in collection.blocks():
-        kind = part.name.upper()
-        if kind not in _ARRAY_PARTS:
-            continue
-        budget[0] -= 1
-        if budget[0] < 0:
-            raise Refused(ctx.path, f"{where(collection)}: more than {_MAX_COLUMNS} parts")
-        try:
-            if kind == "ELEMENT":
-                fields.append(_field(ctx, part, prefix, False, size))
-            else:
-                fields.append(_nested_group(ctx, part, prefix, budget, depth + 1))
-        except Refused as refusal:
-            problems.extend(refusal.problems)
-    if problems:
-        raise Refused(ctx.path, problems[0], tuple(problems[1:]))
-    if not fields:
-        raise Refused(ctx.path, f"{where(collection)} has no ELEMENT, COLLECTION or ARRAY objects")
-    return fields
+
+    def described(part: Block) -> dict[str, object]:
+        if part.name.upper() == "ELEMENT":
+            return _field(ctx, part, prefix, False, size)
+        return _nested_group(ctx, part, prefix, budget, depth + 1)
+
+    parts = [part for part in collection.blocks() if part.name.upper() in _ARRAY_PARTS]
+    return _gathered(ctx, collection, parts, described, budget, "has no ELEMENT, COLLECTION or ARRAY objects")
 
 
 def _nested_group(ctx: FileContext, part: Block, prefix: int, budget: list[int], depth: int) -> dict[str, object]:
