@@ -11,6 +11,7 @@ cannot read the object (BIT_ELEMENTs) the bytes alone are the reference.
 
 from __future__ import annotations
 
+import shutil
 import struct
 from pathlib import Path
 
@@ -267,3 +268,21 @@ def test_a_spare_column_of_ibm_real_is_stated_as_bytes_and_a_valued_one_refused(
     write("DENSITY")
     with pytest.raises(Refused, match="column DENSITY DATA_TYPE IBM_REAL of 4 bytes has no data type in PDS4"):
         migrate_product(label, tmp_path / "out2", bundle_lid=BUNDLE)
+
+
+@needs_saxon
+def test_a_numeric_column_holding_a_blank_is_described_as_the_text_it_is(tmp_path):
+    """DESCENT.TAB with its first PRESSURE blanked (edited here): pds4_tools cannot convert a blank
+    ASCII_Real, so the label would not open; the column is described as ASCII_String, the keyword
+    named, and every other column keeps its type and values."""
+    shutil.copy(GP / "data/asi/descent.lbl", tmp_path)
+    data = (GP / "data/asi/descent.tab").read_bytes()
+    (tmp_path / "descent.tab").write_bytes(data[:22] + b" " * 8 + data[30:])  # PRESSURE: bytes 23 to 30
+    product = migrate_product(tmp_path / "descent.lbl", tmp_path / "out", bundle_lid=BUNDLE)
+    assert f"{tmp_path / 'descent.lbl'}: OBJECT = TABLE (line 23): column PRESSURE DATA_TYPE overridden by the " \
+           "bytes: '' in record 1 is no number, which a PDS4 reader of ASCII_Real cannot convert: described as " \
+           "ASCII_String" in product.warnings
+    _clean(product.label_path)
+    table = _pds4(product.label_path, "table")
+    assert [str(v).strip() for v in table["PRESSURE"][:2]] == ["", "0.47937"]
+    assert list(table["TEMPERATURE"][:1]) == [130]

@@ -373,7 +373,7 @@ def _binary_header(ctx: FileContext, target: Target, length: int, kind: str) -> 
     if length % count:
         raise Refused(ctx.path, f"{where(block)}: BYTES {length} are not RECORDS {count} records of one length")
     size = length // count
-    document = block.text("DESCRIPTION") if block.get("^DESCRIPTION") is None else None
+    document = block.text("DESCRIPTION")
     named = block.value("^DESCRIPTION")
     about = f" Their layout is documented in {named.text}." if named is not None else ""
     description = (f"The binary {kind or block.name} header ({block.name} in the PDS3 label): {count} record(s) of "
@@ -592,10 +592,11 @@ _NUMERIC_TEXT = frozenset({"ASCII_Integer", "ASCII_NonNegative_Integer", "ASCII_
 
 
 class _NumberCheck:
-    """One numeric field of a character table read in every record: an integer field whose
-    values are reals (a Galileo Probe DESCENT.TAB ALTITUDE of DATA_TYPE ASCII_INTEGER, FORMAT F9.4)
-    is described as ASCII_Real, the keyword named in a warning; a value that is no number at all
-    refuses the table, naming field, record and value (a PDS4 reader could not read it)."""
+    """One numeric field of a character table read in every record, as a PDS4 reader converts it:
+    an integer field whose values are reals (a Galileo Probe DESCENT.TAB ALTITUDE of DATA_TYPE
+    ASCII_INTEGER, FORMAT F9.4) is described as ASCII_Real; a field holding a value that is no
+    number at all (blank, N/A: pds4_tools cannot convert it, and the label would not open) as
+    ASCII_String - the text the bytes hold. Either way a warning names DATA_TYPE and the value."""
 
     def __init__(self, field: dict[str, object]) -> None:
         self.field = field
@@ -606,8 +607,11 @@ class _NumberCheck:
 
     def read(self, record: bytes, number: int) -> None:
         text = record[self.span].strip()
-        if not text or self.not_number is not None:
-            return  # an empty field is a reader's missing value
+        if self.not_number is not None:
+            return
+        if not text:
+            self.not_number = (number, "")
+            return
         if self.field["data_type"] != "ASCII_Real" and self.not_integer is None and \
                 not text.lstrip(b"+-" if self.field["data_type"] == "ASCII_Integer" else b"+").isdigit():
             self.not_integer = (number, text.decode("latin-1"))
@@ -617,15 +621,15 @@ class _NumberCheck:
             self.not_number = (number, text.decode("latin-1"))
 
     def verdict(self, ctx: FileContext, block: Block) -> str | None:
-        name = self.field["name"]
+        name, stated = self.field["name"], self.field["data_type"]
         if self.not_number is not None:
             record, text = self.not_number
-            raise Refused(ctx.path, f"{where(block)}: column {name}: {text!r} in record {record} is no number, "
-                                    f"and its data type {self.field['data_type']} is read as one")
+            self.field.update(data_type="ASCII_String", scaling_factor=None, value_offset=None, special=[])
+            return (f"{where(block)}: column {name} DATA_TYPE overridden by the bytes: {text!r} in record {record} "
+                    f"is no number, which a PDS4 reader of {stated} cannot convert: described as ASCII_String")
         if self.not_integer is None:
             return None
         record, text = self.not_integer
-        stated = self.field["data_type"]
         self.field["data_type"] = "ASCII_Real"
         return (f"{where(block)}: column {name} DATA_TYPE overridden by the bytes: {text!r} in record {record} is "
                 f"no {stated}, and every value of the column is a number: described as ASCII_Real")
