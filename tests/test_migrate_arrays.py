@@ -286,3 +286,50 @@ def test_a_numeric_column_holding_a_blank_is_described_as_the_text_it_is(tmp_pat
     table = _pds4(product.label_path, "table")
     assert [str(v).strip() for v in table["PRESSURE"][:2]] == ["", "0.47937"]
     assert list(table["TEMPERATURE"][:1]) == [130]
+
+
+# -- a spreadsheet with FIELD ITEMS in a ^STRUCTURE file, values checked against the bytes ---------------
+
+def _channel_sheet(directory: Path) -> tuple[Path, list[list[str]]]:
+    """A spreadsheet in the Cassini MIMI form (a time, then a FIELD of ITEMS channel counts), its
+    FIELDs in a ^STRUCTURE file, written here by the PDS3 Standards (SPREADSHEET, FIELD ITEMS)."""
+    rows = [["2004-183T02:48:00", "1.5", "2", "30", "400"], ["2004-183T02:49:00", "2.25", "5", "60", "800"]]
+    (directory / "SHEET.CSV").write_bytes(b"".join((",".join(r) + "\r\n").encode() for r in rows))
+    (directory / "SHEET.FMT").write_text(
+        "OBJECT = FIELD\r\n NAME = UTC\r\n FIELD_NUMBER = 1\r\n DATA_TYPE = TIME\r\n BYTES = 17\r\n"
+        "END_OBJECT = FIELD\r\n"
+        "OBJECT = FIELD\r\n NAME = FLUX\r\n FIELD_NUMBER = 2\r\n DATA_TYPE = ASCII_REAL\r\n BYTES = 6\r\n"
+        "END_OBJECT = FIELD\r\nOBJECT = FIELD\r\n NAME = COUNTS\r\n FIELD_NUMBER = 3\r\n DATA_TYPE = ASCII_INTEGER\r\n"
+        " ITEMS = 3\r\n BYTES = 5\r\nEND_OBJECT = FIELD\r\n", newline="")
+    label = directory / "SHEET.LBL"
+    label.write_text(
+        "PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = STREAM\r\n^SPREADSHEET = \"SHEET.CSV\"\r\nPRODUCT_ID = SHEET\r\n"
+        "OBJECT = SPREADSHEET\r\n ROWS = 2\r\n ROW_BYTES = 40\r\n FIELDS = 5\r\n FIELD_DELIMITER = COMMA\r\n"
+        " ^STRUCTURE = \"SHEET.FMT\"\r\nEND_OBJECT = SPREADSHEET\r\nEND\r\n", newline="")
+    return label, rows
+
+
+@needs_saxon
+def test_spreadsheet_field_items_and_structure_file_read_value_by_value_as_the_bytes_hold(tmp_path):
+    import csv
+
+    label, rows = _channel_sheet(tmp_path)
+    product = migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)
+    _clean(product.label_path)
+    table = _pds4(product.label_path, "spreadsheet")
+    assert list(table.dtype.names) == ["UTC", "FLUX", "COUNTS_1", "COUNTS_2", "COUNTS_3"]
+    with open(tmp_path / "SHEET.CSV", newline="") as stream:  # the reference: the bytes, split by a CSV reader
+        written = list(csv.reader(stream))
+    assert written == rows
+    for n, name in enumerate(table.dtype.names):
+        assert [str(v).strip() for v in table[name]] == [str(type(table[name][0].item())(r[n])) for r in written]
+    reference = pdr.read(str(label))["SPREADSHEET"]  # pdr splits ITEMS too (COUNTS_0 ...): the same values
+    for n, name in enumerate(table.dtype.names):
+        assert [str(v).strip() for v in table[name]] == [str(v).strip() for v in reference.iloc[:, n]], name
+
+
+def test_spreadsheet_records_holding_other_numbers_of_values_are_refused_by_record(tmp_path):
+    label, rows = _channel_sheet(tmp_path)
+    (tmp_path / "SHEET.CSV").write_bytes(b"".join((",".join(r[:4]) + "\r\n").encode() for r in rows))
+    with pytest.raises(Refused, match=r"record 1 of SHEET.CSV holds 4 values, the label 5 fields \(ITEMS counted\)"):
+        migrate_product(label, tmp_path / "out", bundle_lid=BUNDLE)

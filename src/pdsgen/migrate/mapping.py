@@ -104,7 +104,8 @@ OBJECT_CLASSES: tuple[tuple[str, str, str], ...] = (
     ("*SERIES", "table", "as TABLE"),
     ("*SPECTRUM", "table", "as TABLE"),
     ("*SPREADSHEET", "spreadsheet", "Table_Delimited (parsing standard PDS DSV 1, FIELD_DELIMITER: "
-     "COMMA, SEMICOLON, TAB, VERTICAL_BAR; FIELD objects as Field_Delimited)"),
+     "COMMA, SEMICOLON, TAB, VERTICAL_BAR; FIELD objects, a ^STRUCTURE file's in its place, as Field_Delimited, "
+     "a FIELD of ITEMS as ITEMS fields NAME_1 ...; every record must hold that many values, quotes respected)"),
     ("*ARRAY", "array", "ARRAY of one number per element (its own DATA_TYPE and BYTES, or an ELEMENT; nested "
      "ARRAYs add their axes): Array_1D, Array_2D, Array_3D or Array (more axes), the axes in PDS3's order (both "
      "store the last fastest), AXIS_NAME as axis_name; ARRAY of COLLECTIONs, or of an ELEMENT with BIT_ELEMENTs: "

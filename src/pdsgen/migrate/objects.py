@@ -9,6 +9,7 @@ ever described approximately.
 
 from __future__ import annotations
 
+import csv
 import re
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
@@ -730,10 +731,10 @@ def _column_blocks(ctx: FileContext, block: Block, expanded: dict[Path, list[Blo
     return found
 
 
-def _unwrapped(root: Block) -> Block:
+def _unwrapped(root: Block, names: frozenset[str] | None = None) -> Block:
     """A format file's columns: its top level, or (a quirk of real volumes) the one OBJECT that
     wraps them (OBJECT = TABLE ... COLUMNs ... END_OBJECT in the .FMT file)."""
-    while not any(b.name.upper() in _COLUMN_OBJECTS for b in root.blocks()):
+    while not any(b.name.upper() in (names or _COLUMN_OBJECTS) for b in root.blocks()):
         children = [b for b in root.blocks() if b.kind == "OBJECT"]
         if len(children) != 1:
             break
@@ -948,19 +949,27 @@ def _spreadsheet(ctx: FileContext, target: Target) -> dict[str, object]:
     if delimiter is None:
         raise Refused(ctx.path, f"{where(block)}: FIELD_DELIMITER {delimiter_name or 'not given'} is none of "
                                 f"PDS4's ({', '.join(sorted(FIELD_DELIMITERS))})")
-    fields = []
-    for number, item in enumerate((b for b in block.blocks("FIELD")), start=1):
+    fields: list[dict[str, object]] = []
+    for item in _field_blocks(ctx, block):
         pds3_type = (item.text("DATA_TYPE") or "").upper()
         data_type = ASCII_TABLE_TYPES.get(pds3_type)
         if data_type is None:
             raise Refused(ctx.path, f"{where(item)}: field {item.text('NAME')} DATA_TYPE {pds3_type or 'not given'} "
                                     "has no data type in a delimited table")
-        fields.append({"name": item.text("NAME") or f"field_{number}", "number": number, "data_type": data_type,
-                       "length": item.number("BYTES"), "unit": unit(item),
-                       "description": " ".join((item.text("DESCRIPTION") or "").split()) or None})
+        items = item.number("ITEMS")
+        count = int(items) if isinstance(items, int) and items > 0 else 1
+        name = item.text("NAME") or f"field_{len(fields) + 1}"
+        for n in range(count):  # ITEMS values, each a field of its own (a delimited record has no groups here)
+            fields.append({"name": name if count == 1 else f"{name}_{n + 1}", "number": len(fields) + 1,
+                           "data_type": data_type, "length": item.number("ITEM_BYTES") or item.number("BYTES"),
+                           "unit": unit(item),
+                           "description": " ".join((item.text("DESCRIPTION") or "").split()) or None})
+        if len(fields) > _MAX_COLUMNS:
+            raise Refused(ctx.path, f"{where(block)}: more than {_MAX_COLUMNS} fields")
     if not fields:
-        raise Refused(ctx.path, f"{where(block)} has no FIELD objects")
-    length, record_delimiter = _delimited_extent(ctx, target, rows)
+        raise Refused(ctx.path, f"{where(block)} has no FIELD objects (nor a ^STRUCTURE file holding them)")
+    length, record_delimiter = _delimited_extent(ctx, target, rows, (_DELIMITER_CHARACTERS[delimiter_name],
+                                                                     len(fields)))
     return {"kind": "delimited", "local_identifier": target.ident, "offset": target.offset, "length": length,
             "records": rows, "record_delimiter": record_delimiter, "field_delimiter": delimiter,
             "description": " ".join((block.text("DESCRIPTION") or f"The {block.name} object of the PDS3 label.")
@@ -968,9 +977,28 @@ def _spreadsheet(ctx: FileContext, target: Target) -> dict[str, object]:
             "fields": fields, "pds3": where(block)}
 
 
-def _delimited_extent(ctx: FileContext, target: Target, rows: int) -> tuple[int, str]:
+_DELIMITER_CHARACTERS = {"COMMA": ",", "TAB": "\t", "SEMICOLON": ";", "VERTICAL_BAR": "|"}
+
+
+def _field_blocks(ctx: FileContext, block: Block) -> list[Block]:
+    """A spreadsheet's FIELD objects in order, a ^STRUCTURE file's in its place (one level: the
+    format files of spreadsheets name no further files)."""
+    found: list[Block] = []
+    for item in block.items:
+        if isinstance(item, Statement) and item.pointer and item.keyword.upper() == "STRUCTURE":
+            _, root = structure_file(ctx, item)
+            found.extend(_unwrapped(root, frozenset({"FIELD"})).blocks("FIELD"))
+        elif isinstance(item, Block) and item.name.upper() == "FIELD":
+            found.append(item)
+    return found
+
+
+def _delimited_extent(ctx: FileContext, target: Target, rows: int, layout: tuple[str, int]) -> tuple[int, str]:
     """Bytes of ROWS delimited records from the object's offset, and how they end (read, a
-    record at a time: a large file is not read whole)."""
+    record at a time: a large file is not read whole); every record holds as many values as the
+    label has fields (`layout`: delimiter, number of fields), read as a CSV reader splits it,
+    quotes respected - a record of more or fewer would shift every value after it."""
+    delimiter, expected = layout
     length, endings = 0, set()
     with open(target.path, "rb") as handle:
         handle.seek(target.offset)
@@ -981,6 +1009,10 @@ def _delimited_extent(ctx: FileContext, target: Target, rows: int) -> tuple[int,
                                         f"{target.path.name} after byte {target.offset} ends without a line end")
             endings.add(record.endswith(b"\r\n"))
             length += len(record)
+            values = next(csv.reader([record.decode("latin-1").rstrip("\r\n")], delimiter=delimiter), [])
+            if len(values) != expected:
+                raise Refused(ctx.path, f"{where(target.block)}: record {n + 1} of {target.path.name} holds "
+                                        f"{len(values)} values, the label {expected} fields (ITEMS counted)")
     if len(endings) > 1:
         raise Refused(ctx.path, f"{where(target.block)}: its records end with CR LF and with LF alike")
     return length, "Carriage-Return Line-Feed" if endings == {True} else "Line-Feed"
