@@ -86,3 +86,13 @@ def test_a_plain_pdf_document_is_told_by_migrate_as_validate_tells_it(tmp_path):
                    "is a PDF without PDF/A identification (no pdfaid:part in its XMP metadata): PDS archives "
                    "documents as PDF/A"]
     assert told == _findings_of_validate(out)
+
+
+def test_a_volume_tells_what_each_product_description_overrode(tmp_path):
+    """The products' own warnings (a keyword the bytes overrode) are told by the volume run too."""
+    result = migrate_volume(DATA / "volume_gp0001", tmp_path / "bundle", bundle_lid="urn:nasa:pds:gp0001")
+    descent = DATA / "volume_gp0001" / "data" / "asi" / "descent.lbl"
+    assert f"{descent}: OBJECT = TABLE (line 23): column ALTITUDE DATA_TYPE overridden by the bytes: '17.2910' in " \
+           "record 1 is no ASCII_Integer, and every value of the column is a number: described as ASCII_Real" \
+           in result.warnings
+    assert len(result.refused) == 2 and all("does not end so" in refusal for refusal in result.refused)

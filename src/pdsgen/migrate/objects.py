@@ -566,8 +566,8 @@ def _check_records(ctx: FileContext, target: Target, rows: int, table: dict[str,
     every numeric field's values are numbers of its type (`_NumberCheck`)."""
     length = int(table["record_length"])  # type: ignore[call-overload]
     ending = b"\r\n" if table["delimiter"] == "Carriage-Return Line-Feed" else b"\n"
-    checks = [_NumberCheck(f) for f in table["fields"]  # type: ignore[attr-defined]
-              if not f.get("group") and f["data_type"] in _NUMERIC_TEXT]
+    checks = [_NumberCheck(f, spans) for f, spans in _field_spans(table["fields"], 0, {}).values()  # type: ignore[arg-type]
+              if f["data_type"] in _NUMERIC_TEXT]
     per_block = max(1, (1 << 20) // length)  # a block of records at a time: a large table is not read whole
     with open(target.path, "rb") as handle:
         handle.seek(target.offset)
@@ -592,6 +592,30 @@ def _check_records(ctx: FileContext, target: Target, rows: int, table: dict[str,
 _NUMERIC_TEXT = frozenset({"ASCII_Integer", "ASCII_NonNegative_Integer", "ASCII_Real"})
 
 
+def _field_spans(fields: list[dict[str, object]], base: int,
+                 into: dict[int, tuple[dict[str, object], list[slice]]]) -> dict[int, tuple[dict[str, object],
+                                                                                    list[slice]]]:
+    """Each field of a record with the byte ranges it takes in the record: once, or in every
+    repetition of its group (an ITEMS column; a CONTAINER's members, nested), `base` the
+    0-based byte its fields' locations count from."""
+    for entry in fields:
+        group = entry.get("group")
+        length = int(entry["length"])  # type: ignore[call-overload]
+        if not isinstance(group, dict):
+            start = base + int(entry["location"]) - 1  # type: ignore[call-overload]
+            into.setdefault(id(entry), (entry, []))[1].append(slice(start, start + length))
+            continue
+        repetitions, location = int(group["repetitions"]), base + int(group["location"]) - 1
+        step = int(group["length"]) // repetitions
+        for n in range(repetitions):
+            if group.get("members"):
+                _field_spans(group["members"], location + n * step, into)
+            else:  # an ITEMS column: the field itself in each repetition
+                start = location + n * step + int(entry["location"]) - 1  # type: ignore[call-overload]
+                into.setdefault(id(entry), (entry, []))[1].append(slice(start, start + length))
+    return into
+
+
 class _NumberCheck:
     """One numeric field of a character table read in every record, as a PDS4 reader converts it:
     an integer field whose values are reals (a Galileo Probe DESCENT.TAB ALTITUDE of DATA_TYPE
@@ -599,17 +623,18 @@ class _NumberCheck:
     number at all (blank, N/A: pds4_tools cannot convert it, and the label would not open) as
     ASCII_String - the text the bytes hold. Either way a warning names DATA_TYPE and the value."""
 
-    def __init__(self, field: dict[str, object]) -> None:
-        self.field = field
-        start = int(field["location"]) - 1  # type: ignore[call-overload]
-        self.span = slice(start, start + int(field["length"]))  # type: ignore[call-overload]
+    def __init__(self, field: dict[str, object], spans: list[slice]) -> None:
+        self.field, self.spans = field, spans
         self.not_integer: tuple[int, str] | None = None
         self.not_number: tuple[int, str] | None = None
 
     def read(self, record: bytes, number: int) -> None:
-        text = record[self.span].strip()
-        if self.not_number is not None:
-            return
+        for span in self.spans:
+            if self.not_number is not None:
+                return
+            self._read(record[span].strip(), number)
+
+    def _read(self, text: bytes, number: int) -> None:
         if not text:
             self.not_number = (number, "")
             return
@@ -1200,7 +1225,8 @@ def _ascii_array(ctx: FileContext, target: Target, axes: list[tuple[str, int]], 
              "scaling_factor": None, "value_offset": None, "description": None, "special": [], "bits": None,
              "group": {"repetitions": per_line, "location": first, "length": per_line * step}}
     description += (f" PDS3 ASCII array of {shape}: a record per line of {per_line} values "
-                    f"({axes[-1][0]}), {width} bytes every {step} bytes from byte {first}, the last axis fastest.")
+                    f"({axes[-1][0]}), each in {width} bytes every {step} bytes from byte {first}, the last axis "
+                    "fastest.")
     return {"kind": "table", "element": "Table_Character", "local_identifier": target.ident,
             "offset": target.offset, "length": lines * length, "records": lines, "record_length": length,
             "description": description, "fields": [field], "delimiter": ending, "pds3": where(target.block),
@@ -1211,33 +1237,34 @@ _VALUE = re.compile(rb"[^\s,;]+")
 
 
 def _ascii_layout(ctx: FileContext, target: Target, lines: int, per_line: int) -> tuple[int, str, int, int, int]:
-    """(record length, record delimiter, first value's byte (1-based), value width, step) of an
-    ASCII array's first line, when its values are equally wide and evenly spaced and the
-    step repeated fits before the line end."""
+    """(record length, record delimiter, first slot's byte (1-based), slot width, step) of an
+    ASCII array's first line: its values end evenly spaced (numbers right-aligned in fixed
+    slots, as Fortran writes them: a sign or a longer number grows to the left), each slot
+    the bytes between one separator and the next; the step repeated must fit before the line end."""
     with open(target.path, "rb") as handle:
         handle.seek(target.offset)
         line = handle.readline(1 << 20)
     ending = b"\r\n" if line.endswith(b"\r\n") else b"\n"
-    spans = [m.span() for m in _VALUE.finditer(line)]
-    starts = [a for a, _ in spans]
-    widths = {b - a for a, b in spans}
-    steps = {b - a for a, b in zip(starts, starts[1:], strict=False)}
+    ends = [b for _, b in (m.span() for m in _VALUE.finditer(line))]
+    steps = {b - a for a, b in zip(ends, ends[1:], strict=False)}
     problem = None
     if not line.endswith(b"\n"):
         problem = "its first line has no line end"
-    elif len(spans) != per_line:
-        problem = f"its first line holds {len(spans)} values, not the last axis' {per_line}"
-    elif len(widths) != 1 or len(steps) > 1:
-        problem = "the values of its first line are not equally wide and evenly spaced"
+    elif len(ends) != per_line:
+        problem = f"its first line holds {len(ends)} values, not the last axis' {per_line}"
+    elif len(steps) > 1:
+        problem = "the values of its first line do not end evenly spaced"
     if problem is not None:
         raise Refused(ctx.path, f"{where(target.block)}: ASCII array: {problem}, so no table of fixed fields "
                                 "can state it")
-    width = widths.pop()
-    step = steps.pop() if steps else width
-    if starts[0] + per_line * step > len(line) - len(ending):
+    step = steps.pop() if steps else ends[0]
+    separator = 1 if line[ends[0]:ends[0] + 1] in (b",", b";") else 0
+    width = min(step - separator, ends[0])
+    first = ends[0] - width
+    if first + per_line * step > len(line) - len(ending):
         raise Refused(ctx.path, f"{where(target.block)}: ASCII array: its values repeated every {step} bytes would "
                                 "reach the line end, which a repeated PDS4 field may not")
-    return len(line), _DELIMITERS[ending], starts[0] + 1, width, step
+    return len(line), _DELIMITERS[ending], first + 1, width, step
 
 
 _DELIMITERS = {b"\r\n": "Carriage-Return Line-Feed", b"\n": "Line-Feed"}
@@ -1245,22 +1272,24 @@ _DELIMITERS = {b"\r\n": "Carriage-Return Line-Feed", b"\n": "Line-Feed"}
 
 def _ascii_values(ctx: FileContext, target: Target, lines: int, length: int,
                   layout: tuple[int, int, int, int]) -> str:
-    """Every line of an ASCII array read against the first line's layout (same length, values
-    at the same columns); the values' type from the bytes: ASCII_Integer when all are integers,
+    """Every line of an ASCII array read against the first line's layout (same length, each
+    value inside its slot); the values' type from the bytes: ASCII_Integer when all are integers,
     else ASCII_Real when all are numbers. Refused, naming the line, otherwise."""
     first, width, step, per_line = layout
-    columns = [(first - 1 + n * step, first - 1 + n * step + width) for n in range(per_line)]
+    slots = [(first - 1 + n * step, first - 1 + n * step + width) for n in range(per_line)]
     integers = True
     with open(target.path, "rb") as handle:
         handle.seek(target.offset)
         for number in range(1, lines + 1):
             line = handle.readline(length)
-            if len(line) != length or not line.endswith(b"\n") or \
-                    [m.span() for m in _VALUE.finditer(line)] != columns:
+            spans = [m.span() for m in _VALUE.finditer(line)]
+            if len(line) != length or not line.endswith(b"\n") or len(spans) != per_line or \
+                    any(not (lo <= a and b <= hi) for (a, b), (lo, hi) in zip(spans, slots, strict=True)):
                 raise Refused(ctx.path, f"{where(target.block)}: ASCII array: line {number} of {target.path.name} "
-                                        "does not repeat the first line's layout (length and value columns)")
-            for start, end in columns:
-                text = line[start:end]
+                                        f"does not hold its {per_line} values in the first line's {width}-byte "
+                                        "slots (or is of another length)")
+            for start, end in slots:
+                text = line[start:end].strip()
                 try:
                     float(text)
                 except ValueError:

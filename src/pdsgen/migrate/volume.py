@@ -91,6 +91,7 @@ class VolumeMigration(CommandResult):
     main_files: list[Path] = field(default_factory=list)  # bundle, collection labels, crosswalk, manifest
     index: str | None = None  # the index table taken as the manifest (path in the volume)
     validation: list[Finding] = field(default_factory=list)  # `pdsgen validate` on the bundle as written
+    described: list[str] = field(default_factory=list)  # each product's own warnings (a keyword overridden ...)
 
     @property
     def files(self) -> tuple[Path, ...]:
@@ -104,7 +105,8 @@ class VolumeMigration(CommandResult):
 
     @property
     def warnings(self) -> tuple[str, ...]:
-        return (*(f"{path}: left out: {why}" for path, why in self.left_out),
+        return (*self.described,
+                *(f"{path}: left out: {why}" for path, why in self.left_out),
                 *(f"{path}: a product the index {self.index} does not list" for path in self.unindexed),
                 *(f"{self.index} row {row}" for row in self.missing),
                 *self.collisions,
@@ -123,7 +125,7 @@ class VolumeMigration(CommandResult):
         return {"bundle_lid": self.bundle_lid, "counts": dict(self.counts), "refused_products": self.failures,
                 "left_out": [{"path": p, "reason": r} for p, r in self.left_out], "kept": self.kept,
                 "unindexed": self.unindexed, "index_rows_without_product": self.missing,
-                "collisions": self.collisions, "index": self.index,
+                "collisions": self.collisions, "index": self.index, "described": self.described,
                 "validation": [finding.as_dict() for finding in self.validation]}
 
 
@@ -296,6 +298,7 @@ class _Run:
             self._refused_files(root, label, relative)
             return
         self.first_product = self.first_product or label
+        self.result.described.extend(migrated.warnings)
         lidvid = f"{lid}::{VERSION}"
         self.product_lidvids.setdefault(pid.upper(), lidvid)
         self.product_lidvids.setdefault(label.name.split(".", 1)[0].upper(), lidvid)
