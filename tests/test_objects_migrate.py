@@ -807,3 +807,70 @@ def test_qube_side_plane_and_back_planes(tmp_path):
     plane = structures["qube_back_1"]
     assert np.array_equal(np.asarray(plane["QUALITY"]), back[:, :4])
     assert [bytes(c) for c in np.asarray(plane["CORNER"]).astype("u1")] == [back[n, 4:].tobytes() for n in range(3)]
+
+
+def test_a_record_amid_a_character_table_that_does_not_end_where_the_label_says_is_refused_by_number(tmp_path):
+    """Record 287 of 524 one byte short and record 288 one byte long (the file's size unchanged, the
+    first record fine): no PDS4 reader could count the records as the label does, so the table is
+    refused naming the record, not labelled beyond its bytes (genuine product of SBN_0233, edited)."""
+    source = DATA_DIR / "volume_fbirtfspec" / "data" / "fieberbeyer2010"
+    shutil.copy(source / "1358.lbl", tmp_path)
+    records = (source / "1358.tab").read_bytes().split(b"\r\n")
+    records[286], records[287] = records[286][1:], b" " + records[287]
+    (tmp_path / "1358.tab").write_bytes(b"\r\n".join(records))
+    with pytest.raises(Refused) as refused:
+        migrate_product(tmp_path / "1358.lbl", tmp_path / "out", bundle_lid=BUNDLE)
+    assert str(refused.value) == (
+        f"{tmp_path / '1358.lbl'}: OBJECT = TABLE (line 37): ROWS 524 records of 22 bytes ending with CR LF, but "
+        "record 287 of 1358.tab does not end so (its line end is at byte 21 of it): records of unequal length are "
+        "no PDS4 Table_Character, and describing fewer would leave table rows undescribed")
+    assert not (tmp_path / "out").exists()
+
+
+# -- an ISIS2 qube with a map projection: cart: on its core ---------------------------------------------
+
+def _mapped_qube(directory: Path) -> tuple[Path, np.ndarray]:
+    """An attached-label ISIS2 QUBE (2 bands x 4 lines x 6 MSB 16-bit samples, no suffix planes) with
+    the IMAGE_MAP_PROJECTION group ISIS2 writes inside the QUBE object (simple cylindrical on a
+    sphere), written here by the ISIS2 cube layout."""
+    core = (np.arange(48).reshape(2, 4, 6) * 7 - 100).astype(">i2")
+    text = ("PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 96\r\nFILE_RECORDS = 21\r\n"
+            "LABEL_RECORDS = 20\r\n^QUBE = 21\r\nPRODUCT_ID = MAPPED\r\nTARGET_NAME = MARS\r\nOBJECT = QUBE\r\n"
+            " AXES = 3\r\n AXIS_NAME = (SAMPLE, LINE, BAND)\r\n CORE_ITEMS = (6, 4, 2)\r\n CORE_ITEM_BYTES = 2\r\n"
+            " CORE_ITEM_TYPE = MSB_INTEGER\r\n CORE_BASE = 0.0\r\n CORE_MULTIPLIER = 1.0\r\n"
+            " SUFFIX_ITEMS = (0, 0, 0)\r\n"
+            " GROUP = IMAGE_MAP_PROJECTION\r\n  MAP_PROJECTION_TYPE = SIMPLE_CYLINDRICAL\r\n"
+            "  A_AXIS_RADIUS = 3396.19 <KM>\r\n  B_AXIS_RADIUS = 3396.19 <KM>\r\n  C_AXIS_RADIUS = 3396.19 <KM>\r\n"
+            "  POSITIVE_LONGITUDE_DIRECTION = EAST\r\n  CENTER_LATITUDE = 0.0 <DEG>\r\n"
+            "  CENTER_LONGITUDE = 180.0 <DEG>\r\n  MAP_RESOLUTION = 4.0 <PIX/DEG>\r\n"
+            "  MAP_SCALE = 14.8185 <KM/PIXEL>\r\n  LINE_PROJECTION_OFFSET = 39.5 <PIXEL>\r\n"
+            "  SAMPLE_PROJECTION_OFFSET = -60.5 <PIXEL>\r\n  MINIMUM_LATITUDE = 9.0 <DEG>\r\n"
+            "  MAXIMUM_LATITUDE = 10.0 <DEG>\r\n  WESTERNMOST_LONGITUDE = 195.0 <DEG>\r\n"
+            "  EASTERNMOST_LONGITUDE = 196.5 <DEG>\r\n  LINE_FIRST_PIXEL = 1\r\n  LINE_LAST_PIXEL = 4\r\n"
+            "  SAMPLE_FIRST_PIXEL = 1\r\n  SAMPLE_LAST_PIXEL = 6\r\n END_GROUP = IMAGE_MAP_PROJECTION\r\n"
+            "END_OBJECT = QUBE\r\nEND\r\n")
+    path = directory / "mapped.qub"
+    path.write_bytes(text.encode().ljust(20 * 96) + core.tobytes())
+    return path, core
+
+
+@needs_saxon
+def test_isis2_qube_with_a_map_projection_gets_cart_on_its_core_bounded_as_the_label_states(tmp_path):
+    """cart: on the qube's core Array_3D (Line and Sample its spatial axes); the reference is the
+    label's own bounds (MINIMUM/MAXIMUM_LATITUDE, WESTERNMOST/EASTERNMOST_LONGITUDE), which the grid
+    placed from the offsets by the PDS3 convention must reproduce: no bounds warning. (GDAL's ISIS2
+    driver reads the same offsets with the other sign, 30 degrees away from the label's bounds.)"""
+    from lxml import etree
+
+    path, core = _mapped_qube(tmp_path)
+    product = migrate_product(path, tmp_path / "out", bundle_lid=BUNDLE)
+    assert product.warnings == ()
+    _clean(product.label_path)
+    assert np.array_equal(np.asarray(_read(product.label_path)["qube"].data), core)
+    ns = {"cart": "http://pds.nasa.gov/pds4/cart/v1", "pds": "http://pds.nasa.gov/pds4/pds/v1"}
+    root = etree.parse(str(product.label_path)).getroot()
+    assert root.findtext(".//cart:Cartography/pds:Local_Internal_Reference/pds:local_identifier_reference",
+                         namespaces=ns) == "qube"
+    bounds = [float(root.findtext(f".//cart:{side}_bounding_coordinate", namespaces=ns))
+              for side in ("west", "east", "north", "south")]
+    assert np.allclose(bounds, [195.0, 196.5, 10.0, 9.0], atol=1e-6)

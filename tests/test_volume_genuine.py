@@ -138,8 +138,14 @@ def test_pds4_tools_reads_the_crosswalk_and_the_inventories_as_written(migrated)
     with open(out / "crosswalk.csv", newline="") as stream:
         rows = [tuple(row) for row in csv.reader(stream)]
     assert [tuple(str(v) for v in row) for row in table] == rows
-    assert ("FIEBERBEYER2010_1358_TAB", "data/fieberbeyer2010/1358.lbl",
-            "urn:nasa:pds:fbirtfspec:data:fieberbeyer2010_1358_tab::1.0") in rows
+    lidvid = "urn:nasa:pds:fbirtfspec:data:fieberbeyer2010_1358_tab::1.0"
+    assert ("FIEBERBEYER2010_1358_TAB", "data/fieberbeyer2010/1358.lbl", lidvid, "PDS3 label") in rows
+    assert ("FIEBERBEYER2010_1358_TAB", "data/fieberbeyer2010/1358.tab", lidvid, "data file") in rows
+    # every file of the volume has a row: catalogs and documents too (their Product_Document's LIDVID)
+    assert {row[1] for row in rows} == {p.relative_to(VOLUME).as_posix() for p in VOLUME.rglob("*") if p.is_file()}
+    documents = {row[1]: row[2] for row in rows if row[3] == "document"}
+    assert documents["catalog/dataset.cat"] == "urn:nasa:pds:fbirtfspec:document:dataset::1.0"
+    assert "voldesc.cat" in documents and "aareadme.txt" in documents
     for label in out.glob("collection_*.xml"):
         inventory = pds4_tools.read(str(label), quiet=True)[0].data
         written = (out / label.name.replace(".xml", "_inventory.csv")).read_text().splitlines()

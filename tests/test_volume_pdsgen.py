@@ -158,14 +158,17 @@ def test_the_crosswalk_maps_every_product_of_the_index(volume, bundle):
              (volume / "INDEX" / "INDEX.TAB").read_text().splitlines()}
     with open(bundle / "crosswalk.csv", newline="") as stream:
         rows = list(csv.reader(stream))
-    paths = {path for _, path, _ in rows}
-    assert index <= paths
-    lidvids = {lidvid for _, _, lidvid in rows}
+    paths = [path for _, path, _, _ in rows]
+    assert index <= set(paths)
+    assert len(paths) == len(set(paths))  # one row per PDS3 file
+    lidvids = {lidvid for _, _, lidvid, _ in rows}
     for label in _labels(bundle):
         lid, version, product_class = _identity(label)
-        if product_class == "Product_Observational":
-            assert f"{lid}::{version}" in lidvids
-    assert len(rows) == len(lidvids)
+        if product_class in ("Product_Observational", "Product_Document", "Product_Browse"):
+            assert f"{lid}::{version}" in lidvids, label
+    # every file of the volume has its row: held by a product (a LIDVID), or left out with the reason
+    assert set(paths) == {p.relative_to(volume).as_posix() for p in volume.rglob("*") if p.is_file()}
+    assert all(lidvid or role.startswith(("left out: ", "format file kept")) for _, _, lidvid, role in rows)
     assert _identity(bundle / "crosswalk.xml")[2] == "Product_Ancillary"
 
 

@@ -89,7 +89,8 @@ FIELD_DELIMITERS = {"COMMA": "Comma", "TAB": "Horizontal Tab", "SEMICOLON": "Sem
 OBJECT_CLASSES: tuple[tuple[str, str, str], ...] = (
     ("*HEADER", "header", "Header: parsing_standard_id from TYPE/HEADER_TYPE (FITS, VICAR, ISIS, PDS3 ...); "
      "SPREADSHEET, SFDU, TEXT or no type: 7-Bit ASCII Text or UTF-8 Text as the bytes are, else refused; "
-     "length BYTES, or RECORDS x RECORD_BYTES"),
+     "length BYTES, or RECORDS x RECORD_BYTES; INTERCHANGE_FORMAT BINARY of no standard PDS4 parses (a Galileo SSI "
+     "BAD_DATA_VALUES_HEADER, HEADER_TYPE BDV): Table_Binary of RECORDS records, each its bytes (UnsignedByte)"),
     ("HISTORY", "header", "Header: ISIS2 History Label in an ISIS2 cube, else 7-Bit ASCII Text or UTF-8 Text "
      "as the bytes are; bytes that are not text: refused"),
     ("*_HISTORY", "header", "Header, as HISTORY"),
@@ -103,7 +104,16 @@ OBJECT_CLASSES: tuple[tuple[str, str, str], ...] = (
     ("*SERIES", "table", "as TABLE"),
     ("*SPECTRUM", "table", "as TABLE"),
     ("*SPREADSHEET", "spreadsheet", "Table_Delimited (parsing standard PDS DSV 1, FIELD_DELIMITER: "
-     "COMMA, SEMICOLON, TAB, VERTICAL_BAR; FIELD objects as Field_Delimited)"),
+     "COMMA, SEMICOLON, TAB, VERTICAL_BAR; FIELD objects, a ^STRUCTURE file's in its place, as Field_Delimited, "
+     "a FIELD of ITEMS as ITEMS fields NAME_1 ...; every record must hold that many values, quotes respected)"),
+    ("*ARRAY", "array", "ARRAY of one number per element (its own DATA_TYPE and BYTES, or an ELEMENT; nested "
+     "ARRAYs add their axes): Array_1D, Array_2D, Array_3D or Array (more axes), the axes in PDS3's order (both "
+     "store the last fastest), AXIS_NAME as axis_name; ARRAY of COLLECTIONs, or of an ELEMENT with BIT_ELEMENTs: "
+     "Table_Binary, a record per element (axes flattened, last fastest); INTERCHANGE_FORMAT ASCII: "
+     "Table_Character of a record per line when every line holds the last axis' values at the same columns, "
+     "evenly spaced (read from the bytes: PDS3 states no layout), the values a repeated field; else refused"),
+    ("*COLLECTION", "array", "Table_Binary of one record: its ELEMENTs Field_Binary, its COLLECTIONs "
+     "Group_Field_Binary, its ARRAYs Group_Field_Binary of their elements' number of repetitions"),
     ("*QUBE", "qube", "(keywords of its ^STRUCTURE files included) Array_3D of the core (axes AXIS_NAME "
      "reversed, CORE_ITEM_TYPE/BYTES, CORE_BASE/"
      "CORE_MULTIPLIER as value_offset/scaling_factor, CORE_NULL and the CORE_* special values); suffix "
@@ -113,7 +123,8 @@ OBJECT_CLASSES: tuple[tuple[str, str, str], ...] = (
      "planes along the middle axis (bottom planes, with or without side planes): slice by slice of the slowest "
      "axis, its core (Array_2D, or a table of a record per run with its side items) and its bottom runs (a "
      "Table_Binary, corner bytes a byte group); side and back planes together: the core's runs with their "
-     "side items as records, each back plane a table after it; back planes with bottom planes: refused, named"),
+     "side items as records, each back plane a table after it; back planes with bottom planes: refused, named; "
+     "an IMAGE_MAP_PROJECTION group (ISIS2 keeps it in the QUBE): cart: on the core array (its Line and Sample axes)"),
 )
 # Label constructs that are not data objects of their own, and what migrate does with them.
 OTHER_OBJECTS: tuple[tuple[str, str], ...] = (
@@ -125,6 +136,12 @@ OTHER_OBJECTS: tuple[tuple[str, str], ...] = (
     ("BIT_COLUMN (in an MSB or 1-byte COLUMN)", "Packed_Data_Fields/Field_Bit, the column UnsignedBitString; "
      "BIT_DATA_TYPE: " + ", ".join(f"{k} -> {v}" for k, v in BIT_DATA_TYPES.items()) + "; ITEMS: one Field_Bit "
      "each; in an LSB column: refused"),
+    ("BIT_ELEMENT (in an ELEMENT)", "as BIT_COLUMN: Packed_Data_Fields/Field_Bit of the element's field, the "
+     "array then a Table_Binary (PDS4 arrays have no bit fields)"),
+    ("a spare column (named SPARE, FILLER, PAD, UNUSED, RESERVED ...) of a DATA_TYPE PDS4 has no type for "
+     "(IBM_REAL, VAX_REAL ...)", "its bytes as a Group_Field_Binary of UnsignedByte under its name (a warning says "
+     "so): it holds no value, so stating its bytes keeps every byte of the record accounted for and claims no "
+     "number format; a column of values of such a type: refused"),
     ("CONTAINER (REPETITIONS, nested CONTAINERs)", "Group_Field_Binary / Group_Field_Character: repetitions, "
      "group_location START_BYTE, group_length REPETITIONS x BYTES, its COLUMNs and CONTAINERs inside"),
     ("any other object (PALETTE, DOCUMENT, ...)", "refused, named with its line"),

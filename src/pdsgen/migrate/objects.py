@@ -9,6 +9,8 @@ ever described approximately.
 
 from __future__ import annotations
 
+import csv
+import re
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from fnmatch import fnmatchcase
@@ -16,7 +18,7 @@ from pathlib import Path
 
 from ..errors import param
 from ..label.grammar import FLOAT_SAMPLE_TYPES
-from ..label.tree import Block, Pointer, Statement, parse_pointer
+from ..label.tree import Block, Pointer, Statement, Value, parse_pointer
 from ..pds4.model import pds4_data_type
 from ..validate.context import FileContext
 from .described import (
@@ -129,7 +131,8 @@ def describe_objects(ctx: FileContext) -> tuple[list[DataFile], str | None]:
         if found is None:
             continue
         path, described = found
-        if described["kind"] == "array" and described.get("element") in ("Array_2D_Image", "Array_3D_Image"):
+        if described["kind"] == "array" and (described.get("element") in ("Array_2D_Image", "Array_3D_Image")
+                                             or "lines" in described):  # an image, or a qube's core of lines
             image_id = image_id or str(described["local_identifier"])  # lines with prefixes: no cart:
         extra = described.pop("extra", [])  # a cube's back planes: arrays of their own after the core
         files.setdefault(path, DataFile(path)).objects.extend([described, *extra])  # type: ignore[misc]
@@ -340,6 +343,8 @@ def _header(ctx: FileContext, target: Target) -> dict[str, object]:
     standard = HEADER_STANDARDS.get(kind)
     if standard == "7-Bit ASCII Text":  # TYPE = ASCII/TEXT: the bytes say whether 7-bit or UTF-8
         standard = _text_standard(ctx, target, length)
+    if standard is None and (block.text("INTERCHANGE_FORMAT") or "").upper() == "BINARY":
+        return _binary_header(ctx, target, length, kind)
     if standard is None:
         if kind not in TEXT_HEADER_TYPES:
             raise Refused(ctx.path, f"{where(block)}: header TYPE {kind} has no PDS4 parsing standard (known: "
@@ -355,6 +360,32 @@ def _header(ctx: FileContext, target: Target) -> dict[str, object]:
     return {"kind": "header", "local_identifier": target.ident, "offset": target.offset, "length": length,
             "parsing_standard_id": standard, "pds3": where(block),
             "description": f"The {what} ({block.name} in the PDS3 label).{extent}"}
+
+
+def _binary_header(ctx: FileContext, target: Target, length: int, kind: str) -> dict[str, object]:
+    """A binary header of no standard PDS4 parses (a Galileo SSI BAD_DATA_VALUES_HEADER,
+    HEADER_TYPE BDV, INTERCHANGE_FORMAT BINARY): PDS4's Header takes text and named standards
+    only, so its bytes are stated as a Table_Binary - RECORDS records (one when it states none),
+    each record its bytes as an UnsignedByte group - exact, every byte accounted for, their
+    meaning left to the document the PDS3 label names (^DESCRIPTION)."""
+    block = target.block
+    records = block.number("RECORDS")
+    count = records if isinstance(records, int) and records > 0 else 1
+    if length % count:
+        raise Refused(ctx.path, f"{where(block)}: BYTES {length} are not RECORDS {count} records of one length")
+    size = length // count
+    document = block.text("DESCRIPTION")
+    named = block.value("^DESCRIPTION")
+    about = f" Their layout is documented in {named.text}." if named is not None else ""
+    description = (f"The binary {kind or block.name} header ({block.name} in the PDS3 label): {count} record(s) of "
+                   f"{size} bytes, stated as bytes - PDS4 parses no binary header of this kind.{about}")
+    if document:
+        description += " " + " ".join(document.split())
+    return {"kind": "table", "element": "Table_Binary", "local_identifier": target.ident, "offset": target.offset,
+            "length": length, "records": count, "record_length": size, "description": description,
+            "fields": [_byte_group(block.name.upper(), 1, size)], "delimiter": None, "pds3": where(block),
+            "warnings": [f"{where(block)}: a binary {kind or 'untyped'} header PDS4 has no parsing standard for: "
+                         f"described as a Table_Binary of {count} record(s) of {size} bytes"]}
 
 
 def _header_length(ctx: FileContext, target: Target) -> int:
@@ -524,7 +555,120 @@ def _table(ctx: FileContext, target: Target) -> dict[str, object]:
             warnings.append(f"{where(block)}: ROW_BYTES {row_bytes} overridden by the bytes: each of its {rows} "
                             f"records ends with {_ENDINGS[measured[0]]} at byte {measured[1]}, and every column "
                             "lies before it")
+        _check_records(ctx, target, rows, table)
     return table
+
+
+def _check_records(ctx: FileContext, target: Target, rows: int, table: dict[str, object]) -> None:
+    """Read a character table as a PDS4 reader will: every one of ROWS records ends with its line
+    end at its length (the first that does not - a short or long line amid fixed-length ones -
+    refuses the table, named: records of unequal length have no PDS4 Table_Character), and
+    every numeric field's values are numbers of its type (`_NumberCheck`)."""
+    length = int(table["record_length"])  # type: ignore[call-overload]
+    ending = b"\r\n" if table["delimiter"] == "Carriage-Return Line-Feed" else b"\n"
+    checks = [_NumberCheck(f, spans) for f, spans in _field_spans(table["fields"], 0, {}).values()  # type: ignore[arg-type]
+              if f["data_type"] in _NUMERIC_TEXT]
+    per_block = max(1, (1 << 20) // length)  # a block of records at a time: a large table is not read whole
+    with open(target.path, "rb") as handle:
+        handle.seek(target.offset)
+        for first in range(0, rows, per_block):
+            count = min(per_block, rows - first)
+            block = handle.read(count * length)
+            for n in range(count):
+                end = (n + 1) * length
+                if len(block) < end:
+                    return  # the file ends first: told as a truncated table by _order_problems
+                if block[end - len(ending):end] != ending:
+                    raise Refused(ctx.path, _misfit(target, rows, first + n + 1, length, ending, block[n * length:]))
+                for check in checks:
+                    check.read(block[n * length:end], first + n + 1)
+    warnings = table.setdefault("warnings", [])
+    for check in checks:
+        warning = check.verdict(ctx, target.block)
+        if warning:
+            warnings.append(warning)  # type: ignore[attr-defined]
+
+
+_NUMERIC_TEXT = frozenset({"ASCII_Integer", "ASCII_NonNegative_Integer", "ASCII_Real"})
+
+
+def _field_spans(fields: list[dict[str, object]], base: int,
+                 into: dict[int, tuple[dict[str, object], list[slice]]]) -> dict[int, tuple[dict[str, object],
+                                                                                    list[slice]]]:
+    """Each field of a record with the byte ranges it takes in the record: once, or in every
+    repetition of its group (an ITEMS column; a CONTAINER's members, nested), `base` the
+    0-based byte its fields' locations count from."""
+    for entry in fields:
+        group = entry.get("group")
+        length = int(entry["length"])  # type: ignore[call-overload]
+        if not isinstance(group, dict):
+            start = base + int(entry["location"]) - 1  # type: ignore[call-overload]
+            into.setdefault(id(entry), (entry, []))[1].append(slice(start, start + length))
+            continue
+        repetitions, location = int(group["repetitions"]), base + int(group["location"]) - 1
+        step = int(group["length"]) // repetitions
+        for n in range(repetitions):
+            if group.get("members"):
+                _field_spans(group["members"], location + n * step, into)
+            else:  # an ITEMS column: the field itself in each repetition
+                start = location + n * step + int(entry["location"]) - 1  # type: ignore[call-overload]
+                into.setdefault(id(entry), (entry, []))[1].append(slice(start, start + length))
+    return into
+
+
+class _NumberCheck:
+    """One numeric field of a character table read in every record, as a PDS4 reader converts it:
+    an integer field whose values are reals (a Galileo Probe DESCENT.TAB ALTITUDE of DATA_TYPE
+    ASCII_INTEGER, FORMAT F9.4) is described as ASCII_Real; a field holding a value that is no
+    number at all (blank, N/A: pds4_tools cannot convert it, and the label would not open) as
+    ASCII_String - the text the bytes hold. Either way a warning names DATA_TYPE and the value."""
+
+    def __init__(self, field: dict[str, object], spans: list[slice]) -> None:
+        self.field, self.spans = field, spans
+        self.not_integer: tuple[int, str] | None = None
+        self.not_number: tuple[int, str] | None = None
+
+    def read(self, record: bytes, number: int) -> None:
+        for span in self.spans:
+            if self.not_number is not None:
+                return
+            self._read(record[span].strip(), number)
+
+    def _read(self, text: bytes, number: int) -> None:
+        if not text:
+            self.not_number = (number, "")
+            return
+        if self.field["data_type"] != "ASCII_Real" and self.not_integer is None and \
+                not text.lstrip(b"+-" if self.field["data_type"] == "ASCII_Integer" else b"+").isdigit():
+            self.not_integer = (number, text.decode("latin-1"))
+        try:
+            float(text)
+        except ValueError:
+            self.not_number = (number, text.decode("latin-1"))
+
+    def verdict(self, ctx: FileContext, block: Block) -> str | None:
+        name, stated = self.field["name"], self.field["data_type"]
+        if self.not_number is not None:
+            record, text = self.not_number
+            self.field.update(data_type="ASCII_String", scaling_factor=None, value_offset=None, special=[])
+            return (f"{where(block)}: column {name} DATA_TYPE overridden by the bytes: {text!r} in record {record} "
+                    f"is no number, which a PDS4 reader of {stated} cannot convert: described as ASCII_String")
+        if self.not_integer is None:
+            return None
+        record, text = self.not_integer
+        self.field["data_type"] = "ASCII_Real"
+        return (f"{where(block)}: column {name} DATA_TYPE overridden by the bytes: {text!r} in record {record} is "
+                f"no {stated}, and every value of the column is a number: described as ASCII_Real")
+
+
+def _misfit(target: Target, rows: int, record: int, length: int, ending: bytes, rest: bytes) -> str:
+    """How a record that does not end where the label says is told: where its line end is."""
+    found = rest.find(b"\n")
+    where_end = (f"its line end is at byte {found + 1} of it" if 0 <= found < 1 << 16
+                 else "no line end follows it")
+    return (f"{where(target.block)}: ROWS {rows} records of {length} bytes ending with {_ENDINGS_BY_BYTES[ending]}, "
+            f"but record {record} of {target.path.name} does not end so ({where_end}): records of unequal "
+            "length are no PDS4 Table_Character, and describing fewer would leave table rows undescribed")
 
 
 def _rows_in_records(target: Target, rows: int, record_length: int) -> int | None:
@@ -540,6 +684,7 @@ def _rows_in_records(target: Target, rows: int, record_length: int) -> int | Non
 
 
 _ENDINGS = {"Carriage-Return Line-Feed": "CR LF", "Line-Feed": "LF"}
+_ENDINGS_BY_BYTES = {b"\r\n": "CR LF", b"\n": "LF"}
 
 
 def _fields_end(fields: list[dict[str, object]]) -> int:
@@ -611,10 +756,10 @@ def _column_blocks(ctx: FileContext, block: Block, expanded: dict[Path, list[Blo
     return found
 
 
-def _unwrapped(root: Block) -> Block:
+def _unwrapped(root: Block, names: frozenset[str] | None = None) -> Block:
     """A format file's columns: its top level, or (a quirk of real volumes) the one OBJECT that
     wraps them (OBJECT = TABLE ... COLUMNs ... END_OBJECT in the .FMT file)."""
-    while not any(b.name.upper() in _COLUMN_OBJECTS for b in root.blocks()):
+    while not any(b.name.upper() in (names or _COLUMN_OBJECTS) for b in root.blocks()):
         children = [b for b in root.blocks() if b.kind == "OBJECT"]
         if len(children) != 1:
             break
@@ -623,6 +768,8 @@ def _unwrapped(root: Block) -> Block:
 
 
 _COLUMN_OBJECTS = frozenset({"COLUMN", "CONTAINER", "BIT_COLUMN"})
+# The bit fields of a COLUMN (tables) or of an ELEMENT (arrays and collections): the same keywords.
+_BIT_OBJECTS = ("BIT_COLUMN", "BIT_ELEMENT")
 
 
 def _columns(ctx: FileContext, block: Block, prefix: int, character: bool,
@@ -631,24 +778,36 @@ def _columns(ctx: FileContext, block: Block, prefix: int, character: bool,
     counts them); every column PDS4 cannot state is named (all of them, not the first).
     `budget`: fields left for the whole table (a hostile fan-out of containers stays bounded)."""
     budget = [_MAX_COLUMNS] if budget is None else budget
+    row_bytes = int(block.number("ROW_BYTES") or block.number("BYTES") or 0)
+
+    def described(column: Block) -> dict[str, object]:
+        if column.name.upper() == "CONTAINER":
+            return _container(ctx, column, prefix, character, budget)
+        return _field(ctx, column, prefix, character, row_bytes)
+
+    return _gathered(ctx, block, _column_blocks(ctx, block), described, budget,
+                     "has no COLUMN objects (nor a ^STRUCTURE file holding them)")
+
+
+def _gathered(ctx: FileContext, block: Block, parts: list[Block], describe: Callable[[Block], dict[str, object]],
+              budget: list[int], empty: str) -> list[dict[str, object]]:
+    """Each part of a table, container or collection described as a field or group; every part
+    PDS4 cannot state is named (all of them, not the first), and `budget` (fields left for the
+    whole object) keeps a hostile fan-out of nested parts bounded."""
     fields: list[dict[str, object]] = []
     problems: list[str] = []
-    row_bytes = int(block.number("ROW_BYTES") or block.number("BYTES") or 0)
-    for column in _column_blocks(ctx, block):
+    for part in parts:
         budget[0] -= 1
         if budget[0] < 0:
             raise Refused(ctx.path, f"{where(block)}: more than {_MAX_COLUMNS} columns")
         try:
-            if column.name.upper() == "CONTAINER":
-                fields.append(_container(ctx, column, prefix, character, budget))
-            else:
-                fields.append(_field(ctx, column, prefix, character, row_bytes))
+            fields.append(describe(part))
         except Refused as refusal:
             problems.extend(refusal.problems)
     if problems:
         raise Refused(ctx.path, problems[0], tuple(problems[1:]))
     if not fields:
-        raise Refused(ctx.path, f"{where(block)} has no COLUMN objects (nor a ^STRUCTURE file holding them)")
+        raise Refused(ctx.path, f"{where(block)} {empty}")
     return fields
 
 
@@ -715,7 +874,12 @@ def _field(ctx: FileContext, column: Block, prefix: int, character: bool, row_by
         raise Refused(ctx.path, f"{where(column)}: column {name} ITEMS {items} is not a positive integer")
     count = int(items or 0)
     item_bytes, per_item = _item_bytes(column, count, size, row_bytes, character) if count else (size, False)
-    data_type = _column_type(ctx, column, character, item_bytes)
+    try:
+        data_type = _column_type(ctx, column, character, item_bytes)
+    except Refused:
+        if character or not _is_spare(name):
+            raise
+        return _spare_bytes(column, name, prefix + start, size * count if per_item else size)
     pds3_type = (column.text("DATA_TYPE") or "").upper()
     scaling, value_offset = column.number("SCALING_FACTOR"), column.number("OFFSET")
     entry: dict[str, object] = {
@@ -730,7 +894,7 @@ def _field(ctx: FileContext, column: Block, prefix: int, character: bool, row_by
         entry["warning"] = (f"{where(column)}: column {name} BYTES {size} taken per item: {items} items of {size} "
                             f"bytes fill {size * count} bytes of the row, while {size} bytes cannot hold {items} "
                             f"{pds3_type} items")
-    if any(True for _ in column.blocks("BIT_COLUMN")):
+    if any(True for name in _BIT_OBJECTS for _ in column.blocks(name)):
         entry.update(data_type="UnsignedBitString", scaling_factor=None, value_offset=None, special=[],
                      bits=_bit_fields(ctx, column, pds3_type, item_bytes))
     if items:
@@ -743,6 +907,26 @@ def _field(ctx: FileContext, column: Block, prefix: int, character: bool, row_by
     return entry
 
 
+# Words that name a column holding no value (PDS3 labels' spare and filler columns).
+_SPARE_WORDS = frozenset({"SPARE", "SPARES", "FILL", "FILLER", "PAD", "PADDING", "UNUSED", "RESERVED"})
+
+
+def _is_spare(name: str) -> bool:
+    return bool(_SPARE_WORDS & set(re.split(r"[^A-Z]+", name.upper())))
+
+
+def _spare_bytes(column: Block, name: str, location: int, size: int) -> dict[str, object]:
+    """A spare column whose DATA_TYPE PDS4 has no type for (a Pioneer Venus SPARE of IBM_REAL):
+    it holds no value, so its bytes are stated as they are, an UnsignedByte group under its name,
+    rather than left undescribed - every byte of the record stays accounted for and readable,
+    and nothing is claimed about a number format PDS4 cannot state."""
+    entry = _byte_group(name, location, size)
+    stated = " ".join((column.text("DATA_TYPE") or "").split())
+    entry["warning"] = (f"{where(column)}: column {name} DATA_TYPE {stated} has no PDS4 data type; a spare column, "
+                        f"stated as its {size} bytes (UnsignedByte)")
+    return entry
+
+
 def _bit_fields(ctx: FileContext, column: Block, pds3_type: str, item_bytes: int) -> list[dict[str, object]]:
     """A column's BIT_COLUMNs as Packed_Data_Fields' Field_Bit (the column an UnsignedBitString,
     as PDS4 requires): bits counted from the most significant bit of the column's first byte,
@@ -752,7 +936,7 @@ def _bit_fields(ctx: FileContext, column: Block, pds3_type: str, item_bytes: int
         raise Refused(ctx.path, f"{where(column)}: BIT_COLUMNs in a {pds3_type} column: PDS4 counts bits from the "
                                 "first byte's most significant bit, and this column's bytes run the other way")
     bits: list[dict[str, object]] = []
-    for bit_column in column.blocks("BIT_COLUMN"):
+    for bit_column in (b for b in column.blocks() if b.name.upper() in _BIT_OBJECTS):
         name = bit_column.text("NAME") or "bit_column"
         start, count = positive_int(ctx, bit_column, "START_BIT"), positive_int(ctx, bit_column, "BITS")
         kind = " ".join((bit_column.text("BIT_DATA_TYPE") or "").upper().split()).replace(" ", "_")
@@ -790,19 +974,27 @@ def _spreadsheet(ctx: FileContext, target: Target) -> dict[str, object]:
     if delimiter is None:
         raise Refused(ctx.path, f"{where(block)}: FIELD_DELIMITER {delimiter_name or 'not given'} is none of "
                                 f"PDS4's ({', '.join(sorted(FIELD_DELIMITERS))})")
-    fields = []
-    for number, item in enumerate((b for b in block.blocks("FIELD")), start=1):
+    fields: list[dict[str, object]] = []
+    for item in _field_blocks(ctx, block):
         pds3_type = (item.text("DATA_TYPE") or "").upper()
         data_type = ASCII_TABLE_TYPES.get(pds3_type)
         if data_type is None:
             raise Refused(ctx.path, f"{where(item)}: field {item.text('NAME')} DATA_TYPE {pds3_type or 'not given'} "
                                     "has no data type in a delimited table")
-        fields.append({"name": item.text("NAME") or f"field_{number}", "number": number, "data_type": data_type,
-                       "length": item.number("BYTES"), "unit": unit(item),
-                       "description": " ".join((item.text("DESCRIPTION") or "").split()) or None})
+        items = item.number("ITEMS")
+        count = int(items) if isinstance(items, int) and items > 0 else 1
+        name = item.text("NAME") or f"field_{len(fields) + 1}"
+        for n in range(count):  # ITEMS values, each a field of its own (a delimited record has no groups here)
+            fields.append({"name": name if count == 1 else f"{name}_{n + 1}", "number": len(fields) + 1,
+                           "data_type": data_type, "length": item.number("ITEM_BYTES") or item.number("BYTES"),
+                           "unit": unit(item),
+                           "description": " ".join((item.text("DESCRIPTION") or "").split()) or None})
+        if len(fields) > _MAX_COLUMNS:
+            raise Refused(ctx.path, f"{where(block)}: more than {_MAX_COLUMNS} fields")
     if not fields:
-        raise Refused(ctx.path, f"{where(block)} has no FIELD objects")
-    length, record_delimiter = _delimited_extent(ctx, target, rows)
+        raise Refused(ctx.path, f"{where(block)} has no FIELD objects (nor a ^STRUCTURE file holding them)")
+    length, record_delimiter = _delimited_extent(ctx, target, rows, (_DELIMITER_CHARACTERS[delimiter_name],
+                                                                     len(fields)))
     return {"kind": "delimited", "local_identifier": target.ident, "offset": target.offset, "length": length,
             "records": rows, "record_delimiter": record_delimiter, "field_delimiter": delimiter,
             "description": " ".join((block.text("DESCRIPTION") or f"The {block.name} object of the PDS3 label.")
@@ -810,9 +1002,28 @@ def _spreadsheet(ctx: FileContext, target: Target) -> dict[str, object]:
             "fields": fields, "pds3": where(block)}
 
 
-def _delimited_extent(ctx: FileContext, target: Target, rows: int) -> tuple[int, str]:
+_DELIMITER_CHARACTERS = {"COMMA": ",", "TAB": "\t", "SEMICOLON": ";", "VERTICAL_BAR": "|"}
+
+
+def _field_blocks(ctx: FileContext, block: Block) -> list[Block]:
+    """A spreadsheet's FIELD objects in order, a ^STRUCTURE file's in its place (one level: the
+    format files of spreadsheets name no further files)."""
+    found: list[Block] = []
+    for item in block.items:
+        if isinstance(item, Statement) and item.pointer and item.keyword.upper() == "STRUCTURE":
+            _, root = structure_file(ctx, item)
+            found.extend(_unwrapped(root, frozenset({"FIELD"})).blocks("FIELD"))
+        elif isinstance(item, Block) and item.name.upper() == "FIELD":
+            found.append(item)
+    return found
+
+
+def _delimited_extent(ctx: FileContext, target: Target, rows: int, layout: tuple[str, int]) -> tuple[int, str]:
     """Bytes of ROWS delimited records from the object's offset, and how they end (read, a
-    record at a time: a large file is not read whole)."""
+    record at a time: a large file is not read whole); every record holds as many values as the
+    label has fields (`layout`: delimiter, number of fields), read as a CSV reader splits it,
+    quotes respected - a record of more or fewer would shift every value after it."""
+    delimiter, expected = layout
     length, endings = 0, set()
     with open(target.path, "rb") as handle:
         handle.seek(target.offset)
@@ -823,6 +1034,10 @@ def _delimited_extent(ctx: FileContext, target: Target, rows: int) -> tuple[int,
                                         f"{target.path.name} after byte {target.offset} ends without a line end")
             endings.add(record.endswith(b"\r\n"))
             length += len(record)
+            values = next(csv.reader([record.decode("latin-1").rstrip("\r\n")], delimiter=delimiter), [])
+            if len(values) != expected:
+                raise Refused(ctx.path, f"{where(target.block)}: record {n + 1} of {target.path.name} holds "
+                                        f"{len(values)} values, the label {expected} fields (ITEMS counted)")
     if len(endings) > 1:
         raise Refused(ctx.path, f"{where(target.block)}: its records end with CR LF and with LF alike")
     return length, "Carriage-Return Line-Feed" if endings == {True} else "Line-Feed"
@@ -849,9 +1064,294 @@ def _histogram(ctx: FileContext, target: Target) -> dict[str, object]:
             "special": [], "pds3": where(block)}
 
 
+# -- arrays: ARRAY, COLLECTION, ELEMENT (PDS3 Standards, appendix A) ---------------------------------
+# The subobjects an ARRAY holds (exactly one) and a COLLECTION holds (any number).
+_ARRAY_PARTS = frozenset({"ELEMENT", "COLLECTION", "ARRAY"})
+# PDS4's array classes by number of axes; more axes: the generic Array (up to 16).
+_ARRAY_ELEMENTS = {1: "Array_1D", 2: "Array_2D", 3: "Array_3D"}
+_MAX_AXES = 16
+
+
+def _array(ctx: FileContext, target: Target) -> dict[str, object]:
+    """An ARRAY (or a top-level COLLECTION). An array whose leaf is one number (its own DATA_TYPE,
+    or an ELEMENT, nested ARRAYs adding their axes) is a PDS4 array of as many axes, in the same
+    order: PDS3 and PDS4 both store the last axis fastest. An array of COLLECTIONs, or of an
+    ELEMENT with BIT_ELEMENTs, is a Table_Binary of one record per leaf (the axes flattened in
+    that order), the collection's ELEMENTs, COLLECTIONs and ARRAYs its fields and groups."""
+    block = target.block
+    interchange = (block.text("INTERCHANGE_FORMAT") or "BINARY").upper()
+    if interchange not in ("BINARY", "ASCII"):
+        raise Refused(ctx.path, f"{where(block)}: INTERCHANGE_FORMAT {interchange} is neither ASCII nor BINARY")
+    start = block.number("START_BYTE")
+    if start not in (None, 1):
+        raise Refused(ctx.path, f"{where(block)}: START_BYTE {start} of an object its pointer places")
+    axes: list[tuple[str, int]] = []
+    if block.name.upper() == "COLLECTION":
+        leaf = block
+    else:
+        axes, leaf = _array_shape(ctx, block)
+    description = " ".join((block.text("DESCRIPTION") or f"The {block.name} object of the PDS3 label.").split())
+    shape = " x ".join(f"{name} {items}" for name, items in axes)
+    if interchange == "ASCII":
+        return _ascii_array(ctx, target, axes, leaf, description, shape)
+    if leaf.name.upper() == "COLLECTION" or any(True for name in _BIT_OBJECTS for _ in leaf.blocks(name)):
+        return _array_as_table(ctx, target, axes, leaf, description, shape)
+    return _array_of_numbers(ctx, target, axes, leaf, description)
+
+
+def _array_shape(ctx: FileContext, block: Block, depth: int = 0) -> tuple[list[tuple[str, int]], Block]:
+    """The axes (name, items), slowest first, of an ARRAY and of the ARRAYs nested in it, and the
+    leaf they repeat: an ELEMENT, a COLLECTION, or the innermost ARRAY itself (DATA_TYPE and BYTES
+    its own). A nested ARRAY must start its parent's element (START_BYTE 1): else it is no axis."""
+    count = positive_int(ctx, block, "AXES")
+    items = _axis_values(ctx, block, "AXIS_ITEMS", count)
+    names = _axis_values(ctx, block, "AXIS_NAME", count, required=False)
+    sizes = [n for n in items if isinstance(n, int) and n > 0]
+    if len(sizes) != count:
+        raise Refused(ctx.path, f"{where(block)}: AXIS_ITEMS {items} are not positive integers")
+    axes = [(str(names[n]) if names else f"{block.text('NAME') or block.name}_axis_{n + 1}", sizes[n])
+            for n in range(count)]
+    parts = [b for b in block.blocks() if b.name.upper() in _ARRAY_PARTS]
+    if len(parts) > 1:
+        raise Refused(ctx.path, f"{where(block)}: an ARRAY holds one ELEMENT, COLLECTION or ARRAY, this one "
+                                f"{len(parts)}")
+    if not parts:
+        return axes, block
+    part = parts[0]
+    if part.name.upper() == "ARRAY" and part.number("START_BYTE") in (None, 1):
+        if depth >= MAX_NESTING:
+            raise Refused(ctx.path, f"{where(part)}: ARRAYs nested more than {MAX_NESTING} deep")
+        inner, leaf = _array_shape(ctx, part, depth + 1)
+        return axes + inner, leaf
+    if part.name.upper() == "ARRAY":
+        raise Refused(ctx.path, f"{where(part)}: an ARRAY of an ARRAY that starts at byte "
+                                f"{part.number('START_BYTE')} of each element, with no bytes before it described")
+    return axes, part
+
+
+MAX_NESTING = 8  # ARRAYs and COLLECTIONs in one another; genuine labels nest two or three
+
+
+def _axis_values(ctx: FileContext, block: Block, key: str, count: int, required: bool = True) -> list[object]:
+    value = block.value(key)
+    if value is None:
+        if required:
+            raise Refused(ctx.path, f"{where(block)}: {key} is missing")
+        return []
+    values = [item.py for item in value.items] if value.items is not None else [value.py]
+    text = str(values[0]).strip() if len(values) == 1 else ""
+    if count > 1 and text.startswith("(") and text.endswith(")"):  # AXIS_NAME = "(ELEVATION, AZIMUTH)"
+        values = [part.strip() for part in text[1:-1].split(",")]
+    if len(values) != count:
+        raise Refused(ctx.path, f"{where(block)}: {key} gives {len(values)} values for AXES = {count}")
+    return values
+
+
+def _array_of_numbers(ctx: FileContext, target: Target, axes: list[tuple[str, int]], leaf: Block,
+                      description: str) -> dict[str, object]:
+    """An array of one number per element as Array_ND: the leaf's DATA_TYPE and BYTES, its scaling,
+    unit and special constants; an ELEMENT must fill the element (START_BYTE 1, no ITEMS)."""
+    if len(axes) > _MAX_AXES:
+        raise Refused(ctx.path, f"{where(target.block)}: {len(axes)} axes, more than PDS4's {_MAX_AXES}")
+    size = positive_int(ctx, leaf, "BYTES")
+    if leaf.number("START_BYTE") not in (None, 1) or leaf.get("ITEMS") is not None:
+        raise Refused(ctx.path, f"{where(leaf)}: an ELEMENT that does not fill its array's element (START_BYTE "
+                                f"{leaf.number('START_BYTE')}, ITEMS {leaf.number('ITEMS')})")
+    pds3_type = " ".join((leaf.text("DATA_TYPE") or "").upper().split()).replace(" ", "_")
+    data_type = pds4_data_type(pds3_type, size * 8)
+    if data_type is None:
+        raise Refused(ctx.path, f"{where(leaf)}: DATA_TYPE {pds3_type or 'not given'} of {size} bytes has no "
+                                "PDS4 data type")
+    elements = 1
+    for _, items in axes:
+        elements *= items
+    scaling, value_offset = leaf.number("SCALING_FACTOR"), leaf.number("OFFSET")
+    identity = scaling in (None, 1) and value_offset in (None, 0)
+    return {"kind": "array", "element": _ARRAY_ELEMENTS.get(len(axes), "Array"), "pds3": where(target.block),
+            "local_identifier": target.ident, "offset": target.offset, "length": elements * size, "axes": axes,
+            "description": description, "data_type": data_type, "unit": unit(leaf),
+            "scaling_factor": None if identity else (scaling if scaling is not None else 1.0),
+            "value_offset": value_offset if value_offset is not None else 0.0,
+            "special": special_constants(ctx, leaf, pds3_type in FLOAT_SAMPLE_TYPES, size * 8)}
+
+
+def _array_as_table(ctx: FileContext, target: Target, axes: list[tuple[str, int]], leaf: Block,
+                    description: str, shape: str) -> dict[str, object]:
+    """An array of records (COLLECTIONs, or ELEMENTs with bit fields) as a Table_Binary: one
+    record per leaf, axes flattened slowest first - the bytes' own order."""
+    records = 1
+    for _, items in axes:
+        records *= items
+    size = positive_int(ctx, leaf, "BYTES")
+    if leaf.name.upper() == "COLLECTION":
+        fields = _collection_fields(ctx, leaf, 0, [_MAX_COLUMNS], 0)
+    else:
+        fields = [_field(ctx, _starting_at_one(leaf), 0, False, size)]
+    reach = _fields_end(fields)
+    if reach > size:
+        raise Refused(ctx.path, f"{where(leaf)}: its parts reach byte {reach}, past its BYTES {size}")
+    if shape:
+        description += f" PDS3 array of {shape}, each element a record here (the last axis fastest)."
+    return {"kind": "table", "element": "Table_Binary", "local_identifier": target.ident, "offset": target.offset,
+            "length": records * size, "records": records, "record_length": size, "description": description,
+            "fields": fields, "delimiter": None, "pds3": where(target.block),
+            "warnings": [str(f.pop("warning")) for f in fields if f.get("warning")]}
+
+
+def _ascii_array(ctx: FileContext, target: Target, axes: list[tuple[str, int]], leaf: Block, description: str,
+                 shape: str) -> dict[str, object]:
+    """An ASCII array (the Galileo Probe NFR calibration arrays): PDS4 arrays are binary, and PDS3
+    states no byte layout of an ASCII array, so the layout is read from the bytes. Each line holds
+    the last axis' values, the lines run through the other axes (last fastest); when every line
+    has the same length and its values lie at the same columns, evenly spaced, the array is a
+    Table_Character of a record per line, the values a repeated field (the separators between
+    them unnamed). Any other layout is refused, naming what does not repeat."""
+    if not axes or leaf.name.upper() == "COLLECTION":
+        raise Refused(ctx.path, f"{where(target.block)}: an ASCII array of COLLECTIONs has no byte layout PDS4 "
+                                "can state")
+    per_line = axes[-1][1]
+    lines = 1
+    for _, items in axes[:-1]:
+        lines *= items
+    layout = _ascii_layout(ctx, target, lines, per_line)
+    length, ending, first, width, step = layout
+    values = _ascii_values(ctx, target, lines, length, (first, width, step, per_line))
+    pds3_type = " ".join((leaf.text("DATA_TYPE") or "").upper().split()).replace(" ", "_")
+    data_type = ASCII_TABLE_TYPES.get(pds3_type) if pds3_type else values
+    if data_type is None:
+        raise Refused(ctx.path, f"{where(leaf)}: DATA_TYPE {pds3_type} has no data type in an ASCII table")
+    name = leaf.text("NAME") or target.block.text("NAME") or target.block.name
+    field = {"name": name, "location": 1, "length": width, "data_type": data_type, "unit": unit(leaf),
+             "scaling_factor": None, "value_offset": None, "description": None, "special": [], "bits": None,
+             "group": {"repetitions": per_line, "location": first, "length": per_line * step}}
+    description += (f" PDS3 ASCII array of {shape}: a record per line of {per_line} values "
+                    f"({axes[-1][0]}), each in {width} bytes every {step} bytes from byte {first}, the last axis "
+                    "fastest.")
+    return {"kind": "table", "element": "Table_Character", "local_identifier": target.ident,
+            "offset": target.offset, "length": lines * length, "records": lines, "record_length": length,
+            "description": description, "fields": [field], "delimiter": ending, "pds3": where(target.block),
+            "warnings": []}
+
+
+_VALUE = re.compile(rb"[^\s,;]+")
+
+
+def _ascii_layout(ctx: FileContext, target: Target, lines: int, per_line: int) -> tuple[int, str, int, int, int]:
+    """(record length, record delimiter, first slot's byte (1-based), slot width, step) of an
+    ASCII array's first line: its values end evenly spaced (numbers right-aligned in fixed
+    slots, as Fortran writes them: a sign or a longer number grows to the left), each slot
+    the bytes between one separator and the next; the step repeated must fit before the line end."""
+    with open(target.path, "rb") as handle:
+        handle.seek(target.offset)
+        line = handle.readline(1 << 20)
+    ending = b"\r\n" if line.endswith(b"\r\n") else b"\n"
+    ends = [b for _, b in (m.span() for m in _VALUE.finditer(line))]
+    steps = {b - a for a, b in zip(ends, ends[1:], strict=False)}
+    problem = None
+    if not line.endswith(b"\n"):
+        problem = "its first line has no line end"
+    elif len(ends) != per_line:
+        problem = f"its first line holds {len(ends)} values, not the last axis' {per_line}"
+    elif len(steps) > 1:
+        problem = "the values of its first line do not end evenly spaced"
+    if problem is not None:
+        raise Refused(ctx.path, f"{where(target.block)}: ASCII array: {problem}, so no table of fixed fields "
+                                "can state it")
+    step = steps.pop() if steps else ends[0]
+    separator = 1 if line[ends[0]:ends[0] + 1] in (b",", b";") else 0
+    width = min(step - separator, ends[0])
+    first = ends[0] - width
+    if first + per_line * step > len(line) - len(ending):
+        raise Refused(ctx.path, f"{where(target.block)}: ASCII array: its values repeated every {step} bytes would "
+                                "reach the line end, which a repeated PDS4 field may not")
+    return len(line), _DELIMITERS[ending], first + 1, width, step
+
+
+_DELIMITERS = {b"\r\n": "Carriage-Return Line-Feed", b"\n": "Line-Feed"}
+
+
+def _ascii_values(ctx: FileContext, target: Target, lines: int, length: int,
+                  layout: tuple[int, int, int, int]) -> str:
+    """Every line of an ASCII array read against the first line's layout (same length, each
+    value inside its slot); the values' type from the bytes: ASCII_Integer when all are integers,
+    else ASCII_Real when all are numbers. Refused, naming the line, otherwise."""
+    first, width, step, per_line = layout
+    slots = [(first - 1 + n * step, first - 1 + n * step + width) for n in range(per_line)]
+    integers = True
+    with open(target.path, "rb") as handle:
+        handle.seek(target.offset)
+        for number in range(1, lines + 1):
+            line = handle.readline(length)
+            spans = [m.span() for m in _VALUE.finditer(line)]
+            if len(line) != length or not line.endswith(b"\n") or len(spans) != per_line or \
+                    any(not (lo <= a and b <= hi) for (a, b), (lo, hi) in zip(spans, slots, strict=True)):
+                raise Refused(ctx.path, f"{where(target.block)}: ASCII array: line {number} of {target.path.name} "
+                                        f"does not hold its {per_line} values in the first line's {width}-byte "
+                                        "slots (or is of another length)")
+            for start, end in slots:
+                text = line[start:end].strip()
+                try:
+                    float(text)
+                except ValueError:
+                    raise Refused(ctx.path, f"{where(target.block)}: ASCII array: {text.decode('latin-1')!r} "
+                                            f"on line {number} is no number") from None
+                integers = integers and text.lstrip(b"+-").isdigit()
+    return "ASCII_Integer" if integers else "ASCII_Real"
+
+
+def _starting_at_one(element: Block) -> Block:
+    """An array's ELEMENT, which may leave out START_BYTE (it starts its element): START_BYTE 1."""
+    if element.get("START_BYTE") is not None:
+        return element
+    start = Statement("START_BYTE", Value("int", "1", 1, element.line), element.line)
+    return Block(element.kind, element.name, element.line, element.end_line, [start, *element.items])
+
+
+def _collection_fields(ctx: FileContext, collection: Block, prefix: int, budget: list[int],
+                       depth: int) -> list[dict[str, object]]:
+    """A COLLECTION's parts as fields (ELEMENT), groups of repetition 1 (COLLECTION) and repeated
+    groups (ARRAY: its axes' product of its leaf), each at its START_BYTE in the collection."""
+    if depth > MAX_NESTING:
+        raise Refused(ctx.path, f"{where(collection)}: COLLECTIONs and ARRAYs nested more than {MAX_NESTING} deep")
+    size = positive_int(ctx, collection, "BYTES")
+
+    def described(part: Block) -> dict[str, object]:
+        if part.name.upper() == "ELEMENT":
+            return _field(ctx, part, prefix, False, size)
+        return _nested_group(ctx, part, prefix, budget, depth + 1)
+
+    parts = [part for part in collection.blocks() if part.name.upper() in _ARRAY_PARTS]
+    return _gathered(ctx, collection, parts, described, budget, "has no ELEMENT, COLLECTION or ARRAY objects")
+
+
+def _nested_group(ctx: FileContext, part: Block, prefix: int, budget: list[int], depth: int) -> dict[str, object]:
+    """A COLLECTION or ARRAY inside a COLLECTION as a Group_Field_Binary at its START_BYTE: the
+    array's elements its repetitions (axes flattened, last fastest), its leaf the group's fields."""
+    start = positive_int(ctx, part, "START_BYTE")
+    if part.name.upper() == "COLLECTION":
+        repetitions, leaf = 1, part
+    else:
+        axes, leaf = _array_shape(ctx, part, depth)
+        repetitions = 1
+        for _, items in axes:
+            repetitions *= items
+    size = positive_int(ctx, leaf, "BYTES")
+    if leaf.name.upper() == "COLLECTION":
+        members = _collection_fields(ctx, leaf, 0, budget, depth)
+    else:
+        members = [_field(ctx, _starting_at_one(leaf), 0, False, size)]
+    reach = _fields_end(members)
+    if reach > size:
+        raise Refused(ctx.path, f"{where(leaf)}: its parts reach byte {reach}, past its BYTES {size}")
+    name = part.text("NAME") or part.name.lower()
+    return {"name": name, "location": 1, "length": size, "group": {
+        "repetitions": repetitions, "location": prefix + start, "length": repetitions * size, "name": name,
+        "members": members, "description": " ".join((part.text("DESCRIPTION") or "").split()) or None}}
+
+
 DESCRIBERS: dict[str, Callable[[FileContext, Target], dict[str, object]]] = {
     "header": _header, "image": _image, "table": _table, "spreadsheet": _spreadsheet,
-    "histogram": _histogram, "qube": describe_qube,
+    "histogram": _histogram, "qube": describe_qube, "array": _array,
 }
 # What a refusal of an object of another class says migrate describes.
 DESCRIBED_OBJECTS = ", ".join(pattern for pattern, _, _ in OBJECT_CLASSES) + " objects"

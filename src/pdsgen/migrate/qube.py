@@ -73,6 +73,8 @@ def describe_qube(ctx: FileContext, target: Target) -> dict[str, object]:
         "special": special_constants(ctx, block, is_float, item_bytes * 8, QUBE_SPECIAL_CONSTANTS),
         "pds3": where(block),
     }
+    if "LINE" in axes and "SAMPLE" in axes:  # what a map projection of the cube (cart:) is placed on
+        core["lines"], core["samples"] = sizes[axes.index("LINE")], sizes[axes.index("SAMPLE")]
     if planes_after:
         core["extra"] = _planes_after_core(ctx, target, axes, sizes, target.offset + count * item_bytes, planes_after)
     return core

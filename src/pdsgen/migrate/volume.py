@@ -20,7 +20,7 @@ import logging
 import os
 import shutil
 from collections import Counter
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import IO, Any
 
@@ -37,6 +37,9 @@ from ..pds4.label import render_pds4
 from ..pds4.model import CURRENT_IM
 from ..results import CommandResult
 from ..storage.staging import replace_directory
+from ..validate.model import Finding
+from ..validate.report import finding_line
+from ..validate.runner import iter_reports
 from .identity import check_bundle_lid, check_product_lid, lid_part, product_id, text
 from .product import migrate_product
 from .volume_catalog import BundleFacts, bundle_facts, volume_data_sets
@@ -65,6 +68,8 @@ COLLECTION_KINDS = {"document": ("Document", "bundle_has_document_collection"),
                     "miscellaneous": ("Miscellaneous", "bundle_has_miscellaneous_collection")}
 DATA_KIND = ("Data", "bundle_has_data_collection")
 # How a LID that two products would share is made unique (stated in the report and the docs).
+# The crosswalk's role of a format file: in the bundle, read through the labels naming it.
+FORMAT_ROLE = "format file kept at its path: no PDS4 class; the PDS3 labels naming it read it"
 COLLISION_RULE = ("the first product in path order keeps <collection>:<product ID>; a later one is "
                   "<collection>:<its path without the extension, '/' as '_'>, then _2, _3 ...")
 
@@ -85,6 +90,8 @@ class VolumeMigration(CommandResult):
     collisions: list[str] = field(default_factory=list)
     main_files: list[Path] = field(default_factory=list)  # bundle, collection labels, crosswalk, manifest
     index: str | None = None  # the index table taken as the manifest (path in the volume)
+    validation: list[Finding] = field(default_factory=list)  # `pdsgen validate` on the bundle as written
+    described: list[str] = field(default_factory=list)  # each product's own warnings (a keyword overridden ...)
 
     @property
     def files(self) -> tuple[Path, ...]:
@@ -98,10 +105,12 @@ class VolumeMigration(CommandResult):
 
     @property
     def warnings(self) -> tuple[str, ...]:
-        return (*(f"{path}: left out: {why}" for path, why in self.left_out),
+        return (*self.described,
+                *(f"{path}: left out: {why}" for path, why in self.left_out),
                 *(f"{path}: a product the index {self.index} does not list" for path in self.unindexed),
                 *(f"{self.index} row {row}" for row in self.missing),
-                *self.collisions)
+                *self.collisions,
+                *(finding_line(finding) for finding in self.validation))
 
     @property
     def summary_lines(self) -> tuple[str, ...]:
@@ -116,7 +125,8 @@ class VolumeMigration(CommandResult):
         return {"bundle_lid": self.bundle_lid, "counts": dict(self.counts), "refused_products": self.failures,
                 "left_out": [{"path": p, "reason": r} for p, r in self.left_out], "kept": self.kept,
                 "unindexed": self.unindexed, "index_rows_without_product": self.missing,
-                "collisions": self.collisions, "index": self.index}
+                "collisions": self.collisions, "index": self.index, "described": self.described,
+                "validation": [finding.as_dict() for finding in self.validation]}
 
 
 def migrate_volume(volume: str | os.PathLike[str], outdir: str | os.PathLike[str] | None = None, *,
@@ -141,6 +151,7 @@ def migrate_volume(volume: str | os.PathLike[str], outdir: str | os.PathLike[str
         shutil.rmtree(work, ignore_errors=True)
         work.mkdir(parents=True)
         result = _run(source, work, bundle_lid, in_place=False, overwrite=False)
+        result.validation = [_moved(finding, work, target) for finding in result.validation]
         replace_directory(work, target)
     except BaseException as exc:
         shutil.rmtree(work, ignore_errors=True)
@@ -169,6 +180,7 @@ def _run(source: Path, dest: Path, bundle_lid: str, *, in_place: bool, overwrite
     try:
         run.walk()
         run.finish()
+        run.result.validation = validated(dest)
     except BaseException:
         run.close()
         if in_place:
@@ -206,7 +218,7 @@ class _Run:
         self.records: Counter[str] = Counter()
         self.crosswalk = self._open(CROSSWALK)
         self.crosswalk_rows = 0
-        self.widths = [1, 1, 1]
+        self.widths = [1, 1, 1, 1]
         self.index: VolumeIndex | None = None
         self.rows: dict[str, int] = {}
         self.written: list[Path] = [self.dest / CROSSWALK]
@@ -281,9 +293,12 @@ class _Run:
         except PdsgenError as exc:
             self.lids.discard(lid)
             self.result.failures.append(str(exc))
+            reason = str(exc).splitlines()[0].split(": ", 1)[-1]
+            self._crosswalk_row(pid, relative.as_posix(), "", f"left out: the label of a refused product ({reason})")
             self._refused_files(root, label, relative)
             return
         self.first_product = self.first_product or label
+        self.result.described.extend(migrated.warnings)
         lidvid = f"{lid}::{VERSION}"
         self.product_lidvids.setdefault(pid.upper(), lidvid)
         self.product_lidvids.setdefault(label.name.split(".", 1)[0].upper(), lidvid)
@@ -295,7 +310,10 @@ class _Run:
         if relative.parts[0].upper() not in INDEX_DIRS:  # the index lists the products, not itself
             self._check_indexed(members)
         self._member(collection, lidvid)
-        self._crosswalk_row(pid, relative.as_posix(), lidvid)
+        self._crosswalk_row(pid, relative.as_posix(), lidvid, "PDS3 label")
+        for member in dict.fromkeys(members[1:]):
+            if member != members[0]:  # an attached label is its own data file
+                self._crosswalk_row(pid, member, lidvid, "data file")
         self.result.counts["Product_Observational"] += 1
         if self.result.counts["Product_Observational"] % 1000 == 0:
             log.info("%d product(s) migrated", self.result.counts["Product_Observational"])
@@ -363,8 +381,10 @@ class _Run:
         self.inventories[collection].write(f"P,{lidvid}\r\n")
         self.records[collection] += 1
 
-    def _crosswalk_row(self, pid: str, path: str, lidvid: str) -> None:
-        values = [pid, path, lidvid]
+    def _crosswalk_row(self, pid: str, path: str, lidvid: str, role: str) -> None:
+        """One PDS3 file and what it became: the LIDVID of the product holding it and its role there
+        (PDS3 label, data file, document ...), or no LIDVID and why it was left out."""
+        values = [pid, path, lidvid, role]
         self.widths = [max(w, len(v)) for w, v in zip(self.widths, values, strict=True)]
         self.crosswalk.write(",".join('"' + v.replace('"', "'") + '"' for v in values) + "\r\n")
         self.crosswalk_rows += 1
@@ -392,6 +412,7 @@ class _Run:
         self._documents()
         self._browse()
         self._formats()
+        self._crosswalk_rest()
         self.result.missing = [f"{number}: {path} is no product of the volume"
                                for path, number in sorted(self.rows.items(), key=lambda item: item[1])]
         self.close()
@@ -447,10 +468,12 @@ class _Run:
             if standards[0] is None:
                 self.result.left_out.append((name, "a document in a format PDS4 has no document_standard_id for"))
                 continue
+            lid = self._unique_lid("document", Path(name).stem, Path(name))
             copies = [self._copy(f) for f in files]
+            for file, role in zip(files, ("document", "PDS3 label of the document"), strict=False):
+                self._crosswalk_row(Path(name).stem.upper(), file, f"{lid}::{VERSION}", role)
             described = [{**_facts(c), "standard": s or "7-Bit ASCII Text"} for c, s in zip(copies, standards,
                                                                                               strict=True)]
-            lid = self._unique_lid("document", Path(name).stem, Path(name))
             title = f"{Path(name).name}: document of the PDS3 volume"
             self._write(self._label_path(copies[0]), render_pds4("volume_document.xml.j2", {
                 **self._head("Product_Document", lid, title, cited=title), "date": self.today,
@@ -470,6 +493,7 @@ class _Run:
             copy = self._copy(name)
             stem = Path(name).name.rsplit(".", 1)[0]
             lid = self._unique_lid("browse", stem, Path(name))
+            self._crosswalk_row(stem.upper(), name, f"{lid}::{VERSION}", f"browse image of {data}")
             self._write(self._label_path(copy), render_pds4("volume_browse.xml.j2", {
                 **self._head("Product_Browse", lid, f"Browse image {Path(name).name} of {data.split('::')[0]}"),
                 "data_lidvid": data, "file": _facts(copy), "encoding": encoding}))
@@ -486,6 +510,14 @@ class _Run:
             if found is not None:
                 return found
         return None
+
+    def _crosswalk_rest(self) -> None:
+        """The files no product holds, in the crosswalk too: each format file kept, each file left
+        out, with the reason - so every file of the volume has a row."""
+        for name in self.result.kept:
+            self._crosswalk_row(Path(name).stem.upper(), name, "", FORMAT_ROLE)
+        for name, why in self.result.left_out:
+            self._crosswalk_row(Path(name).stem.upper(), name, "", f"left out: {why}")
 
     def _formats(self) -> None:
         for name in self.formats:
@@ -517,9 +549,13 @@ class _Run:
         lid = f"{self.bundle_lid}:miscellaneous:crosswalk"
         self.lids.add(lid)
         path = self.dest / CROSSWALK
-        fields = [("pds3_product_id", self.widths[0] + 2, "The product's PDS3 PRODUCT_ID (else its label's name)."),
-                  ("pds3_label_path", self.widths[1] + 2, "The path of the product's PDS3 label in the volume."),
-                  ("pds4_lidvid", self.widths[2] + 2, "The LIDVID of the product's PDS4 label.")]
+        fields = [("pds3_product_id", self.widths[0] + 2, "The product's PDS3 PRODUCT_ID (else its label's name; "
+                                                          "a document's or left-out file's name)."),
+                  ("pds3_path", self.widths[1] + 2, "The path of the PDS3 file in the volume."),
+                  ("pds4_lidvid", self.widths[2] + 2, "The LIDVID of the PDS4 product holding the file (empty for "
+                                                      "a file no product holds)."),
+                  ("role", self.widths[3] + 2, "What the file is in that product (PDS3 label, data file, "
+                                               "document ...), or why it was left out.")]
         label = self.dest / "crosswalk.xml"
         self._write(label, render_pds4("volume_crosswalk.xml.j2", {
             **self._head("Product_Ancillary", lid, "Crosswalk: PDS3 products of the volume and their PDS4 LIDVIDs"),
@@ -559,6 +595,23 @@ class _Run:
         manifest = self.dest / MANIFEST
         manifest.write_text("".join(lines), encoding="utf-8")
         self.result.main_files.append(manifest)
+
+
+def validated(bundle: Path) -> list[Finding]:
+    """What `pdsgen validate BUNDLE` finds in the bundle as written (its default rules, no
+    configuration file): migrate runs the validator's own checks on every label it wrote and
+    every PDS3 label it carried before the bundle is put in place, so each finding validate
+    makes afterwards was told by migrate first, in the same words (a plain-PDF document's
+    PDS4-061, a genuine PDS3 label's dictionary warnings)."""
+    return [finding for report in iter_reports([bundle]) for finding in report.findings]  # reports not kept
+
+
+def _moved(finding: Finding, work: Path, target: Path) -> Finding:
+    """A finding of the work directory as it reads once the bundle is renamed into place."""
+    path = Path(finding.file)
+    if path.is_absolute() and work in path.parents:
+        return replace(finding, file=str(target / path.relative_to(work)))
+    return finding
 
 
 def _is_index_dir(path: Path, volume: Path) -> bool:

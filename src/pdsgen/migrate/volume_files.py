@@ -38,11 +38,11 @@ VOLUME_PARTS: tuple[tuple[str, str, str], ...] = (
     ("SOFTWARE/", "left out", SOFTWARE_REASON),
     ("MD5SUMS.TXT, REVIEW pages", "made anew", "the bundle's own checksum manifest replaces them"),
     ("any other file (a browse image of no product, a document of no PDS4 format)", "left out",
-     "no label describes it; reported by name with the reason"),
+     "no label describes it; reported by name with the reason (and in the crosswalk)"),
     ("(none)", "bundle label", "Product_Bundle from VOLDESC.CAT and the DATA_SET catalog, DATA_SET_ID and "
                               "VOLUME_ID as aliases, context references PDS registers"),
-    ("(none)", "miscellaneous collection", "the crosswalk: Product_Ancillary, a Table_Delimited of PDS3 "
-                                          "PRODUCT_ID and path -> PDS4 LIDVID"),
+    ("(none)", "miscellaneous collection", "the crosswalk: Product_Ancillary, a Table_Delimited of every "
+                                          "PDS3 file -> the LIDVID holding it and its role, or why it was left out"),
 )
 
 # Directories of a volume by role (upper case; a volume on disk may have any case).
