@@ -10,12 +10,14 @@ from __future__ import annotations
 
 import datetime as _dt
 import math
+import os
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
+from ..encode import EncodeError, shown
 from .grammar import IDENTIFIER_PATTERN
 
 _SYMBOL_RE = re.compile(f"^{IDENTIFIER_PATTERN}$")
@@ -26,7 +28,7 @@ class Symbol(str):
     """An unquoted identifier or enumerated value, e.g. ``PC_REAL``."""
 
     def __new__(cls, text: str) -> Symbol:
-        if not _SYMBOL_RE.match(text):
+        if not _SYMBOL_RE.fullmatch(text):
             raise ValueError(f"{text!r} is not a PDS identifier; pass it as a quoted string")
         return super().__new__(cls, text)
 
@@ -39,7 +41,7 @@ class Quantity:
     unit: str
 
     def __post_init__(self) -> None:
-        if not _UNIT_RE.match(self.unit):
+        if not _UNIT_RE.fullmatch(self.unit):
             raise ValueError(f"{self.unit!r} is not a valid PDS unit")
 
 
@@ -113,13 +115,41 @@ def format_real(value: float) -> str:
     return text
 
 
-def format_string(text: str) -> str:
-    """A double-quoted string; quotes inside cannot be expressed in PDS3."""
-    if '"' in text:
-        raise ValueError(f"a PDS string cannot contain a double quote: {text!r}")
-    if not text.isascii():
-        raise ValueError(f"PDS labels are 7-bit ASCII: {text!r}")
-    return '"' + " ".join(text.split()) + '"' if "\n" in text else f'"{text}"'
+# What a quoted PDS3 string may hold: printable 7-bit ASCII but the double quote that ends it,
+# and the white space (TAB, LF, CR) a reader folds into one space.
+_PVL_STRING_RE = re.compile(r'[\t\n\r\x20\x21\x23-\x7e]*')
+_PVL_BAD_RE = re.compile(r'[^\t\n\r\x20\x21\x23-\x7e]')
+
+
+def pvl_string_problem(text: str) -> str | None:
+    """Why `text` cannot be a quoted PDS3 string (None when it can)."""
+    if _PVL_STRING_RE.fullmatch(text):
+        return None
+    bad = _PVL_BAD_RE.search(text)
+    char = bad.group() if bad else "?"
+    if char == '"':
+        return "a PDS string cannot contain a double quote"
+    if not char.isascii():
+        return f"PDS labels are 7-bit ASCII, and it holds {shown(char)}"
+    return f"holds the control character {shown(char)}, which a PDS label cannot carry"
+
+
+def check_pvl_string(text: str, keyword: str | None = None, source: str | os.PathLike[str] | None = None) -> str:
+    """`text` if a PDS3 label can carry it as a quoted string; an EncodeError naming `keyword`
+    and `source` if not. Readers of values meant for labels (params, delivery text) call it,
+    so a value is refused where it came in, with the name the person wrote."""
+    problem = pvl_string_problem(text)
+    if problem:
+        raise EncodeError(source, keyword, problem, text)
+    return text
+
+
+def format_string(text: str, keyword: str | None = None, source: str | os.PathLike[str] | None = None) -> str:
+    """A double-quoted string, the one PVL encoding of text. White space with a line break is
+    folded to single spaces, as every PVL reader reads it; a double quote (which PDS3 cannot
+    escape), a control character or non-ASCII text is refused (EncodeError), never written."""
+    check_pvl_string(text, keyword, source)
+    return '"' + " ".join(text.split()) + '"' if ("\n" in text or "\r" in text or "\t" in text) else f'"{text}"'
 
 
 def format_based(value: Based) -> str:

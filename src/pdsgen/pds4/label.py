@@ -17,7 +17,8 @@ from affine import Affine
 from rasterio.crs import CRS
 
 from ..geo.geometry import EQUIRECTANGULAR, POLAR_STEREOGRAPHIC, SINUSOIDAL, TRANSVERSE_MERCATOR, MapGeometry
-from ..label.render import template_environment
+from ..encode import EncodeError, xml_finalize
+from ..label.render import named_refusal, template_environment
 from ..label.values import format_real
 from ..resources import templates_dir
 from .model import CURRENT_IM, InformationModel
@@ -51,14 +52,17 @@ def _environment() -> jinja2.Environment:
     import jinja2  # on first use, as in label.render
 
     env = template_environment().overlay(loader=jinja2.FileSystemLoader(str(templates_dir() / "pds4")),
-                                         autoescape=True)
+                                         autoescape=True, finalize=xml_finalize)
     env.filters = {**env.filters, "num": format_number}
     return env
 
 
 def render_pds4(template_name: str, context: Mapping[str, Any], im: InformationModel = CURRENT_IM) -> str:
     """Render one PDS4 label template (UTF-8 XML text, LF line ends)."""
-    return _environment().get_template(template_name).render(im=im, **context)
+    try:
+        return _environment().get_template(template_name).render(im=im, **context)
+    except EncodeError as exc:
+        raise named_refusal(exc, context) from None
 
 
 @dataclass(frozen=True)
