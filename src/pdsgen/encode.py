@@ -65,6 +65,49 @@ def shown(text: object) -> str:
     return "".join(_escape(c) if unicodedata.category(c) in _HIDDEN_CATEGORIES else c for c in string)
 
 
+# What a quoted PDS3 string may hold: printable 7-bit ASCII but the double quote that ends it,
+# and the white space (TAB, LF, CR) a reader folds into one space.
+_PVL_STRING_RE = re.compile(r'[\t\n\r\x20\x21\x23-\x7e]*')
+_PVL_BAD_RE = re.compile(r'[^\t\n\r\x20\x21\x23-\x7e]')
+
+
+def pvl_string_problem(text: str) -> str | None:
+    """Why `text` cannot be a quoted PDS3 string (None when it can)."""
+    if _PVL_STRING_RE.fullmatch(text):
+        return None
+    bad = _PVL_BAD_RE.search(text)
+    char = bad.group() if bad else "?"
+    if char == '"':
+        return "a PDS string cannot contain a double quote"
+    if not char.isascii():
+        return f"PDS labels are 7-bit ASCII, and it holds {_escape(char)}"
+    return f"holds the control character {_escape(char)}, which a PDS label cannot carry"
+
+
+def check_pvl_string(text: str, keyword: str | None = None, source: str | os.PathLike[str] | None = None) -> str:
+    """`text` if a PDS3 label can carry it as a quoted string; an EncodeError naming `keyword`
+    and `source` if not. Readers of values meant for labels (params, delivery text) call it,
+    so a value is refused where it came in, with the name the person wrote; label.values'
+    format_string, the one writer of quoted PDS3 strings, calls it on every value it writes."""
+    problem = pvl_string_problem(text)
+    if problem:
+        raise EncodeError(source, keyword, problem, text)
+    return text
+
+
+# A PVL keyword (an iMars .pvl's Algorithm parameters): letters, digits and underscores.
+PVL_KEYWORD_RE = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
+
+
+def check_pvl_keyword(name: str, keyword: str, source: str | os.PathLike[str] | None = None) -> str:
+    """`name` if it can stand as a PVL keyword; refused otherwise (a name holding `=` or a line
+    break would write statements of its own)."""
+    if not PVL_KEYWORD_RE.fullmatch(name):
+        raise EncodeError(source, keyword, f"the name {shown(name)!r} is not a PVL keyword "
+                                           "(a letter, then letters, digits, underscores)", name)
+    return name
+
+
 # XML 1.0's Char production: what a well-formed document may hold at all.
 _NOT_XML = re.compile("[^\t\n\r\u0020-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
 _XML_TEXT = {"&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&#34;", "'": "&#39;", "\r": "&#13;"}

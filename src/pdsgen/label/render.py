@@ -16,10 +16,13 @@ from dataclasses import dataclass
 from functools import cache
 from typing import TYPE_CHECKING, Any
 
+from ..encode import EncodeError, locate
 from ..resources import templates_dir, user_cache_dir
 from .layout import layout_label
-from ..encode import EncodeError, locate
 from .values import Quantity, Symbol, format_value
+
+if TYPE_CHECKING:
+    import jinja2
 
 
 class PvlText(str):

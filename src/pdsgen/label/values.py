@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..encode import EncodeError, shown
+from ..encode import check_pvl_string
 from .grammar import IDENTIFIER_PATTERN
 
 _SYMBOL_RE = re.compile(f"^{IDENTIFIER_PATTERN}$")
@@ -112,35 +112,6 @@ def format_real(value: float) -> str:
         return f"{mantissa}E{int(exponent):+03d}"
     if "." not in text:
         text += ".0"
-    return text
-
-
-# What a quoted PDS3 string may hold: printable 7-bit ASCII but the double quote that ends it,
-# and the white space (TAB, LF, CR) a reader folds into one space.
-_PVL_STRING_RE = re.compile(r'[\t\n\r\x20\x21\x23-\x7e]*')
-_PVL_BAD_RE = re.compile(r'[^\t\n\r\x20\x21\x23-\x7e]')
-
-
-def pvl_string_problem(text: str) -> str | None:
-    """Why `text` cannot be a quoted PDS3 string (None when it can)."""
-    if _PVL_STRING_RE.fullmatch(text):
-        return None
-    bad = _PVL_BAD_RE.search(text)
-    char = bad.group() if bad else "?"
-    if char == '"':
-        return "a PDS string cannot contain a double quote"
-    if not char.isascii():
-        return f"PDS labels are 7-bit ASCII, and it holds {shown(char)}"
-    return f"holds the control character {shown(char)}, which a PDS label cannot carry"
-
-
-def check_pvl_string(text: str, keyword: str | None = None, source: str | os.PathLike[str] | None = None) -> str:
-    """`text` if a PDS3 label can carry it as a quoted string; an EncodeError naming `keyword`
-    and `source` if not. Readers of values meant for labels (params, delivery text) call it,
-    so a value is refused where it came in, with the name the person wrote."""
-    problem = pvl_string_problem(text)
-    if problem:
-        raise EncodeError(source, keyword, problem, text)
     return text
 
 

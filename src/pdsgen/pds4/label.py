@@ -16,8 +16,8 @@ from typing import TYPE_CHECKING, Any
 from affine import Affine
 from rasterio.crs import CRS
 
-from ..geo.geometry import EQUIRECTANGULAR, POLAR_STEREOGRAPHIC, SINUSOIDAL, TRANSVERSE_MERCATOR, MapGeometry
 from ..encode import EncodeError, xml_finalize
+from ..geo.geometry import EQUIRECTANGULAR, POLAR_STEREOGRAPHIC, SINUSOIDAL, TRANSVERSE_MERCATOR, MapGeometry
 from ..label.render import named_refusal, template_environment
 from ..label.values import format_real
 from ..resources import templates_dir
