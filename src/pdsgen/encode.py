@@ -53,7 +53,7 @@ def _escape(char: str) -> str:
 
 def shown(text: object) -> str:
     """`text` as a terminal, a text report, an annotation or a page shows it: every character
-    that moves the cursor, reorders the line or is invisible escaped (`\\x1b`, `\\u202e`, a
+    that moves the cursor (a TAB aside), reorders the line or is invisible escaped (`\\x1b`, `\\u202e`, a
     non-UTF-8 byte of a file name as `\\xe9`); printable text unchanged. The result encodes
     as UTF-8 whatever the name held."""
     value = os.fspath(text) if isinstance(text, os.PathLike) else text
@@ -62,7 +62,31 @@ def shown(text: object) -> str:
     string = str(value)
     if string.isascii() and string.isprintable():
         return string
-    return "".join(_escape(c) if unicodedata.category(c) in _HIDDEN_CATEGORIES else c for c in string)
+    return "".join(_escape(c) if c != "\t" and unicodedata.category(c) in _HIDDEN_CATEGORIES else c
+                   for c in string)
+
+
+def shown_lines(text: object) -> str:
+    """`shown`, line by line: a text block (a page's <pre>, a JUnit failure) keeps its lines."""
+    return "\n".join(shown(line) for line in str(text).split("\n"))
+
+
+def ascii_text(value: object) -> str:
+    """The output hook of the plain-text templates (Extras README.TXT, 7-bit ASCII): each line
+    `shown`, and what is not ASCII escaped too - a file name's `\xe9` read as written,
+    never a `?`."""
+    text = shown_lines(value)
+    return text if text.isascii() else "".join(c if c.isascii() else _escape(c) for c in text)
+
+
+def html_finalize(value: object) -> object:
+    """The output hook of the HTML templates (the review page): every `{{ }}` value `shown`
+    line by line before autoescape writes it - a non-UTF-8 file name or a U+202E in a label
+    value is seen escaped, never written raw (nor a UnicodeEncodeError); markup a filter made
+    passes as it is."""
+    if hasattr(value, "__html__") or not isinstance(value, str):
+        return value
+    return shown_lines(value)
 
 
 # What a quoted PDS3 string may hold: printable 7-bit ASCII but the double quote that ends it,

@@ -185,6 +185,8 @@ def open_product(path: str | os.PathLike[str], kind: str | None = None, *, root:
             info = _dataset_info(ds)
     except RasterioError:
         raise PdsgenError(raster_path, "not a raster GDAL can read") from None
+    except UnicodeEncodeError:  # GDAL takes names as UTF-8: a Latin-1 byte cannot be passed to it
+        raise PdsgenError(raster_path, "its name is not UTF-8, which GDAL cannot open; rename it") from None
     image = _image_object(label)
     mission = _mission(label, path)
     src = ProductSource(
