@@ -454,7 +454,8 @@ class _Run:
             title = f"{Path(name).name}: document of the PDS3 volume"
             self._write(self._label_path(copies[0]), render_pds4("volume_document.xml.j2", {
                 **self._head("Product_Document", lid, title, cited=title), "date": self.today,
-                "edition": f"{Path(name).name} as published on the PDS3 volume", "files": described}))
+                "edition": f"{Path(name).name} as published on the PDS3 volume", "files": described},
+                source=self.source))
             self._member("document", f"{lid}::{VERSION}")
             self.result.counts["Product_Document"] += 1
 
@@ -472,7 +473,7 @@ class _Run:
             lid = self._unique_lid("browse", stem, Path(name))
             self._write(self._label_path(copy), render_pds4("volume_browse.xml.j2", {
                 **self._head("Product_Browse", lid, f"Browse image {Path(name).name} of {data.split('::')[0]}"),
-                "data_lidvid": data, "file": _facts(copy), "encoding": encoding}))
+                "data_lidvid": data, "file": _facts(copy), "encoding": encoding}, source=self.source))
             self._member("browse", f"{lid}::{VERSION}")
             self.result.counts["Product_Browse"] += 1
 
@@ -507,7 +508,7 @@ class _Run:
                 **self._head("Product_Collection", lid, f"{kind} collection {collection} of {facts.title}",
                              cited=description),
                 "collection_type": kind, "inventory": _inventory_name(collection), "records": records,
-                "description": description}))
+                "description": description}, source=self.source))
             self.result.main_files.append(label)
             self.result.main_files.append(self.dest / _inventory_name(collection))
             entries.append((f"{lid}::{VERSION}", reference_type))
@@ -523,7 +524,8 @@ class _Run:
         label = self.dest / "crosswalk.xml"
         self._write(label, render_pds4("volume_crosswalk.xml.j2", {
             **self._head("Product_Ancillary", lid, "Crosswalk: PDS3 products of the volume and their PDS4 LIDVIDs"),
-            "bundle_lid": self.bundle_lid, "file": _facts(path), "records": self.crosswalk_rows, "fields": fields}))
+            "bundle_lid": self.bundle_lid, "file": _facts(path), "records": self.crosswalk_rows, "fields": fields},
+            source=self.source))
         self._member("miscellaneous", f"{lid}::{VERSION}")
         self.inventories["miscellaneous"].close()
         self.result.counts["Product_Ancillary"] += 1
@@ -538,7 +540,7 @@ class _Run:
         self._write(label, render_pds4("volume_bundle.xml.j2", {
             **self._head("Product_Bundle", self.bundle_lid, facts.title), "aliases": facts.aliases,
             "citation": citation, "references": facts.references, "description": facts.description,
-            "members": members}))
+            "members": members}, source=self.source))
         self.result.counts["Product_Bundle"] += 1
         self.result.main_files.insert(0, label)
 

@@ -8,6 +8,7 @@ numbers pass through `format_number`, the PDS3 writer's noise-free formatting
 
 from __future__ import annotations
 
+import os
 from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cache
@@ -57,12 +58,14 @@ def _environment() -> jinja2.Environment:
     return env
 
 
-def render_pds4(template_name: str, context: Mapping[str, Any], im: InformationModel = CURRENT_IM) -> str:
-    """Render one PDS4 label template (UTF-8 XML text, LF line ends)."""
+def render_pds4(template_name: str, context: Mapping[str, Any], im: InformationModel = CURRENT_IM,
+                source: str | os.PathLike[str] | None = None) -> str:
+    """Render one PDS4 label template (UTF-8 XML text, LF line ends). A value XML cannot carry
+    is refused (EncodeError) naming where in `context` it was and `source`, what it came from."""
     try:
         return _environment().get_template(template_name).render(im=im, **context)
     except EncodeError as exc:
-        raise named_refusal(exc, context) from None
+        raise named_refusal(exc, context).naming(source=source) from None
 
 
 @dataclass(frozen=True)
