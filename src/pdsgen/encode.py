@@ -119,16 +119,21 @@ def check_pvl_string(text: str, keyword: str | None = None, source: str | os.Pat
     return text
 
 
-# A PVL keyword (an iMars .pvl's Algorithm parameters): letters, digits and underscores.
+# A PVL keyword (an iMars .pvl's Algorithm parameters): letters, digits and underscores, and not
+# one of the words that open or close an aggregation or the label, nor one a reader takes for a
+# value (TRUE, NULL, NAN ...).
 PVL_KEYWORD_RE = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
+PVL_RESERVED = frozenset({"END", "OBJECT", "END_OBJECT", "BEGIN_OBJECT", "GROUP", "END_GROUP", "BEGIN_GROUP",
+                          "TRUE", "FALSE", "NULL", "NAN", "INF", "INFINITY"})
 
 
 def check_pvl_keyword(name: str, keyword: str, source: str | os.PathLike[str] | None = None) -> str:
     """`name` if it can stand as a PVL keyword; refused otherwise (a name holding `=` or a line
     break would write statements of its own)."""
-    if not PVL_KEYWORD_RE.fullmatch(name):
+    if not PVL_KEYWORD_RE.fullmatch(name) or name.upper() in PVL_RESERVED:
         raise EncodeError(source, keyword, f"the name {shown(name)!r} is not a PVL keyword "
-                                           "(a letter, then letters, digits, underscores)", name)
+                                           "(a letter, then letters, digits, underscores; "
+                                           "not END, OBJECT, GROUP, TRUE, NAN ...)", name)
     return name
 
 
