@@ -151,7 +151,7 @@ class IndexWriter:
             "RECORD_TYPE           = FIXED_LENGTH",
             f"RECORD_BYTES          = {self.row_bytes}",
             f"FILE_RECORDS          = {self.rows}",
-            f'^INDEX_TABLE          = "{layout.INDEX_TABLE}"',
+            f"^INDEX_TABLE          = {format_string(layout.INDEX_TABLE)}",
             f"VOLUME_ID             = {format_string(self.volume_id, 'VOLUME_ID', layout.INDEX_LABEL)}",
             f"DATA_SET_ID           = {data_set}",
             "",
@@ -175,11 +175,11 @@ class IndexWriter:
                 f"    DATA_TYPE         = {column.data_type}",
                 f"    START_BYTE        = {first}",
                 f"    BYTES             = {column.width}",
-                f'    FORMAT            = "{column.format}"',
+                f"    FORMAT            = {format_string(column.format)}",
             ]
             if column.missing:
                 lines.append(f"    MISSING_CONSTANT  = {layout.MISSING_NUMBER}")
-            lines += [f'    DESCRIPTION       = "{column.description}"',
+            lines += [f"    DESCRIPTION       = {format_string(column.description)}",
                       "  END_OBJECT          = COLUMN"]
             start += column.width + (2 if column.quoted else 0) + 1
         lines += ["", "END_OBJECT            = INDEX_TABLE", "", "END"]

@@ -26,7 +26,7 @@ if TYPE_CHECKING:
 
 
 class PvlText(str):
-    """Text already encoded for a PDS3 label (by the `pds`, `symbol` or `comment` filter)."""
+    """Text already encoded for a PDS3 label (by the `pds`, `symbol`, `keyword` or `comments` filter)."""
 
 
 def _pds(value: object) -> PvlText:
@@ -36,6 +36,15 @@ def _pds(value: object) -> PvlText:
 def _symbol(value: str) -> PvlText:
     """An enumerated value written bare (PLANETOCENTRIC); refused unless it is an identifier."""
     return PvlText(format_value(Symbol(value)))
+
+
+def _keyword(name: str) -> PvlText:
+    """A keyword written by a template from its context (HRSC's carried keys), `NAME`, `NS:NAME`
+    or a pointer `^NAME`: refused unless each part is an identifier, so a name cannot open a
+    statement."""
+    for part in name.removeprefix("^").split(":", 1):
+        Symbol(part)
+    return PvlText(name)
 
 
 def _comment(line: str) -> PvlText:
@@ -78,7 +87,7 @@ def template_environment() -> jinja2.Environment:
         autoescape=False,
         finalize=_finalize,
     )
-    env.filters.update(pds=_pds, symbol=_symbol, comments=_comments)
+    env.filters.update(pds=_pds, symbol=_symbol, comments=_comments, keyword=_keyword)
     env.globals.update(
         km=lambda value: Quantity(value, "KM"),
         deg=lambda value: Quantity(value, "DEG"),

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..encode import check_pvl_string
+from ..encode import EncodeError, check_pvl_string, shown
 from .grammar import IDENTIFIER_PATTERN
 
 _SYMBOL_RE = re.compile(f"^{IDENTIFIER_PATTERN}$")
@@ -29,7 +29,7 @@ class Symbol(str):
 
     def __new__(cls, text: str) -> Symbol:
         if not _SYMBOL_RE.fullmatch(text):
-            raise ValueError(f"{text!r} is not a PDS identifier; pass it as a quoted string")
+            raise EncodeError(None, None, f"{shown(text)!r} is not a PDS identifier; pass it as a quoted string", text)
         return super().__new__(cls, text)
 
 
@@ -42,7 +42,7 @@ class Quantity:
 
     def __post_init__(self) -> None:
         if not _UNIT_RE.fullmatch(self.unit):
-            raise ValueError(f"{self.unit!r} is not a valid PDS unit")
+            raise EncodeError(None, None, f"{shown(self.unit)!r} is not a valid PDS unit", self.unit)
 
 
 @dataclass(frozen=True)
