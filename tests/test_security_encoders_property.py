@@ -45,16 +45,24 @@ def _folded(text: str) -> str:
     return " ".join(text.split())
 
 
+def _encoded(encoder, value: str, keyword: str) -> str | None:
+    """The encoder's output, or None when it refused - with its one error type, in one line
+    naming the keyword and the source."""
+    try:
+        return encoder(value, keyword, "test")
+    except EncodeError as exc:
+        assert str(exc).startswith(f"test: {keyword}: ") and len(str(exc).splitlines()) == 1
+        return None
+
+
 @BUDGET
 @given(TEXT)
 @example('A"\r\nVOLUME_ID = "FORGED_VOL')
 @example("T\x00")
 @example("\t")
 def test_pvl_string_reads_back_as_written_or_is_refused(value):
-    try:
-        encoded = format_string(value, "KEY", "test")
-    except EncodeError as exc:
-        assert str(exc).startswith("test: KEY: ") and "\n" not in str(exc)
+    encoded = _encoded(format_string, value, "KEY")
+    if encoded is None:
         return
     assert encoded.isascii() and encoded.isprintable()  # one line: no statement can follow inside it
     module = pvl.loads(f"KEY = {encoded}\r\nEND")
@@ -67,9 +75,7 @@ def test_pvl_string_reads_back_as_written_or_is_refused(value):
 @example("NAN")
 @example("W\nEND_OBJECT = Algorithm\nOBJECT = ProductInfo")
 def test_pvl_keyword_is_one_statement_or_is_refused(name):
-    try:
-        check_pvl_keyword(name, "MATCHER_PARAMETERS", "test")
-    except EncodeError:
+    if _encoded(check_pvl_keyword, name, "MATCHER_PARAMETERS") is None:
         return
     module = pvl.loads(f"OBJECT = Algorithm\r\n  {name} = 1\r\nEND_OBJECT = Algorithm\r\nEND")
     assert list(module.keys()) == ["Algorithm"] and list(module["Algorithm"].items()) == [(name, 1)]
@@ -81,10 +87,8 @@ def test_pvl_keyword_is_one_statement_or_is_refused(name):
 @example("\udce9")
 @example("]]>&#34;")
 def test_xml_text_reads_back_as_written_or_is_refused(value):
-    try:
-        encoded = xml_text(value, "title", "test")
-    except EncodeError as exc:
-        assert str(exc).startswith("test: title: ")
+    encoded = _encoded(xml_text, value, "title")
+    if encoded is None:
         return
     element = etree.fromstring(f"<title>{encoded}</title>".encode())
     assert (element.text or "") == value
@@ -94,9 +98,8 @@ def test_xml_text_reads_back_as_written_or_is_refused(value):
 @given(TEXT)
 @example("\t\n\r")
 def test_xml_attribute_reads_back_as_written_or_is_refused(value):
-    try:
-        encoded = xml_attribute(value, "unit", "test")
-    except EncodeError:
+    encoded = _encoded(xml_attribute, value, "unit")
+    if encoded is None:
         return
     assert etree.fromstring(f'<a unit="{encoded}"/>'.encode()).get("unit") == value
 
@@ -106,10 +109,8 @@ def test_xml_attribute_reads_back_as_written_or_is_refused(value):
 @example("MARS\r\n")
 @example('MA"RS')
 def test_table_field_keeps_its_row_and_width_or_is_refused(value):
-    try:
-        encoded = table_field(value, "TARGET_NAME", "test")
-    except EncodeError as exc:
-        assert str(exc).startswith("test: TARGET_NAME: ")
+    encoded = _encoded(table_field, value, "TARGET_NAME")
+    if encoded is None:
         return
     row = f'"{encoded}",1\r\n'
     assert len(row.encode("ascii")) == len(value) + 6  # fixed width: one byte a character
@@ -168,28 +169,37 @@ def test_the_refusal_is_one_line_naming_keyword_and_source(encoder):
     assert str(refused.value).startswith("params.toml: DATA_SET_NAME: ") and "\\x00" in str(refused.value)
 
 
-@BUDGET
-@given(TEXT)
-@example('x"\nEND')
-def test_a_pds3_template_writes_even_an_unfiltered_value_as_pvl(value):
-    """The label templates' output hook: `{{ value }}` without a filter is PVL-encoded too."""
+def _pds3_environment():
     from pdsgen.label.render import template_environment
 
-    try:
-        text = template_environment().from_string("KEY = {{ value }}\nEND\n").render(value=value)
-    except EncodeError:
-        return
-    assert list(pvl.loads(text).items()) == [("KEY", _folded(value))]
+    return template_environment()
 
 
-@BUDGET
-@given(TEXT)
-@example("</title><forged/>")
-def test_a_pds4_template_writes_a_value_as_xml_text(value):
+def _pds4_environment():
     from pdsgen.pds4.label import _environment
 
+    return _environment()
+
+
+TEMPLATE_CASES = {  # output hook -> (template with an unfiltered value, an independent reader, what it must read)
+    "pds3": (_pds3_environment, "KEY = {{ value }}\nEND\n", lambda text: list(pvl.loads(text).items()),
+             lambda value: [("KEY", _folded(value))]),
+    "pds4": (_pds4_environment, "<title>{{ value }}</title>", lambda text: etree.fromstring(text.encode()).text or "",
+             lambda value: value),
+}
+
+
+@pytest.mark.parametrize("case", sorted(TEMPLATE_CASES))
+@BUDGET
+@given(value=TEXT)
+@example(value='x"\nEND')
+@example(value="</title><forged/>")
+def test_a_template_writes_even_an_unfiltered_value_through_its_formats_hook(case, value):
+    """`{{ value }}` without a filter is encoded by the environment's output hook: PVL for a PDS3
+    label (read back as PVL folds white space), XML text for a PDS4 label (read back exactly)."""
+    environment, template, read, expected = TEMPLATE_CASES[case]
     try:
-        text = _environment().from_string("<title>{{ value }}</title>").render(value=value)
+        text = environment().from_string(template).render(value=value)
     except EncodeError:
         return
-    assert (etree.fromstring(text.encode()).text or "") == value
+    assert read(text) == expected(value)
