@@ -26,6 +26,7 @@ from pathlib import Path
 from typing import IO, Any
 
 from ..archive.scan import is_pds3_label, named_files, walk
+from ..encode import table_field
 from ..errors import InputError, OutputError, PdsgenError, param
 from ..formats.checksum import bytes_md5, file_md5
 from ..formats.sniff import file_head
@@ -364,9 +365,11 @@ class _Run:
         self.records[collection] += 1
 
     def _crosswalk_row(self, pid: str, path: str, lidvid: str) -> None:
-        values = [pid, path, lidvid]
+        # each through the table-field encoder: a CR LF in a PRODUCT_ID cannot split the row
+        values = [table_field(value, name, self.source)
+                  for value, name in zip((pid, path, lidvid), ("PRODUCT_ID", "file", "LIDVID"), strict=True)]
         self.widths = [max(w, len(v)) for w, v in zip(self.widths, values, strict=True)]
-        self.crosswalk.write(",".join('"' + v.replace('"', "'") + '"' for v in values) + "\r\n")
+        self.crosswalk.write(",".join(f'"{v}"' for v in values) + "\r\n")
         self.crosswalk_rows += 1
 
     def close(self) -> None:
