@@ -29,6 +29,7 @@ from pdsgen.encode import (
     xml_attribute,
     xml_text,
 )
+from pdsgen.label.layout import layout_label
 from pdsgen.label.values import format_string
 
 BUDGET = settings(max_examples=400, deadline=None, derandomize=True)
@@ -182,7 +183,7 @@ def _pds4_environment():
 
 
 TEMPLATE_CASES = {  # output hook -> (template with an unfiltered value, an independent reader, what it must read)
-    "pds3": (_pds3_environment, "KEY = {{ value }}\nEND\n", lambda text: list(pvl.loads(text).items()),
+    "pds3": (_pds3_environment, "KEY = {{ value }}\nEND\n", lambda text: list(pvl.loads(layout_label(text)).items()),
              lambda value: [("KEY", _folded(value))]),
     "pds4": (_pds4_environment, "<title>{{ value }}</title>", lambda text: etree.fromstring(text.encode()).text or "",
              lambda value: value),
@@ -196,7 +197,8 @@ TEMPLATE_CASES = {  # output hook -> (template with an unfiltered value, an inde
 @example(value="</title><forged/>")
 def test_a_template_writes_even_an_unfiltered_value_through_its_formats_hook(case, value):
     """`{{ value }}` without a filter is encoded by the environment's output hook: PVL for a PDS3
-    label (read back as PVL folds white space), XML text for a PDS4 label (read back exactly)."""
+    label (laid out in 80-byte lines as every label is, read back as PVL folds white space), XML
+    text for a PDS4 label (read back exactly)."""
     environment, template, read, expected = TEMPLATE_CASES[case]
     try:
         text = environment().from_string(template).render(value=value)
