@@ -225,3 +225,12 @@ def test_deliver_refuses_a_latin1_name_for_index_tab_in_one_line(tmp_path, latin
     _refused(run, "FILE_SPECIFICATION_NAME", "\\xe9")
     assert not (tmp_path / "d").exists()
 
+
+
+def test_a_product_command_refuses_a_latin1_input_in_one_line(tmp_path, raster):
+    """GDAL is given names as UTF-8: a Latin-1 input is refused by name, escaped, not a traceback."""
+    source = os.fsdecode(os.fsencode(tmp_path) + b"/heights_" + LATIN1 + b".tif")
+    shutil.copy(raster, source)
+    run = run_cli("dtm", source, "-o", tmp_path / "out")
+    _refused(run, "heights_caf\\xe9\\u202e.tif", "not UTF-8")
+    assert not (tmp_path / "out").exists()
