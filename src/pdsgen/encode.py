@@ -1,12 +1,14 @@
-"""The output encoders that are not PVL: XML text and attributes, table fields, report text.
+"""The output encoders: one per format pdsgen writes, and their one refusal (EncodeError).
 
 Every value pdsgen writes into an output passes the encoder of that output's format, which
 writes it faithfully (it reads back as exactly the value given) or refuses it with an
 `EncodeError` naming the keyword and the source. So a value from outside - delivery text,
 a params file, a PDS3 catalog, a label value, a file name - can never become markup, a
-statement or a row of its own. PVL (PDS3 labels, VOLDESC.CAT, iMars .pvl) is encoded by
-`label.values`; HTML by jinja2's autoescape over `shown` names (review/page.py). This
-module imports no folder, so every floor may use it.
+statement or a row of its own. Here: the PVL string and keyword rules (label.values writes
+PVL values with them), XML text and attributes and the PDS4 templates' output hook, table
+fields, terminal/report text (`shown`), the HTML and README.TXT templates' output hooks.
+tests/test_architecture_encoders.py names each home. This module imports no folder, so
+every floor may use it.
 """
 
 from __future__ import annotations
@@ -53,9 +55,9 @@ def _escape(char: str) -> str:
 
 def shown(text: object) -> str:
     """`text` as a terminal, a text report, an annotation or a page shows it: every character
-    that moves the cursor (a TAB aside), reorders the line or is invisible escaped (`\\x1b`, `\\u202e`, a
-    non-UTF-8 byte of a file name as `\\xe9`); printable text unchanged. The result encodes
-    as UTF-8 whatever the name held."""
+    that moves the cursor (a TAB aside), reorders the line or is invisible escaped (`\\x1b`,
+    `\\u202e`, a non-UTF-8 byte of a file name as `\\xe9`); printable text unchanged. The result
+    encodes as UTF-8 whatever the name held."""
     value = os.fspath(text) if isinstance(text, os.PathLike) else text
     if isinstance(value, bytes):
         value = value.decode("utf-8", "surrogateescape")
