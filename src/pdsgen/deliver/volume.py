@@ -12,7 +12,7 @@ import textwrap
 from dataclasses import dataclass, field
 
 from ..archive import layout
-from ..encode import check_pvl_string
+from ..encode import ascii_text, check_pvl_string
 from ..label.values import format_string, format_value
 from .text import AUTHORS_PREFIX, DeliveryText, paragraphs
 
@@ -121,7 +121,7 @@ def aareadme_text(facts: VolumeFacts) -> str:
         "Contact",
         *paragraphs(_contact(facts.text) or _todo("who answers questions about this volume, and how to reach them")),
     ]
-    return "\r\n".join(label + text) + "\r\n"
+    return "\r\n".join(label + [ascii_text(line) for line in text]) + "\r\n"  # the text: 7-bit, escaped
 
 
 def _contact(text: DeliveryText) -> str | None:
