@@ -23,3 +23,11 @@ PDS4_EXAMPLES_DIR = CORPUS_DIR / "pds4_examples"
 def corpus_dir() -> Path:
     """The real-archive corpus copied into the repository."""
     return CORPUS_DIR
+
+
+def pytest_collection_finish(session: pytest.Session) -> None:
+    """Say up front how many tests will run, so a long run is not a silent one (pytest -q prints
+    only dots): the whole suite or the subset `make check` names."""
+    reporter = session.config.pluginmanager.get_plugin("terminalreporter")
+    if reporter is not None and session.items and not hasattr(session.config, "workerinput"):
+        reporter.write_line(f"pdsgen: {len(session.items)} tests to run")

@@ -218,7 +218,7 @@ def test_label_and_an_old_flag_that_disagree_are_refused(tmp_path):
     ('[delivery]\nauthors = ["Jane Doe"]\n',
      '[delivery] authors: each is "Last, F." (family name, comma, given names)'),
     ('[delivery]\ntitle = "A \\"quoted\\" title"\n',
-     "[delivery] title: PDS3 text is 7-bit ASCII without double quotes"),
+     "[delivery] title: a PDS string cannot contain a double quote"),
 ])
 def test_a_text_file_it_cannot_take_is_refused_in_one_line(tmp_path, text, problem):
     source = _products(tmp_path)

@@ -14,6 +14,7 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
+from .encode import check_pvl_keyword, check_pvl_string
 from .errors import PdsgenError, param
 from .resources import schemas_dir
 
@@ -120,6 +121,9 @@ def _check_value(path: Path, key: str, value: Any) -> ParamValue:
         for name, item in value.items():
             if isinstance(item, bool) or not isinstance(item, (str, int, float)):
                 raise PdsgenError(path, f"{key}.{name} must be a single text or number value")
+            check_pvl_keyword(str(name), key, path)  # it becomes a keyword of the product's metadata
+            if isinstance(item, str):
+                check_pvl_string(item, f"{key}.{name}", path)
             table[str(name)] = item
         return table
     if kind == "list":
@@ -135,9 +139,7 @@ def _check_value(path: Path, key: str, value: Any) -> ParamValue:
         return flag
     if isinstance(value, (dict, list, tuple)):
         raise PdsgenError(path, f"{key} must be a single value")
-    text = str(value)
-    if not text.isascii() or '"' in text:
-        raise PdsgenError(path, f"{key} must be 7-bit ASCII text without double quotes")
+    text = check_pvl_string(str(value), key, path)  # a label value: refused here, naming the file
     if kind == "version" and not _VERSION_RE.match(text):
         raise PdsgenError(path, f"{key} must look like 1.0, got {text!r}")
     longest = max(text.split(), key=len, default="")

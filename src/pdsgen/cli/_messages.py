@@ -73,10 +73,12 @@ def _as_option(match: re.Match[str]) -> str:
 
 
 # Control characters but the tab, line breaks included (see validate/report.py terminal_safe).
-_CONTROL = re.compile("[\x00-\x08\x0a-\x1f\x7f-\x9f]")
 
 
 def one_line(text: str) -> str:
     """`text` as one line a terminal shows as written: control characters (a line break in a
-    file name, an escape sequence) written as \\xNN, so no name can forge a line of output."""
-    return _CONTROL.sub(lambda m: f"\\x{ord(m.group()):02x}", text)
+    file name, an escape sequence), bidi controls (U+202E) and a non-UTF-8 name's bytes
+    escaped (encode.shown, the one encoder of terminal text), so no name can forge a line."""
+    from ..encode import shown
+
+    return shown(text)

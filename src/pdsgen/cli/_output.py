@@ -110,9 +110,9 @@ def output_options(command: Callable[..., Outcome]) -> Callable[..., None]:
         click.get_current_context().meta[_JSON_WANTED] = as_json
         with terminal_bar(wanted(quiet, as_json)):  # large DTM/JP2 writes draw a bar on a terminal
             outcome = command(*args, **kwargs)
-        if outcome.refused or outcome.warnings:
-            from ._messages import one_line  # start-up: loaded only when there is one to write
+        from ._messages import one_line  # every line a command prints leaves through the terminal encoder
 
+        if outcome.refused or outcome.warnings:
             for error in outcome.refused:
                 click.echo(f"pdsgen: error: {one_line(str(error))}", err=True)
             for warning in outcome.warnings:
@@ -121,7 +121,7 @@ def output_options(command: Callable[..., Outcome]) -> Callable[..., None]:
             click.echo(json.dumps(outcome.summary, indent=2))
         elif not quiet:
             for line in outcome.lines:
-                click.echo(line)
+                click.echo(one_line(line))
         if outcome.exit_code:
             raise SystemExit(outcome.exit_code)
 
@@ -134,7 +134,9 @@ class _ElapsedFormatter(logging.Formatter):
         self.start = time.monotonic()
 
     def format(self, record: logging.LogRecord) -> str:
-        return f"[{time.monotonic() - self.start:6.2f} s] {record.getMessage()}"
+        from ._messages import one_line
+
+        return f"[{time.monotonic() - self.start:6.2f} s] {one_line(record.getMessage())}"
 
 
 def log_to_stderr() -> None:

@@ -16,6 +16,7 @@ from ..batch.resident import DEFAULT_MAX_GROWTH_MB, DEFAULT_MAX_JOBS
 from ..progress import wanted as progress_wanted
 from ..storage import display
 from . import COMMANDS
+from ._messages import one_line
 from ._output import log_to_stderr
 from ._profile_options import output_option
 
@@ -72,7 +73,7 @@ def batch(manifest, outdir, scheduler, workers, threads_per_job, dry_run, retrie
         checked = load_manifest(manifest, outdir, overrides)
     except ManifestError as exc:
         for line in exc.lines():
-            click.echo(f"pdsgen: error: {line}", err=True)
+            click.echo(f"pdsgen: error: {one_line(line)}", err=True)
         sys.exit(2)
     threads = max(j.threads for j in checked.jobs)
     settings = Settings(scheduler=scheduler, workers=workers or local_workers(threads), log_dir=log_dir,
@@ -90,7 +91,7 @@ def batch(manifest, outdir, scheduler, workers, threads_per_job, dry_run, retrie
                    f"{counts['skipped']} already done, {counts['failed']} failed, {counts['blocked']} blocked; "
                    f"summary {display(summary.path)}", err=True)
     for job in summary.failed:
-        click.echo(f"pdsgen: {job['status']}: {job['kind']} {job['id']}: {job['error']}", err=True)
+        click.echo(one_line(f"pdsgen: {job['status']}: {job['kind']} {job['id']}: {job['error']}"), err=True)
     sys.exit(summary.exit_code)
 
 

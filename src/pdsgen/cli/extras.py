@@ -12,7 +12,7 @@ from ..extras.readme_txt import README_NAME
 from ..extras.result import ExtrasResult
 from ..storage import local_inputs, output_area
 from . import COMMANDS
-from ._messages import in_cli_words
+from ._messages import in_cli_words, one_line
 from ._output import Outcome, output_options, told
 from ._profile_options import click_option, output_option, profile_option, vocabulary_options
 
@@ -38,5 +38,6 @@ def extras(ctx, products, outdir, overwrite, **_options) -> Outcome:
     # s3:// PRODUCTs are fetched with the files beside them; an s3:// OUTDIR is staged and uploaded
     with local_inputs(products) as inputs, output_area(outdir, overwrite, shared=(README_NAME,)) as area:
         written = make_extras(inputs.paths, area.directory, **library_options(ctx.params),
-                              report=lambda line: click.echo(f"pdsgen: {inputs.shown(in_cli_words(line))}", err=True))
+                              report=lambda line: click.echo(f"pdsgen: {one_line(inputs.shown(in_cli_words(line)))}",
+                                                             err=True))
         return told(ExtrasResult.of(written), area)

@@ -15,7 +15,8 @@ from functools import cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..label.render import template_environment
+from ..encode import EncodeError, xml_finalize
+from ..label.render import named_refusal, template_environment
 from ..pds4.model import CURRENT_IM
 from ..resources import templates_dir
 
@@ -64,12 +65,15 @@ def _environment() -> jinja2.Environment:
     import jinja2
 
     env = template_environment().overlay(loader=jinja2.FileSystemLoader(str(templates_dir() / "deliver")),
-                                         autoescape=True)
+                                         autoescape=True, finalize=xml_finalize)
     return env
 
 
 def render(template: str, context: Mapping[str, Any]) -> str:
-    return _environment().get_template(template).render(im=CURRENT_IM, pds=CURRENT_IM.namespace("pds"), **context)
+    try:
+        return _environment().get_template(template).render(im=CURRENT_IM, pds=CURRENT_IM.namespace("pds"), **context)
+    except EncodeError as exc:
+        raise named_refusal(exc, context) from None
 
 
 @dataclass(frozen=True)

@@ -20,6 +20,8 @@ from decimal import Decimal, InvalidOperation
 from pathlib import Path
 
 from ..archive import layout
+from ..encode import table_field
+from ..label.values import format_string
 
 
 @dataclass
@@ -57,6 +59,13 @@ def _plain(raw: str) -> tuple[str, int] | None:
     return text, len(text.split(".", 1)[1]) if "." in text else 0
 
 
+def _as_read(value: str) -> str:
+    """A label's value as a PVL reader reads it: white space holding a line break (a quoted
+    string continued on the next line) is one space. Whatever else it holds goes to the
+    table-field encoder, which refuses what a row cannot carry (a lone CR, NUL, ESC ...)."""
+    return " ".join(value.split()) if ("\n" in value or "\r" in value or "\t" in value) else value
+
+
 class IndexWriter:
     """Collects one row per product, then writes INDEX.TAB and INDEX.LBL."""
 
@@ -77,16 +86,16 @@ class IndexWriter:
                 text = file_specification
             else:
                 text = values.get(column.name)
-            row.append(self._cell(column, text))
+            row.append(self._cell(column, text, file_specification))
         data_set = values.get("DATA_SET_ID")
         if data_set:
             self.data_set_ids[data_set] = None
         self.scratch.write(json.dumps(row) + "\n")
         self.rows += 1
 
-    def _cell(self, column: Column, text: str | None) -> str:
+    def _cell(self, column: Column, text: str | None, source: str) -> str:
         if column.quoted:
-            cell = (text or layout.NOT_APPLICABLE).replace('"', "'")
+            cell = table_field(_as_read(text or layout.NOT_APPLICABLE), column.name, source)
             column.width = max(column.width, len(cell))
             return cell
         plain = _plain(text) if text is not None else None
@@ -135,15 +144,15 @@ class IndexWriter:
 
     def _label_text(self) -> str:
         data_sets = list(self.data_set_ids) or [layout.NOT_APPLICABLE]
-        data_set = (f'"{data_sets[0]}"' if len(data_sets) == 1
-                    else "(" + ",\r\n                        ".join(f'"{d}"' for d in data_sets) + ")")
+        quoted = [format_string(d, "DATA_SET_ID", layout.INDEX_LABEL) for d in data_sets]
+        data_set = quoted[0] if len(quoted) == 1 else "(" + ",\r\n                        ".join(quoted) + ")"
         lines = [
             "PDS_VERSION_ID        = PDS3",
             "RECORD_TYPE           = FIXED_LENGTH",
             f"RECORD_BYTES          = {self.row_bytes}",
             f"FILE_RECORDS          = {self.rows}",
-            f'^INDEX_TABLE          = "{layout.INDEX_TABLE}"',
-            f'VOLUME_ID             = "{self.volume_id}"',
+            f"^INDEX_TABLE          = {format_string(layout.INDEX_TABLE)}",
+            f"VOLUME_ID             = {format_string(self.volume_id, 'VOLUME_ID', layout.INDEX_LABEL)}",
             f"DATA_SET_ID           = {data_set}",
             "",
             "OBJECT                = INDEX_TABLE",
@@ -166,11 +175,11 @@ class IndexWriter:
                 f"    DATA_TYPE         = {column.data_type}",
                 f"    START_BYTE        = {first}",
                 f"    BYTES             = {column.width}",
-                f'    FORMAT            = "{column.format}"',
+                f"    FORMAT            = {format_string(column.format)}",
             ]
             if column.missing:
                 lines.append(f"    MISSING_CONSTANT  = {layout.MISSING_NUMBER}")
-            lines += [f'    DESCRIPTION       = "{column.description}"',
+            lines += [f"    DESCRIPTION       = {format_string(column.description)}",
                       "  END_OBJECT          = COLUMN"]
             start += column.width + (2 if column.quoted else 0) + 1
         lines += ["", "END_OBJECT            = INDEX_TABLE", "", "END"]

@@ -109,9 +109,11 @@ def _checked(path: Path, key: str, value: object) -> str | tuple[str, ...]:
 
 
 def _plain(path: Path, key: str, text: str, keep_lines: bool = False) -> str:
-    """Text a PDS3 label and an ASCII file can hold: 7-bit, no double quote, no placeholder."""
-    if not text.isascii() or '"' in text:
-        raise InputError(path, f"[{TABLE}] {key}: PDS3 text is 7-bit ASCII without double quotes")
+    """Text a PDS3 label and an ASCII file can hold: 7-bit, no double quote, no control
+    character (label.values' PVL rule, refused naming the key), no placeholder."""
+    from ..encode import check_pvl_string
+
+    check_pvl_string(text, f"[{TABLE}] {key}", path)
     if layout.PLACEHOLDER_PATTERN.search(text):
         raise InputError(path, f"[{TABLE}] {key} still holds a [TO BE WRITTEN: ...] placeholder")
     return text.strip() if keep_lines else " ".join(text.split())
@@ -133,9 +135,24 @@ def previous_text(root: Path, volume_id: str | None) -> DeliveryText:
     """What a person wrote into the delivery at `root` (its VOLDESC.CAT, AAREADME.TXT and bundle
     label), each field only where it is not a placeholder."""
     found = DeliveryText()
-    for reader in (_from_bundle, _from_aareadme, _from_voldesc):
-        found = reader(root, volume_id).over(found)
+    for reader, source in ((_from_bundle, root / "bundle_*.xml"), (_from_aareadme, root / layout.AAREADME),
+                           (_from_voldesc, root / layout.VOLDESC)):
+        found = _carried(reader(root, volume_id), source).over(found)
     return _without_defaults(found)
+
+
+def _carried(text: DeliveryText, source: Path) -> DeliveryText:
+    """`text` read back from a previous delivery's file, each field checked as a new delivery
+    text's are: a character reference in an old bundle title (`&#34;`) must not become a
+    quote that ends a VOLDESC.CAT string and opens a statement of its own."""
+    from ..encode import check_pvl_string
+
+    for item in fields(text):
+        value = getattr(text, item.name)
+        for one in (value if isinstance(value, tuple) else (value,)):
+            if one is not None:
+                check_pvl_string(one, item.name, source)
+    return text
 
 
 def _without_defaults(text: DeliveryText) -> DeliveryText:

@@ -7,10 +7,13 @@ left in, so a volume cannot go out with them unnoticed.
 
 from __future__ import annotations
 
+import datetime as dt
 import textwrap
 from dataclasses import dataclass, field
 
 from ..archive import layout
+from ..encode import ascii_text, check_pvl_string
+from ..label.values import format_string, format_value
 from .text import AUTHORS_PREFIX, DeliveryText, paragraphs
 
 
@@ -35,7 +38,7 @@ def _string(keyword: str, value: str, indent: str = "  ") -> list[str]:
     its `=` in column 24, as the file's other statements have it."""
     head = f"{indent}{keyword:<{22 - len(indent)}} = "
     width = 78 - len(head) - 2
-    parts = textwrap.wrap(value, width) or [""]
+    parts = textwrap.wrap(check_pvl_string(value, keyword, layout.VOLDESC), width) or [""]
     lines = [f'{head}"{parts[0]}']
     lines += [" " * (len(head) + 1) + part for part in parts[1:]]
     lines[-1] += '"'
@@ -44,7 +47,8 @@ def _string(keyword: str, value: str, indent: str = "  ") -> list[str]:
 
 def voldesc_text(facts: VolumeFacts) -> str:
     text = facts.text
-    data_sets = [f'"{d}"' for d in facts.data_set_ids] or [f'"{layout.NOT_APPLICABLE}"']
+    data_sets = [format_string(d, "DATA_SET_ID", layout.VOLDESC) for d in facts.data_set_ids] \
+        or [format_string(layout.NOT_APPLICABLE)]
     data_set = data_sets[0] if len(data_sets) == 1 else "(" + ",\r\n                         ".join(data_sets) + ")"
     institution = text.institution or _known(facts.institution)
     lines = ["PDS_VERSION_ID         = PDS3", "RECORD_TYPE            = STREAM", "",
@@ -55,9 +59,9 @@ def voldesc_text(facts: VolumeFacts) -> str:
                      or _todo("VOLUME_SET_ID"))
     lines += ["  VOLUMES              = 1"]
     lines += _string("VOLUME_NAME", text.title or _todo("VOLUME_NAME"))
-    lines += [f'  VOLUME_ID            = "{facts.volume_id}"',
-              f'  VOLUME_VERSION_ID    = "VERSION {facts.version}"',
-              f"  PUBLICATION_DATE     = {facts.publication_date}",
+    lines += [f"  VOLUME_ID            = {format_string(facts.volume_id, 'VOLUME_ID', layout.VOLDESC)}",
+              f'  VOLUME_VERSION_ID    = "VERSION {int(facts.version)}"',
+              f"  PUBLICATION_DATE     = {_date(facts.publication_date)}",
               f"  DATA_SET_ID          = {data_set}",
               '  MEDIUM_TYPE          = "ELECTRONIC"']
     lines += _string("DESCRIPTION", f"This volume holds {facts.products} data product(s) in {layout.DATA_DIR}/, "
@@ -71,6 +75,11 @@ def voldesc_text(facts: VolumeFacts) -> str:
     lines += _string("ADDRESS_TEXT", text.address or _optional(text, "ADDRESS_TEXT of the contact"), "    ")
     lines += ["  END_OBJECT           = DATA_PRODUCER", "END_OBJECT             = VOLUME", "", "END"]
     return "\r\n".join(lines) + "\r\n"
+
+
+def _date(value: str) -> str:
+    """PUBLICATION_DATE, written bare: refused unless it is a date (YYYY-MM-DD)."""
+    return format_value(dt.date.fromisoformat(value))
 
 
 def _optional(text: DeliveryText, what: str) -> str:
@@ -88,8 +97,8 @@ def aareadme_text(facts: VolumeFacts) -> str:
     """The volume's introduction: an attached label (OBJECT = TEXT) and the text."""
     label = ["PDS_VERSION_ID         = PDS3", "RECORD_TYPE            = STREAM", "",
              "OBJECT                 = TEXT",
-             f"  PUBLICATION_DATE     = {facts.publication_date}",
-             f'  NOTE                 = "Introduction to volume {facts.volume_id}"',
+             f"  PUBLICATION_DATE     = {_date(facts.publication_date)}",
+             f"  NOTE                 = {format_string(f'Introduction to volume {facts.volume_id}', 'NOTE')}",
              "END_OBJECT             = TEXT", "", "END", ""]
     data_sets = ", ".join(facts.data_set_ids) or layout.NOT_APPLICABLE
     text = [
@@ -112,7 +121,7 @@ def aareadme_text(facts: VolumeFacts) -> str:
         "Contact",
         *paragraphs(_contact(facts.text) or _todo("who answers questions about this volume, and how to reach them")),
     ]
-    return "\r\n".join(label + text) + "\r\n"
+    return "\r\n".join(label + [ascii_text(line) for line in text]) + "\r\n"  # the text: 7-bit, escaped
 
 
 def _contact(text: DeliveryText) -> str | None:

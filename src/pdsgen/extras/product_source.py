@@ -30,6 +30,7 @@ from rasterio.errors import NotGeoreferencedWarning, RasterioError
 from rasterio.transform import Affine
 
 from ..errors import PdsgenError, param
+from ..formats.raster import not_utf8
 from ..geo.label_georef import LabelGeorefError, label_georeferencing
 from ..label.beside import find_beside, outside_tree, trusted_tree
 from ..label.grammar import FLOAT_SAMPLE_TYPES
@@ -185,6 +186,8 @@ def open_product(path: str | os.PathLike[str], kind: str | None = None, *, root:
             info = _dataset_info(ds)
     except RasterioError:
         raise PdsgenError(raster_path, "not a raster GDAL can read") from None
+    except UnicodeEncodeError:  # GDAL takes names as UTF-8: a Latin-1 byte cannot be passed to it
+        raise not_utf8(raster_path) from None
     image = _image_object(label)
     mission = _mission(label, path)
     src = ProductSource(

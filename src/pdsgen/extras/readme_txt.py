@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING
 import jinja2
 from PIL import Image
 
+from ..encode import ascii_text
 from ..geo.conventions import wrap_360
 from ..label.grammar import MAX_LINE_BYTES as GRAMMAR_MAX_LINE_BYTES
 from ..missions.hirise import SYNTHETIC_BLUE_BG, SYNTHETIC_BLUE_RED, rdr_extras_line
@@ -191,7 +192,8 @@ def render_readme(entries: Sequence[Mapping[str, str]], files: Sequence[list[tup
     """README.TXT bytes for these entries and their files (ASCII, CR LF, <= 80 bytes a line)."""
     env = jinja2.Environment(loader=jinja2.FileSystemLoader(templates_dir()),
                              trim_blocks=True, lstrip_blocks=True, autoescape=False,
-                             undefined=jinja2.StrictUndefined, keep_trailing_newline=True)
+                             undefined=jinja2.StrictUndefined, keep_trailing_newline=True,
+                             finalize=ascii_text)  # every {{ }} value leaves as escaped ASCII text
     env.filters["field"] = field_line
     # One paragraph each: README.TXT is read back, and wrapping keeps no line breaks.
     given = {k: " ".join(v.split()) for k, v in keywords.items()}

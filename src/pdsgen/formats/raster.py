@@ -59,6 +59,8 @@ def _opened_raster(path: str | os.PathLike[str]) -> Iterator[DatasetReader]:
             raise PdsgenError(path, "is a directory, not a raster file")
     try:
         dataset = rasterio.open(path)
+    except UnicodeEncodeError:
+        raise not_utf8(shown) from None
     except RasterioIOError as exc:
         explain_unreadable(path)  # a missing object or bucket, refused credentials: said as such
         reason = str(exc).splitlines()[0] if str(exc) else "unknown format"
@@ -71,6 +73,12 @@ def _opened_raster(path: str | os.PathLike[str]) -> Iterator[DatasetReader]:
         except RasterioIOError as exc:
             reason = gdal_reason(exc)
             raise PdsgenError(shown, f"cannot read the raster data; truncated or damaged? (GDAL: {reason})") from None
+
+
+def not_utf8(path: str | os.PathLike[str]) -> PdsgenError:
+    """The refusal of a file whose name holds bytes that are not UTF-8 (a Latin-1 name): rasterio
+    hands GDAL names as UTF-8, so such a file cannot be opened - said in one line, not a traceback."""
+    return PdsgenError(path, "its name is not UTF-8, which GDAL cannot open; rename it")
 
 
 @contextmanager

@@ -2,7 +2,10 @@
 
 Templates live in the top-level `templates/` directory; every value passes
 through the `pds` filter (values.format_value), and layout.layout_label decides
-indentation, alignment and wrapping.
+indentation, alignment and wrapping. Injection is impossible by construction: the
+environment's output hook (`finalize`) encodes any value a template writes without
+the filter as a PVL value too, so no `{{ }}` writes text that is not PVL-encoded;
+tests/test_architecture_encoders.py keeps every output naming its encoder.
 """
 
 from __future__ import annotations
@@ -13,12 +16,59 @@ from dataclasses import dataclass
 from functools import cache
 from typing import TYPE_CHECKING, Any
 
+from ..encode import EncodeError, locate
 from ..resources import templates_dir, user_cache_dir
 from .layout import layout_label
-from .values import Quantity, format_value
+from .values import Quantity, Symbol, format_value
 
 if TYPE_CHECKING:
     import jinja2
+
+
+class PvlText(str):
+    """Text already encoded for a PDS3 label (by the `pds`, `symbol`, `keyword` or `comments` filter)."""
+
+
+def _pds(value: object) -> PvlText:
+    return value if isinstance(value, PvlText) else PvlText(format_value(value))
+
+
+def _symbol(value: str) -> PvlText:
+    """An enumerated value written bare (PLANETOCENTRIC); refused unless it is an identifier."""
+    return PvlText(format_value(Symbol(value)))
+
+
+def _keyword(name: str) -> PvlText:
+    """A keyword written by a template from its context (HRSC's carried keys), `NAME`, `NS:NAME`
+    or a pointer `^NAME`: refused unless each part is an identifier, so a name cannot open a
+    statement."""
+    for part in name.removeprefix("^").split(":", 1):
+        Symbol(part)
+    return PvlText(name)
+
+
+def _comment(line: str) -> PvlText:
+    """One `/* ... */` comment line pdsgen wrote (a mission's note): printable ASCII, one
+    comment, nothing after it - so a note cannot open a statement."""
+    body = line[2:-2] if line.startswith("/*") and line.endswith("*/") else None
+    if body is None or "*/" in body or "/*" in body or not (body.isascii() and body.isprintable()):
+        raise EncodeError(None, "comment", f"{line[:40]!r} is not one printable /* ... */ comment")
+    return PvlText(line)
+
+
+def _comments(lines: str) -> PvlText:
+    return PvlText("\n".join(_comment(line) for line in lines.split("\n")))
+
+
+def _finalize(value: object) -> PvlText:
+    """The output hook: every `{{ }}` value leaves as PVL text - one a filter encoded as it
+    is, any other encoded now (a value PVL cannot carry is refused, never written)."""
+    return _pds(value)
+
+
+def named_refusal(exc: EncodeError, context: Mapping[str, Any]) -> EncodeError:
+    """A template's refusal with the keyword filled in: where in its context the value was."""
+    return exc.naming(keyword=locate(context, exc.value)) if exc.keyword is None else exc
 
 
 @cache
@@ -35,8 +85,9 @@ def template_environment() -> jinja2.Environment:
         lstrip_blocks=True,
         keep_trailing_newline=True,
         autoescape=False,
+        finalize=_finalize,
     )
-    env.filters["pds"] = format_value
+    env.filters.update(pds=_pds, symbol=_symbol, comments=_comments, keyword=_keyword)
     env.globals.update(
         km=lambda value: Quantity(value, "KM"),
         deg=lambda value: Quantity(value, "DEG"),
@@ -69,13 +120,18 @@ def _compiled_templates_cache(jinja2: Any) -> Any:
         directory.mkdir(parents=True, exist_ok=True)
     except OSError:
         return None
-    return QuietCache(str(directory))
+    # entries of their own name: one compiled before the output hook (finalize) existed would
+    # write values unencoded, and jinja2 checks an entry against the source, not the settings
+    return QuietCache(str(directory), "__jinja2_encoded_%s.cache")
 
 
 def render_label(template_name: str, context: Mapping[str, Any]) -> str:
     """Render one label template into final label text (CR LF, 80-byte lines)."""
     template = template_environment().get_template(template_name)
-    return layout_label(template.render(**context))
+    try:
+        return layout_label(template.render(**context))
+    except EncodeError as exc:
+        raise named_refusal(exc, context) from None
 
 
 @dataclass(frozen=True)

@@ -10,12 +10,14 @@ from __future__ import annotations
 
 import datetime as _dt
 import math
+import os
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
+from ..encode import EncodeError, check_pvl_string, shown
 from .grammar import IDENTIFIER_PATTERN
 
 _SYMBOL_RE = re.compile(f"^{IDENTIFIER_PATTERN}$")
@@ -26,8 +28,8 @@ class Symbol(str):
     """An unquoted identifier or enumerated value, e.g. ``PC_REAL``."""
 
     def __new__(cls, text: str) -> Symbol:
-        if not _SYMBOL_RE.match(text):
-            raise ValueError(f"{text!r} is not a PDS identifier; pass it as a quoted string")
+        if not _SYMBOL_RE.fullmatch(text):
+            raise EncodeError(None, None, f"{shown(text)!r} is not a PDS identifier; pass it as a quoted string", text)
         return super().__new__(cls, text)
 
 
@@ -39,8 +41,8 @@ class Quantity:
     unit: str
 
     def __post_init__(self) -> None:
-        if not _UNIT_RE.match(self.unit):
-            raise ValueError(f"{self.unit!r} is not a valid PDS unit")
+        if not _UNIT_RE.fullmatch(self.unit):
+            raise EncodeError(None, None, f"{shown(self.unit)!r} is not a valid PDS unit", self.unit)
 
 
 @dataclass(frozen=True)
@@ -113,13 +115,12 @@ def format_real(value: float) -> str:
     return text
 
 
-def format_string(text: str) -> str:
-    """A double-quoted string; quotes inside cannot be expressed in PDS3."""
-    if '"' in text:
-        raise ValueError(f"a PDS string cannot contain a double quote: {text!r}")
-    if not text.isascii():
-        raise ValueError(f"PDS labels are 7-bit ASCII: {text!r}")
-    return '"' + " ".join(text.split()) + '"' if "\n" in text else f'"{text}"'
+def format_string(text: str, keyword: str | None = None, source: str | os.PathLike[str] | None = None) -> str:
+    """A double-quoted string, the one PVL encoding of text. White space with a line break is
+    folded to single spaces, as every PVL reader reads it; a double quote (which PDS3 cannot
+    escape), a control character or non-ASCII text is refused (EncodeError), never written."""
+    check_pvl_string(text, keyword, source)
+    return '"' + " ".join(text.split()) + '"' if ("\n" in text or "\r" in text or "\t" in text) else f'"{text}"'
 
 
 def format_based(value: Based) -> str:

@@ -144,7 +144,7 @@ def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLik
     text = render_pds4("migrated.xml.j2", {
         "ident": ident, "obs": obs, "cart": cart, "array_id": image_id, "sources": sources(ctx.root, source.name),
         "files": [_file_context(data) for data in files],
-    })
+    }, source=source)
     written = _write(files, text, label_out, target_dir, copy and not in_place, overwrite)
     warnings += [f"{source}: {warning}" for warning in _warnings(files)]
     return MigratedProduct(pid, str(ident["lid"]), label_out, written, copied=copy and not in_place,

@@ -26,6 +26,7 @@ from typing import IO, Any
 
 from .. import clock
 from ..archive.scan import is_pds3_label, named_files, walk
+from ..encode import shown, table_field
 from ..errors import InputError, OutputError, PdsgenError, param
 from ..formats.checksum import bytes_md5, file_md5
 from ..formats.sniff import file_head
@@ -383,10 +384,13 @@ class _Run:
 
     def _crosswalk_row(self, pid: str, path: str, lidvid: str, role: str) -> None:
         """One PDS3 file and what it became: the LIDVID of the product holding it and its role there
-        (PDS3 label, data file, document ...), or no LIDVID and why it was left out."""
-        values = [pid, path, lidvid, role]
+        (PDS3 label, data file, document ...), or no LIDVID and why it was left out. Each field
+        through the table-field encoder: a CR LF in a PRODUCT_ID cannot split the row."""
+        said = shown(role).encode("ascii", "backslashreplace").decode().replace('"', "'")  # pdsgen's own words
+        values = [table_field(value, name, self.source) for value, name in
+                  zip((pid, path, lidvid, said), ("PRODUCT_ID", "file", "LIDVID", "role"), strict=True)]
         self.widths = [max(w, len(v)) for w, v in zip(self.widths, values, strict=True)]
-        self.crosswalk.write(",".join('"' + v.replace('"', "'") + '"' for v in values) + "\r\n")
+        self.crosswalk.write(",".join(f'"{v}"' for v in values) + "\r\n")
         self.crosswalk_rows += 1
 
     def close(self) -> None:
@@ -477,7 +481,8 @@ class _Run:
             title = f"{Path(name).name}: document of the PDS3 volume"
             self._write(self._label_path(copies[0]), render_pds4("volume_document.xml.j2", {
                 **self._head("Product_Document", lid, title, cited=title), "date": self.today,
-                "edition": f"{Path(name).name} as published on the PDS3 volume", "files": described}))
+                "edition": f"{Path(name).name} as published on the PDS3 volume", "files": described},
+                source=self.source))
             self._member("document", f"{lid}::{VERSION}")
             self.result.counts["Product_Document"] += 1
 
@@ -496,7 +501,7 @@ class _Run:
             self._crosswalk_row(stem.upper(), name, f"{lid}::{VERSION}", f"browse image of {data}")
             self._write(self._label_path(copy), render_pds4("volume_browse.xml.j2", {
                 **self._head("Product_Browse", lid, f"Browse image {Path(name).name} of {data.split('::')[0]}"),
-                "data_lidvid": data, "file": _facts(copy), "encoding": encoding}))
+                "data_lidvid": data, "file": _facts(copy), "encoding": encoding}, source=self.source))
             self._member("browse", f"{lid}::{VERSION}")
             self.result.counts["Product_Browse"] += 1
 
@@ -539,7 +544,7 @@ class _Run:
                 **self._head("Product_Collection", lid, f"{kind} collection {collection} of {facts.title}",
                              cited=description),
                 "collection_type": kind, "inventory": _inventory_name(collection), "records": records,
-                "description": description}))
+                "description": description}, source=self.source))
             self.result.main_files.append(label)
             self.result.main_files.append(self.dest / _inventory_name(collection))
             entries.append((f"{lid}::{VERSION}", reference_type))
@@ -559,7 +564,8 @@ class _Run:
         label = self.dest / "crosswalk.xml"
         self._write(label, render_pds4("volume_crosswalk.xml.j2", {
             **self._head("Product_Ancillary", lid, "Crosswalk: PDS3 products of the volume and their PDS4 LIDVIDs"),
-            "bundle_lid": self.bundle_lid, "file": _facts(path), "records": self.crosswalk_rows, "fields": fields}))
+            "bundle_lid": self.bundle_lid, "file": _facts(path), "records": self.crosswalk_rows, "fields": fields},
+            source=self.source))
         self._member("miscellaneous", f"{lid}::{VERSION}")
         self.inventories["miscellaneous"].close()
         self.result.counts["Product_Ancillary"] += 1
@@ -574,7 +580,7 @@ class _Run:
         self._write(label, render_pds4("volume_bundle.xml.j2", {
             **self._head("Product_Bundle", self.bundle_lid, facts.title), "aliases": facts.aliases,
             "citation": citation, "references": facts.references, "description": facts.description,
-            "members": members}))
+            "members": members}, source=self.source))
         self.result.counts["Product_Bundle"] += 1
         self.result.main_files.insert(0, label)
 

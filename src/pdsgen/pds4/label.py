@@ -8,6 +8,7 @@ numbers pass through `format_number`, the PDS3 writer's noise-free formatting
 
 from __future__ import annotations
 
+import os
 from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cache
@@ -16,8 +17,9 @@ from typing import TYPE_CHECKING, Any
 from affine import Affine
 from rasterio.crs import CRS
 
+from ..encode import EncodeError, xml_finalize
 from ..geo.geometry import EQUIRECTANGULAR, POLAR_STEREOGRAPHIC, SINUSOIDAL, TRANSVERSE_MERCATOR, MapGeometry
-from ..label.render import template_environment
+from ..label.render import named_refusal, template_environment
 from ..label.values import format_real
 from ..resources import templates_dir
 from .model import CURRENT_IM, InformationModel
@@ -51,14 +53,19 @@ def _environment() -> jinja2.Environment:
     import jinja2  # on first use, as in label.render
 
     env = template_environment().overlay(loader=jinja2.FileSystemLoader(str(templates_dir() / "pds4")),
-                                         autoescape=True)
+                                         autoescape=True, finalize=xml_finalize)
     env.filters = {**env.filters, "num": format_number}
     return env
 
 
-def render_pds4(template_name: str, context: Mapping[str, Any], im: InformationModel = CURRENT_IM) -> str:
-    """Render one PDS4 label template (UTF-8 XML text, LF line ends)."""
-    return _environment().get_template(template_name).render(im=im, **context)
+def render_pds4(template_name: str, context: Mapping[str, Any], im: InformationModel = CURRENT_IM,
+                source: str | os.PathLike[str] | None = None) -> str:
+    """Render one PDS4 label template (UTF-8 XML text, LF line ends). A value XML cannot carry
+    is refused (EncodeError) naming where in `context` it was and `source`, what it came from."""
+    try:
+        return _environment().get_template(template_name).render(im=im, **context)
+    except EncodeError as exc:
+        raise named_refusal(exc, context).naming(source=source) from None
 
 
 @dataclass(frozen=True)

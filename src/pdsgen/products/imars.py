@@ -25,6 +25,7 @@ from rasterio.env import get_gdal_config
 from rasterio.windows import Window
 
 from .. import __version__, clock
+from ..encode import check_pvl_keyword, check_pvl_string
 from ..errors import PdsgenError
 from ..formats.footprint import footprint_wkt, valid_data_outline, write_footprints, write_shapefile
 from ..formats.img import (
@@ -577,8 +578,23 @@ def imars_pvl_text(
             *[(key, value) for key, value in dict(keywords.get("MATCHER_PARAMETERS", {}) or {}).items()],
         ])),
     ])
+    _check_pvl(module, imars_mission.metadata_name(product_id))
     text: str = pvl.dumps(module, encoder=pvl.encoder.ISISEncoder())
     return text
+
+
+def _check_pvl(node: Mapping[str, Any], source: str, where: str = "") -> None:
+    """Every keyword of the .pvl a PVL keyword and every text value one a PVL string can carry
+    (encode's PVL rules), before pvl writes it: a MATCHER_PARAMETERS name holding a line break
+    and `END_OBJECT` would otherwise write a second, forged ProductInfo object."""
+    for key, value in node.items():
+        keyword = f"{where}{key}"
+        check_pvl_keyword(str(key), keyword, source)
+        if isinstance(value, Mapping):
+            _check_pvl(value, source, f"{keyword}.")
+        for item in value if isinstance(value, (list, tuple)) and not isinstance(value, pvl.Quantity) else (value,):
+            if isinstance(item, str):
+                check_pvl_string(item, keyword, source)
 
 
 def proj4_string(crs) -> str:

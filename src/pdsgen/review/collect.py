@@ -157,7 +157,8 @@ class Linker:
         return str(path) if relative.startswith("..") else relative.replace(os.sep, "/")
 
     def link(self, path: Path) -> str:
-        return quote(os.path.relpath(os.path.abspath(path), self.page_dir).replace(os.sep, "/"))
+        # the name's own bytes, percent-encoded: a Latin-1 name links to its file, never a traceback
+        return quote(os.fsencode(os.path.relpath(os.path.abspath(path), self.page_dir).replace(os.sep, "/")))
 
 
 def previews_by_product(paths: Iterable[Path]) -> dict[str, list[Path]]:

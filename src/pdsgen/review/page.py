@@ -26,6 +26,7 @@ import jinja2
 from markupsafe import Markup
 
 from .. import __version__, clock
+from ..encode import html_finalize, shown, shown_lines
 from ..resources import templates_dir
 from ..validate.model import SEVERITIES, Finding
 from ..validate.report import FileReport, Tally, Writer
@@ -39,7 +40,7 @@ PAGE_TEMPLATE = "page.html.j2"
 def _environment() -> jinja2.Environment:
     env = jinja2.Environment(loader=jinja2.FileSystemLoader(str(templates_dir() / "review")),
                              autoescape=True, trim_blocks=True, lstrip_blocks=True,
-                             undefined=jinja2.StrictUndefined)
+                             undefined=jinja2.StrictUndefined, finalize=html_finalize)
     env.filters["size"] = human_size
     env.filters["text"] = text_content
     env.filters["told"] = finding_text
@@ -53,13 +54,13 @@ def finding_text(finding: Finding) -> Markup:
     keyword = finding.keyword
     if not keyword or finding.message.startswith(keyword):
         return message
-    return Markup("<code>{}</code>: {}").format(keyword, message)
+    return Markup("<code>{}</code>: {}").format(shown(keyword), message)
 
 
 def text_content(value: str) -> Markup:
     """Text for an element's content: <, > and & escaped; quotes need not be (index rows are full
     of them, and a page of 10,000 rows is smaller without &#34;)."""
-    return Markup(html.escape(str(value), quote=False))
+    return Markup(html.escape(shown_lines(value), quote=False))
 
 
 def human_size(size: int) -> str:

@@ -16,16 +16,17 @@ from __future__ import annotations
 import io
 import json
 import os
-import re
 import tempfile
 from abc import ABC, abstractmethod
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from json.encoder import encode_basestring_ascii
 from typing import IO, Any
+from urllib.parse import quote
 
 from lxml import etree
 
+from ..encode import shown, shown_lines
 from .model import Finding
 
 FORMATS = ("text", "json", "junit", "sarif", "github", "html")
@@ -173,25 +174,21 @@ def finding_line(f: Finding) -> str:
 
 
 # -- escaping ---------------------------------------------------------------------------
-_XML_FORBIDDEN = re.compile("[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
-# Control characters but the tab: a line break too, so that a file name or label text cannot
-# start a line of its own (a forged finding, or a CI workflow command such as ::error).
-_TERMINAL_CONTROL = re.compile("[\x00-\x08\x0a-\x1f\x7f-\x9f]")
-
-
-def _escape_code(m: re.Match[str]) -> str:
-    return f"\\x{ord(m.group()):02x}"
+# One encoder for report text (pdsgen.encode.shown): control characters (a line break too, so
+# that a file name or label text cannot start a line of its own - a forged finding, or a CI
+# workflow command such as ::error), bidi and other format characters (U+202E), a non-UTF-8
+# name's bytes - all escaped; XML 1.0 can carry what it leaves.
 
 
 def xml_safe(text: str) -> str:
-    """Text XML 1.0 can carry: forbidden characters written as \\xNN."""
-    return _XML_FORBIDDEN.sub(_escape_code, text)
+    """Text XML 1.0 can carry, each line shown as a terminal shows it (see `terminal_safe`)."""
+    return shown_lines(text)
 
 
 def terminal_safe(text: str) -> str:
-    """Text a terminal shows as written, on one line: control characters (line breaks
-    included, tabs not) written as \\xNN."""
-    return _TERMINAL_CONTROL.sub(_escape_code, text)
+    """Text a terminal shows as written, on one line, in its order: control characters (line
+    breaks included, tabs not), format characters and undecodable bytes escaped."""
+    return shown(text)
 
 
 def _gh_data(text: str) -> str:
@@ -355,7 +352,7 @@ class SarifWriter(Writer):
             result = {
                 "ruleId": f.rule,
                 "level": _SARIF_LEVEL.get(f.severity, "note"),
-                "message": {"text": (f"{f.keyword}: " if f.keyword else "") + f.message},
+                "message": {"text": shown((f"{f.keyword}: " if f.keyword else "") + f.message)},
                 "locations": [{"physicalLocation": location}],
             }
             self.out.write(("\n        " if self.first else ",\n        ") + json.dumps(result))
@@ -372,7 +369,8 @@ def _uri(path: str) -> str:
         rel = os.path.relpath(path)
     except ValueError:
         rel = path
-    return rel.replace(os.sep, "/") if not rel.startswith("..") else os.path.abspath(path).replace(os.sep, "/")
+    plain = rel.replace(os.sep, "/") if not rel.startswith("..") else os.path.abspath(path).replace(os.sep, "/")
+    return quote(os.fsencode(plain), safe="/:")  # a URI: a non-ASCII name's own bytes, percent-encoded
 
 
 _GH_COMMAND = {"error": "error", "warning": "warning", "info": "notice"}
