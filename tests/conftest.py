@@ -25,9 +25,26 @@ def corpus_dir() -> Path:
     return CORPUS_DIR
 
 
+
+def _say_count(config: pytest.Config, count: int) -> None:
+    reporter = config.pluginmanager.get_plugin("terminalreporter")
+    if reporter is not None and count:
+        reporter.write_line(f"pdsgen: {count} tests to run")
+
+
 def pytest_collection_finish(session: pytest.Session) -> None:
     """Say up front how many tests will run, so a long run is not a silent one (pytest -q prints
     only dots): the whole suite or the subset `make check` names."""
-    reporter = session.config.pluginmanager.get_plugin("terminalreporter")
-    if reporter is not None and session.items and not hasattr(session.config, "workerinput"):
-        reporter.write_line(f"pdsgen: {len(session.items)} tests to run")
+    if not hasattr(session.config, "workerinput"):  # a one-process run (with -n, the workers collect)
+        _say_count(session.config, len(session.items))
+
+
+_COUNTED: set[int] = set()
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_node_collection_finished(node, ids) -> None:  # noqa: ANN001 - pytest-xdist's hook
+    """The same, once, when the first worker of `make test` (pytest -n 2) has collected."""
+    if id(node.config) not in _COUNTED:
+        _COUNTED.add(id(node.config))
+        _say_count(node.config, len(ids))
