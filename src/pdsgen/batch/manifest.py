@@ -22,7 +22,7 @@ from typing import Any
 
 import click
 
-from .._compat import tomllib
+from ..bounded import load_toml
 from ..errors import PdsgenError
 from ..storage.locations import internal, is_remote
 
@@ -114,14 +114,7 @@ def load_manifest(path: str | Path, outdir: str | Path | None = None,
     paths from the batch output directory.
     """
     path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise PdsgenError(path, "no such manifest") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise PdsgenError(path, f"cannot be read ({exc})") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise PdsgenError(path, f"not valid TOML: {exc}") from None
+    data = load_toml(path, what="manifest")
     return _Checker(path, data, outdir, overrides or {}).manifest()
 
 

@@ -49,7 +49,7 @@ class _Tree:
 
         The last guard of containment: a file (or a link's target) outside the directory the
         user gave is refused, whichever step named it."""
-        from ..label.beside import contained
+        from ..storage.containment import contained
 
         if contained(source, self.given) is None and contained(source, self.made) is None:
             raise InputError(source, f"lies outside {self.given}; a delivery holds only the files it was given")

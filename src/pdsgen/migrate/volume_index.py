@@ -13,9 +13,10 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..label.beside import contained, find_beside
+from ..label.beside import find_beside
 from ..label.parser import LabelFile
 from ..label.tree import Block, parse_pointer
+from ..storage.containment import contained
 
 _PATH_COLUMNS = ("FILE_SPECIFICATION_NAME", "PATH_NAME", "FILE_NAME")
 
