@@ -35,6 +35,9 @@ BATCH_KEYS = ("outdir", "memory", "threads", "timeout", "retries")
 REFUSED_OPTIONS = {"list_rules"}
 # Options naming outputs: relative values are taken from the batch output directory.
 OUTPUT_OPTIONS = {"outdir", "output"}
+# Flags that make a command write beside its input rather than where -o says: a batch job
+# writes only inside the batch's output directory, so a manifest may not set them.
+WRITES_BESIDE_INPUT = {"in_place"}
 JOB_ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*\Z")
 DEFAULT_MEMORY = 1 << 30
 DEFAULT_THREADS = 1
@@ -256,6 +259,10 @@ class _Checker:
         if isinstance(param, click.Option) and param.is_flag:
             if not isinstance(value, bool):
                 self.problems.append(f"{where}: {key} must be true or false")
+                return None
+            if value and param.name in WRITES_BESIDE_INPUT:
+                self.problems.append(f"{where}: {key} = true writes beside the job's input, outside the batch's "
+                                     f"output directory {self.outdir}; a batch job writes only inside it")
                 return None
             return [flag] if value else []
         several = param.multiple or param.nargs != 1
