@@ -108,10 +108,10 @@ class _Previous:
         """The previous delivery's file RELATIVE (there or not), by the containment rule; a
         symbolic link there is refused in one line: it is neither read nor carried into the
         new delivery as the file it points at."""
-        from ..storage.containment import inside
+        from ..storage.containment import checked_name, contained
 
-        path = inside(self.root, relative, self.root)
-        if path.is_symlink():
+        path = self.root.joinpath(*checked_name(relative, self.root).parts)
+        if path.is_symlink() or contained(path, self.root) is None:
             raise InputError(path, "is a symbolic link in the previous delivery; a delivery holds files, "
                                    "not links (remove it, then deliver again)")
         return path
