@@ -24,6 +24,7 @@ import click
 
 from ..bounded import load_toml
 from ..errors import PdsgenError
+from ..storage.containment import name_problem
 from ..storage.locations import internal, is_remote
 
 # The commands a manifest's tables run (a job's `kind`), in the order their jobs are listed.
@@ -307,8 +308,8 @@ class _Checker:
         """A job's output `item`, inside the batch's output directory (-o or [batch] outdir),
         or None (problem recorded): as a job id cannot name a path, a job's output cannot
         leave the directory the batch was given (`../../X`, an absolute path, s3://)."""
-        relative = os.path.normpath(item)
-        if is_remote(item) or os.path.isabs(relative) or relative.split(os.sep)[0] == os.pardir:
+        relative = os.path.normpath(item)  # "a/./b/../c" is "a/c": what remains must be a name inside
+        if is_remote(item) or relative != os.curdir and name_problem(relative) is not None:
             self.problems.append(f"{where}: {key} {item!r} is outside the batch's output directory "
                                  f"{self.outdir} (give a path inside it)")
             return None

@@ -6,13 +6,12 @@ mission namespaces; see that script for what each entry holds.
 
 from __future__ import annotations
 
-import json
 import os
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 
-from ..bounded import read_bytes
+from ..bounded import load_json, read_bytes
 from ..errors import PdsgenError
 from ..label.data_dictionary import dictionary_path, version_text
 from ..label.grammar import PLACEHOLDERS as GRAMMAR_PLACEHOLDERS
@@ -65,7 +64,7 @@ def read_extra(path: str | os.PathLike[str]) -> dict:
 def load(extra: tuple[str, ...] = ()) -> Dictionary:
     """The project dictionary, with the elements and units of `extra` PSDD-format files
     (later files win) merged over it. Raises PdsgenError for an extra file that is not one."""
-    data = json.loads(dictionary_path().read_text())
+    data = load_json(dictionary_path())
     elements = dict(data["elements"])
     units = {u.upper() for u in data["units"]}
     units |= {n.upper() for n in data["unit_names"]}
