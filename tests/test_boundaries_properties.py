@@ -35,6 +35,14 @@ def _one_line(exc: InputError, source: str) -> None:
     assert "\n" not in text and "\r" not in text and text.startswith(f"{source}: "), text
 
 
+def _value_or_one_line(parse, source: str, text: str) -> None:  # noqa: ANN001 - one of bounded.parse_*
+    """PARSE answers TEXT with a value, or refuses it with a one-line InputError naming SOURCE."""
+    try:
+        parse(source, text)
+    except InputError as exc:
+        _one_line(exc, source)
+
+
 # -- the containment rule ------------------------------------------------------------------------
 
 _SEGMENTS = st.one_of(st.sampled_from(["..", ".", "", "a", "b.LBL", "x" * (NAME_MAX + 1), "\x00", "é" * 128]),
@@ -140,10 +148,7 @@ def test_json_is_read_as_json_reads_it_or_refused_in_one_line(value):
 @example("NaN")
 @example("1" * 5000)
 def test_arbitrary_text_as_json_is_a_value_or_one_line(text):
-    try:
-        bounded.parse_json("f.json", text)
-    except InputError as exc:
-        _one_line(exc, "f.json")
+    _value_or_one_line(bounded.parse_json, "f.json", text)
 
 
 _TOML_KEYS = st.text(alphabet=string.ascii_letters + string.digits + "_-", min_size=1, max_size=8)
@@ -192,10 +197,7 @@ def test_toml_is_read_as_tomllib_reads_it_or_refused_in_one_line(table):
 @example('a = """\x00"""')
 @example("[a]\n[a]\n")
 def test_arbitrary_text_as_toml_is_a_value_or_one_line(text):
-    try:
-        bounded.parse_toml("p.toml", text)
-    except InputError as exc:
-        _one_line(exc, "p.toml")
+    _value_or_one_line(bounded.parse_toml, "p.toml", text)
 
 
 @BUDGET
@@ -206,10 +208,7 @@ def test_arbitrary_text_as_toml_is_a_value_or_one_line(text):
 @example("OBJECT = 'unterminated")
 @example("X = 16#FFFF")
 def test_arbitrary_text_as_pvl_is_a_value_or_one_line(text):
-    try:
-        bounded.parse_pvl("p.pvl", text)
-    except InputError as exc:
-        _one_line(exc, "p.pvl")
+    _value_or_one_line(bounded.parse_pvl, "p.pvl", text)
 
 
 @BUDGET
