@@ -122,10 +122,11 @@ def test_a_previous_deliverys_link_is_refused_never_copied(pds4_products, tmp_pa
 
 
 def test_a_batch_migrate_job_in_place_is_refused(tmp_path):
+    _label(tmp_path)
     manifest = tmp_path / "batch.toml"
-    manifest.write_text('[[migrate]]\nproducts = ["X.LBL"]\nin_place = true\n')
+    manifest.write_text('[[migrate]]\ninputs = ["X.LBL"]\nin_place = true\n')
     done = run_cli("batch", manifest, "-o", tmp_path / "out", "--dry-run")
-    assert "in_place" in _one_line(done, str(manifest)) or "in_place" in done.stderr
+    assert "in_place = true writes beside the job's input" in _one_line(done, str(manifest))
     assert not (tmp_path / "out").exists()
 
 
