@@ -220,6 +220,32 @@ def test_a_geotiff_tag_claiming_more_values_than_its_bytes_is_refused():
         tiff_tags(_geotiff_claiming(2**32 - 1), "x.jp2")
 
 
+def test_validate_of_a_jp2_whose_geotiff_tag_claims_2_to_the_32_values(tmp_path):
+    """The GeoJP2 box of a small ortho, its ModelTiepoint count set to 2^32 - 1 in place (the
+    TIFF directory read by hand, as the GeoTIFF specification lays it out): validate reads the
+    box with its own walk, refuses the count against the box's bytes and reports that GIS
+    readers cannot place the image - the general JP2 reader it used allocated the count while
+    opening the file (12.6 GB for a 10 kB file)."""
+    from pdsgen import write_ortho
+    from pdsgen.validate.geojp2 import GEOJP2_UUID
+
+    crs, transform = ORIGINS["equirectangular"]
+    data = (elevation_array(45, 61) % 200 + 5).astype("uint8")
+    product = write_ortho(write_raster(tmp_path / "in.tif", data, crs, transform), tmp_path / "out", bits=8)
+    jp2 = bytearray(product.jp2_path.read_bytes())
+    at = jp2.index(GEOJP2_UUID.bytes) + 16
+    order = "<" if jp2[at:at + 2] == b"II" else ">"
+    (ifd,) = struct.unpack_from(order + "I", jp2, at + 4)
+    (count,) = struct.unpack_from(order + "H", jp2, at + ifd)
+    entries = [at + ifd + 2 + 12 * i for i in range(count)]
+    tiepoint = next(e for e in entries if struct.unpack_from(order + "H", jp2, e)[0] == 33922)
+    struct.pack_into(order + "I", jp2, tiepoint + 4, 2**32 - 1)
+    product.jp2_path.write_bytes(bytes(jp2))
+    done = run_cli("validate", product.label_path)
+    assert done.returncode == 0 and done.stderr == "", done.stderr  # no traceback, no warning of a reader
+    assert "GeoJP2" in done.stdout  # the georeferencing it could not take is reported
+
+
 def test_an_index_row_bytes_of_ten_to_the_fifteen_is_refused_before_reading(tmp_path):
     """migrate's reader of a volume's index read one row of ROW_BYTES at once (a MemoryError)."""
     from pdsgen.errors import InputError
