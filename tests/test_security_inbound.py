@@ -9,6 +9,7 @@ GeoTIFF and JPEG 2000 specifications (not by pdsgen's writer).
 
 from __future__ import annotations
 
+import json
 import os
 import struct
 import uuid
@@ -272,3 +273,23 @@ def test_a_degenerate_pixel_is_one_line_in_extras(tmp_path):
     done = run_cli("extras", source, "-o", tmp_path / "out")
     assert "no usable size" in _one_line(done)
     assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+
+
+def test_a_manifest_naming_files_outside_the_delivery_is_reported_not_read(pds4_products, tmp_path):
+    """MD5SUMS.TXT lines are names from the delivery: one climbing out, an absolute device (reading
+    /dev/zero never ends) and one through a link leading out are findings, never opened."""
+    out = tmp_path / "delivery"
+    made = run_cli("deliver", pds4_products, "-o", out, "--label", "pds4", "--bundle-lid", "urn:nasa:pds:demo")
+    assert made.returncode == 0, made.stderr
+    (tmp_path / "outside").mkdir()
+    (tmp_path / "outside" / "secret.txt").write_text("SECRET\n")
+    (out / "away").symlink_to(tmp_path / "outside")
+    with open(out / "MD5SUMS.TXT", "a", encoding="utf-8") as manifest:
+        for name in ("../outside/secret.txt", "/dev/zero", "away/secret.txt"):
+            manifest.write(f"{'0' * 32}  {name}\r\n")
+    done = run_cli("validate", "--format", "json", out)
+    assert done.returncode == 1 and done.stderr == "", done.stderr
+    messages = [f["message"] for report in json.loads(done.stdout)["files"]
+                for f in report["findings"] if f["rule"] == "DLV-020"]
+    for name in ("../outside/secret.txt", "/dev/zero", "away/secret.txt"):
+        assert any(m.startswith(f"{name!r} is not a file inside the delivery") for m in messages), messages

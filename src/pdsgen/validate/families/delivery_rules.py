@@ -512,6 +512,7 @@ def _check_inventory(root: Path, collection: _Pds4Label, by_lidvid: dict[str, _P
 
 def _check_manifest(root: Path, labels_only: bool, found: list[_Found]) -> None:
     from ...formats.checksum import file_md5  # start-up: loaded only when a delivery is checked
+    from ...storage.containment import contained, name_problem
 
     manifest = root / layout.MANIFEST
     if not manifest.is_file():
@@ -523,8 +524,12 @@ def _check_manifest(root: Path, labels_only: bool, found: list[_Found]) -> None:
             found.append(_Found("DLV-020", manifest, f"not an 'md5  path' line: {line[:60]!r}", number))
             continue
         listed[name] = number
-        path = root / name
-        if not path.is_file():
+        problem = name_problem(name)
+        path = root.joinpath(*name.split("/")) if problem is None else root
+        if problem is not None or contained(path, root) is None:  # never read (/dev/zero, ../x): named only
+            found.append(_Found("DLV-020", manifest, f"{name!r} is not a file inside the delivery "
+                                                     f"({problem or 'a link leads out of it'})", number))
+        elif not path.is_file():
             found.append(_Found("DLV-020", manifest, f"{name} is listed but does not exist", number))
         elif not labels_only and file_md5(path) != digest:
             found.append(_Found("DLV-020", path, f"MD5 differs from {layout.MANIFEST} line {number}: the file "
