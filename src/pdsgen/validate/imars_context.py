@@ -56,13 +56,14 @@ class ImarsContext:
         self.path = path
         self.labels_only = labels_only
         self.cache: dict[str, Any] = {}  # what IMARS rules share per file: "_footprint"
-        self.text = path.read_bytes().decode("latin-1")
         self.parse_error: Exception | None = None
         self.module: Any = None
-        from ..bounded import parse_pvl  # pvl is loaded only when an iMars file is checked
+        from ..bounded import parse_pvl, read_bytes  # pvl is loaded only when an iMars file is checked
         from ..errors import InputError
 
-        try:
+        try:  # a regular file within the reader's size cap, then PVL within its nesting cap
+            self.text = ""
+            self.text = read_bytes(path, what="iMars metadata file").decode("latin-1")
             self.module = parse_pvl(path, self.text)
         except InputError as exc:
             cause = exc.__cause__
