@@ -15,7 +15,8 @@ from pathlib import Path
 
 import pytest
 
-from pdsgen.label.beside import contained, find_beside, outside_tree
+from pdsgen.label.beside import find_beside, outside_tree
+from pdsgen.storage.containment import contained
 
 from helpers import run_cli
 

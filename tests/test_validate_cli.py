@@ -219,7 +219,7 @@ def test_dictionary_that_is_not_a_psdd_file_is_refused(tmp_path):
     if os.access(unreadable, os.R_OK):  # running as root: permissions do not apply
         return
     line = _usage_error_line(_run("--dictionary", unreadable, label))
-    assert line == f"pdsgen: error: {unreadable}: cannot read the dictionary: Permission denied"
+    assert line == f"pdsgen: error: {unreadable}: cannot be read (Permission denied)"
 
 
 def test_real_dictionaries_are_accepted(corpus_dir, tmp_path):

@@ -1,6 +1,6 @@
 """A volume whose VOLDESC.CAT or index label is a symbolic link leading out of the volume is
 refused in one line naming the link, and nothing is written: the file outside is neither
-read nor delivered (the one containment rule, label/beside.contained)."""
+read nor delivered (the one containment rule, storage/containment.contained)."""
 
 from __future__ import annotations
 

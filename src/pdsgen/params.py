@@ -37,10 +37,9 @@ _IDENTIFIER_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.\-]*$")
 @cache
 def params_schema() -> dict[str, dict[str, Any]]:
     """The keyword table of schemas/params.toml."""
-    from ._compat import tomllib  # only where a TOML file is read: the parser is start-up time
+    from .bounded import load_toml
 
-    with open(schemas_dir() / "params.toml", "rb") as handle:
-        return tomllib.load(handle)
+    return load_toml(schemas_dir() / "params.toml")
 
 
 def check_version(version: str) -> str:
@@ -80,31 +79,23 @@ def load_params(path: str | os.PathLike[str] | None) -> dict[str, ParamValue]:
     if path is None:
         return {}
     path = Path(path)
-    if not path.is_file():
+    if not path.exists():
         raise PdsgenError(path, "params file not found")
     raw = _read_toml(path) if path.suffix.lower() == ".toml" else _read_pvl(path)
     return {key: _check_value(path, key, value) for key, value in raw.items()}
 
 
 def _read_toml(path: Path) -> dict[str, Any]:
-    from ._compat import tomllib
+    from .bounded import load_toml
 
-    try:
-        with open(path, "rb") as handle:
-            data = tomllib.load(handle)
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise PdsgenError(path, f"not valid TOML ({exc})") from None
+    data = load_toml(path, what="params file")
     return {key.upper(): value for key, value in data.items()}
 
 
 def _read_pvl(path: Path) -> dict[str, Any]:
-    import pvl  # imported here: most runs have no PVL params and need not pay for it
+    from .bounded import load_pvl
 
-    try:
-        module = pvl.load(str(path))
-    except (pvl.exceptions.ParseError, pvl.exceptions.LexerError, UnicodeDecodeError, ValueError) as exc:
-        first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        raise PdsgenError(path, f"not valid PVL ({first})") from None
+    module = load_pvl(path, what="params file")
     return {str(key).upper(): value for key, value in module.items()}
 
 

@@ -21,11 +21,12 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..formats.sniff import file_head
-from ..label.beside import DirectoryNames, contained, directory_listing, resolve_beside
+from ..label.beside import DirectoryNames, directory_listing, resolve_beside
 from ..label.read import LabelCache, LabelFile, is_pds3_head, read_pds3_label
 from ..label.tree import FILE_OBJECTS, Block, parse_pointer
 from ..missions.imars import is_metadata_name as is_imars_metadata
 from ..pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
+from ..storage.containment import contained
 from . import layout
 
 _PRODUCT_CLASS = re.compile(rb"<product_class>\s*(Product_\w+)\s*</product_class>")

@@ -22,8 +22,9 @@ from typing import Any
 
 import click
 
-from .._compat import tomllib
+from ..bounded import load_toml
 from ..errors import PdsgenError
+from ..storage.containment import name_problem
 from ..storage.locations import internal, is_remote
 
 # The commands a manifest's tables run (a job's `kind`), in the order their jobs are listed.
@@ -35,6 +36,9 @@ BATCH_KEYS = ("outdir", "memory", "threads", "timeout", "retries")
 REFUSED_OPTIONS = {"list_rules"}
 # Options naming outputs: relative values are taken from the batch output directory.
 OUTPUT_OPTIONS = {"outdir", "output"}
+# Flags that make a command write beside its input rather than where -o says: a batch job
+# writes only inside the batch's output directory, so a manifest may not set them.
+WRITES_BESIDE_INPUT = {"in_place"}
 JOB_ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*\Z")
 DEFAULT_MEMORY = 1 << 30
 DEFAULT_THREADS = 1
@@ -114,14 +118,7 @@ def load_manifest(path: str | Path, outdir: str | Path | None = None,
     paths from the batch output directory.
     """
     path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise PdsgenError(path, "no such manifest") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise PdsgenError(path, f"cannot be read ({exc})") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise PdsgenError(path, f"not valid TOML: {exc}") from None
+    data = load_toml(path, what="manifest")
     return _Checker(path, data, outdir, overrides or {}).manifest()
 
 
@@ -264,6 +261,10 @@ class _Checker:
             if not isinstance(value, bool):
                 self.problems.append(f"{where}: {key} must be true or false")
                 return None
+            if value and param.name in WRITES_BESIDE_INPUT:
+                self.problems.append(f"{where}: {key} = true writes beside the job's input, outside the batch's "
+                                     f"output directory {self.outdir}; a batch job writes only inside it")
+                return None
             return [flag] if value else []
         several = param.multiple or param.nargs != 1
         items = value if several else [value]
@@ -307,8 +308,8 @@ class _Checker:
         """A job's output `item`, inside the batch's output directory (-o or [batch] outdir),
         or None (problem recorded): as a job id cannot name a path, a job's output cannot
         leave the directory the batch was given (`../../X`, an absolute path, s3://)."""
-        relative = os.path.normpath(item)
-        if is_remote(item) or os.path.isabs(relative) or relative.split(os.sep)[0] == os.pardir:
+        relative = os.path.normpath(item)  # "a/./b/../c" is "a/c": what remains must be a name inside
+        if is_remote(item) or relative != os.curdir and name_problem(relative) is not None:
             self.problems.append(f"{where}: {key} {item!r} is outside the batch's output directory "
                                  f"{self.outdir} (give a path inside it)")
             return None

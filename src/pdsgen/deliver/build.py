@@ -25,7 +25,7 @@ from ..errors import InputError, OutputError, PdsgenError, param
 from ..formats.checksum import bytes_md5, file_md5
 from ..label.read import LabelCache, LabelFile, read_pds3_label
 from ..progress import advance
-from ..storage.staging import replace_directory
+from ..storage.staging import refuse_link, replace_directory
 from . import bundle
 from .index import IndexWriter
 from .result import Delivery
@@ -49,7 +49,7 @@ class _Tree:
 
         The last guard of containment: a file (or a link's target) outside the directory the
         user gave is refused, whichever step named it."""
-        from ..label.beside import contained
+        from ..storage.containment import contained
 
         if contained(source, self.given) is None and contained(source, self.made) is None:
             raise InputError(source, f"lies outside {self.given}; a delivery holds only the files it was given")
@@ -92,11 +92,11 @@ class _Previous:
 
     def __init__(self, target: Path, new_version: bool = False) -> None:
         self.root = target
-        self.released = (target / layout.RELEASED_MARKER).is_file()
+        self.released = self.file(layout.RELEASED_MARKER).is_file()
         self.new_version = new_version
         self.advanced = False  # set when this run gave anything a new version
         self.md5: dict[str, str] = {}
-        manifest = target / layout.MANIFEST
+        manifest = self.file(layout.MANIFEST)
         if manifest.is_file():
             for line in manifest.read_text(encoding="utf-8", errors="replace").splitlines():
                 digest, _, name = line.partition("  ")
@@ -104,10 +104,22 @@ class _Previous:
                     self.md5[name] = digest
         self.exists = manifest.is_file()
 
+    def file(self, relative: str) -> Path:
+        """The previous delivery's file RELATIVE (there or not), by the containment rule; a
+        symbolic link there is refused in one line: it is neither read nor carried into the
+        new delivery as the file it points at."""
+        from ..storage.containment import checked_name, contained
+
+        path = self.root.joinpath(*checked_name(relative, self.root).parts)
+        if path.is_symlink() or contained(path, self.root) is None:
+            raise InputError(path, "is a symbolic link in the previous delivery; a delivery holds files, "
+                                   "not links (remove it, then deliver again)")
+        return path
+
     @functools.cached_property
     def _voldesc(self) -> LabelFile | None:
         """The previous run's VOLDESC.CAT, read once (None when there is none)."""
-        path = self.root / layout.VOLDESC
+        path = self.file(layout.VOLDESC)
         return read_pds3_label(path) if path.is_file() else None
 
     def volume_id(self) -> str | None:
@@ -119,7 +131,8 @@ class _Previous:
         return int(number) if number.isdigit() else 0
 
     def bundle_label(self) -> Path | None:
-        return next(iter(sorted(self.root.glob("bundle_*.xml"))), None) if self.exists else None
+        return next(iter(sorted(self.file(p.name) for p in self.root.glob("bundle_*.xml"))), None) \
+            if self.exists else None
 
     @property
     def advancing(self) -> bool:
@@ -158,6 +171,7 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
     if not source_dir.is_dir():
         raise InputError(source_dir, "not a directory of products")
     target = Path(out) if out is not None else source_dir
+    refuse_link(target)
     in_place = target.exists() and target.resolve() == source_dir.resolve()
     if not in_place:
         _check_target(source_dir, target)
@@ -216,7 +230,7 @@ def _carry_release_marker(previous: _Previous, work: Path) -> None:
     """A released delivery that this run left at its versions is still the one released; once
     anything got a new version, the new version is not released until its marker is made."""
     if previous.released and not previous.advanced:
-        shutil.copy2(previous.root / layout.RELEASED_MARKER, work / layout.RELEASED_MARKER)
+        shutil.copy2(previous.file(layout.RELEASED_MARKER), work / layout.RELEASED_MARKER)
 
 
 def _migrate_pds3_only(found: SourceSet, staging: Path, bundle_lid: str | None, labels: LabelCache,
@@ -462,7 +476,7 @@ class _BundleWriter:
         self.words = words
         self.name = bundle_lid.rsplit(":", 1)[-1]
         self.members: dict[str, list[str]] = {c: [] for c in layout.COLLECTIONS}
-        self.old = {c: bundle.read_inventory(previous.root / d / layout.inventory_name(c))
+        self.old = {c: bundle.read_inventory(previous.file(f"{d}/{layout.inventory_name(c)}"))
                     for c, (_, _, d) in layout.COLLECTIONS.items()}
         self.data_lidvid: dict[str, str] = {}  # product id (upper) -> its LIDVID
         self.data_changed: set[str] = set()  # LIDs of data products new or re-versioned: their previews follow
@@ -486,7 +500,7 @@ class _BundleWriter:
         label = f"{layout.DATA_DIR}/{product.pds4_label.name}"
         text = product.pds4_label.read_text(encoding="utf-8")
         changed = (_changed(self.tree, self.previous, [r for r in relatives if r != label])
-                   or _label_changed(self.previous.root / label, text))
+                   or _label_changed(self.previous.file(label), text))
         lidvid = self._member("data", lid, changed)
         self.tree.write(label, bundle.set_identification(text, lid, lidvid.split("::")[1]))
         self.data_lidvid[key] = lidvid
@@ -525,9 +539,10 @@ class _BundleWriter:
             if not lidvids:
                 continue
             inventory = bundle.inventory_text(lidvids)
-            before = self.previous.root / directory / layout.inventory_name(collection)
+            before = self.previous.file(f"{directory}/{layout.inventory_name(collection)}")
             unchanged = before.is_file() and before.read_bytes() == inventory.encode("ascii")
-            old_version = bundle.read_version(self.previous.root / directory / layout.collection_label_name(collection))
+            old_label = self.previous.file(f"{directory}/{layout.collection_label_name(collection)}")
+            old_version = bundle.read_version(old_label)
             version = self.previous.next_version(old_version, not unchanged)
             self.tree.write(f"{directory}/{layout.inventory_name(collection)}", inventory)
             lid = f"{self.bundle_lid}:{collection}"

@@ -71,16 +71,10 @@ class DeliveryText:
 def load_text(path: str | os.PathLike[str]) -> DeliveryText:
     """The [delivery] table of a TOML file; InputError naming the file and the key for anything
     it cannot take (an unknown key, a wrong kind of value, text a PDS3 label cannot hold)."""
-    from .._compat import tomllib
+    from ..bounded import load_toml
 
     path = Path(path)
-    try:
-        with open(path, "rb") as handle:
-            data = tomllib.load(handle)
-    except OSError as exc:
-        raise InputError(path, f"cannot be read ({exc.strerror or exc})") from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise InputError(path, f"not valid TOML ({exc})") from None
+    data = load_toml(path, what="delivery text file")
     for key in data:
         if key != TABLE:
             raise InputError(path, f"unknown key {key!r}: the delivery text is the [{TABLE}] table")

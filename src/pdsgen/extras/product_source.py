@@ -54,6 +54,9 @@ GDAL_ENV = {"GDAL_CACHEMAX": 16, "GDAL_PAM_ENABLED": "NO", "GDAL_NUM_THREADS": "
 _FLOAT_TYPES = FLOAT_SAMPLE_TYPES
 # GDAL metadata items that describe a raster's content (searched for height words).
 _DESCRIPTIVE_TAGS = ("DESCRIPTION", "TIFFTAG_IMAGEDESCRIPTION", "PRODUCT_ID", "PRODUCT_TYPE")
+# A pixel smaller than this in area (in the CRS units squared) is no real grid: its inverse
+# loses every digit (1e-300 m squared underflows to zero).
+_SMALLEST_PIXEL_AREA = 1e-30
 KIND_SAMPLE_SIDE = 256  # the decimated read that tells heights from reflectance
 
 
@@ -215,7 +218,19 @@ def open_product(path: str | os.PathLike[str], kind: str | None = None, *, root:
     src.valid_maximum = _physical(image.get("VALID_MAXIMUM"), src)
     if src.crs is None:
         _georeference_from_label(src)
+    _refuse_degenerate_grid(src)
     return src
+
+
+def _refuse_degenerate_grid(src: ProductSource) -> None:
+    """A grid whose pixel has no usable size (0, 1e-300 m: its area underflows to zero, so no
+    position maps back to a pixel) is refused in one line, before any scale bar is drawn."""
+    transform = src.transform
+    if transform is not None and src.crs is not None and (
+            not all(map(math.isfinite, transform[:6])) or transform.is_degenerate
+            or abs(transform.determinant) < _SMALLEST_PIXEL_AREA):
+        raise PdsgenError(src.label_path or src.path, f"the map grid's pixel ({transform.a:.6g} x {transform.e:.6g}) "
+                                                      "has no usable size; the georeferencing cannot be used")
 
 
 def _georeference_from_label(src: ProductSource) -> None:

@@ -148,9 +148,12 @@ def _signed_area(ring: list[list[float]]) -> float:
 
 
 def _existing_features(path: Path) -> list[dict[str, Any]]:
+    from ..bounded import load_json
+    from ..errors import InputError
+
     try:
-        existing = json.loads(path.read_text())
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError):
+        existing = load_json(path, what="GeoJSON file")
+    except InputError:
         existing = None
     if not isinstance(existing, dict) or existing.get("type") != "FeatureCollection" or not isinstance(
         existing.get("features"), list

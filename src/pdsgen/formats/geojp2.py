@@ -26,6 +26,7 @@ from affine import Affine
 from rasterio.crs import CRS
 from rasterio.io import MemoryFile
 
+from ..bounded import checked_count
 from .jp2 import box, jp2_boxes
 
 GEOJP2_UUID = uuid.UUID("b14bf8bd-083d-4b43-a5ae-8cd7d5a6ce03")
@@ -66,12 +67,14 @@ _TIFF_TYPES = {1: ("B", 1), 2: ("c", 1), 3: ("H", 2), 4: ("I", 4), 5: ("II", 8),
                8: ("h", 2), 9: ("i", 4), 11: ("f", 4), 12: ("d", 8), 16: ("Q", 8)}
 
 
-def tiff_tags(data: bytes) -> dict[int, tuple[Any, ...]]:
+def tiff_tags(data: bytes, source: str = "GeoTIFF") -> dict[int, tuple[Any, ...]]:
     """Tag number -> values of the first image directory of a classic TIFF (ASCII as a 1-tuple).
 
     The one GeoTIFF reader of the package: the tests read the writer's GeoJP2 box
     with it, and the validator reads any producer's. Raises ValueError (or
-    struct.error on a truncated file) when the bytes are not a classic TIFF.
+    struct.error on a truncated file) when the bytes are not a classic TIFF; a directory or
+    tag claiming more values than the bytes hold is refused (InputError, a ValueError, naming
+    SOURCE) before anything of that size is made.
     """
     order = {b"II": "<", b"MM": ">"}.get(data[:2])
     if order is None:
@@ -81,6 +84,7 @@ def tiff_tags(data: bytes) -> dict[int, tuple[Any, ...]]:
         raise ValueError("not a classic TIFF")
     (ifd,) = struct.unpack_from(order + "I", data, 4)
     (count,) = struct.unpack_from(order + "H", data, ifd)
+    checked_count(source, "the TIFF image directory", count, 12, len(data) - ifd - 2)
     tags: dict[int, tuple[Any, ...]] = {}
     for i in range(count):
         tag, typ, n, raw = struct.unpack_from(order + "HHI4s", data, ifd + 2 + 12 * i)
@@ -92,11 +96,12 @@ def tiff_tags(data: bytes) -> dict[int, tuple[Any, ...]]:
             blob = raw[:total]
         else:
             (offset,) = struct.unpack(order + "I", raw)
+            checked_count(source, f"TIFF tag {tag}", n, size, len(data) - offset)
             blob = data[offset : offset + total]
         if typ == 2:
             tags[tag] = (blob.rstrip(b"\x00").decode("latin-1"),)
         else:
-            tags[tag] = struct.unpack(order + fmt * n, blob)
+            tags[tag] = struct.unpack(f"{order}{n * len(fmt)}{fmt[0]}", blob)
     return tags
 
 
@@ -107,7 +112,7 @@ def geokeys_of(tags: dict[int, tuple[Any, ...]]) -> dict[int, object]:
     doubles = tags.get(GEO_DOUBLE_PARAMS_TAG, ())
     asciis = tags.get(GEO_ASCII_PARAMS_TAG, ("",))[0]
     if directory and len(directory) >= 4:
-        for k in range(directory[3]):
+        for k in range(min(directory[3], (len(directory) - 4) // 4)):  # no more keys than entries
             key, loc, count, value = directory[4 + 4 * k : 8 + 4 * k]
             if loc == 0:
                 keys[key] = value
@@ -126,7 +131,7 @@ def read_geojp2(path) -> bytes:
                 continue
             handle.seek(offset + 8)
             if handle.read(16) == GEOJP2_UUID.bytes:
-                return handle.read(length - 24)
+                return handle.read(max(length - 24, 0))
     raise ValueError(f"{path} has no GeoJP2 box")
 
 

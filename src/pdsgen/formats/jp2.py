@@ -36,7 +36,8 @@ from typing import BinaryIO
 
 import numpy as np
 
-from ..errors import PdsgenError
+from ..bounded import checked_count
+from ..errors import InputError, PdsgenError
 from ..progress import advance, is_large
 from ..storage.staging import InterruptSafeExecutor
 
@@ -291,11 +292,19 @@ def jp2_boxes(path: str | os.PathLike[str]) -> list[tuple[bytes, int, int]]:
         offset = 0
         while offset < size:
             handle.seek(offset)
-            length, kind = struct.unpack(">I4s", handle.read(8))
+            header = handle.read(8)
+            if len(header) < 8:
+                raise InputError(path, f"a JP2 box at byte {offset} is cut short")
+            length, kind = struct.unpack(">I4s", header)
+            header_bytes = 8
             if length == 1:
-                (length,) = struct.unpack(">Q", handle.read(8))
+                extended = handle.read(8)
+                length, header_bytes = (struct.unpack(">Q", extended)[0] if len(extended) == 8 else 0), 16
             elif length == 0:
                 length = size - offset
+            if length < header_bytes:
+                raise InputError(path, f"the JP2 box at byte {offset} declares {length} bytes, less than its header")
+            checked_count(path, f"the JP2 {kind.decode('latin-1')!r} box at byte {offset}", length, 1, size - offset)
             boxes.append((kind, offset, length))
             offset += length
     return boxes

@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..bounded import checked_count, file_size
 from ..errors import InputError
 from ..geo.label_georef import VicarMap
 
@@ -173,10 +174,10 @@ def read_vicar_label(path: str | os.PathLike[str]) -> VicarLabel:
 
 
 def _label_size(head: bytes, path: Path) -> int:
-    match = re.match(rb"LBLSIZE\s*=\s*(\d+)", head)
+    match = re.match(rb"LBLSIZE\s*=\s*(\d{1,18})\b", head)
     if match is None or int(match.group(1)) <= 0:
         raise InputError(path, "is not a VICAR file (it does not start with LBLSIZE=)")
-    return int(match.group(1))
+    return checked_count(path, "LBLSIZE", int(match.group(1)), 1, file_size(path))
 
 
 def _check_layout(label: VicarLabel) -> None:

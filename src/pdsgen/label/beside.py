@@ -7,7 +7,7 @@ labels in it: the validator, deliver, migration and Extras all look files up her
 
 Containment: a label is text someone else wrote, so a name in it (../x, /etc/x, a symbolic
 link beside it that points away) must never make pdsgen read or copy a file outside the
-directory tree it was given. `contained` is the one rule, and every look-up here applies it:
+directory tree it was given. storage/containment.contained is the one rule, and every look-up here applies it:
 a file outside the tree is not found (`outside_tree` says where it would have been, for the
 validator's finding and the one-line refusals).
 """
@@ -20,6 +20,8 @@ from collections import OrderedDict
 from collections.abc import Iterator
 from functools import lru_cache
 from pathlib import Path
+
+from ..storage.containment import contained
 
 
 class DirectoryNames:
@@ -83,15 +85,6 @@ def directory_listing(directory: Path) -> DirectoryNames:
     while len(_LISTINGS) > _MAX_LISTINGS:
         _LISTINGS.popitem(last=False)
     return names
-
-
-def contained(path: Path, root: Path) -> Path | None:
-    """`path` if, every symbolic link resolved, it lies inside `root` (resolved the same way).
-
-    The one containment rule for the files a label names: what a name or a link reaches
-    outside the tree the user gave is neither read nor delivered."""
-    real, top = os.path.realpath(path), os.path.realpath(root)
-    return path if real == top or real.startswith(top.rstrip(os.sep) + os.sep) else None
 
 
 def trusted_tree(label: Path, given: Path | None = None, root: Path | None = None) -> Path:

@@ -7,10 +7,10 @@ imports), so asking for the version does not load the validator.
 
 from __future__ import annotations
 
-import json
 from functools import cache
 from pathlib import Path
 
+from ..bounded import load_json
 from ..resources import schemas_dir
 
 
@@ -47,4 +47,4 @@ def _iso_date(stamp: str) -> str:
 @cache
 def shipped_version() -> str:
     """The version of the shipped dictionary, as the validator's reports state it."""
-    return version_text(json.loads(dictionary_path().read_text()))
+    return version_text(load_json(dictionary_path()))

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from fnmatch import fnmatchcase
 from pathlib import Path
 
+from ..bounded import file_size
 from ..errors import param
 from ..label.grammar import FLOAT_SAMPLE_TYPES
 from ..label.tree import Block, Pointer, Statement, Value, parse_pointer
@@ -405,6 +406,8 @@ def _header_length(ctx: FileContext, target: Target) -> int:
 
 def _text_standard(ctx: FileContext, target: Target, length: int) -> str:
     """7-Bit ASCII Text or UTF-8 Text, as the header's bytes are (read, never assumed)."""
+    if target.offset + length > file_size(target.path):  # said before LENGTH bytes are asked for
+        raise Refused(ctx.path, f"{where(target.block)}: its {length} bytes run past the end of {target.path.name}")
     with open(target.path, "rb") as handle:
         handle.seek(target.offset)
         data = handle.read(length)

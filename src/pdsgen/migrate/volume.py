@@ -30,13 +30,13 @@ from ..encode import shown, table_field
 from ..errors import InputError, OutputError, PdsgenError, param
 from ..formats.checksum import bytes_md5, file_md5
 from ..formats.sniff import file_head
-from ..label.beside import contained
 from ..label.read import LabelCache, read_pds3_label
 from ..label.tree import Block
 from ..pds4.content import digest_file
 from ..pds4.label import render_pds4
 from ..pds4.model import CURRENT_IM
 from ..results import CommandResult
+from ..storage.containment import contained
 from ..storage.staging import replace_directory
 from ..validate.model import Finding
 from ..validate.report import finding_line

@@ -13,9 +13,11 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..label.beside import contained, find_beside
+from ..bounded import checked_count, file_size
+from ..label.beside import find_beside
 from ..label.parser import LabelFile
 from ..label.tree import Block, parse_pointer
+from ..storage.containment import contained
 
 _PATH_COLUMNS = ("FILE_SPECIFICATION_NAME", "PATH_NAME", "FILE_NAME")
 
@@ -89,7 +91,10 @@ def _index_table(label: Path, volume: Path) -> VolumeIndex | None:
             continue
         path = find_beside(label.parent, pointer.file_name, volume)
         if path is not None:
-            return VolumeIndex(label, path, int(row_bytes) + _prefix_bytes(table), columns)
+            record_bytes = int(row_bytes) + _prefix_bytes(table)
+            if file_size(path):  # a row is read whole: it must fit in the bytes there
+                checked_count(path, "ROW_BYTES", 1, record_bytes, file_size(path))
+            return VolumeIndex(label, path, record_bytes, columns)
     return None
 
 

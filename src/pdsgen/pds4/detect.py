@@ -42,6 +42,8 @@ _PROLOG_ITEM = re.compile(rb"""\s+|<\?.*?\?>|<!--.*?-->|<!DOCTYPE(?:[^\[>"']|"[^
                           rb"""(?:\[(?:[^\]"'<]|"[^"]*"|'[^']*'|<!--(?:[^-]|-(?!-))*-->|<(?!!--)[^>"']*(?:(?:"[^"]*"|'[^']*')[^>"']*)*>)*\]\s*)?>""",
                           re.S)
 _ROOT_TAG = re.compile(rb"""<([^\s/>!?]+)(?:[^>"']|"[^"]*"|'[^']*')*>""", re.S)
+_ROOT_START = re.compile(rb"<[^\s/>!?]")
+_TAG_STOP = re.compile(rb"""[>"']""")
 
 
 def is_pds4_label(path: Path) -> bool:
@@ -79,10 +81,11 @@ def _verdict_of(handle, path: Path) -> bool | None:  # noqa: ANN001 - a binary f
         position = 0
         while (item := _PROLOG_ITEM.match(data, position)) is not None:
             position = item.end()
-        root = _ROOT_TAG.match(data, position)
-        if root is not None:
-            return _is_pds4_root(root)
         rest = data[position:]
+        if _ROOT_START.match(rest):
+            tag = _root_start_tag(rest, handle, read)
+            root = _ROOT_TAG.match(tag) if tag is not None else None
+            return _is_pds4_root(root) if root is not None else unfound
         mark = b"-->" if rest.startswith(b"<!--") else b"?>" if rest.startswith(b"<?") else None
         if mark is not None:  # a comment or instruction running past this chunk: find its end
             found = rest.find(mark, len(mark) + 1)
@@ -100,6 +103,32 @@ def _verdict_of(handle, path: Path) -> bool | None:  # noqa: ANN001 - a binary f
         if not more or read > MAX_PROLOG_BYTES or len(rest) > _MAX_KEPT_BYTES:
             return unfound
         data = rest + more
+
+
+def _root_start_tag(data: bytes, handle, read: int) -> bytes | None:  # noqa: ANN001 - a binary file
+    """The root element's whole start tag (DATA begins with it), read on in chunks. Its end is
+    looked for from where the previous look stopped (a quoted value may hold '>'), so a start
+    tag of 80,000 namespace declarations is scanned once, not again from its start for every
+    chunk read. None when it does not end within the bounds."""
+    kept, position, quote = bytearray(data), 1, b""
+    while True:
+        while position < len(kept):
+            if quote:
+                end = kept.find(quote, position)
+                position, quote = (len(kept), quote) if end < 0 else (end + 1, b"")
+                continue
+            stop = _TAG_STOP.search(kept, position)
+            if stop is None:
+                position = len(kept)
+            elif stop[0] == b">":
+                return bytes(kept[:stop.end()])
+            else:
+                position, quote = stop.end(), stop[0]
+        more = handle.read(_CHUNK_BYTES)
+        read += len(more)
+        if not more or read > MAX_PROLOG_BYTES or len(kept) > _MAX_KEPT_BYTES:
+            return None
+        kept += more
 
 
 def _is_pds4_root(root: re.Match[bytes]) -> bool:

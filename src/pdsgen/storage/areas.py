@@ -26,6 +26,7 @@ from typing import Any
 
 from ..errors import InputError, OutputError, PdsgenError, param
 from . import objects
+from .containment import checked_name, inside
 from .locations import S3Location, display, internal, is_s3
 
 log = logging.getLogger(__name__)
@@ -152,11 +153,10 @@ def _mirror(area: OutputArea) -> dict[str, tuple[int, int, int]]:
     batch's markers and logs there would make every job's listing grow with the run)."""
     assert area.location is not None
     untouched = {}
-    for item in objects.list_objects(area.location, recursive=False):
-        name = relative_name(item.location, area.location)
-        if not name or name.endswith("/") or any(part.startswith(_HIDDEN) for part in name.split("/")):
+    for item, name in staged_names(objects.list_objects(area.location, recursive=False), area.location):
+        if any(part.startswith(_HIDDEN) for part in name.split("/")):
             continue
-        target = area.directory / name
+        target = inside(area.directory, name, item.location.url)
         if name in area.shared:
             objects.download(item.location, target)
         else:
@@ -221,8 +221,8 @@ def tree_area(outdir: str | os.PathLike[str], order: Callable[[str], int] | None
         name = location.prefix.rstrip("/").rpartition("/")[2] or location.bucket
         area = OutputArea(staging / "tree" / name, location)
         previous = staging / "previous"
-        for item in objects.list_objects(location):
-            objects.download(item.location, previous / relative_name(item.location, location))
+        for item, name in staged_names(objects.list_objects(location), location):
+            objects.download(item.location, inside(previous, name, item.location.url))
         if previous.is_dir():
             shutil.copytree(previous, area.directory)
         with _renamed_in_errors(area.shown):
@@ -263,6 +263,30 @@ def _publish_tree(area: OutputArea, previous: Path, order: Callable[[str], int])
 
 def relative_name(target: S3Location, base: S3Location) -> str:
     return target.key[len(base.prefix):]
+
+
+def staged_names(found: Iterable[objects.ObjectInfo], base: S3Location) -> list[tuple[objects.ObjectInfo, str]]:
+    """Each object under BASE with the name its local copy takes, every name checked by the
+    containment rule (a key holding `../`, `//abs`, an empty or over-long segment is refused,
+    naming its URL). A key ending in '/' is a "folder" marker some tools write, not a file. A
+    key that is both an object and the prefix of others (`a` and `a/b`) is refused: a local
+    copy cannot hold a file and a directory of the same name."""
+    named = []
+    for item in found:
+        name = relative_name(item.location, base)
+        if not name or name.endswith("/") and item.size == 0:
+            continue
+        checked_name(name, item.location.url)
+        named.append((item, name))
+    names = {name for _, name in named}
+    for item, name in named:
+        parent = name.rpartition("/")[0]
+        while parent:
+            if parent in names:
+                raise InputError(base.child(parent).url, "is both an object and a prefix of other objects "
+                                                         f"({item.location.url}); a local copy cannot hold both")
+            parent = parent.rpartition("/")[0]
+    return named
 
 
 def raster_input(path: str | os.PathLike[str]) -> str:
@@ -338,7 +362,7 @@ def _fetch_input(path: str, staging: Path, copies: dict[str, Path]) -> str:
     directory = S3Location(directory.bucket, directory.prefix)
     if directory.url not in copies:
         copies[directory.url] = _copy_tree(directory, staging / str(len(copies)), whole=False)
-    return str(copies[directory.url] / Path(location.key).name)
+    return str(inside(copies[directory.url], location.key.rpartition("/")[2], location.url))
 
 
 def _copy_tree(directory: S3Location, target: Path, whole: bool) -> Path:
@@ -350,13 +374,13 @@ def _copy_tree(directory: S3Location, target: Path, whole: bool) -> Path:
         objects.check_bucket(directory)
         raise InputError(directory.url, "no such object or prefix")
     target.mkdir(parents=True)
-    for item in found:
-        name = relative_name(item.location, directory)
+    for item, name in staged_names(found, directory):
+        local = inside(target, name, item.location.url)
         if whole or "/" not in name:
-            objects.download(item.location, target / name)
+            objects.download(item.location, local)
         else:
-            (target / name).parent.mkdir(parents=True, exist_ok=True)
-            with open(target / name, "wb") as placeholder:
+            local.parent.mkdir(parents=True, exist_ok=True)
+            with open(local, "wb") as placeholder:
                 placeholder.truncate(item.size)
     return target
 

@@ -229,6 +229,7 @@ def replace_directory(work: str | os.PathLike[str], target: str | os.PathLike[st
     `.NAME.old-PID`, removed after, and put back if WORK cannot take its place. Ctrl-C is
     held back while the names change, so TARGET is never left missing."""
     work, target = Path(work), Path(target)
+    refuse_link(target)
     with _interruption_deferred():
         if not target.exists():
             os.rename(work, target)
@@ -241,6 +242,15 @@ def replace_directory(work: str | os.PathLike[str], target: str | os.PathLike[st
             os.rename(old, target)
             raise
     shutil.rmtree(old)
+
+
+def refuse_link(target: str | os.PathLike[str]) -> None:
+    """A tree a command replaces whole must not be a symbolic link: replacing the link would
+    leave the directory it leads to as it was while saying the output was written (and a
+    link's own rename is not the tree's). Refused in one line before anything is done."""
+    if os.path.islink(target):
+        raise OutputError(target, f"is a symbolic link (to {os.readlink(target)}); pdsgen does not replace a link: "
+                                  "give the directory it leads to, or remove the link")
 
 
 def _make_temp(final: Path) -> Path:

@@ -33,7 +33,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-from .._compat import tomllib
+from ..bounded import load_json, load_toml
 from ..errors import PdsgenError
 from .model import SEVERITIES, Finding
 from .report import FAIL_LEVELS
@@ -158,10 +158,7 @@ def find_config(start: Path | None = None) -> Path | None:
 
 
 def _table(path: Path) -> Mapping[str, Any] | None:
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-        raise PdsgenError(path, f"cannot read the configuration: {exc}") from None
+    data = load_toml(path, what="configuration file")
     table = data.get("tool", {}).get("pdsgen", {}).get("validate")
     if table is None and path.name == "pdsgen.toml":
         table = data.get("validate", {})
@@ -242,12 +239,7 @@ class Baseline:
 
     @classmethod
     def read(cls, path: str | os.PathLike[str]) -> Baseline:
-        try:
-            data = json.loads(Path(path).read_text(encoding="utf-8"))
-        except FileNotFoundError:
-            raise PdsgenError(path, "no such baseline file") from None
-        except (OSError, UnicodeDecodeError, ValueError) as exc:
-            raise PdsgenError(path, f"not a pdsgen baseline ({exc})") from None
+        data = load_json(path, what="baseline file")
         if not isinstance(data, dict) or data.get("pdsgen_baseline") != BASELINE_VERSION:
             raise PdsgenError(path, "not a pdsgen baseline (written by 'pdsgen validate --write-baseline')")
         counts: Counter[str] = Counter()

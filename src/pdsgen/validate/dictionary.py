@@ -6,17 +6,17 @@ mission namespaces; see that script for what each entry holds.
 
 from __future__ import annotations
 
-import json
 import os
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 
+from ..bounded import load_json, read_bytes
 from ..errors import PdsgenError
 from ..label.data_dictionary import dictionary_path, version_text
 from ..label.grammar import PLACEHOLDERS as GRAMMAR_PLACEHOLDERS
 from ..missions.hrsc import NOT_APPLICABLE as HRSC_NOT_APPLICABLE
-from .psdd import read_psdd
+from .psdd import DICTIONARY_BYTES, parse_psdd
 
 PLACEHOLDERS = GRAMMAR_PLACEHOLDERS
 # Numbers missions write where a value does not apply or is not known: the 32-bit integer
@@ -50,14 +50,11 @@ def read_extra(path: str | os.PathLike[str]) -> dict:
     """One user-named dictionary, refused (PdsgenError) unless it is a PSDD dump.
 
     A wrong file (an image, an empty file, a label) would otherwise add nothing and the
-    run would look as if the dictionary had been applied. A NUL in the first bytes marks
-    a binary file, refused before the whole of it is read as text."""
-    try:
-        with open(path, "rb") as fh:
-            head = fh.read(_SNIFF_BYTES)
-        more = None if b"\0" in head else read_psdd(Path(path))
-    except OSError as exc:
-        raise PdsgenError(path, f"cannot read the dictionary: {exc.strerror or exc}") from None
+    run would look as if the dictionary had been applied. It is read by the bounded reader (a
+    regular file, at most DICTIONARY_BYTES); a NUL in the first bytes marks a binary file,
+    refused before it is parsed."""
+    data = read_bytes(path, DICTIONARY_BYTES, "dictionary")
+    more = None if b"\0" in data[:_SNIFF_BYTES] else parse_psdd(Path(path), data.decode("latin-1"))
     if more is None or not (more["elements"] or more["units"]):
         raise PdsgenError(path, "not a PSDD data dictionary (no ELEMENT_DEFINITION or UNIT_LIST object)")
     return more
@@ -67,7 +64,7 @@ def read_extra(path: str | os.PathLike[str]) -> dict:
 def load(extra: tuple[str, ...] = ()) -> Dictionary:
     """The project dictionary, with the elements and units of `extra` PSDD-format files
     (later files win) merged over it. Raises PdsgenError for an extra file that is not one."""
-    data = json.loads(dictionary_path().read_text())
+    data = load_json(dictionary_path())
     elements = dict(data["elements"])
     units = {u.upper() for u in data["units"]}
     units |= {n.upper() for n in data["unit_names"]}

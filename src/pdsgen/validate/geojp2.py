@@ -77,32 +77,104 @@ class Jp2Error(Exception):
     """The file is not a JP2 that can be read."""
 
 
+# The header boxes read whole (jp2h, uuid, asoc, xml ...): georeferencing is a few kB; a box
+# claiming more is not read into memory (the code stream, jp2c, is never read here).
+MAX_HEADER_BOX_BYTES = 16 * 1024 * 1024
+_SUPERBOXES = {b"jp2h", b"asoc", b"res "}
+
+
+@dataclass
+class _Box:
+    """One box as the checks ask of it: its type, its children (a superbox) and its XML."""
+
+    box_id: str
+    payload: bytes = b""
+    box: list[_Box] = field(default_factory=list)
+    xml: object = None
+
+
 def read_jp2(path: Path) -> Jp2Info:
-    import glymur
+    """The header and georeferencing of a JP2, read box by box by pdsgen's own walk (every box
+    length checked against the bytes there); the GeoTIFF of a GeoJP2 box is parsed by
+    tiff_tags, whose counts are checked too. A general JP2 reader parsed that GeoTIFF itself,
+    allocating whatever count a tag claimed."""
+    from ..errors import InputError
+    from ..formats.jp2 import jp2_boxes
 
     try:
-        jp2 = glymur.Jp2k(str(path))
-        boxes = list(jp2.box)
-    except Exception as exc:  # glymur raises many types on damaged files
-        raise Jp2Error(f"{type(exc).__name__}: {exc}") from None
-    ihdr = None
+        boxes = [_Box(kind.decode("latin-1"), _payload(path, offset, length), [])
+                 for kind, offset, length in jp2_boxes(path) if kind != b"jp2c"]
+        for box in boxes:
+            _open_superbox(box)
+    except (InputError, struct.error, OSError) as exc:
+        raise Jp2Error(str(exc.problem if isinstance(exc, InputError) else exc)) from None
+    ihdr = next((b for box in boxes if box.box_id == "jp2h" for b in box.box if b.box_id == "ihdr"), None)
     georefs: list[Georef] = []
     for box in boxes:
-        if box.box_id == "jp2h":
-            ihdr = next((b for b in box.box if b.box_id == "ihdr"), None)
-        elif box.box_id == "uuid" and getattr(box, "uuid", None) == GEOJP2_UUID:
-            ref = geotiff_georef(bytes(box.raw_data))
+        if box.box_id == "uuid" and box.payload[:16] == GEOJP2_UUID.bytes:
+            ref = geotiff_georef(box.payload[16:])
             if ref is not None:
                 georefs.append(ref)
         elif box.box_id == "asoc":
             ref = _gml_georef(box)
             if ref is not None:
                 georefs.append(ref)
-    if ihdr is None:
+    if ihdr is None or len(ihdr.payload) < 14:
         raise Jp2Error("no JP2 header (ihdr) box")
-    bits = ihdr.bits_per_component
-    return Jp2Info(ihdr.height, ihdr.width, ihdr.num_components,
-                   bits if isinstance(bits, int) else int(bits[0]), bool(ihdr.signed), georefs)
+    height, width, bands, depth = struct.unpack_from(">IIHB", ihdr.payload)
+    if depth == 255:  # the components differ: the first one's, from the bpcc box
+        bpcc = next((b for box in boxes if box.box_id == "jp2h" for b in box.box if b.box_id == "bpcc"), None)
+        depth = bpcc.payload[0] if bpcc is not None and bpcc.payload else 0
+    return Jp2Info(height, width, bands, (depth & 0x7F) + 1, bool(depth & 0x80), georefs)
+
+
+def _payload(path: Path, offset: int, length: int) -> bytes:
+    """The contents of the box at OFFSET (its header skipped), refused past MAX_HEADER_BOX_BYTES."""
+    from ..errors import InputError
+
+    with open(path, "rb") as handle:
+        handle.seek(offset)
+        header = handle.read(16)
+        skip = 16 if struct.unpack_from(">I", header)[0] == 1 else 8
+        if length - skip > MAX_HEADER_BOX_BYTES:
+            raise InputError(path, f"a JP2 header box of {length} bytes at byte {offset} is larger than "
+                                   f"{MAX_HEADER_BOX_BYTES} bytes")
+        handle.seek(offset + skip)
+        return handle.read(length - skip)
+
+
+def _open_superbox(box: _Box, depth: int = 0) -> None:
+    """The children of a superbox (jp2h, asoc, res), walked within its payload, each length
+    checked against the bytes there; an xml box's text parsed without network or entities."""
+    from lxml import etree
+
+    from ..bounded import MAX_DEPTH, checked_count
+
+    if box.box_id == "xml ":
+        parser = etree.XMLParser(no_network=True, resolve_entities=False, huge_tree=False)
+        try:
+            box.xml = etree.fromstring(box.payload, parser)
+        except etree.XMLSyntaxError:
+            box.xml = None
+        return
+    if box.box_id.encode("latin-1") not in _SUPERBOXES or depth > MAX_DEPTH:
+        return
+    data, position = box.payload, 0
+    while position + 8 <= len(data):
+        length, kind = struct.unpack_from(">I4s", data, position)
+        skip = 8
+        if length == 1:
+            (length,) = struct.unpack_from(">Q", data, position + 8)
+            skip = 16
+        elif length == 0:
+            length = len(data) - position
+        if length < skip:
+            break
+        checked_count(box.box_id, f"the JP2 {kind.decode('latin-1')!r} box", length, 1, len(data) - position)
+        child = _Box(kind.decode("latin-1"), data[position + skip:position + length])
+        _open_superbox(child, depth + 1)
+        box.box.append(child)
+        position += length
 
 
 def geotiff_georef(data: bytes) -> Georef | None:

@@ -56,15 +56,18 @@ class ImarsContext:
         self.path = path
         self.labels_only = labels_only
         self.cache: dict[str, Any] = {}  # what IMARS rules share per file: "_footprint"
-        self.text = path.read_bytes().decode("latin-1")
         self.parse_error: Exception | None = None
         self.module: Any = None
-        import pvl  # loaded only when an iMars file is checked: PDS3 label runs need no PVL reader
+        from ..bounded import parse_pvl, read_bytes  # pvl is loaded only when an iMars file is checked
+        from ..errors import InputError
 
-        try:
-            self.module = pvl.loads(self.text)
-        except Exception as exc:  # pvl raises LexerError/ParseError (ValueError), or worse
-            self.parse_error = exc
+        try:  # a regular file within the reader's size cap, then PVL within its nesting cap
+            self.text = ""
+            self.text = read_bytes(path, what="iMars metadata file").decode("latin-1")
+            self.module = parse_pvl(path, self.text)
+        except InputError as exc:
+            cause = exc.__cause__
+            self.parse_error = cause if isinstance(cause, Exception) else ValueError(exc.problem)
         self._dataset: Any = None
         self.open_error: str | None = None
 

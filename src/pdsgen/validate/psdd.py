@@ -8,15 +8,35 @@ data dictionary of a mission or a test dictionary.
 from __future__ import annotations
 
 import re
+from collections.abc import Iterator
 from pathlib import Path
 
+from ..bounded import read_bytes
 from ..label.parser import parse_label
 from ..label.tree import Value
 
-_ELEMENT = re.compile(r"^OBJECT = ELEMENT_DEFINITION\s*$(.*?)^END_OBJECT = ELEMENT_DEFINITION", re.M | re.S)
-_OBJECT = re.compile(r"^OBJECT = (?:GENERIC|SPECIFIC)_OBJECT_DEFINITION\s*$(.*?)^END_OBJECT", re.M | re.S)
+# A dictionary dump is larger than a label (the PSDD's is about 10 MB): its own cap.
+DICTIONARY_BYTES = 64 * 1024 * 1024
+_ELEMENT = ("OBJECT = ELEMENT_DEFINITION", "END_OBJECT = ELEMENT_DEFINITION")
+_OBJECT = (("OBJECT = GENERIC_OBJECT_DEFINITION", "OBJECT = SPECIFIC_OBJECT_DEFINITION"), "END_OBJECT")
 _UNIT = re.compile(r"\('([^']*)','([^']*)'\)")
-_UNIT_LIST = re.compile(r"^OBJECT = UNIT_LIST\s*$(.*?)^END_OBJECT = UNIT_LIST", re.M | re.S)
+_UNIT_LIST = ("OBJECT = UNIT_LIST", "END_OBJECT = UNIT_LIST")
+
+
+def bodies(lines: list[str], opening: str | tuple[str, ...], closing: str) -> Iterator[str]:
+    """The text between each line that is OPENING (trailing white space aside) and the next
+    line starting with CLOSING, in one pass over LINES: an object that never ends is skipped
+    without reading on to the end of the file from it (the dump's objects are not nested;
+    an opening inside an open object belongs to its body, as before)."""
+    openings = (opening,) if isinstance(opening, str) else opening
+    start: int | None = None
+    for number, line in enumerate(lines):
+        if start is None:
+            if line.rstrip() in openings:
+                start = number + 1
+        elif line.startswith(closing):
+            yield "\n".join(lines[start:number])
+            start = None
 
 
 def _number(value: Value | None) -> float | int | None:
@@ -45,22 +65,34 @@ def element(text: str) -> tuple[str, dict] | None:
     return name.upper(), entry
 
 
+def _generated(line: str) -> str | None:
+    """The date of a "Generated: DATE */" header line, else None."""
+    _, marker, rest = line.partition("Generated: ")
+    stamp, star, after = rest.partition("*")
+    return stamp.strip() or None if marker and star and after.startswith("/") else None
+
+
 def read_psdd(path: Path) -> dict:
-    """Elements, units and object names of one dictionary dump."""
-    text = Path(path).read_bytes().decode("latin-1")
-    elements = dict(filter(None, (element(m.group(1)) for m in _ELEMENT.finditer(text))))
-    units_text = _UNIT_LIST.search(text)
-    units = _UNIT.findall(units_text.group(1)) if units_text else []
+    """Elements, units and object names of one dictionary dump (a regular file, size-capped)."""
+    return parse_psdd(Path(path), read_bytes(path, DICTIONARY_BYTES, "dictionary").decode("latin-1"))
+
+
+def parse_psdd(path: Path, text: str) -> dict:
+    """Elements, units and object names of one dictionary dump's TEXT, in time linear in it."""
+    lines = text.splitlines()
+    elements = dict(filter(None, (element(body) for body in bodies(lines, *_ELEMENT))))
+    units_text = next(bodies(lines, *_UNIT_LIST), None)
+    units = _UNIT.findall(units_text) if units_text else []
     objects = sorted({
-        (parse_label("PDS_VERSION_ID = PDS3\n" + m.group(1) + "\nEND\n").root.text("NAME") or "").upper()
-        for m in _OBJECT.finditer(text)
+        (parse_label("PDS_VERSION_ID = PDS3\n" + body + "\nEND\n").root.text("NAME") or "").upper()
+        for body in bodies(lines, *_OBJECT)
     } - {""})
     header = re.search(r"Online Database: (\S+)", text)
-    generated = re.search(r"Generated: ([^*\r\n]+?)\s*\*/", text)
+    generated = next((found for found in map(_generated, lines) if found), None)
     return {
         "source": f"{Path(path).name} ({header.group(1) if header else 'unknown database'})",
         "version": header.group(1) if header else None,
-        "generated": generated.group(1) if generated else None,
+        "generated": generated,
         "units": sorted({u for u, _ in units}),
         "unit_names": sorted({n for _, n in units}),
         "objects": objects,

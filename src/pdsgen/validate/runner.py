@@ -379,7 +379,7 @@ def _stream(files: Iterator[Path], given: list[Path], job: ValidationJob,
 
 def _given_tree(path: Path, given: list[Path]) -> str | None:
     """The widest directory given on the command line that holds `path` (None: the file was named)."""
-    from ..label.beside import contained
+    from ..storage.containment import contained
 
     return min((str(d) for d in given if contained(path, d) is not None), key=len, default=None)
 

@@ -219,7 +219,12 @@ def _check_row(root: Path, table_path: Path, number: int, values: dict[str, str 
         found.append(_Found("DLV-005", table_path, f"row {number}: VOLUME_ID {volume_id} differs from the volume's "
                                                    f"({', '.join(sorted(v for v in volume_ids if v))})", number))
     key = spec.upper()
-    if not (root / spec).is_file():
+    named, problem = _named_inside(root, spec)
+    if named is None:
+        found.append(_Found("DLV-003", table_path, f"row {number} names {spec!r}, which is not a file inside the "
+                                                   f"delivery ({problem})", number))
+        return
+    if not named.is_file():
         found.append(_Found("DLV-003", table_path, f"row {number} names {spec}, which does not exist", number))
         return
     if key in seen:
@@ -227,12 +232,12 @@ def _check_row(root: Path, table_path: Path, number: int, values: dict[str, str 
                                                    f"{seen[key]})", number))
         return
     seen[key] = number
-    product = _read_pds3(root / spec, labels)
+    product = _read_pds3(named, labels)
     if product is None:
         found.append(_Found("DLV-003", table_path, f"row {number} names {spec}, which is not a PDS3 label", number))
         return
     for stmt in unstated_identification(product):
-        found.append(_Found("DLV-007", root / spec, _unstated_message(stmt), stmt.line, stmt.keyword))
+        found.append(_Found("DLV-007", named, _unstated_message(stmt), stmt.line, stmt.keyword))
     for column in columns:
         if column.name in ("VOLUME_ID", "FILE_SPECIFICATION_NAME"):
             continue
@@ -510,6 +515,18 @@ def _check_inventory(root: Path, collection: _Pds4Label, by_lidvid: dict[str, _P
 
 # --- the manifest -------------------------------------------------------------------------------
 
+def _named_inside(root: Path, name: str) -> tuple[Path | None, str | None]:
+    """(the path, None) of a file a delivery's own table names (MD5SUMS.TXT, INDEX.TAB), by the
+    containment rule; (None, why) for a name no file inside the delivery can have."""
+    from ...storage.containment import contained, name_problem
+
+    problem = name_problem(name)
+    if problem is not None:
+        return None, problem
+    path = root.joinpath(*name.split("/"))
+    return (path, None) if contained(path, root) is not None else (None, "a link leads out of it")
+
+
 def _check_manifest(root: Path, labels_only: bool, found: list[_Found]) -> None:
     from ...formats.checksum import file_md5  # start-up: loaded only when a delivery is checked
 
@@ -523,8 +540,11 @@ def _check_manifest(root: Path, labels_only: bool, found: list[_Found]) -> None:
             found.append(_Found("DLV-020", manifest, f"not an 'md5  path' line: {line[:60]!r}", number))
             continue
         listed[name] = number
-        path = root / name
-        if not path.is_file():
+        path, problem = _named_inside(root, name)
+        if path is None:  # never read (/dev/zero, ../x): named only
+            found.append(_Found("DLV-020", manifest, f"{name!r} is not a file inside the delivery ({problem})",
+                                number))
+        elif not path.is_file():
             found.append(_Found("DLV-020", manifest, f"{name} is listed but does not exist", number))
         elif not labels_only and file_md5(path) != digest:
             found.append(_Found("DLV-020", path, f"MD5 differs from {layout.MANIFEST} line {number}: the file "

@@ -9,7 +9,6 @@ orthoimage, one feature per product, matched by `id` = ProductInfo.ProductId.
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Iterator
 from typing import Any
@@ -309,10 +308,13 @@ def _footprint(ctx: ImarsContext) -> tuple[dict | None, str | None]:
             where = f" (found {other.name}: case differs)" if other is not None else ""
             result = None, f"footprint {name} is not in {ctx.path.parent}{where}"
         else:
+            from ...bounded import load_json
+            from ...errors import InputError
+
             try:
-                data = json.loads(exact.read_text(encoding="utf-8"))
-            except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-                result = None, f"footprint {name} is not JSON: {exc}"
+                data = load_json(exact, what="GeoJSON file")
+            except InputError as exc:
+                result = None, f"footprint {name} is not JSON: {exc.problem}"
             else:
                 if not isinstance(data, dict) or data.get("type") != "FeatureCollection" \
                         or not isinstance(data.get("features"), list):

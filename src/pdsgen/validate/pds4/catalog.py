@@ -39,9 +39,9 @@ from lxml import etree
 
 from ...errors import PdsgenError, param
 from ...formats.checksum import file_sha256
-from ...label.beside import contained
 from ...pds4.model import SCHEMATRON_NS, XSI_NS
 from ...resources import schemas_dir
+from ...storage.containment import contained
 from .download import SCHEMA_HOSTS, DownloadError, download_url, fetch_schema, read_sums
 
 SCHEMA_SUFFIXES = (".xsd", ".sch")
@@ -255,7 +255,7 @@ class SchemaCatalog:
 
 def _resolves_inside(path: Path, real_dir: Path) -> bool:
     """Whether a file that exists lies inside a directory, symbolic links resolved (the one
-    containment rule, label/beside.contained)."""
+    containment rule, storage/containment.contained)."""
     return path.exists() and contained(path, real_dir) is not None
 
 

@@ -24,6 +24,7 @@ from pathlib import Path
 
 from lxml import etree
 
+from ...bounded import file_size
 from .label_tree import P, Pds4Hits, data_path, file_areas
 
 _SHOWN = 5  # findings per rule and table before "and N more"
@@ -291,10 +292,11 @@ def _table_character(out: _Limited, table: etree._Element, path: Path | None) ->
     ending = _RECORD_ENDS.get(_text(table, "record_delimiter") or "Carriage-Return Line-Feed", b"\r\n")
     records = _int(table, "records") or 0
     offset = _int(table, "offset") or 0
+    available = file_size(path) - offset
     with open(path, "rb") as handle:
         handle.seek(offset)
         for number in range(1, records + 1):
-            data = handle.read(record_length)
+            data = handle.read(min(record_length, max(available - (number - 1) * record_length, 0)))
             if len(data) < record_length:
                 out.add("PDS4-051", f"the file ends in record {number} of {records} (records of "
                                     f"{record_length} bytes from offset {offset})", table, "records")
