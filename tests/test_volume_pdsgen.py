@@ -246,3 +246,35 @@ def test_bad_input_is_one_line_and_nothing_is_written(volume, tmp_path):
     made = run_cli("migrate", tmp_path / "no_such_volume", "-o", tmp_path / "b", "--bundle-lid", BUNDLE)
     assert made.returncode == 2 and "Traceback" not in made.stderr
     assert not (tmp_path / "b").exists()
+
+
+def test_a_volume_carrying_pds4_labels_leaves_them_out_and_every_label_fits_its_file(tmp_path):
+    """Products made with --label both carry a PDS4 label beside each PDS3 one, and a PDS3 delivery
+    of them carries it too: migrate leaves those out (saying why) instead of describing one as a
+    document and then writing the bundle's own label of the product over its copy."""
+    scene = make_scene(width=30, height=40)
+    source = write_geotiff(tmp_path / "dtm.tif", scene.elevation, scene.transform, scene.crs, None)
+    dtm = write_dtm(source, tmp_path / "products", profile="hirise", label="both", institution="U",
+                    source_product_ids=("PSP_008669_1705", "PSP_009025_1705"))
+    assert dtm.pds4_label_path is not None
+    volume = tmp_path / "VOL_0001"
+    assert run_cli("deliver", tmp_path / "products", "--label", "pds3", "-o", volume,
+                   "--volume-id", "VOL_0001").returncode == 0
+    carried = sorted(p.relative_to(volume).as_posix() for p in volume.rglob("*.xml"))
+    assert carried, "the PDS3 volume carries the products' PDS4 labels"
+    bundle = tmp_path / "bundle"
+    made = run_cli("migrate", volume, "-o", bundle, "--bundle-lid", "urn:nasa:pds:carried")
+    assert made.returncode == 0, made.stderr
+    with open(bundle / "crosswalk.csv", newline="") as table:
+        rows = {row[1]: row for row in csv.reader(table)}
+    for name in carried:
+        assert rows[name][2] == "" and rows[name][3].startswith("left out: a PDS4 label the volume carried"), rows[name]
+    for label in _labels(bundle):  # every file a label names is the file it describes
+        tree = etree.parse(str(label))
+        for file_area in tree.iter(f"{PDS}File", f"{PDS}Document_File"):
+            name = file_area.findtext(f"{PDS}file_name")
+            path = label.parent / (file_area.findtext(f"{PDS}directory_path_name") or "") / name
+            checksum = file_area.findtext(f"{PDS}md5_checksum")
+            assert path.is_file(), (label, name)
+            if checksum:
+                assert _md5(path) == checksum, (label, name)

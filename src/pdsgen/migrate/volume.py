@@ -33,6 +33,7 @@ from ..formats.sniff import file_head
 from ..label.read import LabelCache, read_pds3_label
 from ..label.tree import Block
 from ..pds4.content import digest_file
+from ..pds4.detect import is_pds4_label
 from ..pds4.label import render_pds4
 from ..pds4.model import CURRENT_IM
 from ..results import CommandResult
@@ -192,6 +193,11 @@ def _run(source: Path, dest: Path, bundle_lid: str, *, in_place: bool, overwrite
 # unique again by the MD5 of the whole LID it stands for.
 MAX_LID = 255
 LENGTH_RULE = "its first 246 characters, '_' and the first 8 hex digits of the MD5 of the whole LID"
+
+
+# A PDS4 label the PDS3 volume carried is not a document of it: its LID is not the bundle's, and
+# migrate writes the bundle's own label of the same data (often under the very same name).
+PDS4_LABEL_REASON = "a PDS4 label the volume carried: the bundle's own labels describe its files"
 
 
 def _shortened(lid: str) -> str:
@@ -408,7 +414,9 @@ class _Run:
             if name in self.owned:
                 continue
             path = self.source / name
-            if document_standard(path) in ("7-Bit ASCII Text", "UTF-8 Text", "PDF", "PDF/A", "HTML"):
+            if is_pds4_label(path):  # pdsgen's own --label both products carry one beside each PDS3 label
+                self.result.left_out.append((name, PDS4_LABEL_REASON))
+            elif document_standard(path) in ("7-Bit ASCII Text", "UTF-8 Text", "PDF", "PDF/A", "HTML"):
                 self.documents.append(name)
             else:
                 self.result.left_out.append((name, "no PDS3 label describes it and it is no document"))
