@@ -28,7 +28,7 @@ from helpers import elevation_array, run_cli, stderr_on_a_terminal, write_raster
 REPO = Path(__file__).resolve().parents[1]
 PDS_XSD = REPO / "schemas" / "pds4" / "1O00" / "PDS4_PDS_1O00.xsd"
 PDS_NS = {"pds": "http://pds.nasa.gov/pds4/pds/v1"}
-MADE_CLASSES = ("Product_Bundle", "Product_Collection", "Product_Browse", "Product_Document")
+MADE_CLASSES = ("Product_Bundle", "Product_Collection", "Product_Browse", "Product_Document", "Product_Ancillary")
 HRSC_SINUSOIDAL = "+proj=sinu +lon_0=0 +R=3396000 +units=m +no_defs"
 
 
@@ -126,7 +126,7 @@ def test_pds4_bundle_schema_and_schematron_valid(demo_products, tmp_path):
                            bundle_lid="urn:nasa:pds:demo_dtm")
     schema = etree.XMLSchema(etree.parse(str(PDS_XSD)))
     labels = _made_labels(out)
-    assert len(labels) == 1 + 3 + 13 + 2  # bundle, collections, browse, documents
+    assert len(labels) == 1 + 4 + 13 + 2 + 1  # bundle, collections, browse, documents, the manifest's label
     for label in labels:
         assert schema.validate(etree.parse(str(label))), (label.name, schema.error_log)
         assert validate_label(label) == [], label.name  # XSD + Schematron (Saxon) + content
@@ -152,7 +152,12 @@ def test_pds4_bundle_schema_and_schematron_valid(demo_products, tmp_path):
     bundle = etree.parse(str(out / "bundle_demo_dtm.xml"))
     members = bundle.findall(".//pds:Bundle_Member_Entry/pds:lidvid_reference", namespaces=PDS_NS)
     assert sorted(m.text for m in members) == ["urn:nasa:pds:demo_dtm:browse::1.0", "urn:nasa:pds:demo_dtm:data::1.0",
-                                               "urn:nasa:pds:demo_dtm:document::1.0"]
+                                               "urn:nasa:pds:demo_dtm:document::1.0",
+                                               "urn:nasa:pds:demo_dtm:miscellaneous::1.0"]
+    manifest = etree.parse(str(out / "MD5SUMS.xml"))  # the manifest's label gives its MD5; no manifest lists it
+    digest = subprocess.run(["md5sum", "MD5SUMS.TXT"], cwd=out, capture_output=True, text=True).stdout.split()[0]
+    assert manifest.findtext(".//pds:File/pds:md5_checksum", namespaces=PDS_NS) == digest
+    assert "MD5SUMS.xml" not in (out / "MD5SUMS.TXT").read_text()
     assert result.bundle_version == "1.0"
     subprocess.run(["md5sum", "-c", "--quiet", "MD5SUMS.TXT"], cwd=out, check=True)
     assert _errors(out) == []

@@ -29,9 +29,13 @@ from ..pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
 from . import layout
 
 _PRODUCT_CLASS = re.compile(rb"<product_class>\s*(Product_\w+)\s*</product_class>")
+# The first element of an XML file, after its declaration, processing instructions, comments and
+# DOCTYPE: what a PDS4 label is (Product_Bundle, Product_Collection ...), whatever its file name.
+_ROOT_ELEMENT = re.compile(rb"\A(?:\xef\xbb\xbf)?\s*(?:(?:<\?.*?\?>|<!--.*?-->|<!DOCTYPE[^>]*>)\s*)*"
+                           rb"<(?:[A-Za-z_][\w.-]*:)?([A-Za-z_][\w.-]*)[\s/>]", re.DOTALL)
 _FILE_NAME = re.compile(r"<file_name>\s*([^<]+?)\s*</file_name>")
 _MADE_CLASSES = {b"Product_Bundle", b"Product_Collection", b"Product_Browse", b"Product_Document"}
-_MADE_NAMES = {layout.VOLDESC, layout.AAREADME, layout.MANIFEST, layout.RELEASED_MARKER}
+_MADE_NAMES = {layout.VOLDESC, layout.AAREADME, layout.MANIFEST, layout.MANIFEST_LABEL, layout.RELEASED_MARKER}
 _DOCUMENTS = {"README.TXT", "JP2INFO.TXT"}
 # The keywords a delivery takes from a PDS3 label: the index columns' and the volume's producer.
 KEPT_KEYWORDS = tuple(name for name, _, _ in layout.INDEX_COLUMNS[2:]) + ("PRODUCER_INSTITUTION_NAME",)
@@ -135,6 +139,24 @@ def is_made_by_delivery(path: Path, relative: Path) -> bool:
         match = _PRODUCT_CLASS.search(file_head(path, 4096) or b"")
         return match is not None and match.group(1) in _MADE_CLASSES
     return False
+
+
+def root_element(path: Path) -> str | None:
+    """The local name of the root element of an XML file (read from its first 64 KiB), or None
+    when the file is no XML or cannot be read. A PDS4 label is what its root says: a bundle label
+    is a Product_Bundle whatever its file name (`bundle.xml` is the common one)."""
+    match = _ROOT_ELEMENT.match(file_head(path, 65536) or b"")
+    return match.group(1).decode("ascii") if match else None
+
+
+def bundle_labels(directory: Path) -> list[Path]:
+    """The PDS4 bundle labels (root element Product_Bundle) at the top of `directory`, sorted."""
+    try:
+        names = sorted(directory.iterdir())
+    except OSError:
+        return []
+    return [path for path in names if path.suffix.lower() in PDS4_LABEL_SUFFIXES and path.is_file()
+            and root_element(path) == "Product_Bundle"]
 
 
 def is_preview(name: str) -> bool:

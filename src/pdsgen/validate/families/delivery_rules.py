@@ -1,7 +1,8 @@
 """DLV family: a delivery (a PDS3 volume, a PDS4 bundle, its MD5 manifest) checked as a whole.
 
 `pdsgen validate DIR` recognises a delivery by the files `pdsgen deliver` writes at its
-root (archive/layout.py: MD5SUMS.TXT, INDEX/INDEX.LBL, bundle_*.xml). These checks
+root (archive/layout.py: MD5SUMS.TXT, INDEX/INDEX.LBL), or by a PDS4 bundle label at its root -
+a label whose root element is Product_Bundle, whatever its file name. These checks
 compare files with each other - the index table with its label and with every product
 label, inventories with the labels present, references with their targets, the manifest
 with the files - so they run once per delivery (the runner hook `DeliveryChecks`), and
@@ -41,10 +42,13 @@ _TEXT_FILES = (layout.VOLDESC, layout.AAREADME)
 
 
 def is_delivery(directory: Path) -> bool:
-    """A directory `pdsgen deliver` made (or one laid out the same way)."""
+    """A directory `pdsgen deliver` made (or one laid out the same way), or any PDS4 bundle: a
+    Product_Bundle label at its root, named bundle.xml, bundle_*.xml or anything else."""
+    from ...archive.scan import bundle_labels
+
     return directory.is_dir() and ((directory / layout.MANIFEST).is_file()
                                    or (directory / layout.INDEX_DIR / layout.INDEX_LABEL).is_file()
-                                   or any(directory.glob("bundle_*.xml")))
+                                   or bool(bundle_labels(directory)))
 
 
 @dataclass
@@ -295,7 +299,9 @@ def _read_head(path: Path) -> bytes:
 # --- placeholders -------------------------------------------------------------------------------
 
 def _check_placeholders(root: Path, found: list[_Found]) -> None:
-    files = [root / name for name in _TEXT_FILES] + sorted(root.glob("bundle_*.xml"))
+    from ...archive.scan import bundle_labels
+
+    files = [root / name for name in _TEXT_FILES] + bundle_labels(root)
     files += [root / directory / layout.collection_label_name(c) for c, (_, _, directory) in
               layout.COLLECTIONS.items()]
     for path in files:
@@ -349,6 +355,7 @@ class _Pds4Label:
     references: list[tuple[str, int]] = field(default_factory=list)  # (lid or lidvid, line), not members
     members: list[tuple[str, str, int]] = field(default_factory=list)  # a bundle's (lidvid, status, line)
     inventory: Path | None = None
+    described: list[Path] = field(default_factory=list)  # the files its File and Document_File areas name
 
     @property
     def lidvid(self) -> str:
@@ -382,7 +389,22 @@ def _read_pds4(path: Path) -> _Pds4Label | None:
     name = root.findtext(f"{PDS_NS}File_Area_Inventory/{PDS_NS}File/{PDS_NS}file_name")
     if name and not outside_tree(path.parent, name.strip()):  # one outside the label's directory is not read
         label.inventory = path.parent / name.strip()
+    label.described = described_files(root, path)
     return label
+
+
+def described_files(root: object, path: Path) -> list[Path]:
+    """The files a PDS4 label describes, read from its parsed tree (comments are no elements,
+    CDATA is text): each file_name of a File or Document_File, the latter under its
+    directory_path_name (relative to the label's directory)."""
+    files = []
+    for element in root.iter(f"{PDS_NS}file_name"):  # type: ignore[attr-defined]
+        name = (element.text or "").strip()
+        parent = element.getparent()
+        directory = (parent.findtext(f"{PDS_NS}directory_path_name") or "").strip() if parent is not None else ""
+        if name:
+            files.append(Path(os.path.normpath(path.parent / directory / name)))
+    return files
 
 
 def _check_bundle(root: Path, found: list[_Found]) -> None:
@@ -428,6 +450,51 @@ def _check_bundle(root: Path, found: list[_Found]) -> None:
     for lid, listed_in_any in listed_by_lid.items():
         if listed_in_any is not None:
             _check_unlisted(_versions([c for c in collections if c.lid == lid]), listed_in_any, labels, found)
+    _check_unlabelled(root, labels, found)
+
+
+def _check_unlabelled(root: Path, labels: list[_Pds4Label], found: list[_Found]) -> None:
+    """DLV-016: every file of a bundle is a label or described by one (NASA's validate: a
+    warning, UNLABELED_FILE 'warning.file.not_referenced_in_label'). Not files of no delivery
+    (the review pages, the release marker); in a delivery that is a PDS3 volume too, not the
+    volume's own (VOLDESC.CAT, AAREADME.TXT, INDEX/, CATALOG/, PDS3 labels)."""
+    described = {os.path.normpath(label.path) for label in labels}
+    described |= {os.path.normpath(p) for label in labels for p in label.described}
+    volume = (root / layout.VOLDESC).is_file()
+    stems = {(os.path.dirname(p), os.path.basename(p).split(".", 1)[0].upper()) for p in described}
+    for path in _all_files(root):
+        relative = path.relative_to(root)
+        name = relative.as_posix()
+        if os.path.normpath(path) in described or name == layout.RELEASED_MARKER or layout.is_review_page(name):
+            continue
+        if (volume and _volume_part(relative)) or _pds3_label_of_described(path, stems):
+            continue
+        if path.suffix.lower() in PDS4_LABEL_SUFFIXES and not path.name.lower().endswith(".aux.xml"):
+            continue  # taken for a label (NASA's validate too: an empty foo.xml in its suite case 482-4 is none)
+        found.append(_Found("DLV-016", path, _unlabelled_message(path)))
+
+
+def _volume_part(relative: Path) -> bool:
+    """A file of the PDS3 volume that shares the delivery with the bundle."""
+    return (relative.as_posix() in (layout.VOLDESC, layout.AAREADME, layout.MANIFEST)
+            or relative.parts[0] in (layout.INDEX_DIR, layout.CATALOG_DIR))
+
+
+def _pds3_label_of_described(path: Path, stems: set[tuple[str, str]]) -> bool:
+    """A product's detached PDS3 label kept beside the data its PDS4 label describes (X.LBL beside
+    a described X.JP2): the same product in the other dialect, not an unlabelled file."""
+    key = (os.path.normpath(path.parent), path.name.split(".", 1)[0].upper())
+    return key in stems and (path.suffix.lower() == ".lbl" or is_pds3_head(_read_head(path)))
+
+
+def _unlabelled_message(path: Path) -> str:
+    if path.name.lower().endswith(".aux.xml"):
+        return ("a GDAL .aux.xml sidecar (statistics GDAL wrote beside a file it opened): no label describes it; "
+                "remove it from the bundle")
+    if path.name == layout.MANIFEST:
+        return (f"no label describes {layout.MANIFEST}: a bundle's checksum manifest is a product with a label "
+                f"({layout.MANIFEST_LABEL}, a Product_Ancillary with a Checksum_Manifest; pdsgen deliver writes it)")
+    return "no PDS4 label of the bundle describes this file (name it in a label's File, or remove it)"
 
 
 def _version_key(label: _Pds4Label) -> tuple[int, ...]:
@@ -534,7 +601,8 @@ def _check_manifest(root: Path, labels_only: bool, found: list[_Found]) -> None:
                                                  "text file, [delivery] table, keeps it for good)"))
     for path in _all_files(root):
         name = path.relative_to(root).as_posix()
-        if name not in (layout.MANIFEST, layout.RELEASED_MARKER) and not layout.is_review_page(name) \
+        if name not in (layout.MANIFEST, layout.MANIFEST_LABEL, layout.RELEASED_MARKER) \
+                and not layout.is_review_page(name) \
                 and name not in listed:
             found.append(_Found("DLV-021", path, f"not listed in {layout.MANIFEST}"))
 
@@ -623,6 +691,8 @@ register(
     Rule("DLV-014", "warning", "references to products of the bundle (Product_Browse's data product, a "
                                "Reference_List's document ...) resolve in the delivery", None),
     Rule("DLV-015", "error", "the bundle lists every collection, and each primary member it lists exists", None),
+    Rule("DLV-016", "warning", "every file of a PDS4 bundle is a label or described by one (a GDAL .aux.xml "
+                               "sidecar, a manifest without its label ...)", None),
     Rule("DLV-020", "error", "every file MD5SUMS.TXT lists exists and has that MD5", None, needs_data=True),
     Rule("DLV-021", "error", "every file of the delivery is listed in MD5SUMS.TXT", None),
 )

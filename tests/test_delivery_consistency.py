@@ -1,0 +1,112 @@
+"""A delivery's parts agree with each other, whatever they are named: seeded into pdsgen's own
+deliveries (PDS3, PDS4, both), each inconsistency is caught by a finding naming the file, and the
+clean deliveries pass --strict with no finding of these rules.
+
+NASA's validate reports a file of a bundle that no label describes as a warning
+(NASA-PDS/validate src/main/java/gov/nasa/pds/tools/validate/ProblemType.java @ 0572d9ad:
+UNLABELED_FILE "warning.file.not_referenced_in_label"): DLV-016 has that severity.
+"""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+from lxml import etree
+
+from pdsgen.deliver import make_delivery
+from pdsgen.extras import make_extras
+from pdsgen.products.dtm import write_dtm
+from pdsgen.products.ortho import write_ortho
+from pdsgen.synthetic import make_scene, write_geotiff
+from pdsgen.validate import validate_paths
+
+PDS_NS = {"pds": "http://pds.nasa.gov/pds4/pds/v1"}
+BUNDLE_LID = "urn:nasa:pds:demo_dtm"
+# The rules of this issue: a clean delivery has none of them (the demo's UNK texts are DLV-007's).
+CONSISTENCY = ("DLV-011", "DLV-016", "DLV-017", "DLV-018", "DLV-019")
+
+
+@pytest.fixture(scope="module")
+def products(tmp_path_factory) -> Path:
+    """A DTM and an orthoimage made on it (PDS3 and PDS4 labels), with their Extras."""
+    root = tmp_path_factory.mktemp("consistency")
+    scene = make_scene(width=120, height=160)
+    (root / "in").mkdir()
+    dtm_in = write_geotiff(root / "in" / "dtm.tif", scene.elevation, scene.transform, scene.crs, None)
+    ortho_in = write_geotiff(root / "in" / "ortho.tif", scene.reflectance, scene.transform, scene.crs, None)
+    out = root / "products"
+    dtm = write_dtm(dtm_in, out, profile="hirise", source_product_ids=("PSP_008669_1705", "PSP_009025_1705"),
+                    institution="U", label="both")
+    ortho = write_ortho(ortho_in, out, profile="hirise", observation_id="PSP_008669_1705",
+                        source_dtm_id=dtm.product_id, label="both")
+    make_extras([dtm.path, ortho.label_path], out / "extras")
+    return out
+
+
+@pytest.fixture(scope="module")
+def made(products, tmp_path_factory) -> dict[str, Path]:
+    """One clean delivery of each dialect, made once; tests seed copies of them."""
+    root = tmp_path_factory.mktemp("deliveries")
+    deliveries = {}
+    for dialect in ("pds3", "pds4", "both"):
+        deliveries[dialect] = root / dialect
+        make_delivery(products, root / dialect, dialect=dialect, volume_id="DEMO_0001" if dialect != "pds4" else None,
+                      bundle_lid=BUNDLE_LID if dialect != "pds3" else None)
+    return deliveries
+
+
+def _copy(made: dict[str, Path], dialect: str, tmp_path: Path) -> Path:
+    return Path(shutil.copytree(made[dialect], tmp_path / dialect))
+
+
+def _found(path: Path, *rules: str) -> list[tuple[str, str, str]]:
+    report = validate_paths([path], labels_only=True)
+    return sorted((f.rule, f.severity, Path(f.file).name) for f in report.findings if f.rule in rules)
+
+
+@pytest.mark.parametrize("dialect", ["pds3", "pds4", "both"])
+def test_clean_deliveries_have_no_consistency_finding(made, dialect):
+    assert _found(made[dialect], *CONSISTENCY) == []
+
+
+def test_a_bundle_is_what_its_root_says_whatever_its_name(made, tmp_path):
+    """bundle.xml (the common name) with no manifest beside it: still a bundle, its inventories
+    checked - a product missing from its inventory is found."""
+    bundle = _copy(made, "pds4", tmp_path)
+    (bundle / "bundle_demo_dtm.xml").rename(bundle / "bundle.xml")
+    for name in ("MD5SUMS.TXT", "MD5SUMS.xml", "REVIEW.html"):
+        (bundle / name).unlink()
+    shutil.rmtree(bundle / "MISCELLANEOUS")
+    text = (bundle / "bundle.xml").read_text()
+    start = text.index("<Bundle_Member_Entry>\n    <lidvid_reference>urn:nasa:pds:demo_dtm:miscellaneous")
+    end = text.index("</Bundle_Member_Entry>", start) + len("</Bundle_Member_Entry>")
+    (bundle / "bundle.xml").write_text(text[:start] + text[end:])
+    assert _found(bundle, *CONSISTENCY) == []
+    inventory = bundle / "DATA" / "collection_data_inventory.csv"
+    rows = inventory.read_bytes().split(b"\r\n")
+    inventory.write_bytes(b"\r\n".join(rows[1:]))
+    assert _found(bundle, "DLV-011") == [("DLV-011", "error", "DTEEC_008669_1705_009025_1705_U01.xml")]
+
+
+@pytest.mark.parametrize("dialect", ["pds4", "both"])
+def test_a_file_no_label_describes_is_named(made, dialect, tmp_path):
+    bundle = _copy(made, dialect, tmp_path)
+    (bundle / "DATA" / "PSP_008669_1705_RED_C_01_ORTHO.JP2.aux.xml").write_text(
+        "<PAMDataset><PAMRasterBand band=\"1\"/></PAMDataset>\n")
+    found = _found(bundle, "DLV-016")
+    assert found == [("DLV-016", "warning", "PSP_008669_1705_RED_C_01_ORTHO.JP2.aux.xml")]
+
+
+def test_the_manifest_is_a_labelled_product_and_unlabelled_without_its_label(made, tmp_path):
+    bundle = _copy(made, "pds4", tmp_path)
+    label = etree.parse(str(bundle / "MD5SUMS.xml"))
+    assert label.getroot().tag == "{http://pds.nasa.gov/pds4/pds/v1}Product_Ancillary"
+    assert label.findtext(".//pds:Checksum_Manifest/pds:parsing_standard_id", namespaces=PDS_NS) == "MD5Deep 4.n"
+    inventory = (bundle / "MISCELLANEOUS" / "collection_miscellaneous_inventory.csv").read_bytes().decode()
+    assert inventory == "P,urn:nasa:pds:demo_dtm:miscellaneous:md5sums::1.0\r\n"
+    (bundle / "MD5SUMS.xml").unlink()
+    found = _found(bundle, "DLV-016", "DLV-010")
+    assert ("DLV-016", "warning", "MD5SUMS.TXT") in found and ("DLV-010", "error",
+                                                               "collection_miscellaneous_inventory.csv") in found
