@@ -89,8 +89,7 @@ class DataFileRegister:
             if _local(file) not in ("File", "Document_File"):
                 continue
             name_element = next((child for child in file if _local(child) == "file_name"), None)
-            name = (name_element.text or "").strip() if name_element is not None else ""
-            if not name:
+            if name_element is None or not (name := (name_element.text or "").strip()):
                 continue
             folder = next((child for child in file if _local(child) == "directory_path_name"), None)
             relative = os.path.join((folder.text or "").strip(), name) if folder is not None else name
