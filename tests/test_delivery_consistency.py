@@ -25,7 +25,8 @@ from pdsgen.validate import validate_paths
 PDS_NS = {"pds": "http://pds.nasa.gov/pds4/pds/v1"}
 BUNDLE_LID = "urn:nasa:pds:demo_dtm"
 # The rules of this issue: a clean delivery has none of them (the demo's UNK texts are DLV-007's).
-CONSISTENCY = ("DLV-011", "DLV-016", "DLV-017", "DLV-018", "DLV-019")
+CONSISTENCY = ("DLV-011", "DLV-016", "DLV-017", "DLV-018", "DLV-019", "IDN-001", "IDN-002", "IDN-003", "IDN-004",
+               "IDN-012", "IDN-013")
 
 
 @pytest.fixture(scope="module")
@@ -110,3 +111,66 @@ def test_the_manifest_is_a_labelled_product_and_unlabelled_without_its_label(mad
     found = _found(bundle, "DLV-016", "DLV-010")
     assert ("DLV-016", "warning", "MD5SUMS.TXT") in found and ("DLV-010", "error",
                                                                "collection_miscellaneous_inventory.csv") in found
+
+
+# --- identification: any product, any dialect ----------------------------------------------------
+
+ORTHO = "DATA/PSP_008669_1705_RED_C_01_ORTHO"
+DTM_IMG = "DATA/DTEEC_008669_1705_009025_1705_U01.IMG"
+NOW = "1767225600"  # SOURCE_DATE_EPOCH: 2026-01-01T00:00:00Z, so no test depends on today's date
+
+
+def _seed(root: Path, relative: str, old: str, new: str) -> None:
+    path = root / relative
+    data = path.read_bytes()
+    assert old.encode() in data, (relative, old)
+    path.write_bytes(data.replace(old.encode(), new.encode(), 1))
+
+
+def test_a_product_without_product_id_is_found(made, tmp_path):
+    volume = _copy(made, "pds3", tmp_path)
+    _seed(volume, f"{ORTHO}.LBL", 'PRODUCT_ID                = "PSP_008669_1705_RED_C_01_ORTHO"\r\n', "")
+    assert _found(volume, "IDN-001") == [("IDN-001", "warning", "PSP_008669_1705_RED_C_01_ORTHO.LBL")]
+
+
+def test_unk_identification_is_found_in_a_pds4_bundle(made, tmp_path):
+    """DLV-007 reads the bundle's PDS4 labels, as a volume's indexed PDS3 labels."""
+    assert _found(made["pds4"], "DLV-007") == []  # the demo's PDS4 labels name what they show
+    bundle = _copy(made, "pds4", tmp_path)
+    _seed(bundle, f"{ORTHO}.xml", "<name>Mars</name>", "<name>UNK</name>")
+    assert _found(bundle, "DLV-007") == [("DLV-007", "warning", "PSP_008669_1705_RED_C_01_ORTHO.xml")]
+
+
+@pytest.mark.parametrize("dialect", ["pds3", "both"])
+def test_a_creation_time_in_the_future_is_found(made, dialect, tmp_path, monkeypatch):
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", NOW)
+    delivery = _copy(made, dialect, tmp_path)
+    _seed(delivery, f"{ORTHO}.LBL", 'PRODUCER_FULL_NAME        = "UNK"', "PRODUCT_CREATION_TIME = 2031-01-01T00:00:00")
+    assert _found(delivery, "IDN-002") == [("IDN-002", "warning", "PSP_008669_1705_RED_C_01_ORTHO.LBL")]
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "1956000000")  # 2031-12-26: then it is no longer ahead
+    assert _found(delivery, "IDN-002") == []
+
+
+def test_a_product_made_before_its_source_is_found(made, tmp_path, monkeypatch):
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", NOW)
+    volume = _copy(made, "pds3", tmp_path)
+    # the same length as the line it replaces: the attached label's records keep their bytes
+    _seed(volume, DTM_IMG, 'PRODUCER_FULL_NAME        = "UNK"', "PRODUCT_CREATION_TIME = 2020-01-02")
+    _seed(volume, f"{ORTHO}.LBL", 'PRODUCER_FULL_NAME        = "UNK"', "PRODUCT_CREATION_TIME = 2020-01-01T00:00:00")
+    found = [f for f in validate_paths([volume], labels_only=True).findings if f.rule == "IDN-004"]
+    assert [(Path(f.file).name, "DTEEC_008669_1705_009025_1705_U01" in f.message) for f in found] == [
+        ("PSP_008669_1705_RED_C_01_ORTHO.LBL", True)]
+    _seed(volume, f"{ORTHO}.LBL", "2020-01-01T00:00:00", "2020-01-03T00:00:00")
+    assert _found(volume, "IDN-004") == []
+
+
+def test_stop_before_start_is_found_in_both_dialects(made, tmp_path):
+    delivery = _copy(made, "both", tmp_path)
+    _seed(delivery, f"{ORTHO}.xml", '<start_date_time xsi:nil="true" nilReason="unknown"/>',
+          "<start_date_time>2020-01-02T00:00:00Z</start_date_time>")
+    _seed(delivery, f"{ORTHO}.xml", '<stop_date_time xsi:nil="true" nilReason="unknown"/>',
+          "<stop_date_time>2020-01-01T00:00:00Z</stop_date_time>")
+    _seed(delivery, f"{ORTHO}.LBL", 'PRODUCER_FULL_NAME        = "UNK"',
+          "START_TIME = 2020-01-02T00:00:00\r\nSTOP_TIME = 2020-001T00:00:00")
+    assert _found(delivery, "IDN-003", "IDN-013") == [("IDN-003", "error", "PSP_008669_1705_RED_C_01_ORTHO.LBL"),
+                                                      ("IDN-013", "error", "PSP_008669_1705_RED_C_01_ORTHO.xml")]

@@ -9,8 +9,6 @@ from __future__ import annotations
 
 import re
 
-from ..pds4 import checksum_manifest
-
 # PDS3 volume layout (PDS3 Standards Reference, chapter 19: volume organisation)
 DATA_DIR = "DATA"
 EXTRAS_DIR = "EXTRAS"
@@ -74,7 +72,8 @@ COLLECTIONS = {
     "browse": ("Browse", "bundle_has_browse_collection", EXTRAS_DIR),
     "document": ("Document", "bundle_has_document_collection", DOCUMENT_DIR),
     # the checksum manifest's label (in the bundle's root, beside the manifest)
-    "miscellaneous": (checksum_manifest.COLLECTION_TYPE, checksum_manifest.BUNDLE_REFERENCE_TYPE, MISCELLANEOUS_DIR),
+    # (the PDS4 collection type for products that are neither data, browse nor documents)
+    "miscellaneous": ("Miscellaneous", "bundle_has_miscellaneous_collection", MISCELLANEOUS_DIR),
 }
 
 

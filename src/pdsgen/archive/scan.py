@@ -13,6 +13,7 @@ collection, browse and document labels, manifest) are recognised and made anew.
 
 from __future__ import annotations
 
+import logging
 import os
 import re
 from collections.abc import Callable, Iterator
@@ -28,6 +29,7 @@ from ..missions.imars import is_metadata_name as is_imars_metadata
 from ..pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
 from . import layout
 
+log = logging.getLogger(__name__)
 _PRODUCT_CLASS = re.compile(rb"<product_class>\s*(Product_\w+)\s*</product_class>")
 # The first element of an XML file, after its declaration, processing instructions, comments and
 # DOCTYPE: what a PDS4 label is (Product_Bundle, Product_Collection ...), whatever its file name.
@@ -250,8 +252,16 @@ def _read_pds3(label: Path, source: Path, listings: dict[Path, DirectoryNames],
     # ^DESCRIPTION = "JP2INFO.TXT", README.TXT: documents, delivered as such
     named.data = [p for p in named.data if p != label and p.name.upper() not in _DOCUMENTS]
     named.support = [p for p in named.support if p != label and p.name.upper() not in _DOCUMENTS]
-    return _Pds3Label(label, found.first("PRODUCT_ID") or label.stem,
+    return _Pds3Label(label, found.first("PRODUCT_ID") or _named_by_file(label),
                       {name: found.first(name) for name in KEPT_KEYWORDS}, named)
+
+
+def _named_by_file(label: Path) -> str:
+    """The identifier of a product whose label states none: its file name, said aloud (a delivery
+    never invents an identifier silently; pdsgen validate reports the label, IDN-001)."""
+    log.warning("%s: no PRODUCT_ID in the label; the delivery names the product %s after its file name "
+                "(state PRODUCT_ID in the label to choose it)", label, label.stem)
+    return label.stem
 
 
 def _group(pds3: list[Path], pds4: list[Path], on_pds3: LabelValues | None, source: Path,
@@ -281,7 +291,7 @@ def _group(pds3: list[Path], pds4: list[Path], on_pds3: LabelValues | None, sour
         found = next((by_file[m] for m in members if m in by_file), None)
         found = found or by_stem.get((label.parent, label.stem.upper()))
         if found is None:
-            found = DataProduct(label.stem, [])
+            found = DataProduct(label.stem, [])  # a PDS4 product: its LID part follows the label file
             products.append(found)
         if found.pds4_label is not None:
             raise InputError(label, f"a second PDS4 label for product {found.product_id} "

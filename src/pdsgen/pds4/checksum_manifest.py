@@ -22,9 +22,6 @@ from pathlib import Path
 from ..formats.checksum import file_md5
 
 PARSING_STANDARD = "MD5Deep 4.n"
-# PDS4 collection facts for the collection that holds the manifest's label.
-COLLECTION_TYPE = "Miscellaneous"
-BUNDLE_REFERENCE_TYPE = "bundle_has_miscellaneous_collection"
 
 
 @dataclass(frozen=True)
@@ -55,7 +52,7 @@ def manifest_label(manifest_path: str | Path, lid: str, vid: str, title: str | N
     """The Product_Ancillary label (UTF-8 XML text) of the checksum manifest at `manifest_path`,
     with logical identifier `lid` and version `vid`. Write it beside the manifest (its File names
     the manifest by its file name); the manifest must not list this label."""
-    from .label import render_pds4  # the templates (and rasterio) load on first use: layout imports the facts above
+    from .label import render_pds4  # the templates (and rasterio) load on first use
     from .model import CURRENT_IM
 
     path = Path(manifest_path)

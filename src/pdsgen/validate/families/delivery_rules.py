@@ -356,6 +356,7 @@ class _Pds4Label:
     members: list[tuple[str, str, int]] = field(default_factory=list)  # a bundle's (lidvid, status, line)
     inventory: Path | None = None
     described: list[Path] = field(default_factory=list)  # the files its File and Document_File areas name
+    unstated: list[tuple[str, int | None, str | None]] = field(default_factory=list)  # DLV-007: message, line, keyword
 
     @property
     def lidvid(self) -> str:
@@ -364,6 +365,8 @@ class _Pds4Label:
 
 def _read_pds4(path: Path) -> _Pds4Label | None:
     from lxml import etree
+
+    from .identity_rules import pds4_unstated
 
     try:
         tree = etree.parse(str(path), etree.XMLParser(no_network=True, resolve_entities=False))
@@ -390,6 +393,7 @@ def _read_pds4(path: Path) -> _Pds4Label | None:
     if name and not outside_tree(path.parent, name.strip()):  # one outside the label's directory is not read
         label.inventory = path.parent / name.strip()
     label.described = described_files(root, path)
+    label.unstated = [(hit.message, hit.line, hit.keyword) for hit in pds4_unstated(root)]
     return label
 
 
@@ -451,6 +455,8 @@ def _check_bundle(root: Path, found: list[_Found]) -> None:
         if listed_in_any is not None:
             _check_unlisted(_versions([c for c in collections if c.lid == lid]), listed_in_any, labels, found)
     _check_unlabelled(root, labels, found)
+    for label in labels:  # DLV-007 of the bundle's labels, as of a volume's indexed PDS3 labels
+        found.extend(_Found("DLV-007", label.path, message, line, keyword) for message, line, keyword in label.unstated)
 
 
 def _check_unlabelled(root: Path, labels: list[_Pds4Label], found: list[_Found]) -> None:
@@ -682,7 +688,8 @@ register(
     Rule("DLV-006", "warning", "no [TO BE WRITTEN: ...] placeholder left in VOLDESC.CAT, AAREADME.TXT, "
                                "bundle or collection labels", None),
     Rule("DLV-007", "warning", "the products' identification keywords (DATA_SET_ID, PRODUCER_*, INSTRUMENT_* ...) "
-                               "are stated, not UNK or N/A", None),
+                               "are stated, not UNK or N/A (PDS3 labels of the index, PDS4 labels of the "
+                               "bundle)", None),
     Rule("DLV-010", "error", "every primary member of a collection inventory is the LIDVID of a product of the "
                              "delivery", None),
     Rule("DLV-011", "error", "every product under a collection's LID is in its inventory", None),
