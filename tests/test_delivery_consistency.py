@@ -10,12 +10,14 @@ UNLABELED_FILE "warning.file.not_referenced_in_label"): DLV-016 has that severit
 from __future__ import annotations
 
 import shutil
+import subprocess
 from pathlib import Path
 
 import pytest
 from lxml import etree
 
 from pdsgen.deliver import make_delivery
+from pdsgen.errors import InputError
 from pdsgen.extras import make_extras
 from pdsgen.products.dtm import write_dtm
 from pdsgen.products.ortho import write_ortho
@@ -174,3 +176,55 @@ def test_stop_before_start_is_found_in_both_dialects(made, tmp_path):
           "START_TIME = 2020-01-02T00:00:00\r\nSTOP_TIME = 2020-001T00:00:00")
     assert _found(delivery, "IDN-003", "IDN-013") == [("IDN-003", "error", "PSP_008669_1705_RED_C_01_ORTHO.LBL"),
                                                       ("IDN-013", "error", "PSP_008669_1705_RED_C_01_ORTHO.xml")]
+
+
+# --- stale Extras ----------------------------------------------------------------------------------
+
+README = "EXTRAS/README.TXT"
+
+
+def test_extras_record_the_label_they_were_made_from(products):
+    """README.TXT's Label MD5 of the orthoimage is the MD5 of its detached label file, as md5sum
+    computes it (an attached label's is that of the label's bytes)."""
+    text = (products / "extras" / "README.TXT").read_text()
+    digest = subprocess.run(["md5sum", "PSP_008669_1705_RED_C_01_ORTHO.LBL"], cwd=products, capture_output=True,
+                            text=True, check=True).stdout.split()[0]
+    assert f"  Label MD5:       {digest}\n" in text
+
+
+def test_seeded_stale_and_undelivered_extras_are_found(made, tmp_path):
+    delivery = _copy(made, "both", tmp_path)
+    text = (delivery / README).read_text()
+    recorded = text.split("  Label MD5:       ", 1)[1][:32]
+    _seed(delivery, README, recorded, "0" * 32)
+    assert _found(delivery, "DLV-017") == [("DLV-017", "error", "README.TXT")]
+    _seed(delivery, README, "0" * 32, recorded)
+    _seed(delivery, README, "120 samples x 160 lines", "120 samples x 150 lines")
+    _seed(delivery, README, "  VALID_MINIMUM:   ", "  VALID_MINIMUM:   1")  # -4367.89 -> 1-4367.89: not a number
+    assert _found(delivery, "DLV-018") == [("DLV-018", "error", "README.TXT")]
+    (delivery / "EXTRAS" / "DTEEC_008669_1705_009025_1705_U01.th.jpg").unlink()
+    (delivery / "DATA" / "PSP_008669_1705_RED_C_01_ORTHO.JP2").unlink()
+    (delivery / "DATA" / "PSP_008669_1705_RED_C_01_ORTHO.LBL").unlink()
+    found = [f for f in validate_paths([delivery], labels_only=True).findings if f.rule == "DLV-019"]
+    assert sorted(f.message.split(",")[0] for f in found) == [
+        "documents preview DTEEC_008669_1705_009025_1705_U01.th.jpg of DTEEC_008669_1705_009025_1705_U01",
+        "documents product PSP_008669_1705_RED_C_01_ORTHO (PSP_008669_1705_RED_C_01_ORTHO.LBL)"]
+
+
+def test_a_remade_product_with_old_extras_is_refused_and_a_consistent_remake_passes(products, tmp_path):
+    """The README's flow: remake a DTM (--overwrite), deliver again. With the old Extras deliver
+    refuses, naming README.TXT and the remedy; with the Extras made again the delivery passes
+    --strict with no finding of these rules."""
+    source = Path(shutil.copytree(products, tmp_path / "products"))
+    scene = make_scene(width=120, height=160)
+    cropped = write_geotiff(tmp_path / "dtm.tif", scene.elevation[:140], scene.transform, scene.crs, None)
+    dtm = write_dtm(cropped, source, profile="hirise", source_product_ids=("PSP_008669_1705", "PSP_009025_1705"),
+                    institution="U", label="both", overwrite=True)
+    with pytest.raises(InputError) as refused:
+        make_delivery(source, tmp_path / "out", dialect="both", volume_id="DEMO_0001", bundle_lid=BUNDLE_LID)
+    message = str(refused.value)
+    assert "stale Extras" in message and "extras/README.TXT" in message and "pdsgen extras" in message
+    assert not (tmp_path / "out").exists()
+    make_extras([dtm.path], source / "extras", overwrite=True)
+    make_delivery(source, tmp_path / "out", dialect="both", volume_id="DEMO_0001", bundle_lid=BUNDLE_LID)
+    assert _found(tmp_path / "out", *CONSISTENCY) == []

@@ -179,6 +179,7 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
         raise InputError(source_dir, "holds no data product (no PDS3 or PDS4 product label)")
     _check_dialects(found, pds3, pds4)
     _check_unique_product_ids(found)
+    _check_extras_current(source_dir)
     log.info("%s: %d data product(s), %d preview(s), %d document(s), %d other file(s)", source_dir,
              len(found.products), len(found.previews), len(found.documents), len(found.others))
     work = target.parent / f".{target.name}.deliver-{os.getpid()}"
@@ -291,6 +292,18 @@ def _check_unique_product_ids(found: SourceSet) -> None:
             raise InputError(product.pds3_label or product.pds4_label,
                              f"has the product ID {product.product_id} of {first.pds3_label or first.pds4_label} "
                              "too; each product of a delivery needs its own")
+
+
+def _check_extras_current(source: Path) -> None:
+    """Stale Extras are refused, in one line naming the files and the remedy: a product remade
+    after its Extras (README.TXT records the label's MD5, archive/extras_check.py)."""
+    from ..archive.extras_check import extras_problems
+
+    stale = [problem for problem in extras_problems(source) if problem.kind != "absent"]
+    if stale:
+        names = sorted({f"{p.file.parent.name}/{p.file.name}" for p in stale})
+        raise InputError(stale[0].file, f"stale Extras ({len(stale)} disagreement(s) with the products, in "
+                                        f"{', '.join(names)}): {stale[0].message}")
 
 
 def _check_dialects(found: SourceSet, pds3: bool, pds4: bool) -> None:

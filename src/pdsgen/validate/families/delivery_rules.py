@@ -581,6 +581,19 @@ def _check_inventory(root: Path, collection: _Pds4Label, by_lidvid: dict[str, _P
     return listed
 
 
+# --- the Extras against the products -------------------------------------------------------------
+
+_EXTRAS_RULES = {"stale": "DLV-017", "differs": "DLV-018", "absent": "DLV-019"}
+
+
+def _check_extras(root: Path, found: list[_Found]) -> None:
+    """DLV-017/018/019: the Extras' README.TXT against the delivered labels (archive/extras_check.py)."""
+    from ...archive.extras_check import extras_problems
+
+    for problem in extras_problems(root):
+        found.append(_Found(_EXTRAS_RULES[problem.kind], problem.file, problem.message, problem.line))
+
+
 # --- the manifest -------------------------------------------------------------------------------
 
 def _check_manifest(root: Path, labels_only: bool, found: list[_Found]) -> None:
@@ -622,7 +635,7 @@ def check_delivery(root: Path, labels_only: bool = False, labels: LabelCache | N
 
     found: list[_Found] = []
     _check_index(root, found, labels)
-    for check in (_check_placeholders, _check_bundle):
+    for check in (_check_placeholders, _check_bundle, _check_extras):
         check(root, found)
     _check_manifest(root, labels_only, found)
     table = rules()
@@ -700,6 +713,10 @@ register(
     Rule("DLV-015", "error", "the bundle lists every collection, and each primary member it lists exists", None),
     Rule("DLV-016", "warning", "every file of a PDS4 bundle is a label or described by one (a GDAL .aux.xml "
                                "sidecar, a manifest without its label ...)", None),
+    Rule("DLV-017", "error", "the Extras were made from the delivered product: the label MD5 README.TXT records "
+                             "is the label's (not stale after a remake)", None),
+    Rule("DLV-018", "error", "README.TXT's size and VALID_MINIMUM/VALID_MAXIMUM of a product are its label's", None),
+    Rule("DLV-019", "warning", "README.TXT documents only products and previews that are delivered", None),
     Rule("DLV-020", "error", "every file MD5SUMS.TXT lists exists and has that MD5", None, needs_data=True),
     Rule("DLV-021", "error", "every file of the delivery is listed in MD5SUMS.TXT", None),
 )
