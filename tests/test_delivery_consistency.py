@@ -228,3 +228,53 @@ def test_a_remade_product_with_old_extras_is_refused_and_a_consistent_remake_pas
     make_extras([dtm.path], source / "extras", overwrite=True)
     make_delivery(source, tmp_path / "out", dialect="both", volume_id="DEMO_0001", bundle_lid=BUNDLE_LID)
     assert _found(tmp_path / "out", *CONSISTENCY) == []
+
+
+# --- keyword agreement across a delivery's parts --------------------------------------------------
+
+
+def test_pds3_and_pds4_times_of_one_product_agree(made, tmp_path):
+    delivery = _copy(made, "both", tmp_path)
+    _seed(delivery, f"{ORTHO}.xml", '<start_date_time xsi:nil="true" nilReason="unknown"/>',
+          "<start_date_time>2020-01-02T00:00:00Z</start_date_time>")
+    _seed(delivery, f"{ORTHO}.LBL", 'PRODUCER_FULL_NAME        = "UNK"', "START_TIME = 2020-01-02T00:00:00")
+    assert _found(delivery, "DLV-022") == []
+    _seed(delivery, f"{ORTHO}.LBL", "START_TIME = 2020-01-02T00:00:00", "START_TIME = 2020-01-03T00:00:00")
+    assert _found(delivery, "DLV-022") == [("DLV-022", "error", "PSP_008669_1705_RED_C_01_ORTHO.xml")]
+
+
+def test_a_cart_grid_one_pixel_east_of_its_pds3_label_is_found(made, tmp_path):
+    """The DTM's attached PDS3 label against its PDS4 label: the corner moved one pixel east.
+    The PDS3 grid is read back by GDAL (rasterio), independently of the check."""
+    import rasterio
+
+    delivery = _copy(made, "both", tmp_path)
+    label = delivery / "DATA" / "DTEEC_008669_1705_009025_1705_U01.xml"
+    text = label.read_text()
+    corner = etree.fromstring(text.encode()).find(".//{http://pds.nasa.gov/pds4/cart/v1}upperleft_corner_x")
+    with rasterio.open(delivery / DTM_IMG) as dataset:
+        ulx, xres = dataset.transform.c, dataset.transform.a
+    assert float(corner.text) == pytest.approx(ulx)  # the two agree as made
+    assert _found(delivery, "DLV-023") == []
+    element = f'<cart:upperleft_corner_x unit="m">{corner.text}</cart:upperleft_corner_x>'
+    assert element in text
+    label.write_text(text.replace(element, f'<cart:upperleft_corner_x unit="m">{float(corner.text) + xres}'
+                                           "</cart:upperleft_corner_x>"))
+    found = [f for f in validate_paths([delivery], labels_only=True).findings if f.rule == "DLV-023"]
+    assert [(Path(f.file).name, "+1.00 pixel east" in f.message) for f in found] == [
+        ("DTEEC_008669_1705_009025_1705_U01.xml", True)]
+
+
+def test_the_volume_and_the_bundle_hold_the_same_products(made, tmp_path):
+    delivery = _copy(made, "both", tmp_path)
+    (delivery / f"{ORTHO}.xml").rename(delivery / "DATA" / "ELSEWHERE.txt")
+    found = _found(delivery, "DLV-024")
+    assert found == [("DLV-024", "error", "PSP_008669_1705_RED_C_01_ORTHO.LBL")]
+
+
+def test_an_undeclared_data_set_id_in_a_label_and_its_row_is_found(made, tmp_path):
+    volume = _copy(made, "pds3", tmp_path)
+    for relative in (f"{ORTHO}.LBL", "INDEX/INDEX.TAB"):
+        _seed(volume, relative, "MRO-M-HIRISE-5-DTM-V1.0", "MRO-M-HIRISE-5-DTX-V1.0")
+    found = [f for f in validate_paths([volume], labels_only=True).findings if f.rule == "DLV-005"]
+    assert [(Path(f.file).name, "DTX" in f.message) for f in found] == [("INDEX.TAB", True)]

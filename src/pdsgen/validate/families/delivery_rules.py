@@ -184,6 +184,7 @@ def _check_index(root: Path, found: list[_Found], labels: LabelCache | None) -> 
     table_path = _table_file(label, label_path) or table_path
     row_bytes, rows = table.number("ROW_BYTES"), table.number("ROWS")
     volume_ids = {label.text("VOLUME_ID")} | {_text_value(root / layout.VOLDESC, "VOLUME_ID", labels)}
+    declared = {name.upper() for name in _set_of(label, "DATA_SET_ID")}
     seen: dict[str, int] = {}
     count = 0
     try:
@@ -199,6 +200,7 @@ def _check_index(root: Path, found: list[_Found], labels: LabelCache | None) -> 
                     continue
                 values = {c.name: _field(raw, c, count, table_path, found) for c in columns}
                 _check_row(root, table_path, count, values, columns, seen, volume_ids, found, labels)
+                _check_row_data_set(table_path, count, values.get("DATA_SET_ID"), declared, found)
     except OSError as exc:
         found.append(_Found("DLV-001", table_path, f"cannot read the index table: {exc.strerror or exc}"))
         return
@@ -248,6 +250,16 @@ def _check_row(root: Path, table_path: Path, number: int, values: dict[str, str 
             found.append(_Found("DLV-004", table_path, f"row {number} ({spec}): {column.name} = {row_value}, "
                                                        f"but its label has {label_value or 'none'}"
                                                        + (f" (line {line})" if line else ""), number, column.name))
+
+
+def _check_row_data_set(table_path: Path, number: int, data_set: str | None, declared: set[str],
+                        found: list[_Found]) -> None:
+    """DLV-005: a row's DATA_SET_ID (its label's, DLV-004) is one INDEX.LBL declares (and so, by
+    _check_data_sets, VOLDESC.CAT)."""
+    if data_set and declared and data_set.strip().upper() not in declared:
+        found.append(_Found("DLV-005", table_path, f"row {number}: DATA_SET_ID {data_set.strip()} is not declared in "
+                                                   f"{layout.INDEX_LABEL} ({', '.join(sorted(declared))}) nor "
+                                                   f"{layout.VOLDESC}", number, "DATA_SET_ID"))
 
 
 def _check_data_sets(root: Path, index_label: Block, table_path: Path, found: list[_Found],
@@ -357,6 +369,8 @@ class _Pds4Label:
     inventory: Path | None = None
     described: list[Path] = field(default_factory=list)  # the files its File and Document_File areas name
     unstated: list[tuple[str, int | None, str | None]] = field(default_factory=list)  # DLV-007: message, line, keyword
+    times: tuple[str | None, str | None] = (None, None)  # Time_Coordinates start and stop, as written
+    corner: tuple[float, float, float] | None = None  # cart: upper-left corner x, y and pixel_resolution_x, metres
 
     @property
     def lidvid(self) -> str:
@@ -394,7 +408,30 @@ def _read_pds4(path: Path) -> _Pds4Label | None:
         label.inventory = path.parent / name.strip()
     label.described = described_files(root, path)
     label.unstated = [(hit.message, hit.line, hit.keyword) for hit in pds4_unstated(root)]
+    coordinates = root.find(f"{PDS_NS}Observation_Area/{PDS_NS}Time_Coordinates")
+    if coordinates is not None:
+        label.times = (coordinates.findtext(f"{PDS_NS}start_date_time"),
+                       coordinates.findtext(f"{PDS_NS}stop_date_time"))
+    label.corner = _cart_corner(root)
     return label
+
+
+_CART_NS = "{http://pds.nasa.gov/pds4/cart/v1}"
+_METRES = {"m": 1.0, "km": 1000.0, "m/pixel": 1.0, "km/pixel": 1000.0}
+
+
+def _cart_corner(root: object) -> tuple[float, float, float] | None:
+    """cart:Geo_Transformation's upper-left corner and cart:pixel_resolution_x, in metres."""
+    values = []
+    for tag in ("upperleft_corner_x", "upperleft_corner_y", "pixel_resolution_x"):
+        element = next(root.iter(f"{_CART_NS}{tag}"), None)  # type: ignore[attr-defined]
+        if element is None:
+            return None
+        try:
+            values.append(float((element.text or "").strip()) * _METRES.get(element.get("unit", "m"), 1.0))
+        except ValueError:
+            return None
+    return values[0], values[1], values[2]
 
 
 def described_files(root: object, path: Path) -> list[Path]:
@@ -455,8 +492,78 @@ def _check_bundle(root: Path, found: list[_Found]) -> None:
         if listed_in_any is not None:
             _check_unlisted(_versions([c for c in collections if c.lid == lid]), listed_in_any, labels, found)
     _check_unlabelled(root, labels, found)
+    if (root / layout.VOLDESC).is_file():
+        _check_both_dialects(root, labels, found)
     for label in labels:  # DLV-007 of the bundle's labels, as of a volume's indexed PDS3 labels
         found.extend(_Found("DLV-007", label.path, message, line, keyword) for message, line, keyword in label.unstated)
+
+
+def _check_both_dialects(root: Path, labels: list[_Pds4Label], found: list[_Found]) -> None:
+    """A delivery that is a PDS3 volume and a PDS4 bundle holds one product set, each product
+    told alike in both: DLV-024 a product of one dialect only; DLV-022 PDS3 START_TIME/STOP_TIME
+    against PDS4 Time_Coordinates; DLV-023 the PDS3 map grid against cart: (the ground
+    position of the upper-left pixel corner, to half a pixel). A PDS3 product and a PDS4 label
+    are one product when the label describes a file of the PDS3 product's name (X.IMG, X.JP2)."""
+    observational: dict[tuple[str, str], _Pds4Label] = {}
+    for label in labels:
+        if label.product_class == "Product_Observational":
+            for path in label.described:
+                observational.setdefault(_product_key(Path(path)), label)
+    paired: set[int] = set()
+    for product in _pds3_products(root):
+        pds4 = observational.get(_product_key(product))
+        if pds4 is None:
+            found.append(_Found("DLV-024", product, "in the PDS3 volume, but no PDS4 label of the bundle describes "
+                                                    "this product"))
+            continue
+        paired.add(id(pds4))
+        pds3 = _read_pds3(product, None)
+        if pds3 is not None:
+            _compare_times(product, pds3, pds4, found)
+            _compare_grids(product, pds3, pds4, found)
+    for label in {id(label): label for label in observational.values()}.values():
+        if id(label) not in paired:
+            found.append(_Found("DLV-024", label.path, "in the PDS4 bundle, but the PDS3 volume has no label of this "
+                                                       "product"))
+
+
+def _product_key(path: Path) -> tuple[str, str]:
+    return os.path.normpath(path.parent), path.name.split(".", 1)[0].upper()
+
+
+def _compare_times(product: Path, pds3: Block, pds4: _Pds4Label, found: list[_Found]) -> None:
+    from .identity_rules import parse_time
+
+    for keyword, element, written in (("START_TIME", "start_date_time", pds4.times[0]),
+                                      ("STOP_TIME", "stop_date_time", pds4.times[1])):
+        text, line = _first(pds3, keyword)
+        mine, theirs = parse_time(text), parse_time(written)
+        if mine is not None and theirs is not None and abs((mine - theirs).total_seconds()) > 1.0:
+            found.append(_Found("DLV-022", pds4.path, f"{element} {(written or '').strip()} differs from {keyword} "
+                                                      f"{text} of the PDS3 label {product.name}"
+                                                      + (f" (line {line})" if line else ""), None, element))
+
+
+def _compare_grids(product: Path, pds3: Block, pds4: _Pds4Label, found: list[_Found]) -> None:
+    projection = next(pds3.find("IMAGE_MAP_PROJECTION"), None)
+    if projection is None or pds4.corner is None:
+        return
+    scale_value = projection.value("MAP_SCALE")
+    samples, lines = projection.number("SAMPLE_PROJECTION_OFFSET"), projection.number("LINE_PROJECTION_OFFSET")
+    if scale_value is None or not isinstance(samples, (int, float)) or not isinstance(lines, (int, float)):
+        return
+    try:
+        scale = float(str(scale_value.py)) * (1000.0 if "KM" in (scale_value.unit or "").upper() else 1.0)
+    except ValueError:
+        return
+    ulx, uly = -(samples + 0.5) * scale, (lines + 0.5) * scale  # the corner, half a pixel beyond the first centre
+    east, north = (pds4.corner[0] - ulx) / scale, (pds4.corner[1] - uly) / scale
+    if abs(east) > 0.5 or abs(north) > 0.5 or abs(pds4.corner[2] - scale) > 1e-6 * scale:
+        x, y, resolution = pds4.corner
+        found.append(_Found("DLV-023", pds4.path, f"cart: upper-left corner ({x:.3f}, {y:.3f}) m at {resolution:g} "
+                                                  f"m/pixel lies {east:+.2f} pixel east, {north:+.2f} pixel north of "
+                                                  f"the grid of the PDS3 label {product.name} ({ulx:.3f}, {uly:.3f}) m "
+                                                  f"at {scale:g} m/pixel"))
 
 
 def _check_unlabelled(root: Path, labels: list[_Pds4Label], found: list[_Found]) -> None:
@@ -717,6 +824,11 @@ register(
                              "is the label's (not stale after a remake)", None),
     Rule("DLV-018", "error", "README.TXT's size and VALID_MINIMUM/VALID_MAXIMUM of a product are its label's", None),
     Rule("DLV-019", "warning", "README.TXT documents only products and previews that are delivered", None),
+    Rule("DLV-022", "error", "a product's PDS3 START_TIME/STOP_TIME and PDS4 Time_Coordinates agree (to the "
+                             "second)", None),
+    Rule("DLV-023", "error", "a product's PDS4 cart: grid is its PDS3 label's map grid (upper-left corner to half "
+                             "a pixel, pixel size)", None),
+    Rule("DLV-024", "error", "a delivery's PDS3 volume and PDS4 bundle hold the same products", None),
     Rule("DLV-020", "error", "every file MD5SUMS.TXT lists exists and has that MD5", None, needs_data=True),
     Rule("DLV-021", "error", "every file of the delivery is listed in MD5SUMS.TXT", None),
 )
