@@ -20,9 +20,10 @@ from pdsgen.deliver import make_delivery
 from pdsgen.errors import InputError
 from pdsgen.extras import make_extras
 from pdsgen.products.dtm import write_dtm
-from pdsgen.products.ortho import write_ortho
 from pdsgen.synthetic import make_scene, write_geotiff
 from pdsgen.validate import validate_paths
+
+from helpers import demo_products
 
 PDS_NS = {"pds": "http://pds.nasa.gov/pds4/pds/v1"}
 BUNDLE_LID = "urn:nasa:pds:demo_dtm"
@@ -34,18 +35,7 @@ CONSISTENCY = ("DLV-011", "DLV-016", "DLV-017", "DLV-018", "DLV-019", "IDN-001",
 @pytest.fixture(scope="module")
 def products(tmp_path_factory) -> Path:
     """A DTM and an orthoimage made on it (PDS3 and PDS4 labels), with their Extras."""
-    root = tmp_path_factory.mktemp("consistency")
-    scene = make_scene(width=120, height=160)
-    (root / "in").mkdir()
-    dtm_in = write_geotiff(root / "in" / "dtm.tif", scene.elevation, scene.transform, scene.crs, None)
-    ortho_in = write_geotiff(root / "in" / "ortho.tif", scene.reflectance, scene.transform, scene.crs, None)
-    out = root / "products"
-    dtm = write_dtm(dtm_in, out, profile="hirise", source_product_ids=("PSP_008669_1705", "PSP_009025_1705"),
-                    institution="U", label="both")
-    ortho = write_ortho(ortho_in, out, profile="hirise", observation_id="PSP_008669_1705",
-                        source_dtm_id=dtm.product_id, label="both")
-    make_extras([dtm.path, ortho.label_path], out / "extras")
-    return out
+    return demo_products(tmp_path_factory.mktemp("consistency"), width=120, height=160)
 
 
 @pytest.fixture(scope="module")

@@ -556,9 +556,11 @@ def _compare_grids(product: Path, pds3: Block, pds4: _Pds4Label, found: list[_Fo
         scale = float(str(scale_value.py)) * (1000.0 if "KM" in (scale_value.unit or "").upper() else 1.0)
     except ValueError:
         return
+    if abs(pds4.corner[2] - scale) > 1e-6 * scale:
+        return  # MAP_SCALE at another radius than the projection's (HRSC's DLR convention): not this check's model
     ulx, uly = -(samples + 0.5) * scale, (lines + 0.5) * scale  # the corner, half a pixel beyond the first centre
     east, north = (pds4.corner[0] - ulx) / scale, (pds4.corner[1] - uly) / scale
-    if abs(east) > 0.5 or abs(north) > 0.5 or abs(pds4.corner[2] - scale) > 1e-6 * scale:
+    if abs(east) > 0.5 or abs(north) > 0.5:
         x, y, resolution = pds4.corner
         found.append(_Found("DLV-023", pds4.path, f"cart: upper-left corner ({x:.3f}, {y:.3f}) m at {resolution:g} "
                                                   f"m/pixel lies {east:+.2f} pixel east, {north:+.2f} pixel north of "
@@ -827,7 +829,7 @@ register(
     Rule("DLV-022", "error", "a product's PDS3 START_TIME/STOP_TIME and PDS4 Time_Coordinates agree (to the "
                              "second)", None),
     Rule("DLV-023", "error", "a product's PDS4 cart: grid is its PDS3 label's map grid (upper-left corner to half "
-                             "a pixel, pixel size)", None),
+                             "a pixel, where both state one pixel size)", None),
     Rule("DLV-024", "error", "a delivery's PDS3 volume and PDS4 bundle hold the same products", None),
     Rule("DLV-020", "error", "every file MD5SUMS.TXT lists exists and has that MD5", None, needs_data=True),
     Rule("DLV-021", "error", "every file of the delivery is listed in MD5SUMS.TXT", None),
