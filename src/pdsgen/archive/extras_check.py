@@ -83,8 +83,8 @@ def read_entries(readme: Path) -> list[ReadmeEntry]:
 
 def readmes(root: Path) -> Iterator[Path]:
     """The Extras README.TXT files under `root` (a delivery's EXTRAS/, a product directory's extras/)."""
-    for path in sorted(root.rglob("*")):
-        if path.name.upper() == README and path.is_file():
+    for path in sorted(root.rglob(README)):  # the name the Extras write
+        if path.is_file():
             yield path
 
 

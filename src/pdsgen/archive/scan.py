@@ -154,11 +154,10 @@ def root_element(path: Path) -> str | None:
 def bundle_labels(directory: Path) -> list[Path]:
     """The PDS4 bundle labels (root element Product_Bundle) at the top of `directory`, sorted."""
     try:
-        names = sorted(directory.iterdir())
+        names = sorted(path for suffix in PDS4_LABEL_SUFFIXES for path in directory.glob(f"*{suffix}"))
     except OSError:
         return []
-    return [path for path in names if path.suffix.lower() in PDS4_LABEL_SUFFIXES and path.is_file()
-            and root_element(path) == "Product_Bundle"]
+    return [path for path in names if path.is_file() and root_element(path) == "Product_Bundle"]
 
 
 def is_preview(name: str) -> bool:

@@ -505,8 +505,9 @@ def _check_both_dialects(root: Path, labels: list[_Pds4Label], found: list[_Foun
     position of the upper-left pixel corner, to half a pixel). A PDS3 product and a PDS4 label
     are one product when the label describes a file of the PDS3 product's name (X.IMG, X.JP2)."""
     observational: dict[tuple[str, str], _Pds4Label] = {}
-    for label in labels:
-        if label.product_class == "Product_Observational":
+    data = root / layout.DATA_DIR
+    for label in labels:  # the data products: those of DATA/, where the volume's are (_pds3_products)
+        if label.product_class == "Product_Observational" and data in label.path.parents:
             for path in label.described:
                 observational.setdefault(_product_key(Path(path)), label)
     paired: set[int] = set()
