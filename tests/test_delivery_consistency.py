@@ -164,8 +164,8 @@ def test_stop_before_start_is_found_in_both_dialects(made, tmp_path):
           "<stop_date_time>2020-01-01T00:00:00Z</stop_date_time>")
     _seed(delivery, f"{ORTHO}.LBL", 'PRODUCER_FULL_NAME        = "UNK"',
           "START_TIME = 2020-01-02T00:00:00\r\nSTOP_TIME = 2020-001T00:00:00")
-    assert _found(delivery, "IDN-003", "IDN-013") == [("IDN-003", "error", "PSP_008669_1705_RED_C_01_ORTHO.LBL"),
-                                                      ("IDN-013", "error", "PSP_008669_1705_RED_C_01_ORTHO.xml")]
+    assert _found(delivery, "IDN-003", "IDN-013") == [("IDN-003", "warning", "PSP_008669_1705_RED_C_01_ORTHO.LBL"),
+                                                      ("IDN-013", "warning", "PSP_008669_1705_RED_C_01_ORTHO.xml")]
 
 
 # --- stale Extras ----------------------------------------------------------------------------------
