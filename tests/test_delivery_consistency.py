@@ -268,3 +268,13 @@ def test_an_undeclared_data_set_id_in_a_label_and_its_row_is_found(made, tmp_pat
         _seed(volume, relative, "MRO-M-HIRISE-5-DTM-V1.0", "MRO-M-HIRISE-5-DTX-V1.0")
     found = [f for f in validate_paths([volume], labels_only=True).findings if f.rule == "DLV-005"]
     assert [(Path(f.file).name, "DTX" in f.message) for f in found] == [("INDEX.TAB", True)]
+
+
+def test_deliver_names_a_sidecar_no_label_describes(products, tmp_path):
+    """A GDAL .aux.xml beside a product is XML but no PDS4 label: deliver says it is left out."""
+    source = Path(shutil.copytree(products, tmp_path / "products"))
+    (source / "PSP_008669_1705_RED_C_01_ORTHO.JP2.aux.xml").write_text("<PAMDataset/>\n")
+    result = make_delivery(source, tmp_path / "out", dialect="pds4", bundle_lid=BUNDLE_LID)
+    assert [line.split(":")[0] for line in result.warnings] == [
+        str(source / "PSP_008669_1705_RED_C_01_ORTHO.JP2.aux.xml")]
+    assert not (tmp_path / "out" / "DATA" / "PSP_008669_1705_RED_C_01_ORTHO.JP2.aux.xml").exists()

@@ -209,8 +209,8 @@ def scan(source: Path, on_pds3: LabelValues | None = None, labels: LabelCache | 
             result.documents.append(path)
         elif is_preview(name):
             result.previews.append(path)
-        elif path.suffix.lower() in PDS4_LABEL_SUFFIXES:
-            pds4.append(path)
+        elif path.suffix.lower() in PDS4_LABEL_SUFFIXES:  # a PDS4 label, or other XML (a GDAL .aux.xml)
+            (pds4 if _PRODUCT_CLASS.search(file_head(path, 4096) or b"") else candidates).append(path)
         elif is_imars_metadata(name):
             result.imars.append(path)
         elif path.suffix.lower() == ".lbl" or is_pds3_label(path):
