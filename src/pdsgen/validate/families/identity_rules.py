@@ -151,8 +151,11 @@ def _before_hit(created: datetime.datetime, source: str, source_time: datetime.d
 def _product_facts(path: str) -> tuple[str | None, datetime.datetime, list[str], int | None] | None:
     """(PRODUCT_ID, creation time, SOURCE_PRODUCT_IDs, line of the time) of a PDS3 label that
     states its creation time; None for any other file."""
-    from ...label.read import read_pds3_label  # loaded when a run has PDS3 labels
+    from ...formats.sniff import file_head
+    from ...label.read import is_pds3_head, read_pds3_label  # loaded when a run has PDS3 labels
 
+    if not is_pds3_head(file_head(path, 64) or b""):  # an image, a table ...: 64 bytes tell, not 256 KiB
+        return None
     try:
         label = read_pds3_label(Path(path))
     except (OSError, ValueError):
