@@ -377,7 +377,9 @@ def run_case(case: Case, extra_schemas: list[str], absent: set[Path], cwd_check:
         cwd.mkdir(exist_ok=True)
         os.chdir(cwd)
         try:
-            report = validate_paths(given, labels_only=case.labels_only, schemas=schemas, settings=settings)
+            # the case's data directory is the trusted tree (--root), as NASA's run reads the whole of it
+            report = validate_paths(given, labels_only=case.labels_only, schemas=schemas, settings=settings,
+                                    root=case.datasrc if case.datasrc.is_dir() else None)
             findings = [(f.rule, f.severity, f.file, f.line, f.message) for f in report.findings
                         if _in_nasa_run(case, f.rule, f.file, checked, frozenset(skipped))]
         except PdsgenError as exc:

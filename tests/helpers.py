@@ -90,3 +90,24 @@ def small_pds4_dtm(root: Path, product_id: str):
     source = write_raster(root / "dtm.tif", elevation_array(12, 16, seed=4), crs, transform, nodata=-9999.0)
     written = write_dtm(source, root / "good", product_id=product_id, label="pds4")
     return SimpleNamespace(path=written.pds4_label_path, text=written.label_text)
+
+
+def demo_products(root: Path, width: int = 240, height: int = 320) -> Path:
+    """The demo's products at a small size in root/products: a HiRISE DTM and an orthoimage
+    made on it (PDS3 and PDS4 labels, --label both), with their Extras in products/extras."""
+    from pdsgen.extras import make_extras
+    from pdsgen.products.dtm import write_dtm
+    from pdsgen.products.ortho import write_ortho
+    from pdsgen.synthetic import make_scene, write_geotiff
+
+    scene = make_scene(width=width, height=height)
+    (root / "in").mkdir()
+    dtm_in = write_geotiff(root / "in" / "dtm.tif", scene.elevation, scene.transform, scene.crs, None)
+    ortho_in = write_geotiff(root / "in" / "ortho.tif", scene.reflectance, scene.transform, scene.crs, None)
+    products = root / "products"
+    dtm = write_dtm(dtm_in, products, profile="hirise", source_product_ids=("PSP_008669_1705", "PSP_009025_1705"),
+                    institution="U", label="both")
+    ortho = write_ortho(ortho_in, products, profile="hirise", observation_id="PSP_008669_1705",
+                        source_dtm_id=dtm.product_id, label="both")
+    make_extras([dtm.path, ortho.label_path], products / "extras")
+    return products

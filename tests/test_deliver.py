@@ -18,17 +18,16 @@ from lxml import etree
 from pdsgen.deliver import make_delivery
 from pdsgen.extras import make_extras
 from pdsgen.products.dtm import write_dtm
-from pdsgen.products.ortho import write_ortho
-from pdsgen.synthetic import make_scene, write_geotiff
 from pdsgen.validate import validate_paths
 from pdsgen.validate.pds4.label_checks import validate_label
 
+from helpers import demo_products as make_demo_products
 from helpers import elevation_array, run_cli, stderr_on_a_terminal, write_raster
 
 REPO = Path(__file__).resolve().parents[1]
 PDS_XSD = REPO / "schemas" / "pds4" / "1O00" / "PDS4_PDS_1O00.xsd"
 PDS_NS = {"pds": "http://pds.nasa.gov/pds4/pds/v1"}
-MADE_CLASSES = ("Product_Bundle", "Product_Collection", "Product_Browse", "Product_Document")
+MADE_CLASSES = ("Product_Bundle", "Product_Collection", "Product_Browse", "Product_Document", "Product_Ancillary")
 HRSC_SINUSOIDAL = "+proj=sinu +lon_0=0 +R=3396000 +units=m +no_defs"
 
 
@@ -36,18 +35,7 @@ HRSC_SINUSOIDAL = "+proj=sinu +lon_0=0 +R=3396000 +units=m +no_defs"
 def demo_products(tmp_path_factory) -> Path:
     """The demo's products (DTM, orthoimage with JP2INFO.TXT, Extras) at a small size, with
     PDS3 and PDS4 labels (--label both)."""
-    root = tmp_path_factory.mktemp("demo")
-    scene = make_scene(width=240, height=320)
-    (root / "in").mkdir()
-    dtm_in = write_geotiff(root / "in" / "dtm.tif", scene.elevation, scene.transform, scene.crs, None)
-    ortho_in = write_geotiff(root / "in" / "ortho.tif", scene.reflectance, scene.transform, scene.crs, None)
-    products = root / "products"
-    dtm = write_dtm(dtm_in, products, profile="hirise", source_product_ids=("PSP_008669_1705", "PSP_009025_1705"),
-                    institution="U", label="both")
-    ortho = write_ortho(ortho_in, products, profile="hirise", observation_id="PSP_008669_1705",
-                        source_dtm_id=dtm.product_id, label="both")
-    make_extras([dtm.path, ortho.label_path], products / "extras")
-    return products
+    return make_demo_products(tmp_path_factory.mktemp("demo"))
 
 
 def _copy(products: Path, tmp_path: Path) -> Path:
@@ -126,7 +114,7 @@ def test_pds4_bundle_schema_and_schematron_valid(demo_products, tmp_path):
                            bundle_lid="urn:nasa:pds:demo_dtm")
     schema = etree.XMLSchema(etree.parse(str(PDS_XSD)))
     labels = _made_labels(out)
-    assert len(labels) == 1 + 3 + 13 + 2  # bundle, collections, browse, documents
+    assert len(labels) == 1 + 4 + 13 + 2 + 1  # bundle, collections, browse, documents, the manifest's label
     for label in labels:
         assert schema.validate(etree.parse(str(label))), (label.name, schema.error_log)
         assert validate_label(label) == [], label.name  # XSD + Schematron (Saxon) + content
@@ -152,7 +140,12 @@ def test_pds4_bundle_schema_and_schematron_valid(demo_products, tmp_path):
     bundle = etree.parse(str(out / "bundle_demo_dtm.xml"))
     members = bundle.findall(".//pds:Bundle_Member_Entry/pds:lidvid_reference", namespaces=PDS_NS)
     assert sorted(m.text for m in members) == ["urn:nasa:pds:demo_dtm:browse::1.0", "urn:nasa:pds:demo_dtm:data::1.0",
-                                               "urn:nasa:pds:demo_dtm:document::1.0"]
+                                               "urn:nasa:pds:demo_dtm:document::1.0",
+                                               "urn:nasa:pds:demo_dtm:miscellaneous::1.0"]
+    manifest = etree.parse(str(out / "MD5SUMS.xml"))  # the manifest's label gives its MD5; no manifest lists it
+    digest = subprocess.run(["md5sum", "MD5SUMS.TXT"], cwd=out, capture_output=True, text=True).stdout.split()[0]
+    assert manifest.findtext(".//pds:File/pds:md5_checksum", namespaces=PDS_NS) == digest
+    assert "MD5SUMS.xml" not in (out / "MD5SUMS.TXT").read_text()
     assert result.bundle_version == "1.0"
     subprocess.run(["md5sum", "-c", "--quiet", "MD5SUMS.TXT"], cwd=out, check=True)
     assert _errors(out) == []
@@ -456,6 +449,7 @@ def test_a_replaced_product_and_its_previews_get_the_next_version(tmp_path):
     assert (source / "DATA" / "A_DTM.IMG").is_file() and not (source / "A_DTM.IMG").exists()
     write_dtm(write_raster(tmp_path / "a2.tif", heights + 5.0, crs, transform), source / "DATA", product_id="A_DTM",
               label="both", overwrite=True)
+    make_extras([source / "DATA" / "A_DTM.IMG"], source / "EXTRAS", overwrite=True)  # its Extras, remade with it
     (source / ".released").touch()  # versions advance only once a delivery is released (issue 44)
     again = make_delivery(source, dialect="pds4")
     assert "urn:nasa:pds:two:data:a_dtm::2.0" in again.changed

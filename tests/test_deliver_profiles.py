@@ -22,7 +22,8 @@ from hrsc_ax_tiles import dtm_group, map_group, tile_name, write_vicar
 HRSC_SINUSOIDAL = "+proj=sinu +lon_0=70 +R=3396000 +units=m +no_defs"
 HRSC_GRID = Affine(50.0, 0, -10000.0, 0, -50.0, -1000000.0)
 LAYOUT = {"AAREADME.TXT", "VOLDESC.CAT", "MD5SUMS.TXT", "DATA", "EXTRAS", "INDEX", "DOCUMENT", "CATALOG",
-          "REVIEW.html"}  # the review page (not in the manifest)
+          "REVIEW.html",  # the review page (not in the manifest)
+          "MD5SUMS.xml", "MISCELLANEOUS"}  # a bundle's manifest label and its collection
 
 
 def _pdsgen(*args: object) -> tuple[int, str, str]:

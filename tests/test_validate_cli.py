@@ -89,7 +89,7 @@ def test_list_rules_prints_every_rule():
         assert rule.severity in ("error", "warning", "info")
     families = {rule_id.split("-")[0] for rule_id in rules()}
     assert families == {"FILE", "SYNTAX", "DICT", "PTR", "REC", "IMG", "MAP", "GEO", "HRSC", "SET", "IMARS", "PDS4",
-                        "DLV"}
+                        "IDN", "DLV"}
 
 
 def test_jobs_give_the_same_report(tmp_path):

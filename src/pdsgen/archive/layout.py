@@ -14,6 +14,7 @@ DATA_DIR = "DATA"
 EXTRAS_DIR = "EXTRAS"
 INDEX_DIR = "INDEX"
 DOCUMENT_DIR = "DOCUMENT"
+MISCELLANEOUS_DIR = "MISCELLANEOUS"
 # Catalog files (DSMAP.CAT ...) a product label points to: where a PDS3 reader looks for a
 # catalog pointer's file not beside the label (PDS3 Standards Reference, chapter 14).
 CATALOG_DIR = "CATALOG"
@@ -23,6 +24,9 @@ VOLDESC = "VOLDESC.CAT"
 AAREADME = "AAREADME.TXT"
 # The checksum manifest: `md5  relative/path` lines (md5sum -c reads them), written last.
 MANIFEST = "MD5SUMS.TXT"
+# In a PDS4 bundle the manifest is a product: its Product_Ancillary label (pds4/checksum_manifest.py),
+# written after it and, as the manifest itself, listed in no manifest.
+MANIFEST_LABEL = "MD5SUMS.xml"
 # The review page (pdsgen review), written after the manifest and not listed in it: it shows
 # whether the manifest checks, and is remade by every run.
 REVIEW_PAGE = "REVIEW.html"
@@ -41,7 +45,7 @@ def publication_rank(relative: str) -> int:
     order its files are published in: products, previews and documents (0), then the
     labels, tables and inventories that index them (1), the checksum manifest last (2)."""
     name = relative.rsplit("/", 1)[-1]
-    if relative == MANIFEST:
+    if relative in (MANIFEST, MANIFEST_LABEL):
         return 2
     if relative.startswith(f"{INDEX_DIR}/") or name == VOLDESC or name.startswith(("bundle_", "collection_")):
         return 1
@@ -67,6 +71,9 @@ COLLECTIONS = {
     "data": ("Data", "bundle_has_data_collection", DATA_DIR),
     "browse": ("Browse", "bundle_has_browse_collection", EXTRAS_DIR),
     "document": ("Document", "bundle_has_document_collection", DOCUMENT_DIR),
+    # the checksum manifest's label (in the bundle's root, beside the manifest)
+    # (the PDS4 collection type for products that are neither data, browse nor documents)
+    "miscellaneous": ("Miscellaneous", "bundle_has_miscellaneous_collection", MISCELLANEOUS_DIR),
 }
 
 

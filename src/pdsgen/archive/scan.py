@@ -13,6 +13,7 @@ collection, browse and document labels, manifest) are recognised and made anew.
 
 from __future__ import annotations
 
+import logging
 import os
 import re
 from collections.abc import Callable, Iterator
@@ -29,10 +30,15 @@ from ..pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
 from ..storage.containment import contained
 from . import layout
 
+log = logging.getLogger(__name__)
 _PRODUCT_CLASS = re.compile(rb"<product_class>\s*(Product_\w+)\s*</product_class>")
+# The first element of an XML file, after its declaration, processing instructions, comments and
+# DOCTYPE: what a PDS4 label is (Product_Bundle, Product_Collection ...), whatever its file name.
+_ROOT_ELEMENT = re.compile(rb"\A(?:\xef\xbb\xbf)?\s*(?:(?:<\?.*?\?>|<!--.*?-->|<!DOCTYPE[^>]*>)\s*)*"
+                           rb"<(?:[A-Za-z_][\w.-]*:)?([A-Za-z_][\w.-]*)[\s/>]", re.DOTALL)
 _FILE_NAME = re.compile(r"<file_name>\s*([^<]+?)\s*</file_name>")
 _MADE_CLASSES = {b"Product_Bundle", b"Product_Collection", b"Product_Browse", b"Product_Document"}
-_MADE_NAMES = {layout.VOLDESC, layout.AAREADME, layout.MANIFEST, layout.RELEASED_MARKER}
+_MADE_NAMES = {layout.VOLDESC, layout.AAREADME, layout.MANIFEST, layout.MANIFEST_LABEL, layout.RELEASED_MARKER}
 _DOCUMENTS = {"README.TXT", "JP2INFO.TXT"}
 # The keywords a delivery takes from a PDS3 label: the index columns' and the volume's producer.
 KEPT_KEYWORDS = tuple(name for name, _, _ in layout.INDEX_COLUMNS[2:]) + ("PRODUCER_INSTITUTION_NAME",)
@@ -138,6 +144,23 @@ def is_made_by_delivery(path: Path, relative: Path) -> bool:
     return False
 
 
+def root_element(path: Path) -> str | None:
+    """The local name of the root element of an XML file (read from its first 64 KiB), or None
+    when the file is no XML or cannot be read. A PDS4 label is what its root says: a bundle label
+    is a Product_Bundle whatever its file name (`bundle.xml` is the common one)."""
+    match = _ROOT_ELEMENT.match(file_head(path, 65536) or b"")
+    return match.group(1).decode("ascii") if match else None
+
+
+def bundle_labels(directory: Path) -> list[Path]:
+    """The PDS4 bundle labels (root element Product_Bundle) at the top of `directory`, sorted."""
+    try:
+        names = sorted(path for suffix in PDS4_LABEL_SUFFIXES for path in directory.glob(f"*{suffix}"))
+    except OSError:
+        return []
+    return [path for path in names if path.is_file() and root_element(path) == "Product_Bundle"]
+
+
 def is_preview(name: str) -> bool:
     lower = name.lower()
     return lower.endswith((".jpg", ".jpeg", ".qlook.jp2"))
@@ -187,8 +210,8 @@ def scan(source: Path, on_pds3: LabelValues | None = None, labels: LabelCache | 
             result.documents.append(path)
         elif is_preview(name):
             result.previews.append(path)
-        elif path.suffix.lower() in PDS4_LABEL_SUFFIXES:
-            pds4.append(path)
+        elif path.suffix.lower() in PDS4_LABEL_SUFFIXES:  # a PDS4 label, or other XML (a GDAL .aux.xml)
+            (pds4 if _PRODUCT_CLASS.search(file_head(path, 4096) or b"") else candidates).append(path)
         elif is_imars_metadata(name):
             result.imars.append(path)
         elif path.suffix.lower() == ".lbl" or is_pds3_label(path):
@@ -229,8 +252,16 @@ def _read_pds3(label: Path, source: Path, listings: dict[Path, DirectoryNames],
     # ^DESCRIPTION = "JP2INFO.TXT", README.TXT: documents, delivered as such
     named.data = [p for p in named.data if p != label and p.name.upper() not in _DOCUMENTS]
     named.support = [p for p in named.support if p != label and p.name.upper() not in _DOCUMENTS]
-    return _Pds3Label(label, found.first("PRODUCT_ID") or label.stem,
+    return _Pds3Label(label, found.first("PRODUCT_ID") or _named_by_file(label),
                       {name: found.first(name) for name in KEPT_KEYWORDS}, named)
+
+
+def _named_by_file(label: Path) -> str:
+    """The identifier of a product whose label states none: its file name, said aloud (a delivery
+    never invents an identifier silently; pdsgen validate reports the label, IDN-001)."""
+    log.warning("%s: no PRODUCT_ID in the label; the delivery names the product %s after its file name "
+                "(state PRODUCT_ID in the label to choose it)", label, label.stem)
+    return label.stem
 
 
 def _group(pds3: list[Path], pds4: list[Path], on_pds3: LabelValues | None, source: Path,
@@ -260,7 +291,7 @@ def _group(pds3: list[Path], pds4: list[Path], on_pds3: LabelValues | None, sour
         found = next((by_file[m] for m in members if m in by_file), None)
         found = found or by_stem.get((label.parent, label.stem.upper()))
         if found is None:
-            found = DataProduct(label.stem, [])
+            found = DataProduct(label.stem, [])  # a PDS4 product: its LID part follows the label file
             products.append(found)
         if found.pds4_label is not None:
             raise InputError(label, f"a second PDS4 label for product {found.product_id} "

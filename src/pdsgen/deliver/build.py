@@ -193,6 +193,7 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
         raise InputError(source_dir, "holds no data product (no PDS3 or PDS4 product label)")
     _check_dialects(found, pds3, pds4)
     _check_unique_product_ids(found)
+    _check_extras_current(source_dir)
     log.info("%s: %d data product(s), %d preview(s), %d document(s), %d other file(s)", source_dir,
              len(found.products), len(found.previews), len(found.documents), len(found.others))
     work = target.parent / f".{target.name}.deliver-{os.getpid()}"
@@ -307,6 +308,18 @@ def _check_unique_product_ids(found: SourceSet) -> None:
                              "too; each product of a delivery needs its own")
 
 
+def _check_extras_current(source: Path) -> None:
+    """Stale Extras are refused, in one line naming the files and the remedy: a product remade
+    after its Extras (README.TXT records the label's MD5, archive/extras_check.py)."""
+    from ..archive.extras_check import extras_problems
+
+    stale = [problem for problem in extras_problems(source) if problem.kind != "absent"]
+    if stale:
+        names = sorted({f"{p.file.parent.name}/{p.file.name}" for p in stale})
+        raise InputError(stale[0].file, f"stale Extras ({len(stale)} disagreement(s) with the products, in "
+                                        f"{', '.join(names)}): {stale[0].message}")
+
+
 def _check_dialects(found: SourceSet, pds3: bool, pds4: bool) -> None:
     for product in found.products:
         if pds3 and product.pds3_label is None:
@@ -345,15 +358,22 @@ def _build(found: SourceSet, tree: _Tree, previous: _Previous, source: Path, in_
             tree.place(other, other.relative_to(source).as_posix())
     result.skipped, result.in_place = list(found.others), in_place
     result.products, result.previews, result.documents = len(found.products), len(preview_paths), len(document_paths)
+    writer = None
     if dialect.pds4:
         assert bundle_lid is not None
-        _write_bundle(tree, previous, bundle_lid, data_members, preview_paths, document_paths, today, result, words)
+        writer = _write_bundle(tree, previous, bundle_lid, data_members, preview_paths, document_paths, today, result,
+                               words)
     else:
         _carry_pds4_labels(tree, data_members)
     if index is not None:
         _write_volume(tree, previous, index, today, result, words)
+    if writer is not None:  # the manifest's product and the bundle label: from what the files above hold
+        writer.manifest_member()
+        writer.bundle_label(writer.collections(("miscellaneous",)))
     result.placeholders = _placeholders(tree.root)
     result.file_count = _write_manifest(tree)
+    if writer is not None:
+        result.file_count += writer.manifest_label()
     return result
 
 
@@ -439,10 +459,18 @@ def _write_volume(tree: _Tree, previous: _Previous, index: _IndexRows, today: st
 
 def _volume_changed(tree: _Tree, previous: _Previous) -> bool:
     """Whether any file other than the volume's own description differs from the previous run."""
-    own = {layout.VOLDESC, layout.AAREADME, layout.MANIFEST}
-    now = {k: v for k, v in tree.md5.items() if k not in own}
-    before = {k: v for k, v in previous.md5.items() if k not in own}
+    own = {layout.VOLDESC, layout.AAREADME}
+    now = {k: v for k, v in tree.md5.items() if k not in own and not _made_last(k)}
+    before = {k: v for k, v in previous.md5.items() if k not in own and not _made_last(k)}
     return now != before
+
+
+def _made_last(relative: str) -> bool:
+    """Files written after every other, from what those hold: the bundle label, the miscellaneous
+    collection (the manifest's label's), the manifest and its label. Whether they changed follows
+    from the others; they are left out when a run asks what changed."""
+    return (relative in (layout.MANIFEST, layout.MANIFEST_LABEL) or relative.startswith(f"{layout.MISCELLANEOUS_DIR}/")
+            or ("/" not in relative and relative.startswith("bundle_") and relative.endswith(".xml")))
 
 
 # --- PDS4 ---------------------------------------------------------------------------------------
@@ -454,7 +482,9 @@ def _changed(tree: _Tree, previous: _Previous, relatives: list[str]) -> bool:
 def _write_bundle(tree: _Tree, previous: _Previous, bundle_lid: str,
                   data_members: dict[str, tuple[DataProduct, list[str]]],
                   preview_paths: list[tuple[Path, str]], document_paths: list[tuple[Path, str]],
-                  today: str, result: Delivery, words: DeliveryText) -> None:
+                  today: str, result: Delivery, words: DeliveryText) -> _BundleWriter:
+    """The bundle's products and their collections; the manifest's collection and the bundle label
+    come after every other file (`_BundleWriter.manifest_member`, `.bundle_label`)."""
     writer = _BundleWriter(tree, previous, bundle_lid, today, result, words)
     for key, (product, relatives) in data_members.items():
         writer.data_product(key, product, relatives)
@@ -462,9 +492,8 @@ def _write_bundle(tree: _Tree, previous: _Previous, bundle_lid: str,
         writer.preview(preview, relative, data_members)
     for document, relative in document_paths:
         writer.document(document, relative)
-    writer.bundle_label(writer.collections())
-    log.info("bundle %s::%s: %d product(s) new or with a new version", bundle_lid, result.bundle_version,
-             len(result.changed))
+    writer.collections(("data", "browse", "document"))
+    return writer
 
 
 class _BundleWriter:
@@ -480,6 +509,8 @@ class _BundleWriter:
                     for c, (_, _, d) in layout.COLLECTIONS.items()}
         self.data_lidvid: dict[str, str] = {}  # product id (upper) -> its LIDVID
         self.data_changed: set[str] = set()  # LIDs of data products new or re-versioned: their previews follow
+        self.entries: list[dict[str, str]] = []  # the bundle's member entries, one per collection written
+        self.manifest_lidvid = ""
 
     def _member(self, collection: str, lid: str, changed: bool) -> str:
         """The member's LIDVID (its previous version unless it changed), listed in its collection."""
@@ -531,10 +562,31 @@ class _BundleWriter:
             **_head("Product_Document", lid, version, title), "citation": title, "year": self.today[:4],
             "date": self.today, "edition": f"{document.name} version {version}", "file": self.tree.facts(relative)}))
 
-    def collections(self) -> list[dict[str, str]]:
-        """Each collection that has members: its inventory and label; the bundle's entries for them."""
-        entries = []
+    def manifest_member(self) -> None:
+        """The checksum manifest as a product of the miscellaneous collection (its label is written
+        after it, `manifest_label`): a new version when a file it lists, other than those made
+        last from the rest (_made_last), changed."""
+        now = {k: v for k, v in self.tree.md5.items() if not _made_last(k)}
+        before = {k: v for k, v in self.previous.md5.items() if not _made_last(k)}
+        lid = f"{self.bundle_lid}:miscellaneous:{layout.lid_part(Path(layout.MANIFEST).stem)}"
+        self.manifest_lidvid = self._member("miscellaneous", lid, now != before)
+
+    def manifest_label(self) -> int:
+        """The manifest's Product_Ancillary label beside it, written after it (it gives the
+        manifest's MD5, so no manifest lists it); the number of files written."""
+        from ..pds4.checksum_manifest import manifest_label
+
+        lid, _, version = self.manifest_lidvid.partition("::")
+        self.tree.write(layout.MANIFEST_LABEL, manifest_label(self.tree.root / layout.MANIFEST, lid, version))
+        return 1
+
+    def collections(self, names: tuple[str, ...]) -> list[dict[str, str]]:
+        """Each collection of `names` that has members: its inventory and label; the bundle's
+        entries so far (those collections' added)."""
+        entries = self.entries
         for collection, (kind, reference_type, directory) in layout.COLLECTIONS.items():
+            if collection not in names:
+                continue
             lidvids = self.members[collection]
             if not lidvids:
                 continue
@@ -574,6 +626,8 @@ class _BundleWriter:
             "year": self.today[:4], "members": entries, "authors": words.authors, "keywords": words.keywords,
             "description": words.description or counts}))
         result.bundle_version = version
+        log.info("bundle %s::%s: %d product(s) new or with a new version", self.bundle_lid, version,
+                 len(result.changed))
 
 
 def _head(product_class: str, lid: str, version: str, title: str) -> dict[str, object]:

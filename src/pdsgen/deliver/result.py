@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..archive.layout import MANIFEST, REVIEW_PAGE, is_review_page
+from ..archive.layout import MANIFEST, MANIFEST_LABEL, REVIEW_PAGE, is_review_page
 from ..dialect import Dialect
 from ..results import CommandResult
 
@@ -45,7 +45,8 @@ class Delivery(CommandResult):
                   for line in manifest.read_text(encoding="utf-8").splitlines() if "  " in line]
         pages = sorted((path for path in self.path.iterdir() if is_review_page(path.name)),
                        key=lambda path: (len(path.name), path.name))  # REVIEW.html, REVIEW-2.html ... REVIEW-10.html
-        return (*listed, manifest, *pages)
+        label = [self.path / MANIFEST_LABEL] if (self.path / MANIFEST_LABEL).is_file() else []
+        return (*listed, manifest, *label, *pages)
 
     @property
     def warnings(self) -> tuple[str, ...]:

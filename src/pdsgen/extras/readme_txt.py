@@ -25,6 +25,7 @@ import jinja2
 from PIL import Image
 
 from ..encode import ascii_text
+from ..formats.checksum import label_md5
 from ..geo.conventions import wrap_360
 from ..label.grammar import MAX_LINE_BYTES as GRAMMAR_MAX_LINE_BYTES
 from ..missions.hirise import SYNTHETIC_BLUE_BG, SYNTHETIC_BLUE_RED, rdr_extras_line
@@ -58,6 +59,9 @@ ENTRY_FIELDS = (
     ("Label identifier", "title"),
     ("Type", "kind_text"),
     ("Product file", "file_name"),
+    # What the Extras were made from: the MD5 of the product's PDS3 label (formats/checksum.label_md5),
+    # so Extras left from before a remake are known stale (validate DLV-017; deliver refuses them).
+    ("Label MD5", "label_md5"),
     ("Source images", "sources"),
     ("Size", "size"),
     ("Bands", "bands"),
@@ -116,6 +120,7 @@ def product_entry(previews: ProductPreviews, credit: str, azimuth: float,
         "title": src.title if src.title and src.title != src.product_id else "",
         "kind_text": DTM_TYPE if is_dtm else ORTHO_TYPE,
         "file_name": src.path.name,
+        "label_md5": (label_md5(src.label_path) or "") if src.label_path is not None else "",
         "sources": _sources(src),
         "size": f"{src.width} samples x {src.height} lines{bands}",
         "projection": _projection(src),

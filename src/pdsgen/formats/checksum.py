@@ -78,3 +78,19 @@ def _file_digest(path: str | os.PathLike[str], digest: Digest) -> str:
     for block in blocks(path):
         digest.update(block)
     return digest.hexdigest()
+
+
+def label_md5(path: str | os.PathLike[str]) -> str | None:
+    """The MD5 of a PDS3 label's own bytes (from the file's start to the end of its END line; all
+    of a detached label, the label part of an attached one): the identity of what a product says
+    of itself, recorded by what is made from it (the Extras' README.TXT) so a later change of the
+    product is a fact. None when the file is no PDS3 label or cannot be read."""
+    from ..label.read import read_pds3_label  # the label reader, on first use
+
+    try:
+        found = read_pds3_label(path)
+    except OSError:
+        return None
+    if found is None:
+        return None
+    return bytes_md5(found.head[:found.label.label_end])

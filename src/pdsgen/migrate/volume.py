@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import IO, Any
 
 from .. import clock
+from ..archive import layout
 from ..archive.scan import is_pds3_label, named_files, walk
 from ..encode import shown, table_field
 from ..errors import InputError, OutputError, PdsgenError, param
@@ -32,6 +33,7 @@ from ..formats.checksum import bytes_md5, file_md5
 from ..formats.sniff import file_head
 from ..label.read import LabelCache, read_pds3_label
 from ..label.tree import Block
+from ..pds4.checksum_manifest import manifest_label
 from ..pds4.content import digest_file
 from ..pds4.detect import is_pds4_label
 from ..pds4.label import render_pds4
@@ -62,7 +64,7 @@ from .volume_index import VolumeIndex, find_index
 log = logging.getLogger(__name__)
 
 VERSION = "1.0"
-MANIFEST = "MD5SUMS.TXT"
+MANIFEST, MANIFEST_LABEL = layout.MANIFEST, layout.MANIFEST_LABEL  # the checksum manifest and its label
 CROSSWALK = "crosswalk.csv"
 # collection -> (collection_type, the bundle's reference_type)
 COLLECTION_KINDS = {"document": ("Document", "bundle_has_document_collection"),
@@ -253,7 +255,8 @@ class _Run:
         """A file an earlier in-place run wrote (a PDS4 label under this bundle's LID, an inventory,
         the crosswalk, the manifest): made anew. An XML file of the volume's own is the volume's."""
         name = relative.name
-        if name in (CROSSWALK, MANIFEST) or (name.startswith("collection_") and relative.suffix in (".xml", ".csv")):
+        if name in (CROSSWALK, MANIFEST, MANIFEST_LABEL) \
+                or (name.startswith("collection_") and relative.suffix in (".xml", ".csv")):
             return True
         if relative.suffix.lower() != ".xml":
             return False
@@ -575,6 +578,7 @@ class _Run:
             "bundle_lid": self.bundle_lid, "file": _facts(path), "records": self.crosswalk_rows, "fields": fields},
             source=self.source))
         self._member("miscellaneous", f"{lid}::{VERSION}")
+        self._member("miscellaneous", f"{self.manifest_lid}::{VERSION}")  # its label is written after it
         self.inventories["miscellaneous"].close()
         self.result.counts["Product_Ancillary"] += 1
         self.result.main_files += [label, path]
@@ -599,16 +603,26 @@ class _Run:
         return {"product_class": product_class, "lid": lid, "version_id": VERSION, "title": title,
                 "aliases": (), "citation": citation, "pds": CURRENT_IM.namespace("pds")}
 
+    @property
+    def manifest_lid(self) -> str:
+        return f"{self.bundle_lid}:miscellaneous:{lid_part(Path(MANIFEST).stem)}"
+
     def _manifest(self) -> None:
-        """MD5SUMS.TXT over every file of the bundle (in place: the volume's files too), written last."""
+        """MD5SUMS.TXT over every file of the bundle (in place: the volume's files too), written last,
+        then its label (a Product_Ancillary of the miscellaneous collection, pds4/checksum_manifest:
+        every file of the bundle is described), which the manifest cannot list."""
         lines = []
         for path in walk(self.dest):
             relative = path.relative_to(self.dest).as_posix()
-            if relative != MANIFEST:
+            if relative not in (MANIFEST, MANIFEST_LABEL):
                 lines.append(f"{file_md5(path)}  {relative}\n")
         manifest = self.dest / MANIFEST
         manifest.write_text("".join(lines), encoding="utf-8")
-        self.result.main_files.append(manifest)
+        label = self.dest / MANIFEST_LABEL
+        self._write(label, manifest_label(manifest, self.manifest_lid, VERSION))
+        self.lids.add(self.manifest_lid)
+        self.result.counts["Product_Ancillary"] += 1
+        self.result.main_files += [manifest, label]
 
 
 def validated(bundle: Path) -> list[Finding]:

@@ -235,7 +235,8 @@ def _open(path: Path, target: str, job: ValidationJob, tree: Path | None) -> Any
     """The context the rules of `target` take."""
     from ..label.beside import trusted_tree
     if target == "pds4":
-        return pds4_rules.open_label(path, job.labels_only, job.schemas, job.schema_cache, job.download_schemas)
+        return pds4_rules.open_label(path, job.labels_only, job.schemas, job.schema_cache, job.download_schemas,
+                                     trusted_tree(path, tree, Path(job.root) if job.root else None))
     if target == "imars":
         return ImarsContext(path, job.labels_only)
     file = job.labels.open(path) if job.labels is not None else None

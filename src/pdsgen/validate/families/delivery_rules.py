@@ -1,7 +1,8 @@
 """DLV family: a delivery (a PDS3 volume, a PDS4 bundle, its MD5 manifest) checked as a whole.
 
 `pdsgen validate DIR` recognises a delivery by the files `pdsgen deliver` writes at its
-root (archive/layout.py: MD5SUMS.TXT, INDEX/INDEX.LBL, bundle_*.xml). These checks
+root (archive/layout.py: MD5SUMS.TXT, INDEX/INDEX.LBL), or by a PDS4 bundle label at its root -
+a label whose root element is Product_Bundle, whatever its file name. These checks
 compare files with each other - the index table with its label and with every product
 label, inventories with the labels present, references with their targets, the manifest
 with the files - so they run once per delivery (the runner hook `DeliveryChecks`), and
@@ -41,10 +42,13 @@ _TEXT_FILES = (layout.VOLDESC, layout.AAREADME)
 
 
 def is_delivery(directory: Path) -> bool:
-    """A directory `pdsgen deliver` made (or one laid out the same way)."""
+    """A directory `pdsgen deliver` made (or one laid out the same way), or any PDS4 bundle: a
+    Product_Bundle label at its root, named bundle.xml, bundle_*.xml or anything else."""
+    from ...archive.scan import bundle_labels
+
     return directory.is_dir() and ((directory / layout.MANIFEST).is_file()
                                    or (directory / layout.INDEX_DIR / layout.INDEX_LABEL).is_file()
-                                   or any(directory.glob("bundle_*.xml")))
+                                   or bool(bundle_labels(directory)))
 
 
 @dataclass
@@ -180,6 +184,7 @@ def _check_index(root: Path, found: list[_Found], labels: LabelCache | None) -> 
     table_path = _table_file(label, label_path) or table_path
     row_bytes, rows = table.number("ROW_BYTES"), table.number("ROWS")
     volume_ids = {label.text("VOLUME_ID")} | {_text_value(root / layout.VOLDESC, "VOLUME_ID", labels)}
+    declared = {name.upper() for name in _set_of(label, "DATA_SET_ID")}
     seen: dict[str, int] = {}
     count = 0
     try:
@@ -195,6 +200,7 @@ def _check_index(root: Path, found: list[_Found], labels: LabelCache | None) -> 
                     continue
                 values = {c.name: _field(raw, c, count, table_path, found) for c in columns}
                 _check_row(root, table_path, count, values, columns, seen, volume_ids, found, labels)
+                _check_row_data_set(table_path, count, values.get("DATA_SET_ID"), declared, found)
     except OSError as exc:
         found.append(_Found("DLV-001", table_path, f"cannot read the index table: {exc.strerror or exc}"))
         return
@@ -251,6 +257,16 @@ def _check_row(root: Path, table_path: Path, number: int, values: dict[str, str 
                                                        + (f" (line {line})" if line else ""), number, column.name))
 
 
+def _check_row_data_set(table_path: Path, number: int, data_set: str | None, declared: set[str],
+                        found: list[_Found]) -> None:
+    """DLV-005: a row's DATA_SET_ID (its label's, DLV-004) is one INDEX.LBL declares (and so, by
+    _check_data_sets, VOLDESC.CAT)."""
+    if data_set and declared and data_set.strip().upper() not in declared:
+        found.append(_Found("DLV-005", table_path, f"row {number}: DATA_SET_ID {data_set.strip()} is not declared in "
+                                                   f"{layout.INDEX_LABEL} ({', '.join(sorted(declared))}) nor "
+                                                   f"{layout.VOLDESC}", number, "DATA_SET_ID"))
+
+
 def _check_data_sets(root: Path, index_label: Block, table_path: Path, found: list[_Found],
                      labels: LabelCache | None) -> None:
     """DATA_SET_ID of INDEX.LBL and VOLDESC.CAT name the same data sets."""
@@ -300,7 +316,9 @@ def _read_head(path: Path) -> bytes:
 # --- placeholders -------------------------------------------------------------------------------
 
 def _check_placeholders(root: Path, found: list[_Found]) -> None:
-    files = [root / name for name in _TEXT_FILES] + sorted(root.glob("bundle_*.xml"))
+    from ...archive.scan import bundle_labels
+
+    files = [root / name for name in _TEXT_FILES] + bundle_labels(root)
     files += [root / directory / layout.collection_label_name(c) for c, (_, _, directory) in
               layout.COLLECTIONS.items()]
     for path in files:
@@ -354,6 +372,10 @@ class _Pds4Label:
     references: list[tuple[str, int]] = field(default_factory=list)  # (lid or lidvid, line), not members
     members: list[tuple[str, str, int]] = field(default_factory=list)  # a bundle's (lidvid, status, line)
     inventory: Path | None = None
+    described: list[Path] = field(default_factory=list)  # the files its File and Document_File areas name
+    unstated: list[tuple[str, int | None, str | None]] = field(default_factory=list)  # DLV-007: message, line, keyword
+    times: tuple[str | None, str | None] = (None, None)  # Time_Coordinates start and stop, as written
+    corner: tuple[float, float, float] | None = None  # cart: upper-left corner x, y and pixel_resolution_x, metres
 
     @property
     def lidvid(self) -> str:
@@ -362,6 +384,8 @@ class _Pds4Label:
 
 def _read_pds4(path: Path) -> _Pds4Label | None:
     from lxml import etree
+
+    from .identity_rules import pds4_unstated
 
     try:
         tree = etree.parse(str(path), etree.XMLParser(no_network=True, resolve_entities=False))
@@ -387,7 +411,46 @@ def _read_pds4(path: Path) -> _Pds4Label | None:
     name = root.findtext(f"{PDS_NS}File_Area_Inventory/{PDS_NS}File/{PDS_NS}file_name")
     if name and not outside_tree(path.parent, name.strip()):  # one outside the label's directory is not read
         label.inventory = path.parent / name.strip()
+    label.described = described_files(root, path)
+    label.unstated = [(hit.message, hit.line, hit.keyword) for hit in pds4_unstated(root)]
+    coordinates = root.find(f"{PDS_NS}Observation_Area/{PDS_NS}Time_Coordinates")
+    if coordinates is not None:
+        label.times = (coordinates.findtext(f"{PDS_NS}start_date_time"),
+                       coordinates.findtext(f"{PDS_NS}stop_date_time"))
+    label.corner = _cart_corner(root)
     return label
+
+
+_CART_NS = "{http://pds.nasa.gov/pds4/cart/v1}"
+_METRES = {"m": 1.0, "km": 1000.0, "m/pixel": 1.0, "km/pixel": 1000.0}
+
+
+def _cart_corner(root: object) -> tuple[float, float, float] | None:
+    """cart:Geo_Transformation's upper-left corner and cart:pixel_resolution_x, in metres."""
+    values = []
+    for tag in ("upperleft_corner_x", "upperleft_corner_y", "pixel_resolution_x"):
+        element = next(root.iter(f"{_CART_NS}{tag}"), None)  # type: ignore[attr-defined]
+        if element is None:
+            return None
+        try:
+            values.append(float((element.text or "").strip()) * _METRES.get(element.get("unit", "m"), 1.0))
+        except ValueError:
+            return None
+    return values[0], values[1], values[2]
+
+
+def described_files(root: object, path: Path) -> list[Path]:
+    """The files a PDS4 label describes, read from its parsed tree (comments are no elements,
+    CDATA is text): each file_name of a File or Document_File, the latter under its
+    directory_path_name (relative to the label's directory)."""
+    files = []
+    for element in root.iter(f"{PDS_NS}file_name"):  # type: ignore[attr-defined]
+        name = (element.text or "").strip()
+        parent = element.getparent()
+        directory = (parent.findtext(f"{PDS_NS}directory_path_name") or "").strip() if parent is not None else ""
+        if name:
+            files.append(Path(os.path.normpath(path.parent / directory / name)))
+    return files
 
 
 def _check_bundle(root: Path, found: list[_Found]) -> None:
@@ -433,6 +496,126 @@ def _check_bundle(root: Path, found: list[_Found]) -> None:
     for lid, listed_in_any in listed_by_lid.items():
         if listed_in_any is not None:
             _check_unlisted(_versions([c for c in collections if c.lid == lid]), listed_in_any, labels, found)
+    _check_unlabelled(root, labels, found)
+    if (root / layout.VOLDESC).is_file():
+        _check_both_dialects(root, labels, found)
+    for label in labels:  # DLV-007 of the bundle's labels, as of a volume's indexed PDS3 labels
+        found.extend(_Found("DLV-007", label.path, message, line, keyword) for message, line, keyword in label.unstated)
+
+
+def _check_both_dialects(root: Path, labels: list[_Pds4Label], found: list[_Found]) -> None:
+    """A delivery that is a PDS3 volume and a PDS4 bundle holds one product set, each product
+    told alike in both: DLV-024 a product of one dialect only; DLV-022 PDS3 START_TIME/STOP_TIME
+    against PDS4 Time_Coordinates; DLV-023 the PDS3 map grid against cart: (the ground
+    position of the upper-left pixel corner, to half a pixel). A PDS3 product and a PDS4 label
+    are one product when the label describes a file of the PDS3 product's name (X.IMG, X.JP2)."""
+    observational: dict[tuple[str, str], _Pds4Label] = {}
+    data = root / layout.DATA_DIR
+    for label in labels:  # the data products: those of DATA/, where the volume's are (_pds3_products)
+        if label.product_class == "Product_Observational" and data in label.path.parents:
+            for path in label.described:
+                observational.setdefault(_product_key(Path(path)), label)
+    paired: set[int] = set()
+    for product in _pds3_products(root):
+        pds4 = observational.get(_product_key(product))
+        if pds4 is None:
+            found.append(_Found("DLV-024", product, "in the PDS3 volume, but no PDS4 label of the bundle describes "
+                                                    "this product"))
+            continue
+        paired.add(id(pds4))
+        pds3 = _read_pds3(product, None)
+        if pds3 is not None:
+            _compare_times(product, pds3, pds4, found)
+            _compare_grids(product, pds3, pds4, found)
+    for label in {id(label): label for label in observational.values()}.values():
+        if id(label) not in paired:
+            found.append(_Found("DLV-024", label.path, "in the PDS4 bundle, but the PDS3 volume has no label of this "
+                                                       "product"))
+
+
+def _product_key(path: Path) -> tuple[str, str]:
+    return os.path.normpath(path.parent), path.name.split(".", 1)[0].upper()
+
+
+def _compare_times(product: Path, pds3: Block, pds4: _Pds4Label, found: list[_Found]) -> None:
+    from .identity_rules import parse_time
+
+    for keyword, element, written in (("START_TIME", "start_date_time", pds4.times[0]),
+                                      ("STOP_TIME", "stop_date_time", pds4.times[1])):
+        text, line = _first(pds3, keyword)
+        mine, theirs = parse_time(text), parse_time(written)
+        if mine is not None and theirs is not None and abs((mine - theirs).total_seconds()) > 1.0:
+            found.append(_Found("DLV-022", pds4.path, f"{element} {(written or '').strip()} differs from {keyword} "
+                                                      f"{text} of the PDS3 label {product.name}"
+                                                      + (f" (line {line})" if line else ""), None, element))
+
+
+def _compare_grids(product: Path, pds3: Block, pds4: _Pds4Label, found: list[_Found]) -> None:
+    projection = next(pds3.find("IMAGE_MAP_PROJECTION"), None)
+    if projection is None or pds4.corner is None:
+        return
+    scale_value = projection.value("MAP_SCALE")
+    samples, lines = projection.number("SAMPLE_PROJECTION_OFFSET"), projection.number("LINE_PROJECTION_OFFSET")
+    if scale_value is None or not isinstance(samples, (int, float)) or not isinstance(lines, (int, float)):
+        return
+    try:
+        scale = float(str(scale_value.py)) * (1000.0 if "KM" in (scale_value.unit or "").upper() else 1.0)
+    except ValueError:
+        return
+    if abs(pds4.corner[2] - scale) > 1e-6 * scale:
+        return  # MAP_SCALE at another radius than the projection's (HRSC's DLR convention): not this check's model
+    ulx, uly = -(samples + 0.5) * scale, (lines + 0.5) * scale  # the corner, half a pixel beyond the first centre
+    east, north = (pds4.corner[0] - ulx) / scale, (pds4.corner[1] - uly) / scale
+    if abs(east) > 0.5 or abs(north) > 0.5:
+        x, y, resolution = pds4.corner
+        found.append(_Found("DLV-023", pds4.path, f"cart: upper-left corner ({x:.3f}, {y:.3f}) m at {resolution:g} "
+                                                  f"m/pixel lies {east:+.2f} pixel east, {north:+.2f} pixel north of "
+                                                  f"the grid of the PDS3 label {product.name} ({ulx:.3f}, {uly:.3f}) m "
+                                                  f"at {scale:g} m/pixel"))
+
+
+def _check_unlabelled(root: Path, labels: list[_Pds4Label], found: list[_Found]) -> None:
+    """DLV-016: every file of a bundle is a label or described by one (NASA's validate: a
+    warning, UNLABELED_FILE 'warning.file.not_referenced_in_label'). Not files of no delivery
+    (the review pages, the release marker); in a delivery that is a PDS3 volume too, not the
+    volume's own (VOLDESC.CAT, AAREADME.TXT, INDEX/, CATALOG/, PDS3 labels)."""
+    described = {os.path.normpath(label.path) for label in labels}
+    described |= {os.path.normpath(p) for label in labels for p in label.described}
+    volume = (root / layout.VOLDESC).is_file()
+    stems = {(os.path.dirname(p), os.path.basename(p).split(".", 1)[0].upper()) for p in described}
+    for path in _all_files(root):
+        relative = path.relative_to(root)
+        name = relative.as_posix()
+        if os.path.normpath(path) in described or name == layout.RELEASED_MARKER or layout.is_review_page(name):
+            continue
+        if (volume and _volume_part(relative)) or _pds3_label_of_described(path, stems):
+            continue
+        if path.suffix.lower() in PDS4_LABEL_SUFFIXES and not path.name.lower().endswith(".aux.xml"):
+            continue  # taken for a label (NASA's validate too: an empty foo.xml in its suite case 482-4 is none)
+        found.append(_Found("DLV-016", path, _unlabelled_message(path)))
+
+
+def _volume_part(relative: Path) -> bool:
+    """A file of the PDS3 volume that shares the delivery with the bundle."""
+    return (relative.as_posix() in (layout.VOLDESC, layout.AAREADME, layout.MANIFEST)
+            or relative.parts[0] in (layout.INDEX_DIR, layout.CATALOG_DIR))
+
+
+def _pds3_label_of_described(path: Path, stems: set[tuple[str, str]]) -> bool:
+    """A product's detached PDS3 label kept beside the data its PDS4 label describes (X.LBL beside
+    a described X.JP2): the same product in the other dialect, not an unlabelled file."""
+    key = (os.path.normpath(path.parent), path.name.split(".", 1)[0].upper())
+    return key in stems and (path.suffix.lower() == ".lbl" or is_pds3_head(_read_head(path)))
+
+
+def _unlabelled_message(path: Path) -> str:
+    if path.name.lower().endswith(".aux.xml"):
+        return ("a GDAL .aux.xml sidecar (statistics GDAL wrote beside a file it opened): no label describes it; "
+                "remove it from the bundle")
+    if path.name == layout.MANIFEST:
+        return (f"no label describes {layout.MANIFEST}: a bundle's checksum manifest is a product with a label "
+                f"({layout.MANIFEST_LABEL}, a Product_Ancillary with a Checksum_Manifest; pdsgen deliver writes it)")
+    return "no PDS4 label of the bundle describes this file (name it in a label's File, or remove it)"
 
 
 def _version_key(label: _Pds4Label) -> tuple[int, ...]:
@@ -513,6 +696,19 @@ def _check_inventory(root: Path, collection: _Pds4Label, by_lidvid: dict[str, _P
     return listed
 
 
+# --- the Extras against the products -------------------------------------------------------------
+
+_EXTRAS_RULES = {"stale": "DLV-017", "differs": "DLV-018", "absent": "DLV-019"}
+
+
+def _check_extras(root: Path, found: list[_Found]) -> None:
+    """DLV-017/018/019: the Extras' README.TXT against the delivered labels (archive/extras_check.py)."""
+    from ...archive.extras_check import extras_problems
+
+    for problem in extras_problems(root):
+        found.append(_Found(_EXTRAS_RULES[problem.kind], problem.file, problem.message, problem.line))
+
+
 # --- the manifest -------------------------------------------------------------------------------
 
 def _named_inside(root: Path, name: str) -> tuple[Path | None, str | None]:
@@ -554,7 +750,8 @@ def _check_manifest(root: Path, labels_only: bool, found: list[_Found]) -> None:
                                                  "text file, [delivery] table, keeps it for good)"))
     for path in _all_files(root):
         name = path.relative_to(root).as_posix()
-        if name not in (layout.MANIFEST, layout.RELEASED_MARKER) and not layout.is_review_page(name) \
+        if name not in (layout.MANIFEST, layout.MANIFEST_LABEL, layout.RELEASED_MARKER) \
+                and not layout.is_review_page(name) \
                 and name not in listed:
             found.append(_Found("DLV-021", path, f"not listed in {layout.MANIFEST}"))
 
@@ -568,7 +765,7 @@ def check_delivery(root: Path, labels_only: bool = False, labels: LabelCache | N
 
     found: list[_Found] = []
     _check_index(root, found, labels)
-    for check in (_check_placeholders, _check_bundle):
+    for check in (_check_placeholders, _check_bundle, _check_extras):
         check(root, found)
     _check_manifest(root, labels_only, found)
     table = rules()
@@ -634,7 +831,8 @@ register(
     Rule("DLV-006", "warning", "no [TO BE WRITTEN: ...] placeholder left in VOLDESC.CAT, AAREADME.TXT, "
                                "bundle or collection labels", None),
     Rule("DLV-007", "warning", "the products' identification keywords (DATA_SET_ID, PRODUCER_*, INSTRUMENT_* ...) "
-                               "are stated, not UNK or N/A", None),
+                               "are stated, not UNK or N/A (PDS3 labels of the index, PDS4 labels of the "
+                               "bundle)", None),
     Rule("DLV-010", "error", "every primary member of a collection inventory is the LIDVID of a product of the "
                              "delivery", None),
     Rule("DLV-011", "error", "every product under a collection's LID is in its inventory", None),
@@ -643,6 +841,17 @@ register(
     Rule("DLV-014", "warning", "references to products of the bundle (Product_Browse's data product, a "
                                "Reference_List's document ...) resolve in the delivery", None),
     Rule("DLV-015", "error", "the bundle lists every collection, and each primary member it lists exists", None),
+    Rule("DLV-016", "warning", "every file of a PDS4 bundle is a label or described by one (a GDAL .aux.xml "
+                               "sidecar, a manifest without its label ...)", None),
+    Rule("DLV-017", "error", "the Extras were made from the delivered product: the label MD5 README.TXT records "
+                             "is the label's (not stale after a remake)", None),
+    Rule("DLV-018", "error", "README.TXT's size and VALID_MINIMUM/VALID_MAXIMUM of a product are its label's", None),
+    Rule("DLV-019", "warning", "README.TXT documents only products and previews that are delivered", None),
+    Rule("DLV-022", "error", "a product's PDS3 START_TIME/STOP_TIME and PDS4 Time_Coordinates agree (to the "
+                             "second)", None),
+    Rule("DLV-023", "error", "a product's PDS4 cart: grid is its PDS3 label's map grid (upper-left corner to half "
+                             "a pixel, where both state one pixel size)", None),
+    Rule("DLV-024", "error", "a delivery's PDS3 volume and PDS4 bundle hold the same products", None),
     Rule("DLV-020", "error", "every file MD5SUMS.TXT lists exists and has that MD5", None, needs_data=True),
     Rule("DLV-021", "error", "every file of the delivery is listed in MD5SUMS.TXT", None),
 )

@@ -29,11 +29,12 @@ if TYPE_CHECKING:
 
 
 def open_label(path: Path, labels_only: bool, schemas: tuple[str, ...], schema_cache: str | None,
-               download_schemas: bool) -> Pds4LabelContext:
-    """The context the PDS4 rules take (nothing is read until the first rule asks)."""
+               download_schemas: bool, tree: Path | None = None) -> Pds4LabelContext:
+    """The context the PDS4 rules take (nothing is read until the first rule asks). `tree`: the
+    trusted tree the label's files must stay in (the directory given, or --root), as for PDS3."""
     from ..pds4.label_checks import Pds4LabelContext, catalog_for
 
-    return Pds4LabelContext(path, catalog_for(schemas, schema_cache, download_schemas), labels_only)
+    return Pds4LabelContext(path, catalog_for(schemas, schema_cache, download_schemas), labels_only, tree=tree)
 
 
 def check_schema_dirs(directories: tuple[str, ...]) -> tuple[str, ...]:

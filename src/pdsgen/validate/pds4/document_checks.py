@@ -65,11 +65,12 @@ def marked_pdf_a(path: Path) -> bool:
 
 
 class DataFileRegister:
-    """The data files the PDS4 labels of one run describe (every file_name of the label),
-    which label named each first, and whether any named it as observational data (a
-    File_Area_Observational or _Supplemental, or any file of a Product_Observational). The
-    label's text is scanned, not parsed again: this runs in the parent process for every
-    label of the run."""
+    """The data files the PDS4 labels of one run describe (every file_name of a File or
+    Document_File), which label named each first, and whether any named it as observational
+    data (a File_Area_Observational or _Supplemental, or any file of a Product_Observational).
+    Read from the label's parsed tree, as every other check reads it: a file_name inside an XML
+    comment is no element (NASA's github1408 product keeps a commented-out File_Area), one in a
+    CDATA section is text. This runs in the parent process for every label of the run."""
 
     def __init__(self) -> None:
         self.first: dict[str, str] = {}
@@ -78,39 +79,46 @@ class DataFileRegister:
     def add(self, label: str) -> list[Hit]:
         """PDS4-060: the label's data files another label of the run named (the PDS4
         family's run check; the runner makes them findings of the label)."""
-        try:
-            with open(label, "rb") as handle:
-                text = handle.read()
-        except OSError:
-            return []  # the label's own report says why it cannot be read
+        root = _parsed_root(label)
+        if root is None:
+            return []  # the label's own report says why it cannot be read (PDS4-001)
         directory = os.path.dirname(os.path.abspath(label))
-        observational_product = _OBSERVATIONAL_ROOT.search(text) is not None
-        areas = [(m.start(), m[1]) for m in _FILE_AREA.finditer(text)]
+        observational_product = _local(root) == "Product_Observational"
         findings = []
-        for block in _FILE_ELEMENT.finditer(text):
-            match = _FILE_NAME_ELEMENT.search(block[0])
-            if match is None:
+        for file in root.iter():
+            if _local(file) not in ("File", "Document_File"):
                 continue
-            name = match[1].decode("utf-8", "replace").strip()
-            folder = _DIRECTORY_ELEMENT.search(block[0])  # a Document_File's directory_path_name
-            relative = os.path.join(folder[1].decode("utf-8", "replace").strip(), name) if folder else name
+            name_element = next((child for child in file if _local(child) == "file_name"), None)
+            if name_element is None or not (name := (name_element.text or "").strip()):
+                continue
+            folder = next((child for child in file if _local(child) == "directory_path_name"), None)
+            relative = os.path.join((folder.text or "").strip(), name) if folder is not None else name
             data = os.path.normpath(os.path.join(directory, relative))
-            area = next((tag for start, tag in reversed(areas) if start < block.start()), b"")
+            area = next((_local(a) for a in file.iterancestors() if _local(a).startswith("File_Area_")
+                         or _local(a) == "Document_Edition"), "")
             observational = observational_product or area in _OBSERVATIONAL_AREAS
             first = self.first.setdefault(data, label)
             observational = self.observational[data] = self.observational.get(data, False) or observational
             if first != label and observational:
-                findings.append(Hit(f"{relative} is also described by {first}",
-                                    text.count(b"\n", 0, block.start() + match.start()) + 1, "file_name"))
+                findings.append(Hit(f"{relative} is also described by {first}", name_element.sourceline, "file_name"))
         return findings
 
 
-_OBSERVATIONAL_ROOT = re.compile(rb"<(?:[A-Za-z_][\w.-]*:)?Product_Observational[\s>]")
-_FILE_AREA = re.compile(rb"<(?:[A-Za-z_][\w.-]*:)?(File_Area_\w+|Document_Edition)[\s>]")
-_OBSERVATIONAL_AREAS = (b"File_Area_Observational", b"File_Area_Observational_Supplemental")
-_FILE_ELEMENT = re.compile(rb"<((?:[A-Za-z_][\w.-]*:)?(?:File|Document_File))>.*?</\1>", re.DOTALL)
-_FILE_NAME_ELEMENT = re.compile(rb"<(?:[A-Za-z_][\w.-]*:)?file_name>([^<]+)</")
-_DIRECTORY_ELEMENT = re.compile(rb"<(?:[A-Za-z_][\w.-]*:)?directory_path_name>([^<]+)</")
+def _parsed_root(label: str) -> etree._Element | None:
+    """The label's root element (entities not resolved, nothing fetched), or None."""
+    try:
+        return etree.parse(label, etree.XMLParser(no_network=True, resolve_entities=False)).getroot()
+    except (OSError, etree.XMLSyntaxError):
+        return None
+
+
+def _local(element: etree._Element) -> str:
+    """An element's name without its namespace ('' for a comment or processing instruction)."""
+    tag = element.tag
+    return tag.rsplit("}", 1)[-1] if isinstance(tag, str) else ""
+
+
+_OBSERVATIONAL_AREAS = ("File_Area_Observational", "File_Area_Observational_Supplemental")
 _FILE_NAME = re.compile(r"[A-Za-z0-9._-][A-Za-z0-9._/-]*\Z")  # a relative path, as genuine labels give
 
 

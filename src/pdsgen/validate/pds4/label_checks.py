@@ -69,8 +69,9 @@ class Pds4LabelContext:
     runs once, when the first rule asks; each rule then takes its own hits."""
 
     def __init__(self, path: str | Path, catalog: SchemaCatalog, labels_only: bool = False,
-                 use_schematron: bool = True) -> None:
+                 use_schematron: bool = True, tree: Path | None = None) -> None:
         self.path = Path(path)
+        self.tree = tree  # the trusted tree (label/beside.trusted_tree): the label's directory unless told
         self.catalog = catalog
         self.labels_only = labels_only
         self.use_schematron = use_schematron
@@ -78,7 +79,7 @@ class Pds4LabelContext:
 
     def hits(self, rule_id: str) -> list[Hit]:
         if self._hits is None:
-            found = Pds4Hits(self.path)
+            found = Pds4Hits(self.path, self.tree)
             self._hits = found.by_rule  # a check that raises out of here is not run again
             _check(found, self.catalog, self.labels_only, self.use_schematron)
         return self._hits.get(rule_id, [])

@@ -24,8 +24,9 @@ class Pds4Hits:
     several rules at once; the validator's registry gives each rule its severity (the
     PDS4 family in validate/families/pds4_rules.py), as for every other family."""
 
-    def __init__(self, path: Path) -> None:
+    def __init__(self, path: Path, tree: Path | None = None) -> None:
         self.path = path
+        self.tree = tree  # the trusted tree the label's files must stay in (--root); its directory unless told
         self.by_rule: dict[str, list[Hit]] = {}
 
     def add(self, rule: str, message: str, line: int | None = None, keyword: str | None = None,
@@ -77,9 +78,10 @@ def is_outside(report: Pds4Hits, name: str, element: etree._Element, tell: bool 
     leading out): such a file is never read, and (when `tell`) PDS4-064 says so."""
     from ...label.beside import outside_tree  # the one containment rule, for PDS3 and PDS4 alike
 
-    if outside_tree(report.path.parent, name) is None:
+    if outside_tree(report.path.parent, name, report.tree) is None:
         return False
     if tell:
-        report.add("PDS4-064", f"file_name {name} lies outside the label's directory {report.path.parent}; "
-                               "it is not read", element.sourceline, "file_name")
+        where = f"the tree {report.tree}" if report.tree is not None else f"the label's directory {report.path.parent}"
+        report.add("PDS4-064", f"file_name {name} lies outside {where}; it is not read (--root DIR widens the tree "
+                               "to a bundle or volume holding it)", element.sourceline, "file_name")
     return True

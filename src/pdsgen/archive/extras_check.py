@@ -1,0 +1,161 @@
+"""Whether a directory's Extras still describe its products: README.TXT against the labels.
+
+The Extras' README.TXT records, for each product, what the Extras were made from (its PDS3
+label's MD5, "Label MD5"), its size and its valid range. A product remade after its Extras
+(`pdsgen dtm --overwrite`, then delivered again) leaves them stale: README.TXT then says 300
+lines while the label says 280, and the previews show the old extent. Staleness is a fact
+here, not a guess: the MD5 recorded is compared with the label's. One home for the check:
+the validator's delivery rules report it (DLV-017, DLV-018, DLV-019) and `pdsgen deliver`
+refuses stale Extras before it writes anything.
+
+README.TXT is read with this module's own reader (the Extras writer's field names are the
+only thing shared: they are the file's format).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..formats.checksum import label_md5
+from ..label.read import read_pds3_label
+from . import layout
+
+README = "README.TXT"
+_SIZE = re.compile(r"(\d+) samples x (\d+) lines")
+_FIELD = re.compile(r"^  ([A-Za-z][A-Za-z0-9_ ()/.-]*):\s*(.*)$")
+_CONTINUATION = 19  # README.TXT's value column: a longer indent continues the field above
+
+
+@dataclass
+class ReadmeEntry:
+    """One product as README.TXT documents it."""
+
+    product_id: str
+    line: int
+    fields: dict[str, str] = field(default_factory=dict)
+    files: list[tuple[str, int]] = field(default_factory=list)  # (Extras file name, line)
+
+
+@dataclass(frozen=True)
+class ExtrasProblem:
+    """One disagreement between the Extras and the products. kind: "stale" (the label changed
+    since the Extras were made), "differs" (a size or valid range README.TXT states is not the
+    label's), "absent" (README.TXT documents a product or preview not in the directory)."""
+
+    kind: str
+    file: Path
+    message: str
+    line: int | None = None
+
+
+def read_entries(readme: Path) -> list[ReadmeEntry]:
+    """The product entries of an Extras README.TXT (its PRODUCTS section)."""
+    try:
+        lines = readme.read_text(encoding="latin-1").splitlines()
+    except OSError:
+        return []
+    entries: list[ReadmeEntry] = []
+    key = ""
+    in_files = False
+    for number, line in enumerate(lines, 1):
+        if line.startswith("Product ID:"):
+            entries.append(ReadmeEntry(line.split(":", 1)[1].strip(), number))
+            key, in_files = "", False
+        elif not entries or not line.strip():
+            continue
+        elif not line.startswith(" "):  # the next section's heading: the products are over
+            if entries and line.strip() and not line.startswith("Product ID"):
+                break
+        elif line.startswith("  Extras files:"):
+            in_files = True
+        elif in_files and line.startswith("    ") and not line.startswith("     "):
+            entries[-1].files.append((line.strip(), number))
+        elif (match := _FIELD.match(line)) is not None and not in_files:
+            key = match.group(1)
+            entries[-1].fields[key] = match.group(2).strip()
+        elif key and not in_files and line.startswith(" " * _CONTINUATION):
+            entries[-1].fields[key] += " " + line.strip()
+    return entries
+
+
+def readmes(root: Path) -> Iterator[Path]:
+    """The Extras README.TXT files under `root` (a delivery's EXTRAS/, a product directory's extras/)."""
+    for path in sorted(root.rglob(README)):  # the name the Extras write
+        if path.is_file():
+            yield path
+
+
+def extras_problems(root: Path) -> list[ExtrasProblem]:
+    """Every disagreement between the Extras under `root` and the products they document."""
+    problems: list[ExtrasProblem] = []
+    for readme in readmes(root):
+        for entry in read_entries(readme):
+            problems.extend(_entry_problems(root, readme, entry))
+    return problems
+
+
+def _product_file(root: Path, readme: Path, name: str) -> Path | None:
+    """Where the product README.TXT names lies: beside it, one directory up (a product
+    directory's extras/), or in the delivery's DATA/."""
+    for directory in (readme.parent, readme.parent.parent, root / layout.DATA_DIR, root):
+        candidate = directory / name
+        if name and candidate.is_file():
+            return candidate
+    return None
+
+
+def _entry_problems(root: Path, readme: Path, entry: ReadmeEntry) -> Iterator[ExtrasProblem]:
+    name = entry.fields.get("Product file", "")
+    product = _product_file(root, readme, name)
+    if product is None:
+        yield ExtrasProblem("absent", readme, f"documents product {entry.product_id} ({name or 'no file named'}), "
+                                              "which is not delivered: make the Extras again from the products "
+                                              "delivered", entry.line)
+        return
+    for file_name, line in entry.files:
+        if not (readme.parent / file_name).is_file():
+            yield ExtrasProblem("absent", readme, f"documents preview {file_name} of {entry.product_id}, which is "
+                                                  "not delivered", line)
+    recorded = entry.fields.get("Label MD5", "")
+    current = label_md5(product)
+    remedy = (f"the Extras were made from another version of {product.name}: make them again "
+              f"(pdsgen extras {product.name} -o {readme.parent.name} --overwrite) and deliver again")
+    if recorded and current and recorded != current:
+        yield ExtrasProblem("stale", readme, f"Label MD5 {recorded} of {entry.product_id} is not that of its "
+                                             f"label now ({current}): {remedy}", entry.line)
+    label = read_pds3_label(product)
+    if label is None:
+        return
+    yield from _numbers_problems(readme, entry, label, remedy)
+
+
+def _numbers_problems(readme: Path, entry: ReadmeEntry, label: object, remedy: str) -> Iterator[ExtrasProblem]:
+    """README.TXT's size and valid range against the label's image object."""
+    image = label.image()  # type: ignore[attr-defined]
+    if image is None:
+        return
+    size = _SIZE.search(entry.fields.get("Size", ""))
+    lines, samples = image.number("LINES"), image.number("LINE_SAMPLES")
+    if size is not None and isinstance(lines, int) and isinstance(samples, int) \
+            and (int(size.group(1)), int(size.group(2))) != (samples, lines):
+        yield ExtrasProblem("differs", readme, f"{entry.product_id}: Size {size.group(0)}, but its label has "
+                                               f"{samples} samples x {lines} lines: {remedy}", entry.line)
+    for keyword in ("VALID_MINIMUM", "VALID_MAXIMUM"):
+        stated = entry.fields.get(keyword, "")
+        value = image.number(keyword)
+        if stated and isinstance(value, (int, float)) and not _agrees(stated, float(value)):
+            yield ExtrasProblem("differs", readme, f"{entry.product_id}: {keyword} {stated}, but its label has "
+                                                   f"{value:g}: {remedy}", entry.line)
+
+
+def _agrees(stated: str, value: float) -> bool:
+    """Whether README.TXT's rounded number is the label's value (to the decimals written)."""
+    try:
+        number = float(stated)
+    except ValueError:
+        return True  # not a number (a note): nothing to compare
+    decimals = len(stated.split(".", 1)[1]) if "." in stated else 0
+    return abs(number - value) <= 0.5 * 10.0 ** -decimals + 1e-9 * max(1.0, abs(value))

@@ -1,0 +1,280 @@
+"""A delivery's parts agree with each other, whatever they are named: seeded into pdsgen's own
+deliveries (PDS3, PDS4, both), each inconsistency is caught by a finding naming the file, and the
+clean deliveries pass --strict with no finding of these rules.
+
+NASA's validate reports a file of a bundle that no label describes as a warning
+(NASA-PDS/validate src/main/java/gov/nasa/pds/tools/validate/ProblemType.java @ 0572d9ad:
+UNLABELED_FILE "warning.file.not_referenced_in_label"): DLV-016 has that severity.
+"""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+from lxml import etree
+
+from pdsgen.deliver import make_delivery
+from pdsgen.errors import InputError
+from pdsgen.extras import make_extras
+from pdsgen.products.dtm import write_dtm
+from pdsgen.synthetic import make_scene, write_geotiff
+from pdsgen.validate import validate_paths
+
+from helpers import demo_products
+
+PDS_NS = {"pds": "http://pds.nasa.gov/pds4/pds/v1"}
+BUNDLE_LID = "urn:nasa:pds:demo_dtm"
+# The rules of this issue: a clean delivery has none of them (the demo's UNK texts are DLV-007's).
+CONSISTENCY = ("DLV-011", "DLV-016", "DLV-017", "DLV-018", "DLV-019", "IDN-001", "IDN-002", "IDN-003", "IDN-004",
+               "IDN-012", "IDN-013")
+
+
+@pytest.fixture(scope="module")
+def products(tmp_path_factory) -> Path:
+    """A DTM and an orthoimage made on it (PDS3 and PDS4 labels), with their Extras."""
+    return demo_products(tmp_path_factory.mktemp("consistency"), width=120, height=160)
+
+
+@pytest.fixture(scope="module")
+def made(products, tmp_path_factory) -> dict[str, Path]:
+    """One clean delivery of each dialect, made once; tests seed copies of them."""
+    root = tmp_path_factory.mktemp("deliveries")
+    deliveries = {}
+    for dialect in ("pds3", "pds4", "both"):
+        deliveries[dialect] = root / dialect
+        make_delivery(products, root / dialect, dialect=dialect, volume_id="DEMO_0001" if dialect != "pds4" else None,
+                      bundle_lid=BUNDLE_LID if dialect != "pds3" else None)
+    return deliveries
+
+
+def _copy(made: dict[str, Path], dialect: str, tmp_path: Path) -> Path:
+    return Path(shutil.copytree(made[dialect], tmp_path / dialect))
+
+
+def _found(path: Path, *rules: str) -> list[tuple[str, str, str]]:
+    report = validate_paths([path], labels_only=True)
+    return sorted((f.rule, f.severity, Path(f.file).name) for f in report.findings if f.rule in rules)
+
+
+@pytest.mark.parametrize("dialect", ["pds3", "pds4", "both"])
+def test_clean_deliveries_have_no_consistency_finding(made, dialect):
+    assert _found(made[dialect], *CONSISTENCY) == []
+
+
+def test_a_bundle_is_what_its_root_says_whatever_its_name(made, tmp_path):
+    """bundle.xml (the common name) with no manifest beside it: still a bundle, its inventories
+    checked - a product missing from its inventory is found."""
+    bundle = _copy(made, "pds4", tmp_path)
+    (bundle / "bundle_demo_dtm.xml").rename(bundle / "bundle.xml")
+    for name in ("MD5SUMS.TXT", "MD5SUMS.xml", "REVIEW.html"):
+        (bundle / name).unlink()
+    shutil.rmtree(bundle / "MISCELLANEOUS")
+    text = (bundle / "bundle.xml").read_text()
+    start = text.index("<Bundle_Member_Entry>\n    <lidvid_reference>urn:nasa:pds:demo_dtm:miscellaneous")
+    end = text.index("</Bundle_Member_Entry>", start) + len("</Bundle_Member_Entry>")
+    (bundle / "bundle.xml").write_text(text[:start] + text[end:])
+    assert _found(bundle, *CONSISTENCY) == []
+    inventory = bundle / "DATA" / "collection_data_inventory.csv"
+    rows = inventory.read_bytes().split(b"\r\n")
+    inventory.write_bytes(b"\r\n".join(rows[1:]))
+    assert _found(bundle, "DLV-011") == [("DLV-011", "error", "DTEEC_008669_1705_009025_1705_U01.xml")]
+
+
+@pytest.mark.parametrize("dialect", ["pds4", "both"])
+def test_a_file_no_label_describes_is_named(made, dialect, tmp_path):
+    bundle = _copy(made, dialect, tmp_path)
+    (bundle / "DATA" / "PSP_008669_1705_RED_C_01_ORTHO.JP2.aux.xml").write_text(
+        "<PAMDataset><PAMRasterBand band=\"1\"/></PAMDataset>\n")
+    found = _found(bundle, "DLV-016")
+    assert found == [("DLV-016", "warning", "PSP_008669_1705_RED_C_01_ORTHO.JP2.aux.xml")]
+
+
+def test_the_manifest_is_a_labelled_product_and_unlabelled_without_its_label(made, tmp_path):
+    bundle = _copy(made, "pds4", tmp_path)
+    label = etree.parse(str(bundle / "MD5SUMS.xml"))
+    assert label.getroot().tag == "{http://pds.nasa.gov/pds4/pds/v1}Product_Ancillary"
+    assert label.findtext(".//pds:Checksum_Manifest/pds:parsing_standard_id", namespaces=PDS_NS) == "MD5Deep 4.n"
+    inventory = (bundle / "MISCELLANEOUS" / "collection_miscellaneous_inventory.csv").read_bytes().decode()
+    assert inventory == "P,urn:nasa:pds:demo_dtm:miscellaneous:md5sums::1.0\r\n"
+    (bundle / "MD5SUMS.xml").unlink()
+    found = _found(bundle, "DLV-016", "DLV-010")
+    assert ("DLV-016", "warning", "MD5SUMS.TXT") in found and ("DLV-010", "error",
+                                                               "collection_miscellaneous_inventory.csv") in found
+
+
+# --- identification: any product, any dialect ----------------------------------------------------
+
+ORTHO = "DATA/PSP_008669_1705_RED_C_01_ORTHO"
+DTM_IMG = "DATA/DTEEC_008669_1705_009025_1705_U01.IMG"
+NOW = "1767225600"  # SOURCE_DATE_EPOCH: 2026-01-01T00:00:00Z, so no test depends on today's date
+
+
+def _seed(root: Path, relative: str, old: str, new: str) -> None:
+    path = root / relative
+    data = path.read_bytes()
+    assert old.encode() in data, (relative, old)
+    path.write_bytes(data.replace(old.encode(), new.encode(), 1))
+
+
+def test_a_product_without_product_id_is_found(made, tmp_path):
+    volume = _copy(made, "pds3", tmp_path)
+    _seed(volume, f"{ORTHO}.LBL", 'PRODUCT_ID                = "PSP_008669_1705_RED_C_01_ORTHO"\r\n', "")
+    assert _found(volume, "IDN-001") == [("IDN-001", "warning", "PSP_008669_1705_RED_C_01_ORTHO.LBL")]
+
+
+def test_unk_identification_is_found_in_a_pds4_bundle(made, tmp_path):
+    """DLV-007 reads the bundle's PDS4 labels, as a volume's indexed PDS3 labels."""
+    assert _found(made["pds4"], "DLV-007") == []  # the demo's PDS4 labels name what they show
+    bundle = _copy(made, "pds4", tmp_path)
+    _seed(bundle, f"{ORTHO}.xml", "<name>Mars</name>", "<name>UNK</name>")
+    assert _found(bundle, "DLV-007") == [("DLV-007", "warning", "PSP_008669_1705_RED_C_01_ORTHO.xml")]
+
+
+@pytest.mark.parametrize("dialect", ["pds3", "both"])
+def test_a_creation_time_in_the_future_is_found(made, dialect, tmp_path, monkeypatch):
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", NOW)
+    delivery = _copy(made, dialect, tmp_path)
+    _seed(delivery, f"{ORTHO}.LBL", 'PRODUCER_FULL_NAME        = "UNK"', "PRODUCT_CREATION_TIME = 2031-01-01T00:00:00")
+    assert _found(delivery, "IDN-002") == [("IDN-002", "warning", "PSP_008669_1705_RED_C_01_ORTHO.LBL")]
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "1956000000")  # 2031-12-26: then it is no longer ahead
+    assert _found(delivery, "IDN-002") == []
+
+
+def test_a_product_made_before_its_source_is_found(made, tmp_path, monkeypatch):
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", NOW)
+    volume = _copy(made, "pds3", tmp_path)
+    # the same length as the line it replaces: the attached label's records keep their bytes
+    _seed(volume, DTM_IMG, 'PRODUCER_FULL_NAME        = "UNK"', "PRODUCT_CREATION_TIME = 2020-01-02")
+    _seed(volume, f"{ORTHO}.LBL", 'PRODUCER_FULL_NAME        = "UNK"', "PRODUCT_CREATION_TIME = 2020-01-01T00:00:00")
+    found = [f for f in validate_paths([volume], labels_only=True).findings if f.rule == "IDN-004"]
+    assert [(Path(f.file).name, "DTEEC_008669_1705_009025_1705_U01" in f.message) for f in found] == [
+        ("PSP_008669_1705_RED_C_01_ORTHO.LBL", True)]
+    _seed(volume, f"{ORTHO}.LBL", "2020-01-01T00:00:00", "2020-01-03T00:00:00")
+    assert _found(volume, "IDN-004") == []
+
+
+def test_stop_before_start_is_found_in_both_dialects(made, tmp_path):
+    delivery = _copy(made, "both", tmp_path)
+    _seed(delivery, f"{ORTHO}.xml", '<start_date_time xsi:nil="true" nilReason="unknown"/>',
+          "<start_date_time>2020-01-02T00:00:00Z</start_date_time>")
+    _seed(delivery, f"{ORTHO}.xml", '<stop_date_time xsi:nil="true" nilReason="unknown"/>',
+          "<stop_date_time>2020-01-01T00:00:00Z</stop_date_time>")
+    _seed(delivery, f"{ORTHO}.LBL", 'PRODUCER_FULL_NAME        = "UNK"',
+          "START_TIME = 2020-01-02T00:00:00\r\nSTOP_TIME = 2020-001T00:00:00")
+    assert _found(delivery, "IDN-003", "IDN-013") == [("IDN-003", "warning", "PSP_008669_1705_RED_C_01_ORTHO.LBL"),
+                                                      ("IDN-013", "warning", "PSP_008669_1705_RED_C_01_ORTHO.xml")]
+
+
+# --- stale Extras ----------------------------------------------------------------------------------
+
+README = "EXTRAS/README.TXT"
+
+
+def test_extras_record_the_label_they_were_made_from(products):
+    """README.TXT's Label MD5 of the orthoimage is the MD5 of its detached label file, as md5sum
+    computes it (an attached label's is that of the label's bytes)."""
+    text = (products / "extras" / "README.TXT").read_text()
+    digest = subprocess.run(["md5sum", "PSP_008669_1705_RED_C_01_ORTHO.LBL"], cwd=products, capture_output=True,
+                            text=True, check=True).stdout.split()[0]
+    assert f"  Label MD5:       {digest}\n" in text
+
+
+def test_seeded_stale_and_undelivered_extras_are_found(made, tmp_path):
+    delivery = _copy(made, "both", tmp_path)
+    text = (delivery / README).read_text()
+    recorded = text.split("  Label MD5:       ", 1)[1][:32]
+    _seed(delivery, README, recorded, "0" * 32)
+    assert _found(delivery, "DLV-017") == [("DLV-017", "error", "README.TXT")]
+    _seed(delivery, README, "0" * 32, recorded)
+    _seed(delivery, README, "120 samples x 160 lines", "120 samples x 150 lines")
+    _seed(delivery, README, "  VALID_MINIMUM:   ", "  VALID_MINIMUM:   1")  # -4367.89 -> 1-4367.89: not a number
+    assert _found(delivery, "DLV-018") == [("DLV-018", "error", "README.TXT")]
+    (delivery / "EXTRAS" / "DTEEC_008669_1705_009025_1705_U01.th.jpg").unlink()
+    (delivery / "DATA" / "PSP_008669_1705_RED_C_01_ORTHO.JP2").unlink()
+    (delivery / "DATA" / "PSP_008669_1705_RED_C_01_ORTHO.LBL").unlink()
+    found = [f for f in validate_paths([delivery], labels_only=True).findings if f.rule == "DLV-019"]
+    assert sorted(f.message.split(",")[0] for f in found) == [
+        "documents preview DTEEC_008669_1705_009025_1705_U01.th.jpg of DTEEC_008669_1705_009025_1705_U01",
+        "documents product PSP_008669_1705_RED_C_01_ORTHO (PSP_008669_1705_RED_C_01_ORTHO.LBL)"]
+
+
+def test_a_remade_product_with_old_extras_is_refused_and_a_consistent_remake_passes(products, tmp_path):
+    """The README's flow: remake a DTM (--overwrite), deliver again. With the old Extras deliver
+    refuses, naming README.TXT and the remedy; with the Extras made again the delivery passes
+    --strict with no finding of these rules."""
+    source = Path(shutil.copytree(products, tmp_path / "products"))
+    scene = make_scene(width=120, height=160)
+    cropped = write_geotiff(tmp_path / "dtm.tif", scene.elevation[:140], scene.transform, scene.crs, None)
+    dtm = write_dtm(cropped, source, profile="hirise", source_product_ids=("PSP_008669_1705", "PSP_009025_1705"),
+                    institution="U", label="both", overwrite=True)
+    with pytest.raises(InputError) as refused:
+        make_delivery(source, tmp_path / "out", dialect="both", volume_id="DEMO_0001", bundle_lid=BUNDLE_LID)
+    message = str(refused.value)
+    assert "stale Extras" in message and "extras/README.TXT" in message and "pdsgen extras" in message
+    assert not (tmp_path / "out").exists()
+    make_extras([dtm.path], source / "extras", overwrite=True)
+    make_delivery(source, tmp_path / "out", dialect="both", volume_id="DEMO_0001", bundle_lid=BUNDLE_LID)
+    assert _found(tmp_path / "out", *CONSISTENCY) == []
+
+
+# --- keyword agreement across a delivery's parts --------------------------------------------------
+
+
+def test_pds3_and_pds4_times_of_one_product_agree(made, tmp_path):
+    delivery = _copy(made, "both", tmp_path)
+    _seed(delivery, f"{ORTHO}.xml", '<start_date_time xsi:nil="true" nilReason="unknown"/>',
+          "<start_date_time>2020-01-02T00:00:00Z</start_date_time>")
+    _seed(delivery, f"{ORTHO}.LBL", 'PRODUCER_FULL_NAME        = "UNK"', "START_TIME = 2020-01-02T00:00:00")
+    assert _found(delivery, "DLV-022") == []
+    _seed(delivery, f"{ORTHO}.LBL", "START_TIME = 2020-01-02T00:00:00", "START_TIME = 2020-01-03T00:00:00")
+    assert _found(delivery, "DLV-022") == [("DLV-022", "error", "PSP_008669_1705_RED_C_01_ORTHO.xml")]
+
+
+def test_a_cart_grid_one_pixel_east_of_its_pds3_label_is_found(made, tmp_path):
+    """The DTM's attached PDS3 label against its PDS4 label: the corner moved one pixel east.
+    The PDS3 grid is read back by GDAL (rasterio), independently of the check."""
+    import rasterio
+
+    delivery = _copy(made, "both", tmp_path)
+    label = delivery / "DATA" / "DTEEC_008669_1705_009025_1705_U01.xml"
+    text = label.read_text()
+    corner = etree.fromstring(text.encode()).find(".//{http://pds.nasa.gov/pds4/cart/v1}upperleft_corner_x")
+    with rasterio.open(delivery / DTM_IMG) as dataset:
+        ulx, xres = dataset.transform.c, dataset.transform.a
+    assert float(corner.text) == pytest.approx(ulx)  # the two agree as made
+    assert _found(delivery, "DLV-023") == []
+    element = f'<cart:upperleft_corner_x unit="m">{corner.text}</cart:upperleft_corner_x>'
+    assert element in text
+    label.write_text(text.replace(element, f'<cart:upperleft_corner_x unit="m">{float(corner.text) + xres}'
+                                           "</cart:upperleft_corner_x>"))
+    found = [f for f in validate_paths([delivery], labels_only=True).findings if f.rule == "DLV-023"]
+    assert [(Path(f.file).name, "+1.00 pixel east" in f.message) for f in found] == [
+        ("DTEEC_008669_1705_009025_1705_U01.xml", True)]
+
+
+def test_the_volume_and_the_bundle_hold_the_same_products(made, tmp_path):
+    delivery = _copy(made, "both", tmp_path)
+    (delivery / f"{ORTHO}.xml").rename(delivery / "DATA" / "ELSEWHERE.txt")
+    found = _found(delivery, "DLV-024")
+    assert found == [("DLV-024", "error", "PSP_008669_1705_RED_C_01_ORTHO.LBL")]
+
+
+def test_an_undeclared_data_set_id_in_a_label_and_its_row_is_found(made, tmp_path):
+    volume = _copy(made, "pds3", tmp_path)
+    for relative in (f"{ORTHO}.LBL", "INDEX/INDEX.TAB"):
+        _seed(volume, relative, "MRO-M-HIRISE-5-DTM-V1.0", "MRO-M-HIRISE-5-DTX-V1.0")
+    found = [f for f in validate_paths([volume], labels_only=True).findings if f.rule == "DLV-005"]
+    assert [(Path(f.file).name, "DTX" in f.message) for f in found] == [("INDEX.TAB", True)]
+
+
+def test_deliver_names_a_sidecar_no_label_describes(products, tmp_path):
+    """A GDAL .aux.xml beside a product is XML but no PDS4 label: deliver says it is left out."""
+    source = Path(shutil.copytree(products, tmp_path / "products"))
+    (source / "PSP_008669_1705_RED_C_01_ORTHO.JP2.aux.xml").write_text("<PAMDataset/>\n")
+    result = make_delivery(source, tmp_path / "out", dialect="pds4", bundle_lid=BUNDLE_LID)
+    assert [line.split(":")[0] for line in result.warnings] == [
+        str(source / "PSP_008669_1705_RED_C_01_ORTHO.JP2.aux.xml")]
+    assert not (tmp_path / "out" / "DATA" / "PSP_008669_1705_RED_C_01_ORTHO.JP2.aux.xml").exists()
