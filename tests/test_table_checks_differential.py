@@ -1,0 +1,63 @@
+"""The table checks' findings on tables with seeded faults of every kind (tests/table_cases.py)
+are those recorded in tests/data/table_checks/findings.json, which the value-at-a-time
+checks made before the column-at-a-time rewrite (same rules, messages, lines, order and
+first-N limits). Regenerate only for an intended change: PDSGEN_UPDATE_GOLDEN=1."""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import pytest
+from lxml import etree
+
+from pdsgen.validate.pds4 import table_checks
+from pdsgen.validate.pds4.label_tree import Pds4Hits
+from table_cases import all_cases
+
+GOLDEN = Path(__file__).parent / "data" / "table_checks" / "findings.json"
+UPDATE = os.environ.get("PDSGEN_UPDATE_GOLDEN") == "1"
+
+
+def _findings(label: Path) -> dict[str, list[list[object]]]:
+    report = Pds4Hits(label)
+    table_checks.check_tables(report, etree.parse(str(label)))
+    return {
+        rule: [[hit.message, hit.line, hit.keyword] for hit in hits] for rule, hits in sorted(report.by_rule.items())
+    }
+
+
+@pytest.fixture(scope="module")
+def found(tmp_path_factory) -> dict[str, dict[str, list[list[object]]]]:
+    directory = tmp_path_factory.mktemp("tables")
+    return {case.name: _findings(case.write(directory)) for case in all_cases()}
+
+
+def test_findings_are_those_recorded(found):
+    if UPDATE:
+        GOLDEN.write_text(json.dumps(found, indent=1, ensure_ascii=False) + "\n", encoding="utf-8")
+    expected = json.loads(GOLDEN.read_text(encoding="utf-8"))
+    assert sorted(found) == sorted(expected)
+    for name in expected:
+        assert found[name] == expected[name], name
+
+
+def test_every_fault_kind_is_seeded(found):
+    """The cases reach every rule the table checks report, past the first-N limit, and the clean twins are clean."""
+    rules = {rule for findings in found.values() for rule in findings}
+    assert rules >= {
+        "PDS4-050",
+        "PDS4-051",
+        "PDS4-052",
+        "PDS4-053",
+        "PDS4-054",
+        "PDS4-055",
+        "PDS4-056",
+        "PDS4-058",
+        "PDS4-059",
+    }
+    assert any(
+        hit[0].endswith("more like these") for findings in found.values() for hits in findings.values() for hit in hits
+    )
+    assert all(not findings for name, findings in found.items() if "_clean_" in name)
