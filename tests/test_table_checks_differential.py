@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 from lxml import etree
 
-from pdsgen.validate.pds4 import table_checks
+from pdsgen.validate.pds4 import table_checks, table_columns
 from pdsgen.validate.pds4.label_tree import Pds4Hits
 from table_cases import all_cases
 
@@ -41,6 +41,16 @@ def test_findings_are_those_recorded(found):
     assert sorted(found) == sorted(expected)
     for name in expected:
         assert found[name] == expected[name], name
+
+
+@pytest.mark.parametrize("block_bytes", [1, 1000])
+def test_findings_do_not_depend_on_the_block_size(found, tmp_path, block_bytes, monkeypatch):
+    """A block of one record, or of a few, gives the findings of one large block: a table is read a block of
+    whole records at a time, and no finding (nor its count) depends on where a block ends."""
+    monkeypatch.setattr(table_columns, "BLOCK_BYTES", block_bytes)
+    for case in all_cases():
+        if case.name.startswith(("char_", "bin_")):
+            assert _findings(case.write(tmp_path)) == found[case.name], case.name
 
 
 def test_every_fault_kind_is_seeded(found):
