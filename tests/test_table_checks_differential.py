@@ -71,3 +71,32 @@ def test_every_fault_kind_is_seeded(found):
         hit[0].endswith("more like these") for findings in found.values() for hits in findings.values() for hit in hits
     )
     assert all(not findings for name, findings in found.items() if "_clean_" in name)
+
+
+def test_plain_numbers_read_as_float_reads_them():
+    """The arithmetic reading of plainly written numbers gives float()'s value bit for bit, recognises
+    only values of the data_type's syntax, and counts their decimals as the decimals check does."""
+    import random
+
+    import numpy as np
+
+    from pdsgen.validate.pds4.table_checks import _DECIMALS, PATTERNS
+
+    rng = random.Random(7)
+    alphabet = "0123456789" * 3 + "+-. eE"
+    texts = [f"{rng.uniform(-1e6, 1e6):.{rng.randrange(0, 9)}f}" for _ in range(3000)]
+    texts += ["".join(rng.choice(alphabet) for _ in range(rng.randrange(1, 12))) for _ in range(3000)]
+    texts += ["-0.00", "+.5", "5.", ".", "-", "9" * 15, "9" * 16, "0.1", "2.675", " 1 2", "1.2.3"]
+    width = 18
+    block = np.frombuffer(b"".join(t.rjust(width).encode() for t in texts), np.uint8).reshape(len(texts), width)
+    for data_type in ("ASCII_Real", "ASCII_Integer", "ASCII_NonNegative_Integer"):
+        numbers = table_columns.number_columns(table_columns.by_position(block), data_type)
+        assert numbers is not None
+        for text, plain, value, decimals in zip(texts, numbers.plain, numbers.values, numbers.decimals, strict=True):
+            if plain:
+                stripped = text.strip()
+                assert PATTERNS[data_type].match(stripped), (data_type, text)
+                assert value == float(stripped), (data_type, text, value)
+                assert decimals == len(_DECIMALS.match(stripped)["decimals"] or ""), text
+    real = table_columns.number_columns(table_columns.by_position(block), "ASCII_Real")
+    assert real is not None and real.plain.sum() > 3000  # the formatted numbers are read this way

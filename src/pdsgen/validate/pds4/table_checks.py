@@ -298,17 +298,41 @@ class _Screen:
     constants: np.ndarray  # the special constants' values
     exact: Callable[[_Limited, Field, bytes, int], None]  # a flagged value, checked and worded
 
-    def suspects(self, block: np.ndarray) -> np.ndarray:
-        column = block[:, self.start:self.stop]
+    def suspects(self, positions: np.ndarray) -> np.ndarray:
+        """The records (of a block, as columns.by_position gives it) whose value may be reported."""
+        column = positions[self.start:self.stop]
         ranges = (self.field.stated_range, self.field.valid_range)
         if self.numeric == "binary":
             return columns.out_of_range(columns.binary_values(column, self.field.data_type), ranges, self.constants)
-        suspect, blank = columns.text_suspects(column, list(self.checks))
+        numbers = columns.number_columns(column, self.field.data_type)
+        cleared = None
+        if numbers is not None:  # plainly written numbers: syntax and decimals known without a pass
+            cleared = numbers.plain.copy()
+            for _, _, precision in self.field.formats:
+                cleared &= numbers.decimals == precision
+        suspect, blank = columns.text_suspects(column, list(self.checks), cleared)
+        if numbers is not None and cleared is not None:
+            suspect |= numbers.plain & ~cleared
         if self.numeric is not None:
-            parse = None if self.numeric == "text" else partial(_parsed, data_type=self.field.data_type)
-            values = columns.text_values(column, suspect | blank, parse)
-            suspect |= ~(suspect | blank) if values is None else columns.out_of_range(values, ranges, self.constants)
+            suspect |= self._out_of_range(column, suspect | blank, numbers)
         return suspect
+
+    def _out_of_range(self, column: np.ndarray, skip: np.ndarray, numbers: columns.Numbers | None) -> np.ndarray:
+        """Values outside the field's ranges; where one cannot be read, every value of the column
+        (each is then checked exactly)."""
+        values = np.full(column.shape[1], np.nan)
+        rest = ~skip
+        if numbers is not None:
+            read = rest & numbers.plain
+            values[read] = numbers.values[read]
+            rest &= ~numbers.plain
+        if rest.any():
+            parse = None if self.numeric == "text" else partial(_parsed, data_type=self.field.data_type)
+            others = columns.text_values(column[:, rest], parse)
+            if others is None:
+                return ~skip
+            values[rest] = others
+        return columns.out_of_range(values, (self.field.stated_range, self.field.valid_range), self.constants)
 
 
 def _parsed(text: bytes, data_type: str) -> float:
@@ -351,8 +375,9 @@ def _constant(constant: str) -> float | None:
 def _check_values(out: _Limited, screens: list[_Screen], block: np.ndarray, first: int) -> None:
     """The block's flagged values checked exactly, in record order and, within a record, field order."""
     rows, places = [], []
+    positions = columns.by_position(block)
     for screen in screens:
-        flagged = np.flatnonzero(screen.suspects(block))
+        flagged = np.flatnonzero(screen.suspects(positions))
         rows.append(flagged)
         places.append(np.full(len(flagged), screen.index))
     if not rows:

@@ -74,21 +74,31 @@ def decimals_pattern(precision: int) -> str:
     return rf"[+-]?\d*{point}(?:[eE][+-]?\d+)?"
 
 
-def text_suspects(column: np.ndarray, checks: list[re.Pattern[bytes]]) -> tuple[np.ndarray, np.ndarray]:
-    """(values the checks may find fault with, blank values) of a records x width column of
-    text: every value that is not printable ASCII, and every line a check stops at."""
-    count, width = column.shape
-    suspect = ~((column >= _SPACE) & (column <= 0x7E)).all(axis=1)
-    blank = (column == _SPACE).all(axis=1)
-    if checks and count:
-        lines = np.empty((count, width + 1), np.uint8)
-        lines[:, :width] = column
+def text_suspects(column: np.ndarray, checks: list[re.Pattern[bytes]],
+                  cleared: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(values the checks may find fault with, blank values) of a column of text (bytes x
+    records, see by_position): every value that is not printable ASCII, and every line a
+    check stops at. The checks pass over the values not `cleared` already (see Numbers)."""
+    width, count = column.shape
+    suspect: np.ndarray = np.asarray(((column < _SPACE) | (column > 0x7E)).any(axis=0))
+    blank: np.ndarray = np.asarray((column == _SPACE).all(axis=0))
+    rows = np.flatnonzero(~(suspect | blank) if cleared is None else ~(suspect | blank | cleared))
+    if checks and len(rows):
+        lines = np.empty((len(rows), width + 1), np.uint8)
+        lines[:, :width] = column[:, rows].T
         lines[:, width] = _NEWLINE
-        lines[suspect, :width] = _SPACE  # such a value is checked exactly anyway
         blob = lines.tobytes()
+        stopped = np.zeros(len(rows), bool)
         for check in checks:
-            _mark_stops(check, blob, width + 1, suspect)
+            _mark_stops(check, blob, width + 1, stopped)
+        suspect[rows[stopped]] = True
     return suspect, blank
+
+
+def by_position(block: np.ndarray) -> np.ndarray:
+    """A block of records (records x bytes) as bytes x records: each byte position of the
+    record one contiguous row, so that a field's checks run over whole rows of the array."""
+    return np.ascontiguousarray(block.T)
 
 
 def _mark_stops(check: re.Pattern[bytes], blob: bytes, stride: int, suspect: np.ndarray) -> None:
@@ -103,11 +113,55 @@ def _mark_stops(check: re.Pattern[bytes], blob: bytes, stride: int, suspect: np.
         position = (line + 1) * stride
 
 
-def text_values(column: np.ndarray, skip: np.ndarray, parse: Callable[[bytes], float] | None) -> np.ndarray | None:
-    """The column's values as float64 (NaN where `skip`), read by numpy, or by `parse` once per
-    distinct value (None: numpy could not read one, so the caller checks them all exactly)."""
-    texts = np.ascontiguousarray(column).view(f"S{column.shape[1]}").ravel()
-    texts = np.where(skip, b"nan", texts)
+class Numbers:
+    """Values of a column of text numbers written plainly - blanks, an optional sign, digits
+    with at most one point, blanks (the form nearly every ASCII_Real and ASCII_Integer
+    column has) - recognised and read by numpy arithmetic, a byte position at a time: a
+    value of that form matches ASCII_Real (and, without a point, ASCII_Integer), its
+    decimals are the digits after its point, and with at most 15 digits its value is its
+    digits divided by a power of ten, a division IEEE 754 rounds exactly as float() rounds
+    the text. Values of any other form (exponents, INF, a second point ...) are left to the
+    regular expressions."""
+
+    def __init__(self, column: np.ndarray, signs: bytes, point: bool) -> None:
+        count = column.shape[1]
+        bad = np.zeros(count, bool)
+        started, ended, seen_dot, negative = (np.zeros(count, bool) for _ in range(4))
+        digits, decimals = np.zeros(count, np.int64), np.zeros(count, np.int64)
+        mantissa = np.zeros(count, np.int64)
+        for byte in column:
+            space = byte == _SPACE
+            digit = (byte >= 0x30) & (byte <= 0x39)
+            sign = (byte == signs[0]) | (byte == signs[-1])
+            dot = (byte == 0x2E) if point else np.zeros(count, bool)
+            bad |= ~(space | digit | sign | dot) | (sign & started) | (dot & (seen_dot | ended)) | (digit & ended)
+            negative |= byte == 0x2D
+            ended |= space & started
+            started |= ~space
+            seen_dot |= dot
+            digits += digit
+            decimals += digit & seen_dot
+            np.copyto(mantissa, mantissa * 10 + (byte.astype(np.int64) - 0x30), where=digit & (digits <= 15))
+        self.plain = ~bad & (digits >= 1) & (digits <= 15)
+        self.decimals = decimals
+        self.values = np.where(negative, -1.0, 1.0) * (mantissa / 10.0 ** np.minimum(decimals, 22))
+
+
+def number_columns(column: np.ndarray, data_type: str) -> Numbers | None:
+    """The plainly written numbers of a column of this data_type (None: a type they are not)."""
+    if data_type == "ASCII_Real":
+        return Numbers(column, b"+-", True)
+    if data_type == "ASCII_Integer":
+        return Numbers(column, b"+-", False)
+    if data_type == "ASCII_NonNegative_Integer":
+        return Numbers(column, b"+", False)
+    return None
+
+
+def text_values(column: np.ndarray, parse: Callable[[bytes], float] | None) -> np.ndarray | None:
+    """A column of numbers (bytes x records) as float64, read by numpy, or by `parse` once per
+    distinct value (None: one could not be read, so the caller checks them all exactly)."""
+    texts = np.ascontiguousarray(column.T).view(f"S{column.shape[0]}").ravel()
     if parse is None:
         try:
             return texts.astype(np.float64)
@@ -115,17 +169,15 @@ def text_values(column: np.ndarray, skip: np.ndarray, parse: Callable[[bytes], f
             return None
     distinct, where = np.unique(texts, return_inverse=True)
     try:
-        numbers = np.array([np.nan if text == b"nan" else parse(text) for text in distinct.tolist()], np.float64)
+        numbers = np.array([parse(text) for text in distinct.tolist()], np.float64)
     except (ValueError, OverflowError):
         return None
     return numbers[where.ravel()]
 
 
 def binary_values(column: np.ndarray, data_type: str) -> np.ndarray:
-    """A records x size column of a binary field as float64 (as struct unpacks then float())."""
-    return np.ascontiguousarray(column).view(NUMPY_TYPES[data_type]).ravel().astype(np.float64)
-
-
+    """A column of a binary field (bytes x records) as float64 (as struct unpacks then float())."""
+    return np.ascontiguousarray(column.T).view(NUMPY_TYPES[data_type]).ravel().astype(np.float64)
 def out_of_range(values: np.ndarray, ranges: tuple[tuple[float | None, float | None], ...],
                  constants: np.ndarray) -> np.ndarray:
     """Values outside any of the ranges and equal to no special constant (NaN is neither in
