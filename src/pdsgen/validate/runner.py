@@ -33,6 +33,7 @@ from .families.delivery_rules import DeliveryChecks
 from .families.set_rules import summarise
 from .imars_context import ImarsContext, is_imars_metadata
 from .model import Finding, Hit
+from .partitions import in_partitions
 from .registry import rules
 from .report import FileReport, ValidationReport
 from .summary import LabelSummary
@@ -151,7 +152,9 @@ class ValidationJob:
     root widens the tree the files a label names must stay inside (label/beside.trusted_tree:
     the directory given, else the label's directory): a label given alone inside `root` may
     name ../../LABEL/X.FMT of its volume.
-    jobs > 1 checks files in that many processes.
+    jobs > 1 checks files in that many processes. cluster: a Dask client (distributed.Client)
+    whose workers check the files instead, a partition of them each (see partitions.py);
+    everything that looks across files still runs here, so the report is the same.
     """
 
     strict: bool = False
@@ -166,6 +169,7 @@ class ValidationJob:
     download_schemas: bool = False
     root: str | None = None
     labels: LabelCache | None = field(default=None, compare=False)  # a run's labels, read once (deliver)
+    cluster: Any = field(default=None, compare=False)  # a Dask client the files are checked on
 
     def __post_init__(self) -> None:
         # paths of any kind become strings (the job is sent to worker processes); None: defaults
@@ -271,12 +275,23 @@ def _init_worker(job: ValidationJob) -> None:
 
 
 def _one(item: tuple[str, str | None]) -> tuple[FileReport, LabelSummary | None]:
+    """One file (and the directory given that holds it), in a worker of the pool: see _checked."""
+    return _checked(item, _JOB)
+
+
+def _checked(item: tuple[str, str | None], job: ValidationJob) -> tuple[FileReport, LabelSummary | None]:
     """One file (and the directory given that holds it), in a worker: its findings as the
     configuration reports them."""
     path, given = item
-    report, summary = validate_file(Path(path), _JOB, Path(given) if given else None)
-    report.findings = _JOB.settings.filter(report.findings)
+    report, summary = validate_file(Path(path), job, Path(given) if given else None)
+    report.findings = job.settings.filter(report.findings)
     return report, summary
+
+
+def validate_partition(items: list[tuple[str, str | None]],
+                       job: ValidationJob) -> list[tuple[FileReport, LabelSummary | None]]:
+    """A partition of a run's files, on a cluster's worker (see partitions.py)."""
+    return [_checked(item, job) for item in items]
 
 
 def _check_dictionaries(extra: tuple[str, ...]) -> None:
@@ -367,7 +382,11 @@ def _stream(files: Iterator[Path], given: list[Path], job: ValidationJob,
             progress: Callable[[int, int], None] | None) -> Iterator[FileReport]:
     groups = _SetGroups(job.settings)
     names = ((str(p), _given_tree(p, given)) for p in files)
-    if job.jobs > 1:
+    if job.cluster is not None:
+        worker_job = replace(job, baseline=None, cluster=None, labels=None)
+        yield from _collect(in_partitions(job.cluster, validate_partition, names, worker_job), groups, progress,
+                            job.baseline)
+    elif job.jobs > 1:
         worker_job = replace(job, baseline=None)  # the baseline is applied here, in this process
         with multiprocessing.get_context("fork" if sys.platform == "linux" else "spawn").Pool(
                 job.jobs, _init_worker, (worker_job,)) as pool:
