@@ -24,6 +24,7 @@ from ..errors import PdsgenError
 from ..formats.sniff import file_head
 from ..label.parser import is_pds3_head
 from ..pds4.detect import is_pds4_label
+from . import facts
 from .config import Baseline, RuleSettings
 from .context import FileContext
 from .dictionary import load as load_dictionary
@@ -274,24 +275,28 @@ def _init_worker(job: ValidationJob) -> None:
     _JOB = job
 
 
-def _one(item: tuple[str, str | None]) -> tuple[FileReport, LabelSummary | None]:
-    """One file (and the directory given that holds it), in a worker of the pool: see _checked."""
-    return _checked(item, _JOB)
+Checked = tuple[FileReport, LabelSummary | None, dict[str, Any]]
 
 
-def _checked(item: tuple[str, str | None], job: ValidationJob) -> tuple[FileReport, LabelSummary | None]:
-    """One file (and the directory given that holds it), in a worker: its findings as the
-    configuration reports them."""
+def _one(item: tuple[str, str | None]) -> Checked:
+    """One file (and the directory given that holds it), in this process or a worker of the
+    pool: see _checked (a pool's workers read the file's facts too)."""
+    return _checked(item, _JOB, gather=_JOB.jobs > 1)
+
+
+def _checked(item: tuple[str, str | None], job: ValidationJob, gather: bool) -> Checked:
+    """One file (and the directory given that holds it): its findings as the configuration
+    reports them, its summary for the SET rules, and (`gather`, in a worker) what the checks
+    across files read of it (facts.py), so that the run's process need not read it again."""
     path, given = item
     report, summary = validate_file(Path(path), job, Path(given) if given else None)
     report.findings = job.settings.filter(report.findings)
-    return report, summary
+    return report, summary, facts.made(path, target_of(Path(path))) if gather else {}
 
 
-def validate_partition(items: list[tuple[str, str | None]],
-                       job: ValidationJob) -> list[tuple[FileReport, LabelSummary | None]]:
+def validate_partition(items: list[tuple[str, str | None]], job: ValidationJob) -> list[Checked]:
     """A partition of a run's files, on a cluster's worker (see partitions.py)."""
-    return [_checked(item, job) for item in items]
+    return [_checked(item, job, gather=True) for item in items]
 
 
 def _check_dictionaries(extra: tuple[str, ...]) -> None:
@@ -335,13 +340,25 @@ def iter_reports(paths: Iterable[str | os.PathLike[str]], job: ValidationJob | N
     files = itertools.chain([first], found)
     given = [Path(p) for p in paths if Path(p).is_dir()]  # the trees the user gave (label/beside.trusted_tree)
     deliveries = DeliveryChecks(paths, job.labels_only, job.labels)  # a delivery directory is also checked whole
-    return _with_run_checks(_with_deliveries(_stream(files, given, job, progress), deliveries, job), job)
+    facts.forget()
+    return _forgetting(_with_run_checks(_with_deliveries(_stream(files, given, job, progress), deliveries, job), job))
+
+
+def _forgetting(reports: Iterator[FileReport]) -> Iterator[FileReport]:
+    """The reports; what workers read for the checks across files is dropped when the run ends."""
+    try:
+        yield from reports
+    finally:
+        facts.forget()
 
 
 def _with_deliveries(reports: Iterator[FileReport], deliveries: DeliveryChecks,
                      job: ValidationJob) -> Iterator[FileReport]:
     """Delivery hook: each file's DLV findings beside its own; files with no report of their own
-    (an index table, the manifest) get one at the end."""
+    (an index table, the manifest) get one at the end. With workers, the delivery is checked
+    after the last file, over what the workers read (facts.py): the reports wait until then."""
+    if job.jobs > 1 or job.cluster is not None:
+        reports = iter(list(reports))
     for report in reports:
         report.findings.extend(_kept(report.path, deliveries.take(report.path), job))
         yield report
@@ -403,10 +420,11 @@ def _given_tree(path: Path, given: list[Path]) -> str | None:
     return min((str(d) for d in given if contained(path, d) is not None), key=len, default=None)
 
 
-def _collect(results: Iterator[tuple[FileReport, LabelSummary | None]], groups: _SetGroups,
+def _collect(results: Iterator[Checked], groups: _SetGroups,
              progress: Callable[[int, int], None] | None, baseline: Baseline | None) -> Iterator[FileReport]:
     done = 0
-    for report, summary in results:
+    for report, summary, made in results:
+        facts.learn(report.path, made)
         done += 1
         if progress:
             progress(done, 0)

@@ -29,6 +29,7 @@ from ...label.beside import outside_tree
 from ...label.parser import is_pds3_head
 from ...label.tree import Block, Statement, first_statement
 from ...pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
+from .. import facts
 from ..model import Finding
 from ..registry import Rule, register
 
@@ -355,6 +356,7 @@ class _Pds4Label:
         return f"{self.lid}::{self.version}"
 
 
+@facts.fact("pds4")
 def _read_pds4(path: Path) -> _Pds4Label | None:
     from lxml import etree
 
@@ -387,7 +389,7 @@ def _read_pds4(path: Path) -> _Pds4Label | None:
 
 def _check_bundle(root: Path, found: list[_Found]) -> None:
     named = (path for path in _all_files(root) if path.suffix.lower() in PDS4_LABEL_SUFFIXES)
-    labels = [label for label in map(_read_pds4, named) if label is not None]
+    labels = [label for label in (facts.of(_read_pds4, path) for path in named) if label is not None]
     bundles = [label for label in labels if label.product_class == "Product_Bundle"]
     if not bundles:
         return
