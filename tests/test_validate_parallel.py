@@ -56,12 +56,15 @@ def test_two_processes_report_what_one_does(bundle, one_process):
     assert _report(bundle, "-j", "2", "--format", "json") == one_process["json"]
 
 
-def test_a_local_cluster_reports_what_one_process_does(bundle):
-    job = ValidationJob(schema_cache=None)
-    alone = list(iter_reports([bundle], job))
+def test_a_local_cluster_reports_what_one_process_does(bundle, monkeypatch):
+    """The bundle named relative to the client's directory, which is not the workers' (they started
+    before the client moved): each worker works in the client's directory."""
     with open_client(None, 2) as client:
-        clustered = list(iter_reports([bundle], ValidationJob(schema_cache=None, cluster=client)))
+        monkeypatch.chdir(bundle.parent)
+        clustered = list(iter_reports([bundle.name], ValidationJob(schema_cache=None, cluster=client)))
+    alone = list(iter_reports([bundle.name], ValidationJob(schema_cache=None)))
     assert clustered == alone
+    assert {f.rule for r in alone for f in r.findings} == {"PDS4-053", "DLV-011"}
     assert [r.path for r in alone] == sorted({r.path for r in alone}, key=[r.path for r in alone].index)
 
 

@@ -9,6 +9,7 @@ finding naming the rule, instead of a traceback.
 
 from __future__ import annotations
 
+import functools
 import itertools
 import multiprocessing
 import os
@@ -294,8 +295,11 @@ def _checked(item: tuple[str, str | None], job: ValidationJob, gather: bool) -> 
     return report, summary, facts.made(path, target_of(Path(path))) if gather else {}
 
 
-def validate_partition(items: list[tuple[str, str | None]], job: ValidationJob) -> list[Checked]:
-    """A partition of a run's files, on a cluster's worker (see partitions.py)."""
+def validate_partition(items: list[tuple[str, str | None]], job: ValidationJob, cwd: str) -> list[Checked]:
+    """A partition of a run's files, on a cluster's worker (see partitions.py). The worker
+    works in the client's directory `cwd`, so that paths given relative to it read the same
+    files (a cluster's workers see the tree where the client sees it)."""
+    os.chdir(cwd)
     return [_checked(item, job, gather=True) for item in items]
 
 
@@ -401,8 +405,8 @@ def _stream(files: Iterator[Path], given: list[Path], job: ValidationJob,
     names = ((str(p), _given_tree(p, given)) for p in files)
     if job.cluster is not None:
         worker_job = replace(job, baseline=None, cluster=None, labels=None)
-        yield from _collect(in_partitions(job.cluster, validate_partition, names, worker_job), groups, progress,
-                            job.baseline)
+        work = functools.partial(validate_partition, cwd=os.getcwd())
+        yield from _collect(in_partitions(job.cluster, work, names, worker_job), groups, progress, job.baseline)
     elif job.jobs > 1:
         worker_job = replace(job, baseline=None)  # the baseline is applied here, in this process
         with multiprocessing.get_context("fork" if sys.platform == "linux" else "spawn").Pool(

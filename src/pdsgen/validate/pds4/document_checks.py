@@ -20,6 +20,7 @@ from pathlib import Path
 
 from lxml import etree
 
+from .. import facts
 from ..model import Hit
 from .label_tree import P, Pds4Hits, is_outside
 
@@ -67,9 +68,9 @@ def marked_pdf_a(path: Path) -> bool:
 class DataFileRegister:
     """The data files the PDS4 labels of one run describe (every file_name of the label),
     which label named each first, and whether any named it as observational data (a
-    File_Area_Observational or _Supplemental, or any file of a Product_Observational). The
-    label's text is scanned, not parsed again: this runs in the parent process for every
-    label of the run."""
+    File_Area_Observational or _Supplemental, or any file of a Product_Observational). It
+    runs in the run's own process for every label of the run, over what `named_files` read
+    of each (in the workers, when there are workers)."""
 
     def __init__(self) -> None:
         self.first: dict[str, str] = {}
@@ -78,31 +79,42 @@ class DataFileRegister:
     def add(self, label: str) -> list[Hit]:
         """PDS4-060: the label's data files another label of the run named (the PDS4
         family's run check; the runner makes them findings of the label)."""
-        try:
-            with open(label, "rb") as handle:
-                text = handle.read()
-        except OSError:
-            return []  # the label's own report says why it cannot be read
-        directory = os.path.dirname(os.path.abspath(label))
-        observational_product = _OBSERVATIONAL_ROOT.search(text) is not None
-        areas = [(m.start(), m[1]) for m in _FILE_AREA.finditer(text)]
         findings = []
-        for block in _FILE_ELEMENT.finditer(text):
-            match = _FILE_NAME_ELEMENT.search(block[0])
-            if match is None:
-                continue
-            name = match[1].decode("utf-8", "replace").strip()
-            folder = _DIRECTORY_ELEMENT.search(block[0])  # a Document_File's directory_path_name
-            relative = os.path.join(folder[1].decode("utf-8", "replace").strip(), name) if folder else name
-            data = os.path.normpath(os.path.join(directory, relative))
-            area = next((tag for start, tag in reversed(areas) if start < block.start()), b"")
-            observational = observational_product or area in _OBSERVATIONAL_AREAS
+        for relative, data, observational, line in facts.of(named_files, Path(label)):
             first = self.first.setdefault(data, label)
             observational = self.observational[data] = self.observational.get(data, False) or observational
             if first != label and observational:
-                findings.append(Hit(f"{relative} is also described by {first}",
-                                    text.count(b"\n", 0, block.start() + match.start()) + 1, "file_name"))
+                findings.append(Hit(f"{relative} is also described by {first}", line, "file_name"))
         return findings
+
+
+@facts.fact("pds4")
+def named_files(label: Path) -> list[tuple[str, str, bool, int]]:
+    """(the name as the label writes it, the file's normalised path, whether it is named as
+    observational data, the line) of each file a PDS4 label names - what DataFileRegister
+    joins across the run, read where the label is validated (facts.py). The label's text
+    is scanned, not parsed again. An unreadable label names none (its own report says why)."""
+    try:
+        with open(label, "rb") as handle:
+            text = handle.read()
+    except OSError:
+        return []
+    directory = os.path.dirname(os.path.abspath(label))
+    observational_product = _OBSERVATIONAL_ROOT.search(text) is not None
+    areas = [(m.start(), m[1]) for m in _FILE_AREA.finditer(text)]
+    named = []
+    for block in _FILE_ELEMENT.finditer(text):
+        match = _FILE_NAME_ELEMENT.search(block[0])
+        if match is None:
+            continue
+        name = match[1].decode("utf-8", "replace").strip()
+        folder = _DIRECTORY_ELEMENT.search(block[0])  # a Document_File's directory_path_name
+        relative = os.path.join(folder[1].decode("utf-8", "replace").strip(), name) if folder else name
+        area = next((tag for start, tag in reversed(areas) if start < block.start()), b"")
+        named.append((relative, os.path.normpath(os.path.join(directory, relative)),
+                      observational_product or area in _OBSERVATIONAL_AREAS,
+                      text.count(b"\n", 0, block.start() + match.start()) + 1))
+    return named
 
 
 _OBSERVATIONAL_ROOT = re.compile(rb"<(?:[A-Za-z_][\w.-]*:)?Product_Observational[\s>]")
