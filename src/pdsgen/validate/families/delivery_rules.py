@@ -573,8 +573,9 @@ class DeliveryChecks:
     manifest, images) get one at the end.
 
     The deliveries are looked for and checked when the first report asks, not when the run
-    starts: the per-file checks (and their progress count) begin at once, and with several
-    jobs the workers go on checking files while the delivery is checked here."""
+    starts: the per-file checks (and their progress count) begin at once. With workers (-j N,
+    a cluster) the runner asks after the last file, so that the labels are read from what
+    the workers return (validate/facts.py) instead of again here."""
 
     def __init__(self, paths: Iterable[str | os.PathLike[str]], labels_only: bool,
                  labels: LabelCache | None = None) -> None:
