@@ -100,3 +100,27 @@ def test_plain_numbers_read_as_float_reads_them():
                 assert decimals == len(_DECIMALS.match(stripped)["decimals"] or ""), text
     real = table_columns.number_columns(table_columns.by_position(block), "ASCII_Real")
     assert real is not None and real.plain.sum() > 3000  # the formatted numbers are read this way
+
+
+def test_memory_is_one_block_whatever_the_table_size(tmp_path, monkeypatch):
+    """A table twenty times longer takes no more memory to check: records are read a block at a time."""
+    import tracemalloc
+
+    from scale_bundle import write_table
+
+    monkeypatch.setattr(table_columns, "BLOCK_BYTES", 1 << 16)
+    small = write_table(tmp_path, "small", 1_200)
+    large = tmp_path / "large.xml"
+    (tmp_path / "large.tab").write_bytes((tmp_path / "small.tab").read_bytes() * 20)
+    large.write_text(small.read_text().replace("<records>1200<", "<records>24000<").replace("small.tab", "large.tab"))
+    peaks = {}
+    for label in (small, large):
+        tree = etree.parse(str(label))
+        tracemalloc.start()
+        report = Pds4Hits(label)
+        table_checks.check_tables(report, tree)
+        peaks[label.stem] = tracemalloc.get_traced_memory()[1]
+        tracemalloc.stop()
+        assert not report.by_rule
+    assert peaks["large"] < peaks["small"] * 1.25 + (1 << 16), peaks
+    assert peaks["large"] < (tmp_path / "large.tab").stat().st_size / 3, peaks  # a few blocks, not the table
