@@ -16,7 +16,9 @@ from pathlib import Path
 
 import pytest
 
-from pdsgen.batch.cluster import open_client
+from pdsgen import __version__
+from pdsgen.batch.cluster import check_version, open_client
+from pdsgen.errors import PdsgenError
 from pdsgen.validate.runner import ValidationJob, iter_reports
 from scale_bundle import make_bundle
 
@@ -60,6 +62,9 @@ def test_a_local_cluster_reports_what_one_process_does(bundle, monkeypatch):
     """The bundle named relative to the client's directory, which is not the workers' (they started
     before the client moved): each worker works in the client's directory."""
     with open_client(None, 2) as client:
+        check_version(client, __version__)  # the workers run this pdsgen; another is refused in one line
+        with pytest.raises(PdsgenError, match=r"2 Dask worker\(s\) run pdsgen .* this client runs 0.0.0-other"):
+            check_version(client, "0.0.0-other")
         monkeypatch.chdir(bundle.parent)
         clustered = list(iter_reports([bundle.name], ValidationJob(schema_cache=None, cluster=client)))
     alone = list(iter_reports([bundle.name], ValidationJob(schema_cache=None)))

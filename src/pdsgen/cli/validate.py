@@ -216,9 +216,11 @@ def _cluster(scheduler: str | None) -> Iterator[Any]:
     if scheduler is None:
         yield None
         return
-    from ..batch.cluster import open_client
+    from .. import __version__
+    from ..batch.cluster import check_version, open_client
 
     with open_client(scheduler, 1) as client:
+        check_version(client, __version__)
         yield client
 
 
