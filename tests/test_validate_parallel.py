@@ -121,3 +121,18 @@ def test_a_scheduler_and_two_workers_report_what_one_process_does(bundle, one_pr
 def test_jobs_with_a_scheduler_is_a_usage_error(bundle):
     done = run_cli("validate", "-j", "2", "--scheduler", "tcp://127.0.0.1:1", str(bundle))
     assert done.returncode == 2 and "--jobs" in done.stderr
+
+
+def test_without_a_delivery_two_processes_still_stream(bundle, tmp_path):
+    """Only a run with a delivery holds its reports until the delivery is checked: a directory of
+    labels that is no delivery gets its first report while files are still being checked."""
+    import shutil
+
+    data = shutil.copytree(bundle / "data", tmp_path / "data")
+    (data / "collection_data.xml").unlink()
+    (data / "collection_data_inventory.csv").unlink()
+    done: list[int] = []
+    reports = iter_reports([data], ValidationJob(schema_cache=None, jobs=2), lambda count, _: done.append(count))
+    first = next(reports)
+    assert first.path.endswith("p000000.xml") and done[-1] < PRODUCTS
+    assert len([first, *reports]) == PRODUCTS and done[-1] == PRODUCTS

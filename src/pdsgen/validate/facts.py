@@ -24,7 +24,7 @@ from typing import Any, TypeVar
 Reader = TypeVar("Reader", bound=Callable[[Any], Any])
 
 _READERS: dict[str, dict[str, Callable[[Any], Any]]] = {}  # target -> reader name -> reader
-_LEARNT: dict[tuple[str, str], Any] = {}  # (reader name, file) -> what a worker read
+_LEARNT: dict[str, dict[str, Any]] = {}  # file -> reader name -> what a worker read
 
 
 def _name(reader: Callable[[Any], Any]) -> str:
@@ -53,16 +53,23 @@ def made(path: str, target: str) -> dict[str, Any]:
 
 def learn(path: str, facts: dict[str, Any]) -> None:
     """What a worker read of a file, kept for `of`."""
-    for name, value in facts.items():
-        _LEARNT[(name, _key(path))] = value
+    if facts:
+        _LEARNT.setdefault(_key(path), {}).update(facts)
 
 
 def of(reader: Callable[[Any], Any], path: Any) -> Any:
     """reader(path): what a worker read of the file, handed out once, or read here."""
-    key = (_name(reader), _key(path))
-    if key in _LEARNT:
-        return _LEARNT.pop(key)
+    learnt = _LEARNT.get(_key(path), {})
+    name = _name(reader)
+    if name in learnt:
+        return learnt.pop(name)
     return reader(path)
+
+
+def drop(path: str) -> None:
+    """Drop what was learnt of a file whose report has passed every check across files (a
+    reader no check asked for, as in a run without a delivery, is not kept to the end)."""
+    _LEARNT.pop(_key(path), None)
 
 
 def forget() -> None:

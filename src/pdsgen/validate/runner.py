@@ -349,9 +349,12 @@ def iter_reports(paths: Iterable[str | os.PathLike[str]], job: ValidationJob | N
 
 
 def _forgetting(reports: Iterator[FileReport]) -> Iterator[FileReport]:
-    """The reports; what workers read for the checks across files is dropped when the run ends."""
+    """The reports; what workers read of a file for the checks across files is dropped once its
+    report has passed them all, and everything when the run ends."""
     try:
-        yield from reports
+        for report in reports:
+            facts.drop(report.path)
+            yield report
     finally:
         facts.forget()
 
@@ -360,8 +363,9 @@ def _with_deliveries(reports: Iterator[FileReport], deliveries: DeliveryChecks,
                      job: ValidationJob) -> Iterator[FileReport]:
     """Delivery hook: each file's DLV findings beside its own; files with no report of their own
     (an index table, the manifest) get one at the end. With workers, the delivery is checked
-    after the last file, over what the workers read (facts.py): the reports wait until then."""
-    if job.jobs > 1 or job.cluster is not None:
+    after the last file, over what the workers read (facts.py): the reports of a run with a
+    delivery wait until then."""
+    if (job.jobs > 1 or job.cluster is not None) and deliveries.found():
         reports = iter(list(reports))
     for report in reports:
         report.findings.extend(_kept(report.path, deliveries.take(report.path), job))

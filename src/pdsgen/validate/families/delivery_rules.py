@@ -599,6 +599,10 @@ class DeliveryChecks:
             return check_delivery(root, self._labels_only)
         return check_delivery(root, self._labels_only, self._labels)
 
+    def found(self) -> bool:
+        """Whether a delivery lies among the paths (looked for, not checked)."""
+        return any(next(_deliveries(path), None) is not None for path in self._paths)
+
     def take(self, path: str) -> list[Finding]:
         return self.pending.pop(os.path.normpath(path), [])
 
