@@ -124,3 +124,17 @@ def test_memory_is_one_block_whatever_the_table_size(tmp_path, monkeypatch):
         assert not report.by_rule
     assert peaks["large"] < peaks["small"] * 1.25 + (1 << 16), peaks
     assert peaks["large"] < (tmp_path / "large.tab").stat().st_size / 3, peaks  # a few blocks, not the table
+
+
+def test_a_record_length_past_any_file_is_a_finding_not_an_allocation(tmp_path):
+    """record_length 10^15 over a file of a few hundred bytes: the file ends in record 1 (nothing the
+    size of the claim is read or allocated)."""
+    case = next(c for c in all_cases() if c.name == "char_clean_1")
+    huge = case.label.replace(">262</record_length>", ">1000000000000000</record_length>")
+    assert huge != case.label
+    label = tmp_path / "huge.xml"
+    label.write_text(huge)
+    (tmp_path / case.data_name).write_bytes(case.data[:500])
+    findings = _findings(label)
+    assert findings["PDS4-051"] == [["Table_Character t: the file ends in record 1 of 120 (records of 1000000000000000 "
+                                     "bytes from offset 0)", 6, "records"]]

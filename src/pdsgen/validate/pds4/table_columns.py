@@ -18,6 +18,7 @@ whatever the table's size.
 
 from __future__ import annotations
 
+import os
 import re
 from collections.abc import Callable, Iterator
 from typing import BinaryIO
@@ -38,12 +39,15 @@ NUMPY_TYPES = {"IEEE754MSBSingle": ">f4", "IEEE754LSBSingle": "<f4", "IEEE754MSB
 def record_blocks(handle: BinaryIO, record_length: int, records: int) -> Iterator[tuple[int, np.ndarray]]:
     """(number of the block's first record, its whole records as a records x record_length
     uint8 array) for up to `records` records read from the handle's position; the blocks
-    stop early where the file ends (a record it cuts short is not given)."""
+    stop early where the file ends (a record it cuts short is not given). No read asks for
+    more than the file holds, whatever record_length the label claims."""
     per_block = max(1, BLOCK_BYTES // record_length)
+    left = max(0, os.fstat(handle.fileno()).st_size - handle.tell())  # a record_length of 10^15 reads the file
     first = 1
     while first <= records:
         want = min(per_block, records - first + 1)
-        data = handle.read(want * record_length)
+        data = handle.read(min(want * record_length, left))
+        left -= len(data)
         whole = len(data) // record_length
         block = np.frombuffer(data, np.uint8, whole * record_length).reshape(whole, record_length)
         if whole:
