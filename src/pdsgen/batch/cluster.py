@@ -119,9 +119,9 @@ def _offered(worker: Mapping[str, Any]) -> int | None:
     return int(limit) if limit else None
 
 
-def check_workers(client: Any, jobs: Sequence[Job], version: str) -> Sizing:
-    """How jobs are sized on these workers; PdsgenError (one line) unless the workers run
-    pdsgen VERSION and some worker can take every job."""
+def check_version(client: Any, version: str) -> None:
+    """PdsgenError (one line) unless every worker runs pdsgen VERSION (a `pdsgen validate
+    --scheduler` run checks this too: other workers could find other things)."""
     try:
         versions = client.run(_pdsgen_version)
     except Exception as exc:  # unpickling fails on a worker without pdsgen
@@ -131,6 +131,12 @@ def check_workers(client: Any, jobs: Sequence[Job], version: str) -> Sizing:
         addr, other = next(iter(wrong.items()))
         raise PdsgenError(None, f"{len(wrong)} Dask worker(s) run pdsgen {other} (e.g. {addr}); "
                                 f"this client runs {version}: install the same version everywhere")
+
+
+def check_workers(client: Any, jobs: Sequence[Job], version: str) -> Sizing:
+    """How jobs are sized on these workers; PdsgenError (one line) unless the workers run
+    pdsgen VERSION and some worker can take every job."""
+    check_version(client, version)
     workers = client.scheduler_info()["workers"]
     sizing = Sizing.of(workers)
     too_big = max(jobs, key=lambda j: j.memory)

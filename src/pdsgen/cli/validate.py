@@ -115,6 +115,9 @@ def _output(path: str | None):
               help="Record this run's findings as the baseline (the run then passes).")
 @click.option("--jobs", "-j", type=click.IntRange(min=1), default=1, show_default=True,
               help="Files checked in parallel (processes).")
+@click.option("--scheduler", metavar="ADDRESS",
+              help="Check the files on this Dask scheduler's workers (e.g. tcp://10.0.0.5:8786), a partition "
+                   "each; the checks across files run here. The report is that of a run without it.")
 @click.option("--labels-only", is_flag=True,
               help="Check label text only; do not open the data files it points to.")
 @click.option("--dictionary", "dictionaries", multiple=True, type=click.Path(dir_okay=False),
@@ -146,7 +149,8 @@ def _output(path: str | None):
                    "and how long the run took.")
 def validate(paths: tuple[str, ...], fmt: str, strict: bool, fail_on: str | None, select: tuple[str, ...],
              ignore: tuple[str, ...], severities: tuple[str, ...], config_path: str | None, no_config: bool,
-             baseline_path: str | None, write_baseline_path: str | None, jobs: int, labels_only: bool,
+             baseline_path: str | None, write_baseline_path: str | None, jobs: int, scheduler: str | None,
+             labels_only: bool,
              dictionaries: tuple[str, ...], schemas: tuple[str, ...], skip_non_labels: bool, schema_cache: str | None,
              offline: bool, root: str | None, list_rules: bool, output: str | None, quiet: bool, verbose: bool) -> None:
     """Validate PATHS (label files, or directories searched recursively): PDS3 labels,
@@ -169,14 +173,16 @@ def validate(paths: tuple[str, ...], fmt: str, strict: bool, fail_on: str | None
     settings = configuration.override(settings, select, ignore, severities, "warning" if strict else fail_on)
     baseline = configuration.Baseline.read(baseline_path) if baseline_path else None
     # an s3:// object is read with the files beside it sharing its name; an s3:// prefix as a directory
-    with local_inputs(paths) as inputs:
+    if scheduler and jobs > 1:
+        raise click.UsageError("--jobs sizes this machine's processes; a --scheduler's cluster has its own workers")
+    with local_inputs(paths) as inputs, _cluster(scheduler) as cluster:
         with _files_progress(quiet) as bar:
             progress = None if bar is None else (lambda done, total: bar(done, total, "file(s) checked"))
             job = ValidationJob(strict=strict, jobs=jobs, labels_only=labels_only, dictionaries=dictionaries,
                                 settings=settings, baseline=baseline, schemas=schemas,
                                 skip_non_labels=skip_non_labels,
                                 schema_cache=schema_cache or str(default_schema_cache()),
-                                download_schemas=not offline, root=root)
+                                download_schemas=not offline, root=root, cluster=cluster)
             reports = iter_reports(inputs.paths, job, progress)
             if bar is not None:
                 reports = _giving_way(reports, bar)
@@ -202,6 +208,20 @@ def validate(paths: tuple[str, ...], fmt: str, strict: bool, fail_on: str | None
             log.info("checked %d file(s) in %.2f s (%.0f files/s): %d error(s), %d warning(s)", tally.files, elapsed,
                      tally.files / elapsed if elapsed > 0 else 0.0, tally.errors, tally.warnings)
             sys.exit(tally.exit_code)
+
+
+@contextmanager
+def _cluster(scheduler: str | None) -> Iterator[Any]:
+    """The Dask client of --scheduler (as `pdsgen batch` connects), or None: this machine's processes."""
+    if scheduler is None:
+        yield None
+        return
+    from .. import __version__
+    from ..batch.cluster import check_version, open_client
+
+    with open_client(scheduler, 1) as client:
+        check_version(client, __version__)
+        yield client
 
 
 class _Renaming:

@@ -9,6 +9,7 @@ finding naming the rule, instead of a traceback.
 
 from __future__ import annotations
 
+import functools
 import itertools
 import multiprocessing
 import os
@@ -24,6 +25,7 @@ from ..errors import PdsgenError
 from ..formats.sniff import file_head
 from ..label.parser import is_pds3_head
 from ..pds4.detect import is_pds4_label
+from . import facts
 from .config import Baseline, RuleSettings
 from .context import FileContext
 from .dictionary import load as load_dictionary
@@ -33,6 +35,7 @@ from .families.delivery_rules import DeliveryChecks
 from .families.set_rules import summarise
 from .imars_context import ImarsContext, is_imars_metadata
 from .model import Finding, Hit
+from .partitions import in_partitions
 from .registry import rules
 from .report import FileReport, ValidationReport
 from .summary import LabelSummary
@@ -151,7 +154,9 @@ class ValidationJob:
     root widens the tree the files a label names must stay inside (label/beside.trusted_tree:
     the directory given, else the label's directory): a label given alone inside `root` may
     name ../../LABEL/X.FMT of its volume.
-    jobs > 1 checks files in that many processes.
+    jobs > 1 checks files in that many processes. cluster: a Dask client (distributed.Client)
+    whose workers check the files instead, a partition of them each (see partitions.py);
+    everything that looks across files still runs here, so the report is the same.
     """
 
     strict: bool = False
@@ -166,6 +171,7 @@ class ValidationJob:
     download_schemas: bool = False
     root: str | None = None
     labels: LabelCache | None = field(default=None, compare=False)  # a run's labels, read once (deliver)
+    cluster: Any = field(default=None, compare=False)  # a Dask client the files are checked on
 
     def __post_init__(self) -> None:
         # paths of any kind become strings (the job is sent to worker processes); None: defaults
@@ -271,13 +277,31 @@ def _init_worker(job: ValidationJob) -> None:
     _JOB = job
 
 
-def _one(item: tuple[str, str | None]) -> tuple[FileReport, LabelSummary | None]:
-    """One file (and the directory given that holds it), in a worker: its findings as the
-    configuration reports them."""
+Checked = tuple[FileReport, LabelSummary | None, dict[str, Any]]
+
+
+def _one(item: tuple[str, str | None]) -> Checked:
+    """One file (and the directory given that holds it), in this process or a worker of the
+    pool: see _checked (a pool's workers read the file's facts too)."""
+    return _checked(item, _JOB, gather=_JOB.jobs > 1)
+
+
+def _checked(item: tuple[str, str | None], job: ValidationJob, gather: bool) -> Checked:
+    """One file (and the directory given that holds it): its findings as the configuration
+    reports them, its summary for the SET rules, and (`gather`, in a worker) what the checks
+    across files read of it (facts.py), so that the run's process need not read it again."""
     path, given = item
-    report, summary = validate_file(Path(path), _JOB, Path(given) if given else None)
-    report.findings = _JOB.settings.filter(report.findings)
-    return report, summary
+    report, summary = validate_file(Path(path), job, Path(given) if given else None)
+    report.findings = job.settings.filter(report.findings)
+    return report, summary, facts.made(path, target_of(Path(path))) if gather else {}
+
+
+def validate_partition(items: list[tuple[str, str | None]], job: ValidationJob, cwd: str) -> list[Checked]:
+    """A partition of a run's files, on a cluster's worker (see partitions.py). The worker
+    works in the client's directory `cwd`, so that paths given relative to it read the same
+    files (a cluster's workers see the tree where the client sees it)."""
+    os.chdir(cwd)
+    return [_checked(item, job, gather=True) for item in items]
 
 
 def _check_dictionaries(extra: tuple[str, ...]) -> None:
@@ -321,13 +345,29 @@ def iter_reports(paths: Iterable[str | os.PathLike[str]], job: ValidationJob | N
     files = itertools.chain([first], found)
     given = [Path(p) for p in paths if Path(p).is_dir()]  # the trees the user gave (label/beside.trusted_tree)
     deliveries = DeliveryChecks(paths, job.labels_only, job.labels)  # a delivery directory is also checked whole
-    return _with_run_checks(_with_deliveries(_stream(files, given, job, progress), deliveries, job), job)
+    facts.forget()
+    return _forgetting(_with_run_checks(_with_deliveries(_stream(files, given, job, progress), deliveries, job), job))
+
+
+def _forgetting(reports: Iterator[FileReport]) -> Iterator[FileReport]:
+    """The reports; what workers read of a file for the checks across files is dropped once its
+    report has passed them all, and everything when the run ends."""
+    try:
+        for report in reports:
+            facts.drop(report.path)
+            yield report
+    finally:
+        facts.forget()
 
 
 def _with_deliveries(reports: Iterator[FileReport], deliveries: DeliveryChecks,
                      job: ValidationJob) -> Iterator[FileReport]:
     """Delivery hook: each file's DLV findings beside its own; files with no report of their own
-    (an index table, the manifest) get one at the end."""
+    (an index table, the manifest) get one at the end. With workers, the delivery is checked
+    after the last file, over what the workers read (facts.py): the reports of a run with a
+    delivery wait until then."""
+    if (job.jobs > 1 or job.cluster is not None) and deliveries.found():
+        reports = iter(list(reports))
     for report in reports:
         report.findings.extend(_kept(report.path, deliveries.take(report.path), job))
         yield report
@@ -368,7 +408,11 @@ def _stream(files: Iterator[Path], given: list[Path], job: ValidationJob,
             progress: Callable[[int, int], None] | None) -> Iterator[FileReport]:
     groups = _SetGroups(job.settings)
     names = ((str(p), _given_tree(p, given)) for p in files)
-    if job.jobs > 1:
+    if job.cluster is not None:
+        worker_job = replace(job, baseline=None, cluster=None, labels=None)
+        work = functools.partial(validate_partition, cwd=os.getcwd())
+        yield from _collect(in_partitions(job.cluster, work, names, worker_job), groups, progress, job.baseline)
+    elif job.jobs > 1:
         worker_job = replace(job, baseline=None)  # the baseline is applied here, in this process
         with multiprocessing.get_context("fork" if sys.platform == "linux" else "spawn").Pool(
                 job.jobs, _init_worker, (worker_job,)) as pool:
@@ -385,10 +429,11 @@ def _given_tree(path: Path, given: list[Path]) -> str | None:
     return min((str(d) for d in given if contained(path, d) is not None), key=len, default=None)
 
 
-def _collect(results: Iterator[tuple[FileReport, LabelSummary | None]], groups: _SetGroups,
+def _collect(results: Iterator[Checked], groups: _SetGroups,
              progress: Callable[[int, int], None] | None, baseline: Baseline | None) -> Iterator[FileReport]:
     done = 0
-    for report, summary in results:
+    for report, summary, made in results:
+        facts.learn(report.path, made)
         done += 1
         if progress:
             progress(done, 0)

@@ -30,6 +30,7 @@ from ...label.beside import outside_tree
 from ...label.parser import is_pds3_head
 from ...label.tree import Block, Statement, first_statement
 from ...pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
+from .. import facts
 from ..model import Finding
 from ..registry import Rule, register
 
@@ -382,6 +383,7 @@ class _Pds4Label:
         return f"{self.lid}::{self.version}"
 
 
+@facts.fact("pds4")
 def _read_pds4(path: Path) -> _Pds4Label | None:
     from lxml import etree
 
@@ -455,7 +457,7 @@ def described_files(root: object, path: Path) -> list[Path]:
 
 def _check_bundle(root: Path, found: list[_Found]) -> None:
     named = (path for path in _all_files(root) if path.suffix.lower() in PDS4_LABEL_SUFFIXES)
-    labels = [label for label in map(_read_pds4, named) if label is not None]
+    labels = [label for label in (facts.of(_read_pds4, path) for path in named) if label is not None]
     bundles = [label for label in labels if label.product_class == "Product_Bundle"]
     if not bundles:
         return
@@ -788,8 +790,9 @@ class DeliveryChecks:
     manifest, images) get one at the end.
 
     The deliveries are looked for and checked when the first report asks, not when the run
-    starts: the per-file checks (and their progress count) begin at once, and with several
-    jobs the workers go on checking files while the delivery is checked here."""
+    starts: the per-file checks (and their progress count) begin at once. With workers (-j N,
+    a cluster) the runner asks after the last file, so that the labels are read from what
+    the workers return (validate/facts.py) instead of again here."""
 
     def __init__(self, paths: Iterable[str | os.PathLike[str]], labels_only: bool,
                  labels: LabelCache | None = None) -> None:
@@ -812,6 +815,10 @@ class DeliveryChecks:
         if self._labels is None:  # a plain validation run: no cache to share (the call as it was)
             return check_delivery(root, self._labels_only)
         return check_delivery(root, self._labels_only, self._labels)
+
+    def found(self) -> bool:
+        """Whether a delivery lies among the paths (looked for, not checked)."""
+        return any(next(_deliveries(path), None) is not None for path in self._paths)
 
     def take(self, path: str) -> list[Finding]:
         return self.pending.pop(os.path.normpath(path), [])

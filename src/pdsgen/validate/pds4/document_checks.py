@@ -20,6 +20,7 @@ from pathlib import Path
 
 from lxml import etree
 
+from .. import facts
 from ..model import Hit
 from .label_tree import P, Pds4Hits, is_outside
 
@@ -68,9 +69,8 @@ class DataFileRegister:
     """The data files the PDS4 labels of one run describe (every file_name of a File or
     Document_File), which label named each first, and whether any named it as observational
     data (a File_Area_Observational or _Supplemental, or any file of a Product_Observational).
-    Read from the label's parsed tree, as every other check reads it: a file_name inside an XML
-    comment is no element (NASA's github1408 product keeps a commented-out File_Area), one in a
-    CDATA section is text. This runs in the parent process for every label of the run."""
+    It runs in the run's own process for every label of the run, over what `named_files` read
+    of each (in the workers, when there are workers)."""
 
     def __init__(self) -> None:
         self.first: dict[str, str] = {}
@@ -79,35 +79,48 @@ class DataFileRegister:
     def add(self, label: str) -> list[Hit]:
         """PDS4-060: the label's data files another label of the run named (the PDS4
         family's run check; the runner makes them findings of the label)."""
-        root = _parsed_root(label)
-        if root is None:
-            return []  # the label's own report says why it cannot be read (PDS4-001)
-        directory = os.path.dirname(os.path.abspath(label))
-        observational_product = _local(root) == "Product_Observational"
         findings = []
-        for file in root.iter():
-            if _local(file) not in ("File", "Document_File"):
-                continue
-            name_element = next((child for child in file if _local(child) == "file_name"), None)
-            if name_element is None or not (name := (name_element.text or "").strip()):
-                continue
-            folder = next((child for child in file if _local(child) == "directory_path_name"), None)
-            relative = os.path.join((folder.text or "").strip(), name) if folder is not None else name
-            data = os.path.normpath(os.path.join(directory, relative))
-            area = next((_local(a) for a in file.iterancestors() if _local(a).startswith("File_Area_")
-                         or _local(a) == "Document_Edition"), "")
-            observational = observational_product or area in _OBSERVATIONAL_AREAS
+        for relative, data, observational, line in facts.of(named_files, Path(label)):
             first = self.first.setdefault(data, label)
             observational = self.observational[data] = self.observational.get(data, False) or observational
             if first != label and observational:
-                findings.append(Hit(f"{relative} is also described by {first}", name_element.sourceline, "file_name"))
+                findings.append(Hit(f"{relative} is also described by {first}", line, "file_name"))
         return findings
 
 
-def _parsed_root(label: str) -> etree._Element | None:
+@facts.fact("pds4")
+def named_files(label: Path) -> list[tuple[str, str, bool, int]]:
+    """(the name as the label writes it, the file's normalised path, whether it is named as
+    observational data, the line) of each file a PDS4 label names - what DataFileRegister
+    joins across the run, read where the label is validated (facts.py). Read from the label's
+    parsed tree, as every other check reads it: a file_name inside an XML comment is no element
+    (NASA's github1408 product keeps a commented-out File_Area), one in a CDATA section is text.
+    An unreadable label names none (its own report says why: PDS4-001)."""
+    root = _parsed_root(label)
+    if root is None:
+        return []
+    directory = os.path.dirname(os.path.abspath(label))
+    observational_product = _local(root) == "Product_Observational"
+    named = []
+    for file in root.iter():
+        if _local(file) not in ("File", "Document_File"):
+            continue
+        name_element = next((child for child in file if _local(child) == "file_name"), None)
+        if name_element is None or not (name := (name_element.text or "").strip()):
+            continue
+        folder = next((child for child in file if _local(child) == "directory_path_name"), None)
+        relative = os.path.join((folder.text or "").strip(), name) if folder is not None else name
+        area = next((_local(a) for a in file.iterancestors() if _local(a).startswith("File_Area_")
+                     or _local(a) == "Document_Edition"), "")
+        named.append((relative, os.path.normpath(os.path.join(directory, relative)),
+                      observational_product or area in _OBSERVATIONAL_AREAS, name_element.sourceline or 0))
+    return named
+
+
+def _parsed_root(label: str | Path) -> etree._Element | None:
     """The label's root element (entities not resolved, nothing fetched), or None."""
     try:
-        return etree.parse(label, etree.XMLParser(no_network=True, resolve_entities=False)).getroot()
+        return etree.parse(str(label), etree.XMLParser(no_network=True, resolve_entities=False)).getroot()
     except (OSError, etree.XMLSyntaxError):
         return None
 

@@ -20,11 +20,13 @@ import re
 import struct
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 
+import numpy as np
 from lxml import etree
 
-from ...bounded import file_size
+from . import table_columns as columns
 from .label_tree import P, Pds4Hits, data_path, file_areas
 
 _SHOWN = 5  # findings per rule and table before "and N more"
@@ -40,8 +42,10 @@ _LID = r"urn:[A-Za-z0-9-]+:[A-Za-z0-9._-]+:[A-Za-z0-9_.:-]+"
 # Standards Reference 6C.1-2: file and directory names of letters, digits, '-', '_', '.', neither
 # beginning nor ending with one of those three; a file name has a period and an extension.
 _DIRECTORY = r"[A-Za-z0-9](?:[A-Za-z0-9_-]*[A-Za-z0-9])?"
-_FILE = r"(?=[^/]*\.[A-Za-z0-9])[A-Za-z0-9](?:[A-Za-z0-9._-]*[A-Za-z0-9])?"
-PATTERNS: dict[str, re.Pattern[str]] = {name: re.compile(rf"(?:{pattern})\Z") for name, pattern in {
+# (The look-ahead keeps to the name's own characters, which is the same wherever the name matches,
+# so that the pattern never looks past the value when a column is checked as lines of text.)
+_FILE = r"(?=[A-Za-z0-9._-]*\.[A-Za-z0-9])[A-Za-z0-9](?:[A-Za-z0-9._-]*[A-Za-z0-9])?"
+SYNTAX: dict[str, str] = {
     "ASCII_Real": _REAL + r"|[+-]?(INF|Inf|inf|Infinity|NaN|nan)",
     "ASCII_Integer": r"[+-]?\d+",
     "ASCII_NonNegative_Integer": r"\+?\d+",
@@ -66,7 +70,8 @@ PATTERNS: dict[str, re.Pattern[str]] = {name: re.compile(rf"(?:{pattern})\Z") fo
     "ASCII_File_Name": _FILE,
     "ASCII_Directory_Path_Name": rf"/?(?:{_DIRECTORY}/)*{_DIRECTORY}/?",
     "ASCII_File_Specification_Name": rf"/?(?:{_DIRECTORY}/)*{_FILE}",
-}.items()}
+}
+PATTERNS: dict[str, re.Pattern[str]] = {name: re.compile(rf"(?:{pattern})\Z") for name, pattern in SYNTAX.items()}
 _NUMERIC = {"ASCII_Real", "ASCII_Integer", "ASCII_NonNegative_Integer"}
 _BASES = {"ASCII_Numeric_Base2": 2, "ASCII_Numeric_Base8": 8, "ASCII_Numeric_Base16": 16}
 _DELIMITERS = {"Comma": b",", "Horizontal Tab": b"\t", "Semicolon": b";", "Vertical Bar": b"|"}
@@ -277,6 +282,113 @@ def _same(value: float, constant: str) -> bool:
         return False
 
 
+# --- screens: which values of a block to check exactly (see table_columns.py) ----------------
+
+
+@dataclass(frozen=True)
+class _Screen:
+    """How one field's values are screened a column at a time; `exact` checks a flagged one."""
+
+    field: Field
+    index: int  # the field's place in its record (findings come in record, then field, order)
+    start: int
+    stop: int  # the field's bytes, cut at the record's end as a record slice cuts them
+    checks: tuple[re.Pattern[bytes], ...]  # syntax and decimals, over the text
+    numeric: str | None  # "text" (parsed), "base" (parsed per distinct value), "binary"
+    constants: np.ndarray  # the special constants' values
+    exact: Callable[[_Limited, Field, bytes, int], None]  # a flagged value, checked and worded
+
+    def suspects(self, positions: np.ndarray) -> np.ndarray:
+        """The records (of a block, as columns.by_position gives it) whose value may be reported."""
+        column = positions[self.start:self.stop]
+        ranges = (self.field.stated_range, self.field.valid_range)
+        if self.numeric == "binary":
+            return columns.out_of_range(columns.binary_values(column, self.field.data_type), ranges, self.constants)
+        numbers = columns.number_columns(column, self.field.data_type)
+        cleared = None
+        if numbers is not None:  # plainly written numbers: syntax and decimals known without a pass
+            cleared = numbers.plain.copy()
+            for _, _, precision in self.field.formats:
+                cleared &= numbers.decimals == precision
+        suspect, blank = columns.text_suspects(column, list(self.checks), cleared)
+        if numbers is not None and cleared is not None:
+            suspect |= numbers.plain & ~cleared
+        if self.numeric is not None:
+            suspect |= self._out_of_range(column, suspect | blank, numbers)
+        return suspect
+
+    def _out_of_range(self, column: np.ndarray, skip: np.ndarray, numbers: columns.Numbers | None) -> np.ndarray:
+        """Values outside the field's ranges; where one cannot be read, every value of the column
+        (each is then checked exactly)."""
+        values = np.full(column.shape[1], np.nan)
+        rest = ~skip
+        if numbers is not None:
+            read = rest & numbers.plain
+            values[read] = numbers.values[read]
+            rest &= ~numbers.plain
+        if rest.any():
+            parse = None if self.numeric == "text" else partial(_parsed, data_type=self.field.data_type)
+            others = columns.text_values(column[:, rest], parse)
+            if others is None:
+                return ~skip
+            values[rest] = others
+        return columns.out_of_range(values, (self.field.stated_range, self.field.valid_range), self.constants)
+
+
+def _parsed(text: bytes, data_type: str) -> float:
+    return _number(text.decode("ascii").strip(), data_type)
+
+
+def _screen(field: Field, index: int, record_length: int, binary: bool) -> _Screen | None:
+    """The field's screen (None: none of its values can be reported, as for a field that
+    lies wholly past the record's end)."""
+    start, stop = field.start, min(field.start + field.length, record_length)
+    if stop <= start:
+        return None
+    ranged = any(bound is not None for bound in (*field.stated_range, *field.valid_range))
+    constants = np.array([c for c in map(_constant, field.special) if c is not None and c == c], np.float64)
+    code = _BINARY.get(field.data_type) if binary else None
+    if code is not None:
+        if struct.calcsize(code) != stop - start or not ranged:
+            return None
+        return _Screen(field, index, start, stop, (), "binary", constants, _check_binary_value)
+    if binary and not (field.data_type in PATTERNS or field.data_type.startswith("ASCII")):
+        return None
+    checks = [columns.line_check(SYNTAX[field.data_type])] if field.data_type in SYNTAX else []
+    checks += [columns.line_check(columns.decimals_pattern(precision)) for _, _, precision in field.formats]
+    numeric = None
+    if ranged and field.data_type in _NUMERIC:
+        numeric = "text"
+    elif ranged and field.data_type in _BASES:
+        numeric = "base"
+    return _Screen(field, index, start, stop, tuple(checks), numeric, constants, _check_value)
+
+
+def _constant(constant: str) -> float | None:
+    """A special constant's value as _same compares it (None: not a number)."""
+    try:
+        return float(int(constant, 16)) if constant.lower().startswith("0x") else float(constant)
+    except ValueError:
+        return None
+
+
+def _check_values(out: _Limited, screens: list[_Screen], block: np.ndarray, first: int) -> None:
+    """The block's flagged values checked exactly, in record order and, within a record, field order."""
+    rows, places = [], []
+    positions = columns.by_position(block)
+    for screen in screens:
+        flagged = np.flatnonzero(screen.suspects(positions))
+        rows.append(flagged)
+        places.append(np.full(len(flagged), screen.index))
+    if not rows:
+        return
+    row_of, place_of = np.concatenate(rows), np.concatenate(places)
+    by_place = {screen.index: screen for screen in screens}
+    for position in np.lexsort((place_of, row_of)).tolist():
+        row, screen = int(row_of[position]), by_place[int(place_of[position])]
+        screen.exact(out, screen.field, block[row, screen.start:screen.stop].tobytes(), first + row)
+
+
 # --- Table_Character -----------------------------------------------------------------------
 
 
@@ -292,23 +404,24 @@ def _table_character(out: _Limited, table: etree._Element, path: Path | None) ->
     ending = _RECORD_ENDS.get(_text(table, "record_delimiter") or "Carriage-Return Line-Feed", b"\r\n")
     records = _int(table, "records") or 0
     offset = _int(table, "offset") or 0
-    available = file_size(path) - offset
+    screens = [s for s in (_screen(f, i, record_length, False) for i, f in enumerate(fields)) if s is not None]
+    done = 0
     with open(path, "rb") as handle:
         handle.seek(offset)
-        for number in range(1, records + 1):
-            data = handle.read(min(record_length, max(available - (number - 1) * record_length, 0)))
-            if len(data) < record_length:
-                out.add("PDS4-051", f"the file ends in record {number} of {records} (records of "
-                                    f"{record_length} bytes from offset {offset})", table, "records")
-                return
-            if not data.endswith(ending):
-                out.add("PDS4-051", f"record {number} does not end with the record delimiter "
+        for first, block in columns.record_blocks(handle, record_length, records):
+            done += len(block)
+            wrong = np.flatnonzero(columns.ends_wrong(block, ending)).tolist()
+            misplaced = first == 1 and wrong[:1] == [0] and bool(np.isin(block[0, :-1], (_CR[0], _LF[0])).any())
+            for row in wrong[:1] if misplaced else wrong:
+                out.add("PDS4-051", f"record {first + row} does not end with the record delimiter "
                                     f"{_text(table, 'record_delimiter')} at byte {record_length} (record_length or "
                                     f"the delimiter is wrong)", record, "record_length")
-                if number == 1 and (_CR in data[:-1] or _LF in data[:-1]):
-                    return  # the records are not where the label says: their values mean nothing
-            for field in fields:
-                _check_value(out, field, data[field.start:field.start + field.length], number)
+            if misplaced:
+                return  # the records are not where the label says: their values mean nothing
+            _check_values(out, screens, block, first)
+    if done < records:
+        out.add("PDS4-051", f"the file ends in record {done + 1} of {records} (records of "
+                            f"{record_length} bytes from offset {offset})", table, "records")
 
 
 # --- Table_Binary --------------------------------------------------------------------------
@@ -336,19 +449,22 @@ def _table_binary(out: _Limited, table: etree._Element, path: Path | None) -> No
         out.add("PDS4-051", f"{records} records of {record_length} bytes from offset {offset} need "
                             f"{offset + records * record_length} bytes; {path.name} has {size}", table, "records")
         return
+    screens = [s for s in (_screen(f, i, record_length, True) for i, f in enumerate(fields)) if s is not None]
     with open(path, "rb") as handle:
         handle.seek(offset)
-        for number in range(1, records + 1):
-            data = handle.read(record_length)
-            for field in fields:
-                raw = data[field.start:field.start + field.length]
-                code = _BINARY.get(field.data_type)
-                if code is not None and struct.calcsize(code) == len(raw):
-                    value = struct.unpack(code, raw)[0]
-                    if value == value:  # NaN is neither in nor out of a range
-                        _check_range(out, field, float(value), number)
-                elif field.data_type in PATTERNS or field.data_type.startswith("ASCII"):
-                    _check_value(out, field, raw, number)
+        for first, block in columns.record_blocks(handle, record_length, records):
+            _check_values(out, screens, block, first)
+
+
+def _check_binary_value(out: _Limited, field: Field, raw: bytes, record: int) -> None:
+    """One value of a binary field: a number against its ranges, ASCII text as in a character table."""
+    code = _BINARY.get(field.data_type)
+    if code is not None and struct.calcsize(code) == len(raw):
+        value = struct.unpack(code, raw)[0]
+        if value == value:  # NaN is neither in nor out of a range
+            _check_range(out, field, float(value), record)
+    elif field.data_type in PATTERNS or field.data_type.startswith("ASCII"):
+        _check_value(out, field, raw, record)
 
 
 def _check_bits(out: _Limited, field: Field) -> None:
@@ -448,6 +564,8 @@ def _split(record: bytes, delimiter: bytes) -> list[bytes]:
 def _as_written(record: bytes, delimiter: bytes) -> list[bytes]:
     """Fields of a delimited record, as written (quotes kept); a double-quoted field may hold
     the delimiter."""
+    if b'"' not in record:  # nothing quoted: every delimiter separates (the common case, at C speed)
+        return record.split(delimiter)
     fields, current, quoted = [], bytearray(), False
     for byte in record:
         char = bytes([byte])
