@@ -77,9 +77,15 @@ def written_line(files: Sequence[Path], facts: Iterable[str]) -> str:
     return "  ".join([str(main), *named]) + ": " + ", ".join(facts)
 
 
+def finding_counts(errors: int, warnings: int, info: int) -> dict[str, int]:
+    """A run's findings counted by severity, as every --json document names them: keyed by the
+    validator's severities, so `warnings` stays the command's list of warnings everywhere."""
+    return {"error": errors, "warning": warnings, "info": info}
+
+
 def files_json(paths: Iterable[Path]) -> list[dict[str, Any]]:
     """Each file as {"path", "bytes"}."""
     return [{"path": str(path), "bytes": path.stat().st_size} for path in paths]
 
 
-__all__ = ["CommandResult", "files_json", "written_line"]
+__all__ = ["CommandResult", "files_json", "finding_counts", "written_line"]

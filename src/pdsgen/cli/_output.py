@@ -65,6 +65,13 @@ def told(result: CommandResult, *places: ShowsPaths) -> Outcome:
                    show(_in_cli_words(result.refused)))
 
 
+def echo_json(result: CommandResult, *places: ShowsPaths) -> None:
+    """Print a result's --json document on stdout, for a command that tells the rest of its run
+    itself (`pdsgen validate` streams its report): the same document `told` makes."""
+    context = click.get_current_context()
+    click.echo(json.dumps(_showing(places)(result.as_json(context.command.name or "")), indent=2))
+
+
 def _in_cli_words(messages: tuple[str, ...]) -> tuple[str, ...]:
     """Library messages naming options as the command line spells them (loaded only when there are any)."""
     if not messages:

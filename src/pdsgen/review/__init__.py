@@ -19,7 +19,7 @@ from ..archive.layout import MANIFEST, REVIEW_PAGE
 from ..archive.scan import scan, walk
 from ..errors import InputError, OutputError
 from ..label.read import LabelCache
-from ..results import CommandResult
+from ..results import CommandResult, finding_counts
 from ..storage.staging import staged_files
 from ..validate.report import FileReport
 from ..validate.runner import iter_reports
@@ -58,8 +58,8 @@ class ReviewResult(CommandResult):
 
     def details(self) -> dict[str, Any]:
         return {"path": str(self.path), "pages": [str(p) for p in self.pages], "products": self.products,
-                "footprints": self.outlines, "errors": self.errors, "info": self.info,
-                "findings": {"errors": self.errors, "warnings": self.warning_findings, "info": self.info}}
+                "footprints": self.outlines,
+                "finding_counts": finding_counts(self.errors, self.warning_findings, self.info)}
 
 
 def write_review(directory: str | os.PathLike[str], page: str | os.PathLike[str] | None = None,
