@@ -42,7 +42,7 @@ from ..formats.scale_dn import (
 from ..geo.geometry import MapGeometry
 from ..label.render import render_label
 from ..label.values import Based, Quantity, Symbol
-from ..missions import Mission, ProductIdRequest, get_mission
+from ..missions import Mission, ProductIdRequest, ProductKind, get_mission
 from ..params import ParamValue, check_source_id, check_version, resolve_params, source_ids
 from ..storage.staging import InterruptSafeExecutor
 from .agreement import allows_deviations, check_label, label_keywords
@@ -164,7 +164,7 @@ def write_jp2_ortho(
     allow = allows_deviations(options.allow_dictionary_deviations, keywords)
     keywords = label_keywords(keywords)
     input_path = Path(input_path)
-    with open_product_input(input_path, ORTHO_OPENING) as opened:
+    with open_product_input(input_path, ORTHO_OPENING, options.any_kind) as opened:
         dataset, geometry = opened.dataset, opened.geometry
         bits = bits or _default_bits(dataset, chosen)
         mapping = _choose_mapping(dataset, input_path, bits, value_range)
@@ -250,7 +250,7 @@ def _check_input(dataset: DatasetReader, path: Path) -> None:
         raise PdsgenError(path, f"sample types {', '.join(dataset.dtypes)} are not one real number type")
 
 
-ORTHO_OPENING = Opening(check=_check_input)
+ORTHO_OPENING = Opening(check=_check_input, kind=ProductKind.ORTHO)
 
 
 def _default_bits(dataset: DatasetReader, mission: Mission) -> int:
