@@ -75,12 +75,14 @@ class OrthoProduct(ProductResult):
     label_text: str  # the PDS3 label, or the PDS4 label of a PDS4-only product
     pds4_label_path: Path | None = None  # with the uncompressed primary array beside it (.img)
     warnings: tuple[str, ...] = ()  # dictionary deviations kept (--allow-dictionary-deviations)
+    jp2info_path: Path | None = None  # the directory's JP2INFO.TXT, written again with this JP2's entry
 
     @property
     def files(self) -> tuple[Path, ...]:
-        """Every file this product wrote."""
+        """Every file this product wrote, the directory's JP2INFO.TXT last."""
         pds4 = (self.pds4_label_path.with_suffix(".img"), self.pds4_label_path) if self.pds4_label_path else ()
-        return tuple(dict.fromkeys((self.jp2_path, self.label_path, *pds4)))
+        info = (self.jp2info_path,) if self.jp2info_path else ()
+        return tuple(dict.fromkeys((self.jp2_path, self.label_path, *pds4, *info)))
 
     @property
     def summary_facts(self) -> tuple[str, ...]:
@@ -236,6 +238,7 @@ def write_jp2_ortho(
         label_text=text,
         pds4_label_path=xml_final if dialect.pds4 else None,
         warnings=warnings,
+        jp2info_path=info_final,
     )
 
 
