@@ -101,8 +101,9 @@ BUDGETS = {
     "--version": (8, 135, LIBRARIES | {"pdsgen.validate"}),
     "--help": (8, 140, LIBRARIES | {"pdsgen.validate"}),
     # 55: the DTM, made without a params file, warns that its identification is "UNK" (issue 44),
-    # and a warning is written through cli._messages.one_line
-    "dtm {dtm} -o {out} -q": (55, 430, {"pdsgen.pds4.products", "lxml.etree", "glymur", "pvl", "distributed"}
+    # and a warning is written through cli._messages.one_line; 56: the input's kind is checked
+    # (formats.kind: a DTM of image DNs is refused, issue 52)
+    "dtm {dtm} -o {out} -q": (56, 430, {"pdsgen.pds4.products", "lxml.etree", "glymur", "pvl", "distributed"}
                               | VALIDATOR_BEYOND_DICTIONARY),
     "validate {out}/DTM.IMG -q": (56, 430, {"jinja2", "glymur", "pdsgen.products.dtm", "distributed"}),
 }

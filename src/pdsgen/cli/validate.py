@@ -24,7 +24,6 @@ from ..validate.report import (
     FORMATS,
     FileReport,
     Tally,
-    ValidationRun,
     failing_severities,
     fails,
     finding_line,
@@ -218,6 +217,8 @@ def validate(paths: tuple[str, ...], fmt: str, strict: bool, fail_on: str | None
             if output and not quiet:  # the report is in the file: the log still says why the run failed
                 click.echo(f"{terminal_safe(output)}: {tally.summary_line()}", err=True)
             if as_json:
+                from ..validate.run_result import ValidationRun  # only under --json: start-up
+
                 echo_json(ValidationRun(tally, findings, output), inputs)
             sys.exit(tally.exit_code)
 

@@ -22,12 +22,10 @@ from abc import ABC, abstractmethod
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from json.encoder import encode_basestring_ascii
-from pathlib import Path
 from typing import IO, Any
 
 from lxml import etree
 
-from ..results import CommandResult, finding_counts
 from .model import Finding
 
 FORMATS = ("text", "json", "junit", "sarif", "github", "html")
@@ -399,38 +397,6 @@ class GithubWriter(Writer):
 WRITERS: dict[str, type[Writer]] = {
     "text": TextWriter, "json": JsonWriter, "junit": JunitWriter, "sarif": SarifWriter, "github": GithubWriter,
 }
-
-
-@dataclass
-class ValidationRun(CommandResult):
-    """`pdsgen validate --json`: the run told in the one shape of every command's --json
-    (pdsgen/results.py) - the report file written (if any) as `files`, no warning of the
-    command's own, the counts and every finding as facts. The --format json *report* is
-    another thing: a CI format of its own (files checked, each with its findings)."""
-
-    tally: Tally
-    findings: list[dict[str, Any]] = field(default_factory=list)
-    report: str | None = None  # the --output file, when one was written
-    warnings: tuple[str, ...] = ()
-
-    @property
-    def files(self) -> tuple[Path, ...]:
-        return (Path(self.report),) if self.report else ()
-
-    @property
-    def summary_lines(self) -> tuple[str, ...]:
-        return (self.tally.summary_line(),)
-
-    @property
-    def exit_code(self) -> int:
-        return self.tally.exit_code
-
-    def details(self) -> dict[str, Any]:
-        tally = self.tally
-        return {"checked": tally.files, "failed": tally.files_failed,
-                "finding_counts": finding_counts(tally.errors, tally.warnings, tally.info),
-                "placeholders": tally.placeholders, "fail_on": tally.fail_on, "exit_code": tally.exit_code,
-                "verdict": tally.summary_line(), "findings": self.findings}
 
 
 def write_stream(reports: Iterable[FileReport], fmt: str, out: IO[str], tally: Tally,
