@@ -105,13 +105,16 @@ def test_the_output_option_is_named_as_the_help_names_it():
         assert "-h, --help" in shown
 
 
-def test_deliver_refuses_an_identifier_of_what_it_does_not_make(tmp_path):
-    run = run_cli("deliver", tmp_path, "-o", tmp_path / "d", "--label", "pds3", "--bundle-lid", "urn:nasa:pds:x")
-    assert run.returncode == 2 and "::None" not in run.stdout
-    assert run.stderr.startswith("pdsgen: error: --bundle-lid is the PDS4 bundle's; --label pds3 makes none")
-    run = run_cli("deliver", tmp_path, "-o", tmp_path / "d", "--label", "pds4", "--volume-id", "V1")
-    assert run.returncode == 2 and "--volume-id is the PDS3 volume's" in run.stderr
-    assert not (tmp_path / "d").exists()
+def test_deliver_names_only_what_it_made(tmp_path):
+    """--bundle-lid beside --label pds3 (a script giving both identifiers every time) makes no
+    bundle, and the summary names none (it printed "PDS4 bundle X::None")."""
+    source = write_raster(tmp_path / "dtm.tif", elevation_array(20, 20), CRS_EQUIRECTANGULAR, TRANSFORM)
+    made = run_cli("dtm", source, "-o", tmp_path / "products", "-q", "--params", stated_params(tmp_path))
+    assert made.returncode == 0, made.stderr
+    run = run_cli("deliver", tmp_path / "products", "-o", tmp_path / "d", "--label", "pds3", "--volume-id", "V1",
+                  "--bundle-lid", "urn:nasa:pds:x")
+    assert run.returncode == 0, run.stderr
+    assert "PDS3     volume V1" in run.stdout and "bundle" not in run.stdout and "::None" not in run.stdout
 
 
 def test_the_review_page_is_titled_by_the_volume_and_shows_progress_on_a_terminal(tmp_path):

@@ -93,7 +93,7 @@ def run_demo(outdir: str | os.PathLike[str], overwrite: bool = True) -> DemoResu
         institution=DEMO_INSTITUTION, overwrite=overwrite,
     )
     assert isinstance(dtm, DtmProduct)  # the HiRISE profile writes the standard float32 DTM
-    result.products += dtm.files
+    result.products += dtm.written_files
     result.lines.append(
         f"DTM    {dtm.path}: {dtm.geometry.lines} x {dtm.geometry.samples} posts (lines x samples) at "
         f"{dtm.geometry.map_scale:g} m, {dtm.geometry.projection_type.lower()}, "
@@ -105,9 +105,9 @@ def run_demo(outdir: str | os.PathLike[str], overwrite: bool = True) -> DemoResu
         source_dtm_id=dtm.product_id, overwrite=overwrite,
     )
     assert isinstance(ortho, OrthoProduct)  # and the standard JP2 + LBL orthoimage
-    result.products += ortho.files
+    result.products += ortho.written_files
     result.lines.append(
-        f"ORTHO  {ortho.jp2_path} + {' + '.join(path.name for path in ortho.files[1:])}: "
+        f"ORTHO  {ortho.jp2_path} + {' + '.join(path.name for path in ortho.written_files[1:])}: "
         f"{ortho.bits}-bit lossless JPEG 2000, "
         f"I/F = DN * {ortho.scaling_factor:.6g} + {ortho.offset:.6g}"
     )

@@ -42,7 +42,6 @@ def deliver(directory, label, old_dialect, out, volume_id, bundle_lid, text, new
     Then check the whole delivery with `pdsgen validate OUT`.
     """
     dialect = _dialect(label, old_dialect)
-    _refuse_unused_identifier(Dialect(dialect), volume_id, bundle_lid)
     # s3:// DIRECTORY and OUT: built from local copies; published changed files first, the index and MD5SUMS.TXT last
     with local_inputs([directory] if out is not None else []) as inputs, \
             tree_area(out if out is not None else directory, publication_rank) as area:
@@ -50,17 +49,6 @@ def deliver(directory, label, old_dialect, out, volume_id, bundle_lid, text, new
         result = make_delivery(source, area.directory, dialect=dialect, volume_id=volume_id, bundle_lid=bundle_lid,
                                shown_as=area.shown(str(area.directory)), text=text, new_version=new_version)
         return told(result, inputs, area)
-
-
-def _refuse_unused_identifier(dialect: Dialect, volume_id: str | None, bundle_lid: str | None) -> None:
-    """--bundle-lid names a PDS4 bundle and --volume-id a PDS3 volume: one the delivery does not
-    make is refused rather than dropped (or printed as a bundle never made)."""
-    if bundle_lid and not dialect.pds4:
-        raise click.UsageError(f"--bundle-lid is the PDS4 bundle's; --label {dialect.value} makes none "
-                               "(give --label pds4 or both)")
-    if volume_id and not dialect.pds3:
-        raise click.UsageError(f"--volume-id is the PDS3 volume's; --label {dialect.value} makes none "
-                               "(give --label pds3 or both)")
 
 
 def _dialect(label: str | None, old_dialect: str | None) -> str:

@@ -79,10 +79,14 @@ class OrthoProduct(ProductResult):
 
     @property
     def files(self) -> tuple[Path, ...]:
-        """Every file this product wrote, the directory's JP2INFO.TXT last."""
+        """Every file of this product."""
         pds4 = (self.pds4_label_path.with_suffix(".img"), self.pds4_label_path) if self.pds4_label_path else ()
-        info = (self.jp2info_path,) if self.jp2info_path else ()
-        return tuple(dict.fromkeys((self.jp2_path, self.label_path, *pds4, *info)))
+        return tuple(dict.fromkeys((self.jp2_path, self.label_path, *pds4)))
+
+    @property
+    def shared_files(self) -> tuple[Path, ...]:
+        """The directory's JP2INFO.TXT, which this product's entry was written into."""
+        return (self.jp2info_path,) if self.jp2info_path else ()
 
     @property
     def summary_facts(self) -> tuple[str, ...]:
