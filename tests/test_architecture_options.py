@@ -190,8 +190,8 @@ def test_choices_are_checked_once_in_one_wording():
 def test_the_product_kind_is_one_type_that_every_list_of_kinds_agrees_with():
     """dtm/ortho is ProductKind; the lists of kinds still written in extras/ and mosaic/ name the
     same kinds in the same order (until those modules take PRODUCT_KINDS), and the options take it."""
-    from pdsgen.extras.kind import KINDS as EXTRAS_KINDS
     from pdsgen.extras.options import KIND
+    from pdsgen.formats.kind import KINDS as EXTRAS_KINDS
     from pdsgen.missions import PRODUCT_KINDS, ProductKind, get_mission
     from pdsgen.mosaic.options import MOSAIC_OPTIONS
     from pdsgen.mosaic.write import KINDS as MOSAIC_KINDS

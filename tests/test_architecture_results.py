@@ -153,9 +153,13 @@ def _json(*args: object) -> dict:
 
 
 def _one_shape(document: dict, command: str) -> None:
-    assert list(document)[:3] == COMMON and document["command"] == command
-    assert all(isinstance(w, str) for w in document["warnings"])
     assert document["files"], command
+    _one_shape_written_or_not(document, command)
+
+
+def _one_shape_written_or_not(document: dict, command: str) -> None:
+    assert list(document)[:3] == COMMON and document["command"] == command
+    assert isinstance(document["warnings"], list) and all(isinstance(w, str) for w in document["warnings"])
     for entry in document["files"]:
         assert set(entry) == {"path", "bytes"} and Path(entry["path"]).stat().st_size == entry["bytes"], entry
 
@@ -178,7 +182,14 @@ def test_json_has_one_shape_across_commands(tmp_path, monkeypatch):
     assert delivered["file_count"] == len(delivered["files"]) - 1  # the review page is not in the manifest
     review = _json("review", "volume", "-o", "page.html", "--json")
     _one_shape(review, "review")
-    assert review["files"][0]["path"] == "page.html" and review["findings"]["errors"] == review["errors"]
+    assert review["files"][0]["path"] == "page.html" and set(review["finding_counts"]) == {"error", "warning", "info"}
+    assert not {"errors", "info", "findings"} & set(review)  # each count once, under one name
+    checked = _json("validate", "volume", "--json")  # validate's --json as every other command's
+    _one_shape_written_or_not(checked, "validate")
+    assert checked["finding_counts"] == review["finding_counts"] and checked["warnings"] == []
+    assert all(isinstance(f, dict) and f["rule"] for f in checked["findings"])
+    report = _json("validate", "volume", "--format", "json", "-o", "report.json", "--json")
+    assert [entry["path"] for entry in report["files"]] == ["report.json"]
     migrated = _json("migrate", img, "dtm.tif", "-o", "pds4", "--json")
     _one_shape(migrated, "migrate")
     assert [entry["path"] for entry in migrated["files"]] == ["pds4/DTM.xml", "pds4/DTM.IMG"]

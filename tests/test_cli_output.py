@@ -74,3 +74,69 @@ def test_quiet_prints_nothing_and_excludes_verbose(tmp_path):
     both = run_cli("dtm", source, "-o", tmp_path / "again", "-q", "-v")
     assert both.returncode == 2 and len(both.stderr.splitlines()) == 1
     assert "exclude each other" in both.stderr and not (tmp_path / "again").exists()
+
+
+def test_every_file_written_is_named_and_quiet_is_quiet_everywhere(tmp_path):
+    """ortho's summary and --json name JP2INFO.TXT, the file it writes beside its product;
+    extras -q prints nothing (not even the kind each product was taken for)."""
+    image = np.random.default_rng(4).integers(0, 256, (30, 40), dtype="uint8")
+    ortho_in = write_raster(tmp_path / "image.tif", image, CRS_EQUIRECTANGULAR, TRANSFORM)
+    params = stated_params(tmp_path)
+    told = run_cli("ortho", ortho_in, "-o", tmp_path / "out", "--params", params)
+    assert told.returncode == 0, told.stderr
+    assert told.stdout.startswith(f"{tmp_path / 'out' / 'IMAGE.JP2'}  IMAGE.LBL  JP2INFO.TXT: "), told.stdout
+    again = run_cli("ortho", ortho_in, "-o", tmp_path / "out", "--params", params, "--overwrite", "--json")
+    names = [p.name for p in _check_files(json.loads(again.stdout))]
+    assert names == ["IMAGE.JP2", "IMAGE.LBL", "JP2INFO.TXT"]
+
+    quiet = run_cli("extras", tmp_path / "out" / "IMAGE.LBL", "-o", tmp_path / "extras", "-q", "--params", params)
+    assert (quiet.returncode, quiet.stdout, quiet.stderr) == (0, "", "")
+    assert (tmp_path / "extras" / "README.TXT").is_file()
+    loud = run_cli("extras", tmp_path / "out" / "IMAGE.LBL", "-o", tmp_path / "extras2", "--params", params)
+    assert "taken as an orthoimage" in loud.stderr
+    assert len(loud.stdout.splitlines()) == len(list((tmp_path / "extras2").iterdir()))  # one line per file
+
+
+def test_the_output_option_is_named_as_the_help_names_it():
+    """The writers' help says "into OUTDIR": the -o option is shown as OUTDIR, and demo takes it too."""
+    for command in ("dtm", "ortho", "extras", "mosaic", "migrate", "demo"):
+        shown = run_cli(command, "--help").stdout
+        assert re.search(r"-o, --output OUTDIR ", shown), (command, shown)
+        assert "-h, --help" in shown
+
+
+def test_deliver_names_only_what_it_made(tmp_path):
+    """--bundle-lid beside --label pds3 (a script giving both identifiers every time) makes no
+    bundle, and the summary names none (it printed "PDS4 bundle X::None")."""
+    source = write_raster(tmp_path / "dtm.tif", elevation_array(20, 20), CRS_EQUIRECTANGULAR, TRANSFORM)
+    made = run_cli("dtm", source, "-o", tmp_path / "products", "-q", "--params", stated_params(tmp_path))
+    assert made.returncode == 0, made.stderr
+    run = run_cli("deliver", tmp_path / "products", "-o", tmp_path / "d", "--label", "pds3", "--volume-id", "V1",
+                  "--bundle-lid", "urn:nasa:pds:x")
+    assert run.returncode == 0, run.stderr
+    assert "PDS3     volume V1" in run.stdout and "bundle" not in run.stdout and "::None" not in run.stdout
+
+
+def test_the_review_page_is_titled_by_the_volume_and_shows_progress_on_a_terminal(tmp_path):
+    from helpers import stderr_on_a_terminal
+
+    source = write_raster(tmp_path / "dtm.tif", elevation_array(20, 20), CRS_EQUIRECTANGULAR, TRANSFORM)
+    made = run_cli("dtm", source, "-o", tmp_path / "products", "-q", "--params", stated_params(tmp_path))
+    assert made.returncode == 0, made.stderr
+    made = run_cli("deliver", tmp_path / "products", "-o", tmp_path / "delivery", "--volume-id", "TEST_0001", "-q")
+    assert made.returncode == 0, made.stderr
+    status, shown = stderr_on_a_terminal("review", tmp_path / "delivery", "-o", tmp_path / "page.html")
+    assert status == 0 and "file(s) checked" in shown, shown
+    page = (tmp_path / "page.html").read_text()
+    assert "<title>Review: TEST_0001</title>" in page and "(delivery)" not in page
+    quiet = run_cli("review", tmp_path / "delivery", "-o", tmp_path / "page2.html", "-q")
+    assert (quiet.returncode, quiet.stdout, quiet.stderr) == (0, "", "")
+
+
+def test_demo_takes_the_output_option_and_names_every_file(tmp_path):
+    run = run_cli("demo", "-o", tmp_path / "demo", "--json")
+    assert run.returncode == 0, run.stderr
+    names = {Path(entry["path"]).name for entry in json.loads(run.stdout)["files"]}
+    assert {"JP2INFO.TXT", "README.TXT"} <= names
+    both = run_cli("demo", tmp_path / "a", "-o", tmp_path / "b")
+    assert both.returncode == 2 and "two output directories" in both.stderr

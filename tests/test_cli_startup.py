@@ -101,11 +101,12 @@ BUDGETS = {
     "--version": (8, 135, LIBRARIES | {"pdsgen.validate"}),
     "--help": (8, 140, LIBRARIES | {"pdsgen.validate"}),
     # 55: the DTM, made without a params file, warns that its identification is "UNK" (issue 44),
-    # and a warning is written through cli._messages.one_line; 58: pdsgen.encode, the output
+    # and a warning is written through cli._messages.one_line; 59: pdsgen.encode, the output
     # encoders every label value and printed line passes, and the shipped keyword table and
     # dictionary read by the bounded reader (bounded.py), a label's files looked up by the
-    # containment rule (storage/containment.py), issue 48
-    "dtm {dtm} -o {out} -q": (58, 430, {"pdsgen.pds4.products", "lxml.etree", "glymur", "pvl", "distributed"}
+    # containment rule (storage/containment.py), issue 48; the input's kind is checked
+    # (formats.kind: a DTM of image DNs is refused, issue 52)
+    "dtm {dtm} -o {out} -q": (59, 430, {"pdsgen.pds4.products", "lxml.etree", "glymur", "pvl", "distributed"}
                               | VALIDATOR_BEYOND_DICTIONARY),
     # 60: pdsgen.encode, which every report line passes; bounded.py and storage/containment.py (issue 48);
     # the IDN rule family (validate/families/identity_rules.py, issue 49)

@@ -85,14 +85,25 @@ def test_the_actions_workflow_installs_pdsgen_with_pds4_and_validates_a_label_re
     made = subprocess.run([sys.executable, "-m", "venv", str(venv)], capture_output=True, text=True, timeout=120)
     assert made.returncode == 0, made.stderr
     env = {**_clean_env(venv / "bin"), **{k: str(v) for k, v in workflow["env"].items()}}
-    for step in runs:  # as the runner's bash runs each step, in the checkout
-        result = subprocess.run(["bash", "-e", "-c", step["run"]], cwd=repository, env=env, capture_output=True,
-                                text=True, timeout=1500)
+    def run(step: dict) -> subprocess.CompletedProcess:  # as the runner's bash runs a step, in the checkout
+        return subprocess.run(["bash", "-e", "-c", step["run"]], cwd=repository, env=env, capture_output=True,
+                              text=True, timeout=1500)
+
+    for step in runs:
+        result = run(step)
         assert result.returncode == 0, f"{step['name']}\n{result.stdout[-3000:]}{result.stderr[-3000:]}"
     assert (venv / "bin" / "pdsgen").exists()
     results = json.loads((repository / "pdsgen.sarif").read_text())["runs"][0]["results"]
     assert not [r for r in results if r["level"] in {"error", "warning"}]
     assert "PDS4-007" not in {r["ruleId"] for r in results}  # Schematron ran (--strict would fail else)
+    (validate,) = [step for step in runs if "--output pdsgen.sarif" in step["run"]]
+    passed = run(validate)  # the job's log says the run passed, and the failing run's why
+    assert passed.stderr.strip().endswith("(strict) - OK") and passed.stderr.startswith("pdsgen.sarif: ")
+    broken = b"PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nEND\r\n"  # no RECORD_BYTES: an error
+    (repository / "delivery" / "BROKEN.LBL").write_bytes(broken)
+    failed = run(validate)
+    assert failed.returncode == 1 and failed.stdout == ""
+    assert re.fullmatch(r"pdsgen\.sarif: \d+ file\(s\) checked: [1-9]\d* error\(s\), .* - FAILED\n", failed.stderr)
 
 
 @pytest.mark.skipif(not PRE_COMMIT.exists() or shutil.which("git") is None,

@@ -177,3 +177,18 @@ def test_list_rules_states_the_severity_policy():
     assert result.stdout.startswith("Severity policy: ERROR = a reader would misread the data")
     assert "Data dictionary: pdscat1r102 (generated 2017-09-25)" in result.stdout
     assert "warning for labels pdsgen did not write" in result.stdout
+
+
+@pytest.mark.parametrize("fmt", ["sarif", "json", "junit", "github", "text"])
+def test_a_report_written_to_a_file_still_says_why_the_run_failed_on_stderr(delivery, fmt):
+    """The CI recipe (--format sarif --output pdsgen.sarif): without code scanning the job's log
+    is all a user sees, so the summary line goes to stderr, failing and passing; -q drops it."""
+    failing = pdsgen(delivery, ".", "--no-config", "--format", fmt, "--output", "report.out")
+    assert failing.returncode == 1 and failing.stdout == ""
+    assert failing.stderr.splitlines() == ["report.out: 2 file(s) checked: 2 error(s), 2 warning(s), 0 info - FAILED"]
+    assert (delivery / "report.out").stat().st_size > 0
+    passing = pdsgen(delivery, "new", "--no-config", "--strict", "--format", fmt, "--output", "ok.out")
+    assert passing.returncode == 0 and passing.stdout == ""
+    assert passing.stderr.splitlines() == ["ok.out: 1 file(s) checked: 0 error(s), 0 warning(s), 0 info (strict) - OK"]
+    quiet = pdsgen(delivery, ".", "--no-config", "-q", "--format", fmt, "--output", "quiet.out")
+    assert (quiet.returncode, quiet.stdout, quiet.stderr) == (1, "", "")

@@ -1,6 +1,7 @@
 """MkDocs hooks of the documentation site (mkdocs.yml `hooks:`).
 
-Two pages are made at build time from their one source, so neither can drift:
+Two pages are made at build time from their one source, so neither can drift (and every page's
+links to a directory, the theme's home link, point at its index.html: the site opens from disk):
 
 - the home page is README.md (the walk-through a new user follows), its links into
   docs/ made relative to the site;
@@ -31,6 +32,16 @@ def on_page_markdown(markdown: str, page, config, files) -> str:
     return markdown
 
 
+# A link to a directory ("." the theme's link to the home page, "../"): a directory listing when
+# the site is opened from disk, so it is written as that directory's index.html.
+_DIRECTORY_LINK = re.compile(r'href="(\.\.?(?:/\.\.)*)/?"')
+
+
+def on_post_page(output: str, page, config) -> str:
+    """Every page as it opens from disk: no link left to a directory."""
+    return _DIRECTORY_LINK.sub(lambda m: f'href="{"" if m.group(1) == "." else m.group(1) + "/"}index.html"', output)
+
+
 def readme_for_site(readme: str) -> str:
     """README.md's links into docs/ (pages, images) as the site's own relative links."""
     return re.sub(r"\]\(docs/", "](", readme)
@@ -40,7 +51,8 @@ def command_reference() -> str:
     """One section per command: its `--help`, as click formats it for `pdsgen COMMAND`."""
     from pdsgen.cli import main
 
-    top = click.Context(main, info_name="pdsgen")
+    # the group's own settings (-h as well as --help), which every command's context inherits
+    top = click.Context(main, info_name="pdsgen", **main.context_settings)
     parts = [_help_block("pdsgen", main.get_help(top))]
     for name in main.list_commands(top):
         command = main.get_command(top, name)

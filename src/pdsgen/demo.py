@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from .errors import OutputError
 from .extras import make_extras
 from .formats.jp2 import require_openjpeg
 from .products.dtm import DtmProduct, write_dtm
@@ -58,6 +59,24 @@ class DemoResult(CommandResult):
                            "exit_code": validation.exit_code if validation else None}}
 
 
+def _write_input(path: Path, data: Any, scene: Any) -> Path:
+    """One of the demo's input GeoTIFFs, written whole or not at all. GDAL's refusal to write
+    (a full disk, a read-only file system) becomes the one line naming the file: GDAL's own
+    message says only "write failed", so the file system's free space tells a full disk."""
+    from rasterio.errors import RasterioIOError
+
+    from .storage.staging import staged_file
+
+    with staged_file(path) as staged:
+        try:
+            write_geotiff(staged, data, scene.transform, scene.crs, None)
+        except RasterioIOError as exc:
+            full = os.statvfs(path.parent).f_bavail == 0  # before the temporary is removed
+            raise OutputError(path, "cannot write: " + ("no space left on device" if full
+                                                         else f"GDAL refused it ({exc.__cause__ or exc})")) from None
+    return path
+
+
 def run_demo(outdir: str | os.PathLike[str], overwrite: bool = True) -> DemoResult:
     """Generate the synthetic inputs and every product from them into OUTDIR."""
     require_openjpeg()  # the orthoimage needs it: refuse before anything is written
@@ -65,10 +84,8 @@ def run_demo(outdir: str | os.PathLike[str], overwrite: bool = True) -> DemoResu
     input_dir = prepare_output_dir(outdir / "input")
     scene = make_scene()
     result = DemoResult(named_as=named_as)
-    dtm_input = write_geotiff(input_dir / "demo_dtm.tif", scene.elevation, scene.transform, scene.crs, None)
-    ortho_input = write_geotiff(
-        input_dir / "demo_ortho_red.tif", scene.reflectance, scene.transform, scene.crs, None
-    )
+    dtm_input = _write_input(input_dir / "demo_dtm.tif", scene.elevation, scene)
+    ortho_input = _write_input(input_dir / "demo_ortho_red.tif", scene.reflectance, scene)
     result.inputs += [dtm_input, ortho_input]
 
     dtm = write_dtm(
@@ -76,7 +93,7 @@ def run_demo(outdir: str | os.PathLike[str], overwrite: bool = True) -> DemoResu
         institution=DEMO_INSTITUTION, overwrite=overwrite,
     )
     assert isinstance(dtm, DtmProduct)  # the HiRISE profile writes the standard float32 DTM
-    result.products.append(dtm.path)
+    result.products += dtm.written_files
     result.lines.append(
         f"DTM    {dtm.path}: {dtm.geometry.lines} x {dtm.geometry.samples} posts (lines x samples) at "
         f"{dtm.geometry.map_scale:g} m, {dtm.geometry.projection_type.lower()}, "
@@ -88,9 +105,10 @@ def run_demo(outdir: str | os.PathLike[str], overwrite: bool = True) -> DemoResu
         source_dtm_id=dtm.product_id, overwrite=overwrite,
     )
     assert isinstance(ortho, OrthoProduct)  # and the standard JP2 + LBL orthoimage
-    result.products += [ortho.jp2_path, ortho.label_path]
+    result.products += ortho.written_files
     result.lines.append(
-        f"ORTHO  {ortho.jp2_path} + {ortho.label_path.name}: {ortho.bits}-bit lossless JPEG 2000, "
+        f"ORTHO  {ortho.jp2_path} + {' + '.join(path.name for path in ortho.written_files[1:])}: "
+        f"{ortho.bits}-bit lossless JPEG 2000, "
         f"I/F = DN * {ortho.scaling_factor:.6g} + {ortho.offset:.6g}"
     )
 

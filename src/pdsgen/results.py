@@ -8,6 +8,8 @@ code of its own there, and one JSON shape serves every command:
 
     {"command": "dtm", "files": [{"path": ..., "bytes": ...}], "warnings": [...], <details>}
 
+(`files`: every file written, the shared ones - an orthoimage's JP2INFO.TXT - too.)
+
 This module imports nothing of pdsgen: deliver, review, migrate and extras derive their
 results from it without loading the product writers.
 """
@@ -35,6 +37,18 @@ class CommandResult(ABC):
     @abstractmethod
     def files(self) -> tuple[Path, ...]:
         """Every file the command wrote, the main one first."""
+
+    @property
+    def shared_files(self) -> tuple[Path, ...]:
+        """Files the command wrote that every product of a directory shares (an orthoimage's
+        JP2INFO.TXT): named in its summary and in --json `files` as every file written is, but
+        not its own (a later product rewrites them; a batch's resume leaves them out)."""
+        return ()
+
+    @property
+    def written_files(self) -> tuple[Path, ...]:
+        """Every file the command wrote: its own, then the shared ones."""
+        return (*self.files, *self.shared_files)
 
     @property
     @abstractmethod
@@ -65,7 +79,7 @@ class CommandResult(ABC):
         taken = sorted(set(facts) & set(COMMON_MEMBERS))
         if taken:
             raise ValueError(f"{type(self).__name__}.details() names common member(s) {', '.join(taken)}")
-        return {"command": command, "files": files_json(self.files), "warnings": list(self.warnings), **facts}
+        return {"command": command, "files": files_json(self.written_files), "warnings": list(self.warnings), **facts}
 
 
 def written_line(files: Sequence[Path], facts: Iterable[str]) -> str:
@@ -77,9 +91,15 @@ def written_line(files: Sequence[Path], facts: Iterable[str]) -> str:
     return "  ".join([str(main), *named]) + ": " + ", ".join(facts)
 
 
+def finding_counts(errors: int, warnings: int, info: int) -> dict[str, int]:
+    """A run's findings counted by severity, as every --json document names them: keyed by the
+    validator's severities, so `warnings` stays the command's list of warnings everywhere."""
+    return {"error": errors, "warning": warnings, "info": info}
+
+
 def files_json(paths: Iterable[Path]) -> list[dict[str, Any]]:
     """Each file as {"path", "bytes"}."""
     return [{"path": str(path), "bytes": path.stat().st_size} for path in paths]
 
 
-__all__ = ["CommandResult", "files_json", "written_line"]
+__all__ = ["CommandResult", "files_json", "finding_counts", "written_line"]

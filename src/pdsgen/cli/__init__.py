@@ -107,10 +107,25 @@ class _Group(click.Group):
 
             click.echo(f"pdsgen: error: {one_line(display_text(in_cli_words(str(exc))))}", err=True)
             sys.exit(2)
+        except OSError as exc:
+            # a file the system refused (permission, read-only file system, disk full) is the
+            # user's to fix, as a PdsgenError is: one line naming it, never a traceback
+            from ._messages import one_line
+
+            click.echo(f"pdsgen: error: {one_line(os_error_line(exc))}", err=True)
+            sys.exit(2)
         except KeyboardInterrupt:
             # the writers' staging has already removed its temporary files on the way out
             click.echo("pdsgen: interrupted (no partial output left)", err=True)
             sys.exit(130)
+
+
+def os_error_line(exc: OSError) -> str:
+    """An OSError as the user reads it: the path the system refused, and why in its words
+    (`out/r.json: read-only file system`); the second path of a rename as well."""
+    reason = (exc.strerror or str(exc) or type(exc).__name__).lower()
+    paths = [os.fspath(name) for name in (exc.filename, exc.filename2) if name is not None]
+    return f"{' -> '.join(str(path) for path in paths)}: {reason}" if paths else reason
 
 
 def _print_version(ctx: click.Context, param: click.Parameter, value: bool) -> None:

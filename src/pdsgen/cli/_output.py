@@ -29,8 +29,10 @@ if TYPE_CHECKING:  # an annotation only: `pdsgen validate` loads no command resu
 
 # click parameter names of these options: every profile uses them.
 OUTPUT_OPTIONS = frozenset({"quiet", "verbose", "as_json"})
-# Where output_options leaves --json for `told` (the command itself never sees the flag).
+# Where output_options leaves --json for `told` and --quiet for `is_quiet` (the command itself never
+# sees the flags).
 _JSON_WANTED = "pdsgen.as_json"
+_QUIET = "pdsgen.quiet"
 
 
 @dataclass
@@ -63,6 +65,19 @@ def told(result: CommandResult, *places: ShowsPaths) -> Outcome:
     summary = show(result.as_json(context.command.name or "")) if context.meta.get(_JSON_WANTED) else {}
     return Outcome(show(list(result.summary_lines)), summary, show(tuple(result.warnings)), result.exit_code,
                    show(_in_cli_words(result.refused)))
+
+
+def echo_json(result: CommandResult, *places: ShowsPaths) -> None:
+    """Print a result's --json document on stdout, for a command that tells the rest of its run
+    itself (`pdsgen validate` streams its report): the same document `told` makes."""
+    context = click.get_current_context()
+    click.echo(json.dumps(_showing(places)(result.as_json(context.command.name or "")), indent=2))
+
+
+def is_quiet() -> bool:
+    """Whether the running command was given -q/--quiet: a command telling more than its result
+    (the Extras' line on the kind each product was taken for) says nothing of it then."""
+    return bool(click.get_current_context().meta.get(_QUIET))
 
 
 def _in_cli_words(messages: tuple[str, ...]) -> tuple[str, ...]:
@@ -107,7 +122,7 @@ def output_options(command: Callable[..., Outcome]) -> Callable[..., None]:
             raise click.UsageError("--quiet and --verbose exclude each other")
         if verbose:
             log_to_stderr()
-        click.get_current_context().meta[_JSON_WANTED] = as_json
+        click.get_current_context().meta.update({_JSON_WANTED: as_json, _QUIET: quiet})
         with terminal_bar(wanted(quiet, as_json)):  # large DTM/JP2 writes draw a bar on a terminal
             outcome = command(*args, **kwargs)
         from ._messages import one_line  # every line a command prints leaves through the terminal encoder

@@ -191,7 +191,11 @@ class AliasedOption(click.Option):
 
 
 def output_option(name: str, old_flag: str, **attrs: Any) -> Callable[[F], F]:
-    """-o/--output with the click parameter `name`, still accepting `old_flag` (--outdir, --out)."""
+    """-o/--output with the click parameter `name`, still accepting `old_flag` (--outdir, --out).
+    A directory is shown as OUTDIR, the word the commands' help uses for it ("... into OUTDIR")."""
+    kind = attrs.get("type")
+    if isinstance(kind, click.Path) and not kind.file_okay:
+        attrs.setdefault("metavar", "OUTDIR")
     return click.option(*OUTPUT_FLAGS, old_flag, name, cls=AliasedOption, hidden_aliases=(old_flag,), **attrs)
 
 

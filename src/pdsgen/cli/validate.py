@@ -32,7 +32,7 @@ from ..validate.report import (
 )
 from ..validate.runner import ValidationJob, iter_reports
 from . import COMMANDS
-from ._output import log_to_stderr
+from ._output import echo_json, log_to_stderr
 
 log = logging.getLogger("pdsgen.validate")
 
@@ -141,9 +141,13 @@ def _output(path: str | None):
               help="Print the severity policy and the rule table, and exit.")
 @click.option("--output", "-o", type=click.Path(dir_okay=False),
               help="Write the report to this file instead of standard output.")
+@click.option("--json", "as_json", is_flag=True,
+              help="Print the run as every command's --json does (files written, counts, findings) on "
+                   "stdout instead of the text report; a --format report then needs --output.")
 @click.option("-q", "--quiet", is_flag=True,
               help="Text report: only the findings that fail the run, no summary line, no progress "
-                   "(--format other than text, and --output, still get the whole report).")
+                   "(--format other than text, and --output, still get the whole report; with --output, "
+                   "no summary line on stderr either).")
 @click.option("-v", "--verbose", is_flag=True,
               help="Tell on stderr which configuration, dictionary, rules and baseline are used, "
                    "and how long the run took.")
@@ -152,12 +156,14 @@ def validate(paths: tuple[str, ...], fmt: str, strict: bool, fail_on: str | None
              baseline_path: str | None, write_baseline_path: str | None, jobs: int, scheduler: str | None,
              labels_only: bool,
              dictionaries: tuple[str, ...], schemas: tuple[str, ...], skip_non_labels: bool, schema_cache: str | None,
-             offline: bool, root: str | None, list_rules: bool, output: str | None, quiet: bool, verbose: bool) -> None:
+             offline: bool, root: str | None, list_rules: bool, output: str | None, as_json: bool, quiet: bool,
+             verbose: bool) -> None:
     """Validate PATHS (label files, or directories searched recursively): PDS3 labels,
     and PDS4 labels of any name (XML Schema, Schematron, and the data they describe).
 
-    Exit status: 0 no errors (and no warnings with --strict or fail-on = "warning"),
-    1 problems found, 2 usage error.
+    With --output the report goes to the file and its summary line to stderr (unless -q), so a CI
+    log says why a run failed. Exit status: 0 no errors (and no warnings with --strict or
+    fail-on = "warning"), 1 problems found, 2 usage error.
     """
     if list_rules:
         click.echo(_list_rules(), nl=False)
@@ -166,6 +172,8 @@ def validate(paths: tuple[str, ...], fmt: str, strict: bool, fail_on: str | None
         raise PdsgenError(None, "give at least one label file or directory to validate")
     if quiet and verbose:
         raise click.UsageError("--quiet and --verbose exclude each other")
+    if as_json and fmt != "text" and not output:
+        raise click.UsageError(f"--json prints the run on stdout: give the --format {fmt} report an --output file")
     if verbose:
         log_to_stderr()
     started = time.monotonic()
@@ -197,16 +205,27 @@ def validate(paths: tuple[str, ...], fmt: str, strict: bool, fail_on: str | None
                     click.echo(f"{count} finding(s) recorded in the baseline {write_baseline_path}")
                 return
             tally = Tally(settings.fail_on, dictionary=dictionary_version(tuple(dictionaries)))
-            if quiet and fmt == "text" and not output:
-                _failing_findings(_counting_baseline(reports, baseline, tally), tally)
+            counted = _counting_baseline(reports, baseline, tally)
+            findings: list[dict[str, Any]] = []
+            if as_json:
+                counted = _keeping_findings(counted, findings)
+            if as_json and not output:
+                _tally_only(counted, tally)
+            elif quiet and fmt == "text" and not output:
+                _failing_findings(counted, tally)
             else:
                 with _output(output) as out:
                     named = cast(IO[str], _Renaming(out, inputs.shown))
-                    write_stream(_counting_baseline(reports, baseline, tally), fmt, named, tally,
-                                 writer_class=_html_writer() if fmt == "html" else None)
+                    write_stream(counted, fmt, named, tally, writer_class=_html_writer() if fmt == "html" else None)
             elapsed = time.monotonic() - started
             log.info("checked %d file(s) in %.2f s (%.0f files/s): %d error(s), %d warning(s)", tally.files, elapsed,
                      tally.files / elapsed if elapsed > 0 else 0.0, tally.errors, tally.warnings)
+            if output and not quiet:  # the report is in the file: the log still says why the run failed
+                click.echo(f"{terminal_safe(output)}: {tally.summary_line()}", err=True)
+            if as_json:
+                from ..validate.run_result import ValidationRun  # only under --json: start-up
+
+                echo_json(ValidationRun(tally, findings, output), inputs)
             sys.exit(tally.exit_code)
 
 
@@ -265,6 +284,19 @@ def _failing_findings(reports, tally: Tally) -> None:
             for finding in report.findings:
                 if finding.severity in levels:
                     click.echo(terminal_safe(finding_line(finding)))
+
+
+def _keeping_findings(reports: Iterable[FileReport], kept: list[dict[str, Any]]) -> Iterator[FileReport]:
+    """Pass reports through, keeping each finding for --json."""
+    for report in reports:
+        kept.extend(finding.as_dict() for finding in report.findings)
+        yield report
+
+
+def _tally_only(reports: Iterable[FileReport], tally: Tally) -> None:
+    """--json without a report file: the run counted, nothing written but the JSON document."""
+    for report in reports:
+        tally.add(report)
 
 
 def _counting_baseline(reports, baseline: configuration.Baseline | None, tally: Tally):

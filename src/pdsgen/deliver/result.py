@@ -58,9 +58,10 @@ class Delivery(CommandResult):
     def summary_lines(self) -> tuple[str, ...]:
         lines = [f"DELIVERY {self.path}: {self.products} data product(s), {self.previews} preview(s), "
                  f"{self.documents} document(s), {self.file_count} file(s) in {self.path / MANIFEST}"]
-        if self.volume_id:
+        # a --volume-id or --bundle-lid given for a form the delivery does not make names nothing made
+        if self.volume_id and self.dialect.pds3:
             lines.append(f"PDS3     volume {self.volume_id}: INDEX/INDEX.TAB + INDEX.LBL, VOLDESC.CAT, AAREADME.TXT")
-        if self.bundle_lid:
+        if self.bundle_lid and self.dialect.pds4:
             lines.append(f"PDS4     bundle {self.bundle_lid}::{self.bundle_version}, "
                          f"{len(self.changed)} product(s) new or with a new version")
         if self.placeholders:
@@ -73,7 +74,8 @@ class Delivery(CommandResult):
     def details(self) -> dict[str, Any]:
         return {"path": str(self.path), "dialect": str(self.dialect), "products": self.products,
                 "previews": self.previews, "documents": self.documents, "file_count": self.file_count,
-                "volume_id": self.volume_id, "bundle_lid": self.bundle_lid, "bundle_version": self.bundle_version,
+                "volume_id": self.volume_id if self.dialect.pds3 else None,
+                "bundle_lid": self.bundle_lid if self.dialect.pds4 else None, "bundle_version": self.bundle_version,
                 "changed": self.changed, "skipped": [str(p) for p in self.skipped],
                 "placeholders": self.placeholders}
 

@@ -21,12 +21,12 @@ from pathlib import Path
 from PIL import Image
 
 from ..errors import ParamsError, PdsgenError, param
+from ..formats.kind import NOMAP
 from ..geo.conventions import wrap_360
 from ..params import ParamValue, resolve_params
 from ..progress import advance, is_large
 from ..storage.staging import StagedOutputs, prepare_output_dir, publishes_together
 from .credit import product_credit
-from .kind import NOMAP
 from .nomap import make_nomap_extras
 from .product_source import DTM, KINDS, ProductSource, open_product, quiet_gdal
 from .qlook import write_qlook

@@ -38,12 +38,12 @@ from rasterio.windows import Window
 
 from ..errors import InputError, ParamsError, param
 from ..formats.jp2 import choose_settings, write_jp2
+from ..formats.kind import NOMAP
 from ..formats.raster import bounded_windows, streaming_cache_mb
 from ..missions import hirise
 from ..progress import advance, is_large
 from ..storage.staging import StagedOutputs, prepare_output_dir
 from .decimate import preview_grid
-from .kind import NOMAP
 from .product_source import ProductSource, quiet_gdal
 from .qlook import QLOOK_RATIO
 from .readme_index import publish_readme, read_readme

@@ -10,9 +10,9 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+from ..formats.kind import NOMAP
 from ..missions import PRODUCT_KINDS
 from ..products.options import OptionSpec
-from .kind import NOMAP
 
 # The command's own option between these and --overwrite on --help (its choices are the missions
 # registered when the command line is parsed); help texts name options by their entries' flags.

@@ -25,11 +25,21 @@ from xml.sax.saxutils import escape
 
 import numpy as np
 import rasterio
-from rasterio.enums import Resampling
 from rasterio.errors import NotGeoreferencedWarning, RasterioError
 from rasterio.transform import Affine
 
 from ..errors import PdsgenError, param
+from ..formats.kind import (
+    DTM,
+    KINDS,
+    LENGTH_UNITS,
+    ORTHO,
+    KindDecision,
+    decide_kind,
+    raster_facts,
+    sample_shape,
+    sampled_range,
+)
 from ..formats.raster import not_utf8
 from ..geo.label_georef import LabelGeorefError, label_georeferencing
 from ..label.beside import find_beside, outside_tree, trusted_tree
@@ -38,8 +48,8 @@ from ..label.mapping import label_mapping
 from ..label.read import LabelFile, structure_problem
 from ..label.tree import Block, every_named_file
 from ..missions import LabelFacts, detect_mission
+from ..missions.hrsc import is_dtm_name as is_hrsc_dtm_name
 from .heights import HeightReference, height_reference, mission_datum, radius_offset_m
-from .kind import DTM, KINDS, LENGTH_UNITS, ORTHO, KindDecision, decide_kind
 
 __all__ = ["DTM", "ORTHO", "KINDS", "ProductSource", "open_product", "quiet_gdal"]
 
@@ -53,11 +63,9 @@ GDAL_ENV = {"GDAL_CACHEMAX": 16, "GDAL_PAM_ENABLED": "NO", "GDAL_NUM_THREADS": "
 
 _FLOAT_TYPES = FLOAT_SAMPLE_TYPES
 # GDAL metadata items that describe a raster's content (searched for height words).
-_DESCRIPTIVE_TAGS = ("DESCRIPTION", "TIFFTAG_IMAGEDESCRIPTION", "PRODUCT_ID", "PRODUCT_TYPE")
 # A pixel smaller than this in area (in the CRS units squared) is no real grid: its inverse
 # loses every digit (1e-300 m squared underflows to zero).
 _SMALLEST_PIXEL_AREA = 1e-30
-KIND_SAMPLE_SIDE = 256  # the decimated read that tells heights from reflectance
 
 
 @contextmanager
@@ -186,7 +194,7 @@ def open_product(path: str | os.PathLike[str], kind: str | None = None, *, root:
     _refuse_unreadable(raster_path, label_path, label)
     try:
         with quiet_gdal(), rasterio.open(raster_path) as ds:
-            info = _dataset_info(ds)
+            info = raster_facts(ds)
     except RasterioError:
         raise PdsgenError(raster_path, "not a raster GDAL can read") from None
     except UnicodeEncodeError:  # GDAL takes names as UTF-8: a Latin-1 byte cannot be passed to it
@@ -204,7 +212,7 @@ def open_product(path: str | os.PathLike[str], kind: str | None = None, *, root:
     src.scale, src.offset = _scaling(image, info)
     src.unit = str(image.get("UNIT", "") or "") or src.unit  # the label's, else GDAL's
     decision = (KindDecision(kind, f"{param('kind')} says so") if kind else
-                decide_kind(label, image, info, path, lambda: _value_range(src)))
+                decide_kind(label, image, info, path, lambda: _value_range(src), is_hrsc_dtm_name(path.stem)))
     src.kind, src.kind_reason = decision.kind, decision.reason
     _check_band_count(src)
     if src.kind == DTM:
@@ -249,14 +257,11 @@ def _georeference_from_label(src: ProductSource) -> None:
 
 
 def _value_range(src: ProductSource) -> tuple[float, float] | None:
-    """Minimum and maximum of a small decimated read of band 1, physical units."""
-    factor = max(1.0, max(src.width, src.height) / KIND_SAMPLE_SIDE)
-    shape = (max(1, round(src.height / factor)), max(1, round(src.width / factor)))
+    """Minimum and maximum of a small decimated read of band 1, physical units (the file opened
+    as the product's label says: its nodata)."""
+    shape = sample_shape(src.width, src.height)
     with src.open(shape) as ds:
-        dn = ds.read(1, out_shape=shape, resampling=Resampling.nearest, masked=True)
-    values = dn.compressed().astype(np.float64) * src.scale + src.offset
-    values = values[np.isfinite(values)]
-    return (float(values.min()), float(values.max())) if values.size else None
+        return sampled_range(ds, src.scale, src.offset, shape)
 
 
 def _check_band_count(src: ProductSource) -> None:
@@ -353,24 +358,6 @@ def _sibling(label_path: Path, name: str, root: Path | None = None) -> Path:
     if tree != label_path.parent and (label_path.parent / name).is_file():
         return label_path.parent / name
     raise PdsgenError(label_path, f"the file it names, {name!r}, is missing")
-
-
-def _dataset_info(ds: Any) -> dict:
-    return {"width": ds.width, "height": ds.height, "band_count": ds.count,
-            "dtype": ds.dtypes[0], "crs": ds.crs, "transform": ds.transform,
-            "nodata": ds.nodata,
-            "scale": ds.scales[0] if ds.scales else 1.0,
-            "offset": ds.offsets[0] if ds.offsets else 0.0,
-            "unit": (ds.units[0] or "") if ds.count else "",
-            "hints": _gdal_hints(ds)}
-
-
-def _gdal_hints(ds: Any) -> str:
-    """GDAL metadata that may say what the raster holds (upper case, one line)."""
-    tags = {**ds.tags(), **ds.tags(1)}
-    texts = [tags.get(key, "") for key in _DESCRIPTIVE_TAGS]
-    texts += [ds.descriptions[0] or "", ds.units[0] or ""] if ds.count else []
-    return " ".join(str(t) for t in texts).upper()
 
 
 def _image_object(label: dict) -> dict:

@@ -29,7 +29,7 @@ from ..geo.geometry import MapGeometry
 from ..label.grammar import sample_type
 from ..label.render import RecordLayout, render_label, settle_attached_label
 from ..label.values import Based, Fixed, Symbol
-from ..missions import Mission, ProductIdRequest, get_mission
+from ..missions import Mission, ProductIdRequest, ProductKind, get_mission
 from ..params import check_version, resolve_params, source_ids
 from ..progress import is_large
 from .agreement import allows_deviations, check_label, label_keywords
@@ -117,7 +117,7 @@ def write_pds3_dtm(
     allow = allows_deviations(options.allow_dictionary_deviations, keywords)
     keywords = label_keywords(keywords)
     input_path = Path(input_path)
-    with open_product_input(input_path, DTM_OPENING) as opened:
+    with open_product_input(input_path, DTM_OPENING, options.any_kind) as opened:
         dataset, geometry = opened.dataset, opened.geometry
         sources = source_ids(options.source_product_ids, keywords)
         ident = identification_keywords(chosen.dtm_keywords, keywords, geometry, version)
@@ -230,7 +230,7 @@ def _check_heights(dataset: DatasetReader, path: Path) -> None:
         raise PdsgenError(path, f"sample type {dataset.dtypes[0]} is not a real number type")
 
 
-DTM_OPENING = Opening(check=_check_heights)
+DTM_OPENING = Opening(check=_check_heights, kind=ProductKind.DTM)
 
 
 def valid_bound(value: float, decimals: int | None, bound: str) -> float | Fixed:

@@ -5,7 +5,10 @@ They are written once here, so every writer refuses the same input in the same w
 it the same way (a local file or an s3:// object, through formats/raster.py). A mission supplies
 a hook where its products differ (`Opening`): the check of the opened file (band count, sample
 type), the grid the writer reads (HRSC: the input warped into its own projection) and the
-description of that grid (HRSC: refused in another projection or on another body).
+description of that grid (HRSC: refused in another projection or on another body) - and the
+kind of product it makes (`Opening.kind`): an input that is plainly the other kind (`pdsgen dtm`
+of an 8-bit image, `pdsgen ortho` of heights) is refused, the Extras' own decision
+(formats/kind.py) telling which, unless the caller says `any_kind`.
 """
 
 from __future__ import annotations
@@ -16,12 +19,16 @@ from contextlib import AbstractContextManager, contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
 from rasterio.io import DatasetReader
 
-from ..errors import PdsgenError
+from ..errors import PdsgenError, param
 from ..formats.img import Adjust, BandStatistics, scan_band
+from ..formats.kind import decide_kind, raster_facts, sampled_range
 from ..formats.raster import open_raster, require_single_band
 from ..geo.geometry import MapGeometry, describe_geometry
+from ..missions import ProductKind
+from ..missions.hrsc import is_dtm_name as is_hrsc_dtm_name
 from ..storage.staging import StagedOutputs, prepare_output_dir
 
 # The hooks: check the opened file; the grid the writer reads from it; that grid's geometry.
@@ -57,6 +64,7 @@ class Opening:
     check: Check = single_band()
     grid: Grid = as_opened
     describe: Describe = map_geometry
+    kind: ProductKind | None = None  # the kind of product made: an input plainly the other is refused
 
 
 @dataclass(frozen=True)
@@ -95,16 +103,44 @@ def no_valid_pixels(path: str | os.PathLike[str]) -> PdsgenError:
     return PdsgenError(path, "has no valid pixels (all nodata)")
 
 
+_WHAT = {ProductKind.DTM: "a DTM", ProductKind.ORTHO: "an orthoimage"}
+
+
+def refuse_other_kind(dataset: DatasetReader, path: Path, kind: ProductKind) -> None:
+    """PdsgenError when the input is plainly the other kind of product than `kind`, as the
+    Extras decide it (its metadata, else its sample type and values): a DTM of 8-bit DNs or of
+    reflectance, an orthoimage of heights. Integers wider than 8 bits without metadata are
+    taken as heights for a DTM (whole metres, as MOLA's int16 DEMs hold them), and an input
+    the decision cannot place is taken as the user says."""
+    dtype = np.dtype(dataset.dtypes[0])
+    if kind is ProductKind.DTM and dtype.kind in "iu" and dtype.itemsize > 1:
+        return
+    facts = raster_facts(dataset)
+    try:
+        decision = decide_kind({}, {}, facts, path, lambda: sampled_range(dataset, facts["scale"], facts["offset"]),
+                               named_dtm=is_hrsc_dtm_name(path.stem))
+    except PdsgenError:
+        return
+    if decision.kind != kind.value:
+        other = ProductKind.ORTHO if kind is ProductKind.DTM else ProductKind.DTM
+        raise PdsgenError(path, f"looks like {_WHAT[other]}, not {_WHAT[kind]} ({decision.reason}); "
+                                f"give {param('any_kind', True)} to make {_WHAT[kind]} of it anyway")
+
+
 @contextmanager
-def open_product_input(input_path: str | os.PathLike[str], opening: Opening = Opening()) -> Iterator[ProductInput]:
+def open_product_input(input_path: str | os.PathLike[str], opening: Opening = Opening(),
+                       any_kind: bool = False) -> Iterator[ProductInput]:
     """Open the input (a file or an s3:// object), check it, present the grid the writer reads
-    and describe it, each step the mission's `opening` hook; refusals come before any output."""
+    and describe it, each step the mission's `opening` hook; refusals come before any output.
+    `any_kind`: make the product whatever kind the input looks like (see `refuse_other_kind`)."""
     path = Path(input_path)
     with open_raster(path) as source:
         opening.check(source, path)
+        if opening.kind is not None and not any_kind:
+            refuse_other_kind(source, path, opening.kind)
         with opening.grid(source) as grid:
             yield ProductInput(path, source, grid, opening.describe(grid, path))
 
 
 __all__ = ["Opening", "ProductInput", "as_opened", "map_geometry", "no_valid_pixels", "open_product_input",
-           "require_valid", "single_band"]
+           "refuse_other_kind", "require_valid", "single_band"]

@@ -105,6 +105,10 @@ ALLOW_DEVIATIONS = OptionSpec(
     "allow_deviations", "allow-dictionary-deviations", keyword="allow_dictionary_deviations",
     is_flag=True, default=None, convert=_true_or_none,
     help="Keep label values that break the PDS3 data dictionary (warned once) instead of refusing the product.")
+ANY_KIND = OptionSpec(
+    "any_kind", "any-kind", is_flag=True, always=True,
+    help="Make the product even if the input looks like the other kind (a DTM of 8-bit image DNs or "
+         "reflectance, an orthoimage of heights), which is refused otherwise.")
 # The options about what the labels of `pdsgen dtm` and `pdsgen ortho` carry.
 LABEL_FIDELITY = (SOURCE_LABELS, OFFSET_CONVENTION, VICAR_OFFSETS, ALLOW_DEVIATIONS)
 
@@ -141,6 +145,7 @@ DTM_OPTIONS: tuple[OptionSpec, ...] = (
     *LABEL_FIDELITY,
     label_option("pds3 (.IMG, attached label), pds4 (.img + .xml) or both (.IMG + a PDS4 .xml "
                  "describing it); hrsc: pds3 or both."),
+    ANY_KIND,
     OVERWRITE,
 )
 
@@ -179,6 +184,7 @@ ORTHO_OPTIONS: tuple[OptionSpec, ...] = (
     *LABEL_FIDELITY,
     label_option("pds3 (.JP2 + .LBL), pds4 (.JP2 + uncompressed .img + .xml) or both; "
                  "hrsc: pds3 or both (the nd4 .img + a PDS4 .xml describing it)."),
+    ANY_KIND,
     OVERWRITE,
 )
 
@@ -309,6 +315,7 @@ class ProductOptions:
     offset_convention: str = "standard"  # hrsc: "standard" or "dlr" projection offsets
     vicar_offsets: str = "standard"  # hrsc-ax: how a tile's VICAR MAP offsets count
     reproject_input: bool = False
+    any_kind: bool = False  # the standard writers: make it whatever kind the input looks like
     # DTMs
     byte_order: str = "lsb"
     institution: str | None = None

@@ -42,7 +42,7 @@ from ..formats.scale_dn import (
 from ..geo.geometry import MapGeometry
 from ..label.render import render_label
 from ..label.values import Based, Quantity, Symbol
-from ..missions import Mission, ProductIdRequest, get_mission
+from ..missions import Mission, ProductIdRequest, ProductKind, get_mission
 from ..params import ParamValue, check_source_id, check_version, resolve_params, source_ids
 from ..storage.staging import InterruptSafeExecutor
 from .agreement import allows_deviations, check_label, label_keywords
@@ -75,12 +75,18 @@ class OrthoProduct(ProductResult):
     label_text: str  # the PDS3 label, or the PDS4 label of a PDS4-only product
     pds4_label_path: Path | None = None  # with the uncompressed primary array beside it (.img)
     warnings: tuple[str, ...] = ()  # dictionary deviations kept (--allow-dictionary-deviations)
+    jp2info_path: Path | None = None  # the directory's JP2INFO.TXT, written again with this JP2's entry
 
     @property
     def files(self) -> tuple[Path, ...]:
-        """Every file this product wrote."""
+        """Every file of this product."""
         pds4 = (self.pds4_label_path.with_suffix(".img"), self.pds4_label_path) if self.pds4_label_path else ()
         return tuple(dict.fromkeys((self.jp2_path, self.label_path, *pds4)))
+
+    @property
+    def shared_files(self) -> tuple[Path, ...]:
+        """The directory's JP2INFO.TXT, which this product's entry was written into."""
+        return (self.jp2info_path,) if self.jp2info_path else ()
 
     @property
     def summary_facts(self) -> tuple[str, ...]:
@@ -164,7 +170,7 @@ def write_jp2_ortho(
     allow = allows_deviations(options.allow_dictionary_deviations, keywords)
     keywords = label_keywords(keywords)
     input_path = Path(input_path)
-    with open_product_input(input_path, ORTHO_OPENING) as opened:
+    with open_product_input(input_path, ORTHO_OPENING, options.any_kind) as opened:
         dataset, geometry = opened.dataset, opened.geometry
         bits = bits or _default_bits(dataset, chosen)
         mapping = _choose_mapping(dataset, input_path, bits, value_range)
@@ -236,6 +242,7 @@ def write_jp2_ortho(
         label_text=text,
         pds4_label_path=xml_final if dialect.pds4 else None,
         warnings=warnings,
+        jp2info_path=info_final,
     )
 
 
@@ -250,7 +257,7 @@ def _check_input(dataset: DatasetReader, path: Path) -> None:
         raise PdsgenError(path, f"sample types {', '.join(dataset.dtypes)} are not one real number type")
 
 
-ORTHO_OPENING = Opening(check=_check_input)
+ORTHO_OPENING = Opening(check=_check_input, kind=ProductKind.ORTHO)
 
 
 def _default_bits(dataset: DatasetReader, mission: Mission) -> int:

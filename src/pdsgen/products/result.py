@@ -40,7 +40,7 @@ class ProductResult(CommandResult):
         """What was written, in one line: the line `pdsgen dtm` / `pdsgen ortho` print, in the one
         form of the commands that make products (`written_line`): every file, then the size."""
         size = f"{self.geometry.lines} x {self.geometry.samples} (lines x samples)"
-        return written_line(self.files, (size, *self.summary_facts))
+        return written_line(self.written_files, (size, *self.summary_facts))
 
     @property
     def summary_facts(self) -> tuple[str, ...]:

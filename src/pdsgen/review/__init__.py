@@ -15,16 +15,17 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-from ..archive.layout import MANIFEST, REVIEW_PAGE
+from ..archive.layout import REVIEW_PAGE
 from ..archive.scan import scan, walk
 from ..errors import InputError, OutputError
 from ..label.read import LabelCache
-from ..results import CommandResult
+from ..progress import advance
+from ..results import CommandResult, finding_counts
 from ..storage.staging import staged_files
 from ..validate.report import FileReport
 from ..validate.runner import iter_reports
 from .collect import review_directory
-from .page import INLINE_THUMBNAILS, PRODUCTS_PER_PAGE, HtmlWriter, render_pages
+from .page import INLINE_THUMBNAILS, PRODUCTS_PER_PAGE, HtmlWriter, delivery_title, render_pages
 
 __all__ = ["HtmlWriter", "ReviewResult", "write_review"]
 
@@ -58,8 +59,8 @@ class ReviewResult(CommandResult):
 
     def details(self) -> dict[str, Any]:
         return {"path": str(self.path), "pages": [str(p) for p in self.pages], "products": self.products,
-                "footprints": self.outlines, "errors": self.errors, "info": self.info,
-                "findings": {"errors": self.errors, "warnings": self.warning_findings, "info": self.info}}
+                "footprints": self.outlines,
+                "finding_counts": finding_counts(self.errors, self.warning_findings, self.info)}
 
 
 def write_review(directory: str | os.PathLike[str], page: str | os.PathLike[str] | None = None,
@@ -92,9 +93,10 @@ def write_review(directory: str | os.PathLike[str], page: str | os.PathLike[str]
         raise InputError(root, "holds no data product (no PDS3 or PDS4 product label)")
     shown_findings = _ShownFindings()
     reports = [shown_findings.trim(report)
-               for report in iter_reports([root], labels_only=labels_only, jobs=jobs, labels=labels)]
+               for report in iter_reports([root], labels_only=labels_only, jobs=jobs, labels=labels,
+                                          progress=_checked)]
     shown = shown_as or str(root)
-    title = Path(shown).resolve().name + (" (delivery)" if (root / MANIFEST).is_file() else "")
+    title = delivery_title(root, shown if shown_as else str(root.resolve()), labels)
     review = review_directory(root, found.products, found.previews, reports, target.parent, title, labels)
     review.source, review.labels_only = shown, labels_only
     for path in walk(root, strict=False):
@@ -110,6 +112,12 @@ def write_review(directory: str | os.PathLike[str], page: str | os.PathLike[str]
     written = _write_pages(target.parent, pages)
     return ReviewResult(target, len(review.products), sum(p.outline is not None for p in review.products),
                         counts["error"], counts["warning"], counts["info"], written)
+
+
+def _checked(done: int, total: int) -> None:
+    """The count of files checked, drawn on a terminal by `pdsgen review` (pdsgen.progress: nothing
+    for a library caller or under -q, --json or a pipe)."""
+    advance(done, total, "file(s) checked")
 
 
 # A label can hold any number of statements and so of findings (500,000 keywords no dictionary

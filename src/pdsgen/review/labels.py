@@ -108,7 +108,7 @@ def read_facts(label: LabelFile) -> LabelFactsShown:
 
 def _kind(root: Block, image: Block | None, path: Path) -> str:
     """DTM or orthoimage, decided as the Extras decide it (from the label alone)."""
-    from ..extras.kind import DTM, decide_kind
+    from ..formats.kind import DTM, decide_kind
 
     try:
         decision = decide_kind(label_view(root), label_view(image) if image is not None else {}, {}, path,

@@ -26,7 +26,10 @@ import jinja2
 from markupsafe import Markup
 
 from .. import __version__, clock
+from ..archive.layout import VOLDESC
 from ..encode import html_finalize, shown, shown_lines
+from ..errors import PdsgenError
+from ..label.read import LabelCache
 from ..resources import templates_dir
 from ..validate.model import SEVERITIES, Finding
 from ..validate.report import FileReport, Tally, Writer
@@ -144,6 +147,41 @@ def render_pages(review: Review, first_name: str = "REVIEW.html", inline_thumbna
             **common, page=ref, products=chunk, views=build_views(outlines) if first else [],
             without_outline=[p for p in products if p.outline is None] if first else [])))
     return pages
+
+
+def delivery_title(root: Path, shown: str, labels: LabelCache | None = None) -> str:
+    """What the page is titled by: a PDS3 volume's VOLUME_ID and VOLUME_NAME (VOLDESC.CAT), else a
+    PDS4 bundle's title (its bundle label), else the directory as the user named it - the
+    delivery's own name rather than the directory's twice ("Review: delivery (delivery)")."""
+    voldesc = root / VOLDESC
+    if voldesc.is_file():
+        try:
+            label = (labels or LabelCache()).open_pds3(voldesc)
+        except PdsgenError:
+            label = None
+        volume_id = label.first("VOLUME_ID") if label is not None else None
+        if volume_id:
+            name = label.first("VOLUME_NAME") if label is not None else None
+            return f"{volume_id}: {name}" if name and "TO BE WRITTEN" not in name else volume_id
+    for bundle in sorted(root.glob("bundle*.xml")):
+        title = _bundle_title(bundle)
+        if title:
+            return title
+    return Path(shown).name or shown
+
+
+def _bundle_title(bundle: Path) -> str | None:
+    """The title of a PDS4 bundle label (Identification_Area/title); None when it has none or
+    cannot be read (the checks report such a label)."""
+    from lxml import etree
+
+    try:
+        tree = etree.parse(str(bundle), etree.XMLParser(no_network=True, resolve_entities=False))
+    except (OSError, etree.XMLSyntaxError):
+        return None
+    found = tree.find("{*}Identification_Area/{*}title")
+    text = " ".join((found.text or "").split()) if found is not None else ""
+    return text if text and "TO BE WRITTEN" not in text else None
 
 
 def render_page(review: Review, inline_thumbnails: int = INLINE_THUMBNAILS) -> str:

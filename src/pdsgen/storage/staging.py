@@ -37,7 +37,8 @@ log = logging.getLogger(__name__)  # what was written: shown by `pdsgen ... --ve
 # Failures of writing itself: reported as the output's problem in one line, not a traceback.
 _WRITE_ERRNOS = {errno.ENOSPC: "no space left on device", errno.EDQUOT: "disk quota exceeded",
                  errno.EFBIG: "file too large for the file system", errno.EIO: "input/output error",
-                 errno.EROFS: "read-only file system"}
+                 errno.EROFS: "read-only file system", errno.EACCES: "permission denied",
+                 errno.EPERM: "operation not permitted"}
 
 
 def prepare_output_dir(outdir: str | os.PathLike[str]) -> Path:
@@ -132,10 +133,7 @@ class StagedOutputs:
 
     def _discard(self) -> None:
         for tmp in self._temps.values():
-            try:
-                tmp.unlink()
-            except FileNotFoundError:
-                pass
+            _remove_quietly(tmp)
         self._temps.clear()
 
 
@@ -212,10 +210,25 @@ def staged_files() -> Iterator[Callable[[str | os.PathLike[str], str | os.PathLi
         with _interruption_deferred():
             for temporary, final in staged:
                 os.replace(temporary, final)
-    except BaseException:
+    except BaseException as exc:
         for temporary, _ in staged:
-            temporary.unlink(missing_ok=True)
+            _remove_quietly(temporary)
+        if isinstance(exc, OSError) and not isinstance(exc, PdsgenError):
+            for temporary, final in staged:
+                if exc.filename in (str(temporary), os.fspath(temporary)):  # the user never named the temporary
+                    reason = _WRITE_ERRNOS.get(exc.errno or 0, (exc.strerror or str(exc)).lower())
+                    raise OutputError(final, f"cannot write: {reason}") from None
         raise
+
+
+def _remove_quietly(temporary: Path) -> None:
+    """Remove a temporary on the way out of a failure. It may never have been made, or the file
+    system may refuse (read-only, gone): the failure being reported is the real one, so this
+    one is not raised over it."""
+    try:
+        temporary.unlink(missing_ok=True)
+    except OSError:
+        log.debug("could not remove %s", temporary)
 
 
 def _temporary_name(final: Path) -> Path:

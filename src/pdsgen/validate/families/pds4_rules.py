@@ -68,7 +68,8 @@ def schematron_note() -> Callable[[str], list[Hit]]:
 
         if schematron.available():
             return []
-        return [Hit("Schematron not run: saxonche is not installed (pip install pdsgen[pds4]); "
+        return [Hit("Schematron not run: saxonche is not installed (pip install '.[pds4]' in pdsgen's "
+                    "checkout, or pip install saxonche); "
                     "PDS4 labels were checked against their XML Schemas only")]
 
     return observe
@@ -95,7 +96,7 @@ register(
     _rule("PDS4-004", "error", "the label is valid against its XML Schemas"),
     _rule("PDS4-005", "error", "the label passes its Schematron rules (role error)"),
     _rule("PDS4-006", "warning", "the label passes its Schematron rules (role warning)"),
-    _rule("PDS4-007", "warning", "Schematron ran (needs saxonche: pip install pdsgen[pds4])",
+    _rule("PDS4-007", "warning", "Schematron ran (needs saxonche: pip install '.[pds4]' in pdsgen's checkout)",
           run_check=schematron_note),
     _rule("PDS4-008", "warning", "the label names its Schematron (an xml-model instruction with the "
                                  "Schematron schematypens); otherwise no rule checks are made"),

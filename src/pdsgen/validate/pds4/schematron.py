@@ -9,7 +9,7 @@ Semantics kept from Schematron: within a pattern a node is handled by the first
 rule whose context matches it (later rules of that pattern skip it); patterns are
 independent; a pattern's own `let`s are evaluated at the document root.
 
-Saxon is optional (`pip install pdsgen[pds4]`); `available()` says whether it is here.
+Saxon is optional (the pds4 extra: `pip install '.[pds4]'` in pdsgen's checkout); `available()` says whether it is here.
 
 Schematron is code: its XPath runs in Saxon, and XPath 3.1 can read files, environment
 variables and URLs, and run nested transforms. A Schematron is trusted only as far as its

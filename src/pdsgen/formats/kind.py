@@ -1,16 +1,18 @@
-"""Is a product a DTM (heights) or an orthoimage? Decide from what it says, then its data.
+"""Is a raster a DTM (heights) or an orthoimage? Decide from what it says, then its data.
 
-The decision changes everything the Extras show (shaded relief and a height ramp,
-or a stretched image), so it is made from evidence and stated: every decision
-carries a one-line reason the CLI prints. In order:
+The one home of the decision: the Extras take it to choose what they show (shaded relief
+and a height ramp, or a stretched image), and the product writers to refuse the wrong kind
+of input (`pdsgen dtm` of an 8-bit image, `pdsgen ortho` of heights). It is made from
+evidence and stated: every decision carries a one-line reason the CLI prints. In order:
 
 1. A PDS3 label: a JPEG 2000 product (COMPRESSED_FILE) is an image; an IMAGE
    object whose UNIT is a length or whose name/description speaks of heights is a
    DTM; any other labelled image is an orthoimage.
 2. GDAL metadata (descriptions, tags, band unit): height words or a length unit
    mean a DTM, reflectance words (I/F, reflectance, radiance) an orthoimage; so do
-   HRSC/iMars DTM names (`_dt4`, `_da4`) and int16 with a band scale or offset
-   (how iMars and others pack heights).
+   a name the caller knows for a DTM's (`named_dtm`: HRSC/iMars `_dt4`, `_da4`, a mission's
+   fact, so the caller asks missions/) and int16 with a band scale or offset (how iMars and
+   others pack heights).
 3. Integer data without such hints are image DNs. Floating-point data are read
    (a small decimated sample): values within 0..2 are reflectance (I/F), values
    reaching well below zero are heights (an image has no negative brightness).
@@ -26,8 +28,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+from rasterio.enums import Resampling
+
 from ..errors import PdsgenError, param
-from ..missions.hrsc import is_dtm_name as is_hrsc_dtm_name
 
 DTM = "dtm"
 ORTHO = "ortho"
@@ -61,15 +65,18 @@ ValueRange = Callable[[], "tuple[float, float] | None"]
 
 
 def decide_kind(label: Mapping[str, Any], image: Mapping[str, Any], info: Mapping[str, Any],
-                path: Path, value_range: ValueRange) -> KindDecision:
-    """DTM or orthoimage and why; PdsgenError (suggesting --kind) when it cannot tell."""
+                path: Path, value_range: ValueRange, named_dtm: bool = False) -> KindDecision:
+    """DTM or orthoimage and why; PdsgenError (suggesting --kind) when it cannot tell.
+
+    `info`: the raster's facts as `raster_facts` gives them; `named_dtm`: its file name is a
+    DTM's by a mission's naming (HRSC's _dt4/_da4)."""
     if "COMPRESSED_FILE" in label:
         return KindDecision(ORTHO, "its label describes a JPEG 2000 image")
     if image:
         return _from_label_image(image)
     if label:
         return KindDecision(ORTHO, "its label describes no heights")
-    hinted = _from_metadata(info, path)
+    hinted = _from_metadata(info, named_dtm)
     if hinted is not None:
         return hinted
     dtype = str(info["dtype"])
@@ -91,7 +98,7 @@ def _from_label_image(image: Mapping[str, Any]) -> KindDecision:
     return KindDecision(ORTHO, "its label's IMAGE object describes no heights")
 
 
-def _from_metadata(info: Mapping[str, Any], path: Path) -> KindDecision | None:
+def _from_metadata(info: Mapping[str, Any], named_dtm: bool) -> KindDecision | None:
     hints = str(info["hints"])
     unit = str(info["unit"] or "").upper()
     if unit in LENGTH_UNITS:
@@ -102,12 +109,55 @@ def _from_metadata(info: Mapping[str, Any], path: Path) -> KindDecision | None:
     picture = _IMAGE_WORDS.search(hints)
     if picture:
         return KindDecision(ORTHO, f"its metadata say {picture.group(1).lower()}")
-    if is_hrsc_dtm_name(path.stem):
+    if named_dtm:
         return KindDecision(DTM, "its name is an HRSC DTM's (_dt4/_da4)")
     if info["dtype"] == "int16" and (info["scale"] not in (None, 1.0)
                                      or info["offset"] not in (None, 0.0)):
         return KindDecision(DTM, "int16 with a band scale/offset is how heights are packed")
     return None
+
+
+# GDAL metadata items that may say what a raster holds.
+DESCRIPTIVE_TAGS = ("DESCRIPTION", "TIFFTAG_IMAGEDESCRIPTION", "PRODUCT_ID", "PRODUCT_TYPE")
+KIND_SAMPLE_SIDE = 256  # the decimated read that tells heights from reflectance
+
+
+def raster_facts(ds: Any) -> dict[str, Any]:
+    """What `decide_kind` reads of an open raster (rasterio dataset): size, bands, sample type,
+    georeferencing, nodata, band 1's scale, offset and unit, and its descriptive metadata."""
+    return {"width": ds.width, "height": ds.height, "band_count": ds.count,
+            "dtype": ds.dtypes[0], "crs": ds.crs, "transform": ds.transform,
+            "nodata": ds.nodata,
+            "scale": ds.scales[0] if ds.scales else 1.0,
+            "offset": ds.offsets[0] if ds.offsets else 0.0,
+            "unit": (ds.units[0] or "") if ds.count else "",
+            "hints": _gdal_hints(ds)}
+
+
+def _gdal_hints(ds: Any) -> str:
+    """GDAL metadata that may say what the raster holds (upper case, one line)."""
+    tags = {**ds.tags(), **ds.tags(1)}
+    texts = [tags.get(key, "") for key in DESCRIPTIVE_TAGS]
+    texts += [ds.descriptions[0] or "", ds.units[0] or ""] if ds.count else []
+    return " ".join(str(t) for t in texts).upper()
+
+
+def sample_shape(width: int, height: int) -> tuple[int, int]:
+    """(lines, samples) of the decimated read `sampled_range` makes of a WIDTH x HEIGHT raster."""
+    factor = max(1.0, max(width, height) / KIND_SAMPLE_SIDE)
+    return max(1, round(height / factor)), max(1, round(width / factor))
+
+
+def sampled_range(ds: Any, scale: float = 1.0, offset: float = 0.0,
+                  shape: tuple[int, int] | None = None) -> tuple[float, float] | None:
+    """Minimum and maximum of a small decimated read of band 1 (its valid values), physical
+    units (DN * scale + offset); None when no value is valid. `shape`: the read's, when `ds`
+    is a reduced level of the raster (default: `sample_shape` of `ds`)."""
+    shape = shape or sample_shape(ds.width, ds.height)
+    dn = ds.read(1, out_shape=shape, resampling=Resampling.nearest, masked=True)
+    values = dn.compressed().astype(np.float64) * scale + offset
+    values = values[np.isfinite(values)]
+    return (float(values.min()), float(values.max())) if values.size else None
 
 
 def _from_values(dtype: str, found: tuple[float, float] | None, path: Path) -> KindDecision:
