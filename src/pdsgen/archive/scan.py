@@ -27,15 +27,12 @@ from ..label.read import LabelCache, LabelFile, is_pds3_head, read_pds3_label
 from ..label.tree import FILE_OBJECTS, Block, parse_pointer
 from ..missions.imars import is_metadata_name as is_imars_metadata
 from ..pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
+from ..pds4.detect import root_name
 from ..storage.containment import contained
 from . import layout
 
 log = logging.getLogger(__name__)
 _PRODUCT_CLASS = re.compile(rb"<product_class>\s*(Product_\w+)\s*</product_class>")
-# The first element of an XML file, after its declaration, processing instructions, comments and
-# DOCTYPE: what a PDS4 label is (Product_Bundle, Product_Collection ...), whatever its file name.
-_ROOT_ELEMENT = re.compile(rb"\A(?:\xef\xbb\xbf)?\s*(?:(?:<\?.*?\?>|<!--.*?-->|<!DOCTYPE[^>]*>)\s*)*"
-                           rb"<(?:[A-Za-z_][\w.-]*:)?([A-Za-z_][\w.-]*)[\s/>]", re.DOTALL)
 _FILE_NAME = re.compile(r"<file_name>\s*([^<]+?)\s*</file_name>")
 _MADE_CLASSES = {b"Product_Bundle", b"Product_Collection", b"Product_Browse", b"Product_Document"}
 _MADE_NAMES = {layout.VOLDESC, layout.AAREADME, layout.MANIFEST, layout.MANIFEST_LABEL, layout.RELEASED_MARKER}
@@ -145,11 +142,11 @@ def is_made_by_delivery(path: Path, relative: Path) -> bool:
 
 
 def root_element(path: Path) -> str | None:
-    """The local name of the root element of an XML file (read from its first 64 KiB), or None
-    when the file is no XML or cannot be read. A PDS4 label is what its root says: a bundle label
-    is a Product_Bundle whatever its file name (`bundle.xml` is the common one)."""
-    match = _ROOT_ELEMENT.match(file_head(path, 65536) or b"")
-    return match.group(1).decode("ascii") if match else None
+    """The local name of the root element of an XML file, or None when the file is no XML, its
+    root cannot be found or it cannot be read (pds4/detect's one reading of a prolog: linear time
+    whatever the prolog holds). A PDS4 label is what its root says: a bundle label is a
+    Product_Bundle whatever its file name (`bundle.xml` is the common one)."""
+    return root_name(path)
 
 
 def bundle_labels(directory: Path) -> list[Path]:

@@ -65,9 +65,32 @@ def _root_verdict(path: Path) -> bool | None:
         return False
 
 
+def root_name(path: Path) -> str | None:
+    """The local name of an XML file's root element (its prefix dropped: `Product_Bundle`),
+    read as `is_pds4_label` reads it - the prolog item by item in linear time, a FIFO never
+    opened - or None for a file that is no XML, whose root cannot be found, or unreadable."""
+    try:
+        if not stat.S_ISREG(os.stat(path).st_mode):
+            return None
+        with open(path, "rb") as handle:
+            root = _root_of(handle, path)
+    except OSError:
+        return None
+    if not isinstance(root, re.Match):
+        return None
+    return root[1].rsplit(b":", 1)[-1].decode("ascii", "replace")
+
+
 def _verdict_of(handle, path: Path) -> bool | None:  # noqa: ANN001 - a binary file object
-    """Read the prolog item by item, in chunks, keeping only what is not yet consumed; a
-    comment or processing instruction is skipped to its end without being kept whole."""
+    root = _root_of(handle, path)
+    return _is_pds4_root(root) if isinstance(root, re.Match) else root
+
+
+def _root_of(handle, path: Path) -> re.Match[bytes] | bool | None:  # noqa: ANN001 - a binary file object
+    """The root element's start tag (a match of _ROOT_TAG); False for a file that is no XML;
+    None for XML whose root cannot be found (or not found within the bounds). The prolog is
+    read item by item, in chunks, keeping only what is not yet consumed; a comment or
+    processing instruction is skipped to its end without being kept whole."""
     data = handle.read(_HEAD_BYTES)
     if data.removeprefix(_BOM).lstrip()[:1] not in (b"", b"<"):
         return False  # binary data, PDS3 text: not XML, decided from the first bytes (most files a walk meets)
@@ -85,7 +108,7 @@ def _verdict_of(handle, path: Path) -> bool | None:  # noqa: ANN001 - a binary f
         if _ROOT_START.match(rest):
             tag = _root_start_tag(rest, handle, read)
             root = _ROOT_TAG.match(tag) if tag is not None else None
-            return _is_pds4_root(root) if root is not None else unfound
+            return root if root is not None else unfound
         mark = b"-->" if rest.startswith(b"<!--") else b"?>" if rest.startswith(b"<?") else None
         if mark is not None:  # a comment or instruction running past this chunk: find its end
             found = rest.find(mark, len(mark) + 1)
