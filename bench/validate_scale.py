@@ -187,6 +187,10 @@ def bench_bundles(sizes: list[int], workdir: Path, modes: list[str], bundle_name
             print(f"  {size:9d} {mode:22s} {measured.wall:9.1f} {measured.cpu:9.1f} {measured.cpu / size * 1e3:15.2f} "
                   f"{measured.peak_mb:9.0f}  {'yes' if found else 'NO'}, "
                   f"{'yes' if measured.report == reference else 'NO'}")
+            if measured.report != reference:  # kept beside the first mode's, to be compared
+                for name, report in (("first", reference), (mode.split()[0].strip("-"), measured.report)):
+                    (workdir / f"report_{size}_{name}.json").write_bytes(report)
+                print(f"  (both reports kept in {workdir}/report_{size}_*.json)")
         if not keep:
             shutil.rmtree(root)
     if len(sizes) > 1:

@@ -413,8 +413,11 @@ def _stream(files: Iterator[Path], given: list[Path], job: ValidationJob,
         work = functools.partial(validate_partition, cwd=os.getcwd())
         yield from _collect(in_partitions(job.cluster, work, names, worker_job), groups, progress, job.baseline)
     elif job.jobs > 1:
+        from .pds4.schematron import SharedEngine
+
         worker_job = replace(job, baseline=None)  # the baseline is applied here, in this process
-        with multiprocessing.get_context("fork" if sys.platform == "linux" else "spawn").Pool(
+        # forked workers share this process's Saxon child (one compiled Schematron, not one per worker)
+        with SharedEngine(), multiprocessing.get_context("fork" if sys.platform == "linux" else "spawn").Pool(
                 job.jobs, _init_worker, (worker_job,)) as pool:
             yield from _collect(pool.imap(_one, names, chunksize=8), groups, progress, job.baseline)
     else:

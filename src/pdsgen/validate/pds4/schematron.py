@@ -339,7 +339,11 @@ def bounded(schematron_files: Sequence[SchemaFile], label_text: str) -> list[Sch
     """`compiled(files).check(label_text)` in the validator's Saxon child process, within
     TIME_LIMIT and MEMORY_LIMIT. SchematronStopped when a limit stopped it, RuntimeError
     with the engine's first line when it failed. A stopped child is reaped by `ask`, and the
-    next call starts another (`_worker`)."""
+    next call starts another (`_worker`). In a worker forked while a `SharedEngine` is open,
+    the question goes to the engine's owner, whose one Saxon child answers every worker."""
+    shared = _SHARED.get("engine")
+    if shared is not None and shared.owner != os.getpid():
+        return shared.ask(tuple(schematron_files), label_text)
     return _worker().ask(tuple(schematron_files), label_text)
 
 
@@ -450,6 +454,103 @@ def _worker() -> _Worker:
 
 
 _SPAWNER: dict[int, Any] = {}  # the process -> the one thread its Saxon children are started from
+
+
+class SharedEngine:
+    """One Saxon child for a validating process and the workers it forks (`validate -j N`).
+
+    A compiled PDS4 core Schematron and its engine take about 110 MB; one per worker doubled
+    the run's memory with two workers. While a SharedEngine is open, a worker forked from its
+    owner sends each label to the owner over a private socket (a directory only this user
+    reads, an authentication key the workers inherit); one thread of the owner per worker
+    hands it to the owner's Saxon child (`_worker().ask`), one label at a time. The walls
+    stay where they were: the child's stripped environment, and the time and memory limits,
+    counted from the moment a label reaches the engine (not while it waits for another
+    worker's), so a stopped engine is charged to the label that stopped it."""
+
+    def __init__(self) -> None:
+        import tempfile
+        import threading
+        from multiprocessing.connection import Listener
+
+        self.owner = os.getpid()
+        self._directory = tempfile.mkdtemp(prefix="pdsgen-saxon-")  # mode 0700
+        self._authkey = os.urandom(32)
+        self._listener = Listener(os.path.join(self._directory, "engine"), "AF_UNIX", authkey=self._authkey)
+        self._one_at_a_time = threading.Lock()
+        self._clients: dict[int, Connection] = {}  # a worker's pid -> its connection to the owner
+        self._closed = False
+        threading.Thread(target=self._accept, name="pdsgen-saxon-shared", daemon=True).start()
+
+    def __enter__(self) -> SharedEngine:
+        _SHARED["engine"] = self
+        return self
+
+    def __exit__(self, *_: object) -> None:
+        from multiprocessing.connection import Client
+
+        _SHARED.pop("engine", None)
+        self._closed = True
+        Client(self._listener.address, "AF_UNIX", authkey=self._authkey).close()  # wakes the accepting thread
+        self._listener.close()  # removes the socket
+        os.rmdir(self._directory)
+
+    def ask(self, files: tuple[SchemaFile, ...], label_text: str) -> list[SchematronFailure]:
+        """In a worker: the owner's engine's answer for one label (see `bounded`)."""
+        from multiprocessing.connection import Client
+
+        pid = os.getpid()
+        if pid not in self._clients:
+            self._clients[pid] = Client(self._listener.address, "AF_UNIX", authkey=self._authkey)
+        connection = self._clients[pid]
+        try:
+            connection.send((files, label_text))
+            kind, value = connection.recv()
+        except (OSError, EOFError):
+            self._clients.pop(pid, None)
+            raise RuntimeError("the shared Schematron engine is gone") from None
+        if kind == "stopped":
+            raise SchematronStopped(value)
+        if kind == "error":
+            raise RuntimeError(value)
+        return value
+
+    def _accept(self) -> None:
+        import threading
+
+        while True:
+            try:
+                connection = self._listener.accept()
+            except Exception:  # a connection that failed to authenticate
+                continue
+            if self._closed:  # the owner's own call, made to end this loop
+                connection.close()
+                return
+            threading.Thread(target=self._serve, args=(connection,), name="pdsgen-saxon-shared", daemon=True).start()
+
+    def _serve(self, connection: Connection) -> None:
+        """One worker's labels, answered one by one until the worker closes its end."""
+        with connection:
+            while True:
+                try:
+                    files, label_text = connection.recv()
+                except (OSError, EOFError):
+                    return
+                answer: tuple[str, object]
+                try:
+                    with self._one_at_a_time:
+                        answer = ("ok", _worker().ask(files, label_text))
+                except SchematronStopped as exc:
+                    answer = ("stopped", str(exc))
+                except Exception as exc:  # the worker reports it as the Schematron not running
+                    answer = ("error", first_line(exc))
+                try:
+                    connection.send(answer)
+                except OSError:
+                    return
+
+
+_SHARED: dict[str, SharedEngine] = {}  # "engine": the SharedEngine open in this process (inherited by fork)
 
 
 def _resident_bytes(pid: int) -> int:
