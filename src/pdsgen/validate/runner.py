@@ -35,7 +35,6 @@ from .families.delivery_rules import DeliveryChecks
 from .families.set_rules import summarise
 from .imars_context import ImarsContext, is_imars_metadata
 from .model import Finding, Hit
-from .partitions import in_partitions
 from .registry import rules
 from .report import FileReport, ValidationReport
 from .summary import LabelSummary
@@ -409,6 +408,8 @@ def _stream(files: Iterator[Path], given: list[Path], job: ValidationJob,
     groups = _SetGroups(job.settings)
     names = ((str(p), _given_tree(p, given)) for p in files)
     if job.cluster is not None:
+        from .partitions import in_partitions  # a Dask cluster's run only: a plain run never loads it
+
         worker_job = replace(job, baseline=None, cluster=None, labels=None)
         work = functools.partial(validate_partition, cwd=os.getcwd())
         yield from _collect(in_partitions(job.cluster, work, names, worker_job), groups, progress, job.baseline)
