@@ -218,7 +218,8 @@ def test_a_remade_product_with_old_extras_is_refused_and_a_consistent_remake_pas
     with pytest.raises(InputError) as refused:
         make_delivery(source, tmp_path / "out", dialect="both", volume_id="DEMO_0001", bundle_lid=BUNDLE_LID)
     message = str(refused.value)
-    assert "stale Extras" in message and "extras/README.TXT" in message and "pdsgen extras" in message
+    assert "stale Extras" in message and "extras/README.TXT" in message and "make them again" in message
+    assert "`overwrite=True`" in message  # the library's words; the command line says --overwrite
     assert not (tmp_path / "out").exists()
     make_extras([dtm.path], source / "extras", overwrite=True)
     make_delivery(source, tmp_path / "out", dialect="both", volume_id="DEMO_0001", bundle_lid=BUNDLE_LID)

@@ -175,7 +175,7 @@ def test_hirise_ortho_label_follows_the_release_sequence(tmp_path):
 
 def test_generic_ortho_has_no_mro_keywords(tmp_path):
     source = _raster(tmp_path / "ortho.tif", MARS_EQC, Affine(0.5, 0, 6123456.0, 0, -0.5, 563211.0))
-    product = write_ortho(source, tmp_path / "out", product_id="MY_ORTHO")
+    product = write_ortho(source, tmp_path / "out", product_id="MY_ORTHO", any_kind=True)  # height-like values
     sequence, _ = keyword_sequence(product.label_text)
     assert not [key for key in sequence if key.startswith("MRO:") or "STANDARD_PARALLEL" in key]
 

@@ -71,7 +71,8 @@ def assert_product_reads_back(tmp_path, source, data: np.ndarray, nodata: float 
     """GDAL reads the .IMG to the reference samples; pvl reads the label's statistics."""
     valid, stored = reference(data, nodata)
     for order in ("lsb", "msb"):
-        product = write_dtm(source, tmp_path / f"out_{order}", product_id="FAST_PATH", byte_order=order)
+        product = write_dtm(source, tmp_path / f"out_{order}", product_id="FAST_PATH", byte_order=order,
+                            any_kind=data.dtype == np.uint8)  # 8-bit heights on purpose, not image DNs
         with rasterio.open(product.path) as dataset:
             assert dataset.dtypes[0] == "float32"
             read = dataset.read(1)

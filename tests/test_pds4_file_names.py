@@ -4,7 +4,7 @@ NASA's validate regression suite (NASA-PDS/validate @ df054fd, copied with prove
 tests/data/nasa_validate, SOURCES.md):
 - github1408: two valid products whose labels keep the same File_Area (naming vl0axrat.lbl)
   inside an XML comment - no file is described twice (NASA: no message);
-- github349/valid/datasetgood.xml: a Document_File under directory_path_name ../01/, valid
+- github349/valid/datasetgood.xml: a Document_File whose directory_path_name climbs to the sibling "01" folder, valid
   for NASA when the suite's tree is given.
 """
 

@@ -27,8 +27,10 @@ def make_dtm(tmp_path: Path, kind: str = "equirectangular", lines: int = 40, sam
         data[0, : max(1, samples // 10)] = nodata
     source = write_raster(tmp_path / f"{name}_{kind}.tif", data, crs, transform, nodata=nodata)
     kwargs = {"source_product_ids": ["PSP_008669_1705", "PSP_009025_1705"]} if profile == "hirise" else {}
+    # 8-bit heights are what these tests mean to make: pdsgen takes such a raster for an image's DNs
+    # unless told (any_kind)
     product = write_dtm(source, tmp_path / name, byte_order=byte_order, profile=profile,
-                        institution="U" if profile == "hirise" else None, **kwargs)
+                        institution="U" if profile == "hirise" else None, any_kind=dtype == "uint8", **kwargs)
     return product.path
 
 

@@ -19,8 +19,9 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..errors import param
 from ..formats.checksum import label_md5
-from ..label.read import read_pds3_label
+from ..label.read import LabelCache, read_pds3_label
 from . import layout
 
 README = "README.TXT"
@@ -88,12 +89,13 @@ def readmes(root: Path) -> Iterator[Path]:
             yield path
 
 
-def extras_problems(root: Path) -> list[ExtrasProblem]:
-    """Every disagreement between the Extras under `root` and the products they document."""
+def extras_problems(root: Path, labels: LabelCache | None = None) -> list[ExtrasProblem]:
+    """Every disagreement between the Extras under `root` and the products they document.
+    `labels`: the run's label cache (deliver reads each label once for all its steps)."""
     problems: list[ExtrasProblem] = []
     for readme in readmes(root):
         for entry in read_entries(readme):
-            problems.extend(_entry_problems(root, readme, entry))
+            problems.extend(_entry_problems(root, readme, entry, labels))
     return problems
 
 
@@ -107,7 +109,8 @@ def _product_file(root: Path, readme: Path, name: str) -> Path | None:
     return None
 
 
-def _entry_problems(root: Path, readme: Path, entry: ReadmeEntry) -> Iterator[ExtrasProblem]:
+def _entry_problems(root: Path, readme: Path, entry: ReadmeEntry,
+                    labels: LabelCache | None) -> Iterator[ExtrasProblem]:
     name = entry.fields.get("Product file", "")
     product = _product_file(root, readme, name)
     if product is None:
@@ -121,12 +124,12 @@ def _entry_problems(root: Path, readme: Path, entry: ReadmeEntry) -> Iterator[Ex
                                                   "not delivered", line)
     recorded = entry.fields.get("Label MD5", "")
     current = label_md5(product)
-    remedy = (f"the Extras were made from another version of {product.name}: make them again "
-              f"(pdsgen extras {product.name} -o {readme.parent.name} --overwrite) and deliver again")
+    remedy = (f"the Extras were made from another version of {product.name}: make them again from it into "
+              f"{readme.parent.name}/ ({param('overwrite', True)}) and deliver again")
     if recorded and current and recorded != current:
         yield ExtrasProblem("stale", readme, f"Label MD5 {recorded} of {entry.product_id} is not that of its "
                                              f"label now ({current}): {remedy}", entry.line)
-    label = read_pds3_label(product)
+    label = read_pds3_label(product, labels)
     if label is None:
         return
     yield from _numbers_problems(readme, entry, label, remedy)

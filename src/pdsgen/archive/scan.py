@@ -150,11 +150,10 @@ def root_element(path: Path) -> str | None:
 
 
 def bundle_labels(directory: Path) -> list[Path]:
-    """The PDS4 bundle labels (root element Product_Bundle) at the top of `directory`, sorted."""
-    try:
-        names = sorted(path for suffix in PDS4_LABEL_SUFFIXES for path in directory.glob(f"*{suffix}"))
-    except OSError:
-        return []
+    """The PDS4 bundle labels (root element Product_Bundle) at the top of `directory`, sorted. The
+    directory is listed once, through the listing every look-up of the run shares."""
+    names = sorted(directory / name for name in directory_listing(directory).names
+                   if name.endswith(PDS4_LABEL_SUFFIXES))
     return [path for path in names if path.is_file() and root_element(path) == "Product_Bundle"]
 
 

@@ -193,7 +193,7 @@ def make_delivery(source: str | os.PathLike[str], out: str | os.PathLike[str] | 
         raise InputError(source_dir, "holds no data product (no PDS3 or PDS4 product label)")
     _check_dialects(found, pds3, pds4)
     _check_unique_product_ids(found)
-    _check_extras_current(source_dir)
+    _check_extras_current(source_dir, labels)
     log.info("%s: %d data product(s), %d preview(s), %d document(s), %d other file(s)", source_dir,
              len(found.products), len(found.previews), len(found.documents), len(found.others))
     work = target.parent / f".{target.name}.deliver-{os.getpid()}"
@@ -308,12 +308,12 @@ def _check_unique_product_ids(found: SourceSet) -> None:
                              "too; each product of a delivery needs its own")
 
 
-def _check_extras_current(source: Path) -> None:
+def _check_extras_current(source: Path, labels: LabelCache) -> None:
     """Stale Extras are refused, in one line naming the files and the remedy: a product remade
     after its Extras (README.TXT records the label's MD5, archive/extras_check.py)."""
     from ..archive.extras_check import extras_problems
 
-    stale = [problem for problem in extras_problems(source) if problem.kind != "absent"]
+    stale = [problem for problem in extras_problems(source, labels) if problem.kind != "absent"]
     if stale:
         names = sorted({f"{p.file.parent.name}/{p.file.name}" for p in stale})
         raise InputError(stale[0].file, f"stale Extras ({len(stale)} disagreement(s) with the products, in "

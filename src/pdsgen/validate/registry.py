@@ -22,18 +22,23 @@ from __future__ import annotations
 import importlib
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from typing import Any, Generic, TypeVar
+from typing import TYPE_CHECKING, Any, Generic, TypeVar
 
 from .model import Hit
 from .summary import LabelSummary
+
+if TYPE_CHECKING:
+    from ..label.read import LabelCache
 
 # The built-in families in --list-rules order; families registered later follow them.
 FAMILIES = ("FILE", "SYNTAX", "DICT", "PTR", "REC", "IMG", "MAP", "GEO", "HRSC", "SET", "IMARS", "PDS4")
 TARGETS = ("label", "imars", "pds4")
 
 ContextT = TypeVar("ContextT")  # FileContext for "label" rules, ImarsContext "imars", Pds4LabelContext "pds4"
-# A run check: called once per run, it gives the function that takes each file's path in turn.
-RunCheck = Callable[[], Callable[[str], Iterable[Hit]]]
+# A run check: called once per run with the run's label cache (None when the run keeps none), it
+# gives the function that takes each file's path in turn; a label it reads through the cache is
+# the one the file's own checks parsed, not parsed again.
+RunCheck = Callable[["LabelCache | None"], Callable[[str], Iterable[Hit]]]
 
 
 @dataclass(frozen=True)

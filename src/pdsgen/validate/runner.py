@@ -393,7 +393,7 @@ def _with_run_checks(reports: Iterator[FileReport], job: ValidationJob) -> Itera
             if rule.target != target or rule.run_check is None:
                 continue
             try:
-                observe = observers.get(rule.id) or observers.setdefault(rule.id, rule.run_check())
+                observe = observers.get(rule.id) or observers.setdefault(rule.id, rule.run_check(job.labels))
                 found += [Finding(rule.id, hit.severity or rule.severity, hit.file or report.path, hit.message,
                                   hit.line, hit.keyword) for hit in observe(report.path)]
             except Exception as exc:  # never a traceback, whatever the files hold

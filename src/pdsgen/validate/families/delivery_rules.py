@@ -455,7 +455,7 @@ def described_files(root: object, path: Path) -> list[Path]:
     return files
 
 
-def _check_bundle(root: Path, found: list[_Found]) -> None:
+def _check_bundle(root: Path, found: list[_Found], cache: LabelCache | None = None) -> None:
     named = (path for path in _all_files(root) if path.suffix.lower() in PDS4_LABEL_SUFFIXES)
     labels = [label for label in (facts.of(_read_pds4, path) for path in named) if label is not None]
     bundles = [label for label in labels if label.product_class == "Product_Bundle"]
@@ -500,12 +500,13 @@ def _check_bundle(root: Path, found: list[_Found]) -> None:
             _check_unlisted(_versions([c for c in collections if c.lid == lid]), listed_in_any, labels, found)
     _check_unlabelled(root, labels, found)
     if (root / layout.VOLDESC).is_file():
-        _check_both_dialects(root, labels, found)
+        _check_both_dialects(root, labels, found, cache)
     for label in labels:  # DLV-007 of the bundle's labels, as of a volume's indexed PDS3 labels
         found.extend(_Found("DLV-007", label.path, message, line, keyword) for message, line, keyword in label.unstated)
 
 
-def _check_both_dialects(root: Path, labels: list[_Pds4Label], found: list[_Found]) -> None:
+def _check_both_dialects(root: Path, labels: list[_Pds4Label], found: list[_Found],
+                         cache: LabelCache | None) -> None:
     """A delivery that is a PDS3 volume and a PDS4 bundle holds one product set, each product
     told alike in both: DLV-024 a product of one dialect only; DLV-022 PDS3 START_TIME/STOP_TIME
     against PDS4 Time_Coordinates; DLV-023 the PDS3 map grid against cart: (the ground
@@ -525,7 +526,7 @@ def _check_both_dialects(root: Path, labels: list[_Pds4Label], found: list[_Foun
                                                     "this product"))
             continue
         paired.add(id(pds4))
-        pds3 = _read_pds3(product, None)
+        pds3 = _read_pds3(product, cache)  # the run's cache: each label parsed once
         if pds3 is not None:
             _compare_times(product, pds3, pds4, found)
             _compare_grids(product, pds3, pds4, found)
@@ -703,11 +704,11 @@ def _check_inventory(root: Path, collection: _Pds4Label, by_lidvid: dict[str, _P
 _EXTRAS_RULES = {"stale": "DLV-017", "differs": "DLV-018", "absent": "DLV-019"}
 
 
-def _check_extras(root: Path, found: list[_Found]) -> None:
+def _check_extras(root: Path, found: list[_Found], labels: LabelCache | None) -> None:
     """DLV-017/018/019: the Extras' README.TXT against the delivered labels (archive/extras_check.py)."""
     from ...archive.extras_check import extras_problems
 
-    for problem in extras_problems(root):
+    for problem in extras_problems(root, labels):
         found.append(_Found(_EXTRAS_RULES[problem.kind], problem.file, problem.message, problem.line))
 
 
@@ -767,8 +768,9 @@ def check_delivery(root: Path, labels_only: bool = False, labels: LabelCache | N
 
     found: list[_Found] = []
     _check_index(root, found, labels)
-    for check in (_check_placeholders, _check_bundle, _check_extras):
-        check(root, found)
+    _check_placeholders(root, found)
+    _check_bundle(root, found, labels)
+    _check_extras(root, found, labels)
     _check_manifest(root, labels_only, found)
     table = rules()
     return [Finding(f.rule, table[f.rule].severity, str(f.file), f.message, f.line, f.keyword) for f in found]

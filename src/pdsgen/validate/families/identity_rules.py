@@ -32,6 +32,7 @@ from ..registry import Rule, register
 if TYPE_CHECKING:
     from lxml import etree
 
+    from ...label.read import LabelCache
     from ..context import FileContext
 
 _SLACK = datetime.timedelta(days=1)  # a creation time written in a local zone runs up to 14 h ahead of UTC
@@ -106,15 +107,16 @@ def check_time_order(ctx: FileContext) -> Iterator[Hit]:
                       stop.line, "STOP_TIME")
 
 
-def made_before_sources() -> Callable[[str], list[Hit]]:
+def made_before_sources(labels: LabelCache | None = None) -> Callable[[str], list[Hit]]:
     """IDN-004 across the run: each PDS3 product's PRODUCT_ID, creation time and sources, as
     its label passes; a product made before a source it names is reported on the second of
-    the two to pass (the message names both)."""
+    the two to pass (the message names both). `labels`: the run's label cache, so a label the
+    file's own checks parsed is not parsed again."""
     made: dict[str, tuple[datetime.datetime, str]] = {}  # PRODUCT_ID -> (creation time, label)
     waiting: dict[str, list[tuple[datetime.datetime, str, int | None]]] = {}  # source id -> products naming it
 
     def observe(path: str) -> list[Hit]:
-        facts = _product_facts(path)
+        facts = _product_facts(path, labels)
         if facts is None:
             return []
         product_id, created, sources, line = facts
@@ -146,7 +148,8 @@ def _before_hit(created: datetime.datetime, source: str, source_time: datetime.d
     return Hit(f"{_before(created, source, source_time)} ({Path(source_path).name})", line, "PRODUCT_CREATION_TIME")
 
 
-def _product_facts(path: str) -> tuple[str | None, datetime.datetime, list[str], int | None] | None:
+def _product_facts(path: str, labels: LabelCache | None) -> tuple[str | None, datetime.datetime, list[str],
+                                                                   int | None] | None:
     """(PRODUCT_ID, creation time, SOURCE_PRODUCT_IDs, line of the time) of a PDS3 label that
     states its creation time; None for any other file."""
     from ...formats.sniff import file_head
@@ -155,7 +158,7 @@ def _product_facts(path: str) -> tuple[str | None, datetime.datetime, list[str],
     if not is_pds3_head(file_head(path, 64) or b""):  # an image, a table ...: 64 bytes tell, not 256 KiB
         return None
     try:
-        label = read_pds3_label(Path(path))
+        label = read_pds3_label(Path(path), labels)
     except (OSError, ValueError):
         return None
     if label is None:

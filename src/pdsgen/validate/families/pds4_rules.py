@@ -25,6 +25,7 @@ from ..model import Hit
 from ..registry import Rule, register
 
 if TYPE_CHECKING:
+    from ...label.read import LabelCache
     from ..pds4.label_checks import Pds4LabelContext
 
 
@@ -56,7 +57,7 @@ def _hits_of(rule_id: str) -> Callable[[Pds4LabelContext], Iterable[Hit]]:
     return check
 
 
-def schematron_note() -> Callable[[str], list[Hit]]:
+def schematron_note(labels: LabelCache | None = None) -> Callable[[str], list[Hit]]:
     """PDS4-007 across the run: one warning, on the first PDS4 label, when Saxon is missing."""
     told: list[bool] = []
 
@@ -75,7 +76,7 @@ def schematron_note() -> Callable[[str], list[Hit]]:
     return observe
 
 
-def shared_data_files() -> Callable[[str], list[Hit]]:
+def shared_data_files(labels: LabelCache | None = None) -> Callable[[str], list[Hit]]:
     """PDS4-060 across the run: the labels' data files, and which label named each first."""
     from ..pds4.document_checks import DataFileRegister
 
