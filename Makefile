@@ -29,11 +29,11 @@ demo: $(STAMP)
 	$(VENV)/bin/pdsgen demo out/demo
 
 # The whole suite, on both cores of a 2-core machine (pytest-xdist: each worker takes a test file
-# at a time, so a file's shared fixtures are made once): about 2,100 tests, about 8 minutes on 2
+# at a time, so a file's shared fixtures are made once): about 2,000 tests, about 6 minutes on 2
 # quiet cores, longer on a busy machine. `make check` runs a representative subset in under 2.
 TEST_RUN := $(PY) -m pytest -q -n 2 --dist loadfile
 test: $(TEST_STAMP)
-	@echo "make test: the whole suite, about 2,100 tests, about 8 minutes on 2 cores (make check: under 2 minutes)"
+	@echo "make test: the whole suite, about 2,000 tests, about 6 minutes on 2 quiet cores (make check: under 2 minutes)"
 	$(TEST_RUN)
 
 # The quick check: the README walk-through, every kind of product byte for byte, the same bytes on
