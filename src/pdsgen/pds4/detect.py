@@ -56,34 +56,28 @@ def is_pds4_label(path: Path) -> bool:
 def _root_verdict(path: Path) -> bool | None:
     """True for a PDS4 root, False for anything else (not XML, another root), None for
     XML whose root element cannot be found."""
-    try:
-        if not stat.S_ISREG(os.stat(path).st_mode):
-            return False  # a FIFO or device is never read here: reading one may never end
-        with open(path, "rb") as handle:
-            return _verdict_of(handle, path)
-    except OSError:
-        return False
+    root = _root_in_file(path)
+    return _is_pds4_root(root) if isinstance(root, re.Match) else root
 
 
 def root_name(path: Path) -> str | None:
     """The local name of an XML file's root element (its prefix dropped: `Product_Bundle`),
     read as `is_pds4_label` reads it - the prolog item by item in linear time, a FIFO never
     opened - or None for a file that is no XML, whose root cannot be found, or unreadable."""
+    root = _root_in_file(path)
+    return root[1].rsplit(b":", 1)[-1].decode("ascii", "replace") if isinstance(root, re.Match) else None
+
+
+def _root_in_file(path: Path) -> re.Match[bytes] | bool | None:
+    """_root_of the file at `path`; False for one that is not a regular file (a FIFO or device
+    is never read here: reading one may never end) or cannot be read."""
     try:
         if not stat.S_ISREG(os.stat(path).st_mode):
-            return None
+            return False
         with open(path, "rb") as handle:
-            root = _root_of(handle, path)
+            return _root_of(handle, path)
     except OSError:
-        return None
-    if not isinstance(root, re.Match):
-        return None
-    return root[1].rsplit(b":", 1)[-1].decode("ascii", "replace")
-
-
-def _verdict_of(handle, path: Path) -> bool | None:  # noqa: ANN001 - a binary file object
-    root = _root_of(handle, path)
-    return _is_pds4_root(root) if isinstance(root, re.Match) else root
+        return False
 
 
 def _root_of(handle, path: Path) -> re.Match[bytes] | bool | None:  # noqa: ANN001 - a binary file object
