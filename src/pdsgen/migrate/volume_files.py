@@ -11,6 +11,7 @@ from __future__ import annotations
 import codecs
 from pathlib import Path
 
+from ..archive import layout
 from ..formats.sniff import file_head
 from ..validate.pds4.document_checks import marked_pdf_a
 
@@ -51,7 +52,7 @@ BROWSE_DIRS = frozenset({"BROWSE", "EXTRAS"})
 INDEX_DIRS = frozenset({"INDEX"})
 SOFTWARE_DIRS = frozenset({"SOFTWARE"})
 TOP_DOCUMENTS = frozenset({"VOLDESC.CAT", "AAREADME.TXT", "ERRATA.TXT", "AAREADME.HTM", "AAREADME.PDF"})
-MADE_ANEW = frozenset({"MD5SUMS.TXT"})
+MADE_ANEW = frozenset({layout.MANIFEST.upper()})  # the bundle writes its own manifest
 # Documents wherever they lie (INDEX/INDXINFO.TXT, an attached TEXT label); one a detached
 # label names as its data stays data.
 DOCUMENT_SUFFIXES = frozenset({".TXT", ".ASC", ".CAT", ".PDF", ".HTM", ".HTML"})
