@@ -19,6 +19,8 @@ import numpy as np
 import pytest
 from affine import Affine
 from click.testing import CliRunner
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
 
 from pdsgen import clock
 from pdsgen.cli import main
@@ -127,6 +129,28 @@ def test_a_malformed_source_date_epoch_is_refused_in_one_line(value, monkeypatch
     monkeypatch.setenv("SOURCE_DATE_EPOCH", value)
     with pytest.raises(ParamsError, match="SOURCE_DATE_EPOCH"):
         clock.now()
+
+
+@settings(max_examples=300, deadline=None, derandomize=True, database=None)
+@given(st.text(st.characters(blacklist_characters="\x00"), max_size=40)
+       | st.integers(min_value=-10**30, max_value=10**30).map(str))
+@example("253402300799")
+@example("253402300800")
+@example("0")
+def test_any_source_date_epoch_is_a_time_of_making_or_one_refusal(text):
+    """The variable is outside input: whatever it holds (an environment variable holds no NUL),
+    the clock gives a time within the four-digit years or refuses it in one line naming it -
+    never another exception."""
+    os.environ["SOURCE_DATE_EPOCH"] = text
+    try:
+        made = clock.now()
+    except ParamsError as refused:
+        assert str(refused).startswith("SOURCE_DATE_EPOCH=") and "\n" not in str(refused)
+    else:
+        assert text.strip() == "" or made.timestamp() == int(text)
+        assert made.year <= 9999
+    finally:
+        del os.environ["SOURCE_DATE_EPOCH"]
 
 
 def test_a_malformed_source_date_epoch_is_exit_2_at_the_command_line(tmp_path, inputs, monkeypatch):
