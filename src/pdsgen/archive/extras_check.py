@@ -97,6 +97,11 @@ def extras_problems(root: Path) -> list[ExtrasProblem]:
     return problems
 
 
+def product_of(root: Path, readme: Path, entry: ReadmeEntry) -> Path | None:
+    """The delivered label of the product a README.TXT entry documents (None when it is not there)."""
+    return _product_file(root, readme, entry.fields.get("Product file", ""))
+
+
 def _product_file(root: Path, readme: Path, name: str) -> Path | None:
     """Where the product README.TXT names lies: beside it, one directory up (a product
     directory's extras/), or in the delivery's DATA/."""
@@ -109,7 +114,7 @@ def _product_file(root: Path, readme: Path, name: str) -> Path | None:
 
 def _entry_problems(root: Path, readme: Path, entry: ReadmeEntry) -> Iterator[ExtrasProblem]:
     name = entry.fields.get("Product file", "")
-    product = _product_file(root, readme, name)
+    product = product_of(root, readme, entry)
     if product is None:
         yield ExtrasProblem("absent", readme, f"documents product {entry.product_id} ({name or 'no file named'}), "
                                               "which is not delivered: make the Extras again from the products "
