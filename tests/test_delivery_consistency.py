@@ -20,6 +20,7 @@ from pdsgen.deliver import make_delivery
 from pdsgen.errors import InputError
 from pdsgen.extras import make_extras
 from pdsgen.products.dtm import write_dtm
+from pdsgen.review.collect import delivery_checks
 from pdsgen.synthetic import make_scene, write_geotiff
 from pdsgen.validate import validate_paths
 
@@ -77,10 +78,14 @@ def test_a_bundle_is_what_its_root_says_whatever_its_name(made, tmp_path):
     end = text.index("</Bundle_Member_Entry>", start) + len("</Bundle_Member_Entry>")
     (bundle / "bundle.xml").write_text(text[:start] + text[end:])
     assert _found(bundle, *CONSISTENCY) == []
+    assert ("inventories", "pass") in delivery_checks(bundle, validate_paths([bundle], labels_only=True).findings)
     inventory = bundle / "DATA" / "collection_data_inventory.csv"
     rows = inventory.read_bytes().split(b"\r\n")
     inventory.write_bytes(b"\r\n".join(rows[1:]))
     assert _found(bundle, "DLV-011") == [("DLV-011", "error", "DTEEC_008669_1705_009025_1705_U01.xml")]
+    # the review page's summary reviews a bundle.xml's inventories as any bundle label's
+    checks = delivery_checks(bundle, validate_paths([bundle], labels_only=True).findings)
+    assert ("inventories", "fail: 1 error(s)") in checks
 
 
 @pytest.mark.parametrize("dialect", ["pds4", "both"])

@@ -16,7 +16,7 @@ from pathlib import Path
 from urllib.parse import quote
 
 from ..archive import layout
-from ..archive.scan import DataProduct, is_preview, pointed_files
+from ..archive.scan import DataProduct, bundle_labels, is_preview, pointed_files
 from ..extras.renderings import DTM_RENDERINGS, ORTHO_RENDERING
 from ..label.read import LabelCache, LabelFile, read_pds3_label
 from ..validate.model import SEVERITIES, Finding
@@ -237,7 +237,7 @@ def delivery_checks(root: Path, findings: Iterable[Finding]) -> list[tuple[str, 
     """Whether the index, the inventories and the manifest check, for those the delivery has."""
     present = {
         "index": (root / layout.INDEX_DIR / layout.INDEX_LABEL).is_file(),
-        "inventories": any(root.glob("bundle_*.xml")),
+        "inventories": bool(bundle_labels(root)),  # a Product_Bundle root, whatever its name (bundle.xml)
         "manifest": (root / layout.MANIFEST).is_file(),
     }
     failed = Counter(f.rule for f in findings if f.severity == "error")
