@@ -11,6 +11,7 @@ from pdsgen.batch import ManifestError, Settings, load_manifest, plan
 from pdsgen.batch.calls import RUNNERS
 from pdsgen.batch.progress import Progress
 from pdsgen.batch.run import make_task
+from pdsgen.demo import DEMO_PARAMS, DEMO_PARAMS_TEXT
 from pdsgen.validate import validate_paths
 
 from helpers import ORIGINS, elevation_array, run_cli, write_raster
@@ -37,6 +38,7 @@ def test_example_parses_and_its_jobs_run(tmp_path):
     elevation = elevation_array(64, 64)
     write_raster(tmp_path / "input" / "demo_dtm.tif", elevation, crs, transform)
     write_raster(tmp_path / "input" / "demo_ortho_red.tif", (elevation + 4100) / 1000, crs, transform)
+    (tmp_path / "input" / DEMO_PARAMS).write_text(DEMO_PARAMS_TEXT)  # the demo's identification, as it writes it
     manifest = load_manifest(write(tmp_path, example.stdout))
     assert [j.kind for j in manifest.jobs] == ["dtm", "ortho", "extras", "validate"]
     assert manifest.outdir == tmp_path / "delivery"

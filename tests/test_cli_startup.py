@@ -111,8 +111,9 @@ BUDGETS = {
     # 62: pdsgen.encode, which every report line passes; bounded.py and storage/containment.py (issue 48);
     # the IDN rule family (validate/families/identity_rules.py, issue 49) and the clock its "now" reads
     # (pdsgen/clock.py, issue 53); validate/facts.py, the per-file facts the checks across files join
-    # (issue 51: read by the workers of a -j run, by the run itself otherwise)
-    "validate {out}/DTM.IMG -q": (62, 430, {"jinja2", "glymur", "pdsgen.products.dtm", "distributed"}),
+    # (issue 51: read by the workers of a -j run, by the run itself otherwise); 63: pdsgen.params, whose
+    # IDENTIFICATION_KEYWORDS DLV-007 reads of a product left UNK, now checked alone too (issue 49)
+    "validate {out}/DTM.IMG -q": (63, 430, {"jinja2", "glymur", "pdsgen.products.dtm", "distributed"}),
 }
 
 

@@ -29,8 +29,8 @@ from helpers import demo_products
 PDS_NS = {"pds": "http://pds.nasa.gov/pds4/pds/v1"}
 BUNDLE_LID = "urn:nasa:pds:demo_dtm"
 # The rules of this issue: a clean delivery has none of them (the demo's UNK texts are DLV-007's).
-CONSISTENCY = ("DLV-011", "DLV-016", "DLV-017", "DLV-018", "DLV-019", "IDN-001", "IDN-002", "IDN-003", "IDN-004",
-               "IDN-012", "IDN-013")
+CONSISTENCY = ("DLV-011", "DLV-016", "DLV-017", "DLV-018", "DLV-019", "DLV-025", "DLV-026", "IDN-001", "IDN-002",
+               "IDN-003", "IDN-004", "IDN-012", "IDN-013")
 
 
 @pytest.fixture(scope="module")
@@ -55,14 +55,14 @@ def _copy(made: dict[str, Path], dialect: str, tmp_path: Path) -> Path:
     return Path(shutil.copytree(made[dialect], tmp_path / dialect))
 
 
-def _found(path: Path, *rules: str) -> list[tuple[str, str, str]]:
-    report = validate_paths([path], labels_only=True)
+def _found(path: Path, *rules: str, labels_only: bool = True) -> list[tuple[str, str, str]]:
+    report = validate_paths([path], labels_only=labels_only)
     return sorted((f.rule, f.severity, Path(f.file).name) for f in report.findings if f.rule in rules)
 
 
 @pytest.mark.parametrize("dialect", ["pds3", "pds4", "both"])
 def test_clean_deliveries_have_no_consistency_finding(made, dialect):
-    assert _found(made[dialect], *CONSISTENCY) == []
+    assert _found(made[dialect], *CONSISTENCY, labels_only=False) == []
 
 
 def test_a_bundle_is_what_its_root_says_whatever_its_name(made, tmp_path):
@@ -130,12 +130,57 @@ def test_a_product_without_product_id_is_found(made, tmp_path):
     assert _found(volume, "IDN-001") == [("IDN-001", "warning", "PSP_008669_1705_RED_C_01_ORTHO.LBL")]
 
 
-def test_unk_identification_is_found_in_a_pds4_bundle(made, tmp_path):
-    """DLV-007 reads the bundle's PDS4 labels, as a volume's indexed PDS3 labels."""
-    assert _found(made["pds4"], "DLV-007") == []  # the demo's PDS4 labels name what they show
+def test_unk_identification_is_found_in_a_pds4_label_in_a_bundle_or_alone(made, tmp_path):
+    """DLV-008 (DLV-007's PDS4 side) reads every PDS4 label: in a bundle, and one checked alone."""
+    assert _found(made["pds4"], "DLV-008") == []  # the demo's PDS4 labels name what they show
     bundle = _copy(made, "pds4", tmp_path)
     _seed(bundle, f"{ORTHO}.xml", "<name>Mars</name>", "<name>UNK</name>")
-    assert _found(bundle, "DLV-007") == [("DLV-007", "warning", "PSP_008669_1705_RED_C_01_ORTHO.xml")]
+    assert _found(bundle, "DLV-008") == [("DLV-008", "warning", "PSP_008669_1705_RED_C_01_ORTHO.xml")]
+    alone = bundle / f"{ORTHO}.xml"
+    assert _found(alone, "DLV-008") == [("DLV-008", "warning", "PSP_008669_1705_RED_C_01_ORTHO.xml")]
+    assert validate_paths([alone], labels_only=True, strict=True).failed
+
+
+def test_a_remade_ortho_with_its_old_jp2info_and_quick_look_is_found(products, tmp_path):
+    """The orthoimage remade at another size (--overwrite) and its Extras remade, but the old
+    JP2INFO.TXT and the old quick look put back: DLV-025 names JP2INFO.TXT (in the product
+    directory and in the delivery), DLV-026 the quick look. The JP2 sizes the findings quote are
+    GDAL's (rasterio), not the validator's box walk."""
+    from pdsgen.products.ortho import write_ortho
+
+    remade = Path(shutil.copytree(products, tmp_path / "products"))
+    name, dtm = Path(ORTHO).name, Path(DTM_IMG).name
+    qlook = f"{name}.QLOOK.JP2"
+    old_info, old_qlook = (remade / "JP2INFO.TXT").read_bytes(), (remade / "extras" / qlook).read_bytes()
+    scene = make_scene(width=100, height=140)
+    source = write_geotiff(tmp_path / "ortho.tif", scene.reflectance, scene.transform, scene.crs, None)
+    ortho = write_ortho(source, remade, profile="hirise", observation_id="PSP_008669_1705",
+                        source_dtm_id=Path(dtm).stem, label="both", overwrite=True)
+    make_extras([remade / dtm, ortho.label_path], remade / "extras", overwrite=True)
+    consistent = tmp_path / "consistent"
+    make_delivery(remade, consistent, dialect="both", volume_id="DEMO_0001", bundle_lid=BUNDLE_LID)
+    assert _found(consistent, *CONSISTENCY, labels_only=False) == []  # the consistent remake: clean
+    (remade / "JP2INFO.TXT").write_bytes(old_info)
+    (remade / "extras" / qlook).write_bytes(old_qlook)
+    assert _gdal_size(remade / f"{name}.JP2") == (100, 140) and _gdal_size(remade / "extras" / qlook) == (120, 160)
+    assert _found(remade, "DLV-025", labels_only=False) == [("DLV-025", "error", "JP2INFO.TXT")]
+    for dialect in ("pds3", "both"):
+        delivery = tmp_path / dialect
+        make_delivery(remade, delivery, dialect=dialect, volume_id="DEMO_0001",
+                      bundle_lid=BUNDLE_LID if dialect == "both" else None)
+        assert _found(delivery, "DLV-025", "DLV-026", labels_only=False) == [("DLV-025", "error", "JP2INFO.TXT"),
+                                                                             ("DLV-026", "error", qlook)]
+        report = validate_paths([delivery], strict=True)
+        jp2info = next(f for f in report.findings if f.rule == "DLV-025")
+        assert "as 120 samples x 160 lines" in jp2info.message and "JP2 is 100 samples x 140 lines" in jp2info.message
+
+
+def _gdal_size(path: Path) -> tuple[int, int]:
+    """(width, height) of a JP2 as GDAL reads it."""
+    import rasterio
+
+    with rasterio.open(path) as dataset:
+        return dataset.width, dataset.height
 
 
 @pytest.mark.parametrize("dialect", ["pds3", "both"])

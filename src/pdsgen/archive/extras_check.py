@@ -99,6 +99,11 @@ def extras_problems(root: Path, labels: LabelCache | None = None) -> list[Extras
     return problems
 
 
+def product_of(root: Path, readme: Path, entry: ReadmeEntry) -> Path | None:
+    """The delivered label of the product a README.TXT entry documents (None when it is not there)."""
+    return _product_file(root, readme, entry.fields.get("Product file", ""))
+
+
 def _product_file(root: Path, readme: Path, name: str) -> Path | None:
     """Where the product README.TXT names lies: beside it, one directory up (a product
     directory's extras/), or in the delivery's DATA/."""
@@ -112,7 +117,7 @@ def _product_file(root: Path, readme: Path, name: str) -> Path | None:
 def _entry_problems(root: Path, readme: Path, entry: ReadmeEntry,
                     labels: LabelCache | None) -> Iterator[ExtrasProblem]:
     name = entry.fields.get("Product file", "")
-    product = _product_file(root, readme, name)
+    product = product_of(root, readme, entry)
     if product is None:
         yield ExtrasProblem("absent", readme, f"documents product {entry.product_id} ({name or 'no file named'}), "
                                               "which is not delivered: make the Extras again from the products "

@@ -31,9 +31,9 @@ from .model import Finding
 
 FORMATS = ("text", "json", "junit", "sarif", "github", "html")
 # Findings that mean "still to be written": delivery text placeholders (DLV-006) and the products'
-# identification keywords left UNK (DLV-007). Counted apart in every summary (`placeholders`), so a run that
-# passes with some left is not taken for a finished delivery.
-PLACEHOLDER_RULES = frozenset({"DLV-006", "DLV-007"})
+# identification keywords left UNK (DLV-007 PDS3, DLV-008 PDS4). Counted apart in every summary
+# (`placeholders`), so a run that passes with some left is not taken for a finished delivery.
+PLACEHOLDER_RULES = frozenset({"DLV-006", "DLV-007", "DLV-008"})
 FAIL_LEVELS = ("error", "warning")
 
 

@@ -31,11 +31,12 @@ from ...label.parser import is_pds3_head
 from ...label.tree import Block, Statement, first_statement
 from ...pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
 from .. import facts
-from ..model import Finding
+from ..model import Finding, Hit
 from ..registry import Rule, register
 
 if TYPE_CHECKING:
     from ...label.read import LabelCache
+    from ..context import FileContext
 
 PDS_NS = "{http://pds.nasa.gov/pds4/pds/v1}"
 _FORMAT = re.compile(r"([AFIE])(\d+)(?:\.(\d+))?", re.IGNORECASE)
@@ -243,8 +244,6 @@ def _check_row(root: Path, table_path: Path, number: int, values: dict[str, str 
     if product is None:
         found.append(_Found("DLV-003", table_path, f"row {number} names {spec}, which is not a PDS3 label", number))
         return
-    for stmt in unstated_identification(product):
-        found.append(_Found("DLV-007", named, _unstated_message(stmt), stmt.line, stmt.keyword))
     for column in columns:
         if column.name in ("VOLUME_ID", "FILE_SPECIFICATION_NAME"):
             continue
@@ -333,13 +332,16 @@ def _check_placeholders(root: Path, found: list[_Found]) -> None:
                                 number))
 
 
-# --- identification keywords that say nothing (DLV-007) -------------------------------------------
+# --- identification keywords that say nothing (DLV-007, DLV-008) ---------------------------------
 # A product made without a params file carries "UNK" in DATA_SET_ID, PRODUCER_*, INSTRUMENT_* ...: a
 # label a reader can open, but one that does not say whose data it is or where they come from. While
 # a product is being made that is a step on the way (`pdsgen dtm` and `pdsgen ortho` warn about it
-# then); in a delivery it is text still to be written, like a [TO BE WRITTEN: ...] placeholder
-# (DLV-006). Genuine archives hold such values too, so a warning, not an error; --strict fails on
-# it, and the validation summary counts both (report.PLACEHOLDER_RULES).
+# then); in a delivery, and in any product validated alone, it is text still to be written, like a
+# [TO BE WRITTEN: ...] placeholder (DLV-006). So the check runs on every product label, whatever
+# holds it (a file alone, a product directory, a PDS3 volume, a PDS4 bundle): DLV-007 on a PDS3
+# product label, DLV-008 on a PDS4 label (a rule takes one kind of file, registry.Rule.target).
+# Genuine archives hold such values too, so a warning, not an error; --strict fails on it, and the
+# validation summary counts both (report.PLACEHOLDER_RULES).
 
 _UNSTATED = frozenset({"UNK", "N/A", "UNKNOWN", "NULL"})
 
@@ -362,6 +364,120 @@ def _unstated_message(stmt: Statement) -> str:
             "lists every keyword, and make the product again)")
 
 
+_PRODUCT_OBJECTS = frozenset({"IMAGE", "IMAGE_MAP_PROJECTION", "SPECTRAL_QUBE", "QUBE", "TABLE", "ARRAY"})
+
+
+def _is_product_label(root: Block) -> bool:
+    """A PDS3 label of a product (PRODUCT_ID, or a data object), not a catalog file or an index."""
+    if root.get("PRODUCT_ID") is not None:
+        return True
+    return any(block.kind == "OBJECT" and block.name.upper() in _PRODUCT_OBJECTS for block in root.blocks())
+
+
+def check_pds4_unstated(label: object) -> list[Hit]:
+    """DLV-008: a PDS4 label names its investigation, observing system and targets (identity_rules
+    reads them; imported here when run, so that the IDN family registers after this one)."""
+    from .identity_rules import pds4_unstated_check
+
+    return pds4_unstated_check(label)
+
+
+def check_unstated(ctx: FileContext) -> Iterator[Hit]:
+    """DLV-007: a PDS3 product label's identification keywords are stated, not UNK or N/A."""
+    if _is_product_label(ctx.root):
+        for stmt in unstated_identification(ctx.root):
+            yield Hit(_unstated_message(stmt), stmt.line, stmt.keyword)
+
+
+# --- JP2INFO.TXT and the quick look against the JPEG 2000 files they describe (DLV-025, DLV-026) ---
+# JP2INFO.TXT (written by `pdsgen ortho` beside its JP2s, formats/jp2.describe_jp2) states each
+# JP2's size, bands and bit depth; an Extras quick look (<ID>.QLOOK.JP2) is its orthoimage at full
+# scale. A product remade at another size with its old JP2INFO.TXT or its old quick look kept
+# ships parts that describe another image. Both are read against the JP2 header (ihdr) through
+# the validator's own box walk (validate/geojp2.read_jp2), never a general JP2 reader.
+
+_JP2INFO_IMAGE = re.compile(r"^\s+Image:\s+(\d+) samples x (\d+) lines, (\d+) band\(s\), (\d+) bits")
+
+
+def jp2info_entries(path: Path) -> dict[str, tuple[int, int, int, int, int]]:
+    """JP2INFO.TXT's entries as pdsgen writes them: file name (upper case) -> (samples, lines,
+    bands, bits, line of the Image: line). A JP2INFO.TXT of another writer (HiRISE's is a general
+    text) has none, and nothing is compared."""
+    try:
+        lines = path.read_text(encoding="latin-1").splitlines()
+    except OSError:
+        return {}
+    entries: dict[str, tuple[int, int, int, int, int]] = {}
+    name = ""
+    for number, line in enumerate(lines, 1):
+        if line and not line[0].isspace() and " " not in line.strip() and line.strip().upper().endswith(".JP2"):
+            name = line.strip().upper()
+        elif name and (match := _JP2INFO_IMAGE.match(line)) is not None:
+            samples, rows, bands, bits = (int(group) for group in match.groups())
+            entries[name] = (samples, rows, bands, bits, number)
+    return entries
+
+
+def _jp2_header(path: Path) -> tuple[int, int, int, int] | None:
+    """(samples, lines, bands, bits) of a JP2's header, or None for a file that is none (the
+    image rules say why)."""
+    from ..geojp2 import Jp2Error, read_jp2
+
+    try:
+        info = read_jp2(path)
+    except Jp2Error:
+        return None
+    return info.width, info.height, info.bands, info.bits
+
+
+def check_jp2info(ctx: FileContext) -> Iterator[Hit]:
+    """DLV-025: the JP2INFO.TXT a COMPRESSED_FILE's ^DESCRIPTION names describes the JP2 beside it."""
+    for block in ctx.root.walk():
+        if block.kind != "OBJECT" or block.name.upper() != "COMPRESSED_FILE":
+            continue
+        jp2_name, info_name = block.text("FILE_NAME"), block.text("^DESCRIPTION")
+        if not jp2_name or not info_name or ctx.outside(jp2_name) or ctx.outside(info_name):
+            continue
+        jp2, info = ctx.resolve(jp2_name)[0], ctx.resolve(info_name)[0]
+        if jp2 is None or info is None or not jp2.is_file() or not info.is_file():
+            continue  # a missing file is the pointer rules'
+        entry = jp2info_entries(info).get(jp2_name.upper())
+        header = _jp2_header(jp2) if entry is not None else None
+        if entry is not None and header is not None and entry[:4] != header:
+            yield Hit(f"describes {jp2_name} as {_shape(entry[:4])}, but the JP2 is {_shape(header)}: "
+                      f"{info.name} was written for another version of the JP2 (make the product again, or "
+                      "deliver the JP2INFO.TXT made with it)", entry[4], file=str(info))
+
+
+def _shape(values: tuple[int, int, int, int]) -> str:
+    samples, lines, bands, bits = values
+    return f"{samples} samples x {lines} lines, {bands} band(s), {bits} bits"
+
+
+def _check_quick_looks(root: Path, found: list[_Found], labels: LabelCache | None) -> None:
+    """DLV-026: each quick-look JP2 README.TXT lists is its product at full scale: the size of the
+    image its delivered label describes (archive/extras_check finds the product of each entry)."""
+    from ...archive.extras_check import product_of, read_entries, readmes
+
+    for readme in readmes(root):
+        for entry in read_entries(readme):
+            product = product_of(root, readme, entry)
+            label = _read_pds3(product, labels) if product is not None else None
+            image = next(label.find("IMAGE"), None) if label is not None else None
+            if product is None or image is None:
+                continue
+            samples, lines = image.number("LINE_SAMPLES"), image.number("LINES")
+            for name, _ in entry.files:
+                path = readme.parent / name
+                header = _jp2_header(path) if name.upper().endswith(".QLOOK.JP2") and path.is_file() else None
+                if header is not None and (header[0], header[1]) != (samples, lines):
+                    found.append(_Found("DLV-026", path, f"{header[0]} samples x {header[1]} lines, but the "
+                                                         f"quick look of {product.name} is the product at full "
+                                                         f"scale ({samples} samples x {lines} lines): a quick look "
+                                                         f"of another version of the product (pdsgen extras "
+                                                         f"{product.name} -o {readme.parent.name} --overwrite)"))
+
+
 # --- PDS4: bundle, collections, inventories, references -----------------------------------------
 
 @dataclass
@@ -374,7 +490,6 @@ class _Pds4Label:
     members: list[tuple[str, str, int]] = field(default_factory=list)  # a bundle's (lidvid, status, line)
     inventory: Path | None = None
     described: list[Path] = field(default_factory=list)  # the files its File and Document_File areas name
-    unstated: list[tuple[str, int | None, str | None]] = field(default_factory=list)  # DLV-007: message, line, keyword
     times: tuple[str | None, str | None] = (None, None)  # Time_Coordinates start and stop, as written
     corner: tuple[float, float, float] | None = None  # cart: upper-left corner x, y and pixel_resolution_x, metres
 
@@ -386,8 +501,6 @@ class _Pds4Label:
 @facts.fact("pds4")
 def _read_pds4(path: Path) -> _Pds4Label | None:
     from lxml import etree
-
-    from .identity_rules import pds4_unstated
 
     try:
         tree = etree.parse(str(path), etree.XMLParser(no_network=True, resolve_entities=False))
@@ -414,7 +527,6 @@ def _read_pds4(path: Path) -> _Pds4Label | None:
     if name and not outside_tree(path.parent, name.strip()):  # one outside the label's directory is not read
         label.inventory = path.parent / name.strip()
     label.described = described_files(root, path)
-    label.unstated = [(hit.message, hit.line, hit.keyword) for hit in pds4_unstated(root)]
     coordinates = root.find(f"{PDS_NS}Observation_Area/{PDS_NS}Time_Coordinates")
     if coordinates is not None:
         label.times = (coordinates.findtext(f"{PDS_NS}start_date_time"),
@@ -501,8 +613,6 @@ def _check_bundle(root: Path, found: list[_Found], cache: LabelCache | None = No
     _check_unlabelled(root, labels, found)
     if (root / layout.VOLDESC).is_file():
         _check_both_dialects(root, labels, found, cache)
-    for label in labels:  # DLV-007 of the bundle's labels, as of a volume's indexed PDS3 labels
-        found.extend(_Found("DLV-007", label.path, message, line, keyword) for message, line, keyword in label.unstated)
 
 
 def _check_both_dialects(root: Path, labels: list[_Pds4Label], found: list[_Found],
@@ -771,6 +881,7 @@ def check_delivery(root: Path, labels_only: bool = False, labels: LabelCache | N
     _check_placeholders(root, found)
     _check_bundle(root, found, labels)
     _check_extras(root, found, labels)
+    _check_quick_looks(root, found, labels)
     _check_manifest(root, labels_only, found)
     table = rules()
     return [Finding(f.rule, table[f.rule].severity, str(f.file), f.message, f.line, f.keyword) for f in found]
@@ -839,9 +950,12 @@ register(
     Rule("DLV-005", "error", "VOLUME_ID and DATA_SET_ID agree across INDEX.TAB, INDEX.LBL and VOLDESC.CAT", None),
     Rule("DLV-006", "warning", "no [TO BE WRITTEN: ...] placeholder left in VOLDESC.CAT, AAREADME.TXT, "
                                "bundle or collection labels", None),
-    Rule("DLV-007", "warning", "the products' identification keywords (DATA_SET_ID, PRODUCER_*, INSTRUMENT_* ...) "
-                               "are stated, not UNK or N/A (PDS3 labels of the index, PDS4 labels of the "
-                               "bundle)", None),
+    Rule("DLV-007", "warning", "a PDS3 product's identification keywords (DATA_SET_ID, PRODUCER_*, INSTRUMENT_* "
+                               "...) are stated, not UNK or N/A (any product label, alone or delivered)",
+         check_unstated),
+    Rule("DLV-008", "warning", "a PDS4 label's investigation, observing system components and targets are named, "
+                               "not UNK or N/A (any label, alone or in a bundle)", check_pds4_unstated,
+         target="pds4"),
     Rule("DLV-010", "error", "every primary member of a collection inventory is the LIDVID of a product of the "
                              "delivery", None),
     Rule("DLV-011", "error", "every product under a collection's LID is in its inventory", None),
@@ -861,6 +975,10 @@ register(
     Rule("DLV-023", "error", "a product's PDS4 cart: grid is its PDS3 label's map grid (upper-left corner to half "
                              "a pixel, where both state one pixel size)", None),
     Rule("DLV-024", "error", "a delivery's PDS3 volume and PDS4 bundle hold the same products", None),
+    Rule("DLV-025", "error", "JP2INFO.TXT states the size, bands and bit depth of each JP2 it describes (not "
+                             "those of a JP2 since remade)", check_jp2info, needs_data=True),
+    Rule("DLV-026", "error", "an Extras quick-look JP2 (QLOOK.JP2) is its delivered product at full scale (not a "
+                             "quick look of a product since remade)", None),
     Rule("DLV-020", "error", "every file MD5SUMS.TXT lists exists and has that MD5", None, needs_data=True),
     Rule("DLV-021", "error", "every file of the delivery is listed in MD5SUMS.TXT", None),
 )

@@ -221,14 +221,16 @@ def pds4_time_order(root: etree._Element) -> Iterator[Hit]:
 
 def pds4_unstated(root: etree._Element) -> Iterator[Hit]:
     """The investigation, observing system components and targets a PDS4 label leaves unnamed
-    ("UNK", "N/A", "Unknown"): what DLV-007 reports of a bundle's labels (delivery_rules.py), as
-    of a volume's PDS3 labels."""
+    ("UNK", "N/A", "Unknown"): DLV-008 (delivery_rules.py), the PDS4 side of DLV-007."""
     for area in ("Investigation_Area", "Observing_System_Component", "Target_Identification"):
         for element in root.iter(f"{PDS_NS}{area}"):
             name = element.find(f"{PDS_NS}name")
             if name is not None and (name.text or "").strip().upper() in _UNSTATED:
                 yield Hit(f"{area} name {(name.text or '').strip()}: not stated (write it in a params file and make "
                           "the product again)", name.sourceline, "name")
+
+
+pds4_unstated_check = _pds4_check(pds4_unstated)
 
 
 register(
