@@ -69,13 +69,19 @@ def stderr_on_a_terminal(*args: str) -> tuple[int, str]:
     return process.returncode, shown.decode("ascii", "replace")
 
 
+def stated_keywords() -> dict[str, str]:
+    """Every identification keyword a profile may leave "UNK" (pdsgen.params.IDENTIFICATION_KEYWORDS),
+    stated: what a producer's params file says. A product made without them warns that they are
+    "UNK" and validates with DLV-007 / DLV-008 (issues 44, 49), which is not what most tests look at."""
+    from pdsgen.params import IDENTIFICATION_KEYWORDS
+
+    return {keyword: "STATED" for keyword in IDENTIFICATION_KEYWORDS}
+
+
 def stated_params(folder: Path) -> Path:
-    """A params file stating every identification keyword: a product made without one warns that
-    they are "UNK" (issue 44), which is not what these tests look at."""
-    keywords = ("DATA_SET_ID", "DATA_SET_NAME", "PRODUCER_INSTITUTION_NAME", "PRODUCER_ID", "PRODUCER_FULL_NAME",
-                "INSTRUMENT_HOST_NAME", "INSTRUMENT_HOST_ID", "INSTRUMENT_NAME", "INSTRUMENT_ID", "RATIONALE_DESC")
+    """stated_keywords() as a params file (folder/stated.toml), for the command line's --params."""
     path = folder / "stated.toml"
-    path.write_text("".join(f'{keyword} = "STATED"\n' for keyword in keywords))
+    path.write_text("".join(f'{keyword} = "{value}"\n' for keyword, value in stated_keywords().items()))
     return path
 
 
@@ -88,7 +94,7 @@ def small_pds4_dtm(root: Path, product_id: str):
 
     crs, transform = ORIGINS["equirectangular"]
     source = write_raster(root / "dtm.tif", elevation_array(12, 16, seed=4), crs, transform, nodata=-9999.0)
-    written = write_dtm(source, root / "good", product_id=product_id, label="pds4")
+    written = write_dtm(source, root / "good", product_id=product_id, label="pds4", params=stated_keywords())
     return SimpleNamespace(path=written.pds4_label_path, text=written.label_text)
 
 
