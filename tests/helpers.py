@@ -69,19 +69,28 @@ def stderr_on_a_terminal(*args: str) -> tuple[int, str]:
     return process.returncode, shown.decode("ascii", "replace")
 
 
-def stated_keywords() -> dict[str, str]:
-    """Every identification keyword a profile may leave "UNK" (pdsgen.params.IDENTIFICATION_KEYWORDS),
-    stated: what a producer's params file says. A product made without them warns that they are
-    "UNK" and validates with DLV-007 / DLV-008 (issues 44, 49), which is not what most tests look at."""
+def stated_keywords(profile: str = "generic") -> dict[str, str]:
+    """The identification keywords (pdsgen.params.IDENTIFICATION_KEYWORDS) `profile` leaves "UNK",
+    stated as a producer's params file states them. A product made without them warns and validates
+    with DLV-007 / DLV-008 (issues 44, 49), which is not what most tests look at.
+
+    The values are a registered mission's (the HiRISE profile's: the data dictionary knows its host
+    and instrument names, so DICT-013 has nothing to say) and the demo's text for the two it leaves
+    "UNK"; a keyword the profile states keeps the profile's value."""
+    from pdsgen.demo import DEMO_IDENTIFICATION
+    from pdsgen.missions import get_mission
     from pdsgen.params import IDENTIFICATION_KEYWORDS
 
-    return {keyword: "STATED" for keyword in IDENTIFICATION_KEYWORDS}
+    mission = get_mission(profile)
+    written = {**(mission.ortho_keywords or {}), **mission.dtm_keywords}
+    registered = {**get_mission("hirise").dtm_keywords, **DEMO_IDENTIFICATION}
+    return {keyword: registered[keyword] for keyword in IDENTIFICATION_KEYWORDS if written.get(keyword) == "UNK"}
 
 
-def stated_params(folder: Path) -> Path:
-    """stated_keywords() as a params file (folder/stated.toml), for the command line's --params."""
+def stated_params(folder: Path, profile: str = "generic") -> Path:
+    """stated_keywords(profile) as a params file (folder/stated.toml), for the command line's --params."""
     path = folder / "stated.toml"
-    path.write_text("".join(f'{keyword} = "{value}"\n' for keyword, value in stated_keywords().items()))
+    path.write_text("".join(f'{keyword} = "{value}"\n' for keyword, value in stated_keywords(profile).items()))
     return path
 
 

@@ -64,14 +64,14 @@ def test_hrsc_dt4_products_are_clean(tmp_path, grid, order):
 
     from pdsgen.products.dtm import write_dtm
 
-    from helpers import elevation_array, write_raster
+    from helpers import elevation_array, stated_keywords, write_raster
 
     crs, transform = HRSC_GRIDS[grid]
     heights = elevation_array(45, 38, seed=11)
     heights[3:6, 4:9] = np.nan
     source = write_raster(tmp_path / "in.tif", heights, crs, Affine(*transform))
     product = write_dtm(source, tmp_path / "out", profile="hrsc", precision=0.05, byte_order=order,
-                        source_product_ids=["H1234_0000_ND3"])
+                        source_product_ids=["H1234_0000_ND3"], params=stated_keywords("hrsc"))
     report = validate_paths([product.path], strict=True)
     assert [f"{f.rule} {f.message}" for f in report.findings if f.severity != "info"] == []
     assert "MAP-004" in report.rule_ids("info")
@@ -84,14 +84,15 @@ def test_hrsc_nd4_orthoimages_are_clean(tmp_path, dtype):
 
     from pdsgen.products.ortho import write_ortho
 
-    from helpers import write_raster
+    from helpers import stated_keywords, write_raster
 
     rng = np.random.default_rng(4)
     image = (rng.random((36, 28)) * (250 if dtype == "uint8" else 0.2)).astype(dtype)
     image[0, :3] = 0
     crs, transform = HRSC_GRIDS["sinusoidal"]
     source = write_raster(tmp_path / "nd.tif", image, crs, Affine(*transform), nodata=0)
-    product = write_ortho(source, tmp_path / "out", profile="hrsc", source_product_ids=["H1234_0000_ND3"])
+    product = write_ortho(source, tmp_path / "out", profile="hrsc", source_product_ids=["H1234_0000_ND3"],
+                          params=stated_keywords("hrsc"))
     report = validate_paths([product.path], strict=True)
     assert [f"{f.rule} {f.message}" for f in report.findings if f.severity != "info"] == []
 
@@ -103,11 +104,11 @@ def test_wide_polar_product_whose_nearest_point_to_the_pole_is_mid_edge(tmp_path
 
     from pdsgen import write_dtm
 
-    from helpers import CRS_SOUTH_POLAR, elevation_array, write_raster
+    from helpers import CRS_SOUTH_POLAR, elevation_array, stated_keywords, write_raster
 
     data = elevation_array(20, 20000, seed=2)
     source = write_raster(tmp_path / "strip.tif", data, CRS_SOUTH_POLAR,
                           Affine(1.0, 0, -7003.0, 0, -1.0, 100020.0))
-    product = write_dtm(source, tmp_path / "out", product_id="POLAR_STRIP")
+    product = write_dtm(source, tmp_path / "out", product_id="POLAR_STRIP", params=stated_keywords())
     report = validate_paths([product.path], strict=True)
     assert [f"{f.rule} {f.message}" for f in report.findings if f.severity != "info"] == []

@@ -10,13 +10,15 @@ from pathlib import Path
 
 from pdsgen import write_dtm
 
-from helpers import ORIGINS, elevation_array, write_raster
+from helpers import ORIGINS, elevation_array, stated_keywords, write_raster
 
 
 def make_dtm(tmp_path: Path, kind: str = "equirectangular", lines: int = 40, samples: int = 50,
              dtype: str = "float32", byte_order: str = "lsb", profile: str = "generic",
              name: str = "dtm") -> Path:
-    """Write a DTM product with pdsgen and return its .IMG path."""
+    """Write a DTM product with pdsgen, its identification stated as a producer's params file
+    states it (what these tests check is the product, not a missing params file), and return
+    its .IMG path."""
     crs, transform = ORIGINS[kind]
     data = elevation_array(lines, samples, seed=lines + samples, dtype="float64")
     nodata = -32768 if dtype in ("int16", "int32", "float32", "float64") else 0
@@ -30,7 +32,8 @@ def make_dtm(tmp_path: Path, kind: str = "equirectangular", lines: int = 40, sam
     # 8-bit heights are what these tests mean to make: pdsgen takes such a raster for an image's DNs
     # unless told (any_kind)
     product = write_dtm(source, tmp_path / name, byte_order=byte_order, profile=profile,
-                        institution="U" if profile == "hirise" else None, any_kind=dtype == "uint8", **kwargs)
+                        institution="U" if profile == "hirise" else None, any_kind=dtype == "uint8",
+                        params=stated_keywords(), **kwargs)
     return product.path
 
 

@@ -29,10 +29,13 @@ DEMO_ORTHO_OBSERVATION = "PSP_008669_1705"
 # What the HiRISE profile cannot know of the demo's products (a product left "UNK" is text still to
 # write, which validate --strict fails on): stated in a params file, as a user's products are.
 DEMO_PARAMS = "demo_params.toml"
+DEMO_IDENTIFICATION = {
+    "PRODUCER_FULL_NAME": "pdsgen demo",
+    "RATIONALE_DESC": "Synthetic terrain and orthoimage made by pdsgen demo to show its products",
+}
 DEMO_PARAMS_TEXT = (
     "# The demo's identification: what the HiRISE profile leaves UNK (pdsgen params --template hirise)\n"
-    'PRODUCER_FULL_NAME = "pdsgen demo"\n'
-    'RATIONALE_DESC = "Synthetic terrain and orthoimage made by pdsgen demo to show its products"\n'
+    + "".join(f'{keyword} = "{value}"\n' for keyword, value in DEMO_IDENTIFICATION.items())
 )
 
 
