@@ -69,21 +69,21 @@ def stderr_on_a_terminal(*args: str) -> tuple[int, str]:
     return process.returncode, shown.decode("ascii", "replace")
 
 
-def stated_keywords(profile: str = "generic") -> dict[str, str]:
+def stated_keywords(profile: str = "generic", mission: str = "hirise") -> dict[str, str]:
     """The identification keywords (pdsgen.params.IDENTIFICATION_KEYWORDS) `profile` leaves "UNK",
     stated as a producer's params file states them. A product made without them warns and validates
     with DLV-007 / DLV-008 (issues 44, 49), which is not what most tests look at.
 
-    The values are a registered mission's (the HiRISE profile's: the data dictionary knows its host
-    and instrument names, so DICT-013 has nothing to say) and the demo's text for the two it leaves
-    "UNK"; a keyword the profile states keeps the profile's value."""
+    The values are a registered mission's, the profile `mission`'s (HiRISE's by default: the data
+    dictionary knows its host and instrument names, so DICT-013 has nothing to say), and the demo's
+    text for the two every profile leaves "UNK"; a keyword the profile states keeps its value."""
     from pdsgen.demo import DEMO_IDENTIFICATION
     from pdsgen.missions import get_mission
     from pdsgen.params import IDENTIFICATION_KEYWORDS
 
-    mission = get_mission(profile)
-    written = {**(mission.ortho_keywords or {}), **mission.dtm_keywords}
-    registered = {**get_mission("hirise").dtm_keywords, **DEMO_IDENTIFICATION}
+    made = get_mission(profile)
+    written = {**(made.ortho_keywords or {}), **made.dtm_keywords}
+    registered = {**get_mission(mission).dtm_keywords, **DEMO_IDENTIFICATION}
     return {keyword: registered[keyword] for keyword in IDENTIFICATION_KEYWORDS if written.get(keyword) == "UNK"}
 
 

@@ -15,7 +15,7 @@ from pdsgen.products.ortho import write_ortho
 from pdsgen.validate import validate_paths
 from test_validate_support import label_end, make_dtm, replace_in_label, resize_label_text
 
-from helpers import elevation_array, write_raster
+from helpers import elevation_array, stated_keywords, write_raster
 
 GRIDS = {
     "sinusoidal": ("+proj=sinu +lon_0=70 +R=3396000 +units=m +no_defs",
@@ -35,7 +35,7 @@ def _heights(tmp_path, grid: str):
 def _dtm(tmp_path, grid: str = "sinusoidal", kind: str = "dt4", outdir: str = "out"):
     datum = "sphere" if kind == "dt4" else "areoid"
     return write_dtm(_heights(tmp_path, grid), tmp_path / outdir, profile="hrsc", kind=kind, vertical_datum=datum,
-                     precision=0.05, source_product_ids=["H1234_0000_ND3"]).path
+                     precision=0.05, source_product_ids=["H1234_0000_ND3"], params=stated_keywords("hrsc")).path
 
 
 def _not_info(report) -> list[str]:
@@ -96,7 +96,8 @@ def test_nd4_validates_clean_strict(tmp_path, dtype):
     image[0, :3] = 0
     crs, transform = GRIDS["south_polar"]
     source = write_raster(tmp_path / "nd.tif", image, crs, transform, nodata=0)
-    product = write_ortho(source, tmp_path / "out", profile="hrsc", source_product_ids=["H1234_0000_ND3"])
+    product = write_ortho(source, tmp_path / "out", profile="hrsc", source_product_ids=["H1234_0000_ND3"],
+                          params=stated_keywords("hrsc"))
     report = validate_paths([product.path], strict=True)
     assert _not_info(report) == []
     assert not report.rule_ids() & {"HRSC-001", "HRSC-002", "HRSC-003", "HRSC-004", "HRSC-005", "HRSC-006"}
@@ -158,11 +159,13 @@ def test_areoid_radii_under_a_sphere_description(tmp_path):
 
 
 def _generic_named_hrsc(tmp_path, crs: str, transform: Affine):
-    """A product written by the generic writer (no MEX:DTM group) under an HRSC name."""
+    """A product written by the generic writer (no MEX:DTM group) under an HRSC name, with HRSC's
+    identification."""
     from pdsgen import write_dtm
 
     source = write_raster(tmp_path / "generic.tif", elevation_array(30, 20, seed=3), crs, transform)
-    return write_dtm(source, tmp_path / "generic", product_id="H1234_0000_DT4").path
+    return write_dtm(source, tmp_path / "generic", product_id="H1234_0000_DT4",
+                     params=stated_keywords(mission="hrsc")).path
 
 
 def test_reference_body_other_than_the_hrsc_sphere(tmp_path):
@@ -304,10 +307,9 @@ def test_projection_rule_is_for_single_orbit_products_only(tmp_path):
     source = write_raster(tmp_path / "mosaic.tif", elevation_array(30, 20, seed=3),
                           "+proj=sinu +lon_0=0 +R=3396000 +units=m +no_defs",
                           Affine(50.0, 0, 0.0, 0, -50.0, -5185000.0))
-    path = write_dtm(source, tmp_path / "mosaic", product_id="HRSC_MOSAIC_SOUTH").path
-    resize_label_text(path, b'DATA_SET_NAME             = "UNK"\r\n', b"")  # room for the longer id
-    resize_label_text(path, b'DATA_SET_ID               = "UNK"',
-                      b'DATA_SET_ID               = "MEX-M-HRSC-5-RDR-MOSAIC-V1.0"')
+    mosaic = {**stated_keywords(mission="hrsc"), "DATA_SET_ID": "MEX-M-HRSC-5-RDR-MOSAIC-V1.0"}
+    path = write_dtm(source, tmp_path / "mosaic", product_id="HRSC_MOSAIC_SOUTH", params=mosaic).path
+    assert b'DATA_SET_ID               = "MEX-M-HRSC-5-RDR-MOSAIC-V1.0"' in path.read_bytes()[:label_end(path.read_bytes())]
     report = validate_paths([path], strict=True)
     assert _not_info(report) == []
     renamed = path.with_name("h1234_0000_dt4.img")  # the same map as a single-orbit product: a warning

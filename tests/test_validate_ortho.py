@@ -14,7 +14,7 @@ from pdsgen import write_ortho
 from pdsgen.validate import validate_paths
 from pdsgen.validate.geojp2 import GEOJP2_UUID, read_jp2
 
-from helpers import ORIGINS, write_raster
+from helpers import ORIGINS, stated_keywords, write_raster
 
 VARIANTS = [(8, 1, "uint8"), (10, 1, "float32"), (16, 3, "uint16"), (10, 3, "uint16")]
 CASES = [(kind, *variant, gml) for (kind, variant), gml in
@@ -28,7 +28,7 @@ def make_ortho(tmp_path: Path, kind: str = "equirectangular", bits: int = 10, ba
     data = (data / 1000 if dtype == "float32" else data).astype(dtype)
     crs, transform = ORIGINS[kind]
     source = write_raster(tmp_path / f"in_{kind}.tif", data if bands == 3 else data[0], crs, transform)
-    return write_ortho(source, tmp_path / "out", bits=bits, gmljp2=gmljp2)
+    return write_ortho(source, tmp_path / "out", bits=bits, gmljp2=gmljp2, params=stated_keywords())
 
 
 @pytest.mark.parametrize(("kind", "bits", "bands", "dtype", "gml"), CASES)
@@ -87,7 +87,8 @@ def test_hirise_ortho_alone_is_clean_and_its_dtm_reference_is_checked_in_a_set(t
     irb = (rng.random((3, 40, 50)) * 900 + 3).astype("uint16")
     source = write_raster(tmp_path / "irb.tif", irb, crs, transform)
     product = write_ortho(source, tmp_path / "out", profile="hirise", bits=10, sequence=41,
-                          observation_id="ESP_042252_1930", source_dtm_id="DTEEC_042252_1930_042753_1930_U01")
+                          observation_id="ESP_042252_1930", source_dtm_id="DTEEC_042252_1930_042753_1930_U01",
+                          params=stated_keywords("hirise"))
     assert product.label_path.name == "ESP_042252_1930_IRB_C_41_ORTHO.LBL"  # 1 m: scale letter C
     report = validate_paths([product.label_path.parent], strict=True)
     assert [f"{f.rule} {f.message}" for f in report.findings if f.severity != "info"] == []

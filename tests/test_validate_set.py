@@ -6,7 +6,7 @@ from pdsgen import write_dtm
 from pdsgen.validate import validate_paths
 from test_validate_support import make_dtm, resize_label_text
 
-from helpers import ORIGINS, elevation_array, write_raster
+from helpers import ORIGINS, elevation_array, stated_keywords, write_raster
 
 
 def _two_products(tmp_path, second_kind, related=True):
@@ -18,7 +18,8 @@ def _two_products(tmp_path, second_kind, related=True):
         crs, transform = ORIGINS[kind]
         source = write_raster(tmp_path / f"in{i}.tif", elevation_array(20, 30, seed=i), crs, transform)
         sources = ["PRODUCT_0"] if related and i == 1 else ()
-        paths.append(write_dtm(source, out, product_id=f"PRODUCT_{i}", source_product_ids=sources).path)
+        paths.append(write_dtm(source, out, product_id=f"PRODUCT_{i}", source_product_ids=sources,
+                               params=stated_keywords()).path)
     return out, paths
 
 
