@@ -22,7 +22,7 @@ from rasterio.warp import transform as warp_transform
 
 from pdsgen.mosaic import write_mosaic
 
-from helpers import CRS_EQUIRECTANGULAR, CRS_SOUTH_POLAR, run_cli, write_raster
+from helpers import CRS_EQUIRECTANGULAR, CRS_SOUTH_POLAR, run_cli, stated_keywords, write_raster
 
 pytestmark = pytest.mark.skipif(shutil.which("gdal_merge.py") is None, reason="needs GDAL's gdal_merge.py")
 
@@ -74,7 +74,8 @@ def test_generic_dtm_equals_gdal_merge_and_validates(tmp_path, dtype, order):
     nodata = KINDS[dtype]
     stacked = strips if order == "given" else strips[::-1]
     reference, ref_transform, _ = read(gdal_merge(stacked, nodata, tmp_path / "merged.tif"))
-    product = write_mosaic(strips, tmp_path / "out", product_id="TEST_MOSAIC", kind="dtm", order=order)
+    product = write_mosaic(strips, tmp_path / "out", product_id="TEST_MOSAIC", kind="dtm", order=order,
+                           params=stated_keywords())
     heights, transform, missing = read(product.path)  # GDAL's PDS driver reads the .IMG
     assert transform == ref_transform and heights.shape == reference.shape
     assert np.array_equal(heights == missing, reference == nodata)

@@ -16,7 +16,7 @@ from pdsgen.validate import validate_paths
 from pdsgen.validate.pds4 import schematron
 from pdsgen.validate.pds4.label_checks import validate_pds4
 
-from helpers import ORIGINS, elevation_array, run_cli, write_raster
+from helpers import ORIGINS, elevation_array, run_cli, stated_keywords, write_raster
 
 # Without saxonche validation is schema-only: the Schematron acceptance tests need it.
 needs_saxon = pytest.mark.skipif(not schematron.available(), reason="saxonche (pdsgen[pds4]) is not installed")
@@ -37,7 +37,7 @@ def dtms(tmp_path_factory):
         data[3, 5] = -9999.0
         source = write_raster(root / f"{name}.tif", data, crs, transform, nodata=-9999.0)
         label = pds4(write_dtm(source, root / "out", product_id=f"DTM_{name.upper()}", label="pds4",
-                               byte_order="msb" if name == "polar" else "lsb"))
+                               byte_order="msb" if name == "polar" else "lsb", params=stated_keywords()))
         made[name] = (source, label)
     return made
 
@@ -139,7 +139,7 @@ def test_label_both_describes_the_pds3_image_without_a_second_copy(tmp_path):
     crs, transform = ORIGINS["sinusoidal"]
     data = elevation_array(21, 34, seed=4)
     source = write_raster(tmp_path / "both.tif", data, crs, transform)
-    product = write_dtm(source, tmp_path / "out", product_id="BOTH_DTM", label="both")
+    product = write_dtm(source, tmp_path / "out", product_id="BOTH_DTM", label="both", params=stated_keywords())
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["BOTH_DTM.IMG", "BOTH_DTM.xml"]
     assert validate_pds4(product.pds4_label_path) == []
     text = product.pds4_label_path.read_text()
@@ -158,7 +158,8 @@ def test_ortho_label_both_writes_lbl_and_pds4_form(tmp_path):
     crs, transform = ORIGINS["equirectangular"]
     data = np.random.default_rng(6).integers(3, 1000, (16, 23)).astype("uint16")
     source = write_raster(tmp_path / "o.tif", data, crs, transform)
-    product = write_ortho(source, tmp_path / "out", product_id="BOTH_ORTHO", bits=10, label="both")
+    product = write_ortho(source, tmp_path / "out", product_id="BOTH_ORTHO", bits=10, label="both",
+                          params=stated_keywords())
     assert sorted(p.name for p in product.files) == ["BOTH_ORTHO.JP2", "BOTH_ORTHO.LBL", "BOTH_ORTHO.img",
                                                     "BOTH_ORTHO.xml"]
     assert validate_pds4(product.pds4_label_path) == []
@@ -189,7 +190,7 @@ def test_labels_are_formatted_as_xmllint_formats_them(dtms, ortho):
 
 def test_pds4_products_are_byte_for_byte_reproducible(dtms, tmp_path):
     source, first = dtms["sinusoidal"]
-    again = write_dtm(source, tmp_path, product_id="DTM_SINUSOIDAL", label="pds4")
+    again = write_dtm(source, tmp_path, product_id="DTM_SINUSOIDAL", label="pds4", params=stated_keywords())
     assert again.pds4_label_path.read_bytes() == first.path.read_bytes()
     assert again.path.read_bytes() == first.path.with_suffix(".img").read_bytes()
 

@@ -19,7 +19,7 @@ from pdsgen.validate.pds4 import schematron
 from pdsgen.validate.pds4.label_checks import validate_pds4
 from test_mosaic import make_strips
 
-from helpers import ORIGINS, elevation_array, run_cli, write_raster
+from helpers import ORIGINS, elevation_array, run_cli, stated_keywords, write_raster
 
 needs_saxon = pytest.mark.skipif(not schematron.available(), reason="saxonche (pdsgen[pds4]) is not installed")
 NS = {"pds": "http://pds.nasa.gov/pds4/pds/v1"}
@@ -40,7 +40,8 @@ def pds3_sources(label_path) -> list[str]:
 def a_dtm(tmp_path, **options):
     crs, transform = ORIGINS["equirectangular"]
     source = write_raster(tmp_path / "in.tif", elevation_array(21, 17, seed=3), crs, transform, nodata=-9999.0)
-    return write_dtm(source, tmp_path / "out", label="both", **options)
+    return write_dtm(source, tmp_path / "out", label="both", params=stated_keywords(options.get("profile", "generic")),
+                     **options)
 
 
 @needs_saxon
@@ -88,7 +89,8 @@ def test_no_sources_no_reference_list(tmp_path):
 @pytest.mark.parametrize("kind", ["dtm", "ortho"])
 def test_mosaic_with_both_labels_names_each_strip(tmp_path, kind):
     strips = make_strips(tmp_path, "float32" if kind == "dtm" else "uint8", count=3)
-    product = write_mosaic(strips, tmp_path / "out", product_id=f"{kind.upper()}_MOSAIC", kind=kind, label="both")
+    product = write_mosaic(strips, tmp_path / "out", product_id=f"{kind.upper()}_MOSAIC", kind=kind, label="both",
+                           params=stated_keywords())
     expected = [s.stem for s in strips]
     assert pds3_sources(product.path if kind == "dtm" else product.label_path) == expected
     assert named_sources(product.pds4_label_path) == expected
