@@ -27,7 +27,7 @@ from pdsgen.products.ortho import write_ortho
 from pdsgen.validate import validate_paths
 from test_fidelity_hirise import keyword_sequence
 
-from helpers import elevation_array, run_cli, write_raster
+from helpers import elevation_array, run_cli, stated_keywords, write_raster
 
 SINUSOIDAL = "+proj=sinu +lon_0=70 +R=3396000 +units=m +no_defs"
 GRID = Affine(50.0, 0, -10000.0, 0, -50.0, -1000000.0)
@@ -64,7 +64,8 @@ def test_dt4_carries_identification_and_orbit_keywords_of_a_real_level2_label(tm
     source = corpus_dir / SOURCE_LABEL
     (tmp_path / "out").mkdir()
     (tmp_path / "out" / "MEX_POINTING_DESC.TXT").write_text("pointing modes\r\n")  # as the volume holds it
-    product = write_dtm(heights, tmp_path / "out", profile="hrsc", product_id="h0010_0023", source_labels=[source])
+    product = write_dtm(heights, tmp_path / "out", profile="hrsc", product_id="h0010_0023", source_labels=[source],
+                        params=stated_keywords("hrsc"))
     label, real = pvl.load(str(product.path)), pvl.load(str(source))
     for key in CARRIED:
         assert label[key] == real[key], key
@@ -95,7 +96,8 @@ def test_a_source_label_of_another_orbit_is_refused(tmp_path, heights, corpus_di
 
 
 def test_image_object_statistics_and_dlr_projection(tmp_path, heights):
-    product = write_dtm(heights, tmp_path / "out", profile="hrsc", product_id="h0010_0023", precision=0.5)
+    product = write_dtm(heights, tmp_path / "out", profile="hrsc", product_id="h0010_0023", precision=0.5,
+                        params=stated_keywords("hrsc"))
     sequence, values = keyword_sequence(product.label_text)
     assert not set(HIRISE_ONLY) & set(sequence)
     start = sequence.index("OBJECT=IMAGE_MAP_PROJECTION") + 1
@@ -147,7 +149,8 @@ def test_mean_is_of_the_valid_dns_only_over_many_strips(tmp_path, monkeypatch):
     values[::3, :] = -99999.0  # every third line missing, spread across all strips
     values[5:600, 7] = -99999.0
     source = write_raster(tmp_path / "holes.tif", values, SINUSOIDAL, GRID, nodata=-99999.0)
-    product = write_dtm(source, tmp_path / "out", profile="hrsc", product_id="h0010_0023", precision=0.5)
+    product = write_dtm(source, tmp_path / "out", profile="hrsc", product_id="h0010_0023", precision=0.5,
+                        params=stated_keywords("hrsc"))
     image = pvl.load(str(product.path))["IMAGE"]
     with rasterio.open(product.path) as stored:
         assert stored.height == 700
@@ -165,7 +168,8 @@ def test_mean_is_of_the_valid_dns_only_over_many_strips(tmp_path, monkeypatch):
 def test_nd4_is_in_the_dtm_data_set_with_its_statistics(tmp_path):
     nadir = (np.arange(30 * 24).reshape(30, 24) % 200 + 20).astype("uint8")
     source = write_raster(tmp_path / "nadir.tif", nadir, SINUSOIDAL, GRID)
-    product = write_ortho(source, tmp_path / "out", profile="hrsc", product_id="h0010_0023")
+    product = write_ortho(source, tmp_path / "out", profile="hrsc", product_id="h0010_0023",
+                          params=stated_keywords("hrsc"))
     label = pvl.load(str(product.path))
     assert label["DATA_SET_ID"] == "MEX-M-HRSC-5-REFDR-DTM-V1.0"
     assert label["IMAGE"]["MEAN"] == pytest.approx(nadir.mean(), rel=1e-5)
@@ -221,7 +225,8 @@ def test_reproject_converts_heights_between_reference_surfaces(tmp_path):
 
 @pytest.mark.filterwarnings("ignore::rasterio.errors.NotGeoreferencedWarning")  # the VICAR part alone
 def test_vicar2_header_is_read_by_gdals_vicar_driver(tmp_path, heights):
-    product = write_dtm(heights, tmp_path / "out", profile="hrsc", product_id="h0010_0023", precision=0.5)
+    product = write_dtm(heights, tmp_path / "out", profile="hrsc", product_id="h0010_0023", precision=0.5,
+                        params=stated_keywords("hrsc"))
     label = pvl.loads(product.label_text)
     header = label["IMAGE_HEADER"]
     assert (header["HEADER_TYPE"], header["INTERCHANGE_FORMAT"]) == ("VICAR2", "ASCII")

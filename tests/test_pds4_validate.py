@@ -84,7 +84,8 @@ def test_changed_missing_constant_is_caught(product, tmp_path):
 def test_special_constant_outside_the_data_type_is_caught(tmp_path):
     crs, transform = ORIGINS["equirectangular"]
     source = write_raster(tmp_path / "o.tif", np.full((8, 9), 7, dtype="uint8"), crs, transform)
-    label = write_ortho(source, tmp_path / "out", product_id="BYTE_ORTHO", bits=8, label="pds4", params=stated_keywords()).pds4_label_path
+    label = write_ortho(source, tmp_path / "out", product_id="BYTE_ORTHO", bits=8, label="pds4",
+                        params=stated_keywords()).pds4_label_path
     label.write_text(label.read_text().replace("<missing_constant>0<", "<missing_constant>-1<"))
     assert _rules(label) == {"PDS4-023"}
 
@@ -196,7 +197,8 @@ def test_jp2_georeferencing_is_checked_against_cart(tmp_path):
     crs, transform = ORIGINS["equirectangular"]
     data = np.random.default_rng(2).integers(3, 250, (20, 24)).astype("uint8")
     source = write_raster(tmp_path / "o.tif", data, crs, transform)
-    label = write_ortho(source, tmp_path / "out", product_id="GEO_ORTHO", bits=8, label="pds4", params=stated_keywords()).pds4_label_path
+    label = write_ortho(source, tmp_path / "out", product_id="GEO_ORTHO", bits=8, label="pds4",
+                        params=stated_keywords()).pds4_label_path
     assert validate_pds4(label) == []
     moved = re.sub(r'(<cart:upperleft_corner_x unit="m">)([-\d.]+)',
                    lambda m: m.group(1) + repr(float(m.group(2)) - 1.0), label.read_text())

@@ -309,7 +309,8 @@ def test_projection_rule_is_for_single_orbit_products_only(tmp_path):
                           Affine(50.0, 0, 0.0, 0, -50.0, -5185000.0))
     mosaic = {**stated_keywords(mission="hrsc"), "DATA_SET_ID": "MEX-M-HRSC-5-RDR-MOSAIC-V1.0"}
     path = write_dtm(source, tmp_path / "mosaic", product_id="HRSC_MOSAIC_SOUTH", params=mosaic).path
-    assert b'DATA_SET_ID               = "MEX-M-HRSC-5-RDR-MOSAIC-V1.0"' in path.read_bytes()[:label_end(path.read_bytes())]
+    data = path.read_bytes()
+    assert b'DATA_SET_ID               = "MEX-M-HRSC-5-RDR-MOSAIC-V1.0"' in data[:label_end(data)]
     report = validate_paths([path], strict=True)
     assert _not_info(report) == []
     renamed = path.with_name("h1234_0000_dt4.img")  # the same map as a single-orbit product: a warning
