@@ -94,6 +94,21 @@ def stated_params(folder: Path, profile: str = "generic") -> Path:
     return path
 
 
+# The PDS4 areas a PDS3 label naming no instrument and no target leaves unnamed: migrate writes
+# "Unknown" there (it invents none) and validate says so, DLV-008 (issue 49) - a true finding.
+UNNAMED = ("Observing_System_Component", "Target_Identification")
+
+
+def assert_pds4_clean(label: Path, unnamed: tuple[str, ...] = ()) -> None:
+    """The PDS4 label passes its XSD and Schematron and the PDS4 checks with no finding but
+    DLV-008's, one for each area in `unnamed` (what its PDS3 source does not name)."""
+    from pdsgen.validate.pds4.label_checks import validate_pds4
+
+    findings = validate_pds4(label)
+    assert [f for f in findings if f.rule != "DLV-008"] == []
+    assert sorted(f.message.split(" name ")[0] for f in findings if f.rule == "DLV-008") == sorted(unnamed)
+
+
 def small_pds4_dtm(root: Path, product_id: str):
     """A 12 x 16 DTM written with its PDS4 label under root/good: `.path` (the label) and
     `.text` (the label as written), the product the PDS4 schema tests edit copies of."""

@@ -25,7 +25,7 @@ from pdsgen.validate import validate_paths
 from pdsgen.validate.pds4 import schematron
 from pdsgen.validate.pds4.label_checks import validate_pds4
 
-from helpers import run_cli
+from helpers import UNNAMED, assert_pds4_clean, run_cli
 
 PRODUCTS = CORPUS_DIR / "products"
 needs_saxon = pytest.mark.skipif(not schematron.available(), reason="saxonche (pdsgen[pds4]) is not installed")
@@ -244,7 +244,7 @@ def test_binary_table_with_structure_file_items_and_suffix(tmp_path):
     source.mkdir()
     label, rows = _binary_table(source)
     product = migrate_product(label, tmp_path / "out", bundle_lid="urn:nasa:pds:test")
-    assert validate_pds4(product.label_path) == []
+    assert_pds4_clean(product.label_path, ("Observing_System_Component",))
     assert [f for f in validate_paths([product.label_path]).findings if f.severity == "error"] == []
     table = pds4_tools.read(str(product.label_path), quiet=True)["table"]
     assert list(table["VALUE"]) == [r for r, _, _, _ in rows]
@@ -269,7 +269,7 @@ def test_ascii_table_as_table_character(tmp_path):
     source = tmp_path / "src"
     source.mkdir()
     product = migrate_product(_ascii_table(source), tmp_path / "out", bundle_lid="urn:nasa:pds:test")
-    assert validate_pds4(product.label_path) == []
+    assert_pds4_clean(product.label_path, ("Observing_System_Component",))
     assert "<record_delimiter>Carriage-Return Line-Feed</record_delimiter>" in product.label_path.read_text()
     table = pds4_tools.read(str(product.label_path), quiet=True)["spot_table"]
     reference = pdr.read(str(source / "SPOTS.LBL"))["SPOT_TABLE"]
@@ -337,7 +337,7 @@ def test_image_lines_with_prefixes_are_described_exactly_as_table_records(tmp_pa
 
     path, image = _line_prefix_product(tmp_path)
     product = migrate_product(path, tmp_path / "out", bundle_lid="urn:nasa:pds:test")
-    assert validate_pds4(product.label_path) == []
+    assert_pds4_clean(product.label_path, UNNAMED)
     assert [f for f in validate_paths([product.label_path]).findings if f.severity == "error"] == []
     table = pds4_tools.read(str(product.label_path), quiet=True)["image"]
     samples = np.asarray(table["SAMPLES"]).reshape(2, 5, 6)
@@ -363,7 +363,7 @@ def test_band_storage_is_the_axis_order(tmp_path, storage, order):
         f" BAND_STORAGE_TYPE = {storage}\r\n SAMPLE_TYPE = LSB_INTEGER\r\n SAMPLE_BITS = 16\r\n"
         " SCALING_FACTOR = 0.5\r\n OFFSET = 10.0\r\nEND_OBJECT = IMAGE\r\nEND\r\n", newline="")
     product = migrate_product(tmp_path / "CUBE.LBL", tmp_path / "out", bundle_lid="urn:nasa:pds:test")
-    assert validate_pds4(product.label_path) == []
+    assert_pds4_clean(product.label_path, UNNAMED)
     array = np.asarray(pds4_tools.read(str(product.label_path), quiet=True, lazy_load=True)["image"].data)
     physical = array.transpose(np.argsort(order))  # pds4_tools applies scaling_factor and value_offset
     assert np.array_equal(physical, cube * 0.5 + 10.0)
