@@ -58,3 +58,14 @@ def section_starting(prefix: str) -> str:
               if name.startswith(prefix)]
     assert len(titles) == 1, f"headings starting {prefix!r}: {titles}"
     return section(titles[0])
+
+
+WALK = "Walk-through: your own DTM and orthoimage to a delivery"
+
+
+def walkthrough_params(where: Path) -> Path:
+    """where/params.toml: the walk-through's params file (its identification keywords, step 1), as a
+    user following the README writes it - what every later example that makes products reads."""
+    (block,) = [b for b in re.findall(r"```toml\n(.*?)```", section(WALK), re.S) if b.startswith("# params.toml")]
+    (where / "params.toml").write_text(block)
+    return where / "params.toml"

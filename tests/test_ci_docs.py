@@ -24,7 +24,6 @@ from helpers import elevation_array, write_raster
 
 ROOT = Path(__file__).resolve().parent.parent
 WORKFLOW = ROOT / "docs" / "github-actions-validate.yml"
-WALK = "Walk-through: your own DTM and orthoimage to a delivery"
 SECTION = "pre-commit"
 BAD_LABEL = (b"PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 80\r\n"
              b"FILE_RECORDS = 2\r\nLABEL_RECORDS = 1\r\nOBJECT = IMAGE\r\nLINES = 1\r\nEND\r\n")
@@ -40,9 +39,7 @@ def delivery(tmp_path) -> Path:
     source = write_raster(tmp_path / "heights.tif", elevation_array(20, 16),
                           "+proj=eqc +lat_ts=0 +lon_0=0 +R=3396190 +units=m +no_defs",
                           Affine(1.0, 0, 1000.0, 0, -1.0, 2000.0))
-    params = tmp_path / "params.toml"  # the identification keywords of the walk-through's params file
-    params.write_text(re.findall(r"```toml\n(# params.toml.*?)```", docs_text.section(WALK), re.S)[0])
-    write_dtm(source, tmp_path / "delivery", product_id="GOOD", params=params)
+    write_dtm(source, tmp_path / "delivery", product_id="GOOD", params=docs_text.walkthrough_params(tmp_path))
     return tmp_path / "delivery"
 
 

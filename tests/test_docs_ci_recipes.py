@@ -28,15 +28,6 @@ from helpers import ORIGINS, elevation_array, write_raster
 
 ROOT = Path(__file__).resolve().parents[1]
 WORKFLOW = ROOT / "docs" / "github-actions-validate.yml"
-WALK = "Walk-through: your own DTM and orthoimage to a delivery"
-
-
-def _params(where: Path) -> Path:
-    """The walk-through's params file (identification keywords), as a user writes it."""
-    (block,) = [b for b in re.findall(r"```toml\n(.*?)```", docs_text.section(WALK), re.S)
-                if b.startswith("# params.toml")]
-    (where / "params.toml").write_text(block)
-    return where / "params.toml"
 
 
 def _label_set(root: Path, with_data: bool) -> Path:
@@ -47,7 +38,7 @@ def _label_set(root: Path, with_data: bool) -> Path:
     source.mkdir()
     write_raster(source / "my_dtm.tif", elevation_array(40, 30, seed=3), crs, transform)
     write_raster(source / "my_ortho.tif", elevation_array(40, 30, seed=4, dtype="uint8") % 200 + 20, crs, transform)
-    params = _params(source)
+    params = docs_text.walkthrough_params(source)
     for command in ("dtm", "ortho"):
         made = subprocess.run([sys.executable, "-m", "pdsgen", command, str(source / f"my_{command}.tif"),
                                "-o", str(root / "delivery"), "--label", "both", "--params", str(params)],

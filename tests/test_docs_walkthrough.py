@@ -17,8 +17,6 @@ import docs_text
 
 from helpers import ORIGINS, elevation_array, write_raster
 
-WALK = "Walk-through: your own DTM and orthoimage to a delivery"
-
 
 def _pdsgen(args: list[str], cwd: Path) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "pdsgen", *args], cwd=cwd, capture_output=True, text=True,
@@ -41,7 +39,7 @@ def test_the_walk_through_runs_as_written(tmp_path):
     write_raster(tmp_path / "my_dtm.tif", elevation_array(120, 90, seed=3), crs, transform)
     write_raster(tmp_path / "my_ortho.tif", np.random.default_rng(5).integers(1, 255, (120, 90)).astype("uint8"),
                  crs, transform)
-    steps = _steps(docs_text.section(WALK))
+    steps = _steps(docs_text.section(docs_text.WALK))
     commands = [line for kind, line in steps if kind == "run"]
     assert [shlex.split(line)[1] for line in commands] == [
         "params", "dtm", "ortho", "extras", "validate", "deliver", "validate", "review"]

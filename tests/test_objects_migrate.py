@@ -26,7 +26,6 @@ from conftest import DATA_DIR
 from pdsgen.migrate import Refused, migrate_product
 from pdsgen.validate import validate_paths
 from pdsgen.validate.pds4 import schematron
-from pdsgen.validate.pds4.label_checks import validate_pds4
 
 from helpers import UNNAMED, assert_pds4_clean, run_cli
 

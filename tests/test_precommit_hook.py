@@ -25,7 +25,7 @@ from affine import Affine
 
 from pdsgen import write_dtm
 
-from helpers import elevation_array, run_cli, write_raster
+from helpers import elevation_array, run_cli, stated_keywords, write_raster
 
 ROOT = Path(__file__).resolve().parent.parent
 PRE_COMMIT = Path(sys.executable).with_name("pre-commit")
@@ -76,7 +76,7 @@ def project(tmp_path_factory, hook_repo) -> Path:
     source = write_raster(root.parent / "heights.tif", elevation_array(20, 16),
                           "+proj=eqc +lat_ts=0 +lon_0=0 +R=3396190 +units=m +no_defs",
                           Affine(1.0, 0, 1000.0, 0, -1.0, 2000.0))
-    write_dtm(source, root / "good", product_id="GOOD")
+    write_dtm(source, root / "good", product_id="GOOD", params=stated_keywords())  # as a producer makes it
     (root / "bad").mkdir()
     (root / "bad" / "BAD.LBL").write_bytes(BAD_LABEL)
     (root / "pom.xml").write_text('<?xml version="1.0"?>\n<project><name>x</name></project>\n')

@@ -24,6 +24,7 @@ def test_python_api_example_runs_as_written(tmp_path):
     write_raster(tmp_path / "my_dtm.tif", elevation_array(40, 30, seed=4), crs, transform)
     image = np.linspace(0.05, 0.25, 40 * 30, dtype=np.float32).reshape(40, 30)
     write_raster(tmp_path / "my_ortho.tif", image, crs, transform)
+    docs_text.walkthrough_params(tmp_path)  # the params file the example names, as the walk-through writes it
     (example,) = _python_blocks("Python API")
     result = subprocess.run([sys.executable, "-c", example], cwd=tmp_path, capture_output=True, text=True,
                             timeout=300)
