@@ -21,6 +21,8 @@ import pytest
 import rasterio
 from rasterio.transform import from_origin
 
+import docs_text
+
 REPO = Path(__file__).resolve().parents[1]
 PIP_TIMEOUT = 600
 
@@ -91,14 +93,15 @@ def test_python_floor_3_10_installs_and_writes_a_product(wheel, tmp_path):
                        crs="+proj=eqc +R=3396190 +units=m +no_defs",
                        transform=from_origin(1000.0, -2000.0, 2.0, 2.0)) as dataset:
         dataset.write(heights, 1)
-    params = tmp_path / "producer.toml"  # TOML params exercise tomli, the 3.10 stand-in for tomllib
-    params.write_text('producer_full_name = "Jane Doe"\n')
+    # the README walk-through's params.toml, as a user writes it: its TOML exercises tomli (the 3.10
+    # stand-in for tomllib), and it states every identification keyword, so --strict passes
+    params = docs_text.walkthrough_params(tmp_path)
     made = _run([str(bin_dir / "pdsgen"), "dtm", str(dtm), "-o", "out", "--product-id", "FLOOR_TEST",
                  "--params", str(params)], tmp_path)
     _assert_clean(made)
     _assert_clean(_run([str(bin_dir / "pdsgen"), "validate", "--strict", "out"], tmp_path))
     label = (tmp_path / "out" / "FLOOR_TEST.IMG").read_bytes()[:4000]
-    assert b'PRODUCER_FULL_NAME' in label and b"Jane Doe" in label
+    assert b'PRODUCER_FULL_NAME' in label and b"JANE DOE" in label
 
 
 def test_missing_openjpeg_is_one_line_and_leaves_nothing(tmp_path):
