@@ -112,8 +112,9 @@ BUDGETS = {
     # the IDN rule family (validate/families/identity_rules.py, issue 49) and the clock its "now" reads
     # (pdsgen/clock.py, issue 53); validate/facts.py, the per-file facts the checks across files join
     # (issue 51: read by the workers of a -j run, by the run itself otherwise); 63: pdsgen.params, whose
-    # IDENTIFICATION_KEYWORDS DLV-007 reads of a product left UNK, now checked alone too (issue 49)
-    "validate {out}/DTM.IMG -q": (63, 430, {"jinja2", "glymur", "pdsgen.products.dtm", "distributed"}),
+    # IDENTIFICATION_KEYWORDS DLV-007 reads of a product left UNK, now checked alone too (issue 49); 64:
+    # pdsgen.label.mapping, whose utc_datetime is the one reader of PDS times the IDN rules compare
+    "validate {out}/DTM.IMG -q": (64, 430, {"jinja2", "glymur", "pdsgen.products.dtm", "distributed"}),
 }
 
 

@@ -169,19 +169,46 @@ def _date_time(text: str) -> dt.datetime | dt.date | dt.time | str:
         if date_part is None:
             time_part = _TIME.fullmatch(text)
             return _clock(time_part) if time_part is not None else text
-        year = int(date_part["year"])
-        if date_part["doy"]:
-            day = dt.date(year, 1, 1) + dt.timedelta(days=int(date_part["doy"]) - 1)
-        else:
-            day = dt.date(year, int(date_part["month"]), int(date_part["day"]))
+        day, time_part = _calendar(date_part)
         if date_part["time"] is None:
             return day
-        time_part = _TIME.fullmatch(date_part["time"])
         if time_part is None:
             return text
         return dt.datetime.combine(day, _clock(time_part))
     except ValueError:
         return text
+
+
+def utc_datetime(text: str | None) -> dt.datetime | None:
+    """A PDS time, PDS3's or PDS4's (CCYY-MM-DD or CCYY-DDD, optionally Thh:mm[:ss[.fff]], optionally
+    Z; quoted or not) as a naive UTC datetime to the second, a date alone at midnight; None for
+    anything else (UNK, N/A, nil, a time alone, a malformed or impossible date). The times the
+    validator compares (creation in the future, stop before start, PDS3 against PDS4) are read
+    here, on the grammar the label mapping reads dates with. The clock is added as a duration,
+    so a leap second (23:59:60) or 24:00 reads as the instant it names."""
+    date_part = _DATE_TIME.fullmatch((text or "").strip().strip('"'))
+    if date_part is None:
+        return None
+    try:
+        day, time_part = _calendar(date_part)
+    except ValueError:
+        return None
+    if date_part["time"] is not None and time_part is None:
+        return None
+    hours, minutes, seconds = (int(time_part[k] or 0) for k in ("h", "m", "s")) if time_part else (0, 0, 0)
+    return dt.datetime.combine(day, dt.time()) + dt.timedelta(hours=hours, minutes=minutes, seconds=seconds)
+
+
+def _calendar(date_part: re.Match[str]) -> tuple[dt.date, re.Match[str] | None]:
+    """The day a matched date names (ValueError for an impossible one) and its clock, read by
+    _TIME (None when it has none, or one _TIME does not read)."""
+    year = int(date_part["year"])
+    if date_part["doy"]:
+        day = dt.date(year, 1, 1) + dt.timedelta(days=int(date_part["doy"]) - 1)
+    else:
+        day = dt.date(year, int(date_part["month"]), int(date_part["day"]))
+    clock = date_part["time"]
+    return day, _TIME.fullmatch(clock) if clock is not None else None
 
 
 def _clock(m: re.Match[str]) -> dt.time:

@@ -13,19 +13,20 @@ covers - is stated and possible, in any dialect (PDS3 labels, PDS4 labels, in a 
 - IDN-004: a product made before a source it names (an orthoimage made before the DTM its
   SOURCE_PRODUCT_ID names): across the labels of the run, in the parent process.
 
-Times are read with this module's own parser (PDS3 and PDS4 both write ISO 8601 UTC times,
-calendar or day-of-year); one it cannot read is left to the syntax rules.
+Times are read by the label package's one reader of PDS times (label/mapping.utc_datetime: PDS3
+and PDS4 both write ISO 8601 UTC times, calendar or day-of-year); one it cannot read is left to
+the syntax rules.
 """
 
 from __future__ import annotations
 
 import datetime
-import re
 from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ... import clock
+from ...label.mapping import utc_datetime as parse_time
 from ..model import Hit
 from ..registry import Rule, register
 
@@ -36,7 +37,6 @@ if TYPE_CHECKING:
     from ..context import FileContext
 
 _SLACK = datetime.timedelta(days=1)  # a creation time written in a local zone runs up to 14 h ahead of UTC
-_TIME = re.compile(r"(\d{4})-(?:(\d{2})-(\d{2})|(\d{3}))(?:T(\d{2}):(\d{2})(?::(\d{2})(?:\.\d+)?)?)?Z?")
 _UNSTATED = frozenset({"UNK", "N/A", "UNKNOWN", "NULL"})
 # PDS3 objects whose label is a map or image product (what IDN-001 asks a PRODUCT_ID of)
 _PRODUCT_OBJECTS = ("IMAGE", "IMAGE_MAP_PROJECTION", "SPECTRAL_QUBE", "QUBE")
@@ -47,23 +47,6 @@ def now() -> datetime.datetime:
     """The validator's "now" (naive UTC), from pdsgen's one clock: SOURCE_DATE_EPOCH when set (the
     time of making a reproducible run's products states), else the system's time."""
     return clock.now().replace(tzinfo=None)
-
-
-def parse_time(text: str | None) -> datetime.datetime | None:
-    """A PDS3 or PDS4 time (YYYY-MM-DD or YYYY-DDD, optionally Thh:mm[:ss[.fff]], optionally Z)
-    as a naive UTC datetime; None for anything else (UNK, N/A, nil, a malformed time)."""
-    match = _TIME.fullmatch((text or "").strip().strip('"'))
-    if match is None:
-        return None
-    year, month, day, doy, hour, minute, second = match.groups()
-    try:
-        if doy is not None:
-            date = datetime.datetime(int(year), 1, 1) + datetime.timedelta(days=int(doy) - 1)
-        else:
-            date = datetime.datetime(int(year), int(month), int(day))
-        return date + datetime.timedelta(hours=int(hour or 0), minutes=int(minute or 0), seconds=int(second or 0))
-    except ValueError:
-        return None
 
 
 def _future(when: datetime.datetime | None) -> bool:
