@@ -572,3 +572,37 @@ def test_browse_and_collection_labels_a_delivery_makes_are_never_taken_as_produc
         assert is_made_by_delivery(tmp_path / name, Path(name)), name
     (tmp_path / "X.lblx").write_text(head.replace("Product_Browse", "Product_Observational"))
     assert not is_made_by_delivery(tmp_path / "X.lblx", Path("X.lblx"))
+
+
+def test_a_label_without_product_id_is_named_by_its_file_and_deliver_says_so(demo_products, tmp_path):
+    """Issue 49: deliver invents no identifier without saying so. The DTM's PRODUCT_ID replaced by
+    a comment of the same length: its index row (read by pdr through INDEX.LBL) takes the file's
+    name, and one warning line names the label - on stderr and in --json's warnings; the same
+    product with its PRODUCT_ID is delivered without one."""
+    import json
+    import re
+
+    import pdr
+
+    name = "DTEEC_008669_1705_009025_1705_U01"
+    stated, unstated = tmp_path / "stated", tmp_path / "unstated"
+    for source in (stated, unstated):
+        source.mkdir()
+        shutil.copy(demo_products / f"{name}.IMG", source / f"{name}.IMG")
+    label = unstated / f"{name}.IMG"
+    data = label.read_bytes()
+    statement = re.search(rb"PRODUCT_ID += \"?\w+\"?", data)
+    assert statement is not None
+    label.write_bytes(data.replace(statement.group(0), b"/* no identifier */".ljust(len(statement.group(0))), 1))
+    quiet = run_cli("deliver", str(stated), "-o", str(tmp_path / "v1"), "--pds3", "--volume-id", "DEMO_0001", "-q")
+    assert quiet.returncode == 0 and quiet.stderr == "", quiet.stderr
+    done = run_cli("deliver", str(unstated), "-o", str(tmp_path / "v2"), "--pds3", "--volume-id", "DEMO_0001",
+                   "--json")
+    assert done.returncode == 0, done.stderr
+    said = (f"{label}: no PRODUCT_ID in the label; the delivery names the product {name} after its file name "
+            "(its index row and identifiers); state PRODUCT_ID in the label to choose it")
+    assert done.stderr.splitlines() == [f"warning: {said}"]
+    assert json.loads(done.stdout)["warnings"] == [said]
+    frame = pdr.read(str(tmp_path / "v2" / "INDEX" / "INDEX.LBL"))["INDEX_TABLE"]
+    assert frame["PRODUCT_ID"].str.strip().tolist() == [name]
+    assert {f.rule for f in validate_paths([tmp_path / "v2"]).findings if f.severity == "warning"} >= {"IDN-001"}

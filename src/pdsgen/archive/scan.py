@@ -13,7 +13,6 @@ collection, browse and document labels, manifest) are recognised and made anew.
 
 from __future__ import annotations
 
-import logging
 import os
 import re
 from collections.abc import Callable, Iterator
@@ -31,7 +30,6 @@ from ..pds4.detect import root_name
 from ..storage.containment import contained
 from . import layout
 
-log = logging.getLogger(__name__)
 _PRODUCT_CLASS = re.compile(rb"<product_class>\s*(Product_\w+)\s*</product_class>")
 _FILE_NAME = re.compile(r"<file_name>\s*([^<]+?)\s*</file_name>")
 _MADE_CLASSES = {b"Product_Bundle", b"Product_Collection", b"Product_Browse", b"Product_Document"}
@@ -113,6 +111,9 @@ class DataProduct:
     # Description, structure and catalog files its PDS3 label names: delivered beside the
     # label, and possibly shared with other products.
     support: list[Path] = field(default_factory=list)
+    # Its PDS3 label states no PRODUCT_ID, so product_id is the label's file name: what a
+    # delivery writes for it (INDEX.TAB, a LID) says so (deliver's warnings; validate's IDN-001).
+    id_from_file: bool = False
 
 
 @dataclass
@@ -230,7 +231,7 @@ class _Pds3Label:
     """What a PDS3 label tells the delivery (the label's tree itself is not kept)."""
 
     path: Path
-    product_id: str
+    product_id: str | None  # None: the label states none
     values: dict[str, str | None]
     named: NamedFiles
 
@@ -248,16 +249,8 @@ def _read_pds3(label: Path, source: Path, listings: dict[Path, DirectoryNames],
     # ^DESCRIPTION = "JP2INFO.TXT", README.TXT: documents, delivered as such
     named.data = [p for p in named.data if p != label and p.name.upper() not in _DOCUMENTS]
     named.support = [p for p in named.support if p != label and p.name.upper() not in _DOCUMENTS]
-    return _Pds3Label(label, found.first("PRODUCT_ID") or _named_by_file(label),
+    return _Pds3Label(label, found.first("PRODUCT_ID") or None,
                       {name: found.first(name) for name in KEPT_KEYWORDS}, named)
-
-
-def _named_by_file(label: Path) -> str:
-    """The identifier of a product whose label states none: its file name, said aloud (a delivery
-    never invents an identifier silently; pdsgen validate reports the label, IDN-001)."""
-    log.warning("%s: no PRODUCT_ID in the label; the delivery names the product %s after its file name "
-                "(state PRODUCT_ID in the label to choose it)", label, label.stem)
-    return label.stem
 
 
 def _group(pds3: list[Path], pds4: list[Path], on_pds3: LabelValues | None, source: Path,
@@ -273,7 +266,9 @@ def _group(pds3: list[Path], pds4: list[Path], on_pds3: LabelValues | None, sour
     for one in read:
         if one.path in support:
             continue
-        product = DataProduct(one.product_id, [one.path, *one.named.data], one.path, support=one.named.support)
+        # a label stating no PRODUCT_ID: the product is named by its file, and marked so (never silently)
+        product = DataProduct(one.product_id or one.path.stem, [one.path, *one.named.data], one.path,
+                              support=one.named.support, id_from_file=one.product_id is None)
         if on_pds3 is not None:
             on_pds3(product, one.values)
         _claim(product, by_file, one.path)

@@ -357,6 +357,7 @@ def _build(found: SourceSet, tree: _Tree, previous: _Previous, source: Path, in_
         for other in found.others:
             tree.place(other, other.relative_to(source).as_posix())
     result.skipped, result.in_place = list(found.others), in_place
+    result.named_by_file = [(p.pds3_label, p.product_id) for p in found.products if p.id_from_file and p.pds3_label]
     result.products, result.previews, result.documents = len(found.products), len(preview_paths), len(document_paths)
     writer = None
     if dialect.pds4:

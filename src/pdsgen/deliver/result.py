@@ -28,6 +28,9 @@ class Delivery(CommandResult):
     # Source files no label names and no Extras rule claims: not delivered, or (in place) left
     # where they are; each is reported, never placed silently.
     skipped: list[Path] = field(default_factory=list)
+    # (label, the identifier given) of each PDS3 label stating no PRODUCT_ID, which the delivery
+    # names after its file: a delivery never invents an identifier without saying so.
+    named_by_file: list[tuple[Path, str]] = field(default_factory=list)
     in_place: bool = False
     volume_id: str | None = None
     bundle_lid: str | None = None
@@ -50,9 +53,13 @@ class Delivery(CommandResult):
 
     @property
     def warnings(self) -> tuple[str, ...]:
-        """Each source file left out, in one line: a delivery places nothing silently."""
+        """Each source file left out, and each product named after its file, in one line: a delivery
+        places nothing and invents no identifier silently."""
         where = "left where it is, outside the layout" if self.in_place else "not delivered"
-        return tuple(f"{path}: no label names it and no Extras rule claims it; {where}" for path in self.skipped)
+        named = [f"{label}: no PRODUCT_ID in the label; the delivery names the product {product_id} after its file "
+                 "name (its index row and identifiers); state PRODUCT_ID in the label to choose it"
+                 for label, product_id in self.named_by_file]
+        return (*named, *(f"{path}: no label names it and no Extras rule claims it; {where}" for path in self.skipped))
 
     @property
     def summary_lines(self) -> tuple[str, ...]:
