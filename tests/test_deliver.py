@@ -399,6 +399,7 @@ def test_readme_delivery_examples_run_as_written(tmp_path):
     write_raster(tmp_path / "ortho_red.tif", np.random.default_rng(5).integers(1, 255, (40, 30)).astype("uint8"),
                  crs, transform)
     import docs_text
+    docs_text.walkthrough_params(tmp_path)  # the params.toml the examples name, as the walk-through writes it
     body = docs_text.section("Preparing a delivery")
     examples = [line for block in re.findall(r"```sh\n(.*?)```", body, re.S) for line in block.splitlines()
                 if line.startswith("pdsgen ")]
