@@ -89,14 +89,39 @@ def readmes(root: Path) -> Iterator[Path]:
             yield path
 
 
+@dataclass(frozen=True)
+class DocumentedLabel:
+    """What README.TXT is compared with, of the delivered label of its product: the label's MD5
+    (formats/checksum.label_md5), its IMAGE object's size (samples, lines) and valid range."""
+
+    md5: str | None
+    size: tuple[int, int] | None
+    valid: dict[str, float]
+
+
 def extras_problems(root: Path, labels: LabelCache | None = None) -> list[ExtrasProblem]:
     """Every disagreement between the Extras under `root` and the products they document.
     `labels`: the run's label cache (deliver reads each label once for all its steps)."""
     problems: list[ExtrasProblem] = []
     for readme in readmes(root):
         for entry in read_entries(readme):
-            problems.extend(_entry_problems(root, readme, entry, labels))
+            product = product_of(root, readme, entry)
+            problems.extend(entry_problems(readme, entry, product, _label_facts(product, labels) if product else None))
     return problems
+
+
+def _label_facts(product: Path, labels: LabelCache | None) -> DocumentedLabel | None:
+    label = read_pds3_label(product, labels)
+    if label is None:
+        return None
+    image = label.image()
+    if image is None:
+        return DocumentedLabel(label_md5(product), None, {})
+    samples, lines = image.number("LINE_SAMPLES"), image.number("LINES")
+    valid = {k: float(v) for k in ("VALID_MINIMUM", "VALID_MAXIMUM")
+             if isinstance(v := image.number(k), (int, float))}
+    size = (samples, lines) if isinstance(samples, int) and isinstance(lines, int) else None
+    return DocumentedLabel(label_md5(product), size, valid)
 
 
 def product_of(root: Path, readme: Path, entry: ReadmeEntry) -> Path | None:
@@ -114,10 +139,11 @@ def _product_file(root: Path, readme: Path, name: str) -> Path | None:
     return None
 
 
-def _entry_problems(root: Path, readme: Path, entry: ReadmeEntry,
-                    labels: LabelCache | None) -> Iterator[ExtrasProblem]:
+def entry_problems(readme: Path, entry: ReadmeEntry, product: Path | None,
+                   label: DocumentedLabel | None) -> Iterator[ExtrasProblem]:
+    """One README.TXT entry against its delivered product (`product`, None when it is not
+    there) and what its label states (`label`, None when it is no PDS3 label)."""
     name = entry.fields.get("Product file", "")
-    product = product_of(root, readme, entry)
     if product is None:
         yield ExtrasProblem("absent", readme, f"documents product {entry.product_id} ({name or 'no file named'}), "
                                               "which is not delivered: make the Extras again from the products "
@@ -128,33 +154,27 @@ def _entry_problems(root: Path, readme: Path, entry: ReadmeEntry,
             yield ExtrasProblem("absent", readme, f"documents preview {file_name} of {entry.product_id}, which is "
                                                   "not delivered", line)
     recorded = entry.fields.get("Label MD5", "")
-    current = label_md5(product)
+    current = label.md5 if label is not None else None
     remedy = (f"the Extras were made from another version of {product.name}: make them again from it into "
               f"{readme.parent.name}/ ({param('overwrite', True)}) and deliver again")
     if recorded and current and recorded != current:
         yield ExtrasProblem("stale", readme, f"Label MD5 {recorded} of {entry.product_id} is not that of its "
                                              f"label now ({current}): {remedy}", entry.line)
-    label = read_pds3_label(product, labels)
-    if label is None:
-        return
-    yield from _numbers_problems(readme, entry, label, remedy)
+    if label is not None:
+        yield from _numbers_problems(readme, entry, label, remedy)
 
 
-def _numbers_problems(readme: Path, entry: ReadmeEntry, label: object, remedy: str) -> Iterator[ExtrasProblem]:
+def _numbers_problems(readme: Path, entry: ReadmeEntry, label: DocumentedLabel, remedy: str) -> Iterator[ExtrasProblem]:
     """README.TXT's size and valid range against the label's image object."""
-    image = label.image()  # type: ignore[attr-defined]
-    if image is None:
-        return
     size = _SIZE.search(entry.fields.get("Size", ""))
-    lines, samples = image.number("LINES"), image.number("LINE_SAMPLES")
-    if size is not None and isinstance(lines, int) and isinstance(samples, int) \
-            and (int(size.group(1)), int(size.group(2))) != (samples, lines):
+    if size is not None and label.size is not None and (int(size.group(1)), int(size.group(2))) != label.size:
+        samples, lines = label.size
         yield ExtrasProblem("differs", readme, f"{entry.product_id}: Size {size.group(0)}, but its label has "
                                                f"{samples} samples x {lines} lines: {remedy}", entry.line)
     for keyword in ("VALID_MINIMUM", "VALID_MAXIMUM"):
         stated = entry.fields.get(keyword, "")
-        value = image.number(keyword)
-        if stated and isinstance(value, (int, float)) and not _agrees(stated, float(value)):
+        value = label.valid.get(keyword)
+        if stated and value is not None and not _agrees(stated, value):
             yield ExtrasProblem("differs", readme, f"{entry.product_id}: {keyword} {stated}, but its label has "
                                                    f"{value:g}: {remedy}", entry.line)
 

@@ -26,11 +26,12 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ...archive import layout
-from .bundle import Pds4Reader, check_bundle
+from .bundle import check_bundle
 from .dialects import check_both_dialects
 from .extras import check_extras, check_quick_looks
 from .index import check_index
 from .manifest import check_manifest
+from .model import DeliveryModel, Pds4Reader
 from .parts import Found
 from .placeholders import check_placeholders
 
@@ -39,15 +40,16 @@ if TYPE_CHECKING:
 
 
 def delivery_findings(root: Path, labels_only: bool, labels: LabelCache | None, read_pds4: Pds4Reader) -> list[Found]:
-    """Every DLV finding of the delivery at `root`, in report order. `read_pds4`: the run's
-    reader of one PDS4 label (what a worker read of it, or read here: validate/facts.py)."""
+    """Every DLV finding of the delivery at `root`, in report order, each check reading the parts
+    of the delivery's one model (model.py), built here once. `read_pds4`: the run's reader of one
+    PDS4 label (what a worker read of it, or read here: validate/facts.py)."""
+    model = DeliveryModel(root, labels, read_pds4)
     found: list[Found] = []
-    check_index(root, found, labels)
+    check_index(model, found)
     check_placeholders(root, found)
-    pds4_labels = check_bundle(root, found, read_pds4)
-    if pds4_labels and (root / layout.VOLDESC).is_file():
-        check_both_dialects(root, pds4_labels, found, labels)
-    check_extras(root, found, labels)
-    check_quick_looks(root, found, labels)
-    check_manifest(root, labels_only, found)
+    if check_bundle(model, found) and (root / layout.VOLDESC).is_file():
+        check_both_dialects(model, found)
+    check_extras(model, found)
+    check_quick_looks(model, found)
+    check_manifest(model, labels_only, found)
     return found

@@ -6,115 +6,21 @@ from __future__ import annotations
 import csv
 import io
 import os
-from collections.abc import Callable
-from dataclasses import dataclass, field
 from pathlib import Path
 
 from ...archive import layout
-from ...label.beside import outside_tree
 from ...label.parser import is_pds3_head
 from ...pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
+from .model import DeliveryModel, Pds4Record
 from .parts import Found, all_files, read_head
 
-PDS_NS = "{http://pds.nasa.gov/pds4/pds/v1}"
-Pds4Reader = Callable[[Path], "Pds4Record | None"]
 
-
-@dataclass
-class Pds4Record:
-    path: Path
-    product_class: str
-    lid: str
-    version: str
-    references: list[tuple[str, int]] = field(default_factory=list)  # (lid or lidvid, line), not members
-    members: list[tuple[str, str, int]] = field(default_factory=list)  # a bundle's (lidvid, status, line)
-    inventory: Path | None = None
-    described: list[Path] = field(default_factory=list)  # the files its File and Document_File areas name
-    times: tuple[str | None, str | None] = (None, None)  # Time_Coordinates start and stop, as written
-    corner: tuple[float, float, float] | None = None  # cart: upper-left corner x, y and pixel_resolution_x, metres
-
-    @property
-    def lidvid(self) -> str:
-        return f"{self.lid}::{self.version}"
-
-
-
-def read_pds4(path: Path) -> Pds4Record | None:
-    from lxml import etree
-
-    try:
-        tree = etree.parse(str(path), etree.XMLParser(no_network=True, resolve_entities=False))
-    except (OSError, etree.XMLSyntaxError):
-        return None  # PDS4-001 reports it
-    root = tree.getroot()
-    if not isinstance(root.tag, str) or not root.tag.startswith(PDS_NS + "Product_"):
-        return None
-    area = root.find(f"{PDS_NS}Identification_Area")
-    lid = (area.findtext(f"{PDS_NS}logical_identifier") or "").strip() if area is not None else ""
-    version = (area.findtext(f"{PDS_NS}version_id") or "").strip() if area is not None else ""
-    label = Pds4Record(path, root.tag[len(PDS_NS):], lid, version)
-    member_entries = set(root.iter(f"{PDS_NS}Bundle_Member_Entry"))
-    for tag in ("lidvid_reference", "lid_reference"):
-        for element in root.iter(f"{PDS_NS}{tag}"):
-            reference = ((element.text or "").strip(), element.sourceline or 0)
-            entry = element.getparent()
-            if entry in member_entries:
-                status = (entry.findtext(f"{PDS_NS}member_status") or "").strip()
-                label.members.append((reference[0], status, reference[1]))
-            else:
-                label.references.append(reference)
-    name = root.findtext(f"{PDS_NS}File_Area_Inventory/{PDS_NS}File/{PDS_NS}file_name")
-    if name and not outside_tree(path.parent, name.strip()):  # one outside the label's directory is not read
-        label.inventory = path.parent / name.strip()
-    label.described = described_files(root, path)
-    coordinates = root.find(f"{PDS_NS}Observation_Area/{PDS_NS}Time_Coordinates")
-    if coordinates is not None:
-        label.times = (coordinates.findtext(f"{PDS_NS}start_date_time"),
-                       coordinates.findtext(f"{PDS_NS}stop_date_time"))
-    label.corner = _cart_corner(root)
-    return label
-
-
-_CART_NS = "{http://pds.nasa.gov/pds4/cart/v1}"
-_METRES = {"m": 1.0, "km": 1000.0, "m/pixel": 1.0, "km/pixel": 1000.0}
-
-
-def _cart_corner(root: object) -> tuple[float, float, float] | None:
-    """cart:Geo_Transformation's upper-left corner and cart:pixel_resolution_x, in metres."""
-    values = []
-    for tag in ("upperleft_corner_x", "upperleft_corner_y", "pixel_resolution_x"):
-        element = next(root.iter(f"{_CART_NS}{tag}"), None)  # type: ignore[attr-defined]
-        if element is None:
-            return None
-        try:
-            values.append(float((element.text or "").strip()) * _METRES.get(element.get("unit", "m"), 1.0))
-        except ValueError:
-            return None
-    return values[0], values[1], values[2]
-
-
-def described_files(root: object, path: Path) -> list[Path]:
-    """The files a PDS4 label describes, read from its parsed tree (comments are no elements,
-    CDATA is text): each file_name of a File or Document_File, the latter under its
-    directory_path_name (relative to the label's directory)."""
-    files = []
-    for element in root.iter(f"{PDS_NS}file_name"):  # type: ignore[attr-defined]
-        name = (element.text or "").strip()
-        parent = element.getparent()
-        directory = (parent.findtext(f"{PDS_NS}directory_path_name") or "").strip() if parent is not None else ""
-        if name:
-            files.append(Path(os.path.normpath(path.parent / directory / name)))
-    return files
-
-
-def check_bundle(root: Path, found: list[Found], read: Pds4Reader) -> list[Pds4Record]:
-    """The bundle's checks; the PDS4 labels of the delivery read (`read`: the run's reader of one
-    label, validate/facts.py), none when no label is a bundle's."""
-    named = (path for path in all_files(root) if path.suffix.lower() in PDS4_LABEL_SUFFIXES)
-    labels = [label for label in (read(path) for path in named) if label is not None]
+def check_bundle(model: DeliveryModel, found: list[Found]) -> bool:
+    """The bundle's checks on the model's PDS4 labels; whether the delivery is a bundle."""
+    root, labels = model.root, model.pds4
     bundles = [label for label in labels if label.product_class == "Product_Bundle"]
     if not bundles:
-        return []
+        return False
     by_lidvid: dict[str, Pds4Record] = {}
     by_lid: dict[str, list[Pds4Record]] = {}
     for label in labels:
@@ -153,7 +59,7 @@ def check_bundle(root: Path, found: list[Found], read: Pds4Reader) -> list[Pds4R
         if listed_in_any is not None:
             _check_unlisted(_versions([c for c in collections if c.lid == lid]), listed_in_any, labels, found)
     _check_unlabelled(root, labels, found)
-    return labels
+    return True
 
 
 

@@ -4,20 +4,14 @@
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from ...archive import layout
 from ...label.beside import outside_tree
-from ...label.parser import is_pds3_head
 from ...label.tree import Block
-from ...pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
-from .parts import Found, all_files, first, named_inside, read_head, read_pds3
-
-if TYPE_CHECKING:
-    from ...label.read import LabelCache
+from .model import DeliveryModel, pds3_products
+from .parts import Found, first, named_inside
 
 _FORMAT = re.compile(r"([AFIE])(\d+)(?:\.(\d+))?", re.IGNORECASE)
 
@@ -104,7 +98,8 @@ def _number_equal(a: str, b: str, decimals: int) -> bool:
         return False
 
 
-def check_index(root: Path, found: list[Found], labels: LabelCache | None) -> None:
+def check_index(model: DeliveryModel, found: list[Found]) -> None:
+    root = model.root
     label_path = root / layout.INDEX_DIR / layout.INDEX_LABEL
     table_path = root / layout.INDEX_DIR / layout.INDEX_TABLE
     # one string per product (not a Path): memory stays small for 10,000 products
@@ -114,7 +109,7 @@ def check_index(root: Path, found: list[Found], labels: LabelCache | None) -> No
             found.append(Found("DLV-002", root / layout.VOLDESC,
                                 f"a PDS3 volume without {layout.INDEX_DIR}/{layout.INDEX_LABEL}"))
         return
-    label = read_pds3(label_path, labels)
+    label = model.label_tree(label_path)
     if label is None:
         found.append(Found("DLV-001", label_path, "not a PDS3 label"))
         return
@@ -122,8 +117,9 @@ def check_index(root: Path, found: list[Found], labels: LabelCache | None) -> No
     if table is None:
         return
     table_path = _table_file(label, label_path) or table_path
+    model.keep(tuple(column.name for column in columns))  # each product label's record keeps them
     row_bytes, rows = table.number("ROW_BYTES"), table.number("ROWS")
-    volume_ids = {label.text("VOLUME_ID")} | {_text_value(root / layout.VOLDESC, "VOLUME_ID", labels)}
+    volume_ids = {label.text("VOLUME_ID")} | {_text_value(model, root / layout.VOLDESC, "VOLUME_ID")}
     declared = {name.upper() for name in _set_of(label, "DATA_SET_ID")}
     seen: dict[str, int] = {}
     count = 0
@@ -139,7 +135,7 @@ def check_index(root: Path, found: list[Found], labels: LabelCache | None) -> No
                                                                f"CR LF, ROW_BYTES = {row_bytes}", count))
                     continue
                 values = {c.name: _field(raw, c, count, table_path, found) for c in columns}
-                _check_row(root, table_path, count, values, columns, seen, volume_ids, found, labels)
+                _check_row(model, table_path, count, values, columns, seen, volume_ids, found)
                 _check_row_data_set(table_path, count, values.get("DATA_SET_ID"), declared, found)
     except OSError as exc:
         found.append(Found("DLV-001", table_path, f"cannot read the index table: {exc.strerror or exc}"))
@@ -151,12 +147,11 @@ def check_index(root: Path, found: list[Found], labels: LabelCache | None) -> No
         if key not in seen:
             found.append(Found("DLV-002", root / name, f"this data product is not in {layout.INDEX_DIR}/"
                                                  f"{layout.INDEX_TABLE}"))
-    _check_data_sets(root, label, table_path, found, labels)
+    _check_data_sets(model, label, found)
 
 
-def _check_row(root: Path, table_path: Path, number: int, values: dict[str, str | None], columns: list[_Column],
-               seen: dict[str, int], volume_ids: set[str | None],
-               found: list[Found], labels: LabelCache | None) -> None:
+def _check_row(model: DeliveryModel, table_path: Path, number: int, values: dict[str, str | None],
+               columns: list[_Column], seen: dict[str, int], volume_ids: set[str | None], found: list[Found]) -> None:
     spec = values.get("FILE_SPECIFICATION_NAME")
     if spec is None:
         return
@@ -165,7 +160,7 @@ def _check_row(root: Path, table_path: Path, number: int, values: dict[str, str 
         found.append(Found("DLV-005", table_path, f"row {number}: VOLUME_ID {volume_id} differs from the volume's "
                                                    f"({', '.join(sorted(v for v in volume_ids if v))})", number))
     key = spec.upper()
-    named, problem = named_inside(root, spec)
+    named, problem = named_inside(model.root, spec)
     if named is None:
         found.append(Found("DLV-003", table_path, f"row {number} names {spec!r}, which is not a file inside the "
                                                    f"delivery ({problem})", number))
@@ -178,7 +173,7 @@ def _check_row(root: Path, table_path: Path, number: int, values: dict[str, str 
                                                    f"{seen[key]})", number))
         return
     seen[key] = number
-    product = read_pds3(named, labels)
+    product = model.pds3(named)  # DLV-004: the row against its label's record
     if product is None:
         found.append(Found("DLV-003", table_path, f"row {number} names {spec}, which is not a PDS3 label", number))
         return
@@ -188,7 +183,7 @@ def _check_row(root: Path, table_path: Path, number: int, values: dict[str, str 
         row_value = values.get(column.name)
         if row_value is None:
             continue
-        label_value, line = first(product, column.name)
+        label_value, line = product.values.get(column.name, (None, None))
         if not _same(row_value, label_value, column.data_type, column.format):
             found.append(Found("DLV-004", table_path, f"row {number} ({spec}): {column.name} = {row_value}, "
                                                        f"but its label has {label_value or 'none'}"
@@ -205,11 +200,11 @@ def _check_row_data_set(table_path: Path, number: int, data_set: str | None, dec
                                                    f"{layout.VOLDESC}", number, "DATA_SET_ID"))
 
 
-def _check_data_sets(root: Path, index_label: Block, table_path: Path, found: list[Found],
-                     labels: LabelCache | None) -> None:
+def _check_data_sets(model: DeliveryModel, index_label: Block, found: list[Found]) -> None:
     """DATA_SET_ID of INDEX.LBL and VOLDESC.CAT name the same data sets."""
     index_sets = _set_of(index_label, "DATA_SET_ID")
-    voldesc = read_pds3(root / layout.VOLDESC, labels)
+    root = model.root
+    voldesc = model.label_tree(root / layout.VOLDESC)
     if voldesc is None:
         return
     volume = next(voldesc.find("VOLUME"), voldesc)
@@ -224,20 +219,8 @@ def _set_of(block: Block, keyword: str) -> set[str]:
     return {v.text for v in value.scalars()} if value is not None else set()
 
 
-def _text_value(path: Path, keyword: str, labels: LabelCache | None) -> str | None:
-    label = read_pds3(path, labels)
+def _text_value(model: DeliveryModel, path: Path, keyword: str) -> str | None:
+    label = model.label_tree(path)
     if label is None:
         return None
     return first(label, keyword)[0]
-
-
-def pds3_products(root: Path) -> Iterator[Path]:
-    """PDS3 product labels of the volume's DATA directory."""
-    data = root / layout.DATA_DIR
-    if not data.is_dir():
-        return
-    for path in all_files(data):
-        if path.suffix.lower() in (*PDS4_LABEL_SUFFIXES, ".txt", ".csv", ".jp2", ".jpg"):
-            continue
-        if path.suffix.lower() == ".lbl" or is_pds3_head(read_head(path)):
-            yield path

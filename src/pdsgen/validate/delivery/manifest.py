@@ -3,24 +3,24 @@ formats/checksum.py)."""
 
 from __future__ import annotations
 
-import re
-from pathlib import Path
-
 from ...archive import layout
+from .model import DeliveryModel
 from .parts import Found, all_files, named_inside
 
 
-def check_manifest(root: Path, labels_only: bool, found: list[Found]) -> None:
+def check_manifest(model: DeliveryModel, labels_only: bool, found: list[Found]) -> None:
+    """DLV-020: each line of MD5SUMS.TXT names a file of the delivery with that MD5; DLV-021:
+    every file of the delivery is listed."""
     from ...formats.checksum import file_md5  # start-up: loaded only when a delivery is checked
 
+    root = model.root
     manifest = root / layout.MANIFEST
     if not manifest.is_file():
         return
     listed: dict[str, int] = {}
-    for number, line in enumerate(manifest.read_text(encoding="utf-8", errors="replace").splitlines(), 1):
-        digest, sep, name = line.partition("  ")
-        if not sep or not re.fullmatch(r"[0-9a-f]{32}", digest):
-            found.append(Found("DLV-020", manifest, f"not an 'md5  path' line: {line[:60]!r}", number))
+    for number, digest, name in ((m.number, m.digest, m.name) for m in model.manifest()):
+        if digest is None:
+            found.append(Found("DLV-020", manifest, f"not an 'md5  path' line: {name[:60]!r}", number))
             continue
         listed[name] = number
         path, problem = named_inside(root, name)

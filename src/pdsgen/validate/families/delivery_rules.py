@@ -125,8 +125,8 @@ def check_jp2info(ctx: FileContext) -> Iterator[Hit]:
 
 @facts.fact("pds4")
 def pds4_label_parts(path: Path) -> Any:
-    """What the delivery checks read of one PDS4 label (validate/delivery/bundle.read_pds4), or None."""
-    from ..delivery.bundle import read_pds4
+    """What the delivery checks read of one PDS4 label (validate/delivery/model.read_pds4), or None."""
+    from ..delivery.model import read_pds4
 
     return read_pds4(path)
 
