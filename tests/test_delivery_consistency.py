@@ -29,8 +29,8 @@ from helpers import demo_products
 PDS_NS = {"pds": "http://pds.nasa.gov/pds4/pds/v1"}
 BUNDLE_LID = "urn:nasa:pds:demo_dtm"
 # The rules of this issue: a clean delivery has none of them (the demo's UNK texts are DLV-007's).
-CONSISTENCY = ("DLV-011", "DLV-016", "DLV-017", "DLV-018", "DLV-019", "DLV-025", "DLV-026", "IDN-001", "IDN-002",
-               "IDN-003", "IDN-004", "IDN-012", "IDN-013")
+CONSISTENCY = ("DLV-011", "DLV-016", "DLV-017", "DLV-018", "DLV-019", "DLV-025", "DLV-026", "DLV-027", "DLV-028",
+               "DLV-029", "IDN-001", "IDN-002", "IDN-003", "IDN-004", "IDN-012", "IDN-013")
 
 
 @pytest.fixture(scope="module")
@@ -329,3 +329,80 @@ def test_deliver_names_a_sidecar_no_label_describes(products, tmp_path):
     assert [line.split(":")[0] for line in result.warnings] == [
         str(source / "PSP_008669_1705_RED_C_01_ORTHO.JP2.aux.xml")]
     assert not (tmp_path / "out" / "DATA" / "PSP_008669_1705_RED_C_01_ORTHO.JP2.aux.xml").exists()
+
+
+# --- the delivery's model: previews, README.TXT against the files, identifiers -----------------------
+
+DTM_ID = "DTEEC_008669_1705_009025_1705_U01"
+
+
+@pytest.fixture(scope="module")
+def remade_with_old_previews(products, tmp_path_factory) -> Path:
+    """The DTM remade 20 lines shorter (--overwrite) and its Extras made again - then its old
+    browse and thumbnail of the shaded relief put back: README.TXT and the labels agree (deliver
+    does not refuse), the two JPEGs show the old extent."""
+    root = tmp_path_factory.mktemp("old_previews")
+    source = Path(shutil.copytree(products, root / "products"))
+    old = {name: (source / "extras" / name).read_bytes() for name in (f"{DTM_ID}.sb.jpg", f"{DTM_ID}.st.jpg")}
+    scene = make_scene(width=120, height=160)
+    cropped = write_geotiff(root / "dtm.tif", scene.elevation[:140], scene.transform, scene.crs, None)
+    dtm = write_dtm(cropped, source, profile="hirise", source_product_ids=("PSP_008669_1705", "PSP_009025_1705"),
+                    institution="U", label="both", overwrite=True)
+    make_extras([dtm.path], source / "extras", overwrite=True)
+    for name, data in old.items():
+        (source / "extras" / name).write_bytes(data)
+    return source
+
+
+@pytest.mark.parametrize("dialect", ["pds3", "pds4", "both"])
+def test_a_browse_and_thumbnail_of_a_product_since_remade_are_found(remade_with_old_previews, dialect, tmp_path):
+    """DLV-027 names each JPEG not the size the Extras make of the delivered product: the DTM is
+    120 x 140 now (GDAL reads it so), the browse and thumbnail put back 120 x 160 (GDAL too)."""
+    delivery = tmp_path / dialect
+    make_delivery(remade_with_old_previews, delivery, dialect=dialect,
+                  volume_id="DEMO_0001" if dialect != "pds4" else None,
+                  bundle_lid=BUNDLE_LID if dialect != "pds3" else None)
+    assert _gdal_size(delivery / DTM_IMG) == (120, 140)
+    assert _gdal_size(delivery / "EXTRAS" / f"{DTM_ID}.sb.jpg") == (120, 160)
+    assert _gdal_size(delivery / "EXTRAS" / f"{DTM_ID}.br.jpg") == (120, 140)  # made again: not named
+    assert _found(delivery, *CONSISTENCY) == [("DLV-027", "error", f"{DTM_ID}.sb.jpg"),
+                                              ("DLV-027", "error", f"{DTM_ID}.st.jpg")]
+    message = next(f.message for f in validate_paths([delivery], labels_only=True).findings if f.rule == "DLV-027")
+    assert "120 x 160 pixels" in message and "is 120 x 140" in message
+
+
+def test_the_consistent_remake_has_no_stale_preview(remade_with_old_previews, tmp_path):
+    source = Path(shutil.copytree(remade_with_old_previews, tmp_path / "products"))
+    make_extras([source / Path(DTM_IMG).name], source / "extras", overwrite=True)
+    make_delivery(source, tmp_path / "out", dialect="both", volume_id="DEMO_0001", bundle_lid=BUNDLE_LID)
+    assert _found(tmp_path / "out", *CONSISTENCY, labels_only=False) == []
+
+
+@pytest.mark.parametrize("dialect", ["pds3", "pds4", "both"])
+def test_a_preview_readme_does_not_document_is_found(made, dialect, tmp_path):
+    delivery = _copy(made, dialect, tmp_path)
+    shutil.copy(delivery / "EXTRAS" / f"{DTM_ID}.br.jpg", delivery / "EXTRAS" / "DTEEC_001_U01.br.jpg")
+    assert _found(delivery, "DLV-028") == [("DLV-028", "warning", "DTEEC_001_U01.br.jpg")]
+    # a bundle's file no label describes is DLV-016's too, whatever README.TXT says
+    unlabelled = [("DLV-016", "warning", "DTEEC_001_U01.br.jpg")] if dialect != "pds3" else []
+    assert _found(delivery, "DLV-016") == unlabelled
+
+
+@pytest.mark.parametrize("dialect", ["pds3", "pds4", "both"])
+def test_a_readme_entry_listing_another_products_preview_is_found(made, dialect, tmp_path):
+    """The DTM's entry lists the orthoimage's thumbnail for its own: README.TXT is named (DLV-029),
+    and the DTM's own thumbnail, no longer documented, too (DLV-028)."""
+    delivery = _copy(made, dialect, tmp_path)
+    _seed(delivery, README, f"    {DTM_ID}.th.jpg\r\n", "    PSP_008669_1705_RED_C_01_ORTHO.thumb.jpg\r\n")
+    assert _found(delivery, *CONSISTENCY) == [("DLV-028", "warning", f"{DTM_ID}.th.jpg"),
+                                              ("DLV-029", "error", "README.TXT")]
+
+
+@pytest.mark.parametrize("dialect", ["pds4", "both"])
+def test_a_pds4_label_naming_another_products_id_is_found(made, dialect, tmp_path):
+    delivery = _copy(made, dialect, tmp_path)
+    _seed(delivery, f"DATA/{DTM_ID}.xml", f":{DTM_ID.lower()}</logical_identifier>",
+          ":psp_008669_1705_red_c_01_ortho</logical_identifier>")
+    found = [f for f in validate_paths([delivery], labels_only=True).findings if f.rule == "DLV-029"]
+    assert [(Path(f.file).name, "PSP_008669_1705_RED_C_01_ORTHO" in f.message) for f in found] == [
+        (f"{DTM_ID}.xml", True)]

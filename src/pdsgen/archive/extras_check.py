@@ -27,6 +27,7 @@ from . import layout
 README = "README.TXT"
 _SIZE = re.compile(r"(\d+) samples x (\d+) lines")
 _FIELD = re.compile(r"^  ([A-Za-z][A-Za-z0-9_ ()/.-]*):\s*(.*)$")
+_PREVIEW = re.compile(r"\b(browse|thumbnail) \((\d+) x (\d+) pixels\)")
 _CONTINUATION = 19  # README.TXT's value column: a longer indent continues the field above
 
 
@@ -38,6 +39,15 @@ class ReadmeEntry:
     line: int
     fields: dict[str, str] = field(default_factory=dict)
     files: list[tuple[str, int]] = field(default_factory=list)  # (Extras file name, line)
+    descriptions: dict[str, str] = field(default_factory=dict)  # Extras file name -> its description
+
+    def preview_size(self, name: str) -> tuple[str, int, int] | None:
+        """("browse" or "thumbnail", width, height) of a file the entry lists, as its description
+        states it (an annotated browse, a quick look or a file not described: None)."""
+        match = _PREVIEW.search(self.descriptions.get(name, ""))
+        if match is None or "annotated" in self.descriptions[name]:
+            return None
+        return match.group(1), int(match.group(2)), int(match.group(3))
 
 
 @dataclass(frozen=True)
@@ -74,6 +84,9 @@ def read_entries(readme: Path) -> list[ReadmeEntry]:
             in_files = True
         elif in_files and line.startswith("    ") and not line.startswith("     "):
             entries[-1].files.append((line.strip(), number))
+        elif in_files and entries[-1].files:  # the description of the file above, over lines
+            name = entries[-1].files[-1][0]
+            entries[-1].descriptions[name] = f"{entries[-1].descriptions.get(name, '')} {line.strip()}".strip()
         elif (match := _FIELD.match(line)) is not None and not in_files:
             key = match.group(1)
             entries[-1].fields[key] = match.group(2).strip()

@@ -16,8 +16,9 @@ PDS4 labels with lxml, CSV inventories with the csv module, and MD5s streamed by
 formats/checksum.py (hashlib's MD5, read in blocks). Only names come from layout.
 
 One module a part: index.py (DLV-001..005), placeholders.py (DLV-006), bundle.py
-(DLV-010..016), dialects.py (DLV-022..024), extras.py (DLV-017..019, DLV-026), manifest.py
-(DLV-020, DLV-021); parts.py what they share.
+(DLV-010..016), dialects.py (DLV-022..024), extras.py (DLV-017..019, DLV-026..028),
+identifiers.py (DLV-029), manifest.py (DLV-020, DLV-021); model.py the delivery's one model
+they read their parts from, parts.py what they share.
 """
 
 from __future__ import annotations
@@ -28,7 +29,8 @@ from typing import TYPE_CHECKING
 from ...archive import layout
 from .bundle import check_bundle
 from .dialects import check_both_dialects
-from .extras import check_extras, check_quick_looks
+from .extras import check_extras, check_previews, check_quick_looks, check_undocumented
+from .identifiers import check_identifiers
 from .index import check_index
 from .manifest import check_manifest
 from .model import DeliveryModel, Pds4Reader
@@ -51,5 +53,8 @@ def delivery_findings(root: Path, labels_only: bool, labels: LabelCache | None, 
         check_both_dialects(model, found)
     check_extras(model, found)
     check_quick_looks(model, found)
+    check_previews(model, found)
+    check_undocumented(model, found)
+    check_identifiers(model, found)
     check_manifest(model, labels_only, found)
     return found

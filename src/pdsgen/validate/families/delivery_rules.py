@@ -241,6 +241,11 @@ register(
                              "those of a JP2 since remade)", check_jp2info, needs_data=True),
     Rule("DLV-026", "error", "an Extras quick-look JP2 (QLOOK.JP2) is its delivered product at full scale (not a "
                              "quick look of a product since remade)", None),
+    Rule("DLV-027", "error", "an Extras browse or thumbnail JPEG is the size the Extras make of its delivered "
+                             "product (not a preview of a product since remade)", None),
+    Rule("DLV-028", "warning", "every preview image beside an Extras README.TXT is one it documents", None),
+    Rule("DLV-029", "error", "a product's README.TXT entry, the previews it lists and its PDS4 label's LID name "
+                             "that product, not another of the delivery", None),
     Rule("DLV-020", "error", "every file MD5SUMS.TXT lists exists and has that MD5", None, needs_data=True),
     Rule("DLV-021", "error", "every file of the delivery is listed in MD5SUMS.TXT", None),
 )
