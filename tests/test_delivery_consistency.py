@@ -406,3 +406,40 @@ def test_a_pds4_label_naming_another_products_id_is_found(made, dialect, tmp_pat
     found = [f for f in validate_paths([delivery], labels_only=True).findings if f.rule == "DLV-029"]
     assert [(Path(f.file).name, "PSP_008669_1705_RED_C_01_ORTHO" in f.message) for f in found] == [
         (f"{DTM_ID}.xml", True)]
+
+
+# --- a bundle found by what its root says: deliver's previous delivery, the look for deliveries ------
+
+def test_delivering_again_finds_the_previous_bundle_named_bundle_xml(products, tmp_path):
+    """The previous delivery's bundle label is found by its root element (Product_Bundle), as
+    validate and review find it: renamed bundle.xml, its LID is still the one delivered again
+    (without it, deliver asks for bundle_lid)."""
+    out = tmp_path / "out"
+    make_delivery(products, out, dialect="pds4", bundle_lid=BUNDLE_LID)
+    (out / "bundle_demo_dtm.xml").rename(out / "bundle.xml")
+    make_delivery(products, out, dialect="pds4")
+    label = next(path for path in out.glob("*.xml") if path.name.startswith("bundle"))
+    lid = etree.parse(str(label)).findtext(".//pds:Identification_Area/pds:logical_identifier", namespaces=PDS_NS)
+    assert lid == BUNDLE_LID
+    with pytest.raises(InputError, match="bundle_lid"):  # a directory with no bundle label: asked for
+        make_delivery(products, tmp_path / "fresh", dialect="pds4")
+
+
+def test_looking_for_deliveries_reads_each_directorys_prologs_once(made, tmp_path, monkeypatch):
+    """is_delivery on a directory of XML files (no manifest, no index) reads their prologs once
+    while they are unchanged; a file rewritten is read again, and what it now is counts."""
+    from pdsgen.archive import scan
+    from pdsgen.validate.families.delivery_rules import is_delivery
+
+    directory = tmp_path / "labels"
+    directory.mkdir()
+    for name in ("a.xml", "b.xml", "c.xml"):
+        shutil.copy(made["pds4"] / "DATA" / "collection_data.xml", directory / name)
+    read: list[str] = []
+    reader = scan.root_element
+    monkeypatch.setattr(scan, "root_element", lambda path: read.append(path.name) or reader(path))
+    assert not is_delivery(directory) and sorted(read) == ["a.xml", "b.xml", "c.xml"]
+    read.clear()
+    assert not is_delivery(directory) and read == []
+    shutil.copy(made["pds4"] / "bundle_demo_dtm.xml", directory / "b.xml")
+    assert is_delivery(directory) and "b.xml" in read
