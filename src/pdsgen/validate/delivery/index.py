@@ -117,7 +117,6 @@ def check_index(model: DeliveryModel, found: list[Found]) -> None:
     if table is None:
         return
     table_path = _table_file(label, label_path) or table_path
-    model.keep(tuple(column.name for column in columns))  # each product label's record keeps them
     row_bytes, rows = table.number("ROW_BYTES"), table.number("ROWS")
     volume_ids = {label.text("VOLUME_ID")} | {_text_value(model, root / layout.VOLDESC, "VOLUME_ID")}
     declared = {name.upper() for name in _set_of(label, "DATA_SET_ID")}
@@ -173,7 +172,8 @@ def _check_row(model: DeliveryModel, table_path: Path, number: int, values: dict
                                                    f"{seen[key]})", number))
         return
     seen[key] = number
-    product = model.pds3(named)  # DLV-004: the row against its label's record
+    compared = [column.name for column in columns if column.name not in ("VOLUME_ID", "FILE_SPECIFICATION_NAME")]
+    product = model.row_values(named, compared)  # DLV-004: the row against its label (its one reading)
     if product is None:
         found.append(Found("DLV-003", table_path, f"row {number} names {spec}, which is not a PDS3 label", number))
         return
@@ -183,7 +183,7 @@ def _check_row(model: DeliveryModel, table_path: Path, number: int, values: dict
         row_value = values.get(column.name)
         if row_value is None:
             continue
-        label_value, line = product.values.get(column.name, (None, None))
+        label_value, line = product[column.name]
         if not _same(row_value, label_value, column.data_type, column.format):
             found.append(Found("DLV-004", table_path, f"row {number} ({spec}): {column.name} = {row_value}, "
                                                        f"but its label has {label_value or 'none'}"

@@ -8,9 +8,10 @@ through the run's LabelCache, PDS4 labels through the run's reader, validate/fac
 of each a small record - paths, ints, strings - so that the memory a delivery takes is a small
 constant per product, whatever the checks ask and however often.
 
-The records are the validator's own reading: the index's keywords as INDEX.LBL's columns name
-them, the image size and valid range of the IMAGE object, the times, the map grid of
-IMAGE_MAP_PROJECTION, README.TXT by archive/extras_check's reader (the Extras' file format).
+The records are the validator's own reading: PRODUCT_ID and the times, the IMAGE object's size
+and valid range, the map grid of IMAGE_MAP_PROJECTION, README.TXT by archive/extras_check's
+reader (the Extras' file format). An index row's other keywords are compared as the row is read
+(row_values), with the label's one reading, and not kept.
 """
 
 from __future__ import annotations
@@ -34,7 +35,7 @@ if TYPE_CHECKING:
     from ...label.read import LabelCache
 
 _MANIFEST_LINE = re.compile(r"[0-9a-f]{32}")
-# The keywords every PDS3 record keeps besides those the index's columns name.
+# The keywords a PDS3 record keeps (the index's others are compared as its rows are read: row_values).
 _KEPT = ("PRODUCT_ID", "START_TIME", "STOP_TIME")
 
 
@@ -107,7 +108,6 @@ class DeliveryModel:
         self._pds4: list[Pds4Record] | None = None
         self._extras: list[ExtrasEntry] | None = None
         self._products: list[Product] | None = None
-        self.keywords: tuple[str, ...] = _KEPT  # the index's columns are added by the index check
 
     # --- PDS3 labels -------------------------------------------------------------------------
 
@@ -116,18 +116,23 @@ class DeliveryModel:
         label, VOLDESC.CAT)."""
         return read_pds3(path, self.labels)
 
-    def keep(self, keywords: tuple[str, ...]) -> None:
-        """Keep these keywords too in each PDS3 record read from now on (the index's columns:
-        the model is asked for them before any product label is read)."""
-        self.keywords = tuple(dict.fromkeys((*self.keywords, *(k.upper() for k in keywords))))
-
     def pds3(self, path: Path) -> Pds3Record | None:
         """The record of the PDS3 label at `path` (read once), None when it is no PDS3 label."""
         key = os.path.normpath(path)
         if key not in self._pds3:
             tree = read_pds3(path, self.labels)
-            self._pds3[key] = _pds3_record(path, tree, self.keywords) if tree is not None else None
+            self._pds3[key] = _pds3_record(path, tree) if tree is not None else None
         return self._pds3[key]
+
+    def row_values(self, path: Path, keywords: list[str]) -> dict[str, tuple[str | None, int | None]] | None:
+        """The first value and line of each keyword an index row holds of the PDS3 label at
+        `path` (None when it is no PDS3 label), read with the label's record - the one reading of
+        the label - and not kept: the row is compared once, the record keeps a handful."""
+        key = os.path.normpath(path)
+        tree = read_pds3(path, self.labels)
+        if key not in self._pds3:
+            self._pds3[key] = _pds3_record(path, tree) if tree is not None else None
+        return {keyword: first(tree, keyword) for keyword in keywords} if tree is not None else None
 
     # --- PDS4 labels -------------------------------------------------------------------------
 
@@ -315,8 +320,8 @@ def product_key(path: Path) -> tuple[str, str]:
     return os.path.normpath(path.parent), path.name.split(".", 1)[0].upper()
 
 
-def _pds3_record(path: Path, tree: Block, keywords: tuple[str, ...]) -> Pds3Record:
-    record = Pds3Record(path, {keyword: first(tree, keyword) for keyword in keywords})
+def _pds3_record(path: Path, tree: Block) -> Pds3Record:
+    record = Pds3Record(path, {keyword: first(tree, keyword) for keyword in _KEPT})
     image = next(tree.find("IMAGE"), None)
     if image is not None:
         samples, lines = image.number("LINE_SAMPLES"), image.number("LINES")
