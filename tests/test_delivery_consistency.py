@@ -443,3 +443,18 @@ def test_looking_for_deliveries_reads_each_directorys_prologs_once(made, tmp_pat
     assert not is_delivery(directory) and read == []
     shutil.copy(made["pds4"] / "bundle_demo_dtm.xml", directory / "b.xml")
     assert is_delivery(directory) and "b.xml" in read
+
+
+@pytest.mark.parametrize("data", [b"", b"\xff\xd8", b"\xff\xd8\xff\xe0\x00\x01", b"\xff\xd8" + b"\xff\xe1\xff\xff" * 3,
+                                  b"\xff\xd8\xff\xc0\x00\x11\x08", b"GIF89a"])
+def test_a_preview_that_is_no_jpeg_is_not_compared(made, data, tmp_path):
+    """The JPEG frame walk of DLV-027 reads a browse that is no JPEG, or one cut short, as no size
+    (the file is not compared; nothing is read past its end), never an exception."""
+    from pdsgen.validate.delivery.jpeg import jpeg_size
+
+    path = tmp_path / "x.jpg"
+    path.write_bytes(data)
+    assert jpeg_size(path) is None
+    delivery = _copy(made, "pds3", tmp_path)
+    (delivery / "EXTRAS" / f"{DTM_ID}.br.jpg").write_bytes(data)
+    assert _found(delivery, "DLV-027") == []
