@@ -337,10 +337,9 @@ DTM_ID = "DTEEC_008669_1705_009025_1705_U01"
 
 
 @pytest.fixture(scope="module")
-def remade_with_old_previews(products, tmp_path_factory) -> Path:
-    """The DTM remade 20 lines shorter (--overwrite) and its Extras made again - then its old
-    browse and thumbnail of the shaded relief put back: README.TXT and the labels agree (deliver
-    does not refuse), the two JPEGs show the old extent."""
+def remade(products, tmp_path_factory) -> tuple[Path, dict[str, bytes]]:
+    """The DTM remade 20 lines shorter (--overwrite) and its Extras made again: a consistent
+    remake; and the old browse and thumbnail of its shaded relief, to be put back."""
     root = tmp_path_factory.mktemp("old_previews")
     source = Path(shutil.copytree(products, root / "products"))
     old = {name: (source / "extras" / name).read_bytes() for name in (f"{DTM_ID}.sb.jpg", f"{DTM_ID}.st.jpg")}
@@ -349,19 +348,22 @@ def remade_with_old_previews(products, tmp_path_factory) -> Path:
     dtm = write_dtm(cropped, source, profile="hirise", source_product_ids=("PSP_008669_1705", "PSP_009025_1705"),
                     institution="U", label="both", overwrite=True)
     make_extras([dtm.path], source / "extras", overwrite=True)
-    for name, data in old.items():
-        (source / "extras" / name).write_bytes(data)
-    return source
+    return source, old
 
 
 @pytest.mark.parametrize("dialect", ["pds3", "pds4", "both"])
-def test_a_browse_and_thumbnail_of_a_product_since_remade_are_found(remade_with_old_previews, dialect, tmp_path):
-    """DLV-027 names each JPEG not the size the Extras make of the delivered product: the DTM is
-    120 x 140 now (GDAL reads it so), the browse and thumbnail put back 120 x 160 (GDAL too)."""
+def test_a_browse_and_thumbnail_of_a_product_since_remade_are_found(remade, dialect, tmp_path):
+    """The old browse and thumbnail put back into the delivery of the consistent remake: README.TXT
+    and the labels agree, but DLV-027 names each JPEG not the size the Extras make of the delivered
+    product: the DTM is 120 x 140 now (GDAL reads it so), the two JPEGs 120 x 160 (GDAL too)."""
+    source, old = remade
     delivery = tmp_path / dialect
-    make_delivery(remade_with_old_previews, delivery, dialect=dialect,
-                  volume_id="DEMO_0001" if dialect != "pds4" else None,
+    make_delivery(source, delivery, dialect=dialect, volume_id="DEMO_0001" if dialect != "pds4" else None,
                   bundle_lid=BUNDLE_LID if dialect != "pds3" else None)
+    assert _found(delivery, *CONSISTENCY, labels_only=False) == []  # the consistent remake: clean
+    for name, data in old.items():  # a new file: the delivery's are hard links to the products'
+        (delivery / "EXTRAS" / name).unlink()
+        (delivery / "EXTRAS" / name).write_bytes(data)
     assert _gdal_size(delivery / DTM_IMG) == (120, 140)
     assert _gdal_size(delivery / "EXTRAS" / f"{DTM_ID}.sb.jpg") == (120, 160)
     assert _gdal_size(delivery / "EXTRAS" / f"{DTM_ID}.br.jpg") == (120, 140)  # made again: not named
@@ -371,11 +373,18 @@ def test_a_browse_and_thumbnail_of_a_product_since_remade_are_found(remade_with_
     assert "120 x 160 pixels" in message and "is 120 x 140" in message
 
 
-def test_the_consistent_remake_has_no_stale_preview(remade_with_old_previews, tmp_path):
-    source = Path(shutil.copytree(remade_with_old_previews, tmp_path / "products"))
-    make_extras([source / Path(DTM_IMG).name], source / "extras", overwrite=True)
-    make_delivery(source, tmp_path / "out", dialect="both", volume_id="DEMO_0001", bundle_lid=BUNDLE_LID)
-    assert _found(tmp_path / "out", *CONSISTENCY, labels_only=False) == []
+def test_deliver_refuses_a_browse_of_a_product_since_remade(remade, tmp_path):
+    """The same old previews in the products' Extras: deliver refuses them as stale Extras, naming
+    the JPEG and the remedy, and writes nothing."""
+    source, old = remade
+    source = Path(shutil.copytree(source, tmp_path / "products"))
+    for name, data in old.items():
+        (source / "extras" / name).write_bytes(data)
+    with pytest.raises(InputError) as refused:
+        make_delivery(source, tmp_path / "out", dialect="pds3", volume_id="DEMO_0001")
+    message = str(refused.value)
+    assert "stale Extras" in message and f"extras/{DTM_ID}.sb.jpg" in message and "make the Extras again" in message
+    assert not (tmp_path / "out").exists()
 
 
 @pytest.mark.parametrize("dialect", ["pds3", "pds4", "both"])
@@ -450,7 +459,7 @@ def test_looking_for_deliveries_reads_each_directorys_prologs_once(made, tmp_pat
 def test_a_preview_that_is_no_jpeg_is_not_compared(made, data, tmp_path):
     """The JPEG frame walk of DLV-027 reads a browse that is no JPEG, or one cut short, as no size
     (the file is not compared; nothing is read past its end), never an exception."""
-    from pdsgen.validate.delivery.jpeg import jpeg_size
+    from pdsgen.formats.jpeg_size import jpeg_size
 
     path = tmp_path / "x.jpg"
     path.write_bytes(data)

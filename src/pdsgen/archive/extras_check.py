@@ -21,6 +21,8 @@ from pathlib import Path
 
 from ..errors import param
 from ..formats.checksum import label_md5
+from ..formats.jpeg_size import jpeg_size
+from ..formats.preview_size import browse_size, thumbnail_size
 from ..label.read import LabelCache, read_pds3_label
 from . import layout
 
@@ -54,7 +56,8 @@ class ReadmeEntry:
 class ExtrasProblem:
     """One disagreement between the Extras and the products. kind: "stale" (the label changed
     since the Extras were made), "differs" (a size or valid range README.TXT states is not the
-    label's), "absent" (README.TXT documents a product or preview not in the directory)."""
+    label's), "preview" (a browse or thumbnail not the size the Extras make of the product),
+    "absent" (README.TXT documents a product or preview not in the directory)."""
 
     kind: str
     file: Path
@@ -175,6 +178,47 @@ def entry_problems(readme: Path, entry: ReadmeEntry, product: Path | None,
                                              f"label now ({current}): {remedy}", entry.line)
     if label is not None:
         yield from _numbers_problems(readme, entry, label, remedy)
+        yield from _preview_problems(readme, entry, product, label)
+
+
+def _preview_problems(readme: Path, entry: ReadmeEntry, product: Path,
+                      label: DocumentedLabel) -> Iterator[ExtrasProblem]:
+    """Each browse and thumbnail JPEG the entry lists is the size the Extras make of the product
+    (formats/preview_size, the Extras' own arithmetic) at the width the file has: one of a
+    product since remade at another size is not (kind "preview"). An annotated browse (margins
+    around the browse) is left to its browse; a thumbnail is made of the browse."""
+    if label.size is None:
+        return
+    previews = [(path, kind, jpeg_size(path)) for path, kind in _previews(readme, entry)]
+    browse = next((browse_size(*label.size, size[0]) for _, kind, size in previews
+                   if kind == "browse" and size is not None), None)
+    for path, kind, size in previews:
+        if size is None:
+            continue
+        if kind == "browse":
+            made = browse_size(*label.size, size[0])
+        elif browse is not None:
+            made = thumbnail_size(*browse, size[0])
+        else:
+            continue
+        if size != made:
+            yield ExtrasProblem("preview", path, f"{size[0]} x {size[1]} pixels, but the {kind} the Extras make "
+                                                 f"{size[0]} pixels wide of {product.name} ({label.size[0]} samples "
+                                                 f"x {label.size[1]} lines) is {made[0]} x {made[1]}: a {kind} of "
+                                                 f"another version of the product: make the Extras again from it "
+                                                 f"into {readme.parent.name}/ ({param('overwrite', True)})")
+
+
+def _previews(readme: Path, entry: ReadmeEntry) -> list[tuple[Path, str]]:
+    """The browse and thumbnail files an entry lists and the directory holds (by the kind their
+    description states)."""
+    listed = []
+    for name, _ in entry.files:
+        stated = entry.preview_size(name)
+        path = readme.parent / name
+        if stated is not None and path.is_file():
+            listed.append((path, stated[0]))
+    return listed
 
 
 def _numbers_problems(readme: Path, entry: ReadmeEntry, label: DocumentedLabel, remedy: str) -> Iterator[ExtrasProblem]:

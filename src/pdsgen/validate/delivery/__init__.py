@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING
 from ...archive import layout
 from .bundle import check_bundle
 from .dialects import check_both_dialects
-from .extras import check_extras, check_previews, check_quick_looks, check_undocumented
+from .extras import check_extras, check_quick_looks, check_undocumented
 from .identifiers import check_identifiers
 from .index import check_index
 from .manifest import check_manifest
@@ -53,7 +53,6 @@ def delivery_findings(root: Path, labels_only: bool, labels: LabelCache | None, 
         check_both_dialects(model, found)
     check_extras(model, found)
     check_quick_looks(model, found)
-    check_previews(model, found)
     check_undocumented(model, found)
     check_identifiers(model, found)
     check_manifest(model, labels_only, found)

@@ -7,15 +7,14 @@ from __future__ import annotations
 from pathlib import Path
 
 from .jp2 import jp2_header
-from .jpeg import jpeg_size
 from .model import DeliveryModel, ExtrasEntry
 from .parts import Found
 
-_EXTRAS_RULES = {"stale": "DLV-017", "differs": "DLV-018", "absent": "DLV-019"}
+_EXTRAS_RULES = {"stale": "DLV-017", "differs": "DLV-018", "absent": "DLV-019", "preview": "DLV-027"}
 
 
 def check_extras(model: DeliveryModel, found: list[Found]) -> None:
-    """DLV-017/018/019: each README.TXT entry against the record of the label it names."""
+    """DLV-017/018/019/027: each README.TXT entry against the record of the label it names."""
     from ...archive.extras_check import entry_problems
 
     for extras in model.extras:
@@ -43,49 +42,6 @@ def check_quick_looks(model: DeliveryModel, found: list[Found]) -> None:
 
 def _listed(extras: ExtrasEntry) -> list[Path]:
     return [extras.readme.parent / name for name, _ in extras.entry.files]
-
-
-def check_previews(model: DeliveryModel, found: list[Found]) -> None:
-    """DLV-027: each browse and thumbnail JPEG an entry lists is the size the Extras make of the
-    delivered product (formats/preview_size, the Extras' own arithmetic) at the width the file
-    has: a browse of a product since remade at another size is not. The annotated browses
-    (margins around the browse) are left to their browse."""
-    from ...formats.preview_size import browse_size, thumbnail_size
-
-    for extras in model.extras:
-        record = model.pds3(extras.product) if extras.product is not None else None
-        if record is None or record.size is None:
-            continue
-        previews = [(path, kind, jpeg_size(path)) for path, kind in _previews(extras)]
-        browse = next((browse_size(*record.size, size[0]) for _, kind, size in previews
-                       if kind == "browse" and size is not None), None)
-        for path, kind, size in previews:
-            if size is None:
-                continue
-            if kind == "browse":
-                made = browse_size(*record.size, size[0])
-            elif browse is not None:  # a thumbnail is made of the browse
-                made = thumbnail_size(*browse, size[0])
-            else:
-                continue
-            if size != made:
-                found.append(Found("DLV-027", path, f"{size[0]} x {size[1]} pixels, but the {kind} the Extras make "
-                                                    f"{size[0]} pixels wide of {record.path.name} "
-                                                    f"({record.size[0]} samples x {record.size[1]} lines) is "
-                                                    f"{made[0]} x {made[1]}: a {kind} of another version of the "
-                                                    f"product (pdsgen extras {record.path.name} -o "
-                                                    f"{extras.readme.parent.name} --overwrite)"))
-
-
-def _previews(extras: ExtrasEntry) -> list[tuple[Path, str]]:
-    """The browse and thumbnail files an entry lists (by the kind its description states)."""
-    listed = []
-    for name, _ in extras.entry.files:
-        stated = extras.entry.preview_size(name)
-        path = extras.readme.parent / name
-        if stated is not None and path.is_file():
-            listed.append((path, stated[0]))
-    return listed
 
 
 def check_undocumented(model: DeliveryModel, found: list[Found]) -> None:

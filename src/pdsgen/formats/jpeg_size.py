@@ -1,5 +1,6 @@
-"""A JPEG's size from its frame header, read with the validator's own marker walk (the Extras
-write their previews with Pillow; the check reads them without it): bounded - at most 256
+"""A JPEG's size from its frame header, read with a marker walk of its own (the Extras write their
+previews with Pillow; the check that they are the size of their product - archive/extras_check,
+DLV-027 and deliver's refusal of stale Extras - reads them without it): bounded - at most 256
 segments, each skipped by its stated length, never a read past the file."""
 
 from __future__ import annotations
