@@ -33,7 +33,7 @@ def _compare_times(product: Path, pds3: Pds3Record, pds4: Pds4Record, found: lis
 
     for keyword, element, written in (("START_TIME", "start_date_time", pds4.times[0]),
                                       ("STOP_TIME", "stop_date_time", pds4.times[1])):
-        text, line = pds3.values.get(keyword, (None, None))
+        text, line = pds3.time(keyword)
         mine, theirs = parse_time(text), parse_time(written)
         if mine is not None and theirs is not None and abs((mine - theirs).total_seconds()) > 1.0:
             found.append(Found("DLV-022", pds4.path, f"{element} {(written or '').strip()} differs from {keyword} "

@@ -10,7 +10,7 @@ from pathlib import Path
 from ...archive import layout
 from ...label.beside import outside_tree
 from ...label.tree import Block
-from .model import DeliveryModel, pds3_products
+from .model import DeliveryModel
 from .parts import Found, first, named_inside
 
 _FORMAT = re.compile(r"([AFIE])(\d+)(?:\.(\d+))?", re.IGNORECASE)
@@ -103,7 +103,7 @@ def check_index(model: DeliveryModel, found: list[Found]) -> None:
     label_path = root / layout.INDEX_DIR / layout.INDEX_LABEL
     table_path = root / layout.INDEX_DIR / layout.INDEX_TABLE
     # one string per product (not a Path): memory stays small for 10,000 products
-    products = {name.upper(): name for name in (p.relative_to(root).as_posix() for p in pds3_products(root))}
+    products = {name.upper(): name for name in (p.relative_to(root).as_posix() for p in model.pds3_labels)}
     if not label_path.is_file():  # a PDS4 bundle alone has no index; a PDS3 volume (VOLDESC.CAT) must
         if products and (root / layout.VOLDESC).is_file():
             found.append(Found("DLV-002", root / layout.VOLDESC,

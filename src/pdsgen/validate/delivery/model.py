@@ -35,8 +35,6 @@ if TYPE_CHECKING:
     from ...label.read import LabelCache
 
 _MANIFEST_LINE = re.compile(r"[0-9a-f]{32}")
-# The keywords a PDS3 record keeps (the index's others are compared as its rows are read: row_values).
-_KEPT = ("PRODUCT_ID", "START_TIME", "STOP_TIME")
 
 
 @dataclass(frozen=True)
@@ -50,21 +48,23 @@ class Grid:
 
 @dataclass(slots=True)
 class Pds3Record:
-    """What the checks compare of one PDS3 label: each kept keyword's first value and line, the
-    IMAGE object's size and valid range, the map grid."""
+    """What the checks compare of one PDS3 label: PRODUCT_ID, the first START_TIME and STOP_TIME
+    with their lines, the IMAGE object's size and valid range, the map grid - a few fields in
+    slots, so that a volume of 100,000 products keeps little."""
 
     path: Path
-    values: dict[str, tuple[str | None, int | None]] = field(default_factory=dict)
+    product_id: str | None = None
+    times: tuple[tuple[str | None, int | None], tuple[str | None, int | None]] = ((None, None), (None, None))
     size: tuple[int, int] | None = None  # (LINE_SAMPLES, LINES) of the IMAGE object
-    valid: dict[str, float] = field(default_factory=dict)  # VALID_MINIMUM / VALID_MAXIMUM the IMAGE states
+    valid: tuple[float | None, float | None] = (None, None)  # VALID_MINIMUM, VALID_MAXIMUM the IMAGE states
     grid: Grid | None = None
 
-    @property
-    def product_id(self) -> str | None:
-        return self.values.get("PRODUCT_ID", (None, None))[0]
+    def time(self, keyword: str) -> tuple[str | None, int | None]:
+        """START_TIME's or STOP_TIME's first value and line."""
+        return self.times[0] if keyword == "START_TIME" else self.times[1]
 
 
-@dataclass
+@dataclass(slots=True)
 class ExtrasEntry:
     """One product as an Extras README.TXT documents it, and the delivered label it names."""
 
@@ -82,7 +82,7 @@ class ManifestLine:
     name: str
 
 
-@dataclass
+@dataclass(slots=True)
 class Product:
     """One data product of the delivery (a PDS3 label of DATA/ and the PDS4 label describing a
     file of its name), with the parts that tell it."""
@@ -106,6 +106,7 @@ class DeliveryModel:
         self._read_pds4 = read_pds4
         self._pds3: dict[str, Pds3Record | None] = {}
         self._pds4: list[Pds4Record] | None = None
+        self._pds3_labels: list[str] | None = None
         self._extras: list[ExtrasEntry] | None = None
         self._products: list[Product] | None = None
 
@@ -133,6 +134,14 @@ class DeliveryModel:
         if key not in self._pds3:
             self._pds3[key] = _pds3_record(path, tree) if tree is not None else None
         return {keyword: first(tree, keyword) for keyword in keywords} if tree is not None else None
+
+    @property
+    def pds3_labels(self) -> Iterator[Path]:
+        """The PDS3 product labels of the volume's DATA directory, found once (the index and the
+        joined products both ask), kept as one string each (not a Path: small at 100,000)."""
+        if self._pds3_labels is None:
+            self._pds3_labels = [os.fspath(path) for path in pds3_products(self.root)]
+        return (Path(name) for name in self._pds3_labels)
 
     # --- PDS4 labels -------------------------------------------------------------------------
 
@@ -165,7 +174,9 @@ class DeliveryModel:
         record = self.pds3(extras.product) if extras.product is not None else None
         if record is None:
             return None
-        return DocumentedLabel(label_md5(record.path), record.size, record.valid)
+        valid = {keyword: value for keyword, value in zip(("VALID_MINIMUM", "VALID_MAXIMUM"), record.valid, strict=True)
+                 if value is not None}
+        return DocumentedLabel(label_md5(record.path), record.size, valid)
 
     # --- the manifest -------------------------------------------------------------------------
 
@@ -194,7 +205,7 @@ class DeliveryModel:
                     observational.setdefault(product_key(Path(path)), label)
         products: list[Product] = []
         paired: set[int] = set()
-        for path in pds3_products(self.root):
+        for path in self.pds3_labels:
             key = product_key(path)
             product = Product(key, path, self.pds3(path), observational.get(key))
             if product.pds4 is not None:
@@ -321,16 +332,15 @@ def product_key(path: Path) -> tuple[str, str]:
 
 
 def _pds3_record(path: Path, tree: Block) -> Pds3Record:
-    record = Pds3Record(path, {keyword: first(tree, keyword) for keyword in _KEPT})
+    record = Pds3Record(path, first(tree, "PRODUCT_ID")[0], (first(tree, "START_TIME"), first(tree, "STOP_TIME")))
     image = next(tree.find("IMAGE"), None)
     if image is not None:
         samples, lines = image.number("LINE_SAMPLES"), image.number("LINES")
         if isinstance(samples, int) and isinstance(lines, int):
             record.size = (samples, lines)
-        for keyword in ("VALID_MINIMUM", "VALID_MAXIMUM"):
-            value = image.number(keyword)
-            if isinstance(value, (int, float)):
-                record.valid[keyword] = float(value)
+        low, high = image.number("VALID_MINIMUM"), image.number("VALID_MAXIMUM")
+        record.valid = (float(low) if isinstance(low, (int, float)) else None,
+                        float(high) if isinstance(high, (int, float)) else None)
     record.grid = _grid(tree)
     return record
 
