@@ -467,3 +467,24 @@ def test_a_preview_that_is_no_jpeg_is_not_compared(made, data, tmp_path):
     delivery = _copy(made, "pds3", tmp_path)
     (delivery / "EXTRAS" / f"{DTM_ID}.br.jpg").write_bytes(data)
     assert _found(delivery, "DLV-027") == []
+
+
+def test_the_delivery_model_reads_each_product_label_once(made, monkeypatch):
+    """Without a run's cache (a plain validate), the delivery's checks read each product label
+    once for the model (the index row, both dialects, the Extras, the quick look and the
+    identifiers all ask it), and once more for the MD5 README.TXT records of it (its bytes)."""
+    from collections import Counter
+
+    from pdsgen.label import read as label_read
+    from pdsgen.validate.families.delivery_rules import check_delivery
+
+    reads: Counter[str] = Counter()
+    original = label_read.read_pds3_label
+
+    def counted(path, labels=None):
+        reads[Path(path).name] += 1
+        return original(path, labels)
+
+    monkeypatch.setattr(label_read, "read_pds3_label", counted)
+    check_delivery(made["both"], labels_only=True)
+    assert reads[Path(DTM_IMG).name] == 2 and reads[f"{Path(ORTHO).name}.LBL"] == 2
