@@ -29,8 +29,8 @@ from helpers import demo_products
 PDS_NS = {"pds": "http://pds.nasa.gov/pds4/pds/v1"}
 BUNDLE_LID = "urn:nasa:pds:demo_dtm"
 # The rules of this issue: a clean delivery has none of them (the demo's UNK texts are DLV-007's).
-CONSISTENCY = ("DLV-011", "DLV-016", "DLV-017", "DLV-018", "DLV-019", "DLV-025", "DLV-026", "IDN-001", "IDN-002",
-               "IDN-003", "IDN-004", "IDN-012", "IDN-013")
+CONSISTENCY = ("DLV-011", "DLV-016", "DLV-017", "DLV-018", "DLV-019", "DLV-025", "DLV-026", "DLV-027", "DLV-028",
+               "DLV-029", "IDN-001", "IDN-002", "IDN-003", "IDN-004", "IDN-012", "IDN-013")
 
 
 @pytest.fixture(scope="module")
@@ -329,3 +329,162 @@ def test_deliver_names_a_sidecar_no_label_describes(products, tmp_path):
     assert [line.split(":")[0] for line in result.warnings] == [
         str(source / "PSP_008669_1705_RED_C_01_ORTHO.JP2.aux.xml")]
     assert not (tmp_path / "out" / "DATA" / "PSP_008669_1705_RED_C_01_ORTHO.JP2.aux.xml").exists()
+
+
+# --- the delivery's model: previews, README.TXT against the files, identifiers -----------------------
+
+DTM_ID = "DTEEC_008669_1705_009025_1705_U01"
+
+
+@pytest.fixture(scope="module")
+def remade(products, tmp_path_factory) -> tuple[Path, dict[str, bytes]]:
+    """The DTM remade 20 lines shorter (--overwrite) and its Extras made again: a consistent
+    remake; and the old browse and thumbnail of its shaded relief, to be put back."""
+    root = tmp_path_factory.mktemp("old_previews")
+    source = Path(shutil.copytree(products, root / "products"))
+    old = {name: (source / "extras" / name).read_bytes() for name in (f"{DTM_ID}.sb.jpg", f"{DTM_ID}.st.jpg")}
+    scene = make_scene(width=120, height=160)
+    cropped = write_geotiff(root / "dtm.tif", scene.elevation[:140], scene.transform, scene.crs, None)
+    dtm = write_dtm(cropped, source, profile="hirise", source_product_ids=("PSP_008669_1705", "PSP_009025_1705"),
+                    institution="U", label="both", overwrite=True)
+    make_extras([dtm.path], source / "extras", overwrite=True)
+    return source, old
+
+
+@pytest.mark.parametrize("dialect", ["pds3", "pds4", "both"])
+def test_a_browse_and_thumbnail_of_a_product_since_remade_are_found(remade, dialect, tmp_path):
+    """The old browse and thumbnail put back into the delivery of the consistent remake: README.TXT
+    and the labels agree, but DLV-027 names each JPEG not the size the Extras make of the delivered
+    product: the DTM is 120 x 140 now (GDAL reads it so), the two JPEGs 120 x 160 (GDAL too)."""
+    source, old = remade
+    delivery = tmp_path / dialect
+    make_delivery(source, delivery, dialect=dialect, volume_id="DEMO_0001" if dialect != "pds4" else None,
+                  bundle_lid=BUNDLE_LID if dialect != "pds3" else None)
+    assert _found(delivery, *CONSISTENCY, labels_only=False) == []  # the consistent remake: clean
+    for name, data in old.items():  # a new file: the delivery's are hard links to the products'
+        (delivery / "EXTRAS" / name).unlink()
+        (delivery / "EXTRAS" / name).write_bytes(data)
+    assert _gdal_size(delivery / DTM_IMG) == (120, 140)
+    assert _gdal_size(delivery / "EXTRAS" / f"{DTM_ID}.sb.jpg") == (120, 160)
+    assert _gdal_size(delivery / "EXTRAS" / f"{DTM_ID}.br.jpg") == (120, 140)  # made again: not named
+    assert _found(delivery, *CONSISTENCY) == [("DLV-027", "error", f"{DTM_ID}.sb.jpg"),
+                                              ("DLV-027", "error", f"{DTM_ID}.st.jpg")]
+    message = next(f.message for f in validate_paths([delivery], labels_only=True).findings if f.rule == "DLV-027")
+    assert "120 x 160 pixels" in message and "is 120 x 140" in message
+
+
+def test_deliver_refuses_a_browse_of_a_product_since_remade(remade, tmp_path):
+    """The same old previews in the products' Extras: deliver refuses them as stale Extras, naming
+    the JPEG and the remedy, and writes nothing."""
+    source, old = remade
+    source = Path(shutil.copytree(source, tmp_path / "products"))
+    for name, data in old.items():
+        (source / "extras" / name).write_bytes(data)
+    with pytest.raises(InputError) as refused:
+        make_delivery(source, tmp_path / "out", dialect="pds3", volume_id="DEMO_0001")
+    message = str(refused.value)
+    assert "stale Extras" in message and f"extras/{DTM_ID}.sb.jpg" in message and "make the Extras again" in message
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("dialect", ["pds3", "pds4", "both"])
+def test_a_preview_readme_does_not_document_is_found(made, dialect, tmp_path):
+    delivery = _copy(made, dialect, tmp_path)
+    shutil.copy(delivery / "EXTRAS" / f"{DTM_ID}.br.jpg", delivery / "EXTRAS" / "DTEEC_001_U01.br.jpg")
+    assert _found(delivery, "DLV-028") == [("DLV-028", "warning", "DTEEC_001_U01.br.jpg")]
+    # a bundle's file no label describes is DLV-016's too, whatever README.TXT says
+    unlabelled = [("DLV-016", "warning", "DTEEC_001_U01.br.jpg")] if dialect != "pds3" else []
+    assert _found(delivery, "DLV-016") == unlabelled
+
+
+@pytest.mark.parametrize("dialect", ["pds3", "pds4", "both"])
+def test_a_readme_entry_listing_another_products_preview_is_found(made, dialect, tmp_path):
+    """The DTM's entry lists the orthoimage's thumbnail for its own: README.TXT is named (DLV-029),
+    and the DTM's own thumbnail, no longer documented, too (DLV-028)."""
+    delivery = _copy(made, dialect, tmp_path)
+    _seed(delivery, README, f"    {DTM_ID}.th.jpg\r\n", "    PSP_008669_1705_RED_C_01_ORTHO.thumb.jpg\r\n")
+    assert _found(delivery, *CONSISTENCY) == [("DLV-028", "warning", f"{DTM_ID}.th.jpg"),
+                                              ("DLV-029", "error", "README.TXT")]
+
+
+@pytest.mark.parametrize("dialect", ["pds4", "both"])
+def test_a_pds4_label_naming_another_products_id_is_found(made, dialect, tmp_path):
+    delivery = _copy(made, dialect, tmp_path)
+    _seed(delivery, f"DATA/{DTM_ID}.xml", f":{DTM_ID.lower()}</logical_identifier>",
+          ":psp_008669_1705_red_c_01_ortho</logical_identifier>")
+    found = [f for f in validate_paths([delivery], labels_only=True).findings if f.rule == "DLV-029"]
+    assert [(Path(f.file).name, "PSP_008669_1705_RED_C_01_ORTHO" in f.message) for f in found] == [
+        (f"{DTM_ID}.xml", True)]
+
+
+# --- a bundle found by what its root says: deliver's previous delivery, the look for deliveries ------
+
+def test_delivering_again_finds_the_previous_bundle_named_bundle_xml(products, tmp_path):
+    """The previous delivery's bundle label is found by its root element (Product_Bundle), as
+    validate and review find it: renamed bundle.xml, its LID is still the one delivered again
+    (without it, deliver asks for bundle_lid)."""
+    out = tmp_path / "out"
+    make_delivery(products, out, dialect="pds4", bundle_lid=BUNDLE_LID)
+    (out / "bundle_demo_dtm.xml").rename(out / "bundle.xml")
+    make_delivery(products, out, dialect="pds4")
+    label = next(path for path in out.glob("*.xml") if path.name.startswith("bundle"))
+    lid = etree.parse(str(label)).findtext(".//pds:Identification_Area/pds:logical_identifier", namespaces=PDS_NS)
+    assert lid == BUNDLE_LID
+    with pytest.raises(InputError, match="bundle_lid"):  # a directory with no bundle label: asked for
+        make_delivery(products, tmp_path / "fresh", dialect="pds4")
+
+
+def test_looking_for_deliveries_reads_each_directorys_prologs_once(made, tmp_path, monkeypatch):
+    """is_delivery on a directory of XML files (no manifest, no index) reads their prologs once
+    while they are unchanged; a file rewritten is read again, and what it now is counts."""
+    from pdsgen.archive import scan
+    from pdsgen.validate.families.delivery_rules import is_delivery
+
+    directory = tmp_path / "labels"
+    directory.mkdir()
+    for name in ("a.xml", "b.xml", "c.xml"):
+        shutil.copy(made["pds4"] / "DATA" / "collection_data.xml", directory / name)
+    read: list[str] = []
+    reader = scan.root_element
+    monkeypatch.setattr(scan, "root_element", lambda path: read.append(path.name) or reader(path))
+    assert not is_delivery(directory) and sorted(read) == ["a.xml", "b.xml", "c.xml"]
+    read.clear()
+    assert not is_delivery(directory) and read == []
+    shutil.copy(made["pds4"] / "bundle_demo_dtm.xml", directory / "b.xml")
+    assert is_delivery(directory) and "b.xml" in read
+
+
+@pytest.mark.parametrize("data", [b"", b"\xff\xd8", b"\xff\xd8\xff\xe0\x00\x01", b"\xff\xd8" + b"\xff\xe1\xff\xff" * 3,
+                                  b"\xff\xd8\xff\xc0\x00\x11\x08", b"GIF89a"])
+def test_a_preview_that_is_no_jpeg_is_not_compared(made, data, tmp_path):
+    """The JPEG frame walk of DLV-027 reads a browse that is no JPEG, or one cut short, as no size
+    (the file is not compared; nothing is read past its end), never an exception."""
+    from pdsgen.formats.jpeg_size import jpeg_size
+
+    path = tmp_path / "x.jpg"
+    path.write_bytes(data)
+    assert jpeg_size(path) is None
+    delivery = _copy(made, "pds3", tmp_path)
+    (delivery / "EXTRAS" / f"{DTM_ID}.br.jpg").write_bytes(data)
+    assert _found(delivery, "DLV-027") == []
+
+
+def test_the_delivery_model_reads_each_product_label_once(made, monkeypatch):
+    """Without a run's cache (a plain validate), the delivery's checks read each product label
+    once for the model (the index row, both dialects, the Extras, the quick look and the
+    identifiers all ask it), and once more for the MD5 README.TXT records of it (its bytes)."""
+    from collections import Counter
+
+    from pdsgen.label import read as label_read
+    from pdsgen.validate.families.delivery_rules import check_delivery
+
+    reads: Counter[str] = Counter()
+    original = label_read.read_pds3_label
+
+    def counted(path, labels=None):
+        reads[Path(path).name] += 1
+        return original(path, labels)
+
+    monkeypatch.setattr(label_read, "read_pds3_label", counted)
+    check_delivery(made["both"], labels_only=True)
+    assert reads[Path(DTM_IMG).name] == 2 and reads[f"{Path(ORTHO).name}.LBL"] == 2

@@ -21,12 +21,15 @@ from pathlib import Path
 
 from ..errors import param
 from ..formats.checksum import label_md5
+from ..formats.jpeg_size import jpeg_size
+from ..formats.preview_size import browse_size, thumbnail_size
 from ..label.read import LabelCache, read_pds3_label
 from . import layout
 
 README = "README.TXT"
 _SIZE = re.compile(r"(\d+) samples x (\d+) lines")
 _FIELD = re.compile(r"^  ([A-Za-z][A-Za-z0-9_ ()/.-]*):\s*(.*)$")
+_PREVIEW = re.compile(r"\b(browse|thumbnail) \((\d+) x (\d+) pixels\)")
 _CONTINUATION = 19  # README.TXT's value column: a longer indent continues the field above
 
 
@@ -38,13 +41,23 @@ class ReadmeEntry:
     line: int
     fields: dict[str, str] = field(default_factory=dict)
     files: list[tuple[str, int]] = field(default_factory=list)  # (Extras file name, line)
+    descriptions: dict[str, str] = field(default_factory=dict)  # Extras file name -> its description
+
+    def preview_size(self, name: str) -> tuple[str, int, int] | None:
+        """("browse" or "thumbnail", width, height) of a file the entry lists, as its description
+        states it (an annotated browse, a quick look or a file not described: None)."""
+        match = _PREVIEW.search(self.descriptions.get(name, ""))
+        if match is None or "annotated" in self.descriptions[name]:
+            return None
+        return match.group(1), int(match.group(2)), int(match.group(3))
 
 
 @dataclass(frozen=True)
 class ExtrasProblem:
     """One disagreement between the Extras and the products. kind: "stale" (the label changed
     since the Extras were made), "differs" (a size or valid range README.TXT states is not the
-    label's), "absent" (README.TXT documents a product or preview not in the directory)."""
+    label's), "preview" (a browse or thumbnail not the size the Extras make of the product),
+    "absent" (README.TXT documents a product or preview not in the directory)."""
 
     kind: str
     file: Path
@@ -74,6 +87,9 @@ def read_entries(readme: Path) -> list[ReadmeEntry]:
             in_files = True
         elif in_files and line.startswith("    ") and not line.startswith("     "):
             entries[-1].files.append((line.strip(), number))
+        elif in_files and entries[-1].files:  # the description of the file above, over lines
+            name = entries[-1].files[-1][0]
+            entries[-1].descriptions[name] = f"{entries[-1].descriptions.get(name, '')} {line.strip()}".strip()
         elif (match := _FIELD.match(line)) is not None and not in_files:
             key = match.group(1)
             entries[-1].fields[key] = match.group(2).strip()
@@ -89,14 +105,39 @@ def readmes(root: Path) -> Iterator[Path]:
             yield path
 
 
+@dataclass(frozen=True)
+class DocumentedLabel:
+    """What README.TXT is compared with, of the delivered label of its product: the label's MD5
+    (formats/checksum.label_md5), its IMAGE object's size (samples, lines) and valid range."""
+
+    md5: str | None
+    size: tuple[int, int] | None
+    valid: dict[str, float]
+
+
 def extras_problems(root: Path, labels: LabelCache | None = None) -> list[ExtrasProblem]:
     """Every disagreement between the Extras under `root` and the products they document.
     `labels`: the run's label cache (deliver reads each label once for all its steps)."""
     problems: list[ExtrasProblem] = []
     for readme in readmes(root):
         for entry in read_entries(readme):
-            problems.extend(_entry_problems(root, readme, entry, labels))
+            product = product_of(root, readme, entry)
+            problems.extend(entry_problems(readme, entry, product, _label_facts(product, labels) if product else None))
     return problems
+
+
+def _label_facts(product: Path, labels: LabelCache | None) -> DocumentedLabel | None:
+    label = read_pds3_label(product, labels)
+    if label is None:
+        return None
+    image = label.image()
+    if image is None:
+        return DocumentedLabel(label_md5(product), None, {})
+    samples, lines = image.number("LINE_SAMPLES"), image.number("LINES")
+    valid = {k: float(v) for k in ("VALID_MINIMUM", "VALID_MAXIMUM")
+             if isinstance(v := image.number(k), (int, float))}
+    size = (samples, lines) if isinstance(samples, int) and isinstance(lines, int) else None
+    return DocumentedLabel(label_md5(product), size, valid)
 
 
 def product_of(root: Path, readme: Path, entry: ReadmeEntry) -> Path | None:
@@ -114,10 +155,11 @@ def _product_file(root: Path, readme: Path, name: str) -> Path | None:
     return None
 
 
-def _entry_problems(root: Path, readme: Path, entry: ReadmeEntry,
-                    labels: LabelCache | None) -> Iterator[ExtrasProblem]:
+def entry_problems(readme: Path, entry: ReadmeEntry, product: Path | None,
+                   label: DocumentedLabel | None) -> Iterator[ExtrasProblem]:
+    """One README.TXT entry against its delivered product (`product`, None when it is not
+    there) and what its label states (`label`, None when it is no PDS3 label)."""
     name = entry.fields.get("Product file", "")
-    product = product_of(root, readme, entry)
     if product is None:
         yield ExtrasProblem("absent", readme, f"documents product {entry.product_id} ({name or 'no file named'}), "
                                               "which is not delivered: make the Extras again from the products "
@@ -128,33 +170,68 @@ def _entry_problems(root: Path, readme: Path, entry: ReadmeEntry,
             yield ExtrasProblem("absent", readme, f"documents preview {file_name} of {entry.product_id}, which is "
                                                   "not delivered", line)
     recorded = entry.fields.get("Label MD5", "")
-    current = label_md5(product)
+    current = label.md5 if label is not None else None
     remedy = (f"the Extras were made from another version of {product.name}: make them again from it into "
               f"{readme.parent.name}/ ({param('overwrite', True)}) and deliver again")
     if recorded and current and recorded != current:
         yield ExtrasProblem("stale", readme, f"Label MD5 {recorded} of {entry.product_id} is not that of its "
                                              f"label now ({current}): {remedy}", entry.line)
-    label = read_pds3_label(product, labels)
-    if label is None:
+    if label is not None:
+        yield from _numbers_problems(readme, entry, label, remedy)
+        yield from _preview_problems(readme, entry, product, label)
+
+
+def _preview_problems(readme: Path, entry: ReadmeEntry, product: Path,
+                      label: DocumentedLabel) -> Iterator[ExtrasProblem]:
+    """Each browse and thumbnail JPEG the entry lists is the size the Extras make of the product
+    (formats/preview_size, the Extras' own arithmetic) at the width the file has: one of a
+    product since remade at another size is not (kind "preview"). An annotated browse (margins
+    around the browse) is left to its browse; a thumbnail is made of the browse."""
+    if label.size is None:
         return
-    yield from _numbers_problems(readme, entry, label, remedy)
+    previews = [(path, kind, jpeg_size(path)) for path, kind in _previews(readme, entry)]
+    browse = next((browse_size(*label.size, size[0]) for _, kind, size in previews
+                   if kind == "browse" and size is not None), None)
+    for path, kind, size in previews:
+        if size is None:
+            continue
+        if kind == "browse":
+            made = browse_size(*label.size, size[0])
+        elif browse is not None:
+            made = thumbnail_size(*browse, size[0])
+        else:
+            continue
+        if size != made:
+            yield ExtrasProblem("preview", path, f"{size[0]} x {size[1]} pixels, but the {kind} the Extras make "
+                                                 f"{size[0]} pixels wide of {product.name} ({label.size[0]} samples "
+                                                 f"x {label.size[1]} lines) is {made[0]} x {made[1]}: a {kind} of "
+                                                 f"another version of the product: make the Extras again from it "
+                                                 f"into {readme.parent.name}/ ({param('overwrite', True)})")
 
 
-def _numbers_problems(readme: Path, entry: ReadmeEntry, label: object, remedy: str) -> Iterator[ExtrasProblem]:
+def _previews(readme: Path, entry: ReadmeEntry) -> list[tuple[Path, str]]:
+    """The browse and thumbnail files an entry lists and the directory holds (by the kind their
+    description states)."""
+    listed = []
+    for name, _ in entry.files:
+        stated = entry.preview_size(name)
+        path = readme.parent / name
+        if stated is not None and path.is_file():
+            listed.append((path, stated[0]))
+    return listed
+
+
+def _numbers_problems(readme: Path, entry: ReadmeEntry, label: DocumentedLabel, remedy: str) -> Iterator[ExtrasProblem]:
     """README.TXT's size and valid range against the label's image object."""
-    image = label.image()  # type: ignore[attr-defined]
-    if image is None:
-        return
     size = _SIZE.search(entry.fields.get("Size", ""))
-    lines, samples = image.number("LINES"), image.number("LINE_SAMPLES")
-    if size is not None and isinstance(lines, int) and isinstance(samples, int) \
-            and (int(size.group(1)), int(size.group(2))) != (samples, lines):
+    if size is not None and label.size is not None and (int(size.group(1)), int(size.group(2))) != label.size:
+        samples, lines = label.size
         yield ExtrasProblem("differs", readme, f"{entry.product_id}: Size {size.group(0)}, but its label has "
                                                f"{samples} samples x {lines} lines: {remedy}", entry.line)
     for keyword in ("VALID_MINIMUM", "VALID_MAXIMUM"):
         stated = entry.fields.get(keyword, "")
-        value = image.number(keyword)
-        if stated and isinstance(value, (int, float)) and not _agrees(stated, float(value)):
+        value = label.valid.get(keyword)
+        if stated and value is not None and not _agrees(stated, value):
             yield ExtrasProblem("differs", readme, f"{entry.product_id}: {keyword} {stated}, but its label has "
                                                    f"{value:g}: {remedy}", entry.line)
 

@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import os
 import re
+import stat
+from collections import OrderedDict
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -150,12 +152,48 @@ def root_element(path: Path) -> str | None:
     return root_name(path)
 
 
+# directory -> (a stamp of its XML files, the bundle labels among them): a directory walked again
+# (validate looks for deliveries when a run starts and when its first report asks; review and
+# deliver look too) reads no prolog again while none of its XML files changed
+_BUNDLES: OrderedDict[str, tuple[int, list[Path]]] = OrderedDict()
+_MAX_BUNDLE_DIRECTORIES = 1024
+
+
 def bundle_labels(directory: Path) -> list[Path]:
     """The PDS4 bundle labels (root element Product_Bundle) at the top of `directory`, sorted. The
-    directory is listed once, through the listing every look-up of the run shares."""
+    directory is listed once, through the listing every look-up of the run shares, and the
+    prologs of its XML files are read once while they are unchanged (each file's modification
+    time and size, one stat each, make the directory's stamp)."""
     names = sorted(directory / name for name in directory_listing(directory).names
                    if name.endswith(PDS4_LABEL_SUFFIXES))
-    return [path for path in names if path.is_file() and root_element(path) == "Product_Bundle"]
+    stats = [_regular_stat(path) for path in names]
+    stamp = hash(tuple(stats))  # one integer a directory, however many files it holds
+    key = os.path.abspath(directory)
+    cached = _BUNDLES.get(key)
+    if cached is not None and cached[0] == stamp:
+        _BUNDLES.move_to_end(key)
+        return list(cached[1])
+    found = [path for path, regular in zip(names, stats, strict=True)
+             if regular is not None and root_element(path) == "Product_Bundle"]
+    _BUNDLES[key] = (stamp, found)
+    while len(_BUNDLES) > _MAX_BUNDLE_DIRECTORIES:
+        _BUNDLES.popitem(last=False)
+    return list(found)
+
+
+def bundle_label(directory: Path) -> Path | None:
+    """The bundle label of a delivery's root (the first by name when it keeps several versions),
+    found by its root element, not its file name: `bundle.xml` as well as `bundle_NAME.xml`."""
+    return next(iter(bundle_labels(directory)), None)
+
+
+def _regular_stat(path: Path) -> tuple[int, int] | None:
+    """(modification time in ns, size) of a regular file, None for anything else."""
+    try:
+        found = path.stat()
+    except OSError:
+        return None
+    return (found.st_mtime_ns, found.st_size) if stat.S_ISREG(found.st_mode) else None
 
 
 def is_preview(name: str) -> bool:

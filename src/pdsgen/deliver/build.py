@@ -19,7 +19,7 @@ from pathlib import Path
 
 from .. import clock
 from ..archive import layout
-from ..archive.scan import DataProduct, SourceSet, is_pds3_label, scan
+from ..archive.scan import DataProduct, SourceSet, bundle_label, is_pds3_label, scan
 from ..dialect import DIALECT_NAMES, Dialect
 from ..errors import InputError, OutputError, PdsgenError, param
 from ..formats.checksum import bytes_md5, file_md5
@@ -131,8 +131,10 @@ class _Previous:
         return int(number) if number.isdigit() else 0
 
     def bundle_label(self) -> Path | None:
-        return next(iter(sorted(self.file(p.name) for p in self.root.glob("bundle_*.xml"))), None) \
-            if self.exists else None
+        """The previous delivery's bundle label, found by its root element (Product_Bundle) as
+        validate and review find it, whatever its name (bundle.xml, bundle_NAME.xml)."""
+        label = bundle_label(self.root) if self.exists else None
+        return self.file(label.name) if label is not None else None
 
     @property
     def advancing(self) -> bool:

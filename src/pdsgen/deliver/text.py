@@ -18,6 +18,7 @@ from dataclasses import dataclass, fields, replace
 from pathlib import Path
 
 from ..archive import layout
+from ..archive.scan import bundle_label
 from ..errors import InputError
 
 # Keys of the [delivery] table: the first five are what every delivery's text needs; the rest
@@ -214,7 +215,7 @@ def _written_paragraphs(text: str | None) -> str | None:
 
 
 def _from_bundle(root: Path, volume_id: str | None) -> DeliveryText:
-    label = next(iter(sorted(root.glob("bundle_*.xml"))), None)
+    label = bundle_label(root)  # by its root element, whatever its name
     if label is None:
         return DeliveryText()
     try:

@@ -16,10 +16,9 @@ import numpy as np
 from rasterio.enums import Resampling
 from rasterio.windows import Window
 
+from ..formats.preview_size import browse_size
 from .product_source import ProductSource
 
-JPEG_MAX_SIDE = 65500
-ANNOTATION_ROOM = 2000  # the annotated browse adds margins; it must still fit in a JPEG
 MIN_SAMPLE_VALUES = 1_000_000
 MAX_SAMPLE_PIXELS = 16_000_000   # per band: caps memory when valid data is sparse
 
@@ -44,11 +43,7 @@ class PreviewGrid:
 
 def preview_grid(src: ProductSource, max_width: int) -> PreviewGrid:
     """The browse grid: `max_width` wide (never wider than the data), aspect kept."""
-    width = max(1, min(int(max_width), src.width, JPEG_MAX_SIDE - ANNOTATION_ROOM))
-    height = max(1, round(src.height * width / src.width))
-    if height > JPEG_MAX_SIDE - ANNOTATION_ROOM:
-        height = JPEG_MAX_SIDE - ANNOTATION_ROOM
-        width = max(1, round(src.width * height / src.height))
+    width, height = browse_size(src.width, src.height, max_width)  # the one home of the arithmetic
     return PreviewGrid(width, height, src.width, src.height)
 
 

@@ -17,6 +17,7 @@ from PIL import Image
 from rasterio.transform import Affine
 
 from ..errors import PdsgenError
+from ..formats.preview_size import thumbnail_size
 from ..missions import hirise
 from .annotate import Annotation, Layout, Legend, annotate
 from .colour_ramp import RAMP_NAME, blend_with_shade, ramp_colours
@@ -225,6 +226,5 @@ def _preview(rendering: Rendering, browse: Image.Image, note: Annotation,
 
 def thumbnail(browse: Image.Image, thumb_width: int) -> Image.Image:
     """The browse reduced to `thumb_width` (never enlarged), aspect kept."""
-    width = max(1, min(thumb_width, browse.width))
-    height = max(1, round(browse.height * width / browse.width))
-    return browse.resize((width, height), Image.Resampling.LANCZOS, reducing_gap=3.0)
+    size = thumbnail_size(browse.width, browse.height, thumb_width)  # the one home of the arithmetic
+    return browse.resize(size, Image.Resampling.LANCZOS, reducing_gap=3.0)

@@ -1,0 +1,68 @@
+"""What every delivery check shares: a finding before its severity is known, the reading of a
+PDS3 label through the run's cache, the walk of a delivery's files and the containment of a name
+a delivery's own table gives."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from ...label.tree import Block, first_statement
+
+if TYPE_CHECKING:
+    from ...label.read import LabelCache
+
+
+@dataclass
+class Found:
+    """One finding of a delivery check: the rule's severity is added when it is reported."""
+
+    rule: str
+    file: Path
+    message: str
+    line: int | None = None
+    keyword: str | None = None
+
+
+def read_pds3(path: Path, labels: LabelCache | None) -> Block | None:
+    """A PDS3 label's tree, reading no further than its END line; None when it is no PDS3 label."""
+    from ...label.read import read_pds3_label  # start-up: loaded only when a delivery is checked
+
+    label = read_pds3_label(path, labels)
+    return label.root if label is not None else None
+
+
+def first(root: Block, keyword: str) -> tuple[str | None, int | None]:
+    stmt = first_statement(root, keyword)
+    return (stmt.value.text, stmt.line) if stmt is not None else (None, None)
+
+
+def all_files(root: Path) -> Iterator[Path]:
+    for dirpath, dirnames, filenames in os.walk(root):
+        dirnames.sort()
+        for name in sorted(filenames):
+            yield Path(dirpath) / name
+
+
+def read_head(path: Path) -> bytes:
+    try:
+        with open(path, "rb") as stream:
+            return stream.read(32)
+    except OSError:
+        return b""
+
+
+def named_inside(root: Path, name: str) -> tuple[Path | None, str | None]:
+    """(the path, None) of a file a delivery's own table names (MD5SUMS.TXT, INDEX.TAB), by the
+    containment rule; (None, why) for a name no file inside the delivery can have."""
+    from ...storage.containment import contained, name_problem
+
+    problem = name_problem(name)
+    if problem is not None:
+        return None, problem
+    path = root.joinpath(*name.split("/"))
+    return (path, None) if contained(path, root) is not None else (None, "a link leads out of it")
+
