@@ -394,3 +394,21 @@ def test_readme_mapping_table_is_the_codes():
     readme = docs_text.all_text()
     for keyword, pds4 in KEYWORD_TABLE:
         assert f"| {keyword} | {pds4} |" in readme
+
+
+def test_a_lid_made_from_the_file_name_is_said(tmp_path):
+    """A label stating neither PRODUCT_ID nor IMAGE_ID gets a LID from its file's name - an
+    identifier its producer never gave, so migrate says so (issue 49); one stating it does not."""
+    source = tmp_path / "src"
+    source.mkdir()
+    stated = _ascii_table(source)
+    unnamed = source / "UNNAMED.LBL"
+    unnamed.write_bytes(stated.read_bytes().replace(b'PRODUCT_ID = "SPOTS_1"\r\n', b""))
+    quiet = migrate_product(stated, tmp_path / "a", bundle_lid="urn:nasa:pds:test")
+    said = migrate_product(unnamed, tmp_path / "b", bundle_lid="urn:nasa:pds:test")
+    assert not any("file's name" in warning for warning in quiet.warnings)
+    assert [w for w in said.warnings if "file's name" in w] == [
+        f"{unnamed}: states no PRODUCT_ID or IMAGE_ID: its LID urn:nasa:pds:test:data:unnamed is made from "
+        "the file's name"]
+    assert etree.parse(str(said.label_path)).findtext(".//{*}Identification_Area/{*}logical_identifier") == \
+        "urn:nasa:pds:test:data:unnamed"

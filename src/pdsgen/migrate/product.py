@@ -131,6 +131,8 @@ def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLik
         ident["lid"] = check_product_lid(lid)
     obs = observation(ctx.root, source.name)
     warnings = [f"{source}: {w}" for w in obs.pop("warnings", ())]  # type: ignore[attr-defined]
+    if keyword is None and lid is None:
+        warnings.append(_named_by_file(source, str(ident["lid"])))
     cart = None
     if image_id is not None:
         image = next(o for f in files for o in f.objects if o.get("local_identifier") == image_id)
@@ -149,6 +151,13 @@ def migrate_product(label_path: str | os.PathLike[str], outdir: str | os.PathLik
     warnings += [f"{source}: {warning}" for warning in _warnings(files)]
     return MigratedProduct(pid, str(ident["lid"]), label_out, written, copied=copy and not in_place,
                            warnings=tuple(warnings))
+
+
+def _named_by_file(source: Path, lid: str) -> str:
+    """What migrate says when a label states neither PRODUCT_ID nor IMAGE_ID: the product's LID is
+    then made from the file's name, an identifier the data's producer never gave (issue 49:
+    never invent one without saying so)."""
+    return f"{source}: states no PRODUCT_ID or IMAGE_ID: its LID {lid} is made from the file's name"
 
 
 def migrate_products(labels: Iterable[str | os.PathLike[str]], outdir: str | os.PathLike[str] | None = None,
