@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ...label.mapping import utc_datetime
 from .model import DeliveryModel, Pds3Record, Pds4Record
 from .parts import Found
 
@@ -29,12 +30,10 @@ def check_both_dialects(model: DeliveryModel, found: list[Found]) -> None:
 
 
 def _compare_times(product: Path, pds3: Pds3Record, pds4: Pds4Record, found: list[Found]) -> None:
-    from ..families.identity_rules import parse_time
-
     for keyword, element, written in (("START_TIME", "start_date_time", pds4.times[0]),
                                       ("STOP_TIME", "stop_date_time", pds4.times[1])):
         text, line = pds3.time(keyword)
-        mine, theirs = parse_time(text), parse_time(written)
+        mine, theirs = utc_datetime(text), utc_datetime(written)
         if mine is not None and theirs is not None and abs((mine - theirs).total_seconds()) > 1.0:
             found.append(Found("DLV-022", pds4.path, f"{element} {(written or '').strip()} differs from {keyword} "
                                                       f"{text} of the PDS3 label {product.name}"
