@@ -29,15 +29,16 @@ import errno
 import math
 import os
 import stat
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any
+from typing import Any, BinaryIO
 
 from .errors import InputError
 
 MAX_BYTES = 16 * 1024 * 1024
 MAX_DEPTH = 32
 MAX_INT_DIGITS = 100
+MAX_LINE = 64 * 1024  # characters of one line text_lines yields
 _INT_BITS = math.ceil(MAX_INT_DIGITS * math.log2(10))
 _INT_BOUND = 10 ** MAX_INT_DIGITS
 
@@ -47,19 +48,9 @@ def read_bytes(path: str | os.PathLike[str], limit: int = MAX_BYTES, what: str =
 
     Opened with O_NONBLOCK so a FIFO is refused rather than waited on; fstat of the open file
     decides (no window between a check and the open)."""
+    fd = _open_regular(path, what)
+    chunks, size = [], 0
     try:
-        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
-    except FileNotFoundError:
-        raise InputError(path, f"no such {what}") from None
-    except OSError as exc:
-        raise InputError(path, f"cannot be read ({exc.strerror or exc})") from None
-    try:
-        mode = os.fstat(fd).st_mode
-        if not stat.S_ISREG(mode):
-            kind = "a directory" if stat.S_ISDIR(mode) else "a FIFO" if stat.S_ISFIFO(mode) else \
-                "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else "not a regular file"
-            raise InputError(path, f"is {kind}, not a regular {what}")
-        chunks, size = [], 0
         while size <= limit:
             chunk = os.read(fd, min(1 << 20, limit + 1 - size))
             if not chunk:
@@ -75,6 +66,51 @@ def read_bytes(path: str | os.PathLike[str], limit: int = MAX_BYTES, what: str =
     if size > limit:
         raise InputError(path, f"is larger than {limit} bytes, more than a {what} of this kind holds")
     return b"".join(chunks)
+
+
+def text_lines(path: str | os.PathLike[str], what: str = "file", encoding: str = "latin-1",
+               line_limit: int = MAX_LINE) -> Iterator[str]:
+    """The lines of PATH, a regular file, streamed without their line ends: memory holds one line
+    whatever the file's size (a line longer than LINE_LIMIT characters is cut there and its rest
+    skipped), time is linear. For line-oriented text a delivery carries (manifests, inventories,
+    README.TXT, JP2INFO.TXT) that may be larger than MAX_BYTES yet must never be waited on (a
+    FIFO) or held whole. Not a regular file, or unreadable: InputError naming it, raised by this
+    call (before any line is asked for)."""
+    return _lines(open_regular(path, what), encoding, line_limit)
+
+
+def _lines(stream: BinaryIO, encoding: str, line_limit: int) -> Iterator[str]:
+    with stream:
+        while line := stream.readline(line_limit + 1):
+            if len(line) > line_limit and not line.endswith(b"\n"):
+                while (rest := stream.readline(1 << 20)) and not rest.endswith(b"\n"):
+                    pass  # the rest of an over-long line, read past in bounded pieces
+            yield line[:line_limit].rstrip(b"\r\n").decode(encoding, errors="replace")
+
+
+def open_regular(path: str | os.PathLike[str], what: str = "file") -> BinaryIO:
+    """PATH opened for reading in binary when it is a regular file, else InputError naming it
+    (never waits on a FIFO): for a file a delivery names that is read in a way of its own."""
+    return os.fdopen(_open_regular(path, what), "rb")
+
+
+def _open_regular(path: str | os.PathLike[str], what: str) -> int:
+    """A read-only descriptor of PATH when it is a regular file (opened non-blocking, so a FIFO is
+    refused rather than waited on; fstat of the open file decides), else InputError naming it."""
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+    except FileNotFoundError:
+        raise InputError(path, f"no such {what}") from None
+    except OSError as exc:
+        raise InputError(path, f"cannot be read ({exc.strerror or exc})") from None
+    mode = os.fstat(fd).st_mode
+    if not stat.S_ISREG(mode):
+        os.close(fd)
+        kind = "a directory" if stat.S_ISDIR(mode) else "a FIFO" if stat.S_ISFIFO(mode) else \
+            "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else "not a regular file"
+        raise InputError(path, f"is {kind}, not a regular {what}")
+    os.set_blocking(fd, True)
+    return fd
 
 
 def read_text(path: str | os.PathLike[str], limit: int = MAX_BYTES, what: str = "file",

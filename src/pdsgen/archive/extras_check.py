@@ -19,7 +19,8 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import param
+from ..bounded import text_lines
+from ..errors import InputError, param
 from ..formats.checksum import label_md5
 from ..formats.jpeg_size import jpeg_size
 from ..formats.preview_size import browse_size, thumbnail_size
@@ -68,8 +69,8 @@ class ExtrasProblem:
 def read_entries(readme: Path) -> list[ReadmeEntry]:
     """The product entries of an Extras README.TXT (its PRODUCTS section)."""
     try:
-        lines = readme.read_text(encoding="latin-1").splitlines()
-    except OSError:
+        lines = text_lines(readme, "README.TXT")
+    except InputError:
         return []
     entries: list[ReadmeEntry] = []
     key = ""

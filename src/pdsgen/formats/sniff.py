@@ -9,11 +9,15 @@ from __future__ import annotations
 
 import os
 
+from ..bounded import open_regular
+from ..errors import InputError
+
 
 def file_head(path: str | os.PathLike[str], size: int) -> bytes | None:
-    """Up to `size` bytes from the start of `path`, or None when it cannot be read."""
+    """Up to `size` bytes from the start of `path`, or None when it cannot be read or is no
+    regular file (a FIFO is not waited on: what a tree holds is never trusted to be a file)."""
     try:
-        with open(path, "rb") as handle:
+        with open_regular(path) as handle:
             return handle.read(size)
-    except OSError:
+    except (OSError, InputError):
         return None

@@ -4,11 +4,12 @@ each other (PDS4 labels read with lxml, CSV inventories with the csv module)."""
 from __future__ import annotations
 
 import csv
-import io
 import os
 from pathlib import Path
 
 from ...archive import layout
+from ...bounded import text_lines
+from ...errors import InputError
 from ...label.parser import is_pds3_head
 from ...pds4.detect import LABEL_SUFFIXES as PDS4_LABEL_SUFFIXES
 from .model import DeliveryModel, Pds4Record
@@ -151,14 +152,14 @@ def _check_inventory(root: Path, collection: Pds4Record, by_lidvid: dict[str, Pd
     if collection.inventory is None:
         return None
     try:
-        text = collection.inventory.read_text(encoding="ascii", errors="replace")
-    except OSError as exc:
+        lines = text_lines(collection.inventory, "inventory", "ascii")
+    except InputError as exc:
         found.append(Found("DLV-010", collection.path, f"cannot read its inventory {collection.inventory.name}: "
-                                                        f"{exc.strerror or exc}"))
+                                                        f"{exc.problem}"))
         return None
     prefix = collection.lid + ":"
     listed: set[str] = set()
-    for number, row in enumerate(csv.reader(io.StringIO(text)), 1):
+    for number, row in enumerate(csv.reader(lines), 1):
         if len(row) < 2:
             continue
         entry = row[1].strip()

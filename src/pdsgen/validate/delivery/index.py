@@ -8,11 +8,16 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ...archive import layout
+from ...bounded import open_regular
+from ...errors import InputError
 from ...label.beside import outside_tree
 from ...label.tree import Block
 from .model import DeliveryModel
 from .parts import Found, first, named_inside
 
+# An index row is ROW_BYTES long: a "line" read past this is cut (and reported, its CR LF missing),
+# so a table of no line ends is never held whole
+_LONGEST_ROW = 1 << 20
 _FORMAT = re.compile(r"([AFIE])(\d+)(?:\.(\d+))?", re.IGNORECASE)
 
 
@@ -123,8 +128,8 @@ def check_index(model: DeliveryModel, found: list[Found]) -> None:
     seen: dict[str, int] = {}
     count = 0
     try:
-        with open(table_path, "rb") as stream:  # row by row: memory does not grow with the table
-            for count, line in enumerate(stream, 1):
+        with open_regular(table_path, "index table") as stream:  # row by row: memory does not grow
+            for count, line in enumerate(iter(lambda: stream.readline(_LONGEST_ROW), b""), 1):
                 if not line.endswith(b"\r\n"):
                     found.append(Found("DLV-001", table_path, f"row {count} does not end with CR LF", count))
                     continue
@@ -136,6 +141,9 @@ def check_index(model: DeliveryModel, found: list[Found]) -> None:
                 values = {c.name: _field(raw, c, count, table_path, found) for c in columns}
                 _check_row(model, table_path, count, values, columns, seen, volume_ids, found)
                 _check_row_data_set(table_path, count, values.get("DATA_SET_ID"), declared, found)
+    except InputError as exc:
+        found.append(Found("DLV-001", table_path, f"cannot read the index table: {exc.problem}"))
+        return
     except OSError as exc:
         found.append(Found("DLV-001", table_path, f"cannot read the index table: {exc.strerror or exc}"))
         return

@@ -5,6 +5,9 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from ...bounded import text_lines
+from ...errors import InputError
+
 # --- JP2INFO.TXT and the quick look against the JPEG 2000 files they describe (DLV-025, DLV-026) ---
 # JP2INFO.TXT (written by `pdsgen ortho` beside its JP2s, formats/jp2.describe_jp2) states each
 # JP2's size, bands and bit depth; an Extras quick look (<ID>.QLOOK.JP2) is its orthoimage at full
@@ -20,8 +23,8 @@ def jp2info_entries(path: Path) -> dict[str, tuple[int, int, int, int, int]]:
     bands, bits, line of the Image: line). A JP2INFO.TXT of another writer (HiRISE's is a general
     text) has none, and nothing is compared."""
     try:
-        lines = path.read_text(encoding="latin-1").splitlines()
-    except OSError:
+        lines = text_lines(path, "JP2INFO.TXT")
+    except InputError:
         return {}
     entries: dict[str, tuple[int, int, int, int, int]] = {}
     name = ""

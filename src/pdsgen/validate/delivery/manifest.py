@@ -1,11 +1,11 @@
 """DLV-020/021: MD5SUMS.TXT against the files of the delivery (MD5s streamed by
-formats/checksum.py)."""
+formats/checksum.py); DLV-030: what the delivery holds that is no file."""
 
 from __future__ import annotations
 
 from ...archive import layout
 from .model import DeliveryModel
-from .parts import Found, all_files, named_inside
+from .parts import Found, all_files, irregular_files, named_inside
 
 
 def check_manifest(model: DeliveryModel, labels_only: bool, found: list[Found]) -> None:
@@ -14,6 +14,9 @@ def check_manifest(model: DeliveryModel, labels_only: bool, found: list[Found]) 
     from ...formats.checksum import file_md5  # start-up: loaded only when a delivery is checked
 
     root = model.root
+    for irregular in irregular_files(root):  # DLV-030, whether or not a manifest lists it
+        found.append(Found("DLV-030", irregular, "is not a regular file (a FIFO, socket, device or dangling link): "
+                                            "an archive holds files only; never read"))
     manifest = root / layout.MANIFEST
     if not manifest.is_file():
         return
@@ -28,7 +31,8 @@ def check_manifest(model: DeliveryModel, labels_only: bool, found: list[Found]) 
             found.append(Found("DLV-020", manifest, f"{name!r} is not a file inside the delivery ({problem})",
                                 number))
         elif not path.is_file():
-            found.append(Found("DLV-020", manifest, f"{name} is listed but does not exist", number))
+            what = "is not a regular file" if path.exists() else "does not exist"
+            found.append(Found("DLV-020", manifest, f"{name} is listed but {what}", number))
         elif not labels_only and file_md5(path) != digest:
             found.append(Found("DLV-020", path, f"MD5 differs from {layout.MANIFEST} line {number}: the file "
                                                  "changed after the manifest was written; to mend, run pdsgen "

@@ -24,6 +24,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ...archive import layout
+from ...bounded import text_lines
+from ...errors import InputError
 from ...label.beside import outside_tree
 from ...label.parser import is_pds3_head
 from ...label.tree import Block
@@ -362,9 +364,11 @@ def _grid(tree: Block) -> Grid | None:
 
 
 def _manifest_lines(manifest: Path) -> Iterator[ManifestLine]:
-    if not manifest.is_file():
+    try:
+        lines = text_lines(manifest, "manifest", "utf-8")
+    except InputError:  # none, or no regular file: DLV-020/021 need a manifest to read
         return
-    for number, line in enumerate(manifest.read_text(encoding="utf-8", errors="replace").splitlines(), 1):
+    for number, line in enumerate(lines, 1):
         digest, sep, name = line.partition("  ")
         if sep and _MANIFEST_LINE.fullmatch(digest):
             yield ManifestLine(number, digest, name)

@@ -5,11 +5,14 @@ a delivery's own table gives."""
 from __future__ import annotations
 
 import os
+import stat
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from ...bounded import open_regular
+from ...errors import InputError
 from ...label.tree import Block, first_statement
 
 if TYPE_CHECKING:
@@ -41,17 +44,39 @@ def first(root: Block, keyword: str) -> tuple[str | None, int | None]:
 
 
 def all_files(root: Path) -> Iterator[Path]:
+    """The regular files of the delivery, in order. A FIFO, socket or device is no file an
+    archive holds and is never opened (reading a FIFO waits for ever): irregular_files names them."""
+    for path in _entries(root):
+        if _regular(path):
+            yield path
+
+
+def irregular_files(root: Path) -> Iterator[Path]:
+    """What the delivery holds that is not a regular file (FIFO, socket, device, dangling link)."""
+    for path in _entries(root):
+        if not _regular(path):
+            yield path
+
+
+def _entries(root: Path) -> Iterator[Path]:
     for dirpath, dirnames, filenames in os.walk(root):
         dirnames.sort()
         for name in sorted(filenames):
             yield Path(dirpath) / name
 
 
+def _regular(path: Path) -> bool:
+    try:
+        return stat.S_ISREG(path.stat().st_mode)
+    except OSError:
+        return False
+
+
 def read_head(path: Path) -> bytes:
     try:
-        with open(path, "rb") as stream:
+        with open_regular(path) as stream:
             return stream.read(32)
-    except OSError:
+    except (OSError, InputError):
         return b""
 
 

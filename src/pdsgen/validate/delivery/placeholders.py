@@ -5,6 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from ...archive import layout
+from ...bounded import read_text
+from ...errors import InputError
 from .parts import Found
 
 _TEXT_FILES = (layout.VOLDESC, layout.AAREADME)
@@ -17,9 +19,9 @@ def check_placeholders(root: Path, found: list[Found]) -> None:
     files += [root / directory / layout.collection_label_name(c) for c, (_, _, directory) in
               layout.COLLECTIONS.items()]
     for path in files:
-        try:
-            text = path.read_text(encoding="latin-1")
-        except OSError:
+        try:  # bounded: a FIFO named VOLDESC.CAT is not waited on, a huge file not held
+            text = read_text(path, what="delivery text", encoding="latin-1")
+        except InputError:
             continue
         for match in layout.PLACEHOLDER_PATTERN.finditer(text):
             number = text.count("\n", 0, match.start()) + 1
