@@ -94,8 +94,10 @@ def _discover_lazily(paths: list[str | os.PathLike[str]], skip_non_labels: bool 
 
 def _walk(paths: list[str | os.PathLike[str]], skip_non_labels: bool = False) -> Iterator[Path]:
     """Named files (with skip_non_labels, only those a directory search would take as
-    labels), then the labels found in named directories."""
-    seen: set[Path] = set()  # a file named twice (itself and in its directory) once
+    labels), then the labels found in named directories. A file named twice (itself and in
+    its directory) is given once; one path names each file once, and nothing is kept of the
+    files given (a tree of 100,000 labels is not held as it is walked)."""
+    seen: set[str] | None = set() if len(paths) > 1 else None
     for raw in paths:
         path = Path(raw)
         if path.is_file():
@@ -103,8 +105,10 @@ def _walk(paths: list[str | os.PathLike[str]], skip_non_labels: bool = False) ->
         else:
             candidates = _label_files(path)
         for candidate in candidates:
-            if candidate not in seen:
-                seen.add(candidate)
+            if seen is None:
+                yield candidate
+            elif (name := str(candidate)) not in seen:
+                seen.add(name)
                 yield candidate
 
 
@@ -272,11 +276,12 @@ def _run_rules(ctx: Any, path: Path, target: str, labels_only: bool) -> list[Fin
 
 
 _JOB = ValidationJob()  # a worker's job, sent once per process
+_SKIP: frozenset[str] = frozenset()  # the fact readers a worker need not apply (facts.read)
 
 
-def _init_worker(job: ValidationJob) -> None:
-    global _JOB
-    _JOB = job
+def _init_worker(job: ValidationJob, skip: frozenset[str] = frozenset()) -> None:
+    global _JOB, _SKIP
+    _JOB, _SKIP = job, skip
 
 
 Item = tuple[str, str | None]  # a file and the directory given that holds it (None: the file was named)
@@ -286,18 +291,19 @@ Checked = tuple[FileReport, LabelSummary | None, dict[str, bytes]]
 def _one(item: Item) -> Checked:
     """One file, in this process or a worker of the pool: see _checked (a pool's workers read
     the file's facts too)."""
-    report, summary, read = _checked(item, _JOB, gather=_JOB.jobs > 1)
+    report, summary, read = _checked(item, _JOB, gather=_JOB.jobs > 1, skip=_SKIP)
     return report, summary, facts.packed(read)
 
 
-def _checked(item: Item, job: ValidationJob, gather: bool) -> tuple[FileReport, LabelSummary | None, dict[str, Any]]:
+def _checked(item: Item, job: ValidationJob, gather: bool,
+             skip: frozenset[str] = frozenset()) -> tuple[FileReport, LabelSummary | None, dict[str, Any]]:
     """One file: its findings as the configuration reports them, its summary for the SET rules,
-    and (`gather`, in a worker) what the checks across files read of it (facts.py), so that
-    the run's process need not read it again."""
+    and (`gather`, in a worker) what the checks across files read of it (facts.py; not the
+    readers in `skip`), so that the run's process need not read it again."""
     path, given = item
     report, summary = validate_file(Path(path), job, Path(given) if given else None)
     report.findings = job.settings.filter(report.findings)
-    return report, summary, facts.read(path, target_of(Path(path))) if gather else {}
+    return report, summary, facts.read(path, target_of(Path(path)), skip) if gather else {}
 
 
 def _facts_of(item: Item) -> tuple[str, dict[str, bytes]]:
@@ -306,7 +312,8 @@ def _facts_of(item: Item) -> tuple[str, dict[str, bytes]]:
     return item[0], facts.made(item[0], target_of(Path(item[0])))
 
 
-def validate_partition(items: list[Item], job: ValidationJob, cwd: str) -> list[Checked]:
+def validate_partition(items: list[Item], job: ValidationJob, cwd: str,
+                       skip: frozenset[str] = frozenset()) -> list[Checked]:
     """A partition of a run's files, on a cluster's worker (see partitions.py): each checked
     as _checked checks it, a name relative to the client's directory `cwd` read there and
     named as given in what comes back (the worker's own directory is left alone: other
@@ -316,7 +323,7 @@ def validate_partition(items: list[Item], job: ValidationJob, cwd: str) -> list[
     paths = ClientPaths(cwd)
     done = []
     for item in items:
-        report, summary, read = paths.as_given(item, _checked(paths.absolute(item), job, gather=True))
+        report, summary, read = paths.as_given(item, _checked(paths.absolute(item), job, gather=True, skip=skip))
         done.append((report, summary, facts.packed(read)))
     return done
 
@@ -392,38 +399,48 @@ def _run(names: Iterator[Item], deliveries: DeliveryChecks, job: ValidationJob,
     checks the delivery, and hands back only its findings (the names spooled to a temporary
     file meanwhile); then the files are validated and the reports stream out. So the run's
     process holds no report and no label's facts for the delivery's sake: a delivery's
-    labels are held together only by the checking process, which ends when it is done."""
+    labels are held together only by the checking process, which ends when it is done; the
+    workers then no longer read what it has read."""
     with contextlib.ExitStack() as stack:
+        taken: frozenset[str] = frozenset()
         if _in_workers(job) and deliveries.found():
             spool = stack.enter_context(tempfile.TemporaryFile())
-            deliveries = _checked_apart(deliveries, _spooled(names, spool), job)
+            deliveries, taken = _checked_apart(deliveries, _spooled(names, spool), job)
             spool.seek(0)
             names = _unspooled(spool)
-        yield from _forgetting(_with_run_checks(_with_deliveries(_reports(names, job, progress), deliveries, job),
-                                                job))
+        reports = _reports(names, job, progress, taken)
+        yield from _forgetting(_with_run_checks(_with_deliveries(reports, deliveries, job), job))
 
 
 def _in_workers(job: ValidationJob) -> bool:
     return job.jobs > 1 or job.cluster is not None
 
 
-def _reports(names: Iterator[Item], job: ValidationJob,
-             progress: Callable[[int, int], None] | None) -> Iterator[FileReport]:
+def _reports(names: Iterator[Item], job: ValidationJob, progress: Callable[[int, int], None] | None,
+             taken: frozenset[str]) -> Iterator[FileReport]:
     """The files' own reports, in order, as they are checked (on the job's workers, if any,
-    each reading what the checks across files need of its files: facts.py)."""
+    each reading what the checks across files need of its files (facts.py), but the facts of
+    the readers already `taken`)."""
     groups = _SetGroups(job.settings)
     if not _in_workers(job):
         _init_worker(job)
         yield from _collect(map(_one, names), groups, progress, job.baseline)
         return
-    with _workers(job) as on_workers:
-        yield from _collect(on_workers(_one, validate_partition, names), groups, progress, job.baseline)
+    with _workers(job, skip=taken) as on_workers:
+        yield from _collect(on_workers(_one, functools.partial(validate_partition, skip=taken), names), groups,
+                            progress, job.baseline)
 
 
-def _checked_apart(deliveries: DeliveryChecks, names: Iterator[Item], job: ValidationJob) -> DeliveryChecks:
-    """The deliveries checked over what the job's workers read of every file (see _run): the
-    facts go from the workers through this process to a checking process forked before any
-    worker (this process has no thread to take along), which answers with the findings."""
+def _checked_apart(deliveries: DeliveryChecks, names: Iterator[Item],
+                   job: ValidationJob) -> tuple[DeliveryChecks, frozenset[str]]:
+    """The deliveries checked over what the job's workers read of every file (see _run), and
+    the fact readers the check used: the facts go from the workers through this process to a
+    checking process forked before any worker (this process has no thread of its own to take
+    along), which answers with the findings. Without fork (not Linux) they are checked here."""
+    if sys.platform != "linux":
+        for learnt in _facts_read(names, job):
+            facts.learn(*learnt)
+        return deliveries, _check_learnt_here(deliveries)
     context = multiprocessing.get_context("fork")
     facts_out, facts_in = context.Pipe(duplex=False)
     answer_in, answer_out = context.Pipe(duplex=False)
@@ -432,24 +449,39 @@ def _checked_apart(deliveries: DeliveryChecks, names: Iterator[Item], job: Valid
     facts_out.close()
     answer_out.close()
     try:
-        with _workers(job, shared_engine=False) as on_workers:
-            for path, made in on_workers(_facts_of, facts_of_partition, names):
-                facts_in.send((path, made))
+        for learnt in _facts_read(names, job):
+            facts_in.send(learnt)
         facts_in.send(None)
-        return _CheckedDeliveries(answer_in.recv())
+        pending, taken = answer_in.recv()
+        return _CheckedDeliveries(pending), taken
     except (EOFError, OSError):  # the checking process died: checked here, reading the labels again
-        return deliveries
+        return deliveries, frozenset()
     finally:
         facts_in.close()
         answer_in.close()
         checker.join()
 
 
+def _facts_read(names: Iterator[Item], job: ValidationJob) -> Iterator[tuple[str, dict[str, bytes]]]:
+    """What the job's workers read of each file for the checks across files (facts.made)."""
+    with _workers(job, shared_engine=False) as on_workers:
+        yield from on_workers(_facts_of, facts_of_partition, names)
+
+
 def _check_learnt(deliveries: DeliveryChecks, facts_out: Any, answer_out: Any) -> None:
     """The checking process of _checked_apart: learn every file's facts, then check."""
-    while (learnt := facts_out.recv()) is not None:
-        facts.learn(*learnt)
-    answer_out.send(deliveries.pending)
+    try:
+        while (learnt := facts_out.recv()) is not None:
+            facts.learn(*learnt)
+    except EOFError:  # the run stopped before the last file
+        return
+    answer_out.send((deliveries.pending, _check_learnt_here(deliveries)))
+
+
+def _check_learnt_here(deliveries: DeliveryChecks) -> frozenset[str]:
+    """Check the deliveries over the facts learnt in this process: the readers the check used."""
+    _ = deliveries.pending  # checked now, its findings kept by file
+    return facts.asked()
 
 
 class _CheckedDeliveries(DeliveryChecks):
@@ -468,11 +500,12 @@ OnWorkers = Callable[[Callable[[Item], Any], Callable[..., list[Any]], Iterator[
 
 
 @contextlib.contextmanager
-def _workers(job: ValidationJob, shared_engine: bool = True) -> Iterator[OnWorkers]:
+def _workers(job: ValidationJob, shared_engine: bool = True, skip: frozenset[str] = frozenset()) -> Iterator[OnWorkers]:
     """on_workers(one, partition, items): one(item) for each item in a pool of job.jobs
     processes, or partition(items, job, cwd=...) for each partition on job.cluster's workers -
     the results in the items' order. The baseline is applied here, in this process.
-    shared_engine: the pool's workers share this process's Schematron engine."""
+    shared_engine: the pool's workers share this process's Schematron engine; skip: the fact
+    readers they need not apply."""
     if job.cluster is not None:
         from .partitions import in_partitions  # a Dask cluster's run only: a plain run never loads it
 
@@ -485,7 +518,7 @@ def _workers(job: ValidationJob, shared_engine: bool = True) -> Iterator[OnWorke
     context = multiprocessing.get_context("fork" if sys.platform == "linux" else "spawn")
     # forked workers share this process's Saxon child (one compiled Schematron, not one per worker)
     with SharedEngine() if shared_engine else contextlib.nullcontext(), \
-            context.Pool(job.jobs, _init_worker, (replace(job, baseline=None),)) as pool:
+            context.Pool(job.jobs, _init_worker, (replace(job, baseline=None), skip)) as pool:
         yield lambda one, partition, items: pool.imap(one, items, chunksize=8)
 
 
@@ -558,9 +591,7 @@ def _with_run_checks(reports: Iterator[FileReport], job: ValidationJob) -> Itera
 def _cluster_job(job: ValidationJob) -> ValidationJob:
     """The job a cluster's workers take: what it names as absolute paths (a worker's directory
     is not the client's), nothing that stays here (baseline, label cache, the cluster)."""
-    def absolute(name: str) -> str:
-        return os.path.abspath(name)
-
+    absolute = os.path.abspath
     return replace(job, baseline=None, cluster=None, labels=None, dictionaries=tuple(map(absolute, job.dictionaries)),
                    schemas=tuple(map(absolute, job.schemas)), root=absolute(job.root) if job.root else None,
                    schema_cache=absolute(job.schema_cache) if job.schema_cache else None)
