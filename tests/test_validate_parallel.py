@@ -141,6 +141,16 @@ def test_a_delivery_run_on_two_processes_streams(bundle):
     assert last.path.endswith(f"p{PRODUCTS - 1:06d}.xml") and {f.rule for f in last.findings} == {"PDS4-053", "DLV-011"}
 
 
+def test_a_run_sharing_its_label_cache_checks_the_delivery_itself(bundle):
+    """review -j N hands the run its label cache: the delivery is checked in the run's own process
+    (what the check reads stays in the caller's cache), with the findings of a one-process run."""
+    from pdsgen.label.read import LabelCache
+
+    shared = list(iter_reports([bundle], ValidationJob(schema_cache=None, jobs=2, labels=LabelCache())))
+    assert shared == list(iter_reports([bundle], ValidationJob(schema_cache=None)))
+    assert {f.rule for r in shared for f in r.findings} == {"PDS4-053", "DLV-011"}
+
+
 def test_without_a_delivery_two_processes_still_stream(bundle, tmp_path):
     """A directory of labels that is no delivery gets its first report while files are still being
     checked (one pass: the workers read the facts PDS4-060 joins beside each file's own checks)."""

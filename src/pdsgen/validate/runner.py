@@ -436,8 +436,10 @@ def _checked_apart(deliveries: DeliveryChecks, names: Iterator[Item],
     """The deliveries checked over what the job's workers read of every file (see _run), and
     the fact readers the check used: the facts go from the workers through this process to a
     checking process forked before any worker (this process has no thread of its own to take
-    along), which answers with the findings. Without fork (not Linux) they are checked here."""
-    if sys.platform != "linux":
+    along), which answers with the findings. Without fork (not Linux), and in a run sharing
+    its label cache with its caller (review: what the check reads, the page reads again from
+    the cache), they are checked here."""
+    if sys.platform != "linux" or job.labels is not None:
         for learnt in _facts_read(names, job):
             facts.learn(*learnt)
         return deliveries, _check_learnt_here(deliveries)
