@@ -1,15 +1,17 @@
 """Facts about one file that checks across files join, made where the file is validated.
 
 A check across files (a delivery's inventories and membership, LIDVID uniqueness, or any
-run-level rule) runs once, in the run's own process, after the per-file work. Reading
-every label again there makes that process the bottleneck of a parallel run: with
-100,000 labels it parses them all alone while the workers wait. So such a check reads a
-file through `of(reader, path)`, with a reader registered by `fact(target)`: in a run
-with workers (`-j N`, a Dask cluster) each worker applies every registered reader of the
-file's target to each file it validates (`made`) and returns the results beside the
-file's report; the run's process `learn`s them and `of` hands them out, once each. A
-file no worker read (and any file in a one-process run) is read by `of` itself, so the
-checks find the same either way - nothing here knows what any check reads.
+run-level rule) runs once, in one process: the run's own, or for a delivery on workers one
+forked to check it before the files are validated (runner.py). Reading every label again
+there makes that process the bottleneck of a parallel run: with 100,000 labels it parses
+them all alone while the workers wait. So such a check reads a file through
+`of(reader, path)`, with a reader registered by `fact(target)`: in a run with workers
+(`-j N`, a Dask cluster) each worker applies the registered readers of the file's target to
+each file it is given (`made`) and returns the results; the checking process `learn`s them
+and `of` hands them out, once each (`asked` tells which readers a check used, so that the
+workers need not apply them again). A file no worker read (and any file in a one-process
+run) is read by `of` itself, so the checks find the same either way - nothing here knows
+what any check reads.
 
 Readers run in worker processes: they take a Path and return something picklable (or None).
 What a process learns is kept pickled (`made` pickles in the worker) in a temporary file of
