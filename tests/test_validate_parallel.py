@@ -130,13 +130,18 @@ def test_jobs_with_a_scheduler_is_a_usage_error(bundle):
 def test_a_delivery_run_on_two_processes_streams(bundle):
     """The delivery is checked before the first file is validated (over what the workers read of every
     file, in a process of its own), so the first report goes out while files are still being checked -
-    the run holds no report until the last file - and the delivery's findings are in the reports."""
+    the run holds no report until the last file - and the delivery's findings are in the reports.
+    The count of files moves in both passes: first a count, then out of the files the first found."""
     done: list[int] = []
-    reports = iter_reports([bundle], ValidationJob(schema_cache=None, jobs=2), lambda count, _: done.append(count))
+    totals: list[int] = []
+    reports = iter_reports([bundle], ValidationJob(schema_cache=None, jobs=2),
+                           lambda count, total: (done.append(count), totals.append(total)))
     first = next(reports)
     assert first.path.endswith("bundle_scale.xml") and done[-1] < PRODUCTS
     rest = list(reports)
     assert len(rest) == PRODUCTS + 1 and done[-1] == PRODUCTS + 2
+    files = PRODUCTS + 2
+    assert done == [*range(1, files + 1), *range(1, files + 1)] and totals == [0] * files + [files] * files
     last = rest[-1]
     assert last.path.endswith(f"p{PRODUCTS - 1:06d}.xml") and {f.rule for f in last.findings} == {"PDS4-053", "DLV-011"}
 

@@ -400,14 +400,18 @@ def _run(names: Iterator[Item], deliveries: DeliveryChecks, job: ValidationJob,
     file meanwhile); then the files are validated and the reports stream out. So the run's
     process holds no report and no label's facts for the delivery's sake: a delivery's
     labels are held together only by the checking process, which ends when it is done; the
-    workers then no longer read what it has read."""
+    workers then no longer read what it has read. The count of files checked moves from the
+    start: in the first pass as files are read, in the second out of the files the first found."""
     with contextlib.ExitStack() as stack:
         taken: frozenset[str] = frozenset()
         if _in_workers(job) and deliveries.found():
             spool = stack.enter_context(tempfile.TemporaryFile())
-            deliveries, taken = _checked_apart(deliveries, _spooled(names, spool), job)
+            found = [0]
+            deliveries, taken = _checked_apart(deliveries, _spooled(names, spool, found), job, progress)
             spool.seek(0)
             names = _unspooled(spool)
+            if progress is not None:
+                progress = functools.partial(_out_of, progress, found[0])
         reports = _reports(names, job, progress, taken)
         yield from _forgetting(_with_run_checks(_with_deliveries(reports, deliveries, job), job))
 
@@ -431,8 +435,12 @@ def _reports(names: Iterator[Item], job: ValidationJob, progress: Callable[[int,
                             progress, job.baseline)
 
 
-def _checked_apart(deliveries: DeliveryChecks, names: Iterator[Item],
-                   job: ValidationJob) -> tuple[DeliveryChecks, frozenset[str]]:
+def _out_of(progress: Callable[[int, int], None], total: int, done: int, _: int) -> None:
+    progress(done, total)
+
+
+def _checked_apart(deliveries: DeliveryChecks, names: Iterator[Item], job: ValidationJob,
+                   progress: Callable[[int, int], None] | None) -> tuple[DeliveryChecks, frozenset[str]]:
     """The deliveries checked over what the job's workers read of every file (see _run), and
     the fact readers the check used: the facts go from the workers through this process to a
     checking process forked before any worker (this process has no thread of its own to take
@@ -440,7 +448,7 @@ def _checked_apart(deliveries: DeliveryChecks, names: Iterator[Item],
     its label cache with its caller (review: what the check reads, the page reads again from
     the cache), they are checked here."""
     if sys.platform != "linux" or job.labels is not None:
-        for learnt in _facts_read(names, job):
+        for learnt in _facts_read(names, job, progress):
             facts.learn(*learnt)
         return deliveries, _check_learnt_here(deliveries)
     context = multiprocessing.get_context("fork")
@@ -451,7 +459,7 @@ def _checked_apart(deliveries: DeliveryChecks, names: Iterator[Item],
     facts_out.close()
     answer_out.close()
     try:
-        for learnt in _facts_read(names, job):
+        for learnt in _facts_read(names, job, progress):
             facts_in.send(learnt)
         facts_in.send(None)
         pending, taken = answer_in.recv()
@@ -464,10 +472,14 @@ def _checked_apart(deliveries: DeliveryChecks, names: Iterator[Item],
         checker.join()
 
 
-def _facts_read(names: Iterator[Item], job: ValidationJob) -> Iterator[tuple[str, dict[str, bytes]]]:
+def _facts_read(names: Iterator[Item], job: ValidationJob,
+                progress: Callable[[int, int], None] | None) -> Iterator[tuple[str, dict[str, bytes]]]:
     """What the job's workers read of each file for the checks across files (facts.made)."""
     with _workers(job, shared_engine=False) as on_workers:
-        yield from on_workers(_facts_of, facts_of_partition, names)
+        for done, learnt in enumerate(on_workers(_facts_of, facts_of_partition, names), 1):
+            if progress:
+                progress(done, 0)
+            yield learnt
 
 
 def _check_learnt(deliveries: DeliveryChecks, facts_out: Any, answer_out: Any) -> None:
@@ -524,9 +536,11 @@ def _workers(job: ValidationJob, shared_engine: bool = True, skip: frozenset[str
         yield lambda one, partition, items: pool.imap(one, items, chunksize=8)
 
 
-def _spooled(names: Iterator[Item], spool: Any) -> Iterator[Item]:
+def _spooled(names: Iterator[Item], spool: Any, found: list[int]) -> Iterator[Item]:
+    """The names, each also written to the spool (and counted in found[0])."""
     for item in names:
         pickle.dump(item, spool, pickle.HIGHEST_PROTOCOL)
+        found[0] += 1
         yield item
 
 
