@@ -19,8 +19,10 @@ worker processes - the figure to compare on a machine others share; peak memory 
 over the processes (the client, the -j workers, each validating process's Schematron
 child, the Dask scheduler and workers) as proportional set size (a page shared by forked
 workers counted once), sampled every 0.1 s from /proc; and, for the bundle, the growth from the smallest to the largest
-size (CPU per product; 1.00 is linear). Every report must equal the one-process report
-(byte for byte, after the run's paths).
+size (CPU per product; 1.00 is linear), with what each kind of process held at the summed
+peak (the command, the processes it forked - -j workers, the delivery's checking process -,
+the Saxon child, Dask's processes) and the load average when the run ended. Every report
+must equal the one-process report (byte for byte, after the run's paths).
 
 For the table the contents check alone is also timed in this process (records per
 CPU-second, the issue's measure) - before the column-at-a-time checks the issue measured
@@ -42,6 +44,7 @@ import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import psutil
 
@@ -61,10 +64,25 @@ class Measured:
     cpu: float
     peak_mb: float
     report: bytes
+    at_peak: dict[str, float]  # what each kind of process held at the summed peak, MB
+
+    def breakdown(self) -> str:
+        return ", ".join(f"{kind} {mb:.0f}" for kind, mb in self.at_peak.items())
 
 
-def _tree_pss(processes: list[psutil.Process]) -> int:
-    total = 0
+def _kind(process: psutil.Process, root: psutil.Process) -> str:
+    """What a process of the run is: the command itself, the Schematron engine, a forked worker."""
+    if process.pid == root.pid:
+        return "command"
+    command = " ".join(process.cmdline())
+    if "schematron import serve" in command:
+        return "Saxon child"
+    return "dask" if "dask" in command else "forked"
+
+
+def _tree_pss(processes: list[psutil.Process]) -> dict[int, tuple[str, int]]:
+    """Each process of the trees: its kind and proportional set size (shared pages counted once)."""
+    found = {}
     for root in processes:
         try:
             family = [root, *root.children(recursive=True)]
@@ -72,10 +90,10 @@ def _tree_pss(processes: list[psutil.Process]) -> int:
             continue
         for process in family:
             try:
-                total += process.memory_full_info().pss  # shared pages (forked workers, libraries) once
+                found[process.pid] = (_kind(process, root), process.memory_full_info().pss)
             except (psutil.NoSuchProcess, psutil.AccessDenied):
                 pass
-    return total
+    return found
 
 
 def _cpu(processes: list[psutil.Process]) -> float:
@@ -97,12 +115,15 @@ def run(command: list[str], also: list[psutil.Process] = ()) -> Measured:  # typ
     started = time.perf_counter()
     child = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     watched = [psutil.Process(child.pid), *also]
-    peak = [0]
+    peak: list[Any] = [0, {}]
     done = threading.Event()
 
     def sample() -> None:
         while not done.is_set():
-            peak[0] = max(peak[0], _tree_pss(watched))
+            processes = _tree_pss(watched)
+            total = sum(pss for _, pss in processes.values())
+            if total > peak[0]:
+                peak[:] = [total, processes]
             done.wait(0.1)
 
     sampler = threading.Thread(target=sample, daemon=True)
@@ -116,7 +137,10 @@ def run(command: list[str], also: list[psutil.Process] = ()) -> Measured:  # typ
     if os.waitstatus_to_exitcode(status) not in (0, 1):
         raise SystemExit(f"{' '.join(command)} failed:\n{error}")
     cpu = usage.ru_utime + usage.ru_stime + _cpu(list(also)) - cpu_before
-    return Measured(wall, cpu, peak[0] / 1e6, report)
+    at_peak: dict[str, float] = {}
+    for kind, pss in sorted(peak[1].values(), key=lambda found: -found[1]):
+        at_peak[kind] = at_peak.get(kind, 0) + pss / 1e6
+    return Measured(wall, cpu, peak[0] / 1e6, report, at_peak)
 
 
 class Cluster:
@@ -186,7 +210,8 @@ def bench_bundles(sizes: list[int], workdir: Path, modes: list[str], bundle_name
             per_product.setdefault(mode, {})[size] = measured.cpu / size
             print(f"  {size:9d} {mode:22s} {measured.wall:9.1f} {measured.cpu:9.1f} {measured.cpu / size * 1e3:15.2f} "
                   f"{measured.peak_mb:9.0f}  {'yes' if found else 'NO'}, "
-                  f"{'yes' if measured.report == reference else 'NO'}")
+                  f"{'yes' if measured.report == reference else 'NO'}  (at the peak, MB: {measured.breakdown()}; "
+                  f"load {os.getloadavg()[0]:.1f})")
             if measured.report != reference:  # kept beside the first mode's, to be compared
                 for name, report in (("first", reference), (mode.split()[0].strip("-"), measured.report)):
                     (workdir / f"report_{size}_{name}.json").write_bytes(report)

@@ -524,23 +524,30 @@ def test_pds4_labels_named_lblx_are_products_of_the_bundle(demo_products, tmp_pa
 
 
 @pytest.mark.parametrize("jobs", [1, 2])
-def test_file_checks_and_their_progress_start_before_the_delivery_checks(delivery, monkeypatch, jobs):
-    """A delivery is checked whole when the first report asks for its findings, so the count
-    of files checked moves from the start; the findings are the same."""
+def test_file_checks_and_their_progress_start_before_the_delivery_checks(delivery, monkeypatch, jobs, tmp_path):
+    """A delivery is checked whole when the first report asks for its findings (with workers:
+    after a first pass reading each file, in a process of its own), so the count of files checked
+    moves from the start; the findings are the same. Events are told through a file, which the
+    checking process writes too."""
     from pdsgen.validate.families import delivery_rules
 
     expected = {(f.rule, f.file) for f in validate_paths([delivery]).findings if f.rule.startswith("DLV")}
-    events: list[str] = []
+    log = tmp_path / "events"
     checked = delivery_rules.check_delivery
 
+    def event(name: str) -> None:
+        with open(log, "a") as stream:
+            stream.write(name + "\n")
+
     def recorded(root, labels_only=False):
-        events.append("delivery")
+        event("delivery")
         return checked(root, labels_only)
 
     monkeypatch.setattr(delivery_rules, "check_delivery", recorded)
     with open(delivery / "DATA" / "JP2INFO.TXT", "a") as stream:  # one DLV finding to carry
         stream.write("edited\n")
-    report = validate_paths([delivery], jobs=jobs, progress=lambda done, total: events.append("file"))
+    report = validate_paths([delivery], jobs=jobs, progress=lambda done, total: event("file"))
+    events = log.read_text().split()
     assert events[0] == "file" and events.count("delivery") == 1
     found = {(f.rule, f.file) for f in report.findings if f.rule.startswith("DLV")}
     assert found - expected == {("DLV-020", str(delivery / "DATA" / "JP2INFO.TXT"))}

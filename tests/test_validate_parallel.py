@@ -60,13 +60,17 @@ def test_two_processes_report_what_one_does(bundle, one_process):
 
 def test_a_local_cluster_reports_what_one_process_does(bundle, monkeypatch):
     """The bundle named relative to the client's directory, which is not the workers' (they started
-    before the client moved): each worker works in the client's directory."""
+    before the client moved): the workers read the files where the client names them and name them
+    as the client did, without changing their own directory (other tasks share a worker's process)."""
     with open_client(None, 2) as client:
         check_version(client, __version__)  # the workers run this pdsgen; another is refused in one line
         with pytest.raises(PdsgenError, match=r"2 Dask worker\(s\) run pdsgen .* this client runs 0.0.0-other"):
             check_version(client, "0.0.0-other")
+        workers_at = client.run(os.getcwd)
         monkeypatch.chdir(bundle.parent)
+        assert set(workers_at.values()) != {os.getcwd()}
         clustered = list(iter_reports([bundle.name], ValidationJob(schema_cache=None, cluster=client)))
+        assert client.run(os.getcwd) == workers_at
     alone = list(iter_reports([bundle.name], ValidationJob(schema_cache=None)))
     assert clustered == alone
     assert {f.rule for r in alone for f in r.findings} == {"PDS4-053", "DLV-011"}
@@ -123,9 +127,38 @@ def test_jobs_with_a_scheduler_is_a_usage_error(bundle):
     assert done.returncode == 2 and "--jobs" in done.stderr
 
 
+def test_a_delivery_run_on_two_processes_streams(bundle):
+    """The delivery is checked before the first file is validated (over what the workers read of every
+    file, in a process of its own), so the first report goes out while files are still being checked -
+    the run holds no report until the last file - and the delivery's findings are in the reports.
+    The count of files moves in both passes: first a count, then out of the files the first found."""
+    done: list[int] = []
+    totals: list[int] = []
+    reports = iter_reports([bundle], ValidationJob(schema_cache=None, jobs=2),
+                           lambda count, total: (done.append(count), totals.append(total)))
+    first = next(reports)
+    assert first.path.endswith("bundle_scale.xml") and done[-1] < PRODUCTS
+    rest = list(reports)
+    assert len(rest) == PRODUCTS + 1 and done[-1] == PRODUCTS + 2
+    files = PRODUCTS + 2
+    assert done == [*range(1, files + 1), *range(1, files + 1)] and totals == [0] * files + [files] * files
+    last = rest[-1]
+    assert last.path.endswith(f"p{PRODUCTS - 1:06d}.xml") and {f.rule for f in last.findings} == {"PDS4-053", "DLV-011"}
+
+
+def test_a_run_sharing_its_label_cache_checks_the_delivery_itself(bundle):
+    """review -j N hands the run its label cache: the delivery is checked in the run's own process
+    (what the check reads stays in the caller's cache), with the findings of a one-process run."""
+    from pdsgen.label.read import LabelCache
+
+    shared = list(iter_reports([bundle], ValidationJob(schema_cache=None, jobs=2, labels=LabelCache())))
+    assert shared == list(iter_reports([bundle], ValidationJob(schema_cache=None)))
+    assert {f.rule for r in shared for f in r.findings} == {"PDS4-053", "DLV-011"}
+
+
 def test_without_a_delivery_two_processes_still_stream(bundle, tmp_path):
-    """Only a run with a delivery holds its reports until the delivery is checked: a directory of
-    labels that is no delivery gets its first report while files are still being checked."""
+    """A directory of labels that is no delivery gets its first report while files are still being
+    checked (one pass: the workers read the facts PDS4-060 joins beside each file's own checks)."""
     import shutil
 
     data = shutil.copytree(bundle / "data", tmp_path / "data")

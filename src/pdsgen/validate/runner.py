@@ -9,13 +9,16 @@ finding naming the rule, instead of a traceback.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import itertools
 import multiprocessing
 import os
+import pickle
 import re
 import stat
 import sys
+import tempfile
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -91,8 +94,10 @@ def _discover_lazily(paths: list[str | os.PathLike[str]], skip_non_labels: bool 
 
 def _walk(paths: list[str | os.PathLike[str]], skip_non_labels: bool = False) -> Iterator[Path]:
     """Named files (with skip_non_labels, only those a directory search would take as
-    labels), then the labels found in named directories."""
-    seen: set[Path] = set()  # a file named twice (itself and in its directory) once
+    labels), then the labels found in named directories. A file named twice (itself and in
+    its directory) is given once; one path names each file once, and nothing is kept of the
+    files given (a tree of 100,000 labels is not held as it is walked)."""
+    seen: set[str] | None = set() if len(paths) > 1 else None
     for raw in paths:
         path = Path(raw)
         if path.is_file():
@@ -100,8 +105,10 @@ def _walk(paths: list[str | os.PathLike[str]], skip_non_labels: bool = False) ->
         else:
             candidates = _label_files(path)
         for candidate in candidates:
-            if candidate not in seen:
-                seen.add(candidate)
+            if seen is None:
+                yield candidate
+            elif (name := str(candidate)) not in seen:
+                seen.add(name)
                 yield candidate
 
 
@@ -269,38 +276,70 @@ def _run_rules(ctx: Any, path: Path, target: str, labels_only: bool) -> list[Fin
 
 
 _JOB = ValidationJob()  # a worker's job, sent once per process
+_SKIP: frozenset[str] = frozenset()  # the fact readers a worker need not apply (facts.read)
 
 
-def _init_worker(job: ValidationJob) -> None:
-    global _JOB
-    _JOB = job
+def _init_worker(job: ValidationJob, skip: frozenset[str] = frozenset()) -> None:
+    global _JOB, _SKIP
+    _JOB, _SKIP = job, skip
 
 
-Checked = tuple[FileReport, LabelSummary | None, dict[str, Any]]
+Item = tuple[str, str | None]  # a file and the directory given that holds it (None: the file was named)
+Checked = tuple[FileReport, LabelSummary | None, dict[str, bytes]]
 
 
-def _one(item: tuple[str, str | None]) -> Checked:
-    """One file (and the directory given that holds it), in this process or a worker of the
-    pool: see _checked (a pool's workers read the file's facts too)."""
-    return _checked(item, _JOB, gather=_JOB.jobs > 1)
+def _one(item: Item) -> Checked:
+    """One file, in this process or a worker of the pool: see _checked (a pool's workers read
+    the file's facts too)."""
+    report, summary, read = _checked(item, _JOB, gather=_JOB.jobs > 1, skip=_SKIP)
+    return report, summary, facts.packed(read)
 
 
-def _checked(item: tuple[str, str | None], job: ValidationJob, gather: bool) -> Checked:
-    """One file (and the directory given that holds it): its findings as the configuration
-    reports them, its summary for the SET rules, and (`gather`, in a worker) what the checks
-    across files read of it (facts.py), so that the run's process need not read it again."""
+def _checked(item: Item, job: ValidationJob, gather: bool,
+             skip: frozenset[str] = frozenset()) -> tuple[FileReport, LabelSummary | None, dict[str, Any]]:
+    """One file: its findings as the configuration reports them, its summary for the SET rules,
+    and (`gather`, in a worker) what the checks across files read of it (facts.py; not the
+    readers in `skip`), so that the run's process need not read it again."""
     path, given = item
     report, summary = validate_file(Path(path), job, Path(given) if given else None)
     report.findings = job.settings.filter(report.findings)
-    return report, summary, facts.made(path, target_of(Path(path))) if gather else {}
+    return report, summary, facts.read(path, target_of(Path(path)), skip) if gather else {}
 
 
-def validate_partition(items: list[tuple[str, str | None]], job: ValidationJob, cwd: str) -> list[Checked]:
-    """A partition of a run's files, on a cluster's worker (see partitions.py). The worker
-    works in the client's directory `cwd`, so that paths given relative to it read the same
-    files (a cluster's workers see the tree where the client sees it)."""
-    os.chdir(cwd)
-    return [_checked(item, job, gather=True) for item in items]
+def _facts_of(item: Item) -> tuple[str, dict[str, bytes]]:
+    """What the checks across files read of one file (facts.py), in a worker of the pool."""
+    rules()  # the families register their readers as they load
+    return item[0], facts.made(item[0], target_of(Path(item[0])))
+
+
+def validate_partition(items: list[Item], job: ValidationJob, cwd: str,
+                       skip: frozenset[str] = frozenset()) -> list[Checked]:
+    """A partition of a run's files, on a cluster's worker (see partitions.py): each checked
+    as _checked checks it, a name relative to the client's directory `cwd` read there and
+    named as given in what comes back (the worker's own directory is left alone: other
+    tasks share its process)."""
+    from .partitions import ClientPaths
+
+    paths = ClientPaths(cwd)
+    done = []
+    for item in items:
+        report, summary, read = paths.as_given(item, _checked(paths.absolute(item), job, gather=True, skip=skip))
+        done.append((report, summary, facts.packed(read)))
+    return done
+
+
+def facts_of_partition(items: list[Item], job: ValidationJob, cwd: str) -> list[tuple[str, dict[str, bytes]]]:
+    """What the checks across files read of each file of a partition, on a cluster's worker
+    (named as given, as validate_partition names its results)."""
+    from .partitions import ClientPaths
+
+    rules()  # the families register their readers as they load
+    paths = ClientPaths(cwd)
+    done = []
+    for item in items:
+        path, _ = paths.absolute(item)
+        done.append((item[0], facts.packed(paths.as_given(item, facts.read(path, target_of(Path(path)))))))
+    return done
 
 
 def _check_dictionaries(extra: tuple[str, ...]) -> None:
@@ -345,7 +384,172 @@ def iter_reports(paths: Iterable[str | os.PathLike[str]], job: ValidationJob | N
     given = [Path(p) for p in paths if Path(p).is_dir()]  # the trees the user gave (label/beside.trusted_tree)
     deliveries = DeliveryChecks(paths, job.labels_only, job.labels)  # a delivery directory is also checked whole
     facts.forget()
-    return _forgetting(_with_run_checks(_with_deliveries(_stream(files, given, job, progress), deliveries, job), job))
+    names = ((str(p), _given_tree(p, given)) for p in files)
+    return _run(names, deliveries, job, progress)
+
+
+def _run(names: Iterator[Item], deliveries: DeliveryChecks, job: ValidationJob,
+         progress: Callable[[int, int], None] | None) -> Iterator[FileReport]:
+    """The reports, as files are checked, with what the checks across files find beside them.
+
+    A delivery's checks look at every label before the first report can have its findings.
+    A one-process run reads the labels for them on its first report (DeliveryChecks). A run
+    on workers goes over the files twice instead: the workers read what the checks across
+    files need of every file (facts.py), a process forked for the purpose learns it and
+    checks the delivery, and hands back only its findings (the names spooled to a temporary
+    file meanwhile); then the files are validated and the reports stream out. So the run's
+    process holds no report and no label's facts for the delivery's sake: a delivery's
+    labels are held together only by the checking process, which ends when it is done; the
+    workers then no longer read what it has read. The count of files checked moves from the
+    start: in the first pass as files are read, in the second out of the files the first found."""
+    with contextlib.ExitStack() as stack:
+        taken: frozenset[str] = frozenset()
+        if _in_workers(job) and deliveries.found():
+            spool = stack.enter_context(tempfile.TemporaryFile())
+            found = [0]
+            deliveries, taken = _checked_apart(deliveries, _spooled(names, spool, found), job, progress)
+            spool.seek(0)
+            names = _unspooled(spool)
+            if progress is not None:
+                progress = functools.partial(_out_of, progress, found[0])
+        reports = _reports(names, job, progress, taken)
+        yield from _forgetting(_with_run_checks(_with_deliveries(reports, deliveries, job), job))
+
+
+def _in_workers(job: ValidationJob) -> bool:
+    return job.jobs > 1 or job.cluster is not None
+
+
+def _reports(names: Iterator[Item], job: ValidationJob, progress: Callable[[int, int], None] | None,
+             taken: frozenset[str]) -> Iterator[FileReport]:
+    """The files' own reports, in order, as they are checked (on the job's workers, if any,
+    each reading what the checks across files need of its files (facts.py), but the facts of
+    the readers already `taken`)."""
+    groups = _SetGroups(job.settings)
+    if not _in_workers(job):
+        _init_worker(job)
+        yield from _collect(map(_one, names), groups, progress, job.baseline)
+        return
+    with _workers(job, skip=taken) as on_workers:
+        yield from _collect(on_workers(_one, functools.partial(validate_partition, skip=taken), names), groups,
+                            progress, job.baseline)
+
+
+def _out_of(progress: Callable[[int, int], None], total: int, done: int, _: int) -> None:
+    progress(done, total)
+
+
+def _checked_apart(deliveries: DeliveryChecks, names: Iterator[Item], job: ValidationJob,
+                   progress: Callable[[int, int], None] | None) -> tuple[DeliveryChecks, frozenset[str]]:
+    """The deliveries checked over what the job's workers read of every file (see _run), and
+    the fact readers the check used: the facts go from the workers through this process to a
+    checking process forked before any worker (this process has no thread of its own to take
+    along), which answers with the findings. Without fork (not Linux), and in a run sharing
+    its label cache with its caller (review: what the check reads, the page reads again from
+    the cache), they are checked here."""
+    if sys.platform != "linux" or job.labels is not None:
+        for learnt in _facts_read(names, job, progress):
+            facts.learn(*learnt)
+        return deliveries, _check_learnt_here(deliveries)
+    context = multiprocessing.get_context("fork")
+    facts_out, facts_in = context.Pipe(duplex=False)
+    answer_in, answer_out = context.Pipe(duplex=False)
+    checker = context.Process(target=_check_learnt, args=(deliveries, facts_out, answer_out), daemon=True)
+    checker.start()
+    facts_out.close()
+    answer_out.close()
+    try:
+        for learnt in _facts_read(names, job, progress):
+            facts_in.send(learnt)
+        facts_in.send(None)
+        pending, taken = answer_in.recv()
+        return _CheckedDeliveries(pending), taken
+    except (EOFError, OSError):  # the checking process died: checked here, reading the labels again
+        return deliveries, frozenset()
+    finally:
+        facts_in.close()
+        answer_in.close()
+        checker.join()
+
+
+def _facts_read(names: Iterator[Item], job: ValidationJob,
+                progress: Callable[[int, int], None] | None) -> Iterator[tuple[str, dict[str, bytes]]]:
+    """What the job's workers read of each file for the checks across files (facts.made)."""
+    with _workers(job, shared_engine=False) as on_workers:
+        for done, learnt in enumerate(on_workers(_facts_of, facts_of_partition, names), 1):
+            if progress:
+                progress(done, 0)
+            yield learnt
+
+
+def _check_learnt(deliveries: DeliveryChecks, facts_out: Any, answer_out: Any) -> None:
+    """The checking process of _checked_apart: learn every file's facts, then check."""
+    try:
+        while (learnt := facts_out.recv()) is not None:
+            facts.learn(*learnt)
+    except EOFError:  # the run stopped before the last file
+        return
+    answer_out.send((deliveries.pending, _check_learnt_here(deliveries)))
+
+
+def _check_learnt_here(deliveries: DeliveryChecks) -> frozenset[str]:
+    """Check the deliveries over the facts learnt in this process: the readers the check used."""
+    _ = deliveries.pending  # checked now, its findings kept by file
+    return facts.asked()
+
+
+class _CheckedDeliveries(DeliveryChecks):
+    """Deliveries already checked (their findings by file), handed out as DeliveryChecks hands them."""
+
+    def __init__(self, pending: dict[str, list[Finding]]) -> None:
+        super().__init__([], labels_only=False)
+        self._checked = pending
+
+    @property
+    def pending(self) -> dict[str, list[Finding]]:
+        return self._checked
+
+
+OnWorkers = Callable[[Callable[[Item], Any], Callable[..., list[Any]], Iterator[Item]], Iterator[Any]]
+
+
+@contextlib.contextmanager
+def _workers(job: ValidationJob, shared_engine: bool = True, skip: frozenset[str] = frozenset()) -> Iterator[OnWorkers]:
+    """on_workers(one, partition, items): one(item) for each item in a pool of job.jobs
+    processes, or partition(items, job, cwd=...) for each partition on job.cluster's workers -
+    the results in the items' order. The baseline is applied here, in this process.
+    shared_engine: the pool's workers share this process's Schematron engine; skip: the fact
+    readers they need not apply."""
+    if job.cluster is not None:
+        from .partitions import in_partitions  # a Dask cluster's run only: a plain run never loads it
+
+        cwd, cluster_job = os.getcwd(), _cluster_job(job)
+        yield lambda one, partition, items: in_partitions(job.cluster, functools.partial(partition, cwd=cwd), items,
+                                                          cluster_job)
+        return
+    from .pds4.schematron import SharedEngine
+
+    context = multiprocessing.get_context("fork" if sys.platform == "linux" else "spawn")
+    # forked workers share this process's Saxon child (one compiled Schematron, not one per worker)
+    with SharedEngine() if shared_engine else contextlib.nullcontext(), \
+            context.Pool(job.jobs, _init_worker, (replace(job, baseline=None), skip)) as pool:
+        yield lambda one, partition, items: pool.imap(one, items, chunksize=8)
+
+
+def _spooled(names: Iterator[Item], spool: Any, found: list[int]) -> Iterator[Item]:
+    """The names, each also written to the spool (and counted in found[0])."""
+    for item in names:
+        pickle.dump(item, spool, pickle.HIGHEST_PROTOCOL)
+        found[0] += 1
+        yield item
+
+
+def _unspooled(spool: Any) -> Iterator[Item]:
+    while True:
+        try:
+            yield pickle.load(spool)  # written by _spooled in this run
+        except EOFError:
+            return
 
 
 def _forgetting(reports: Iterator[FileReport]) -> Iterator[FileReport]:
@@ -363,10 +567,7 @@ def _with_deliveries(reports: Iterator[FileReport], deliveries: DeliveryChecks,
                      job: ValidationJob) -> Iterator[FileReport]:
     """Delivery hook: each file's DLV findings beside its own; files with no report of their own
     (an index table, the manifest) get one at the end. With workers, the delivery is checked
-    after the last file, over what the workers read (facts.py): the reports of a run with a
-    delivery wait until then."""
-    if (job.jobs > 1 or job.cluster is not None) and deliveries.found():
-        reports = iter(list(reports))
+    before the first file is validated, over what the workers read of every file (_run)."""
     for report in reports:
         report.findings.extend(_kept(report.path, deliveries.take(report.path), job))
         yield report
@@ -403,27 +604,13 @@ def _with_run_checks(reports: Iterator[FileReport], job: ValidationJob) -> Itera
         yield report
 
 
-def _stream(files: Iterator[Path], given: list[Path], job: ValidationJob,
-            progress: Callable[[int, int], None] | None) -> Iterator[FileReport]:
-    groups = _SetGroups(job.settings)
-    names = ((str(p), _given_tree(p, given)) for p in files)
-    if job.cluster is not None:
-        from .partitions import in_partitions  # a Dask cluster's run only: a plain run never loads it
-
-        worker_job = replace(job, baseline=None, cluster=None, labels=None)
-        work = functools.partial(validate_partition, cwd=os.getcwd())
-        yield from _collect(in_partitions(job.cluster, work, names, worker_job), groups, progress, job.baseline)
-    elif job.jobs > 1:
-        from .pds4.schematron import SharedEngine
-
-        worker_job = replace(job, baseline=None)  # the baseline is applied here, in this process
-        # forked workers share this process's Saxon child (one compiled Schematron, not one per worker)
-        with SharedEngine(), multiprocessing.get_context("fork" if sys.platform == "linux" else "spawn").Pool(
-                job.jobs, _init_worker, (worker_job,)) as pool:
-            yield from _collect(pool.imap(_one, names, chunksize=8), groups, progress, job.baseline)
-    else:
-        _init_worker(job)
-        yield from _collect(map(_one, names), groups, progress, job.baseline)
+def _cluster_job(job: ValidationJob) -> ValidationJob:
+    """The job a cluster's workers take: what it names as absolute paths (a worker's directory
+    is not the client's), nothing that stays here (baseline, label cache, the cluster)."""
+    absolute = os.path.abspath
+    return replace(job, baseline=None, cluster=None, labels=None, dictionaries=tuple(map(absolute, job.dictionaries)),
+                   schemas=tuple(map(absolute, job.schemas)), root=absolute(job.root) if job.root else None,
+                   schema_cache=absolute(job.schema_cache) if job.schema_cache else None)
 
 
 def _given_tree(path: Path, given: list[Path]) -> str | None:

@@ -18,12 +18,13 @@ whatever the table's size.
 
 from __future__ import annotations
 
-import os
 import re
 from collections.abc import Callable, Iterator
 from typing import BinaryIO
 
 import numpy as np
+
+from ...bounded import file_size
 
 BLOCK_BYTES = 4 << 20
 _SPACE, _NEWLINE = 0x20, 0x0A
@@ -40,9 +41,10 @@ def record_blocks(handle: BinaryIO, record_length: int, records: int) -> Iterato
     """(number of the block's first record, its whole records as a records x record_length
     uint8 array) for up to `records` records read from the handle's position; the blocks
     stop early where the file ends (a record it cuts short is not given). No read asks for
-    more than the file holds, whatever record_length the label claims."""
+    more than the file holds (its size as bounded.file_size gives every count checked against
+    a file), whatever record_length the label claims."""
     per_block = max(1, BLOCK_BYTES // record_length)
-    left = max(0, os.fstat(handle.fileno()).st_size - handle.tell())  # a record_length of 10^15 reads the file
+    left = max(0, file_size(handle.name) - handle.tell())  # a record_length of 10^15 reads the file
     first = 1
     while first <= records:
         want = min(per_block, records - first + 1)
