@@ -56,9 +56,14 @@ class IndexTable:
 
     @property
     def header(self) -> str:
-        """The column names, each at its START_BYTE, to stand above a row as the table holds it."""
+        """The column names, each at its START_BYTE, to stand above a row as the table holds it;
+        a column the label starts past every row is left out (START_BYTE is the label's word:
+        10^12 was an OverflowError, 10^9 a gigabyte of spaces)."""
+        width = max((len(row) for rows in (self.by_file, self.by_id) for row in rows.values()), default=0)
         text = ""
         for name, start, _ in self.columns:
+            if start > width:
+                continue
             text = text.ljust(start - 1) + name + " "
         return text.rstrip()
 
