@@ -47,7 +47,9 @@ _UNITS = {"m": 1.0, "km": 1000.0, "cm": 0.01, "mm": 0.001, "m/pixel": 1.0, "km/p
 
 
 def number(element: etree._Element | None, path: str) -> float | None:
-    """A numeric element's value in metres / metres per pixel / degrees (per its unit attribute)."""
+    """A numeric element's value in metres / metres per pixel / degrees (per its unit attribute);
+    None when it is not a finite number (1e400 is infinity to float(), which no count or offset
+    can be: the XML Schema check reports the value)."""
     found = element.find(path) if element is not None else None
     if found is None or found.text is None:
         return None
@@ -55,7 +57,7 @@ def number(element: etree._Element | None, path: str) -> float | None:
         value = float(found.text)
     except ValueError:
         return None
-    return value * _UNITS.get(found.get("unit", ""), 1.0)
+    return value * _UNITS.get(found.get("unit", ""), 1.0) if math.isfinite(value) else None
 
 
 def data_path(report: Pds4Hits, area: etree._Element, report_missing: bool = True) -> Path | None:
