@@ -305,3 +305,37 @@ def test_an_index_label_with_columns_past_its_rows(delivery, tmp_path):
     code, _, err = _run(["migrate", dlv / "INDEX" / "INDEX.LBL", "-o", tmp_path / "mig"])
     assert code == 2 and "ROW_BYTES = 999999999999" in err
     assert not (tmp_path / "mig").exists() or not any((tmp_path / "mig").rglob("*.xml"))
+
+
+def _objects_label(path: Path, objects: int) -> Path:
+    """A PDS3 image label (4 x 4 bytes beside it) carrying OBJECTS empty objects before its IMAGE."""
+    path.with_suffix(".IMG").write_bytes(bytes(16))
+    path.write_bytes(b"PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 4\r\nFILE_RECORDS = 4\r\n"
+                     b'^IMAGE = ("' + path.with_suffix(".IMG").name.encode() + b'", 1)\r\n'
+                     + b"OBJECT = X\r\nA = 1\r\nEND_OBJECT = X\r\n" * objects
+                     + b"OBJECT = IMAGE\r\nLINES = 4\r\nLINE_SAMPLES = 4\r\nSAMPLE_TYPE = UNSIGNED_INTEGER\r\n"
+                       b"SAMPLE_BITS = 8\r\nEND_OBJECT = IMAGE\r\nEND\r\n")
+    return path
+
+
+@pytest.mark.parametrize("command", ["extras", "dtm"])
+def test_a_label_of_more_objects_than_gdal_reads_in_time_is_refused(tmp_path, command):
+    """GDAL's PDS reader takes time growing with the square of a label's objects (20,000: two
+    minutes; 100,000, a 3 MB label, made extras run without end): a label of more than
+    MAX_GDAL_LABEL_BLOCKS is refused in one line before GDAL sees it; nothing is written."""
+    from pdsgen.formats.raster import MAX_GDAL_LABEL_BLOCKS
+
+    label = _objects_label(tmp_path / "MANY.LBL", MAX_GDAL_LABEL_BLOCKS + 1)
+    code, _, err = _run([command, label, "-o", tmp_path / "out"])
+    assert code == 2 and f"{MAX_GDAL_LABEL_BLOCKS + 2} objects and groups" in err
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+
+
+def test_a_label_of_as_many_objects_as_gdal_reads_in_time_still_opens(tmp_path):
+    """The bound is on objects and groups, counted as pdsgen reads the label: the IMAGE and
+    MAX_GDAL_LABEL_BLOCKS - 1 others pass to GDAL, one more does not."""
+    from pdsgen.formats.raster import MAX_GDAL_LABEL_BLOCKS, gdal_label_problem
+
+    label = _objects_label(tmp_path / "MANY.LBL", MAX_GDAL_LABEL_BLOCKS - 1)
+    assert gdal_label_problem(label) is None
+    assert gdal_label_problem(_objects_label(tmp_path / "MORE.LBL", MAX_GDAL_LABEL_BLOCKS)) is not None
