@@ -11,9 +11,12 @@ import os
 
 
 def file_head(path: str | os.PathLike[str], size: int) -> bytes | None:
-    """Up to `size` bytes from the start of `path`, or None when it cannot be read."""
+    """Up to `size` bytes from the start of `path`, or None when it cannot be read or is no
+    regular file (a FIFO named like a label blocked every check that asked its head)."""
+    from ..label.parser import open_regular
+
     try:
-        with open(path, "rb") as handle:
+        with open_regular(path) as handle:
             return handle.read(size)
     except OSError:
         return None
