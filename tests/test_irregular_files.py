@@ -5,7 +5,7 @@ FIFO under any name - a label, its data, MD5SUMS.TXT, an inventory, README.TXT, 
 INDEX.TAB, AAREADME.TXT. Opening one for reading waits for a writer that never comes: before
 this, a FIFO in place of almost any file of a delivery hung validate for ever (the delivery's
 checks and IDN-004's look at every file opened them plainly). Every such read now goes through
-pdsgen/bounded.py (open_regular, text_lines): a FIFO is named (DLV-030) and never opened, and a
+pdsgen/bounded.py (open_regular, the one such open, and text_lines): a FIFO is named (DLV-030) and never opened, and a
 line-oriented file is streamed a line at a time, whatever its size or its lines' length.
 """
 
@@ -21,7 +21,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from pdsgen.bounded import open_regular, text_lines
+from pdsgen.bounded import NotRegularFile, open_regular, text_lines
 from pdsgen.errors import InputError
 
 from helpers import demo_products
@@ -56,7 +56,7 @@ def test_a_fifo_in_a_delivery_is_named_and_never_waited_on(delivery, tmp_path, k
     run = subprocess.run([sys.executable, "-m", "pdsgen", "validate", str(tree)], capture_output=True, text=True,
                          timeout=120)
     assert run.returncode in (0, 1), run.stderr
-    assert f"{fifo}: error [DLV-030] is not a regular file" in run.stdout
+    assert f"{fifo}: error [DLV-030] is not a regular file of the delivery" in run.stdout
     assert "Traceback" not in run.stderr
 
 
@@ -65,9 +65,9 @@ def test_open_regular_refuses_a_fifo_without_waiting(tmp_path):
     os.mkfifo(fifo)
     with pytest.raises(InputError, match="is a FIFO, not a regular manifest"):
         text_lines(fifo, "manifest")
-    with pytest.raises(InputError, match="is a FIFO"):
+    with pytest.raises(NotRegularFile, match="is a FIFO"):
         open_regular(fifo)
-    with pytest.raises(InputError, match="is a directory"):
+    with pytest.raises(NotRegularFile, match="is a directory"):
         open_regular(tmp_path)
 
 

@@ -224,9 +224,10 @@ def test_a_geotiff_tag_claiming_more_values_than_its_bytes_is_refused():
 def test_validate_of_a_jp2_whose_geotiff_tag_claims_2_to_the_32_values(tmp_path):
     """The GeoJP2 box of a small ortho, its ModelTiepoint count set to 2^32 - 1 in place (the
     TIFF directory read by hand, as the GeoTIFF specification lays it out): validate reads the
-    box with its own walk, refuses the count against the box's bytes and reports that GIS
-    readers cannot place the image - the general JP2 reader it used allocated the count while
-    opening the file (12.6 GB for a 10 kB file)."""
+    box with its own walk, refuses the count against the box's bytes and reports the malformed
+    box (GEO-007, an error of its own since issue 48's follow-up: not "no GeoJP2 box") - the
+    general JP2 reader it used allocated the count while opening the file (12.6 GB for a 10 kB
+    file)."""
     from pdsgen import write_ortho
     from pdsgen.validate.geojp2 import GEOJP2_UUID
 
@@ -243,8 +244,8 @@ def test_validate_of_a_jp2_whose_geotiff_tag_claims_2_to_the_32_values(tmp_path)
     struct.pack_into(order + "I", jp2, tiepoint + 4, 2**32 - 1)
     product.jp2_path.write_bytes(bytes(jp2))
     done = run_cli("validate", product.label_path)
-    assert done.returncode == 0 and done.stderr == "", done.stderr  # no traceback, no warning of a reader
-    assert "GeoJP2" in done.stdout  # the georeferencing it could not take is reported
+    assert done.returncode == 1 and done.stderr == "", done.stderr  # no traceback, no warning of a reader
+    assert "[GEO-007]" in done.stdout and "TIFF tag 33922 declares 4294967295 x 8 bytes" in done.stdout
 
 
 def test_an_index_row_bytes_of_ten_to_the_fifteen_is_refused_before_reading(tmp_path):

@@ -48,21 +48,17 @@ def read_bytes(path: str | os.PathLike[str], limit: int = MAX_BYTES, what: str =
 
     Opened with O_NONBLOCK so a FIFO is refused rather than waited on; fstat of the open file
     decides (no window between a check and the open)."""
-    fd = _open_regular(path, what)
     chunks, size = [], 0
-    try:
-        while size <= limit:
-            chunk = os.read(fd, min(1 << 20, limit + 1 - size))
-            if not chunk:
-                break
-            chunks.append(chunk)
-            size += len(chunk)
-    except OSError as exc:
-        if exc.errno == errno.EISDIR:
-            raise InputError(path, f"is a directory, not a regular {what}") from None
-        raise InputError(path, f"cannot be read ({exc.strerror or exc})") from None
-    finally:
-        os.close(fd)
+    with _open_input(path, what) as stream:
+        try:
+            while size <= limit:
+                chunk = stream.read(min(1 << 20, limit + 1 - size))
+                if not chunk:
+                    break
+                chunks.append(chunk)
+                size += len(chunk)
+        except OSError as exc:
+            raise InputError(path, f"cannot be read ({exc.strerror or exc})") from None
     if size > limit:
         raise InputError(path, f"is larger than {limit} bytes, more than a {what} of this kind holds")
     return b"".join(chunks)
@@ -76,7 +72,7 @@ def text_lines(path: str | os.PathLike[str], what: str = "file", encoding: str =
     README.TXT, JP2INFO.TXT) that may be larger than MAX_BYTES yet must never be waited on (a
     FIFO) or held whole. Not a regular file, or unreadable: InputError naming it, raised by this
     call (before any line is asked for)."""
-    return _lines(open_regular(path, what), encoding, line_limit)
+    return _lines(_open_input(path, what), encoding, line_limit)
 
 
 def _lines(stream: BinaryIO, encoding: str, line_limit: int) -> Iterator[str]:
@@ -88,29 +84,45 @@ def _lines(stream: BinaryIO, encoding: str, line_limit: int) -> Iterator[str]:
             yield line[:line_limit].rstrip(b"\r\n").decode(encoding, errors="replace")
 
 
-def open_regular(path: str | os.PathLike[str], what: str = "file") -> BinaryIO:
-    """PATH opened for reading in binary when it is a regular file, else InputError naming it
-    (never waits on a FIFO): for a file a delivery names that is read in a way of its own."""
-    return os.fdopen(_open_regular(path, what), "rb")
+class NotRegularFile(OSError):
+    """What open_regular raises for a path that is there but no regular file: `kind` says what
+    it is ("a directory", "a FIFO", "a device", "not a regular file")."""
+
+    def __init__(self, path: str | os.PathLike[str], kind: str) -> None:
+        super().__init__(errno.EISDIR if kind == "a directory" else errno.EINVAL, f"is {kind}", os.fspath(path))
+        self.kind = kind
 
 
-def _open_regular(path: str | os.PathLike[str], what: str) -> int:
-    """A read-only descriptor of PATH when it is a regular file (opened non-blocking, so a FIFO is
-    refused rather than waited on; fstat of the open file decides), else InputError naming it."""
+def open_regular(path: str | os.PathLike[str]) -> BinaryIO:
+    """PATH opened for reading in binary when it is a regular file; OSError otherwise
+    (NotRegularFile for a directory, FIFO or device, as the open file's fstat tells: no window
+    between a check and the open). Opened without blocking, so a FIFO under any name is refused
+    rather than waited on, then read as usual. The one such open: every reader of a file a tree
+    or a label names goes through it (the bounded readers below, label heads, sniffing)."""
+    descriptor = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
     try:
-        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+        mode = os.fstat(descriptor).st_mode
+        if not stat.S_ISREG(mode):
+            raise NotRegularFile(path, "a directory" if stat.S_ISDIR(mode) else "a FIFO" if stat.S_ISFIFO(mode)
+                                 else "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode)
+                                 else "not a regular file")
+        os.set_blocking(descriptor, True)
+        return os.fdopen(descriptor, "rb")
+    except BaseException:
+        os.close(descriptor)
+        raise
+
+
+def _open_input(path: str | os.PathLike[str], what: str) -> BinaryIO:
+    """open_regular, its refusals as the one-line InputError naming PATH and WHAT it should be."""
+    try:
+        return open_regular(path)
     except FileNotFoundError:
         raise InputError(path, f"no such {what}") from None
+    except NotRegularFile as exc:
+        raise InputError(path, f"is {exc.kind}, not a regular {what}") from None
     except OSError as exc:
         raise InputError(path, f"cannot be read ({exc.strerror or exc})") from None
-    mode = os.fstat(fd).st_mode
-    if not stat.S_ISREG(mode):
-        os.close(fd)
-        kind = "a directory" if stat.S_ISDIR(mode) else "a FIFO" if stat.S_ISFIFO(mode) else \
-            "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else "not a regular file"
-        raise InputError(path, f"is {kind}, not a regular {what}")
-    os.set_blocking(fd, True)
-    return fd
 
 
 def read_text(path: str | os.PathLike[str], limit: int = MAX_BYTES, what: str = "file",

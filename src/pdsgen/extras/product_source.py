@@ -329,8 +329,10 @@ def _raster_path(path: Path, label_path: Path | None, label: dict, root: Path | 
 def _refuse_unreadable(raster_path: Path, label_path: Path | None, label: dict) -> None:
     """PdsgenError when the raster or a file the label's pointers name is no regular file
     (GDAL would block for ever on a FIFO named like the data, or read a device without end),
-    or is a JPEG 2000 file whose tiles would not fit in memory (formats/jp2_header.py)."""
+    is a JPEG 2000 file whose tiles would not fit in memory (formats/jp2_header.py), or is a
+    PDS3 label of more objects than GDAL reads in reasonable time (formats/raster.py)."""
     from ..formats.jp2_header import decode_problem
+    from ..formats.raster import gdal_label_problem
 
     named = [raster_path]
     if label_path is not None:  # find_beside passes over what is no regular file; GDAL does not
@@ -341,7 +343,7 @@ def _refuse_unreadable(raster_path: Path, label_path: Path | None, label: dict) 
     for path in named:
         if path.exists() and not path.is_file():
             raise PdsgenError(path, "cannot read (not a regular file)")
-        problem = decode_problem(path)
+        problem = decode_problem(path) or (gdal_label_problem(path) if path == raster_path else None)
         if problem is not None:
             raise PdsgenError(path, problem)
 

@@ -35,6 +35,7 @@ GEO_DOUBLE_PARAMS_TAG = 34736
 GEO_ASCII_PARAMS_TAG = 34737
 MODEL_PIXEL_SCALE_TAG = 33550
 MODEL_TIEPOINT_TAG = 33922
+MODEL_TRANSFORMATION_TAG = 34264
 PROJ_STD_PARALLEL1 = 3078
 PROJ_CENTER_LAT = 3089
 
@@ -106,14 +107,27 @@ def tiff_tags(data: bytes, source: str = "GeoTIFF") -> dict[int, tuple[Any, ...]
 
 
 def geokeys_of(tags: dict[int, tuple[Any, ...]]) -> dict[int, object]:
-    """The GeoKeys a GeoKeyDirectory (34735) lists, with their double (34736) and ASCII (34737) values."""
+    """The GeoKeys a GeoKeyDirectory (34735) lists, with their double (34736) and ASCII (34737) values.
+
+    Raises ValueError when the three tags are not of the types GeoTIFF gives them (the
+    directory SHORT, the parameters DOUBLE and ASCII) or a key's values lie past the end of
+    its parameter tag: another producer's bytes, not a directory to index blindly."""
     keys: dict[int, object] = {}
     directory = tags.get(GEOKEY_DIRECTORY_TAG)
     doubles = tags.get(GEO_DOUBLE_PARAMS_TAG, ())
     asciis = tags.get(GEO_ASCII_PARAMS_TAG, ("",))[0]
+    if directory is not None and not all(type(v) is int for v in directory):
+        raise ValueError("the GeoKeyDirectory (34735) does not hold SHORT values")
+    if not all(isinstance(v, float) for v in doubles):
+        raise ValueError("GeoDoubleParams (34736) does not hold DOUBLE values")
+    if not isinstance(asciis, str):
+        raise ValueError("GeoAsciiParams (34737) does not hold ASCII text")
     if directory and len(directory) >= 4:
         for k in range(min(directory[3], (len(directory) - 4) // 4)):  # no more keys than entries
             key, loc, count, value = directory[4 + 4 * k : 8 + 4 * k]
+            if loc in (GEO_DOUBLE_PARAMS_TAG, GEO_ASCII_PARAMS_TAG) and value + count > len(
+                    doubles if loc == GEO_DOUBLE_PARAMS_TAG else asciis):
+                raise ValueError(f"GeoKey {key} lies past the end of its parameters (tag {loc})")
             if loc == 0:
                 keys[key] = value
             elif loc == GEO_DOUBLE_PARAMS_TAG:

@@ -10,7 +10,6 @@ from __future__ import annotations
 import os
 
 from ..bounded import open_regular
-from ..errors import InputError
 
 
 def file_head(path: str | os.PathLike[str], size: int) -> bytes | None:
@@ -19,5 +18,5 @@ def file_head(path: str | os.PathLike[str], size: int) -> bytes | None:
     try:
         with open_regular(path) as handle:
             return handle.read(size)
-    except (OSError, InputError):
+    except OSError:
         return None

@@ -239,9 +239,10 @@ def _square_pixel_size(transform: Affine, source: str) -> float:
 
 
 def _edge_points(transform: Affine, width: int, height: int, per_side: int = 257):
-    """Points along the raster's outer boundary (pixel edges, not centres)."""
-    cols = np.linspace(0.0, width, per_side)
-    rows = np.linspace(0.0, height, per_side)
+    """Points along the raster's outer boundary (pixel edges, not centres). The sizes are taken
+    as floats: a label's LINES may be any integer, past what numpy's integers hold."""
+    cols = np.linspace(0.0, float(width), per_side)
+    rows = np.linspace(0.0, float(height), per_side)
     col = np.concatenate([cols, np.full(per_side, float(width)), cols[::-1], np.zeros(per_side)])
     row = np.concatenate([np.zeros(per_side), rows, np.full(per_side, float(height)), rows[::-1]])
     xs = transform.c + col * transform.a

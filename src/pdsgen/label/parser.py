@@ -18,16 +18,15 @@ is start-up time, see tests/test_cli_startup.py.)
 
 from __future__ import annotations
 
-import errno
 import os
 import re
-import stat
 from dataclasses import dataclass, replace
 from functools import cached_property
 from itertools import accumulate, repeat
 from pathlib import Path
 from typing import BinaryIO
 
+from ..bounded import open_regular
 from .grammar import IDENTIFIER_PATTERN
 from .tree import (
     Block,
@@ -941,24 +940,6 @@ def label_length(data: bytes) -> int | None:
     if data.startswith(b"\r\n", end):
         return end + 2
     return end + 1 if data.startswith((b"\n", b"\r"), end) else end
-
-
-def open_regular(path: str | os.PathLike[str]) -> BinaryIO:
-    """`path` opened for reading in binary, when it is a regular file; OSError otherwise. A
-    FIFO named like a label would block a reader for ever and a device would never end: the
-    file is opened without blocking, checked, and only then read as usual."""
-    descriptor = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
-    try:
-        mode = os.fstat(descriptor).st_mode
-        if stat.S_ISDIR(mode):
-            raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), os.fspath(path))
-        if not stat.S_ISREG(mode):
-            raise OSError(errno.EINVAL, "not a regular file", os.fspath(path))
-        os.set_blocking(descriptor, True)
-        return os.fdopen(descriptor, "rb")
-    except BaseException:
-        os.close(descriptor)
-        raise
 
 
 def read_label_head(path: str | os.PathLike[str], first: int = 65536, step: int = 65536,

@@ -30,9 +30,15 @@ class Refused(InputError):
         self.problems = (problem, *more)
         super().__init__(path, problem)
 
+    # A label can name obstacles without end (20,000 pointers to nothing were 20,000 lines):
+    # the first SHOWN are told, the rest counted on one more line.
+    SHOWN = 20
+
     def __str__(self) -> str:
-        return "\n".join(f"{self.path}: {problem}" if self.path is not None else problem
-                         for problem in self.problems)
+        told = list(self.problems[:self.SHOWN])
+        if len(self.problems) > self.SHOWN:
+            told.append(f"and {len(self.problems) - self.SHOWN} more obstacle(s) of the same product")
+        return "\n".join(f"{self.path}: {problem}" if self.path is not None else problem for problem in told)
 
 
 class MissingFile(Refused):

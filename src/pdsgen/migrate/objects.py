@@ -717,7 +717,11 @@ def _measured_records(path: Path, offset: int, rows: int, fields_end: int) -> tu
 
 
 def _record_delimiter(ctx: FileContext, block: Block, path: Path, offset: int, record_length: int) -> str:
-    """An ASCII table's records end with CR LF (PDS3's rule) or LF: read the first record's end."""
+    """An ASCII table's records end with CR LF (PDS3's rule) or LF: read the first record's end,
+    once the label's ROW_BYTES is known to end it inside the file (10^12 could not be sought)."""
+    if record_length < 2 or offset + record_length > file_size(path):
+        raise Refused(ctx.path, f"{where(block)}: its first record of ROW_BYTES = {record_length} from byte "
+                                f"{offset + 1} does not lie in {path.name} ({file_size(path)} bytes)")
     with open(path, "rb") as handle:
         handle.seek(offset + record_length - 2)
         end = handle.read(2)

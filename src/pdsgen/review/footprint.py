@@ -42,9 +42,10 @@ class Outline:
 
 
 def _edge_ring(lines: int, samples: int) -> tuple[np.ndarray, np.ndarray]:
-    """(column, row) of the grid's outer pixel edges: top, right, bottom, left."""
-    cols = np.linspace(0.0, samples, EDGE_POINTS)
-    rows = np.linspace(0.0, lines, EDGE_POINTS)
+    """(column, row) of the grid's outer pixel edges: top, right, bottom, left. The sizes are
+    taken as floats: a label's LINES may be any integer, past what numpy's integers hold."""
+    cols = np.linspace(0.0, float(samples), EDGE_POINTS)
+    rows = np.linspace(0.0, float(lines), EDGE_POINTS)
     n = EDGE_POINTS - 1  # each corner once
     col = np.concatenate([cols[:-1], np.full(n, float(samples)), cols[::-1][:-1], np.zeros(n)])
     row = np.concatenate([np.zeros(n), rows[:-1], np.full(n, float(lines)), rows[::-1][:-1]])
@@ -94,7 +95,10 @@ class OutlineBatch:
 
 
 def _outline(lons: np.ndarray, lats: np.ndarray, polar: bool, lat0: float) -> tuple[Outline | None, str]:
-    if not (np.all(np.isfinite(lons)) and np.all(np.isfinite(lats))):
+    """The outline, or why there is none: an edge off the body - not finite, or a latitude
+    past a pole, where a label's LINES of 10^20 puts an equirectangular grid (the map view's
+    graticule would then draw a line every 30 degrees across 10^18 of them)."""
+    if not (np.all(np.isfinite(lons)) and np.all(np.isfinite(lats)) and np.all(np.abs(lats) <= 90.0 + 1e-9)):
         return None, "the grid's edges do not all fall on the body"
     north = lat0 > 0 if polar else bool(np.mean(lats) >= 0)
     return Outline(lons, lats, polar, north), ""

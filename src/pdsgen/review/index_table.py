@@ -7,6 +7,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..bounded import text_lines
+from ..errors import InputError
 from ..label.read import LabelCache, read_pds3_label
 
 
@@ -38,11 +40,10 @@ class IndexTable:
         if outside_tree(label_path.parent, name) is not None:  # the containment rule: never read
             return None
         result = cls(columns, {}, {})
-        try:
-            with open(label_path.parent / name, "rb") as stream:
-                for line in stream:
-                    result._add(line.rstrip(b"\r\n").decode("latin-1"))
-        except OSError:
+        try:  # a line at a time, a regular file only (a FIFO named INDEX.TAB is never waited on)
+            for line in text_lines(label_path.parent / name, "index table"):
+                result._add(line)
+        except (InputError, OSError):
             return None
         return result
 
@@ -56,9 +57,14 @@ class IndexTable:
 
     @property
     def header(self) -> str:
-        """The column names, each at its START_BYTE, to stand above a row as the table holds it."""
+        """The column names, each at its START_BYTE, to stand above a row as the table holds it;
+        a column the label starts past every row is left out (START_BYTE is the label's word:
+        10^12 was an OverflowError, 10^9 a gigabyte of spaces)."""
+        width = max((len(row) for rows in (self.by_file, self.by_id) for row in rows.values()), default=0)
         text = ""
         for name, start, _ in self.columns:
+            if start > width:
+                continue
             text = text.ljust(start - 1) + name + " "
         return text.rstrip()
 

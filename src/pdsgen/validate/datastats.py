@@ -13,6 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..bounded import file_size
+
 _BLOCK_BYTES = 1024 * 1024
 
 
@@ -52,7 +54,12 @@ def image_stats(path: Path, layout: SampleLayout, specials: list[float], want_mo
     """
     native = layout.dtype.newbyteorder("=")
     swap = layout.dtype.byteorder not in ("=", "|") and layout.dtype != native
-    lines_per_block = max(1, _BLOCK_BYTES // max(1, layout.line_bytes))
+    # the label's line length against the bytes the file holds past the offset, before the
+    # buffer is made: a LINE_SAMPLES of 10^12 asked for a terabyte; no whole line, no samples
+    there = file_size(path) - layout.offset
+    if layout.line_bytes <= 0 or layout.line_bytes > there:
+        return Stats(0, 0, None, None, None, None)
+    lines_per_block = max(1, _BLOCK_BYTES // layout.line_bytes)
     buf = bytearray(lines_per_block * layout.line_bytes)
     is_float = native.kind == "f"
     special_values = [native.type(v) for v in specials]

@@ -15,8 +15,9 @@ def check_manifest(model: DeliveryModel, labels_only: bool, found: list[Found]) 
 
     root = model.root
     for irregular in irregular_files(root):  # DLV-030, whether or not a manifest lists it
-        found.append(Found("DLV-030", irregular, "is not a regular file (a FIFO, socket, device or dangling link): "
-                                            "an archive holds files only; never read"))
+        found.append(Found("DLV-030", irregular, "is not a regular file of the delivery (a FIFO, socket, "
+                                                 "device, or a link dangling or leading outside): an archive "
+                                                 "holds files only; never read"))
     manifest = root / layout.MANIFEST
     if not manifest.is_file():
         return

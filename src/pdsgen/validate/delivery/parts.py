@@ -12,7 +12,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ...bounded import open_regular
-from ...errors import InputError
 from ...label.tree import Block, first_statement
 
 if TYPE_CHECKING:
@@ -45,16 +44,20 @@ def first(root: Block, keyword: str) -> tuple[str | None, int | None]:
 
 def all_files(root: Path) -> Iterator[Path]:
     """The regular files of the delivery, in order. A FIFO, socket or device is no file an
-    archive holds and is never opened (reading a FIFO waits for ever): irregular_files names them."""
+    archive holds and is never opened (reading a FIFO waits for ever), nor is a link leading
+    out of the delivery (/etc/passwd named DATA/X.LBL): irregular_files names them."""
+    inside = root.resolve()
     for path in _entries(root):
-        if _regular(path):
+        if _regular(path, inside):
             yield path
 
 
 def irregular_files(root: Path) -> Iterator[Path]:
-    """What the delivery holds that is not a regular file (FIFO, socket, device, dangling link)."""
+    """What the delivery holds that is not a regular file inside it (a FIFO, socket, device, a
+    link dangling or leading outside)."""
+    inside = root.resolve()
     for path in _entries(root):
-        if not _regular(path):
+        if not _regular(path, inside):
             yield path
 
 
@@ -65,10 +68,14 @@ def _entries(root: Path) -> Iterator[Path]:
             yield Path(dirpath) / name
 
 
-def _regular(path: Path) -> bool:
+def _regular(path: Path, inside: Path) -> bool:
     try:
-        return stat.S_ISREG(path.stat().st_mode)
-    except OSError:
+        mode = path.lstat().st_mode
+        if stat.S_ISLNK(mode):  # a link: only one to a regular file of the delivery (the rare case pays)
+            target = path.resolve()
+            return target.is_relative_to(inside) and stat.S_ISREG(target.stat().st_mode)
+        return stat.S_ISREG(mode)
+    except (OSError, RuntimeError):  # RuntimeError: a link loop on older Pythons
         return False
 
 
@@ -76,7 +83,7 @@ def read_head(path: Path) -> bytes:
     try:
         with open_regular(path) as stream:
             return stream.read(32)
-    except (OSError, InputError):
+    except OSError:
         return b""
 
 

@@ -248,6 +248,6 @@ register(
                              "that product, not another of the delivery", None),
     Rule("DLV-020", "error", "every file MD5SUMS.TXT lists exists and has that MD5", None, needs_data=True),
     Rule("DLV-021", "error", "every file of the delivery is listed in MD5SUMS.TXT", None),
-    Rule("DLV-030", "error", "everything a delivery holds is a regular file (a FIFO, socket, device or dangling link "
-                             "is named, never opened)", None),
+    Rule("DLV-030", "error", "everything a delivery holds is a regular file of it (a FIFO, socket, device, or a link "
+                             "dangling or leading outside is named, never opened)", None),
 )

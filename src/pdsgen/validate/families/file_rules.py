@@ -188,8 +188,15 @@ def check_tabs(ctx: FileContext) -> Iterator[Hit]:
         yield Hit(f"{len(lines)} line(s) contain tab characters, use spaces", lines[0])
 
 
+# The gap between END and the first attached object is looked at in its first 16 MiB (a pad is a
+# record or so): a pointer's start byte is the label's word, and the file's bytes and this
+# window bound the read, not that word (RECORD_BYTES of 10^12 was a MemoryError).
+PADDING_WINDOW = 16 * 1024 * 1024
+
+
 def padding_bytes(ctx: FileContext) -> tuple[int, bytes] | None:
-    """(data start, bytes between the END line and the first attached object) if attached."""
+    """(data start, bytes between the END line and the first attached object, as far as the
+    file holds them and at most PADDING_WINDOW) if attached."""
     offsets = (ctx.pointer_offset(p) for p in ctx.data_pointers() if p.attached)
     starts = [s for s in offsets if s is not None]
     if not starts:
@@ -202,7 +209,7 @@ def padding_bytes(ctx: FileContext) -> tuple[int, bytes] | None:
         return start, ctx.head[end:start]
     with open(ctx.path, "rb") as fh:
         fh.seek(end)
-        return start, fh.read(start - end)
+        return start, fh.read(max(0, min(start, ctx.size, end + PADDING_WINDOW) - end))
 
 
 def check_padding(ctx: FileContext) -> Iterator[Hit]:

@@ -117,9 +117,20 @@ def check_header(ctx: FileContext) -> Iterator[Hit]:
 
 def check_has_georef(ctx: FileContext) -> Iterator[Hit]:
     found = _jp2(ctx)
-    if found is not None and found[2] is not None and not found[2].georefs and _map(ctx) is not None:
+    if found is not None and found[2] is not None and not found[2].georefs and not found[2].unreadable_georefs \
+            and _map(ctx) is not None:
         yield Hit(f"{found[1].name} has no GeoJP2 or GMLJP2 box: GIS readers cannot place it",  # type: ignore[union-attr]
                   found[0].line, "FILE_NAME")
+
+
+def check_georef_readable(ctx: FileContext) -> Iterator[Hit]:
+    """A GeoJP2 or GMLJP2 box that is there but malformed: a reader misreads or ignores it,
+    which is not the same as a JP2 that carries none (GEO-003)."""
+    found = _jp2(ctx)
+    if found is None or found[2] is None:
+        return
+    for why in found[2].unreadable_georefs:
+        yield Hit(f"{found[1].name}: {why}", found[0].line, "FILE_NAME")  # type: ignore[union-attr]
 
 
 def _label_transform(ctx: FileContext) -> tuple[float, float, float] | None:
@@ -249,4 +260,6 @@ register(
          check_projection, needs_data=True),
     Rule("GEO-006", "error", "equirectangular standard parallel in key 3078, not 3089",
          check_std_parallel_key, needs_data=True),
+    Rule("GEO-007", "error", "a GeoJP2 or GMLJP2 box the JP2 carries can be read (a GeoTIFF of finite grid "
+         "tags and GeoKeys of their types; a GML grid of numbers)", check_georef_readable, needs_data=True),
 )

@@ -113,7 +113,7 @@ def check_bit_mask(ctx: FileContext) -> Iterator[Hit]:
         if mask is None or not isinstance(bits, int) or not mask.value.is_number:
             continue
         value = int(mask.value.number)
-        if value < 0 or value >= 1 << bits:
+        if value < 0 or value.bit_length() > bits:  # not 1 << bits: SAMPLE_BITS is the label's word
             yield Hit(f"SAMPLE_BIT_MASK {mask.value.raw} has bits beyond SAMPLE_BITS = {bits}",
                       mask.line, "SAMPLE_BIT_MASK")
         elif mask.value.kind == "based" and mask.value.raw.startswith("2#"):

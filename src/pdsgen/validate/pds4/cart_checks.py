@@ -176,7 +176,9 @@ def check_encoded_jp2(report: Pds4Hits, tree: etree._ElementTree) -> None:
             continue
         georef = next((g for g in info.georefs if g.source == "GeoJP2"), None)
         if georef is None:
-            report.add("PDS4-040", f"{path.name} has no GeoJP2 box", encoded.sourceline)
+            why = info.unreadable("GeoJP2")
+            report.add("PDS4-040", f"{path.name}: {why}" if why else f"{path.name} has no GeoJP2 box",
+                       encoded.sourceline)
             continue
         # cart: corners count from the projection's natural origin (no false easting or
         # northing in its projection classes); the GeoJP2 grid's may carry one (UTM)

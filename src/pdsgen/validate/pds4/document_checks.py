@@ -22,7 +22,7 @@ from lxml import etree
 
 from .. import facts
 from ..model import Hit
-from .label_tree import P, Pds4Hits, is_outside
+from .label_tree import P, Pds4Hits, named_file
 
 _PDFA_MARK = b"pdfaid:part"
 _READ_BYTES = 1 << 20
@@ -33,8 +33,7 @@ def check_pdf_a(report: Pds4Hits, tree: etree._ElementTree) -> None:
     for area in tree.getroot().iter(f"{P}Document_File"):
         name = (area.findtext(f"{P}file_name") or "").strip()
         relative = os.path.join((area.findtext(f"{P}directory_path_name") or "").strip(), name)
-        candidate = report.path.parent / relative
-        path = candidate if name and not is_outside(report, relative, area) and candidate.is_file() else None
+        path = named_file(report, relative, area) if name else None
         standard = (area.findtext(f"{P}document_standard_id") or "").strip()
         if path is None or not (standard.startswith("PDF") or name.lower().endswith(".pdf")):
             continue

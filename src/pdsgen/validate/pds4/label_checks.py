@@ -135,6 +135,22 @@ _NAMESPACE_DECLARATION = re.compile(rb"\sxmlns(?::[^\s=<>/]+)?\s*=")
 
 
 def _parse(report: Pds4Hits) -> etree._ElementTree | None:
+    """The label's tree (_parse_xml), or None after a PDS4-001 finding - also when it refers to
+    an entity its own document type declares: entities are never expanded (an external one
+    reads a file, nested ones grow without bound), and an unexpanded reference stops libxml2's
+    XML Schema check with an internal error (every check 'could not run')."""
+    tree = _parse_xml(report)
+    if tree is None:
+        return None
+    entity = next(tree.getroot().iter(etree.Entity), None)
+    if entity is not None:
+        report.add("PDS4-001", f"the label refers to the entity {entity.text}, declared in its own document "
+                               "type; pdsgen expands no entity, so the label is not checked", entity.sourceline)
+        return None
+    return tree
+
+
+def _parse_xml(report: Pds4Hits) -> etree._ElementTree | None:
     """The label's tree, or None after a PDS4-001 finding. A label whose XML declaration
     follows a comment (not well-formed, but readers such as GDAL accept it) is reported
     and then checked without the misplaced declaration, keeping its line numbers."""

@@ -47,7 +47,9 @@ _UNITS = {"m": 1.0, "km": 1000.0, "cm": 0.01, "mm": 0.001, "m/pixel": 1.0, "km/p
 
 
 def number(element: etree._Element | None, path: str) -> float | None:
-    """A numeric element's value in metres / metres per pixel / degrees (per its unit attribute)."""
+    """A numeric element's value in metres / metres per pixel / degrees (per its unit attribute);
+    None when it is not a finite number (1e400 is infinity to float(), which no count or offset
+    can be: the XML Schema check reports the value)."""
     found = element.find(path) if element is not None else None
     if found is None or found.text is None:
         return None
@@ -55,7 +57,7 @@ def number(element: etree._Element | None, path: str) -> float | None:
         value = float(found.text)
     except ValueError:
         return None
-    return value * _UNITS.get(found.get("unit", ""), 1.0)
+    return value * _UNITS.get(found.get("unit", ""), 1.0) if math.isfinite(value) else None
 
 
 def data_path(report: Pds4Hits, area: etree._Element, report_missing: bool = True) -> Path | None:
@@ -63,14 +65,24 @@ def data_path(report: Pds4Hits, area: etree._Element, report_missing: bool = Tru
     name = file.findtext(f"{P}file_name") if file is not None else None
     if not name:
         return None
-    path = report.path.parent / name
-    if is_outside(report, name, file, report_missing):
-        return None
-    if not path.is_file():
-        if report_missing:
-            report.add("PDS4-010", f"data file {name} not found beside the label", file.sourceline, "file_name")
-        return None
+    path = named_file(report, name, file, report_missing)
+    if path is None and report_missing and not is_outside(report, name, file, tell=False):
+        report.add("PDS4-010", f"data file {name} not found beside the label", file.sourceline, "file_name")
     return path
+
+
+def named_file(report: Pds4Hits, name: str, element: etree._Element, tell: bool = True) -> Path | None:
+    """The regular file NAME (from the label, relative to its directory) is, or None: outside
+    the tree (PDS4-064 when `tell`), missing, not a regular file (a FIFO is never opened), or a
+    name the file system refuses (a segment over 255 bytes, a NUL: not an OSError escaping a
+    check). The one way a PDS4 label's file name becomes a path the checks open."""
+    if is_outside(report, name, element, tell):
+        return None
+    path = report.path.parent / name
+    try:
+        return path if path.is_file() else None
+    except (OSError, ValueError):
+        return None
 
 
 def is_outside(report: Pds4Hits, name: str, element: etree._Element, tell: bool = True) -> bool:

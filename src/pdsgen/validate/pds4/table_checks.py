@@ -158,6 +158,18 @@ def _int(element: etree._Element, name: str) -> int | None:
         return None
 
 
+def _start(out: _Limited, table: etree._Element, path: Path) -> int | None:
+    """Where the table starts in PATH: its offset, when the file holds that byte; else None, and
+    PDS4-051 says so. The one place a table's offset reaches a seek (10^20 could not be sought,
+    a negative one was an OSError: every table check 'could not run')."""
+    offset = _int(table, "offset") or 0
+    size = path.stat().st_size
+    if 0 <= offset <= size:
+        return offset
+    out.add("PDS4-051", f"offset {offset} lies outside {path.name} ({size} bytes)", table, "offset")
+    return None
+
+
 def _float(element: etree._Element | None, name: str) -> float | None:
     if element is None:
         return None
@@ -403,7 +415,9 @@ def _table_character(out: _Limited, table: etree._Element, path: Path | None) ->
         return
     ending = _RECORD_ENDS.get(_text(table, "record_delimiter") or "Carriage-Return Line-Feed", b"\r\n")
     records = _int(table, "records") or 0
-    offset = _int(table, "offset") or 0
+    offset = _start(out, table, path)
+    if offset is None:
+        return
     screens = [s for s in (_screen(f, i, record_length, False) for i, f in enumerate(fields)) if s is not None]
     done = 0
     with open(path, "rb") as handle:
@@ -443,7 +457,9 @@ def _table_binary(out: _Limited, table: etree._Element, path: Path | None) -> No
     if path is None or record_length <= 0:
         return
     records = _int(table, "records") or 0
-    offset = _int(table, "offset") or 0
+    offset = _start(out, table, path)
+    if offset is None:
+        return
     size = path.stat().st_size
     if offset + records * record_length > size:
         out.add("PDS4-051", f"{records} records of {record_length} bytes from offset {offset} need "
@@ -603,8 +619,11 @@ def _table_delimited(out: _Limited, table: etree._Element, path: Path | None,
     ending = _RECORD_ENDS.get(_text(table, "record_delimiter") or "Carriage-Return Line-Feed", b"\r\n")
     records = _int(table, "records") or 0
     count = 0
+    offset = _start(out, table, path)
+    if offset is None:
+        return
     with open(path, "rb") as handle:
-        handle.seek(_int(table, "offset") or 0)
+        handle.seek(offset)
         for count, data in enumerate(_delimited_records(handle, records), start=1):
             if not data.endswith(ending) or (ending == _LF and data.endswith(b"\r\n")):
                 out.add("PDS4-051", f"record {count} does not end with the record delimiter "
