@@ -441,7 +441,9 @@ def test_row_bytes_the_bytes_contradict_is_overridden_with_a_warning(tmp_path):
     the file 9 x 774: described as the bytes are, the overridden keyword named in a warning."""
     result = run_cli("migrate", MER_INDEX, "-o", tmp_path, "--bundle-lid", BUNDLE)
     assert result.returncode == 0, result.stderr
-    assert result.stderr.splitlines() == [
+    assert result.stderr.splitlines() == [  # the genuine index label states no PRODUCT_ID: its LID is said to be made
+        f"warning: {MER_INDEX}: states no PRODUCT_ID or IMAGE_ID: its LID {BUNDLE}:data:edrindex is made from the "
+        "file's name",
         f"warning: {MER_INDEX}: OBJECT = INDEX_TABLE (line 13): ROW_BYTES 773 overridden by the bytes: each of its "
         "9 records ends with CR LF at byte 774, and every column lies before it"]
     label = tmp_path / "edrindex.xml"

@@ -89,7 +89,8 @@ class NotRegularFile(OSError):
     it is ("a directory", "a FIFO", "a device", "not a regular file")."""
 
     def __init__(self, path: str | os.PathLike[str], kind: str) -> None:
-        super().__init__(errno.EISDIR if kind == "a directory" else errno.EINVAL, f"is {kind}", os.fspath(path))
+        told = f"is {kind}, not a regular file" if kind != "not a regular file" else "is not a regular file"
+        super().__init__(errno.EISDIR if kind == "a directory" else errno.EINVAL, told, os.fspath(path))
         self.kind = kind
 
 

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 
 from ...bounded import open_regular
 from ...label.tree import Block, first_statement
+from ...storage.containment import link_leaves
 
 if TYPE_CHECKING:
     from ...label.read import LabelCache
@@ -46,18 +47,16 @@ def all_files(root: Path) -> Iterator[Path]:
     """The regular files of the delivery, in order. A FIFO, socket or device is no file an
     archive holds and is never opened (reading a FIFO waits for ever), nor is a link leading
     out of the delivery (/etc/passwd named DATA/X.LBL): irregular_files names them."""
-    inside = root.resolve()
     for path in _entries(root):
-        if _regular(path, inside):
+        if _regular(path, root):
             yield path
 
 
 def irregular_files(root: Path) -> Iterator[Path]:
     """What the delivery holds that is not a regular file inside it (a FIFO, socket, device, a
     link dangling or leading outside)."""
-    inside = root.resolve()
     for path in _entries(root):
-        if not _regular(path, inside):
+        if not _regular(path, root):
             yield path
 
 
@@ -68,14 +67,13 @@ def _entries(root: Path) -> Iterator[Path]:
             yield Path(dirpath) / name
 
 
-def _regular(path: Path, inside: Path) -> bool:
+def _regular(path: Path, root: Path) -> bool:
     try:
         mode = path.lstat().st_mode
         if stat.S_ISLNK(mode):  # a link: only one to a regular file of the delivery (the rare case pays)
-            target = path.resolve()
-            return target.is_relative_to(inside) and stat.S_ISREG(target.stat().st_mode)
+            return not link_leaves(path, root) and stat.S_ISREG(path.stat().st_mode)
         return stat.S_ISREG(mode)
-    except (OSError, RuntimeError):  # RuntimeError: a link loop on older Pythons
+    except OSError:  # gone, or a link loop
         return False
 
 
