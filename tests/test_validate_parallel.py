@@ -169,3 +169,15 @@ def test_without_a_delivery_two_processes_still_stream(bundle, tmp_path):
     first = next(reports)
     assert first.path.endswith("p000000.xml") and done[-1] < PRODUCTS
     assert len([first, *reports]) == PRODUCTS and done[-1] == PRODUCTS
+
+
+def test_a_checking_process_that_dies_leaves_no_file_unchecked(bundle, monkeypatch):
+    """The process forked to check the delivery may die (killed for its memory, say): the run then
+    checks the delivery itself, and every file is still validated - the names the workers had not
+    yet taken are spooled too - with the findings of a one-process run."""
+    from pdsgen.validate import runner
+
+    monkeypatch.setattr(runner, "_check_learnt", lambda *args: os._exit(1))
+    died = list(iter_reports([bundle], ValidationJob(schema_cache=None, jobs=2)))
+    assert died == list(iter_reports([bundle], ValidationJob(schema_cache=None)))
+    assert len(died) == PRODUCTS + 2

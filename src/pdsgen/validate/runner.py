@@ -19,7 +19,7 @@ import re
 import stat
 import sys
 import tempfile
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Generator, Iterable, Iterator
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -458,13 +458,17 @@ def _checked_apart(deliveries: DeliveryChecks, names: Iterator[Item], job: Valid
     checker.start()
     facts_out.close()
     answer_out.close()
+    reading = _facts_read(names, job, progress)
     try:
-        for learnt in _facts_read(names, job, progress):
+        for learnt in reading:
             facts_in.send(learnt)
         facts_in.send(None)
         pending, taken = answer_in.recv()
         return _CheckedDeliveries(pending), taken
     except (EOFError, OSError):  # the checking process died: checked here, reading the labels again
+        reading.close()  # the workers stopped: nothing else takes names from `names` now
+        for _ in names:  # the names they had not taken, spooled too: every file is still validated
+            pass
         return deliveries, frozenset()
     finally:
         facts_in.close()
@@ -473,8 +477,9 @@ def _checked_apart(deliveries: DeliveryChecks, names: Iterator[Item], job: Valid
 
 
 def _facts_read(names: Iterator[Item], job: ValidationJob,
-                progress: Callable[[int, int], None] | None) -> Iterator[tuple[str, dict[str, bytes]]]:
-    """What the job's workers read of each file for the checks across files (facts.made)."""
+                progress: Callable[[int, int], None] | None) -> Generator[tuple[str, dict[str, bytes]], None, None]:
+    """What the job's workers read of each file for the checks across files (facts.made); closing
+    it stops the workers."""
     with _workers(job, shared_engine=False) as on_workers:
         for done, learnt in enumerate(on_workers(_facts_of, facts_of_partition, names), 1):
             if progress:
