@@ -91,3 +91,12 @@ def test_a_huge_line_is_cut_not_held(tmp_path):
         stream.write(b"x" * (8 << 20) + b"\nProduct ID: A\n")
     lines = list(text_lines(path, line_limit=1024))
     assert lines == ["x" * 1024, "Product ID: A"]
+
+
+def test_a_fifo_named_like_a_preview_has_no_size(tmp_path):
+    """DLV-027's JPEG frame walk opens a preview through the one regular-file open."""
+    from pdsgen.formats.jpeg_size import jpeg_size
+
+    fifo = tmp_path / "P.br.jpg"
+    os.mkfifo(fifo)
+    assert jpeg_size(fifo) is None

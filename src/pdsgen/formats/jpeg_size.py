@@ -8,6 +8,8 @@ from __future__ import annotations
 import struct
 from pathlib import Path
 
+from ..bounded import open_regular
+
 # Start-of-frame markers (baseline, progressive, lossless ...); C4, C8 and CC are other segments.
 _FRAMES = frozenset(range(0xC0, 0xD0)) - {0xC4, 0xC8, 0xCC}
 _MAX_SEGMENTS = 256
@@ -16,7 +18,7 @@ _MAX_SEGMENTS = 256
 def jpeg_size(path: Path) -> tuple[int, int] | None:
     """(width, height) a JPEG's frame header states, or None for a file that is no JPEG."""
     try:
-        with open(path, "rb") as stream:
+        with open_regular(path) as stream:  # the one open of a file a tree holds (no FIFO waited on)
             if stream.read(2) != b"\xff\xd8":
                 return None
             for _ in range(_MAX_SEGMENTS):
