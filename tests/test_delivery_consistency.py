@@ -9,11 +9,14 @@ UNLABELED_FILE "warning.file.not_referenced_in_label"): DLV-016 has that severit
 
 from __future__ import annotations
 
+import os
 import shutil
 import subprocess
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from lxml import etree
 
 from pdsgen.deliver import make_delivery
@@ -488,3 +491,43 @@ def test_the_delivery_model_reads_each_product_label_once(made, monkeypatch):
     monkeypatch.setattr(label_read, "read_pds3_label", counted)
     check_delivery(made["both"], labels_only=True)
     assert reads[Path(DTM_IMG).name] == 2 and reads[f"{Path(ORTHO).name}.LBL"] == 2
+
+
+# Names that climb out of a directory, made on purpose (this module reads nothing outside the clone)
+UP = os.pardir + "/"
+CLIMBING = f"{UP}{UP}outside/ELSEWHERE.IMG"
+
+
+def test_names_readme_gives_are_taken_by_the_containment_rule(made, tmp_path):
+    """README.TXT's "Product file" and its Extras files are names from the delivery: one that climbs
+    out (a parent segment) is never looked up or read - the product is not delivered (DLV-019), even where a
+    file of that name lies outside with a label in it (before, it was read and compared)."""
+    delivery = _copy(made, "pds3", tmp_path)
+    outside = tmp_path / "outside"
+    outside.mkdir()
+    shutil.copy(delivery / "DATA" / f"{DTM_ID}.IMG", outside / "ELSEWHERE.IMG")
+    readme = delivery / README
+    text = readme.read_text(encoding="ascii")
+    readme.write_text(text.replace(f"Product file:    {DTM_ID}.IMG", "Product file:    " + CLIMBING),
+                      encoding="ascii")
+    found = _found(delivery, "DLV-017", "DLV-018", "DLV-019", "DLV-027")
+    assert ("DLV-019", "warning", "README.TXT") in found
+    assert {rule for rule, _, _ in found} == {"DLV-019"}
+
+
+@settings(max_examples=300, deadline=None, derandomize=True)
+@given(name=st.text(max_size=40) | st.sampled_from([f"{UP}x", "/etc/passwd", f"a/{UP}{UP}x", "LEADS_OUT/x", "ok.jpg",
+                                                     f"LEADS_OUT/{UP}ok.jpg", "./ok.jpg", "a\x00b"]))
+def test_a_name_readme_gives_stays_in_its_directory(tmp_path_factory, name):
+    """Whatever the name, named_in gives a path inside the directory (links resolved) or none."""
+    from pdsgen.archive.extras_check import named_in
+
+    base = tmp_path_factory.getbasetemp() / "named_in"
+    directory = base / "extras"
+    if not directory.exists():
+        directory.mkdir(parents=True)
+        (base / "secret").mkdir()
+        (directory / "LEADS_OUT").symlink_to(base / "secret")
+    path = named_in(directory, name)
+    if path is not None:
+        assert os.path.realpath(path).startswith(os.path.realpath(directory) + os.sep)

@@ -25,6 +25,7 @@ from ..formats.checksum import label_md5
 from ..formats.jpeg_size import jpeg_size
 from ..formats.preview_size import browse_size, thumbnail_size
 from ..label.read import LabelCache, read_pds3_label
+from ..storage.containment import contained, name_problem
 from . import layout
 
 README = "README.TXT"
@@ -150,10 +151,20 @@ def _product_file(root: Path, readme: Path, name: str) -> Path | None:
     """Where the product README.TXT names lies: beside it, one directory up (a product
     directory's extras/), or in the delivery's DATA/."""
     for directory in (readme.parent, readme.parent.parent, root / layout.DATA_DIR, root):
-        candidate = directory / name
-        if name and candidate.is_file():
+        candidate = named_in(directory, name)
+        if candidate is not None and candidate.is_file():
             return candidate
     return None
+
+
+def named_in(directory: Path, name: str) -> Path | None:
+    """DIRECTORY / NAME for a file name README.TXT gives (a product, a preview), by the one
+    containment rule: None for a name that is no plain relative name (../x, /etc/passwd, a NUL)
+    or whose links lead out of DIRECTORY - such a name is never looked up or read."""
+    if not name or name_problem(name) is not None:
+        return None
+    path = directory.joinpath(*name.split("/"))
+    return path if contained(path, directory) is not None else None
 
 
 def entry_problems(readme: Path, entry: ReadmeEntry, product: Path | None,
@@ -167,7 +178,7 @@ def entry_problems(readme: Path, entry: ReadmeEntry, product: Path | None,
                                               "delivered", entry.line)
         return
     for file_name, line in entry.files:
-        if not (readme.parent / file_name).is_file():
+        if (path := named_in(readme.parent, file_name)) is None or not path.is_file():
             yield ExtrasProblem("absent", readme, f"documents preview {file_name} of {entry.product_id}, which is "
                                                   "not delivered", line)
     recorded = entry.fields.get("Label MD5", "")
@@ -216,8 +227,8 @@ def _previews(readme: Path, entry: ReadmeEntry) -> list[tuple[Path, str]]:
     listed = []
     for name, _ in entry.files:
         stated = entry.preview_size(name)
-        path = readme.parent / name
-        if stated is not None and path.is_file():
+        path = named_in(readme.parent, name)
+        if stated is not None and path is not None and path.is_file():
             listed.append((path, stated[0]))
     return listed
 

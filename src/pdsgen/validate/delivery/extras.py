@@ -41,7 +41,10 @@ def check_quick_looks(model: DeliveryModel, found: list[Found]) -> None:
 
 
 def _listed(extras: ExtrasEntry) -> list[Path]:
-    return [extras.readme.parent / name for name, _ in extras.entry.files]
+    """The files an entry lists, by the containment rule (a name leading out is never read)."""
+    from ...archive.extras_check import named_in
+
+    return [path for name, _ in extras.entry.files if (path := named_in(extras.readme.parent, name)) is not None]
 
 
 def check_undocumented(model: DeliveryModel, found: list[Found]) -> None:
